@@ -1,0 +1,3 @@
+from rotaflex.cli import main
+
+main()

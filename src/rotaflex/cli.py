@@ -1,0 +1,110 @@
+"""Command line: ``rotaflex reproduce|rotor|floating|gear|sweep ...``. Parses, calls, saves."""
+
+from __future__ import annotations
+
+import logging
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from rotaflex.core.domains import CASES, REPRODUCE
+from rotaflex.core.errors import ConvergenceError, InputError, SingularityError
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="Dynamics of rotating and flexible machine elements (rotors, floating bodies, gears).",
+)
+
+Out = Annotated[Path, typer.Option("--out", "-o", help="Output directory (created if missing).")]
+Quiet = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars.")]
+Debug = Annotated[bool, typer.Option("--debug", help="Show tracebacks on error.")]
+
+
+def guarded(fn: Callable[[], Any], debug: bool) -> Any:
+    """Run ``fn``; expected failures become one line on stderr and a non-zero exit status.
+
+    Exit status 2: bad input (field, value, what is allowed). Exit status 1: the computation
+    failed (no convergence, singular parameterisation). ``--debug`` re-raises with traceback.
+    """
+    logging.basicConfig(level=logging.DEBUG if debug else logging.WARNING, format="%(message)s")
+    try:
+        return fn()
+    except InputError as exc:
+        if debug:
+            raise
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2) from None
+    except (ConvergenceError, SingularityError) as exc:
+        if debug:
+            raise
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(1) from None
+
+
+@app.command()
+def reproduce(
+    target: Annotated[str, typer.Argument(help="Domain to reproduce: " + ", ".join([*REPRODUCE, "all"]))],
+    out: Out,
+    fast: Annotated[bool, typer.Option("--fast", help="Shorter/coarser runs (for smoke tests).")] = False,
+    quiet: Quiet = False,
+    debug: Debug = False,
+) -> None:
+    """Re-run the papers' numerical examples; write figures, data, report.md and index.html."""
+    from rotaflex.reproduce import reproduce as run_reproduce
+
+    def go():
+        if target not in REPRODUCE and target != "all":
+            raise InputError("target", target, "one of " + ", ".join([*REPRODUCE, "all"]))
+        names = list(REPRODUCE) if target == "all" else [target]
+        t0 = time.perf_counter()
+        report = run_reproduce(names, out, fast=fast, progress=not quiet)
+        typer.echo(f"{report['passed']}/{report['checks']} checks passed in "
+                   f"{time.perf_counter() - t0:.1f} s; report: {out / 'report.md'}")
+        if report["passed"] < report["checks"]:
+            typer.echo("some checks did not pass: see the report", err=True)
+
+    guarded(go, debug)
+
+
+def _simulate_command(domain: str) -> Callable[..., None]:
+    def simulate(
+        config: Annotated[Path, typer.Argument(help="TOML case file.")],
+        out: Out,
+        no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip PNG figures.")] = False,
+        quiet: Quiet = False,
+        debug: Debug = False,
+    ) -> None:
+        from rotaflex.core.config import load_toml
+        from rotaflex.core.domains import run_config
+
+        def go():
+            result = run_config(load_toml(config), domain=domain, progress=not quiet)
+            paths = result.save(out, figures=not no_figures)
+            typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out}")
+            if result.status != "success":
+                raise typer.Exit(1)
+
+        guarded(go, debug)
+
+    simulate.__doc__ = f"Simulate one {domain} case from CONFIG; write result.nc, summary.json, figures."
+    return simulate
+
+
+for _domain in CASES:
+    _sub = typer.Typer(no_args_is_help=True, help=f"{_domain.capitalize()} cases.")
+    _sub.command("simulate")(_simulate_command(_domain))
+    app.add_typer(_sub, name=_domain)
+
+
+def main() -> None:
+    """Console-script entry point."""
+    app(prog_name="rotaflex")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

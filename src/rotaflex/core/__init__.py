@@ -1,0 +1,1 @@
+"""What two or more domains share: errors, config validation, results, atomic I/O, reports."""

@@ -1,0 +1,198 @@
+"""Typed, validated configuration: frozen dataclasses filled from TOML tables.
+
+A model is a frozen dataclass whose fields are declared with :func:`param`, which carries the
+unit and the allowed range. :func:`from_mapping` builds it from a plain mapping (a parsed TOML
+table), rejecting unknown keys, wrong types and out-of-range values with an :class:`InputError`
+that names the dotted field, the value and what is allowed.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import math
+import tomllib
+import types
+import typing
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any, Literal, TypeVar, get_args, get_origin, get_type_hints
+
+from rotaflex.core.errors import InputError
+
+T = TypeVar("T")
+_MISSING = dataclasses.MISSING
+
+
+def param(
+    default: Any = _MISSING,
+    *,
+    unit: str | None = None,
+    gt: float | None = None,
+    ge: float | None = None,
+    lt: float | None = None,
+    le: float | None = None,
+    doc: str = "",
+) -> Any:
+    """Declare a dataclass field with a unit and an allowed range.
+
+    Parameters
+    ----------
+    default : object, optional
+        Default value; a list/dict default is copied per instance. Omit for a required field.
+    unit : str, optional
+        SI unit of the value, shown in error messages and result attributes.
+    gt, ge, lt, le : float, optional
+        Strict/inclusive bounds applied to numbers (element-wise for sequences).
+    doc : str
+        One-line description.
+    """
+    meta = {"unit": unit, "gt": gt, "ge": ge, "lt": lt, "le": le, "doc": doc}
+    if isinstance(default, (list, dict)):
+        return dataclasses.field(default_factory=lambda: copy.deepcopy(default), metadata=meta)
+    return dataclasses.field(default=default, metadata=meta)
+
+
+def _range_text(meta: Mapping[str, Any]) -> str:
+    parts = []
+    for key, op in (("gt", ">"), ("ge", ">="), ("lt", "<"), ("le", "<=")):
+        if meta.get(key) is not None:
+            parts.append(f"{op} {meta[key]:g}")
+    unit = f" [{meta['unit']}]" if meta.get("unit") else ""
+    return (" " + " and ".join(parts) if parts else "") + unit
+
+
+def _check_range(x: float, meta: Mapping[str, Any], where: str, kind: str) -> None:
+    ok = (
+        (meta.get("gt") is None or x > meta["gt"])
+        and (meta.get("ge") is None or x >= meta["ge"])
+        and (meta.get("lt") is None or x < meta["lt"])
+        and (meta.get("le") is None or x <= meta["le"])
+    )
+    if not ok:
+        raise InputError(where, x, f"{kind}{_range_text(meta)}")
+
+
+def _convert(value: Any, tp: Any, meta: Mapping[str, Any], where: str) -> Any:
+    origin, args = get_origin(tp), get_args(tp)
+    if origin in (typing.Union, types.UnionType):
+        inner = [a for a in args if a is not type(None)]
+        if value is None:
+            return None
+        return _convert(value, inner[0], meta, where)
+    if origin is Literal:
+        if value not in args:
+            raise InputError(where, value, "one of " + ", ".join(repr(a) for a in args))
+        return value
+    if tp is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise InputError(where, value, f"a number{_range_text(meta)}")
+        if not math.isfinite(value):
+            raise InputError(where, value, "a finite number")
+        _check_range(float(value), meta, where, "a number")
+        return float(value)
+    if tp is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise InputError(where, value, f"an integer{_range_text(meta)}")
+        _check_range(value, meta, where, "an integer")
+        return value
+    if tp is bool:
+        if not isinstance(value, bool):
+            raise InputError(where, value, "true or false")
+        return value
+    if tp is str:
+        if not isinstance(value, str):
+            raise InputError(where, value, "a string")
+        return value
+    if origin is tuple:
+        if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+            raise InputError(where, value, "an array")
+        if len(args) == 2 and args[1] is Ellipsis:
+            types_ = [args[0]] * len(value)
+        else:
+            if len(value) != len(args):
+                raise InputError(where, value, f"an array of {len(args)} entries")
+            types_ = list(args)
+        return tuple(_convert(v, t, meta, f"{where}[{i}]") for i, (v, t) in enumerate(zip(value, types_)))
+    if origin is dict:
+        if not isinstance(value, Mapping):
+            raise InputError(where, value, "a table")
+        return {str(k): _convert(v, args[1], meta, f"{where}.{k}") for k, v in value.items()}
+    if dataclasses.is_dataclass(tp):
+        return from_mapping(tp, value, where)
+    raise TypeError(f"unsupported config type {tp!r} at {where}")  # programming error
+
+
+def from_mapping(cls: type[T], data: Any, where: str = "") -> T:
+    """Build the frozen dataclass ``cls`` from a mapping, validating every field.
+
+    Parameters
+    ----------
+    cls : type
+        A dataclass whose fields were declared with :func:`param` (plain fields work too).
+    data : Mapping
+        Parsed TOML table.
+    where : str
+        Dotted path of ``data`` inside the whole config, used in error messages.
+
+    Raises
+    ------
+    InputError
+        Unknown key, missing required key, wrong type or out-of-range value.
+    """
+    if not isinstance(data, Mapping):
+        raise InputError(where or "config", data, "a table")
+    hints = get_type_hints(cls)
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    prefix = f"{where}." if where else ""
+    for key in data:
+        if key not in fields:
+            raise InputError(f"{prefix}{key}", data[key], "no such key; allowed keys: " + ", ".join(fields))
+    kwargs = {}
+    for name, f in fields.items():
+        if name in data:
+            kwargs[name] = _convert(data[name], hints[name], f.metadata, f"{prefix}{name}")
+        elif f.default is _MISSING and f.default_factory is _MISSING:
+            raise InputError(f"{prefix}{name}", "<missing>", f"a value{_range_text(f.metadata)} (required)")
+    return cls(**kwargs)
+
+
+def to_mapping(obj: Any) -> dict[str, Any]:
+    """Plain-data view of a config dataclass (for provenance and sweeps)."""
+    return dataclasses.asdict(obj)
+
+
+def load_toml(path: str | Path) -> dict[str, Any]:
+    """Read a TOML file, turning syntax errors into an :class:`InputError`."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise InputError("config", str(path), "an existing TOML file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("config", str(path), f"valid TOML ({exc})") from None
+
+
+def set_dotted(data: dict[str, Any], key: str, value: Any) -> dict[str, Any]:
+    """Return a deep copy of ``data`` with the dotted ``key`` (e.g. ``"drive.speed_rpm"``) set."""
+    out = copy.deepcopy(data)
+    node = out
+    parts = key.split(".")
+    for part in parts[:-1]:
+        child = node.setdefault(part, {})
+        if not isinstance(child, dict):
+            raise InputError(key, value, f"a path through tables, but {part!r} is a value")
+        node = child
+    node[parts[-1]] = value
+    return out
+
+
+def get_dotted(data: Mapping[str, Any], key: str) -> Any:
+    """Value at a dotted ``key``; raises :class:`InputError` when absent."""
+    node: Any = data
+    for part in key.split("."):
+        if not isinstance(node, Mapping) or part not in node:
+            raise InputError(key, "<missing>", "a key present in the config")
+        node = node[part]
+    return node

@@ -1,0 +1,51 @@
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from rotaflex.core.io import write_atomic
+from rotaflex.core.report import Check, FigureEntry, Section, write_report
+from rotaflex.core.result import Result, load_result
+
+
+def test_atomic_write_keeps_old_file_on_failure(tmp_path):
+    target = tmp_path / "result.nc"
+    target.write_text("old")
+
+    def failing(p):
+        p.write_text("half")
+        raise RuntimeError("crash while writing")
+
+    with pytest.raises(RuntimeError):
+        write_atomic(target, failing)
+    assert target.read_text() == "old"
+    assert list(tmp_path.iterdir()) == [target]
+
+
+def test_result_round_trip_and_summary(tmp_path):
+    t = np.linspace(0, 1, 11)
+    ds = xr.Dataset(
+        {"energy": ("time", t**2, {"units": "J"}), "peak": ((), 3.0, {"units": "N"})},
+        coords={"time": ("time", t, {"units": "s"})},
+        attrs={"status": "success", "wall_time": 0.5},
+    )
+    paths = Result(ds).save(tmp_path)
+    assert {p.name for p in paths} >= {"result.nc", "summary.json", "energy.png"}
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["peak"] == {"value": 3.0, "unit": "N"}
+    back = load_result(tmp_path / "result.nc")
+    np.testing.assert_array_equal(back.dataset["energy"].values, t**2)
+    assert back.dataset["energy"].attrs["units"] == "J"
+
+
+def test_report_lists_failed_checks(tmp_path):
+    section = Section(
+        "Demo",
+        figures=[FigureEntry("Fig. 1", "caption", "a.png", checks=[Check("c", 1.0, "J", "< 0.5", False)])],
+        checks=[Check("d", 1e-12, "", "< 1e-9", True)],
+    )
+    write_report(tmp_path, [section], "t")
+    md = (tmp_path / "report.md").read_text()
+    assert "1 / 2" in md and "FAIL" in md and "1.000e-12" in md
+    assert "caption" in (tmp_path / "index.html").read_text()
