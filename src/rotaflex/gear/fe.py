@@ -130,7 +130,7 @@ def _assemble(mesh, ke: np.ndarray) -> sp.csr_matrix:
     dofs = element_dofs(mesh)
     rows = np.broadcast_to(dofs[:, :, None], ke.shape).ravel()
     cols = np.broadcast_to(dofs[:, None, :], ke.shape).ravel()
-    n = mesh.n_dofs
+    n = 2 * mesh.nodes.shape[0]
     return sp.coo_matrix((ke.ravel(), (rows, cols)), shape=(n, n)).tocsr()
 
 
@@ -190,7 +190,7 @@ def lumped_mass(mesh, density: float) -> np.ndarray:
     me, mass = _element_mass_scalar(mesh, density)
     diag = np.einsum("eaa->ea", me)
     lumped = diag * (mass / diag.sum(axis=1))[:, None]  # (ne, 8)
-    out = np.zeros(mesh.n_nodes)
+    out = np.zeros(mesh.nodes.shape[0])
     np.add.at(out, mesh.elements.ravel(), lumped.ravel())
     return np.repeat(out, 2)
 
@@ -265,7 +265,7 @@ def stress_operator(
     element = np.atleast_1d(element)
     dn = shape_derivatives(np.atleast_1d(xi), np.atleast_1d(eta))  # (npts, 8, 2)
     xe = mesh.nodes[mesh.elements[element]]  # (npts, 8, 2)
-    out = np.zeros((element.size, 3, mesh.n_dofs))
+    out = np.zeros((element.size, 3, 2 * mesh.nodes.shape[0]))
     for p in range(element.size):  # few points: small loop outside any time stepping
         b, _ = _b_matrices(xe[p : p + 1], dn[p : p + 1])
         out[p][:, element_dofs(mesh)[element[p]]] = d @ b[0, 0]
