@@ -132,3 +132,23 @@ def test_bad_mesh_parameters():
         build_tooth_mesh(G, n_flank=0)
     with pytest.raises(InputError, match="rim_depth_coef"):
         build_tooth_mesh(G, rim_depth_coef=-1.0)
+
+
+def test_write_vtu_round_trip(tmp_path):
+    import meshio
+
+    from rotaflex.gear.export import write_vtu
+
+    m = build_tooth_mesh(G, **COARSE)
+    u = np.arange(2 * m.n_nodes, dtype=float) * 1e-9
+    path = write_vtu(
+        tmp_path / "tooth.vtu", m, displacement=u, cell_data={"id": np.arange(m.n_elements)}
+    )
+    back = meshio.read(path)
+    assert back.cells[0].type == "quad8"
+    assert np.array_equal(back.cells[0].data, m.elements)
+    assert np.allclose(back.points[:, :2], m.nodes)
+    assert np.allclose(back.point_data["displacement"][:, :2], u.reshape(-1, 2))
+    with pytest.raises(InputError, match="displacement"):
+        write_vtu(tmp_path / "bad.vtu", m, displacement=np.zeros(5))
+    assert not (tmp_path / "bad.vtu").exists()
