@@ -151,7 +151,7 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
         [Check("paper: 3-1-3 underestimates the energy (mean K_313 / mean K_q)", ratio, "", "< 1",
                ratio < 1, claim=True, note= "holds, but only because J_313 as printed puts the polar moment on the wrong "
                "axis: with the polar moment on z the ratio is "
-               
+
                f"{float(np.mean(K313_consistent) / np.mean(Kq)):.4f}")]))
 
     # ---- Fig. 5-8: angular velocities
