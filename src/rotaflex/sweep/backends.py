@@ -15,6 +15,9 @@ from rotaflex.core.errors import InputError
 
 log = logging.getLogger("rotaflex.sweep")
 
+#: seconds to wait for a scheduler to answer and for its first worker
+CONNECT_TIMEOUT = 30.0
+
 _EXTRA = "rotaflex installed with the Dask extra: pip install 'rotaflex[dask]'"
 
 
@@ -28,7 +31,7 @@ def _distributed():
 
 @contextmanager
 def dask_executor(address: str, *, n_workers: int | None = None,
-                  timeout: float = 30.0) -> Iterator[Any]:
+                  timeout: float | None = None) -> Iterator[Any]:
     """A ``concurrent.futures`` executor on a Dask cluster.
 
     Parameters
@@ -38,8 +41,9 @@ def dask_executor(address: str, *, n_workers: int | None = None,
         ``LocalCluster`` here (processes, one thread per worker, ``n_workers`` of them).
     n_workers : int, optional
         Workers of the local cluster (default: one per core); ignored for an address.
-    timeout : float
-        Seconds to wait for the scheduler to answer and for a first worker [s].
+    timeout : float, optional
+        Seconds to wait for the scheduler to answer and for a first worker [s]
+        (default :data:`CONNECT_TIMEOUT`).
 
     Yields
     ------
@@ -48,6 +52,7 @@ def dask_executor(address: str, *, n_workers: int | None = None,
         can be resubmitted after ``KilledWorker``.
     """
     distributed = _distributed()
+    timeout = CONNECT_TIMEOUT if timeout is None else timeout
     cluster = None
     client = None
     try:
