@@ -71,6 +71,56 @@ def reproduce(
     guarded(go, debug)
 
 
+@app.command()
+def sweep(
+    config: Annotated[Path, typer.Argument(help="TOML case file with a top-level domain key.")],
+    out: Out,
+    vary: Annotated[list[str], typer.Option(
+        "--vary", "--param", "-p",
+        help="KEY=START:STOP:N or KEY=v1,v2,...; KEY is a dotted config path. Repeat for a grid.",
+    )],
+    jobs: Annotated[int | None, typer.Option(
+        "--jobs", "-j", help="Local worker processes (default: one per core; 0: serial here)."
+    )] = None,
+    scheduler: Annotated[str | None, typer.Option(
+        "--scheduler", help="Dask scheduler address tcp://host:port, or dask-local.")] = None,
+    retries: Annotated[int, typer.Option(
+        "--retries", help="Re-runs of a case whose worker died.", min=0)] = 2,
+    no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip PNG figures.")] = False,
+    quiet: Quiet = False,
+    debug: Debug = False,
+) -> None:
+    """Run CONFIG for every combination of the --vary values; resume in DIR if re-run.
+
+    Writes DIR/cases/<id>/ per case, DIR/sweep.nc (swept keys as dimensions), DIR/summary.csv,
+    DIR/figures/. Exit status 1 if any case failed, 130 if interrupted.
+    """
+    from rotaflex.core.config import load_toml
+    from rotaflex.sweep import plan, sweep_config
+    from rotaflex.sweep.backends import executor_for
+
+    def go():
+        cfg = load_toml(config)
+        plan(cfg, vary)  # validate everything before starting workers
+        with executor_for(jobs, scheduler) as executor:
+            try:
+                res = sweep_config(cfg, vary, out, executor, progress=not quiet,
+                                   max_retries=retries, figures=not no_figures)
+            except KeyboardInterrupt:
+                typer.echo(f"interrupted: finished cases are in {out / 'cases'}; run the same "
+                           "command again to compute only the missing ones", err=True)
+                raise typer.Exit(130) from None
+        typer.echo(f"{res.summary_text()} -> {out / 'sweep.nc'}")
+        for rec in res.failed[:10]:
+            typer.echo(f"  failed {rec.id} {rec.params}: {rec.status} {rec.error}".rstrip(), err=True)
+        if res.n_failed:
+            typer.echo(f"{res.n_failed} of {res.n_cases} cases failed: see {out / 'summary.csv'}",
+                       err=True)
+            raise typer.Exit(1)
+
+    guarded(go, debug)
+
+
 def _simulate_command(domain: str) -> Callable[..., None]:
     def simulate(
         config: Annotated[Path, typer.Argument(help="TOML case file.")],

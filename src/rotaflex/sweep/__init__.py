@@ -1,0 +1,24 @@
+"""Parameter studies: many cases of one model, on local processes or a Dask cluster.
+
+Data in, data out, over a ``concurrent.futures.Executor``: the case function is an importable
+top-level function taking plain picklable data and returning a :class:`~rotaflex.core.result.Result`;
+the client writes one directory per finished case, so an interrupted sweep resumes.
+
+Python API::
+
+    from rotaflex.sweep import run_sweep, grid_cases, sweep_config
+    res = run_sweep(case_fn, cases, executor=None, out_dir="out/s", progress=True)
+    res.dataset            # xarray.Dataset, swept parameters as dimensions
+
+Command line: ``rotaflex sweep CONFIG.toml --vary KEY=START:STOP:N --out DIR [-j N]
+[--scheduler tcp://host:port | dask-local]``.
+"""
+
+from rotaflex.sweep.runner import CaseRecord, SerialExecutor, SweepResult, process_pool, run_sweep
+from rotaflex.sweep.spec import Case, as_cases, grid_cases, parse_vary
+from rotaflex.sweep.study import plan, sweep_config
+
+__all__ = [
+    "Case", "CaseRecord", "SerialExecutor", "SweepResult", "as_cases", "grid_cases", "parse_vary",
+    "plan", "process_pool", "run_sweep", "sweep_config",
+]

@@ -1,0 +1,181 @@
+"""Combine the cases of a sweep: ``sweep.nc`` (parameters as dimensions), ``summary.csv``.
+
+When the cases' parameter values form a full Cartesian grid (what ``--vary`` builds) every swept
+parameter is a dimension and every summary scalar a variable over them. Otherwise (an arbitrary
+list of cases from the Python API) the dimension is ``case`` and the parameters are coordinates
+along it.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import itertools
+import json
+import logging
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rotaflex.core.io import write_atomic, write_json_atomic, write_text_atomic
+
+log = logging.getLogger("rotaflex.sweep")
+
+#: units of swept config keys named with a non-SI suffix (style rule: ``speed_rpm``)
+_SUFFIX_UNITS = {"_rpm": "rpm", "_deg": "deg", "_hz": "Hz", "_mm": "mm", "_percent": "%"}
+
+
+def param_units(key: str) -> str:
+    """Unit of a swept config key from its naming convention (``""`` when it does not say)."""
+    leaf = key.rsplit(".", 1)[-1]
+    return next((u for s, u in _SUFFIX_UNITS.items() if leaf.endswith(s)), "")
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float, np.integer, np.floating, bool, np.bool_))
+
+
+def _axes(records) -> tuple[list[str], dict[str, list[Any]], bool]:
+    keys: list[str] = []
+    for r in records:
+        keys += [k for k in r.params if k not in keys]
+    values = {k: [] for k in keys}
+    for r in records:
+        for k in keys:
+            v = r.params.get(k)
+            if v not in values[k]:
+                values[k].append(v)
+    n_grid = math.prod(len(v) for v in values.values()) if keys else 0
+    combos = {tuple(repr(r.params.get(k)) for k in keys) for r in records}
+    is_grid = bool(keys) and n_grid == len(records) == len(combos)
+    return keys, values, is_grid
+
+
+def combine(records, attrs: dict[str, Any] | None = None):
+    """An ``xarray.Dataset`` of every case's summary scalars.
+
+    Parameters
+    ----------
+    records : list of CaseRecord
+    attrs : dict, optional
+        Global attributes to add (``domain``, base config, ...).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions: the swept parameters (grid) or ``case``. Variables: each numeric summary
+        scalar (``units`` attribute from the summary; NaN where a case failed), ``status``,
+        ``error`` (first line), ``case_id``, ``attempts``, ``case_wall_time`` [s].
+    """
+    import xarray as xr
+
+    keys, values, is_grid = _axes(records)
+    if is_grid:
+        dims = keys
+        shape = tuple(len(values[k]) for k in keys)
+        index = [tuple(values[k].index(r.params.get(k)) for k in keys) for r in records]
+        coords = {k: (k, np.asarray(values[k]), {"units": param_units(k)}) for k in keys}
+    else:
+        dims, shape = ["case"], (len(records),)
+        index = [(i,) for i in range(len(records))]
+        coords = {"case": ("case", np.arange(len(records)), {"units": ""})}
+        for k in keys:
+            col = [r.params.get(k, np.nan) for r in records]
+            if not all(_is_number(v) for v in col):
+                col = [str(v) for v in col]
+            coords[k] = ("case", np.asarray(col), {"units": param_units(k)})
+
+    names: list[str] = []
+    units: dict[str, str] = {}
+    numeric: dict[str, bool] = {}
+    for r in records:
+        for name, item in r.summary.items():
+            if name == "status":
+                continue
+            if name not in names:
+                names.append(name)
+                units[name] = str(item.get("unit", ""))
+                numeric[name] = True
+            numeric[name] &= item.get("value") is None or _is_number(item.get("value"))
+
+    def filled(kind: str):
+        return np.full(shape, np.nan) if kind == "f" else np.full(shape, "", dtype=object)
+
+    data = {n: filled("f" if numeric[n] else "s") for n in names}
+    extra = {"status": filled("s"), "error": filled("s"), "case_id": filled("s"),
+             "attempts": np.zeros(shape, dtype=np.int64), "case_wall_time": filled("f")}
+    for r, idx in zip(records, index):
+        for n in names:
+            item = r.summary.get(n)
+            if item is not None and item.get("value") is not None:
+                data[n][idx] = float(item["value"]) if numeric[n] else str(item["value"])
+        extra["status"][idx] = r.status
+        extra["error"][idx] = r.error.splitlines()[0] if r.error else ""
+        extra["case_id"][idx] = r.id
+        extra["attempts"][idx] = r.attempts
+        extra["case_wall_time"][idx] = r.wall_time
+    variables = {n: (dims, a, {"units": units[n]}) for n, a in data.items()}
+    variables["status"] = (dims, extra["status"].astype(str), {"units": ""})
+    variables["error"] = (dims, extra["error"].astype(str), {"units": ""})
+    variables["case_id"] = (dims, extra["case_id"].astype(str), {"units": ""})
+    variables["attempts"] = (dims, extra["attempts"], {"units": ""})
+    variables["case_wall_time"] = (dims, extra["case_wall_time"], {"units": "s"})
+    n_failed = sum(r.status != "success" for r in records)
+    meta = {"n_cases": len(records), "n_failed": n_failed, "swept": json.dumps(keys),
+            "layout": "grid" if is_grid else "list"}
+    for k, v in (attrs or {}).items():
+        meta[k] = v if isinstance(v, (str, int, float)) else json.dumps(v, default=str)
+    return xr.Dataset(variables, coords=coords, attrs=meta)
+
+
+def summary_csv(records) -> str:
+    """CSV text: one row per case (id, parameters, status, summary scalars ``name [unit]``)."""
+    keys, _, _ = _axes(records)
+    names: list[str] = []
+    units: dict[str, str] = {}
+    for r in records:
+        for name, item in r.summary.items():
+            if name != "status" and name not in names:
+                names.append(name)
+                units[name] = str(item.get("unit", ""))
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["case_id", *(f"{k} [{param_units(k)}]" if param_units(k) else k for k in keys),
+                "status", *(f"{n} [{units[n]}]" if units[n] else n for n in names),
+                "attempts", "case_wall_time [s]", "error"])
+    for r in records:
+        vals = [r.summary.get(n, {}).get("value", "") for n in names]
+        w.writerow([r.id, *(r.params.get(k, "") for k in keys), r.status,
+                    *("" if v is None else v for v in vals), r.attempts,
+                    f"{r.wall_time:.6g}", r.error.splitlines()[0] if r.error else ""])
+    return buf.getvalue()
+
+
+def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[Path]:
+    """Write ``sweep.nc``, ``summary.csv``, ``sweep.json`` and ``figures/*.png``; return figure paths."""
+    out = result.out_dir
+    ds = result.dataset
+    write_atomic(out / "sweep.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    write_text_atomic(out / "summary.csv", summary_csv(result.records))
+    manifest = {
+        "n_cases": result.n_cases, "n_failed": result.n_failed, "n_computed": result.n_computed,
+        "domain": domain or "", "swept": json.loads(ds.attrs["swept"]),
+        "failed": [{"id": r.id, "params": r.params, "status": r.status, "error": r.error}
+                   for r in result.failed],
+    }
+    write_json_atomic(out / "sweep.json", manifest)
+    paths: list[Path] = []
+    if figures and any(r.ok for r in result.records):
+        from rotaflex.core.plotting import save_figure
+        from rotaflex.sweep.figures import sweep_figures
+
+        for stem, fig in sweep_figures(ds, domain).items():
+            paths.append(save_figure(fig, out / "figures" / f"{stem}.png"))
+    return paths
+
+
+def iter_grid(ds):
+    """Index tuples over the non-``case`` dimensions of ``ds`` (helper for plotting)."""
+    return itertools.product(*(range(ds.sizes[d]) for d in ds.dims))

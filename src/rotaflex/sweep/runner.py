@@ -1,0 +1,466 @@
+"""Run the cases of a sweep over a ``concurrent.futures.Executor``; write one directory per case.
+
+The client (this process) submits ``execute_case(case_fn, case.data)`` to the executor, and
+writes every finished case at once to ``out_dir/cases/<id>/`` (``result.nc`` and
+``summary.json`` via :meth:`Result.save`, then ``case.json``, the marker that the case is done).
+A re-run skips the cases whose marker says done; cases that raised are recorded in
+``error.txt`` and attempted again by the next run.
+
+Worker deaths: a local process pool that breaks (a worker was killed) is rebuilt and the cases
+that were in flight are re-run one at a time, so the case that kills its worker is identified
+and retried alone, and the others are not blamed. On Dask, a task whose workers keep dying
+ends in ``KilledWorker``; the case is resubmitted up to ``max_retries`` times.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import multiprocessing
+import os
+import time
+from collections import deque
+from collections.abc import Callable, Iterable, Mapping
+from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, Future, wait
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from rotaflex.core.io import write_json_atomic, write_text_atomic
+from rotaflex.sweep._worker import Outcome, execute_case
+from rotaflex.sweep.spec import Case, as_cases, case_id
+
+log = logging.getLogger("rotaflex.sweep")
+
+
+@dataclass
+class CaseRecord:
+    """What the sweep knows about one case after the run.
+
+    ``status`` is the Result's status (``"success"`` or a failure word), ``"error"`` when the
+    case function raised or its worker kept dying, or ``"missing"`` when it was never run.
+    """
+
+    id: str
+    params: dict[str, Any]
+    status: str = "missing"
+    error: str = ""
+    summary: dict[str, dict[str, Any]] = field(default_factory=dict)
+    wall_time: float = float("nan")
+    attempts: int = 0
+    computed: bool = False
+    worker: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "success"
+
+
+@dataclass
+class SweepResult:
+    """Outcome of :func:`run_sweep`.
+
+    Attributes
+    ----------
+    records : list of CaseRecord
+        One per case, in the order given.
+    dataset : xarray.Dataset
+        Combined summary scalars with the swept parameters as dimensions (see
+        :func:`rotaflex.sweep.combine.combine`); written to ``out_dir/sweep.nc``.
+    out_dir : Path or None
+    wall_time : float
+        Wall time of the whole sweep [s].
+    """
+
+    records: list[CaseRecord]
+    dataset: Any
+    out_dir: Path | None = None
+    wall_time: float = float("nan")
+    figures: list[Path] = field(default_factory=list)
+
+    @property
+    def n_cases(self) -> int:
+        return len(self.records)
+
+    @property
+    def n_failed(self) -> int:
+        return sum(not r.ok for r in self.records)
+
+    @property
+    def n_computed(self) -> int:
+        return sum(r.computed for r in self.records)
+
+    @property
+    def n_reused(self) -> int:
+        return sum(r.ok and not r.computed for r in self.records)
+
+    @property
+    def failed(self) -> list[CaseRecord]:
+        return [r for r in self.records if not r.ok]
+
+    def to_xarray(self):
+        return self.dataset
+
+    def summary_text(self) -> str:
+        """One line: counts of cases computed, reused and failed, and the wall time."""
+        text = (f"{self.n_cases} cases: {self.n_computed} computed, {self.n_reused} reused from an "
+                f"earlier run, {self.n_failed} failed; {self.wall_time:.1f} s")
+        return text
+
+
+class SerialExecutor(Executor):
+    """Runs each submitted call at once in this process (debugging, tiny sweeps, reference)."""
+
+    _max_workers = 1
+
+    def submit(self, fn, /, *args, **kwargs):
+        fut: Future = Future()
+        try:
+            fut.set_result(fn(*args, **kwargs))
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller through the future
+            fut.set_exception(exc)
+        return fut
+
+
+def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
+    """A local process pool whose workers start from a clean interpreter.
+
+    POSIX uses the ``forkserver`` start method with numpy, xarray and the worker module
+    preloaded (fast worker start, no fork of a threaded client); elsewhere ``spawn``.
+    """
+    methods = multiprocessing.get_all_start_methods()
+    if "forkserver" in methods:
+        ctx = multiprocessing.get_context("forkserver")
+        ctx.set_forkserver_preload(["numpy", "xarray", "rotaflex.sweep._worker"])
+    else:  # pragma: no cover - Windows
+        ctx = multiprocessing.get_context("spawn")
+    return ProcessPoolExecutor(max_workers=max_workers or os.cpu_count() or 1, mp_context=ctx)
+
+
+class _Backend:
+    """The executor a sweep runs on, and whether it can be rebuilt after it breaks."""
+
+    def __init__(self, executor: Any):
+        self.factory: Callable[[], Executor] | None = None
+        self.owned = False
+        if executor is None:
+            self.factory, self.owned = process_pool, True
+        elif executor == "serial":
+            self.factory, self.owned = SerialExecutor, True
+        elif isinstance(executor, int) and not isinstance(executor, bool):
+            if executor < 1:
+                raise ValueError(f"executor = {executor}: a number of processes must be >= 1")
+            self.factory, self.owned = (lambda: process_pool(executor)), True
+        elif isinstance(executor, Executor):
+            self.executor = executor
+        elif callable(executor):
+            self.factory, self.owned = executor, True
+        else:
+            raise TypeError(f"executor must be None, 'serial', an int, an Executor or a factory, "
+                            f"not {executor!r}")
+        if self.factory is not None:
+            self.executor = self.factory()
+        self.window = 2 * _n_workers(self.executor)
+
+    def rebuild(self) -> None:
+        if self.factory is None:
+            raise RuntimeError("the executor broke (a worker process died) and cannot be rebuilt: "
+                               "pass executor=None, an int, or a factory instead of an instance")
+        self.shutdown(wait=False)
+        self.executor = self.factory()
+        log.warning("rebuilt the process pool after a worker died")
+
+    def shutdown(self, wait: bool = True) -> None:
+        if not self.owned:
+            return
+        ex = self.executor
+        if isinstance(ex, ProcessPoolExecutor) and not wait:
+            # no public way to stop running workers in Python < 3.14
+            procs = list((getattr(ex, "_processes", None) or {}).values())
+            ex.shutdown(wait=False, cancel_futures=True)
+            for p in procs:
+                if p.is_alive():
+                    p.terminate()
+        else:
+            ex.shutdown(wait=wait)
+
+
+def _n_workers(executor: Executor) -> int:
+    n = getattr(executor, "_max_workers", None)
+    if n:
+        return int(n)
+    client = getattr(executor, "_client", None)  # distributed.cfexecutor.ClientExecutor
+    if client is not None:
+        try:
+            return max(1, sum(client.nthreads().values()))
+        except Exception:  # noqa: BLE001 - best effort sizing only
+            pass
+    return os.cpu_count() or 1
+
+
+def _data_hash(data: Any) -> str:
+    return case_id(0, data).split("-", 1)[1]
+
+
+def _read_done(case: Case, case_dir: Path) -> CaseRecord | None:
+    """The record of a case finished by an earlier run, or None if it must be (re)computed."""
+    marker = case_dir / "case.json"
+    if not marker.exists():
+        return None
+    try:
+        info = json.loads(marker.read_text())
+    except (OSError, ValueError):
+        return None
+    if info.get("state") != "done" or not (case_dir / "result.nc").exists():
+        return None
+    if info.get("data_hash") != _data_hash(case.data):
+        log.warning("case %s: stored config differs from this sweep's; recomputing", case.id)
+        return None
+    try:
+        summary = json.loads((case_dir / "summary.json").read_text())
+    except (OSError, ValueError):
+        return None
+    return CaseRecord(case.id, dict(case.params), info.get("status", "unknown"), info.get("error", ""),
+                      summary, info.get("wall_time", float("nan")), info.get("attempts", 1),
+                      False, info.get("worker", ""))
+
+
+def _jsonable(data: Any) -> Any:
+    try:
+        json.dumps(data)
+        return data
+    except (TypeError, ValueError):
+        return repr(data)
+
+
+def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None,
+           case_figures: bool) -> CaseRecord:
+    """Record a finished case; write its files at once when ``out_dir`` is given."""
+    rec = CaseRecord(case.id, dict(case.params), attempts=attempts, computed=True,
+                     wall_time=outcome.wall_time, worker=outcome.worker)
+    trace = outcome.traceback
+    result = outcome.result
+    if not outcome.error and not (hasattr(result, "save") and hasattr(result, "summary")):
+        outcome.error = f"TypeError: the case function returned {type(result).__name__}, not a Result"
+    if not outcome.error:
+        try:
+            rec.summary = result.summary()
+            rec.status = str(result.status)
+        except Exception as exc:  # noqa: BLE001 - a broken summary is this case's error
+            import traceback
+
+            outcome.error, trace = f"{type(exc).__name__}: {exc}", traceback.format_exc()
+    if outcome.error:
+        rec.status, rec.error = "error", outcome.error
+    if out_dir is None:
+        return rec
+    case_dir = out_dir / "cases" / case.id
+    case_dir.mkdir(parents=True, exist_ok=True)
+    info = {"id": case.id, "params": case.params, "status": rec.status, "error": rec.error,
+            "attempts": attempts, "wall_time": rec.wall_time, "worker": rec.worker,
+            "data_hash": _data_hash(case.data), "config": _jsonable(case.data)}
+    if rec.status == "error":
+        write_text_atomic(case_dir / "error.txt", f"{rec.error}\n\n{trace}")
+        write_json_atomic(case_dir / "case.json", {**info, "state": "error"})
+        log.warning("case %s failed: %s", case.id, rec.error)
+        return rec
+    result.save(case_dir, figures=case_figures)
+    (case_dir / "error.txt").unlink(missing_ok=True)
+    write_json_atomic(case_dir / "case.json", {**info, "state": "done"})
+    if not rec.ok:
+        log.warning("case %s finished with status %r: %s", case.id, rec.status, result.message)
+    return rec
+
+
+def _crash_error(exc: BaseException, n: int) -> str:
+    return (f"WorkerDied: the worker process died while running this case {n} time(s) "
+            f"(last: {type(exc).__name__}: {exc})")
+
+
+def run_sweep(
+    case_fn: Callable[[Any], Any],
+    cases: Iterable[Case | Mapping[str, Any]],
+    executor: Any = None,
+    *,
+    out_dir: str | Path | None = None,
+    progress: bool | Callable[[CaseRecord, int, int], None] = False,
+    max_retries: int = 2,
+    figures: bool = True,
+    case_figures: bool = False,
+    domain: str | None = None,
+    attrs: Mapping[str, Any] | None = None,
+) -> SweepResult:
+    """Run ``case_fn`` on every case, write each case as it finishes, then combine.
+
+    Parameters
+    ----------
+    case_fn : callable
+        Importable top-level function ``case_fn(data) -> Result`` (``functools.partial`` of one
+        is fine); it runs on the workers, so it and ``data`` must pickle.
+    cases : iterable of Case or dict
+        The cases (see :func:`rotaflex.sweep.grid_cases`). A plain dict is its own data, and
+        its scalar entries are the swept coordinates.
+    executor : None, "serial", int, Executor or callable
+        ``None``: a local process pool with one process per core; an int: that many
+        processes; ``"serial"``: in this process; an ``Executor`` instance (e.g.
+        ``distributed.Client(address).get_executor(pure=False)``) is used and not shut down;
+        a zero-argument callable returns a fresh executor (rebuilt if a worker dies).
+    out_dir : path, optional
+        Sweep directory: ``cases/<id>/`` per case, ``sweep.nc``, ``summary.csv``,
+        ``figures/``, ``sweep.json``. Cases already done there are reused (resume).
+        Without it, nothing is written and nothing is reused.
+    progress : bool or callable
+        True: a tqdm bar over cases. A callable is called as ``progress(record, done, total)``
+        after each case.
+    max_retries : int
+        How many times a case whose worker died is run again before it is recorded as failed.
+    figures : bool
+        Write the sweep figures to ``out_dir/figures/``.
+    case_figures : bool
+        Also write each case's own PNG figures (slow for big sweeps).
+    domain : str, optional
+        Domain name (selects the sweep figures) stored in ``sweep.nc``.
+    attrs : dict, optional
+        Extra global attributes of ``sweep.nc`` (e.g. the base config as JSON).
+
+    Returns
+    -------
+    SweepResult
+
+    Examples
+    --------
+    >>> from rotaflex.sweep import run_sweep, Case
+    >>> from rotaflex.sweep._selftest_case import run_case           # doctest: +SKIP
+    >>> res = run_sweep(run_case, [{"x": 1.0}, {"x": 2.0}], "serial")  # doctest: +SKIP
+    >>> res.dataset["a"].values                                        # doctest: +SKIP
+    array([1., 4.])
+    """
+    from rotaflex.sweep.combine import combine, write_outputs
+
+    t0 = time.perf_counter()
+    cases = as_cases(cases)
+    out = Path(out_dir) if out_dir is not None else None
+    records: dict[str, CaseRecord] = {}
+    todo: deque[Case] = deque()
+    for case in cases:
+        done = _read_done(case, out / "cases" / case.id) if out is not None else None
+        if done is not None:
+            records[case.id] = done
+        else:
+            todo.append(case)
+    total = len(cases)
+    if out is not None:
+        log.info("sweep of %d cases in %s: %d done earlier, %d to run", total, out, total - len(todo),
+                 len(todo))
+
+    bar = None
+    if progress is True:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=total, initial=total - len(todo), unit="case", desc="sweep", smoothing=0.1)
+    callback = progress if callable(progress) else None
+
+    def finish(case: Case, outcome: Outcome, n_attempts: int) -> None:
+        rec = _store(case, outcome, n_attempts, out, case_figures)
+        records[case.id] = rec
+        if bar is not None:
+            bar.update(1)
+            bar.set_postfix(failed=sum(not r.ok for r in records.values() if r.computed))
+        if callback is not None:
+            callback(rec, len(records), total)
+
+    if todo:
+        backend = _Backend(executor)
+        try:
+            _drive(backend, case_fn, todo, finish, max_retries)
+        except BaseException:
+            backend.shutdown(wait=False)
+            raise
+        else:
+            backend.shutdown(wait=True)
+        finally:
+            if bar is not None:
+                bar.close()
+    elif bar is not None:
+        bar.close()
+
+    ordered = [records.get(c.id) or CaseRecord(c.id, dict(c.params)) for c in cases]
+    meta = {"domain": domain or "", **(attrs or {})}
+    dataset = combine(ordered, attrs=meta)
+    result = SweepResult(ordered, dataset, out, time.perf_counter() - t0)
+    if out is not None:
+        result.figures = write_outputs(result, domain=domain, figures=figures)
+    result.wall_time = time.perf_counter() - t0
+    log.info("%s", result.summary_text())
+    return result
+
+
+def _drive(backend: _Backend, case_fn, todo: deque[Case],
+           finish: Callable[[Case, Outcome, int], None], max_retries: int) -> None:
+    """Submit/collect loop: keep ``backend.window`` cases in flight; handle worker deaths."""
+    attempts: dict[str, int] = {}
+    deaths: dict[str, int] = {}
+    suspects: deque[Case] = deque()  # in flight when a local pool broke: re-run one at a time
+    inflight: dict[Future, Case] = {}
+
+    def submit(case: Case, queue: deque[Case]) -> bool:
+        try:
+            fut = backend.executor.submit(execute_case, case_fn, case.data)
+        except BrokenProcessPool:  # broke since the last wait; its futures will tell
+            queue.appendleft(case)
+            return False
+        attempts[case.id] = attempts.get(case.id, 0) + 1
+        inflight[fut] = case
+        return True
+
+    def died(case: Case, exc: BaseException, queue: deque[Case]) -> None:
+        deaths[case.id] = deaths.get(case.id, 0) + 1
+        if deaths[case.id] > max_retries:
+            err = _crash_error(exc, deaths[case.id])
+            finish(case, Outcome(None, err, "", float("nan"), ""), attempts[case.id])
+        else:
+            log.warning("case %s: worker died (%s); retrying", case.id, type(exc).__name__)
+            queue.appendleft(case)
+
+    while todo or suspects or inflight:
+        ok = True
+        if suspects:
+            if not inflight:
+                ok = submit(suspects.popleft(), suspects)
+        else:
+            while ok and todo and len(inflight) < backend.window:
+                ok = submit(todo.popleft(), todo)
+        if not inflight:
+            if not ok:
+                backend.rebuild()
+            continue
+        isolated = len(inflight) == 1
+        done, _ = wait(list(inflight), return_when=FIRST_COMPLETED)
+        broken = False
+        for fut in done:
+            case = inflight.pop(fut)
+            try:
+                outcome = fut.result()
+            except BrokenProcessPool as exc:
+                broken = True
+                if isolated:
+                    died(case, exc, suspects)
+                else:
+                    suspects.append(case)
+            except (CancelledError, Exception) as exc:  # KilledWorker, lost connection, ...
+                died(case, exc, todo)
+            else:
+                finish(case, outcome, attempts[case.id])
+        if broken:
+            # every other in-flight future of the broken pool fails too; collect them
+            rest, _ = wait(list(inflight))
+            for fut in rest:
+                case = inflight.pop(fut)
+                exc = fut.exception()
+                if exc is None:
+                    finish(case, fut.result(), attempts[case.id])
+                else:
+                    suspects.append(case)
+            backend.rebuild()
