@@ -146,11 +146,8 @@ def normal_rates(
     pair = search(pa, pb, sig_a, sig_b, start)
     n = res[3:5]
     sdot = float(n @ (spline_point(va, res[0], mva)[0] - spline_point(vb, res[1], mvb)[0]))
-    hs, ad, bd = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, float(sig_a), float(sig_b), res)
-    return {
-        "pair": pair,
-        "s_dot": sdot,
-        "sliding": float(hs),
-        "a_dot": float(ad),
-        "b_dot": float(bd),
-    }
+    rates = np.zeros(4)
+    hs, _, _ = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, float(sig_a), float(sig_b), res,
+                             rates)
+    return {"pair": pair, "s_dot": sdot, "sliding": float(hs), "a_dot": float(rates[0]),
+            "b_dot": float(rates[1]), "n_dot": rates[2:4].copy()}

@@ -290,7 +290,7 @@ def _cross(ax, ay, bx, by):
 
 
 @njit(cache=True)
-def sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, sig_a, sig_b, res):
+def sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, sig_a, sig_b, res, rates):
     """Velocity-independent part of the relative normal acceleration (appendix A).
 
     With the contact pair of ``res`` (from :func:`contact_search`), returns ``h_s`` such that
@@ -367,7 +367,15 @@ def sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, sig_a, sig_b, res):
     hdd_v += dv0 * nd0 + dv1 * nd1
     # s = -h, and the acceleration part (A_S - A_Q).n_Q = -(a_A - a_B).n with n from A to B
     if q == 0:
+        rates[0] = ad
+        rates[1] = bd
+        rates[2] = nd0
+        rates[3] = nd1
         return -hdd_v, ad, bd
+    rates[0] = bd
+    rates[1] = ad
+    rates[2] = -nd0
+    rates[3] = -nd1
     return -hdd_v, bd, ad
 
 
@@ -908,41 +916,45 @@ def iterate_pass(
 
 
 @njit(cache=True)
-def accelerations(
-    x,
-    phi,
-    fconst,
-    fthc,
-    xloc,
-    gid,
-    cen,
-    theta0,
-    jd,
-    minv,
-    indptr,
-    indices,
-    data,
-    rsgn,
-    tpar,
-    rot,
-    wbuf,
-    floc,
-    fglob,
-    tel,
-    a,
-    alp,
-):
-    """Nodal and disk accelerations for given constant constraint forces; returns strain
-    energy. ``tpar`` = (tau0, theta_2, theta_s)."""
+def accelerations(x, phi, mu, tau_off, ct, rates, flank, nedge, cnod, cw, xloc, gid, cen, theta0,
+                  jd, minv, indptr, indices, data, tie_node, tie_gear, rsgn, tpar, rot, bvec, rx,
+                  wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp):
+    """Accelerations at a (stage) state for given multipliers ``mu``; returns strain energy.
+
+    The constraint force is ``G(q)^T mu`` with the Jacobian at the stage state: tie forces
+    ``-R(phi) lambda`` turn with the disk; the contact force follows the contact point, whose
+    parameters and normal at the step start (``ct`` = a, b, n_x, n_y) advance with their
+    rates (``rates`` = da/dt, db/dt, dn_x/dt, dn_y/dt, appendix A) over ``tau_off`` seconds.
+    ``tpar`` = (tau0, theta_2, theta_s).
+    """
     set_rotation(phi, theta0, rot)
+    tie_vectors(x, cen, tie_node, tie_gear, rot, bvec, rx)
+    n0 = ct[2] + rates[2] * tau_off
+    n1 = ct[3] + rates[3] * tau_off
+    ln = math.hypot(n0, n1)
+    cn_s[0] = n0 / ln
+    cn_s[1] = n1 / ln
+    nodes = np.empty(3, np.int64)
+    w = np.empty(3)
+    flank_weights(flank[0], nedge[0], ct[0] + rates[0] * tau_off, nodes, w)
+    for j in range(3):
+        cnod[0, j] = nodes[j]
+        cw[0, j] = w[j]
+    flank_weights(flank[1], nedge[1], ct[1] + rates[1] * tau_off, nodes, w)
+    for j in range(3):
+        cnod[1, j] = nodes[j]
+        cw[1, j] = w[j]
+    fc[:] = 0.0
+    fth[:] = 0.0
+    gt_apply(mu, tie_node, tie_gear, bvec, rot, cnod, cw, cn_s, fc, fth)
     energy = elastic_force(x, xloc, gid, cen, rot, indptr, indices, data, wbuf, floc, fglob, tel)
     nn = xloc.shape[0]
     for i in range(nn):
-        a[2 * i] = minv[i] * (fglob[2 * i] + fconst[2 * i])
-        a[2 * i + 1] = minv[i] * (fglob[2 * i + 1] + fconst[2 * i + 1])
+        a[2 * i] = minv[i] * (fglob[2 * i] + fc[2 * i])
+        a[2 * i + 1] = minv[i] * (fglob[2 * i + 1] + fc[2 * i + 1])
     for g in range(2):
         tau = ramp_torque(rsgn[g] * phi[g], tpar[0], tpar[1], tpar[2])
-        alp[g] = (tau + tel[g] + fthc[g]) / jd[g]
+        alp[g] = (tau + tel[g] + fth[g]) / jd[g]
     return energy
 
 
@@ -955,51 +967,17 @@ def kinetic_energy(v, om, minv, jd):
 
 
 @njit(cache=True)
-def run_steps(
-    n_steps,
-    rec_every,
-    mi_gid,
-    mi_indptr,
-    mi_indices,
-    mi_tie_node,
-    mi_tie_gear,
-    mi_flank,
-    mi_nedge,
-    mi_tb_i,
-    mi_tb_j,
-    mf_xloc,
-    mf_minv,
-    mf_data,
-    mf_cen,
-    mf_theta0,
-    mf_jd,
-    mf_sig,
-    mf_tb_b,
-    mf_rsgn,
-    par,
-    ipar,
-    x,
-    v,
-    a,
-    phi,
-    om,
-    alp,
-    mu,
-    cres,
-    cnod,
-    cw,
-    sc,
-    out,
-    out_mu,
-    info,
-):
+def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi_tie_gear,
+              mi_flank, mi_nedge, mi_tb_i, mi_tb_j, mf_xloc, mf_minv, mf_data, mf_cen,
+              mf_theta0, mf_jd, mf_sig, mf_tb_b, mf_rsgn, par, ipar,
+              x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, out, out_mu, info):
     """Advance ``n_steps`` RK4 steps with the three constraint passes per step.
 
     ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3);
     ``ipar`` = (n_accel, max_iter, n_points, rec_row, initialise). ``sc`` carries running
-    scalars: (t, W_ext, D_vel, E_el, E_kin, F_peak, res1, res2, res3, it1, it2, it3, s_final,
-    shat, n_impacts, tie_res, pbar, phat, tau_A, tau_B). Records are written every ``rec_every``
-    steps into ``out`` starting at row ``ipar[3]``; returns (status, next row).
+    scalars: (t, W_ext, D_vel, E_el, -, F_peak, res1, res2, res3, it1, it2, it3, s_final,
+    shat, n_impacts, tie_res, pbar, phat, tau_A, tau_B). Records are written every
+    ``rec_every`` steps into ``out`` starting at row ``ipar[3]``; returns (status, next row).
     """
     dt = par[0]
     tpar = par[1:4]
@@ -1015,16 +993,15 @@ def run_steps(
     nt = mi_tie_node.shape[0]
     nc = 2 * nt + 1
     ic = nc - 1
-    # scratch
     rot = np.empty((2, 2))
     bvec = np.empty((nt, 2))
     rx = np.empty((nt, 2))
     wbuf = np.empty(nd)
     floc = np.empty(nd)
     fglob = np.empty(nd)
+    fc = np.zeros(nd)
     tel = np.empty(2)
-    fconst = np.zeros(nd)
-    fthc = np.zeros(2)
+    fth = np.zeros(2)
     gsc = np.zeros(nd)
     gth = np.zeros(2)
     zk = np.zeros(nd)
@@ -1038,6 +1015,7 @@ def run_steps(
     alk = np.empty(2)
     psum = np.empty(2)
     osum = np.empty(2)
+    phi_t = np.empty(2)
     pa = np.empty((mpts, 2))
     ma = np.empty((mpts, 2))
     pb = np.empty((mpts, 2))
@@ -1047,46 +1025,46 @@ def run_steps(
     vb = np.empty((mpts, 2))
     mvb = np.empty((mpts, 2))
     cn = np.empty(2)
+    cn_t = np.empty(2)
+    cn_s = np.empty(2)
+    cnod_t = np.empty((2, 3), np.int64)
+    cw_t = np.empty((2, 3))
+    ct = np.zeros(4)
+    rates = np.zeros(4)
+    zero4 = np.zeros(4)
     ccol = np.zeros(nc)
     e0 = np.zeros(nc)
     mu0 = np.zeros(nc)
     work = np.zeros((7, nc))
     stats = np.zeros(2)
-    cnod_t = cnod.copy()
-    cw_t = cw.copy()
-    cn_t = np.empty(2)
     c11 = dt * dt / 2.0
     c12 = dt**4 / 24.0
     c21 = dt
     c22 = dt**3 / 6.0
-
     cn[0] = cres[3]
     cn[1] = cres[4]
-    if ipar[4] == 1:
-        # consistent initial accelerations (pass 3 at t = 0)
-        set_rotation(phi, mf_theta0, rot)
-        if not contact_geometry(
-            x, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb, mb, cres, cnod, cw
-        ):
+    init = ipar[4] == 1
+    if init:
+        if not contact_geometry(x, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb, mb, cres,
+                                cnod, cw):
             info[0] = sc[0]
             return 4, row
         cn[0] = cres[3]
         cn[1] = cres[4]
-    for step in range(n_steps + (1 if ipar[4] == 1 else 0)):
+    for step in range(n_steps + (1 if init else 0)):
         t = sc[0]
-        initial = ipar[4] == 1 and step == 0
+        initial = init and step == 0
         if not initial:
-            # ---- constant constraint force over the step: G_t^T mu
-            set_rotation(phi, mf_theta0, rot)
-            tie_vectors(mf_xloc, mi_tie_node, mi_tie_gear, rot, bvec, rx)
-            fconst[:] = 0.0
-            fthc[:] = 0.0
-            gt_apply(mu, mi_tie_node, mi_tie_gear, bvec, cnod, cw, cn, fconst, fthc)
+            # ---- constraint Jacobian of the step start, multipliers mu held over the step
+            ct[0] = cres[0]
+            ct[1] = cres[1]
+            ct[2] = cn[0]
+            ct[3] = cn[1]
+            phi_t[0] = phi[0]
+            phi_t[1] = phi[1]
             tau_old0 = ramp_torque(mf_rsgn[0] * phi[0], tpar[0], tpar[1], tpar[2])
             tau_old1 = ramp_torque(mf_rsgn[1] * phi[1], tpar[0], tpar[1], tpar[2])
-            phi_old0 = phi[0]
-            phi_old1 = phi[1]
-            # ---- classical RK4 (k1 = stored consistent acceleration)
+            # ---- classical RK4 (k1 = stored consistent acceleration of the step start)
             for r in range(nd):
                 xsum[r] = v[r]
                 asum[r] = a[r]
@@ -1110,30 +1088,10 @@ def run_steps(
                     for g in range(2):
                         ps[g] = phi[g] + hh * os_[g]
                         os_[g] = om[g] + hh * alk[g]
-                accelerations(
-                    xs,
-                    ps,
-                    fconst,
-                    fthc,
-                    mf_xloc,
-                    mi_gid,
-                    mf_cen,
-                    mf_theta0,
-                    mf_jd,
-                    mf_minv,
-                    mi_indptr,
-                    mi_indices,
-                    mf_data,
-                    mf_rsgn,
-                    tpar,
-                    rot,
-                    wbuf,
-                    floc,
-                    fglob,
-                    tel,
-                    ak,
-                    alk,
-                )
+                accelerations(xs, ps, mu, hh, ct, rates, mi_flank, mi_nedge, cnod_t, cw_t,
+                              mf_xloc, mi_gid, mf_cen, mf_theta0, mf_jd, mf_minv, mi_indptr,
+                              mi_indices, mf_data, mi_tie_node, mi_tie_gear, mf_rsgn, tpar, rot,
+                              bvec, rx, wbuf, floc, fglob, tel, fc, fth, cn_s, ak, alk)
                 for r in range(nd):
                     xsum[r] += wgt * vs[r]
                     asum[r] += wgt * ak[r]
@@ -1148,64 +1106,27 @@ def run_steps(
                 om[g] += dt / 6.0 * osum[g]
             t = t + dt
             # ---- contact search at the predicted state
-            if not contact_geometry(
-                x, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb, mb, cres, cnod, cw
-            ):
+            if not contact_geometry(x, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb, mb, cres,
+                                    cnod, cw):
                 info[0] = t
                 return 4, row
             cn[0] = cres[3]
             cn[1] = cres[4]
             set_rotation(phi, mf_theta0, rot)
-            tie_vectors(mf_xloc, mi_tie_node, mi_tie_gear, rot, bvec, rx)
-            # ---- pass 1: displacement constraints
+            tie_vectors(x, mf_cen, mi_tie_node, mi_tie_gear, rot, bvec, rx)
+            # ---- pass 1: displacement constraints (eq. 8, 19)
             for k in range(nt):
                 i = mi_tie_node[k]
-                g = mi_tie_gear[k]
-                e0[2 * k] = -(x[2 * i] - mf_cen[g, 0] - rx[k, 0])
-                e0[2 * k + 1] = -(x[2 * i + 1] - mf_cen[g, 1] - rx[k, 1])
+                e0[2 * k] = -(rx[k, 0] - mf_xloc[i, 0])
+                e0[2 * k + 1] = -(rx[k, 1] - mf_xloc[i, 1])
             e0[ic] = -cres[2]
-            contact_column(
-                c11,
-                c12,
-                mf_minv,
-                mi_gid,
-                rot,
-                mi_indptr,
-                mi_indices,
-                mf_data,
-                mi_tie_node,
-                cnod,
-                cw,
-                cn,
-                gsc,
-                zk,
-                ccol,
-            )
+            contact_column(c11, c12, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
+                           mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
             mu0[:] = mu
-            res, its, ok, yc = iterate_pass(
-                1,
-                e0,
-                mu,
-                0.0,
-                c11,
-                c12,
-                par[7],
-                tol1,
-                n_acc,
-                max_iter,
-                mf_minv,
-                mi_tie_node,
-                mi_tie_gear,
-                mf_jd,
-                bvec,
-                rot,
-                mi_tb_i,
-                mi_tb_j,
-                mf_tb_b,
-                ccol,
-                work,
-                stats,
-            )
+            res, its, ok, yc = iterate_pass(1, e0, mu, 0.0, c11, c12, par[7], tol1, n_acc,
+                                            max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd,
+                                            bvec, rot, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work,
+                                            stats)
             if not ok:
                 info[0] = t
                 info[1] = res
@@ -1218,8 +1139,8 @@ def run_steps(
                 e0[r] = mu[r] - mu0[r]
             gsc[:] = 0.0
             gth[:] = 0.0
-            gt_apply(e0, mi_tie_node, mi_tie_gear, bvec, cnod, cw, cn, gsc, gth)
-            # positions and velocities of the RK4 solution with the new multipliers
+            gt_apply(e0, mi_tie_node, mi_tie_gear, bvec, rot, cnod, cw, cn, gsc, gth)
+            # RK4 positions and velocities with the new multipliers (affine response)
             k_local_product(gsc, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data, zk)
             for i in range(nn):
                 gg = mi_gid[i]
@@ -1238,13 +1159,17 @@ def run_steps(
             gsc[:] = 0.0
             pbar = mu[ic]
             sc[16] = pbar
-            # ---- pass 2: velocity constraints
+            set_rotation(phi, mf_theta0, rot)
+            tie_vectors(x, mf_cen, mi_tie_node, mi_tie_gear, rot, bvec, rx)
+            # ---- pass 2: velocity constraints (eq. 15, 20, 22)
             ke0 = kinetic_energy(v, om, mf_minv, mf_jd)
             for k in range(nt):
                 i = mi_tie_node[k]
                 g = mi_tie_gear[k]
-                e0[2 * k] = -v[2 * i] + bvec[k, 0] * om[g]
-                e0[2 * k + 1] = -v[2 * i + 1] + bvec[k, 1] * om[g]
+                cc = rot[g, 0]
+                ss = rot[g, 1]
+                e0[2 * k] = -(cc * v[2 * i] + ss * v[2 * i + 1]) + bvec[k, 0] * om[g]
+                e0[2 * k + 1] = -(-ss * v[2 * i] + cc * v[2 * i + 1]) + bvec[k, 1] * om[g]
             sh = 0.0
             for j in range(3):
                 i = cnod[0, j]
@@ -1254,48 +1179,13 @@ def run_steps(
             e0[ic] = sh
             if pbar < 0.0 and sh > tol2 and mu0[ic] == 0.0:
                 sc[14] += 1.0
-            contact_column(
-                c21,
-                c22,
-                mf_minv,
-                mi_gid,
-                rot,
-                mi_indptr,
-                mi_indices,
-                mf_data,
-                mi_tie_node,
-                cnod,
-                cw,
-                cn,
-                gsc,
-                zk,
-                ccol,
-            )
+            contact_column(c21, c22, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
+                           mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
             mu0[:] = mu
-            res, its, ok, yc = iterate_pass(
-                2,
-                e0,
-                mu,
-                pbar,
-                c21,
-                c22,
-                par[8],
-                tol2,
-                n_acc,
-                max_iter,
-                mf_minv,
-                mi_tie_node,
-                mi_tie_gear,
-                mf_jd,
-                bvec,
-                rot,
-                mi_tb_i,
-                mi_tb_j,
-                mf_tb_b,
-                ccol,
-                work,
-                stats,
-            )
+            res, its, ok, yc = iterate_pass(2, e0, mu, pbar, c21, c22, par[8], tol2, n_acc,
+                                            max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd,
+                                            bvec, rot, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work,
+                                            stats)
             if not ok:
                 info[0] = t
                 info[1] = res
@@ -1309,78 +1199,49 @@ def run_steps(
                 e0[r] = mu[r] - mu0[r]
             gsc[:] = 0.0
             gth[:] = 0.0
-            gt_apply(e0, mi_tie_node, mi_tie_gear, bvec, cnod, cw, cn, gsc, gth)
-            respond(
-                gsc,
-                gth,
-                c21,
-                c22,
-                mf_minv,
-                mi_gid,
-                rot,
-                mf_jd,
-                mi_indptr,
-                mi_indices,
-                mf_data,
-                zk,
-                v,
-                om,
-                1.0,
-            )
+            gt_apply(e0, mi_tie_node, mi_tie_gear, bvec, rot, cnod, cw, cn, gsc, gth)
+            respond(gsc, gth, c21, c22, mf_minv, mi_gid, rot, mf_jd, mi_indptr, mi_indices,
+                    mf_data, zk, v, om, 1.0)
             zk[:] = 0.0
             gsc[:] = 0.0
             sc[2] += ke0 - kinetic_energy(v, om, mf_minv, mf_jd)
             # external work (trapezoidal in the disk angles)
             tau_new0 = ramp_torque(mf_rsgn[0] * phi[0], tpar[0], tpar[1], tpar[2])
             tau_new1 = ramp_torque(mf_rsgn[1] * phi[1], tpar[0], tpar[1], tpar[2])
-            sc[1] += 0.5 * (tau_old0 + tau_new0) * (phi[0] - phi_old0)
-            sc[1] += 0.5 * (tau_old1 + tau_new1) * (phi[1] - phi_old1)
+            sc[1] += 0.5 * (tau_old0 + tau_new0) * (phi[0] - phi_t[0])
+            sc[1] += 0.5 * (tau_old1 + tau_new1) * (phi[1] - phi_t[1])
             sc[18] = tau_new0
             sc[19] = tau_new1
         else:
-            set_rotation(phi, mf_theta0, rot)
-            tie_vectors(mf_xloc, mi_tie_node, mi_tie_gear, rot, bvec, rx)
             pbar = -1.0 if cres[2] <= 0.0 else 0.0
-        # ---- pass 3: acceleration constraints
-        fconst[:] = 0.0
-        fthc[:] = 0.0
-        gt_apply(mu, mi_tie_node, mi_tie_gear, bvec, cnod, cw, cn, fconst, fthc)
-        eel = accelerations(
-            x,
-            phi,
-            fconst,
-            fthc,
-            mf_xloc,
-            mi_gid,
-            mf_cen,
-            mf_theta0,
-            mf_jd,
-            mf_minv,
-            mi_indptr,
-            mi_indices,
-            mf_data,
-            mf_rsgn,
-            tpar,
-            rot,
-            wbuf,
-            floc,
-            fglob,
-            tel,
-            a,
-            alp,
-        )
-        tie_vectors(mf_xloc, mi_tie_node, mi_tie_gear, rot, bvec, rx)
+        # ---- pass 3: acceleration constraints (eq. 17, 21, 23)
+        ct[0] = cres[0]
+        ct[1] = cres[1]
+        ct[2] = cn[0]
+        ct[3] = cn[1]
+        eel = accelerations(x, phi, mu, 0.0, ct, zero4, mi_flank, mi_nedge, cnod, cw, mf_xloc,
+                            mi_gid, mf_cen, mf_theta0, mf_jd, mf_minv, mi_indptr, mi_indices,
+                            mf_data, mi_tie_node, mi_tie_gear, mf_rsgn, tpar, rot, bvec, rx,
+                            wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp)
         for k in range(nt):
             i = mi_tie_node[k]
             g = mi_tie_gear[k]
-            e0[2 * k] = -a[2 * i] + bvec[k, 0] * alp[g] - rx[k, 0] * om[g] ** 2
-            e0[2 * k + 1] = -a[2 * i + 1] + bvec[k, 1] * alp[g] - rx[k, 1] * om[g] ** 2
+            cc = rot[g, 0]
+            ss = rot[g, 1]
+            al0 = cc * a[2 * i] + ss * a[2 * i + 1]
+            al1 = -ss * a[2 * i] + cc * a[2 * i + 1]
+            vl0 = cc * v[2 * i] + ss * v[2 * i + 1]
+            vl1 = -ss * v[2 * i] + cc * v[2 * i + 1]
+            # -Phi_ddot = -R^T a + b alpha + omega^2 R^T (x - c) + 2 omega J R^T v
+            e0[2 * k] = -al0 + bvec[k, 0] * alp[g] + om[g] ** 2 * rx[k, 0] - 2 * om[g] * vl1
+            e0[2 * k + 1] = -al1 + bvec[k, 1] * alp[g] + om[g] ** 2 * rx[k, 1] + 2 * om[g] * vl0
         # sliding terms of the relative normal acceleration (appendix A)
         sample_flank(v, mi_flank[0], mi_nedge[0], va)
         sample_flank(v, mi_flank[1], mi_nedge[1], vb)
         spline_second(va, mva)
         spline_second(vb, mvb)
-        hs, _ad, _bd = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, mf_sig[0], mf_sig[1], cres)
+        hs, _ad, _bd = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, mf_sig[0], mf_sig[1],
+                                     cres, rates)
         sa = hs
         for j in range(3):
             i = cnod[0, j]
@@ -1388,48 +1249,12 @@ def run_steps(
             i = cnod[1, j]
             sa -= cw[1, j] * (cn[0] * a[2 * i] + cn[1] * a[2 * i + 1])
         e0[ic] = sa
-        contact_column(
-            1.0,
-            0.0,
-            mf_minv,
-            mi_gid,
-            rot,
-            mi_indptr,
-            mi_indices,
-            mf_data,
-            mi_tie_node,
-            cnod,
-            cw,
-            cn,
-            gsc,
-            zk,
-            ccol,
-        )
+        contact_column(1.0, 0.0, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
+                       mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
         mu0[:] = mu
-        res, its, ok, yc = iterate_pass(
-            3,
-            e0,
-            mu,
-            pbar,
-            1.0,
-            0.0,
-            par[9],
-            tol3,
-            n_acc,
-            max_iter,
-            mf_minv,
-            mi_tie_node,
-            mi_tie_gear,
-            mf_jd,
-            bvec,
-            rot,
-            mi_tb_i,
-            mi_tb_j,
-            mf_tb_b,
-            ccol,
-            work,
-            stats,
-        )
+        res, its, ok, yc = iterate_pass(3, e0, mu, pbar, 1.0, 0.0, par[9], tol3, n_acc,
+                                        max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd, bvec,
+                                        rot, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work, stats)
         if not ok:
             info[0] = t
             info[1] = res
@@ -1441,7 +1266,7 @@ def run_steps(
             e0[r] = mu[r] - mu0[r]
         gsc[:] = 0.0
         gth[:] = 0.0
-        gt_apply(e0, mi_tie_node, mi_tie_gear, bvec, cnod, cw, cn, gsc, gth)
+        gt_apply(e0, mi_tie_node, mi_tie_gear, bvec, rot, cnod, cw, cn, gsc, gth)
         for i in range(nn):
             a[2 * i] += mf_minv[i] * gsc[2 * i]
             a[2 * i + 1] += mf_minv[i] * gsc[2 * i + 1]
@@ -1453,20 +1278,15 @@ def run_steps(
         force = -mu[ic]
         if force > sc[5]:
             sc[5] = force
-        # exact tie residual at the end of the step
         tr = 0.0
         for k in range(nt):
             i = mi_tie_node[k]
-            g = mi_tie_gear[k]
-            r0 = abs(x[2 * i] - mf_cen[g, 0] - rx[k, 0])
-            r1 = abs(x[2 * i + 1] - mf_cen[g, 1] - rx[k, 1])
-            tr = max(tr, max(r0, r1))
+            tr = max(tr, max(abs(rx[k, 0] - mf_xloc[i, 0]), abs(rx[k, 1] - mf_xloc[i, 1])))
         sc[15] = max(sc[15], tr)
         if initial:
             sc[12] = -cres[2]
         # ---- record
-        if (not initial) and ((step + 1) % rec_every == 0) and row < out.shape[0]:
-            ek = kinetic_energy(v, om, mf_minv, mf_jd)
+        if (not initial) and ((step + (0 if init else 1)) % rec_every == 0) and row < out.shape[0]:
             out[row, 0] = t
             out[row, 1] = phi[0]
             out[row, 2] = phi[1]
@@ -1476,7 +1296,6 @@ def run_steps(
             out[row, 6] = -sc[16]
             out[row, 7] = -sc[17]
             out[row, 8] = -sc[12]
-            # contact points (material points of the two surfaces)
             for side in range(2):
                 px = 0.0
                 py = 0.0
@@ -1488,7 +1307,7 @@ def run_steps(
                 out[row, 10 + 2 * side] = py
             out[row, 13] = cres[0]
             out[row, 14] = cres[1]
-            out[row, 15] = ek
+            out[row, 15] = kinetic_energy(v, om, mf_minv, mf_jd)
             out[row, 16] = eel
             out[row, 17] = sc[1]
             out[row, 18] = sc[2]
@@ -1510,7 +1329,4 @@ def run_steps(
             row += 1
             for q in (5, 6, 7, 8, 9, 10, 11, 15):
                 sc[q] = 0.0
-    _ = cnod_t
-    _ = cw_t
-    _ = cn_t
     return 0, row
