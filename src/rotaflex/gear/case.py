@@ -80,7 +80,7 @@ class SolverConfig:
     method: Literal["paper_rk4"] = param("paper_rk4")
     dt: float = param(3e-8, unit="s", gt=0.0)
     tolerance: float = param(1e-12, unit="m", gt=0.0,
-                             doc="displacement tolerance; velocity/acceleration use tol/dt, tol/dt^2")
+                             doc="displacement tolerance; velocity/acceleration: tol/dt, tol/dt^2")
     accel_n: int = param(4, ge=1, le=5, doc="acceleration level n of appendix B")
     max_iter: int = param(500, ge=1)
 
@@ -190,8 +190,6 @@ def build(cfg: GearCaseConfig):
 
 def run_case(config: dict, *, progress: bool = False) -> GearResult:
     """Validate ``config`` (see module docstring), simulate, and wrap the histories."""
-    import xarray as xr
-
     from rotaflex.gear import dynamics
     from rotaflex.gear.geometry import contact_angles
 

@@ -270,7 +270,7 @@ def tie_eigen_bounds(model: GearPairModel, dt: float) -> np.ndarray:
     nt = len(model.tie_node)
     mt = np.repeat(model.minv[model.tie_node], 2)
     ktt = np.zeros((2 * nt, 2 * nt))
-    for i, j, b in zip(model.tb_i, model.tb_j, model.tb_b):
+    for i, j, b in zip(model.tb_i, model.tb_j, model.tb_b, strict=True):
         ktt[2 * i : 2 * i + 2, 2 * j : 2 * j + 2] = b
     out = []
     for c1, c2 in ((dt * dt / 2, dt**4 / 24), (dt, dt**3 / 6), (1.0, 0.0)):

@@ -208,8 +208,9 @@ def contact_search(pa, ma, pb, mb, sig_a, sig_b, a0, b0, res):
             prev_f = ff
             prev_a = aa
         if not found:
-            res[7] = 0.0
-            return
+            # no common normal (e.g. a straight flank against a corner): corner contact of B
+            a1 = min(max(a0, 0.0), 1.0)
+            b1 = 2.0
     a = a1
     b = b1
     case = 0
@@ -1025,7 +1026,6 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     vb = np.empty((mpts, 2))
     mvb = np.empty((mpts, 2))
     cn = np.empty(2)
-    cn_t = np.empty(2)
     cn_s = np.empty(2)
     cnod_t = np.empty((2, 3), np.int64)
     cw_t = np.empty((2, 3))
