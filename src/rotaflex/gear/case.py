@@ -1,0 +1,326 @@
+"""``rotaflex gear simulate``: validated configuration -> dynamic contact run -> GearResult.
+
+TOML layout (all tables optional; defaults are the paper's data, section 4)::
+
+    domain = "gear"
+    [gear]       module, teeth, pressure_angle_deg, face_width, tip_radius, root_radius
+    [material]   youngs_modulus, poisson_ratio, density
+    disk_inertia = 2.965e-4
+    [operation]  speed_rpm = [4000, 4000], torque, theta_2_deg, theta_s_deg, span_deg
+    [mesh]       preset = "default" | "coarse", n_points
+    [solver]     method = "paper_rk4", dt, tolerance, accel_n, max_iter
+    [output]     every, vtu_snapshots
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+
+from rotaflex.core.config import from_mapping, param
+from rotaflex.core.errors import InputError
+from rotaflex.core.result import Result, register_result
+
+
+@dataclass(frozen=True)
+class GearConfig:
+    """Both gears (identical, as in the paper)."""
+
+    module: float = param(3.175e-3, unit="m", gt=0.0, doc="module")
+    teeth: int = param(28, gt=5, doc="number of teeth")
+    pressure_angle_deg: float = param(20.0, unit="deg", gt=5.0, lt=45.0)
+    face_width: float = param(6.35e-3, unit="m", gt=0.0)
+    tip_radius: float = param(0.047625, unit="m", gt=0.0)
+    root_radius: float = param(0.04048, unit="m", gt=0.0)
+
+    def geometry(self):
+        from rotaflex.gear.geometry import GearGeometry
+
+        return GearGeometry(module=self.module, teeth=self.teeth, face_width=self.face_width,
+                            pressure_angle_deg=self.pressure_angle_deg,
+                            tip_radius=self.tip_radius, root_radius=self.root_radius)
+
+
+@dataclass(frozen=True)
+class MaterialConfig:
+    youngs_modulus: float = param(210e9, unit="Pa", gt=0.0)
+    poisson_ratio: float = param(0.3, gt=0.0, lt=0.5)
+    density: float = param(7800.0, unit="kg/m^3", gt=0.0)
+
+
+@dataclass(frozen=True)
+class OperationConfig:
+    """Initial speeds, torque and the angles of Fig. 7."""
+
+    speed_rpm: tuple[float, float] = param((4000.0, 4000.0), unit="rpm", gt=0.0,
+                                           doc="initial speeds of gear A (driver), gear B")
+    torque: float = param(22.25, unit="N m", ge=0.0, doc="tau_0 of Fig. 7")
+    theta_2_deg: float | None = param(None, unit="deg", gt=0.0,
+                                      doc="two-pair zone (default from involute geometry)")
+    theta_s_deg: float | None = param(None, unit="deg", gt=0.0,
+                                      doc="single-tooth contact angle (default from geometry)")
+    span_deg: float | None = param(None, unit="deg", gt=0.0,
+                                   doc="rotation of gear A simulated (default theta_s)")
+
+
+@dataclass(frozen=True)
+class MeshConfig:
+    preset: Literal["default", "coarse"] = param("default")
+    n_points: int = param(61, ge=8, le=1000, doc="spline data points per flank")
+
+
+@dataclass(frozen=True)
+class SolverConfig:
+    method: Literal["paper_rk4"] = param("paper_rk4")
+    dt: float = param(3e-8, unit="s", gt=0.0)
+    tolerance: float = param(1e-12, unit="m", gt=0.0,
+                             doc="displacement tolerance; velocity/acceleration: tol/dt, tol/dt^2")
+    accel_n: int = param(4, ge=1, le=5, doc="acceleration level n of appendix B")
+    max_iter: int = param(500, ge=1)
+
+
+@dataclass(frozen=True)
+class OutputConfig:
+    every: int = param(10, ge=1, doc="record every n-th step (1 = full rate)")
+    vtu_snapshots: int = param(0, ge=0, le=1000, doc="number of VTU snapshots")
+
+
+@dataclass(frozen=True)
+class GearCaseConfig:
+    gear: GearConfig = field(default_factory=GearConfig)
+    material: MaterialConfig = field(default_factory=MaterialConfig)
+    disk_inertia: float = param(2.965e-4, unit="kg m^2", gt=0.0)
+    operation: OperationConfig = field(default_factory=OperationConfig)
+    mesh: MeshConfig = field(default_factory=MeshConfig)
+    solver: SolverConfig = field(default_factory=SolverConfig)
+    output: OutputConfig = field(default_factory=OutputConfig)
+
+    def __post_init__(self) -> None:
+        op = self.operation
+        if op.theta_2_deg is not None and op.theta_s_deg is not None:
+            if 2 * op.theta_2_deg > op.theta_s_deg:
+                raise InputError("operation.theta_2_deg", op.theta_2_deg,
+                                 f"<= theta_s_deg / 2 = {op.theta_s_deg / 2:g}")
+
+
+@register_result
+class GearResult(Result):
+    """Dynamic contact of a spur-gear pair (one elastic tooth per gear)."""
+
+    kind = "gear"
+
+    def summary(self):
+        ds = self.dataset
+        out = super().summary()
+        keep = {k: out[k] for k in ("status", "wall_time")}
+        for name in ("peak_contact_force", "mean_single_pair_force", "nominal_force",
+                     "dynamic_factor", "energy_balance_error", "energy_balance_abs", "steps",
+                     "time_per_step", "impacts", "max_tie_residual"):
+            if name in ds:
+                keep[name] = {"value": ds[name].item(), "unit": ds[name].attrs.get("units", "")}
+        return keep
+
+    def plot(self):
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        figs = {}
+        ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
+        fig, ax = new_figure()
+        ax.plot(ang, ds["contact_force"].values, lw=0.8, label="contact force")
+        ax.plot(ang, ds["nominal_force_ramp"].values, "k--", lw=0.8,
+                label="quasi-static tau_A / r_b")
+        ax.set_xlabel("rotation angle of gear A [deg]")
+        ax.set_ylabel("contact force [N]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+        figs["contact_force"] = fig
+        fig, ax = new_figure()
+        t = ds["time"].values * 1e3
+        ax.plot(t, ds["energy_balance"].values, lw=0.8)
+        ax.set_xlabel("time [ms]")
+        ax.set_ylabel("E_kin + E_strain - W_ext + D_impact - E_0 [J]")
+        ax.grid(alpha=0.3)
+        figs["energy_balance"] = fig
+        fig, ax = new_figure()
+        ax.plot(ang, ds["gap"].values * 1e6, lw=0.8)
+        ax.set_xlabel("rotation angle of gear A [deg]")
+        ax.set_ylabel("normal gap [um]")
+        ax.grid(alpha=0.3)
+        figs["gap"] = fig
+        return figs
+
+    def save(self, out_dir, *, figures=True):
+        paths = super().save(out_dir, figures=figures)
+        ds = self.dataset
+        if "snapshot_displacement" in ds:
+            from types import SimpleNamespace
+
+            from rotaflex.gear.export import write_vtu
+
+            mesh = SimpleNamespace(nodes=ds["reference_position"].values,
+                                   elements=ds["element_nodes"].values.astype(np.int64))
+            for k in range(ds.sizes["snapshot"]):
+                paths.append(write_vtu(Path(out_dir) / f"snapshot_{k:04d}.vtu", mesh,
+                                       displacement=ds["snapshot_displacement"].values[k]))
+        return paths
+
+
+def build(cfg: GearCaseConfig):
+    """Geometry, meshes and the assembled two-gear model of a configuration."""
+    from rotaflex.gear import dynamics
+    from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
+
+    geo = cfg.gear.geometry()
+    kw = COARSE if cfg.mesh.preset == "coarse" else DEFAULT
+    mesh = build_tooth_mesh(geo, **kw)
+    mat = cfg.material
+    model = dynamics.build_model(geo, geo, mesh, mesh, youngs_modulus=mat.youngs_modulus,
+                                 poisson_ratio=mat.poisson_ratio, density=mat.density,
+                                 inertia=(cfg.disk_inertia, cfg.disk_inertia),
+                                 n_points=cfg.mesh.n_points)
+    return geo, mesh, model
+
+
+def run_case(config: dict, *, progress: bool = False) -> GearResult:
+    """Validate ``config`` (see module docstring), simulate, and wrap the histories."""
+    from rotaflex.gear import dynamics
+    from rotaflex.gear.geometry import contact_angles
+
+    cfg = from_mapping(GearCaseConfig, config)
+    t_wall = time.perf_counter()
+    geo, mesh, model = build(cfg)
+    ths, th2 = contact_angles(geo, geo)
+    op = cfg.operation
+    if op.theta_s_deg is not None:
+        ths = math.radians(op.theta_s_deg)
+    if op.theta_2_deg is not None:
+        th2 = math.radians(op.theta_2_deg)
+    if 2 * th2 > ths:
+        raise InputError("operation.theta_2_deg", math.degrees(th2),
+                         f"<= theta_s / 2 = {math.degrees(ths) / 2:g} deg")
+    span = math.radians(op.span_deg) if op.span_deg is not None else ths
+    bar = None
+    cb = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=1, unit="step", desc="gear")
+
+        def cb(done, total):
+            bar.total = total
+            bar.n = done
+            bar.refresh()
+
+    try:
+        out = dynamics.simulate(model, speeds_rpm=op.speed_rpm, torque=op.torque, theta_2=th2,
+                                theta_s=ths, span=span, dt=cfg.solver.dt,
+                                tol=cfg.solver.tolerance, n_accel=cfg.solver.accel_n,
+                                max_iter=cfg.solver.max_iter, record_every=cfg.output.every,
+                                snapshots=cfg.output.vtu_snapshots, progress=cb)
+    finally:
+        if bar is not None:
+            bar.close()
+    ds = to_dataset(out, model, geo, op.torque, th2, ths)
+    ds.attrs.update(status="success", message="", wall_time=time.perf_counter() - t_wall,
+                    config=json.dumps(asdict(cfg)))
+    return GearResult(ds)
+
+
+def to_dataset(out, model, geo, tau0, th2, ths):
+    """Histories of :func:`rotaflex.gear.dynamics.simulate` as an xarray Dataset."""
+    import xarray as xr
+
+    r = out.records
+    rb = geo.base_radius
+    nominal = tau0 / rb
+    rot = np.column_stack([r["phi_A"], -r["phi_B"]])
+    omega = np.column_stack([r["omega_A"], -r["omega_B"]])
+    cp = np.stack([np.column_stack([r["cpA_x"], r["cpA_y"]]),
+                   np.column_stack([r["cpB_x"], r["cpB_y"]])], axis=1)
+    balance = (r["kinetic_energy"] + r["strain_energy"] - r["external_work"]
+               + r["velocity_pass_loss"] - out.initial_energy)
+    ramp = np.asarray(
+        __import__("rotaflex.gear.dynamics", fromlist=["torque_ramp"]).torque_ramp(
+            rot[:, 0], tau0, th2, ths)) / rb
+    ds = xr.Dataset(coords={"time": ("time", r["time"], {"units": "s"}), "gear": ["A", "B"],
+                            "xy": ["x", "y"]})
+
+    def add(name, dims, val, units, long):
+        ds[name] = (dims, np.asarray(val), {"units": units, "long_name": long})
+
+    add("contact_force", ("time",), r["force"], "N", "contact force (acceleration pass)")
+    add("contact_force_displacement_pass", ("time",), r["force_disp"], "N",
+        "contact force of the displacement pass")
+    add("contact_force_velocity_pass", ("time",), r["force_vel"], "N",
+        "contact force of the velocity pass (impulse / dt at impacts)")
+    add("peak_force_interval", ("time",), r["force_peak"], "N",
+        "largest contact force since the previous record")
+    add("nominal_force_ramp", ("time",), ramp, "N", "tau_A(theta_A) / r_b")
+    add("rotation_angle", ("time", "gear"), rot, "rad", "rotation angle (running direction)")
+    add("angular_velocity", ("time", "gear"), omega, "rad/s", "angular velocity")
+    add("torque", ("time", "gear"), np.column_stack([r["torque_A"], r["torque_B"]]), "N m",
+        "external torque (drive on A, load on B)")
+    add("gap", ("time",), r["gap"], "m", "normal gap (> 0 open)")
+    add("normal_velocity", ("time",), r["normal_velocity"], "m/s",
+        "relative normal velocity (> 0 approaching)")
+    add("contact_point", ("time", "gear", "xy"), cp, "m", "contact point")
+    add("contact_case", ("time",), r["contact_case"], "1",
+        "0 flank-flank, 1 tip of B on A, 2 tip of A on B")
+    add("tie_multiplier", ("time", "tie"), out.tie_multipliers, "N",
+        "tie-constraint multipliers (disk-frame components)")
+    add("strain_energy", ("time",), r["strain_energy"], "J", "tooth strain energy")
+    add("kinetic_energy", ("time",), r["kinetic_energy"], "J", "kinetic energy")
+    add("external_work", ("time",), r["external_work"], "J", "external work")
+    add("velocity_pass_loss", ("time",), r["velocity_pass_loss"], "J",
+        "kinetic energy removed by the velocity pass (impacts, plastic)")
+    add("energy_balance", ("time",), balance, "J",
+        "E_kin + E_strain - W_ext + D_velocity_pass - E_0")
+    for k, name in enumerate(("displacement", "velocity", "acceleration")):
+        add(f"residual_{name}", ("time",), r[("res_disp", "res_vel", "res_acc")[k]],
+            ("m", "m/s", "m/s^2")[k], f"largest {name} constraint error since last record")
+        add(f"iterations_{name}", ("time",), r[("iter_disp", "iter_vel", "iter_acc")[k]], "1",
+            f"most iterations of the {name} pass since last record")
+    add("tie_residual", ("time",), r["tie_residual"], "m", "largest tie error after the step")
+    add("impact_count", ("time",), r["impacts"], "1", "impacts so far")
+    peak = float(np.max(r["force_peak"])) if len(r["force_peak"]) else 0.0
+    single = (rot[:, 0] > th2) & (rot[:, 0] < ths - th2)
+    mean_single = float(np.mean(r["force"][single])) if np.any(single) else float("nan")
+    e_ref = max(float(np.max(r["strain_energy"])) if len(balance) else 0.0, 1e-300)
+    bal_abs = float(np.max(np.abs(balance))) if len(balance) else 0.0
+    scalars = {
+        "peak_contact_force": (peak, "N"),
+        "mean_single_pair_force": (mean_single, "N"),
+        "nominal_force": (nominal, "N"),
+        "dynamic_factor": (peak / nominal if nominal > 0 else float("nan"), "1"),
+        "energy_balance_abs": (bal_abs, "J"),
+        "energy_balance_error": (bal_abs / e_ref, "1"),
+        "steps": (out.steps, "1"),
+        "time_per_step": (out.wall_time / max(out.steps, 1), "s"),
+        "impacts": (float(r["impacts"][-1]) if len(balance) else 0.0, "1"),
+        "max_tie_residual": (float(np.max(r["tie_residual"])) if len(balance) else 0.0, "m"),
+        "base_radius": (rb, "m"),
+        "theta_2": (th2, "rad"),
+        "theta_s": (ths, "rad"),
+        "dt": (out.dt, "s"),
+        "solver_wall_time": (out.wall_time, "s"),
+    }
+    for name, (val, unit) in scalars.items():
+        ds[name] = ((), val, {"units": unit})
+    if out.snapshots:
+        xref = model.reference_positions().reshape(-1, 2)
+        offs = np.concatenate([[0], np.cumsum([m.n_nodes for m in model.meshes])])
+        elems = np.vstack([m.elements + offs[g] for g, m in enumerate(model.meshes)])
+        ds["reference_position"] = (("node", "xy"), xref, {"units": "m"})
+        ds["element_nodes"] = (("element", "corner"), elems, {"units": "1"})
+        ds["snapshot_time"] = (("snapshot",), [s[0] for s in out.snapshots], {"units": "s"})
+        ds["snapshot_displacement"] = (("snapshot", "node", "xy"),
+                                       np.stack([s[1] - xref for s in out.snapshots]),
+                                       {"units": "m"})
+    return ds

@@ -1,0 +1,471 @@
+"""Dynamic contact of two spur gears: rigid disks + one elastic FE tooth each (Lee & Jang).
+
+Model (section 2 of the paper)
+------------------------------
+* Each gear is a rigid disk (polar inertia J, pinned centre, rotation ``phi``) and one elastic
+  tooth (8-node plane-stress elements, HRZ-lumped mass) whose *absolute* nodal positions are
+  unknowns. The tooth's ``root_nodes`` are tied to the disk, ``x_i = c + R(phi) X_i``
+  (eq. 2), with Lagrange multipliers.
+* Elastic force in the disk-fixed frame (eq. 4-5), exact co-rotational form
+  ``w = R^T (x - c) - X``, ``f = -R K w``; the disk receives ``-dE/dphi`` so the elastic
+  force is conservative (the paper's eq. 5 has no such term; it is second order in w).
+* Contact between gear A's and gear B's working flanks (see :mod:`rotaflex.gear.contact`).
+* External torques ramp as in Fig. 7 (:func:`torque_ramp`).
+
+Placement: gear A (driver, counter-clockwise) at the origin, gear B (driven, clockwise) at
+``(0, a)`` with ``a`` the standard centre distance; at t = 0 the teeth touch at the start of
+the path of contact (B's tip corner on A's flank) with zero gap, found by the contact search.
+
+Time integration (section 3): see :func:`rotaflex.gear.kernels.run_steps`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from rotaflex.core.errors import ConvergenceError, InputError
+
+#: columns of the per-record output array written by the kernel
+RECORD_COLUMNS = (
+    "time",
+    "phi_A",
+    "phi_B",
+    "omega_A",
+    "omega_B",
+    "force",
+    "force_disp",
+    "force_vel",
+    "gap",
+    "cpA_x",
+    "cpA_y",
+    "cpB_x",
+    "cpB_y",
+    "param_a",
+    "param_b",
+    "kinetic_energy",
+    "strain_energy",
+    "external_work",
+    "velocity_pass_loss",
+    "res_disp",
+    "res_vel",
+    "res_acc",
+    "iter_disp",
+    "iter_vel",
+    "iter_acc",
+    "force_peak",
+    "torque_A",
+    "torque_B",
+    "contact_case",
+    "normal_velocity",
+    "tie_residual",
+    "impacts",
+)
+
+
+def torque_ramp(theta: np.ndarray | float, tau0: float, theta_2: float, theta_s: float):
+    """External torque of Fig. 7 on a single-tooth gear [N m].
+
+    Rises linearly from 0 to ``tau0`` over the first two-pair zone ``[0, theta_2]``, stays at
+    ``tau0`` in the single-pair zone and falls to 0 over ``[theta_s - theta_2, theta_s]``;
+    zero outside ``[0, theta_s]``. Angles in rad, measured from the start of contact.
+    """
+    th = np.asarray(theta, dtype=float)
+    f = np.clip(np.minimum(th / theta_2, (theta_s - th) / theta_2), 0.0, 1.0)
+    return tau0 * f
+
+
+@dataclass
+class GearPairModel:
+    """Assembled arrays of the two-gear model (gear A nodes first, then gear B)."""
+
+    geometry: tuple
+    meshes: tuple
+    centre_distance: float
+    theta0: np.ndarray  # (2,) initial orientation of each tooth frame [rad]
+    centres: np.ndarray  # (2, 2)
+    xloc: np.ndarray  # (N, 2) node coordinates in the tooth frames
+    gid: np.ndarray  # (N,) gear of each node
+    minv: np.ndarray  # (N,) inverse lumped nodal mass
+    stiffness: sp.csr_matrix  # block-diagonal, local frames
+    tie_node: np.ndarray
+    tie_gear: np.ndarray
+    tb_i: np.ndarray
+    tb_j: np.ndarray
+    tb_b: np.ndarray
+    flank: np.ndarray  # (2, n) working-flank node ids (global numbering), root -> tip
+    nedge: np.ndarray
+    sig: np.ndarray
+    inertia: np.ndarray  # (2,)
+    rsgn: np.ndarray  # rotation sense: theta_g = rsgn[g] * phi[g]
+    n_points: int
+    dt_limit: float
+    offsets: tuple = field(default=(0, 0))
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.xloc.shape[0])
+
+    def reference_positions(self) -> np.ndarray:
+        """Global node positions at t = 0, flattened (2N,)."""
+        out = np.empty((self.n_nodes, 2))
+        for g in range(2):
+            sel = self.gid == g
+            c, s = math.cos(self.theta0[g]), math.sin(self.theta0[g])
+            xl = self.xloc[sel]
+            out[sel, 0] = self.centres[g, 0] + c * xl[:, 0] - s * xl[:, 1]
+            out[sel, 1] = self.centres[g, 1] + s * xl[:, 0] + c * xl[:, 1]
+        return out.ravel()
+
+
+def _tie_blocks(k_local: sp.csr_matrix, nodes: np.ndarray, offset_tie: int):
+    """2x2 stiffness blocks between tie nodes (local frame)."""
+    dofs = np.column_stack([2 * nodes, 2 * nodes + 1]).ravel()
+    sub = k_local[dofs][:, dofs].toarray()
+    nt = len(nodes)
+    bi, bj, bb = [], [], []
+    for i in range(nt):
+        for j in range(nt):
+            blk = sub[2 * i : 2 * i + 2, 2 * j : 2 * j + 2]
+            if np.any(blk != 0.0):
+                bi.append(i + offset_tie)
+                bj.append(j + offset_tie)
+                bb.append(blk)
+    return bi, bj, bb
+
+
+def build_model(
+    geometry_a,
+    geometry_b,
+    mesh_a,
+    mesh_b,
+    *,
+    youngs_modulus,
+    poisson_ratio,
+    density,
+    inertia,
+    n_points=61,
+    flank="left",
+):
+    """Place the two single-tooth gears at the start of contact and assemble the arrays.
+
+    Parameters
+    ----------
+    geometry_a, geometry_b : GearGeometry
+    mesh_a, mesh_b : ToothMesh
+    youngs_modulus, poisson_ratio, density : float
+        E [Pa], nu [-], rho [kg/m^3].
+    inertia : (float, float)
+        Disk polar inertia of A and B [kg m^2].
+    n_points : int
+        Spline data points per flank (61 in the paper).
+    flank : str
+        Working flank of both teeth; with A turning counter-clockwise and B clockwise the
+        working flanks are the ``"left"`` ones (x < 0 in the tooth frame).
+    """
+    from rotaflex.gear import fe
+    from rotaflex.gear.contact import search
+    from rotaflex.gear.geometry import center_distance_no_backlash
+
+    geoms = (geometry_a, geometry_b)
+    meshes = (mesh_a, mesh_b)
+    a = center_distance_no_backlash(geometry_a, geometry_b)
+    alpha_w = math.acos((geometry_a.base_radius + geometry_b.base_radius) / a)
+    rb = (geometry_a.base_radius, geometry_b.base_radius)
+    # start of the path of contact, measured from A's tangency point T_A
+    l_start = a * math.sin(alpha_w) - math.sqrt(geometry_b.tip_radius_**2 - rb[1] ** 2)
+    psi_b = [float(g.flank_half_angle(np.array(g.base_radius))) for g in geoms]
+    theta_a0 = l_start / rb[0] - alpha_w - psi_b[0]
+    theta_b0 = math.pi + (a * math.sin(alpha_w) - l_start) / rb[1] - alpha_w - psi_b[1]
+    centres = np.array([[0.0, 0.0], [0.0, a]])
+
+    xl, gid, minv, ks, tie_node, tie_gear, fl = [], [], [], [], [], [], []
+    tb_i, tb_j, tb_b = [], [], []
+    off = 0
+    ntie = 0
+    dt_lim = []
+    for g, mesh in enumerate(meshes):
+        k = fe.stiffness_matrix(mesh, youngs_modulus, poisson_ratio).tocsr()
+        m = fe.lumped_mass(mesh, density)[::2]
+        if np.any(m <= 0):
+            raise InputError("mesh", "HRZ masses", "positive lumped masses")
+        dt_lim.append(fe.stable_time_step(mesh, youngs_modulus, poisson_ratio, density))
+        xl.append(mesh.nodes)
+        gid.append(np.full(mesh.n_nodes, g))
+        minv.append(1.0 / m)
+        ks.append(k)
+        roots = np.asarray(mesh.root_nodes, dtype=np.int64)
+        tie_node.append(roots + off)
+        tie_gear.append(np.full(len(roots), g))
+        bi, bj, bb = _tie_blocks(k, roots, ntie)
+        tb_i += bi
+        tb_j += bj
+        tb_b += bb
+        fl.append(np.asarray(mesh.flank_nodes[flank], dtype=np.int64) + off)
+        off += mesh.n_nodes
+        ntie += len(roots)
+    nfl = max(len(f) for f in fl)
+    flank_arr = np.zeros((2, nfl), dtype=np.int64)
+    for g in range(2):
+        flank_arr[g, : len(fl[g])] = fl[g]
+    nedge = np.array([(len(f) - 1) // 2 for f in fl], dtype=np.int64)
+    sig = np.array([1.0 if flank == "left" else -1.0] * 2)
+    model = GearPairModel(
+        geometry=geoms,
+        meshes=meshes,
+        centre_distance=a,
+        theta0=np.array([theta_a0, theta_b0]),
+        centres=centres,
+        xloc=np.ascontiguousarray(np.vstack(xl)),
+        gid=np.concatenate(gid).astype(np.int64),
+        minv=np.concatenate(minv),
+        stiffness=sp.block_diag(ks, format="csr"),
+        tie_node=np.concatenate(tie_node).astype(np.int64),
+        tie_gear=np.concatenate(tie_gear).astype(np.int64),
+        tb_i=np.array(tb_i, dtype=np.int64),
+        tb_j=np.array(tb_j, dtype=np.int64),
+        tb_b=np.ascontiguousarray(np.array(tb_b, dtype=float).reshape(-1, 2, 2)),
+        flank=flank_arr,
+        nedge=nedge,
+        sig=sig,
+        inertia=np.asarray(inertia, dtype=float),
+        rsgn=np.array([1.0, -1.0]),
+        n_points=int(n_points),
+        dt_limit=float(min(dt_lim)),
+    )
+    # close the initial gap exactly: rotate B about its centre until the surfaces touch
+    for _ in range(8):
+        pts = _flank_points(model, model.reference_positions())
+        pair = search(pts[0], pts[1], model.sig[0], model.sig[1], start=(0.3, 0.99))
+        if abs(pair.gap) < 1e-14:
+            break
+        # a counter-clockwise turn of B by d moves its flank towards A by about r_b * d
+        model.theta0[1] += pair.gap / rb[1]
+    if abs(pair.gap) > 1e-10 or pair.case == "tip_A":
+        raise InputError("geometry", "gear pair", "teeth that meet at the start of contact")
+    return model
+
+
+def _flank_points(model: GearPairModel, x: np.ndarray) -> list[np.ndarray]:
+    from rotaflex.gear.kernels import sample_flank
+
+    out = []
+    for g in range(2):
+        p = np.empty((model.n_points, 2))
+        sample_flank(x, model.flank[g], int(model.nedge[g]), p)
+        out.append(p)
+    return out
+
+
+def tie_eigen_bounds(model: GearPairModel, dt: float) -> np.ndarray:
+    """Smallest eigenvalue of the tie block of C for the three passes (rotation invariant).
+
+    C_tie = c1 M^-1 - c2 M^-1 K_tt M^-1 + (c1/J) b b^T in the tooth frame, with
+    (c1, c2) = (dt^2/2, dt^4/24), (dt, dt^3/6), (1, 0).
+    """
+    nt = len(model.tie_node)
+    mt = np.repeat(model.minv[model.tie_node], 2)
+    ktt = np.zeros((2 * nt, 2 * nt))
+    for i, j, b in zip(model.tb_i, model.tb_j, model.tb_b, strict=True):
+        ktt[2 * i : 2 * i + 2, 2 * j : 2 * j + 2] = b
+    out = []
+    for c1, c2 in ((dt * dt / 2, dt**4 / 24), (dt, dt**3 / 6), (1.0, 0.0)):
+        c = c1 * np.diag(mt) - c2 * (mt[:, None] * ktt * mt[None, :])
+        for g in range(2):
+            sel = np.where(model.tie_gear == g)[0]
+            xl = model.xloc[model.tie_node[sel]]
+            b = np.zeros(2 * nt)
+            b[2 * sel] = -xl[:, 1]
+            b[2 * sel + 1] = xl[:, 0]
+            c += c1 / model.inertia[g] * np.outer(b, b)
+        lam = np.linalg.eigvalsh(c)
+        if lam[0] <= 0:
+            raise InputError(
+                "solver.dt",
+                dt,
+                "a step for which the constraint matrix is positive"
+                f" definite (dt < {model.dt_limit:.4g} s)",
+            )
+        out.append(lam[0])
+    return np.array(out)
+
+
+@dataclass
+class SimulationOutput:
+    """Raw histories returned by :func:`simulate`."""
+
+    records: dict  # name -> (n_rec,) array, see RECORD_COLUMNS
+    tie_multipliers: np.ndarray  # (n_rec, n_tie_rows)
+    steps: int
+    wall_time: float
+    initial_energy: float
+    snapshots: list  # (time, positions (N, 2)) pairs
+    dt: float
+
+
+def simulate(
+    model: GearPairModel,
+    *,
+    speeds_rpm,
+    torque,
+    theta_2,
+    theta_s,
+    span,
+    dt,
+    tol=1e-12,
+    n_accel=3,
+    max_iter=500,
+    record_every=10,
+    snapshots=0,
+    progress=None,
+    progress_every=2000,
+) -> SimulationOutput:
+    """Integrate the pair over a rotation ``span`` of gear A [rad] with the paper's scheme.
+
+    Parameters
+    ----------
+    model : GearPairModel
+    speeds_rpm : (float, float)
+        Initial speeds of A (counter-clockwise) and B (clockwise) [rpm].
+    torque : float
+        tau_0 [N m]; drive torque on A and load torque on B, both ramped as in Fig. 7.
+    theta_2, theta_s : float
+        Two-pair zone and single-tooth contact angles of Fig. 7 [rad].
+    span : float
+        Rotation of gear A to simulate [rad]; the number of steps is span / (omega_A dt).
+    dt : float
+        Time step [s]; must not exceed the RK4 stability limit of the mesh.
+    tol : float
+        Displacement tolerance [m]; velocity and acceleration tolerances are tol/dt, tol/dt^2.
+    n_accel : int
+        Acceleration level n of appendix B (polynomial degree 2^(n-1) - 1).
+    record_every : int
+        Output decimation (1 = every step).
+    snapshots : int
+        Number of nodal-position snapshots to keep (for VTU output).
+    progress : callable(done_steps, total_steps) or None
+    """
+    from rotaflex.gear.kernels import run_steps
+
+    if dt > model.dt_limit:
+        raise InputError(
+            "solver.dt",
+            dt,
+            f"a step <= the RK4 stability limit of the mesh, "
+            f"{model.dt_limit:.4g} s (refine dt or coarsen the smallest elements)",
+        )
+    omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
+    n_steps = max(1, int(round(span / (omega[0] * dt))))
+    eps = tie_eigen_bounds(model, dt)
+    k = model.stiffness
+    x = model.reference_positions()
+    nn = model.n_nodes
+    phi = np.zeros(2)
+    om = np.array([omega[0], -omega[1]])
+    v = np.empty(2 * nn)
+    for g in range(2):
+        sel = np.where(model.gid == g)[0]
+        rel = x.reshape(-1, 2)[sel] - model.centres[g]
+        v[2 * sel] = -om[g] * rel[:, 1]
+        v[2 * sel + 1] = om[g] * rel[:, 0]
+    a = np.zeros(2 * nn)
+    alp = np.zeros(2)
+    nc = 2 * len(model.tie_node) + 1
+    mu = np.zeros(nc)
+    cres = np.zeros(8)
+    cres[0], cres[1] = 0.3, 0.99
+    cnod = np.zeros((2, 3), dtype=np.int64)
+    cw = np.zeros((2, 3))
+    sc = np.zeros(24)
+    n_rec = n_steps // record_every + 1
+    out = np.zeros((n_rec, len(RECORD_COLUMNS)))
+    out_mu = np.zeros((n_rec, nc - 1))
+    info = np.zeros(4)
+    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps])
+    args_model = (
+        model.gid,
+        k.indptr.astype(np.int64),
+        k.indices.astype(np.int64),
+        model.tie_node,
+        model.tie_gear,
+        model.flank,
+        model.nedge,
+        model.tb_i,
+        model.tb_j,
+        model.xloc,
+        model.minv,
+        k.data.astype(float),
+        model.centres,
+        model.theta0,
+        model.inertia,
+        model.sig,
+        model.tb_b,
+        model.rsgn,
+    )
+    from rotaflex.gear.kernels import kinetic_energy
+
+    e0 = kinetic_energy(v, om, model.minv, model.inertia)
+    snaps = []
+    snap_every = max(1, n_steps // snapshots) if snapshots else 0
+    chunk = max(record_every, (progress_every // record_every) * record_every)
+    if snap_every:
+        chunk = min(chunk, max(record_every, (snap_every // record_every) * record_every))
+    t0 = time.perf_counter()
+    done = 0
+    row = 0
+    names = {
+        1: "displacement pass (eq. 19)",
+        2: "velocity pass (eq. 20)",
+        3: "acceleration pass (eq. 21)",
+    }
+    first = True
+    while done < n_steps:
+        n = min(chunk, n_steps - done)
+        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0], dtype=np.int64)
+        status, row = run_steps(
+            n,
+            record_every,
+            *args_model,
+            par,
+            ipar,
+            x,
+            v,
+            a,
+            phi,
+            om,
+            alp,
+            mu,
+            cres,
+            cnod,
+            cw,
+            sc,
+            out,
+            out_mu,
+            info,
+        )
+        first = False
+        if status in names:
+            raise ConvergenceError(names[status], info[0], info[1], info[2])
+        if status == 4:
+            raise ConvergenceError("contact search", info[0], float("nan"), 0.0)
+        done += n
+        if snap_every and (done % snap_every < chunk or done == n_steps):
+            snaps.append((float(sc[0]), x.reshape(-1, 2).copy()))
+        if progress is not None:
+            progress(done, n_steps)
+    wall = time.perf_counter() - t0
+    out = out[:row]
+    records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
+    return SimulationOutput(
+        records=records,
+        tie_multipliers=out_mu[:row].copy(),
+        steps=n_steps,
+        wall_time=wall,
+        initial_energy=float(e0),
+        snapshots=snaps,
+        dt=dt,
+    )

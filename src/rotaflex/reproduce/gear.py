@@ -1,0 +1,171 @@
+"""Reproduce Lee & Jang, spur-gear dynamic contact: Fig. 8-11 (contact force vs rotation angle).
+
+The paper's curves did not survive, only the captions; the checks are physical: the quasi-static
+limit (single-pair force = tau_0 / r_b, ramps of Fig. 7), energy balance, constraint residuals
+at the paper's tolerances, and separation / re-impact without blow-up in the rattling cases.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from rotaflex.core.report import Check, FigureEntry, Section
+
+CASES = (
+    ("fig8", "Fig. 8", "Variations of the contact force (4,000 rpm)", (4000.0, 4000.0)),
+    ("fig9", "Fig. 9", "Variations of the contact force (20,000 rpm)", (20000.0, 20000.0)),
+    ("fig10", "Fig. 10",
+     "Variations of the contact force (4,000 rpm for gear A and 4,040 rpm for gear B)",
+     (4000.0, 4040.0)),
+    ("fig11", "Fig. 11",
+     "Variations of the contact force (20,000 rpm for gear A and 20,200 rpm for gear B)",
+     (20000.0, 20200.0)),
+)
+
+
+def _run(speeds, preset, span_deg=None, every=10):
+    from rotaflex.gear.case import run_case
+
+    cfg = {"operation": {"speed_rpm": list(speeds)}, "mesh": {"preset": preset},
+           "output": {"every": every}}
+    if span_deg is not None:
+        cfg["operation"]["span_deg"] = span_deg
+    return run_case(cfg)
+
+
+def _separations(force: np.ndarray, angle: np.ndarray, threshold: float) -> tuple[int, int]:
+    """Number of contact losses and re-contacts after the first loaded contact."""
+    on = force > threshold
+    if not np.any(on):
+        return 0, 0
+    first = int(np.argmax(on))
+    trans = np.diff(on[first:].astype(int))
+    return int(np.sum(trans == -1)), int(np.sum(trans == 1))
+
+
+def _common_checks(ds, tol_energy=0.02) -> list[Check]:
+    tol = 1e-12
+    dt = float(ds["dt"])
+    bal = float(ds["energy_balance_error"])
+    return [
+        Check("energy balance |E_kin + E_strain - W_ext + D - E_0| / max E_strain", bal, "",
+              f"< {tol_energy:g}", bal < tol_energy,
+              "D = kinetic energy removed by the velocity pass (plastic impacts). The drift comes "
+              "from the one-sided convergence to the 1e-12 m tolerance (|p| * tol per step)."),
+        Check("tie residual after each step (max)", float(ds["max_tie_residual"]), "m",
+              "<= 1e-12 m", float(ds["max_tie_residual"]) <= tol * (1 + 1e-6)),
+        Check("velocity constraint error (max)", float(ds["residual_velocity"].max()), "m/s",
+              f"<= 1e-12/dt = {tol / dt:.3g}",
+              float(ds["residual_velocity"].max()) <= tol / dt * (1 + 1e-6)),
+        Check("acceleration constraint error (max)", float(ds["residual_acceleration"].max()),
+              "m/s^2", f"<= 1e-12/dt^2 = {tol / dt**2:.4g}",
+              float(ds["residual_acceleration"].max()) <= tol / dt**2 * (1 + 1e-6)),
+    ]
+
+
+def _figure(ds, path: Path, title: str):
+    from rotaflex.core.plotting import new_figure, save_figure
+
+    fig, ax = new_figure()
+    ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
+    ax.plot(ang, ds["contact_force"].values, lw=0.8, label="contact force (this work)")
+    ax.plot(ang, ds["nominal_force_ramp"].values, "k--", lw=0.8, label="quasi-static tau_A/r_b")
+    ax.set_xlabel("rotation angle of gear A from start of contact [deg]")
+    ax.set_ylabel("contact force [N]")
+    ax.set_title(title, fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    save_figure(fig, path)
+
+
+def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section:
+    """Run the four cases of the paper (coarse mesh in fast mode) and the quasi-static check."""
+    t0 = time.perf_counter()
+    out_dir = Path(out_dir)
+    dom = out_dir / "gear"
+    dom.mkdir(parents=True, exist_ok=True)
+    preset = "coarse" if fast else "default"
+    figures = []
+    for stem, label, caption, speeds in CASES:
+        res = _run(speeds, preset)
+        ds = res.dataset
+        res.to_netcdf(dom / f"{stem}.nc")
+        _figure(ds, dom / f"{stem}.png", f"{speeds[0]:g} / {speeds[1]:g} rpm, {preset} mesh")
+        nominal = float(ds["nominal_force"])
+        peak = float(ds["peak_contact_force"])
+        checks = _common_checks(ds)
+        checks.append(Check("peak contact force / (tau_0 / r_b)", peak / nominal, "",
+                            "finite, < 5 (no blow-up)", peak / nominal < 5.0,
+                            f"peak {peak:.1f} N; tau_0/r_b = {nominal:.1f} N"))
+        desc = (f"{ds.sizes['time']} records of {int(ds['steps'])} RK4 steps (dt = 3e-8 s), "
+                f"solver {float(ds['solver_wall_time']):.1f} s "
+                f"({float(ds['time_per_step']) * 1e6:.0f} us/step). Peak {peak:.1f} N, dynamic "
+                f"factor {peak / nominal:.3f}.")
+        if speeds[0] != speeds[1]:
+            thr = 0.01 * nominal
+            ang = ds["rotation_angle"].sel(gear="A").values
+            lost, regained = _separations(ds["contact_force"].values, ang, thr)
+            checks.append(Check("rattling: contact losses after first loaded contact", lost, "",
+                                ">= 1 (teeth separate)", lost >= 1))
+            checks.append(Check("rattling: re-contacts after a separation", regained, "",
+                                ">= 1 (teeth re-impact)", regained >= 1,
+                                f"{int(ds['impacts'])} steps with a plastic impact (velocity "
+                                "pass stopping an approaching contact faster than 1e-12/dt). "
+                                "Gear A drives; gear B starts faster, so the working flanks "
+                                "first separate and close again only once the torques have "
+                                "removed the speed difference."))
+            desc += f" Contact lost {lost} times, regained {regained} times."
+        figures.append(FigureEntry(label=label, caption=caption, image=f"gear/{stem}.png",
+                                   data=f"gear/{stem}.nc", description=desc, checks=checks))
+    # quasi-static limit: low speed, coarse mesh, up to the middle of the single-pair zone
+    rpm = 1000.0 if fast else 500.0
+    qs = _run((rpm, rpm), "coarse", span_deg=10.53, every=20)
+    ds = qs.dataset
+    nominal = float(ds["nominal_force"])
+    ang = ds["rotation_angle"].sel(gear="A").values
+    th2 = float(ds["theta_2"])
+    f = ds["contact_force"].values
+    ramp = ds["nominal_force_ramp"].values
+    zone = ang > th2
+    mean_single = float(np.mean(f[zone]))
+    rel = abs(mean_single / nominal - 1.0)
+    dev = float(np.sqrt(np.mean((f[ang > 0.2 * th2] - ramp[ang > 0.2 * th2]) ** 2))) / nominal
+    qs.to_netcdf(dom / "quasi_static.nc")
+    _figure(ds, dom / "quasi_static.png", f"quasi-static check, {rpm:g} rpm, coarse mesh")
+    qchecks = [
+        Check(f"single-pair zone mean force / (tau_0/r_b) - 1 at {rpm:g} rpm", rel, "",
+              "< 0.03", rel < 0.03,
+              f"mean {mean_single:.1f} N vs {nominal:.1f} N over {math.degrees(th2):.2f}-"
+              f"{math.degrees(ang[-1]):.2f} deg; residual dynamics at the mesh frequency"),
+        Check("RMS(force - tau_A(theta)/r_b) / (tau_0/r_b) over the ramp (Fig. 7)", dev, "",
+              "< 0.1", dev < 0.1, "the force follows the torque ramp of Fig. 7"),
+    ] + _common_checks(ds)
+    figures.append(FigureEntry(
+        label="Quasi-static limit", caption="(not in the paper) low-speed run: the contact "
+        "force must follow tau_A(theta)/r_b of Fig. 7", image="gear/quasi_static.png",
+        data="gear/quasi_static.nc",
+        description=f"{rpm:g} rpm, coarse mesh, {int(ds['steps'])} steps.", checks=qchecks))
+    intro = (
+        "Lee & Jang, dynamic contact of spur gears: two identical 28-tooth gears, one elastic "
+        "8-node FE tooth per gear on a rigid disk, RK4 with dt = 3e-8 s, three constraint passes "
+        "per step with the accelerated multiplier iteration. The paper's curves were lost; we "
+        "check physics instead. Contact force = acceleration-pass value (the paper's choice). "
+        + ("Fast mode: coarse tooth mesh." if fast else "Default tooth mesh.")
+    )
+    sec = Section(title="Spur-gear dynamic contact (Lee & Jang)", intro=intro, figures=figures,
+                  notes=[
+                      "NASA TM-105326's curve in Fig. 8 is not reproduced (no data).",
+                      "Single-tooth model with the torque ramps of Fig. 7; the two-pair zones are "
+                      "not modelled directly.",
+                      "Fig. 11 (20,000/20,200 rpm): with gear A driving, the faster gear B runs "
+                      "away at once and the ramped torques remove only ~16 of the 21 rad/s speed "
+                      "difference within theta_s, so no re-contact happens: the paper's rattling "
+                      "is not reproduced in this configuration (the paper does not say which "
+                      "gear drives).",
+                  ])
+    sec.wall_time = time.perf_counter() - t0
+    return sec
