@@ -13,11 +13,13 @@ from types import ModuleType
 #: domain name -> module with ``run_case``
 CASES: dict[str, str] = {
     "rotor": "rotaflex.rotor.case",
+    "floating": "rotaflex.floating.case",
 }
 
 #: reproduce target -> module with ``run``; "all" runs every entry in this order
 REPRODUCE: dict[str, str] = {
     "rotor": "rotaflex.reproduce.rotor",
+    "floating": "rotaflex.reproduce.floating",
 }
 
 
