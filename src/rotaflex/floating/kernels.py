@@ -257,8 +257,16 @@ def rhs_full(t, y, B, L, geo):
     quat_rate(e, w, dy[3:7])
     f = loads_full(t, A, q, L)
     f[6:] -= Kb @ q
+    sg = 0.0
     if geo:
-        f[6:] -= (w[1] * w[1] + w[2] * w[2]) * (KGw @ q)
+        # foreshortening term of the Lagrangian: L_G = -1/2 (w_y^2 + w_z^2) q^T K_Gw q; it adds
+        # the stiffness to the q rows and J_G = -s diag(0, 1, 1) (s = q^T K_Gw q) to the w rows
+        kq = KGw @ q
+        sg = q @ kq
+        f[6:] -= (w[1] * w[1] + w[2] * w[2]) * kq
+        sd = 2.0 * (p @ kq)
+        f[4] += sd * w[1] - sg * w[0] * w[2]
+        f[5] += sd * w[2] + sg * w[0] * w[1]
     f[3:6] -= cross(w, Je @ w)
     x0, x1, x2 = w[0], w[1], w[2]
     wv0, wv1, wv2 = cr(x0, x1, x2, V[0], V[1], V[2])
@@ -282,6 +290,8 @@ def rhs_full(t, y, B, L, geo):
         f[5] -= mk * h2
         sub_phit(f, 6, mk, Phi, k, b0, b1, b2)
     M = mass_matrix(q, B)
+    M[4, 4] -= sg
+    M[5, 5] -= sg
     xd = np.linalg.solve(M, f)
     dy[7:13] = xd[0:6]
     dy[13 : 13 + n] = p

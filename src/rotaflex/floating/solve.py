@@ -284,10 +284,15 @@ def invariants(body: Body, sol: Solution):
     m = body.masses
     Pb = np.einsum("k,tka->ta", m, vb)
     Hb = np.einsum("k,tka->ta", m, np.cross(c, vb)) + sol.angular_velocity @ body.extra_inertia.T
-    P = np.einsum("tab,tb->ta", A, Pb)
-    H = np.cross(sol.position, P) + np.einsum("tab,tb->ta", A, Hb)
     T = 0.5 * np.einsum("k,tka,tka->t", m, vb, vb) + 0.5 * np.einsum(
         "ta,ab,tb->t", sol.angular_velocity, body.extra_inertia, sol.angular_velocity)
+    if sol.geometric and body.geometric is not None and sol.method == "full":
+        sg = np.einsum("ti,ij,tj->t", sol.q, body.geometric, sol.q)
+        w = sol.angular_velocity
+        Hb = Hb - sg[:, None] * w * np.array([0.0, 1.0, 1.0])
+        T = T - 0.5 * sg * (w[:, 1] ** 2 + w[:, 2] ** 2)
+    P = np.einsum("tab,tb->ta", A, Pb)
+    H = np.cross(sol.position, P) + np.einsum("tab,tb->ta", A, Hb)
     U = 0.5 * np.einsum("ti,ij,tj->t", sol.q, body.stiffness, sol.q)
     cm = sol.position + np.einsum("tab,tb->ta", A, np.einsum("k,tka->ta", m, c)) / m.sum()
     return P, H, T + U, cm
