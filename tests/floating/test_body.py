@@ -13,15 +13,15 @@ BETA_FF = np.array([4.7300, 7.8532, 10.9956])  # free-free beta L (issue / textb
 def test_uniform_beam_integrals_match_hand_values():
     L, rho_a, ei = 2.0, 1.5, 30.0
     b = uniform_beam(L, rho_a, ei, 6, section_radius=0.01)
-    I = integrals(b)
-    assert I["m"] == pytest.approx(rho_a * L, rel=1e-13)
-    assert np.abs(I["S"]).max() < 1e-13
+    ig = integrals(b)
+    assert ig["m"] == pytest.approx(rho_a * L, rel=1e-13)
+    assert np.abs(ig["S"]).max() < 1e-13
     jt = rho_a * L**3 / 12.0
     je = rho_a * L * 0.01**2
-    assert np.allclose(np.diag(I["J"]), [je / 2, jt + je / 4, jt + je / 4], rtol=1e-12)
-    assert np.abs(I["Phibar"]).max() < 1e-12  # mean axes: int rho phi = 0
-    assert np.abs(I["Phitilde"]).max() < 1e-12  # mean axes: int rho x phi = 0
-    assert np.abs(I["Mb"] - np.eye(6)).max() < 1e-12
+    assert np.allclose(np.diag(ig["J"]), [je / 2, jt + je / 4, jt + je / 4], rtol=1e-12)
+    assert np.abs(ig["Phibar"]).max() < 1e-12  # mean axes: int rho phi = 0
+    assert np.abs(ig["Phitilde"]).max() < 1e-12  # mean axes: int rho x phi = 0
+    assert np.abs(ig["Mb"] - np.eye(6)).max() < 1e-12
     om = BETA_FF**2 * np.sqrt(ei / (rho_a * L**4))
     assert np.allclose(np.sqrt(np.diag(b.stiffness))[:3], om, rtol=1e-4)
     # free end value of a mass-normalised free-free mode: 2 / sqrt(rho_a L)
@@ -50,11 +50,12 @@ def test_cantilever_southwell_coefficient():
 
 def test_fe_free_free_frequencies_within_0p1_percent():
     L, r = 10.0, 0.01
-    A, I = np.pi * r**2, np.pi * r**4 / 4
+    A, I2 = np.pi * r**2, np.pi * r**4 / 4
     E, rho = 2.1e11, 7800.0
-    b = frame_body(straight_beam_nodes(L, 30), e=E, g=8e10, rho=rho, area=A, iy=I, iz=I, j=2 * I,
-                   n_modes=6)
-    ref = BETA_FF**2 * np.sqrt(E * I / (rho * A * L**4))
+    b = frame_body(
+        straight_beam_nodes(L, 30), e=E, g=8e10, rho=rho, area=A, iy=I2, iz=I2, j=2 * I2, n_modes=6
+    )
+    ref = BETA_FF**2 * np.sqrt(E * I2 / (rho * A * L**4))
     got = np.sqrt(np.diag(b.stiffness))[::2]  # equal stiffness: each bending frequency twice
     err = np.abs(got / ref - 1.0)
     assert err.max() < 1e-3
@@ -66,8 +67,11 @@ def test_point_body_roundtrip_and_bad_input():
     b = uniform_beam(2.0, 1.0, 20.0, 3)
     shapes = np.transpose(b.shapes, (2, 0, 1))
     pb = point_body(b.masses, b.points, shapes, frequencies=np.sqrt(np.diag(b.stiffness)))
-    assert np.allclose(integrals(pb)["M"], integrals(b)["M"] - np.diag(
-        [0, 0, 0, *np.diag(b.extra_inertia), 0, 0, 0]), atol=1e-12)
+    assert np.allclose(
+        integrals(pb)["M"],
+        integrals(b)["M"] - np.diag([0, 0, 0, *np.diag(b.extra_inertia), 0, 0, 0]),
+        atol=1e-12,
+    )
     with pytest.raises(InputError, match="mass > 0"):
         point_body(-b.masses, b.points, shapes, frequencies=[1, 2, 3])
     with pytest.raises(InputError, match="mass-orthonormal"):

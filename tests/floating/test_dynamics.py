@@ -10,9 +10,12 @@ from rotaflex.floating.solve import invariants, point_motion, simulate
 
 def test_force_free_motion_conserves_momentum_and_energy():
     b = uniform_beam(2.0, 1.0, 20.0, 3, spatial=True, ei_z=35.0, section_radius=0.05)
-    ini = Initial(velocity=(0.1, -0.2, 0.05), angular_velocity=(0.5, 0.3, 1.0),
-                  modal_displacement=(0.02, -0.01, 0.01, 0.0, 0.005, 0.0),
-                  modal_velocity=(0.0, 0.05, 0.0, -0.03, 0.0, 0.01))
+    ini = Initial(
+        velocity=(0.1, -0.2, 0.05),
+        angular_velocity=(0.5, 0.3, 1.0),
+        modal_displacement=(0.02, -0.01, 0.01, 0.0, 0.005, 0.0),
+        modal_velocity=(0.0, 0.05, 0.0, -0.03, 0.0, 0.01),
+    )
     for geo in (False, True):  # with geometric stiffness the foreshortening term is in L too
         st = Settings(t_end=5.0, dt_out=0.05, rtol=1e-11, atol=1e-13, geometric_stiffness=geo)
         s = simulate(b, [], ini, st, "full")
@@ -45,8 +48,17 @@ def test_impulse_invariants_and_pure_torque_keeps_centre_of_mass():
     b = uniform_beam(2.0, 1.0, 20.0, 4)
     st = Settings(t_end=1.5, dt_out=0.001, rtol=1e-11, atol=1e-13)
     F = np.array([0.0, 3.0, 0.0])
-    ld = [Load(kind="force", vector=tuple(F), point=(1.0, 0.0, 0.0), frame="inertial",
-               profile="pulse", start=0.1, duration=0.05)]
+    ld = [
+        Load(
+            kind="force",
+            vector=tuple(F),
+            point=(1.0, 0.0, 0.0),
+            frame="inertial",
+            profile="pulse",
+            start=0.1,
+            duration=0.05,
+        )
+    ]
     s = simulate(b, ld, settings=st, method="full")
     P, H, E, cm = invariants(b, s)
     after = s.time >= 0.15
@@ -57,8 +69,12 @@ def test_impulse_invariants_and_pure_torque_keeps_centre_of_mass():
     on = (s.time >= 0.1) & (s.time < 0.15)
     dH = np.cross(rP[on], F).sum(axis=0) * 0.001
     assert np.abs(H[-1] - dH).max() < 2e-3 * np.abs(dH).max()
-    assert np.abs(cm[after] - cm[after][0] - np.outer(s.time[after] - s.time[after][0], F * 0.05 / 2.0)
-                  ).max() < 1e-9
+    assert (
+        np.abs(
+            cm[after] - cm[after][0] - np.outer(s.time[after] - s.time[after][0], F * 0.05 / 2.0)
+        ).max()
+        < 1e-9
+    )
     # pure torque at the centre: centre of mass stays at rest
     ld = [Load(kind="torque", vector=(0.0, 0.0, 2.0), profile="bang-bang", duration=1.0)]
     s = simulate(b, ld, settings=st, method="full")
@@ -72,11 +88,18 @@ def test_zero_order_is_the_torque_free_rigid_body_closed_form():
     J = integrals(b)["J"]
     Jx, Jt = J[0, 0], J[1, 1]
     wx, wp = 2.0, 0.7
-    s = simulate(b, [], Initial(angular_velocity=(wx, wp, 0.0)),
-                 Settings(t_end=4.0, dt_out=0.01, rtol=1e-11, atol=1e-13), "perturbation")
+    s = simulate(
+        b,
+        [],
+        Initial(angular_velocity=(wx, wp, 0.0)),
+        Settings(t_end=4.0, dt_out=0.01, rtol=1e-11, atol=1e-13),
+        "perturbation",
+    )
     lam = (Jx - Jt) * wx / Jt
     w0 = s.parts["w0"]
-    ref = np.column_stack([np.full_like(s.time, wx), wp * np.cos(lam * s.time), wp * np.sin(lam * s.time)])
+    ref = np.column_stack(
+        [np.full_like(s.time, wx), wp * np.cos(lam * s.time), wp * np.sin(lam * s.time)]
+    )
     assert np.abs(w0 - ref).max() < 1e-8
 
 

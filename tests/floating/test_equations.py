@@ -12,12 +12,23 @@ from rotaflex.floating.solve import pack_body, pack_loads
 def kane_residual(body, V, w, q, p, Vd, wd, pd):
     """sum m L^T a + K q for a force-free body, written directly from the point kinematics."""
     c = body.points + body.shapes @ q
-    a = (Vd + np.cross(wd, c) + body.shapes @ pd + np.cross(w, V)
-         + np.cross(w, np.cross(w, c)) + 2 * np.cross(w, body.shapes @ p))
+    a = (
+        Vd
+        + np.cross(wd, c)
+        + body.shapes @ pd
+        + np.cross(w, V)
+        + np.cross(w, np.cross(w, c))
+        + 2 * np.cross(w, body.shapes @ p)
+    )
     m = body.masses
     Je = body.extra_inertia
-    return np.concatenate([m @ a, m @ np.cross(c, a) + Je @ wd + np.cross(w, Je @ w),
-                           np.einsum("k,kaj,ka->j", m, body.shapes, a) + body.stiffness @ q])
+    return np.concatenate(
+        [
+            m @ a,
+            m @ np.cross(c, a) + Je @ wd + np.cross(w, Je @ w),
+            np.einsum("k,kaj,ka->j", m, body.shapes, a) + body.stiffness @ q,
+        ]
+    )
 
 
 @pytest.fixture(scope="module")
@@ -31,8 +42,9 @@ def test_full_kernel_satisfies_kane_equations(body3d):
     rng = np.random.default_rng(1)
     y = np.concatenate([rng.normal(size=3), [1, 0, 0, 0], rng.normal(size=6 + 2 * n)])
     dy = kernels.rhs_full(0.0, y, pack_body(body3d), pack_loads(body3d, []), False)
-    res = kane_residual(body3d, y[7:10], y[10:13], y[13:13 + n], y[13 + n:], dy[7:10], dy[10:13],
-                        dy[13 + n:])
+    res = kane_residual(
+        body3d, y[7:10], y[10:13], y[13 : 13 + n], y[13 + n :], dy[7:10], dy[10:13], dy[13 + n :]
+    )
     assert np.abs(res).max() < 1e-10
 
 
@@ -44,14 +56,21 @@ def test_perturbation_kernel_is_the_linearisation(body3d):
     q1 = rng.normal(size=n)
     y = np.zeros(25 + 2 * n)
     y[3] = 1.0
-    y[7:10], y[10:13], y[19:25], y[25:25 + n], y[25 + n:] = V0, w0, x1[:6], q1, x1[6:]
+    y[7:10], y[10:13], y[19:25], y[25 : 25 + n], y[25 + n :] = V0, w0, x1[:6], q1, x1[6:]
     dy = kernels.rhs_perturbation(0.0, y, pack_body(body3d), pack_loads(body3d, []), False)
-    acc0, xd1 = dy[7:13], np.concatenate([dy[19:25], dy[25 + n:]])
+    acc0, xd1 = dy[7:13], np.concatenate([dy[19:25], dy[25 + n :]])
 
     def F(eps):
-        return kane_residual(body3d, V0 + eps * x1[:3], w0 + eps * x1[3:6], eps * q1,
-                             eps * x1[6:], acc0[:3] + eps * xd1[:3], acc0[3:] + eps * xd1[3:6],
-                             eps * xd1[6:])
+        return kane_residual(
+            body3d,
+            V0 + eps * x1[:3],
+            w0 + eps * x1[3:6],
+            eps * q1,
+            eps * x1[6:],
+            acc0[:3] + eps * xd1[:3],
+            acc0[3:] + eps * xd1[3:6],
+            eps * xd1[6:],
+        )
 
     F0 = F(0.0)
     assert np.abs(F0[:6]).max() < 1e-12  # zero-order rigid equations hold

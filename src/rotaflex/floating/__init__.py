@@ -10,5 +10,13 @@ kernels, xarray) are imported only when a solver runs.
 from rotaflex.floating.body import Body, integrals, point_body, uniform_beam
 from rotaflex.floating.model import Initial, Load, Prescribed, Settings
 
-__all__ = ["Body", "Initial", "Load", "Prescribed", "Settings", "integrals", "point_body",
-           "uniform_beam"]
+__all__ = [
+    "Body",
+    "Initial",
+    "Load",
+    "Prescribed",
+    "Settings",
+    "integrals",
+    "point_body",
+    "uniform_beam",
+]

@@ -106,7 +106,9 @@ def validate_body(b: Body) -> None:
     """Section 5 checks: positive masses/stiffness, modes present, mass-orthonormal."""
     m = np.asarray(b.masses, dtype=float)
     if m.ndim != 1 or m.size == 0 or not np.all(np.isfinite(m)):
-        raise InputError("body.masses", f"shape {m.shape}", "a non-empty list of finite masses [kg]")
+        raise InputError(
+            "body.masses", f"shape {m.shape}", "a non-empty list of finite masses [kg]"
+        )
     if np.any(m <= 0.0):
         k = int(np.argmin(m))
         raise InputError(f"body.masses[{k}]", float(m[k]), "a mass > 0 [kg]")
@@ -116,20 +118,30 @@ def validate_body(b: Body) -> None:
         raise InputError("body.shapes", f"shape {b.shapes.shape}", f"shape ({m.size}, 3, n_modes)")
     n = b.shapes.shape[2]
     if n == 0:
-        raise InputError("body.n_modes", 0, "at least one elastic mode (a body with no elastic "
-                         "modes is rigid: use the rotor domain's rigid-body solver)")
+        raise InputError(
+            "body.n_modes",
+            0,
+            "at least one elastic mode (a body with no elastic "
+            "modes is rigid: use the rotor domain's rigid-body solver)",
+        )
     K = np.asarray(b.stiffness, dtype=float)
     if K.shape != (n, n):
         raise InputError("body.stiffness", f"shape {K.shape}", f"shape ({n}, {n})")
     ev = np.linalg.eigvalsh(0.5 * (K + K.T))
     if np.any(ev <= 0.0) or not np.allclose(K, K.T, rtol=1e-9, atol=1e-12 * np.abs(K).max()):
-        raise InputError("body.stiffness", f"eigenvalues min {ev.min():.6g}",
-                         "a symmetric positive definite modal stiffness (frequencies > 0)")
+        raise InputError(
+            "body.stiffness",
+            f"eigenvalues min {ev.min():.6g}",
+            "a symmetric positive definite modal stiffness (frequencies > 0)",
+        )
     Mb = np.einsum("k,kai,kaj->ij", m, b.shapes, b.shapes)
     dev = float(np.abs(Mb - np.eye(n)).max())
     if dev > ORTHONORMAL_TOL:
-        raise InputError("body.shapes", f"max |sum m Phi^T Phi - I| = {dev:.3e}",
-                         f"mass-orthonormal modes (deviation <= {ORTHONORMAL_TOL:g})")
+        raise InputError(
+            "body.shapes",
+            f"max |sum m Phi^T Phi - I| = {dev:.3e}",
+            f"mass-orthonormal modes (deviation <= {ORTHONORMAL_TOL:g})",
+        )
 
 
 # ----------------------------------------------------------------------------------------
@@ -151,8 +163,11 @@ def integrals(body: Body, q: np.ndarray | None = None) -> dict[str, np.ndarray]:
     q = np.zeros(n) if q is None else np.asarray(q, dtype=float)
     c = body.points + Phi @ q
     S = m @ c
-    J = np.einsum("k,kab->ab", m, np.einsum("ka,ka->k", c, c)[:, None, None] * np.eye(3)
-                  - c[:, :, None] * c[:, None, :])
+    J = np.einsum(
+        "k,kab->ab",
+        m,
+        np.einsum("ka,ka->k", c, c)[:, None, None] * np.eye(3) - c[:, :, None] * c[:, None, :],
+    )
     J = J + body.extra_inertia
     Phibar = np.einsum("k,kaj->aj", m, Phi)
     Phit = np.einsum("k,kab,kbj->aj", m, skew(c), Phi)
@@ -217,7 +232,7 @@ def _beam_coefficients(support: str, bl: float) -> np.ndarray:
 
 
 def beam_mode(support: str, bl: float, s: np.ndarray, deriv: int = 0) -> np.ndarray:
-    """Un-normalised mode ``phi(s)`` (or its ``deriv``-th derivative w.r.t. ``s``), ``s`` in [0, 1]."""
+    """Un-normalised mode ``phi(s)`` (or its ``deriv``-th derivative w.r.t. ``s``), ``s`` in [0, 1]."""  # noqa: E501
     a = _beam_coefficients(support, bl)
     x = bl * np.asarray(s, dtype=float)
     trig = [(np.cos(x), np.sin(x)), (-np.sin(x), np.cos(x)), (-np.cos(x), -np.sin(x))][deriv]
@@ -296,8 +311,9 @@ def uniform_beam(
     masses = rho_a * length * 0.5 * gw
     points = np.zeros((nq, 3))
     points[:, 0] = x0 + s * length
-    norm = np.array([np.sqrt(rho_a * length * np.sum(0.5 * gw * beam_mode(support, b, s) ** 2))
-                     for b in bl])
+    norm = np.array(
+        [np.sqrt(rho_a * length * np.sum(0.5 * gw * beam_mode(support, b, s) ** 2)) for b in bl]
+    )
     planes = [(1, ei)] + ([(2, ei_z if ei_z is not None else ei)] if spatial else [])
     cols, omegas, labels = [], [], []
     for axis, e_i in planes:
@@ -319,8 +335,11 @@ def uniform_beam(
         bad = (ss < -1e-9) | (ss > 1 + 1e-9) | (off > tol)
         if np.any(bad):
             k = int(np.argmax(bad))
-            raise InputError("point", pts[k].tolist(),
-                             f"a point on the beam axis: y = z = 0 and x in [{x0:g}, {x0 + length:g}] m")
+            raise InputError(
+                "point",
+                pts[k].tolist(),
+                f"a point on the beam axis: y = z = 0 and x in [{x0:g}, {x0 + length:g}] m",
+            )
         ss = np.clip(ss, 0.0, 1.0)
         Phi = np.zeros((len(pts), 3, n))
         Psi = np.zeros((len(pts), 3, n))
@@ -342,8 +361,11 @@ def uniform_beam(
         dphi[:, j] = beam_mode(support, b, s, 1) / nm / length
     same_plane = np.array([[ca[0] == cb[0] for cb in cols] for ca in cols], dtype=float)
     KG = np.einsum("k,ki,kj->ij", length * 0.5 * gw * tension, dphi, dphi) * same_plane
-    frame = ("mean axes (origin at the centre of mass, x along the beam)" if support == "free-free"
-             else "tangent frame clamped at the root (origin at the root, x along the beam)")
+    frame = (
+        "mean axes (origin at the centre of mass, x along the beam)"
+        if support == "free-free"
+        else "tangent frame clamped at the root (origin at the root, x along the beam)"
+    )
     return Body(
         name=f"uniform {'spatial' if spatial else 'planar'} {support} beam, L={length:g} m",
         masses=masses,
@@ -409,7 +431,9 @@ def point_body(
             raise InputError(f"body.frequencies[{k}]", float(f[k]), "a frequency > 0 [rad/s]")
         K = np.diag(f**2)
     else:
-        raise InputError("body.frequencies", "<missing>", "frequencies [rad/s] or a stiffness matrix")
+        raise InputError(
+            "body.frequencies", "<missing>", "frequencies [rad/s] or a stiffness matrix"
+        )
     Psi_nodes = None
     if rotation_shapes is not None:
         R = np.asarray(rotation_shapes, dtype=float)
@@ -426,10 +450,21 @@ def point_body(
         bad = d[np.arange(len(pts)), idx] > 1e-9 * size
         if np.any(bad):
             k = int(np.argmax(bad))
-            raise InputError("point", pts[k].tolist(), "the position of one of the body's nodes [m]")
+            raise InputError(
+                "point", pts[k].tolist(), "the position of one of the body's nodes [m]"
+            )
         Psi = Psi_nodes[idx] if Psi_nodes is not None else np.full((len(pts), 3, n), np.nan)
         return Phi[idx], Psi
 
-    return Body(name=name, masses=m, points=P, shapes=Phi, stiffness=K, shape_fn=shape_fn,
-                geometric=None, frame="as supplied (mean axes if the modes are free-free)",
-                length=size, mode_labels=tuple(f"mode{j + 1}" for j in range(n)))
+    return Body(
+        name=name,
+        masses=m,
+        points=P,
+        shapes=Phi,
+        stiffness=K,
+        shape_fn=shape_fn,
+        geometric=None,
+        frame="as supplied (mean axes if the modes are free-free)",
+        length=size,
+        mode_labels=tuple(f"mode{j + 1}" for j in range(n)),
+    )

@@ -108,8 +108,17 @@ def build_body(cfg: BodyConfig):
 
     if cfg.type == "beam":
         b = cfg.beam
-        return uniform_beam(b.length, b.rho_a, b.ei, b.n_modes, ei_z=b.ei_z, spatial=b.spatial,
-                            support=b.support, n_quad=b.n_quad, section_radius=b.section_radius)
+        return uniform_beam(
+            b.length,
+            b.rho_a,
+            b.ei,
+            b.n_modes,
+            ei_z=b.ei_z,
+            spatial=b.spatial,
+            support=b.support,
+            n_quad=b.n_quad,
+            section_radius=b.section_radius,
+        )
     if cfg.type == "frame":
         from rotaflex.floating.fe import frame_body
 
@@ -118,13 +127,31 @@ def build_body(cfg: BodyConfig):
         if len(key) < 2:
             raise InputError("body.frame.nodes", len(key), "at least 2 key points")
         k = f.elements_per_segment
-        nodes = [key[0]] + [key[i] + (key[i + 1] - key[i]) * s / k
-                            for i in range(len(key) - 1) for s in range(1, k + 1)]
-        return frame_body(np.array(nodes), e=f.e, g=f.g, rho=f.rho, area=f.area, iy=f.iy, iz=f.iz,
-                          j=f.j, n_modes=f.n_modes, up=f.up)
+        nodes = [key[0]] + [
+            key[i] + (key[i + 1] - key[i]) * s / k
+            for i in range(len(key) - 1)
+            for s in range(1, k + 1)
+        ]
+        return frame_body(
+            np.array(nodes),
+            e=f.e,
+            g=f.g,
+            rho=f.rho,
+            area=f.area,
+            iy=f.iy,
+            iz=f.iz,
+            j=f.j,
+            n_modes=f.n_modes,
+            up=f.up,
+        )
     p = cfg.points
-    return point_body(p.masses, p.positions, p.shapes, frequencies=p.frequencies,
-                      rotation_shapes=p.rotation_shapes)
+    return point_body(
+        p.masses,
+        p.positions,
+        p.shapes,
+        frequencies=p.frequencies,
+        rotation_shapes=p.rotation_shapes,
+    )
 
 
 def run_case(config: dict, *, progress: bool = False):
@@ -148,10 +175,12 @@ def run_case(config: dict, *, progress: bool = False):
             try:
                 body.shape_fn(pts[i : i + 1])
             except InputError as exc:
-                raise InputError(f"outputs.{name}", list(pts[i]), exc.allowed) from None
+                raise InputError(f"outputs.{name}", pts[i].tolist(), exc.allowed) from None
     methods = ["full", "perturbation"] if case.solver.method == "both" else [case.solver.method]
     if case.prescribed is not None:
         methods = ["full"]
-    sols = [simulate(body, case.loads, case.initial, case.solver, m, case.prescribed) for m in methods]
+    sols = [
+        simulate(body, case.loads, case.initial, case.solver, m, case.prescribed) for m in methods
+    ]
     resolved = json.loads(json.dumps(dataclasses.asdict(case)))
     return build_result(body, sols, dict(case.outputs), resolved, time.perf_counter() - t0)

@@ -38,8 +38,10 @@ def _frames(nodes, elements, up):
 
 def _local_stiffness(L, EA, GJ, EIy, EIz):
     k = np.zeros((len(L), 12, 12))
+
     def put(idx, mat):
         k[:, idx[:, None], idx[None, :]] += mat
+
     a = EA / L
     put(np.array([0, 6]), a[:, None, None] * np.array([[1, -1], [-1, 1]]))
     t = GJ / L
@@ -114,7 +116,15 @@ def frame_body(
     Body
         Points: 12 mass points per element (3 Gauss points x 4 section points).
     """
-    for fname, v in (("e", e), ("g", g), ("rho", rho), ("area", area), ("iy", iy), ("iz", iz), ("j", j)):
+    for fname, v in (
+        ("e", e),
+        ("g", g),
+        ("rho", rho),
+        ("area", area),
+        ("iy", iy),
+        ("iz", iz),
+        ("j", j),
+    ):
         if not (np.isfinite(v) and v > 0):
             raise InputError(f"body.{fname}", v, "a number > 0 (SI units)")
     X = np.asarray(nodes, dtype=float).reshape(-1, 3)
@@ -146,21 +156,26 @@ def frame_body(
     Npt = Nu - np.einsum("pab,pbc->pac", skew(offs[S_]), Nt)  # u + th x s = u - s~ th
     Nglob = np.einsum("pba,pbc,pcd->pad", Lam[E_], Npt, T[E_])  # global 3 x 12 per point
     mass = rho * area * L[E_] * _GW[G_] / 4.0
-    pos = (X[El[E_, 0]] + s[:, None] * (X[El[E_, 1]] - X[El[E_, 0]])
-           + np.einsum("pba,pb->pa", Lam[E_], offs[S_]))
+    pos = (
+        X[El[E_, 0]]
+        + s[:, None] * (X[El[E_, 1]] - X[El[E_, 0]])
+        + np.einsum("pba,pb->pa", Lam[E_], offs[S_])
+    )
     Me = np.einsum("p,pai,paj->pij", mass, Nglob, Nglob)
     M = np.zeros((ndof, ndof))
     np.add.at(M, (dofs[E_][:, :, None], dofs[E_][:, None, :]), Me)
     from scipy.linalg import eigh
-
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
     graph = coo_matrix((np.ones(len(El)), (El[:, 0], El[:, 1])), shape=(nn, nn))
     n_comp = connected_components(graph, directed=False)[0]
     if n_comp != 1:
-        raise InputError("body.elements", f"{n_comp} disconnected parts",
-                         "one connected structure (free-free: exactly 6 rigid-body modes)")
+        raise InputError(
+            "body.elements",
+            f"{n_comp} disconnected parts",
+            "one connected structure (free-free: exactly 6 rigid-body modes)",
+        )
     w2, V = eigh(K, M, subset_by_index=[0, min(ndof - 1, 6 + n_modes - 1)])
     keep = slice(6, 6 + n_modes)
     modes, om2 = V[:, keep], w2[keep]
@@ -169,7 +184,7 @@ def frame_body(
     Rg = np.zeros((ndof, 6))
     for a in range(3):
         Rg[a::6, a] = 1.0
-        Rg[3 + a::6, 3 + a] = 1.0
+        Rg[3 + a :: 6, 3 + a] = 1.0
         e_a = np.eye(3)[a]
         Rg[np.arange(nn)[:, None] * 6 + np.arange(3), 3 + a] = np.cross(e_a, rel)
     MR = M @ Rg
@@ -198,14 +213,24 @@ def frame_body(
         md = modes[dofs[ie]]
         return np.einsum("pad,pdj->paj", Ng, md), np.einsum("pad,pdj->paj", Nr, md)
 
-    body = Body(name=name, masses=mass, points=pos, shapes=Phi, stiffness=np.diag(om2),
-                shape_fn=shape_fn, geometric=None,
-                frame="mean axes (free-free FE modes, axes parallel to the model's axes)",
-                length=size, mode_labels=tuple(f"fe{k + 1}" for k in range(n_modes)))
+    body = Body(
+        name=name,
+        masses=mass,
+        points=pos,
+        shapes=Phi,
+        stiffness=np.diag(om2),
+        shape_fn=shape_fn,
+        geometric=None,
+        frame="mean axes (free-free FE modes, axes parallel to the model's axes)",
+        length=size,
+        mode_labels=tuple(f"fe{k + 1}" for k in range(n_modes)),
+    )
     return body
 
 
-def straight_beam_nodes(length: float, n_elements: int, start=(0.0, 0.0, 0.0), direction=(1.0, 0.0, 0.0)):
+def straight_beam_nodes(
+    length: float, n_elements: int, start=(0.0, 0.0, 0.0), direction=(1.0, 0.0, 0.0)
+):
     """Equally spaced nodes of a straight beam ``(n_elements + 1, 3)`` [m]."""
     d = np.asarray(direction, float)
     d = d / np.linalg.norm(d)

@@ -97,7 +97,9 @@ def quat_rate(e, w, out):
 
 @njit(cache=True)
 def cross(a, b):
-    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
 
 
 @njit(cache=True)
@@ -437,13 +439,13 @@ _A = np.array(
     ]
 )
 _B = np.array([35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0])
-_E = np.array(
-    [71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40]
-)
+_E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
 
 
 @njit(cache=True)
-def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres):
+def integrate(
+    mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres
+):
     """Integrate ``rhs(mode, ...)`` from ``t_out[0]``; return states at ``t_out``.
 
     Returns ``(Y, status, t_stop, nfev, nstep)``; status 0 ok, 1 step budget exhausted,

@@ -1,7 +1,8 @@
 """First-order coefficient matrices from the compiled kernel and the paper's eq. 32 / 42 forms.
 
 The first-order equations are implemented in :func:`rotaflex.floating.kernels.rhs_perturbation`
-as ``M^_0 x1' = f(x1, q1)`` with ``f = H1 + d - G x1 - K^ q1`` (linear). :func:`first_order_matrices`
+as ``M^_0 x1' = f(x1, q1)`` with ``f = H1 + d - G x1 - K^ q1`` (linear).
+:func:`first_order_matrices`
 extracts ``M^_0``, ``G`` (coefficient of ``x1 = [V1, w1, p1]``), ``K^`` (coefficient of ``q1``) and
 ``d`` column by column, so they can be compared matrix by matrix with the printed equations.
 """
@@ -29,13 +30,19 @@ def first_order_matrices(body: Body, V0, w0, Vd0, wd0) -> dict[str, np.ndarray]:
     S0, J = I0["S"], I0["J"]
     V0, w0, Vd0, wd0 = (np.asarray(v, float) for v in (V0, w0, Vd0, wd0))
     # loads that produce (Vd0, wd0): H0 = Mr a + gyroscopic terms; applied as body force + torque
-    g = np.concatenate([I0["m"] * np.cross(w0, V0) + np.cross(w0, np.cross(w0, S0)),
-                        np.cross(S0, np.cross(w0, V0)) + np.cross(w0, J @ w0)])
+    g = np.concatenate(
+        [
+            I0["m"] * np.cross(w0, V0) + np.cross(w0, np.cross(w0, S0)),
+            np.cross(S0, np.cross(w0, V0)) + np.cross(w0, J @ w0),
+        ]
+    )
     H0 = Mr @ np.concatenate([Vd0, wd0]) + g
     from rotaflex.floating.model import Load
 
-    loads = [Load(kind="force", vector=tuple(H0[:3]), point=(0.0, 0.0, 0.0)),
-             Load(kind="torque", vector=tuple(H0[3:]), point=(0.0, 0.0, 0.0))]
+    loads = [
+        Load(kind="force", vector=tuple(H0[:3]), point=(0.0, 0.0, 0.0)),
+        Load(kind="torque", vector=tuple(H0[3:]), point=(0.0, 0.0, 0.0)),
+    ]
     L = pack_loads(body, loads) if _has_rotation_shapes(body) else None
     if L is None:  # torque on the frame only (no modal torque term)
         L = pack_loads(body, loads[:1])
@@ -62,11 +69,11 @@ def first_order_matrices(body: Body, V0, w0, Vd0, wd0) -> dict[str, np.ndarray]:
         y[3] = 1.0
         y[7:10], y[10:13] = V0, w0
         y[19:25] = x1[:6]
-        y[25 + n:] = x1[6:]
-        y[25:25 + n] = q1
+        y[25 + n :] = x1[6:]
+        y[25 : 25 + n] = q1
         dy = kernels.rhs_perturbation(0.0, y, B, L, False)
         acc = dy[7:13]
-        xd1 = np.concatenate([dy[19:25], dy[25 + n:]])
+        xd1 = np.concatenate([dy[19:25], dy[25 + n :]])
         return M0 @ xd1, acc
 
     f0, acc = force(np.zeros(6 + n), np.zeros(n))
@@ -116,8 +123,16 @@ def paper_matrices(body: Body, V0, w0, Vd0, wd0) -> dict[str, np.ndarray]:
     K[3:6] = (-Vdt - W @ Vt + Vt @ W) @ Pb + phd + W @ ph
     K[6:] = body.stiffness + gamma(body, wd0) + m_tilde(body, w0)
     d3 = -Pb.T @ (Vd0 + W @ V0) - Pt.T @ wd0 + 0.5 * ph.T @ w0
-    return {"G": G_total, "G_tilde": G, "K": K, "d3": d3, "Mb": Mb, "Phibar": Pb, "Phitilde": Pt,
-            "Phihat": ph}
+    return {
+        "G": G_total,
+        "G_tilde": G,
+        "K": K,
+        "d3": d3,
+        "Mb": Mb,
+        "Phibar": Pb,
+        "Phitilde": Pt,
+        "Phihat": ph,
+    }
 
 
 def planar_eq42(body: Body, Vx0, Vy0, thd0, Vyd0, thdd0) -> dict[str, np.ndarray]:
@@ -131,7 +146,11 @@ def planar_eq42(body: Body, Vx0, Vy0, thd0, Vyd0, thdd0) -> dict[str, np.ndarray
     pb = m @ phi
     pbb = (m * x) @ phi
     return {
-        "Vy1_dot": pb, "theta1_ddot": pbb, "Vx1": thd0 * pb, "theta1_dot": Vx0 * pb,
-        "q1": body.stiffness - thd0**2 * np.eye(body.n_modes), "p1": np.zeros((body.n_modes,) * 2),
+        "Vy1_dot": pb,
+        "theta1_ddot": pbb,
+        "Vx1": thd0 * pb,
+        "theta1_dot": Vx0 * pb,
+        "q1": body.stiffness - thd0**2 * np.eye(body.n_modes),
+        "p1": np.zeros((body.n_modes,) * 2),
         "d3": -pb * (Vyd0 + thd0 * Vx0) - thdd0 * pbb,
     }

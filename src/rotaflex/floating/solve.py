@@ -56,11 +56,21 @@ def pack_body(body: Body):
     I0 = integrals(body)
     M0 = I0["M"]
     KG = body.geometric if body.geometric is not None else np.zeros((n, n))
-    return (m, r, Phi, np.ascontiguousarray(I0["Phibar"]), np.ascontiguousarray(I0["Mb"]),
-            np.ascontiguousarray(body.stiffness, dtype=float), np.ascontiguousarray(KG, dtype=float),
-            np.linalg.inv(M0), np.linalg.inv(M0[:6, :6]), I0["S"].copy(),
-            np.ascontiguousarray(I0["J"]), float(I0["m"]),
-            np.ascontiguousarray(body.extra_inertia, dtype=float))
+    return (
+        m,
+        r,
+        Phi,
+        np.ascontiguousarray(I0["Phibar"]),
+        np.ascontiguousarray(I0["Mb"]),
+        np.ascontiguousarray(body.stiffness, dtype=float),
+        np.ascontiguousarray(KG, dtype=float),
+        np.linalg.inv(M0),
+        np.linalg.inv(M0[:6, :6]),
+        I0["S"].copy(),
+        np.ascontiguousarray(I0["J"]),
+        float(I0["m"]),
+        np.ascontiguousarray(body.extra_inertia, dtype=float),
+    )
 
 
 def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
@@ -87,8 +97,11 @@ def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
             raise InputError(f"loads[{i}].point", list(ld.point), exc.allowed) from None
         PhiP[i], PsiP[i] = Phi_i[0], Psi_i[0]
         if ld.kind == "torque" and not np.all(np.isfinite(PsiP[i])):
-            raise InputError(f"loads[{i}].kind", "torque",
-                             "a force (this body has no rotation shapes for point torques)")
+            raise InputError(
+                f"loads[{i}].kind",
+                "torque",
+                "a force (this body has no rotation shapes for point torques)",
+            )
     return kind, frame, prof, par, amp, rP, PhiP, PsiP
 
 
@@ -103,8 +116,11 @@ def use_geometric(body: Body, settings: Settings) -> bool:
     if settings.geometric_stiffness is None:
         return body.geometric is not None
     if settings.geometric_stiffness and body.geometric is None:
-        raise InputError("solver.geometric_stiffness", True,
-                         "false for this body (centrifugal stiffening is available for beam bodies)")
+        raise InputError(
+            "solver.geometric_stiffness",
+            True,
+            "false for this body (centrifugal stiffening is available for beam bodies)",
+        )
     return bool(settings.geometric_stiffness)
 
 
@@ -187,11 +203,28 @@ def simulate(
     q_limit = 10.0 * body.length / max(phimax, 1e-300)
     t0 = time.perf_counter()
     Y, st, t_stop, nfev, nstep = kernels.integrate(
-        mode, y0, t_out, _breaks(loads, prescribed, t_out[-1]), settings.rtol, settings.atol,
-        settings.max_steps, q_limit, lim[0], lim[1], B, Lp, geo, pres)
+        mode,
+        y0,
+        t_out,
+        _breaks(loads, prescribed, t_out[-1]),
+        settings.rtol,
+        settings.atol,
+        settings.max_steps,
+        q_limit,
+        lim[0],
+        lim[1],
+        B,
+        Lp,
+        geo,
+        pres,
+    )
     wall = time.perf_counter() - t0
     if st in (1, 2):
-        what = "time integration (step budget exhausted)" if st == 1 else "time integration (step size underflow)"
+        what = (
+            "time integration (step budget exhausted)"
+            if st == 1
+            else "time integration (step size underflow)"
+        )
         raise ConvergenceError(what, float(t_stop), float(nstep), float(settings.max_steps))
     sol = _unpack(mode, method, t_out, Y, n, prescribed, pres)
     sol.nfev, sol.nstep, sol.wall_time, sol.geometric = int(nfev), int(nstep), wall, geo
@@ -203,13 +236,17 @@ def simulate(
             f"effective elastic stiffness K_b + M~(w){' + K_G' if geo else ''} is indefinite from "
             f"t = {t_out[neg[0]]:.4g} s (min eigenvalue {sol.min_stiffness.min():.4g} 1/s^2): "
             "centrifugal softening makes the linear modal model unstable"
-            + ("" if geo or body.geometric is None else "; set solver.geometric_stiffness = true"))
+            + ("" if geo or body.geometric is None else "; set solver.geometric_stiffness = true")
+        )
     if st == 3:
         sol.status = "diverged"
-        notes.insert(0, f"response diverged at t = {t_stop:.4g} s (|q| > {q_limit:.3g}, i.e. "
-                        f"deflections > 10 x body size)")
+        notes.insert(
+            0,
+            f"response diverged at t = {t_stop:.4g} s (|q| > {q_limit:.3g}, i.e. "
+            f"deflections > 10 x body size)",
+        )
         log.warning("floating %s: %s", method, notes[0])
-    sol.message = "; ".join(notes) if notes else f"{method}: {nstep} steps, {nfev} evaluations"
+    sol.message = "; ".join(notes) if notes else f"{nstep} steps, {nfev} evaluations"
     return sol
 
 
@@ -230,19 +267,48 @@ def _unpack(mode, method, t, Y, n, prescribed, pres) -> Solution:
 
         prof = np.array([spin_profile(pres[3], pres[4], tt) for tt in t])
         ang, om = prof[:, 0], prof[:, 1]
-        quat = np.concatenate([np.cos(0.5 * ang)[:, None], np.sin(0.5 * ang)[:, None] * ax[None]], 1)
-        return Solution("prescribed", t, np.zeros((nt, 3)), quat, np.zeros((nt, 3)),
-                        om[:, None] * ax[None], Y[:, :n], Y[:, n:])
+        quat = np.concatenate(
+            [np.cos(0.5 * ang)[:, None], np.sin(0.5 * ang)[:, None] * ax[None]], 1
+        )
+        return Solution(
+            "prescribed",
+            t,
+            np.zeros((nt, 3)),
+            quat,
+            np.zeros((nt, 3)),
+            om[:, None] * ax[None],
+            Y[:, :n],
+            Y[:, n:],
+        )
     if mode == 0:
         e = Y[:, 3:7] / np.linalg.norm(Y[:, 3:7], axis=1, keepdims=True)
-        return Solution("full", t, Y[:, 0:3], e, Y[:, 7:10], Y[:, 10:13], Y[:, 13:13 + n], Y[:, 13 + n:])
+        return Solution(
+            "full", t, Y[:, 0:3], e, Y[:, 7:10], Y[:, 10:13], Y[:, 13 : 13 + n], Y[:, 13 + n :]
+        )
     e0 = Y[:, 3:7] / np.linalg.norm(Y[:, 3:7], axis=1, keepdims=True)
     th1 = Y[:, 16:19]
     e = quaternion_product(e0, _quat_from_rotvec(th1))
-    parts = {"R0": Y[:, 0:3], "e0": e0, "V0": Y[:, 7:10], "w0": Y[:, 10:13], "R1": Y[:, 13:16],
-             "th1": th1, "V1": Y[:, 19:22], "w1": Y[:, 22:25]}
-    return Solution("perturbation", t, Y[:, 0:3] + Y[:, 13:16], e, Y[:, 7:10] + Y[:, 19:22],
-                    Y[:, 10:13] + Y[:, 22:25], Y[:, 25:25 + n], Y[:, 25 + n:], parts=parts)
+    parts = {
+        "R0": Y[:, 0:3],
+        "e0": e0,
+        "V0": Y[:, 7:10],
+        "w0": Y[:, 10:13],
+        "R1": Y[:, 13:16],
+        "th1": th1,
+        "V1": Y[:, 19:22],
+        "w1": Y[:, 22:25],
+    }
+    return Solution(
+        "perturbation",
+        t,
+        Y[:, 0:3] + Y[:, 13:16],
+        e,
+        Y[:, 7:10] + Y[:, 19:22],
+        Y[:, 10:13] + Y[:, 22:25],
+        Y[:, 25 : 25 + n],
+        Y[:, 25 + n :],
+        parts=parts,
+    )
 
 
 def min_effective_stiffness(body: Body, w: np.ndarray, geo: bool) -> np.ndarray:
@@ -285,7 +351,8 @@ def invariants(body: Body, sol: Solution):
     Pb = np.einsum("k,tka->ta", m, vb)
     Hb = np.einsum("k,tka->ta", m, np.cross(c, vb)) + sol.angular_velocity @ body.extra_inertia.T
     T = 0.5 * np.einsum("k,tka,tka->t", m, vb, vb) + 0.5 * np.einsum(
-        "ta,ab,tb->t", sol.angular_velocity, body.extra_inertia, sol.angular_velocity)
+        "ta,ab,tb->t", sol.angular_velocity, body.extra_inertia, sol.angular_velocity
+    )
     if sol.geometric and body.geometric is not None and sol.method == "full":
         sg = np.einsum("ti,ij,tj->t", sol.q, body.geometric, sol.q)
         w = sol.angular_velocity
