@@ -14,12 +14,14 @@ from types import ModuleType
 CASES: dict[str, str] = {
     "rotor": "rotaflex.rotor.case",
     "gear": "rotaflex.gear.case",
+    "floating": "rotaflex.floating.case",
 }
 
 #: reproduce target -> module with ``run``; "all" runs every entry in this order
 REPRODUCE: dict[str, str] = {
     "rotor": "rotaflex.reproduce.rotor",
     "gear": "rotaflex.reproduce.gear",
+    "floating": "rotaflex.reproduce.floating",
 }
 
 

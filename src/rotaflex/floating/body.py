@@ -1,0 +1,470 @@
+"""Flexible bodies as data: quadrature points with masses and mode shapes, and their integrals.
+
+A :class:`Body` is a set of ``N`` mass points (quadrature points of the mass distribution):
+mass ``m_k`` [kg], undeformed body-frame position ``r_k`` [m] and mode-shape rows ``Phi_k``
+(3 x n, [1/sqrt(kg)] for mass-orthonormal modes), plus the modal stiffness ``K_b`` [N m/kg].
+Every body integral of the paper is a vectorised sum over the points (:func:`integrals`,
+:func:`gamma`, :func:`m_tilde`, :func:`phi_hat`).
+
+Three sources of bodies:
+
+* :func:`uniform_beam` -- uniform Euler-Bernoulli beam with analytic modes (free-free or
+  cantilever), planar (deflection along y) or spatial (along y and z);
+* :func:`rotaflex.floating.fe.frame_body` -- 3-D frame finite elements reduced to free-free modes;
+* :func:`point_body` -- user-supplied nodes, masses and mode-shape vectors.
+
+The floating frame of a free-free body is the mean-axis frame: the elastic modes are
+mass-orthogonal to the rigid modes, so ``sum m_k Phi_k = 0`` and ``sum m_k r_k~ Phi_k = 0``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+
+from rotaflex.core.errors import InputError
+
+ORTHONORMAL_TOL = 1e-6
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """Skew matrices ``v~`` of vectors ``v`` (..., 3) -> (..., 3, 3)."""
+    v = np.asarray(v, dtype=float)
+    S = np.zeros(v.shape[:-1] + (3, 3))
+    S[..., 0, 1], S[..., 0, 2] = -v[..., 2], v[..., 1]
+    S[..., 1, 0], S[..., 1, 2] = v[..., 2], -v[..., 0]
+    S[..., 2, 0], S[..., 2, 1] = -v[..., 1], v[..., 0]
+    return S
+
+
+@dataclass(frozen=True, eq=False)
+class Body:
+    """A flexible body as quadrature data.
+
+    Parameters
+    ----------
+    name : str
+        Description.
+    masses : ndarray (N,)
+        Point masses [kg], all > 0.
+    points : ndarray (N, 3)
+        Undeformed positions in the body frame [m].
+    shapes : ndarray (N, 3, n)
+        Mode shapes at the points, mass-orthonormal: ``sum m Phi^T Phi = I``.
+    stiffness : ndarray (n, n)
+        Modal stiffness ``K_b`` [1/s^2] (diagonal ``omega^2`` for normal modes).
+    shape_fn : callable
+        ``shape_fn(points (P, 3)) -> (Phi (P, 3, n), Psi (P, 3, n))``: translational and rotational
+        mode shapes at arbitrary body points; raises InputError for points outside the body.
+    geometric : ndarray (n, n) or None
+        Unit centrifugal geometric stiffness ``K_Gw``: the stiffening is
+        ``(w_y^2 + w_z^2) K_Gw`` for a beam along the body x axis; None if not available.
+    frame : str
+        The floating frame, stated for output.
+    length : float
+        Characteristic size [m] (divergence guard, tolerances).
+    mode_labels : tuple of str
+    extra_inertia : ndarray (3, 3)
+        Inertia [kg m^2] of rigid (non-elastic) mass about the body origin added to ``J``, e.g. the
+        polar inertia of a beam's cross-sections, which a line of points does not carry.
+    """
+
+    name: str
+    masses: np.ndarray
+    points: np.ndarray
+    shapes: np.ndarray
+    stiffness: np.ndarray
+    shape_fn: Callable = field(repr=False)
+    geometric: np.ndarray | None = None
+    frame: str = "mean axes"
+    length: float = 1.0
+    mode_labels: tuple = ()
+    extra_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+
+    def __post_init__(self):
+        validate_body(self)
+
+    @property
+    def n_modes(self) -> int:
+        return self.shapes.shape[2]
+
+    @property
+    def frequencies(self) -> np.ndarray:
+        """Natural frequencies [rad/s] of the (clamped-frame) modal model."""
+        ev = np.linalg.eigvalsh(0.5 * (self.stiffness + self.stiffness.T))
+        return np.sqrt(np.clip(ev, 0.0, None))
+
+    @property
+    def mass(self) -> float:
+        return float(self.masses.sum())
+
+
+def validate_body(b: Body) -> None:
+    """Section 5 checks: positive masses/stiffness, modes present, mass-orthonormal."""
+    m = np.asarray(b.masses, dtype=float)
+    if m.ndim != 1 or m.size == 0 or not np.all(np.isfinite(m)):
+        raise InputError(
+            "body.masses", f"shape {m.shape}", "a non-empty list of finite masses [kg]"
+        )
+    if np.any(m <= 0.0):
+        k = int(np.argmin(m))
+        raise InputError(f"body.masses[{k}]", float(m[k]), "a mass > 0 [kg]")
+    if b.points.shape != (m.size, 3):
+        raise InputError("body.points", f"shape {b.points.shape}", f"shape ({m.size}, 3) [m]")
+    if b.shapes.ndim != 3 or b.shapes.shape[:2] != (m.size, 3):
+        raise InputError("body.shapes", f"shape {b.shapes.shape}", f"shape ({m.size}, 3, n_modes)")
+    n = b.shapes.shape[2]
+    if n == 0:
+        raise InputError(
+            "body.n_modes",
+            0,
+            "at least one elastic mode (a body with no elastic "
+            "modes is rigid: use the rotor domain's rigid-body solver)",
+        )
+    K = np.asarray(b.stiffness, dtype=float)
+    if K.shape != (n, n):
+        raise InputError("body.stiffness", f"shape {K.shape}", f"shape ({n}, {n})")
+    ev = np.linalg.eigvalsh(0.5 * (K + K.T))
+    if np.any(ev <= 0.0) or not np.allclose(K, K.T, rtol=1e-9, atol=1e-12 * np.abs(K).max()):
+        raise InputError(
+            "body.stiffness",
+            f"eigenvalues min {ev.min():.6g}",
+            "a symmetric positive definite modal stiffness (frequencies > 0)",
+        )
+    Mb = np.einsum("k,kai,kaj->ij", m, b.shapes, b.shapes)
+    dev = float(np.abs(Mb - np.eye(n)).max())
+    if dev > ORTHONORMAL_TOL:
+        raise InputError(
+            "body.shapes",
+            f"max |sum m Phi^T Phi - I| = {dev:.3e}",
+            f"mass-orthonormal modes (deviation <= {ORTHONORMAL_TOL:g})",
+        )
+
+
+# ----------------------------------------------------------------------------------------
+# body integrals (eq. 23, 25, 32), all by vectorised quadrature over the points
+# ----------------------------------------------------------------------------------------
+def integrals(body: Body, q: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """Mass-matrix integrals of eq. 23 at modal displacement ``q`` (default 0).
+
+    Returns
+    -------
+    dict
+        ``m`` [kg], ``S`` (3,) first moment [kg m] (``S~ = skew(S)``), ``Phibar`` (3, n),
+        ``J`` (3, 3) inertia tensor [kg m^2], ``Phitilde`` (3, n) ``= sum m c~ Phi``,
+        ``Mb`` (n, n), ``M`` the assembled (6+n)^2 mass matrix of eq. 22 in the ordering
+        ``x = [V_o, w, p]``.
+    """
+    m, Phi = body.masses, body.shapes
+    n = Phi.shape[2]
+    q = np.zeros(n) if q is None else np.asarray(q, dtype=float)
+    c = body.points + Phi @ q
+    S = m @ c
+    J = np.einsum(
+        "k,kab->ab",
+        m,
+        np.einsum("ka,ka->k", c, c)[:, None, None] * np.eye(3) - c[:, :, None] * c[:, None, :],
+    )
+    J = J + body.extra_inertia
+    Phibar = np.einsum("k,kaj->aj", m, Phi)
+    Phit = np.einsum("k,kab,kbj->aj", m, skew(c), Phi)
+    Mb = np.einsum("k,kai,kaj->ij", m, Phi, Phi)
+    M = np.zeros((6 + n, 6 + n))
+    M[:3, :3] = m.sum() * np.eye(3)
+    M[:3, 3:6], M[3:6, :3] = -skew(S), skew(S)
+    M[3:6, 3:6] = J
+    M[:3, 6:], M[6:, :3] = Phibar, Phibar.T
+    M[3:6, 6:], M[6:, 3:6] = Phit, Phit.T
+    M[6:, 6:] = Mb
+    return {"m": m.sum(), "S": S, "Phibar": Phibar, "J": J, "Phitilde": Phit, "Mb": Mb, "M": M}
+
+
+def gamma(body: Body, w) -> np.ndarray:
+    """``Gamma(w) = int rho Phi^T w~ Phi dD`` (eq. 32e), (n, n), skew-symmetric."""
+    W = skew(np.asarray(w, dtype=float))
+    return np.einsum("k,kai,ab,kbj->ij", body.masses, body.shapes, W, body.shapes)
+
+
+def m_tilde(body: Body, w) -> np.ndarray:
+    """``M~(w) = int rho Phi^T w~ w~ Phi dD`` (eq. 32f), (n, n), symmetric."""
+    W = skew(np.asarray(w, dtype=float))
+    return np.einsum("k,kai,ab,kbj->ij", body.masses, body.shapes, W @ W, body.shapes)
+
+
+def phi_hat(body: Body, w) -> np.ndarray:
+    """``Phi^(w) = 2 int rho r~ w~ Phi dD - w~ Phitilde_b`` (eq. 32d as printed), (3, n)."""
+    W = skew(np.asarray(w, dtype=float))
+    R = skew(body.points)
+    first = 2.0 * np.einsum("k,kab,bc,kcj->aj", body.masses, R, W, body.shapes)
+    return first - W @ integrals(body)["Phitilde"]
+
+
+# ----------------------------------------------------------------------------------------
+# analytic uniform beam
+# ----------------------------------------------------------------------------------------
+def beam_roots(support: str, n: int) -> np.ndarray:
+    """Roots ``beta_i L`` of the free-free (``cos cosh = 1``) or cantilever (``= -1``) equation."""
+    sign = 1.0 if support == "free-free" else -1.0
+
+    def f(x):  # cos x cosh x - sign, scaled by exp(-x) for large x
+        return np.cos(x) * 0.5 * (1.0 + np.exp(-2.0 * x)) - sign * np.exp(-x)
+
+    out = []
+    for i in range(n):
+        k = i + 1 if support == "free-free" else i
+        out.append(brentq(f, k * np.pi + 0.3, (k + 1) * np.pi - 0.3, xtol=1e-15, rtol=1e-15))
+    return np.array(out)
+
+
+def _beam_coefficients(support: str, bl: float) -> np.ndarray:
+    """Coefficients (a1..a4) of ``phi = a1 cos x + a2 sin x + a3 e^(x-bL) + a4 e^(-x)``."""
+    em, s, c = np.exp(-bl), np.sin(bl), np.cos(bl)
+    if support == "free-free":
+        sigma = (1.0 + em * em - 2.0 * c * em) / (1.0 - em * em - 2.0 * s * em)
+        a3 = (c - s - em) / (1.0 - em * em - 2.0 * s * em)
+        return np.array([1.0, -sigma, a3, 0.5 * (1.0 + sigma)])
+    sigma = (1.0 - em * em - 2.0 * s * em) / (1.0 + em * em + 2.0 * c * em)
+    a3 = (em + c + s) / (1.0 + em * em + 2.0 * c * em)
+    return np.array([-1.0, sigma, a3, 0.5 * (1.0 + sigma)])
+
+
+def beam_mode(support: str, bl: float, s: np.ndarray, deriv: int = 0) -> np.ndarray:
+    """Un-normalised mode ``phi(s)`` (or its ``deriv``-th derivative w.r.t. ``s``), ``s`` in [0, 1]."""  # noqa: E501
+    a = _beam_coefficients(support, bl)
+    x = bl * np.asarray(s, dtype=float)
+    trig = [(np.cos(x), np.sin(x)), (-np.sin(x), np.cos(x)), (-np.cos(x), -np.sin(x))][deriv]
+    ex = np.exp(x - bl)
+    emx = np.exp(-x) * (-1.0) ** deriv
+    return bl**deriv * (a[0] * trig[0] + a[1] * trig[1] + a[2] * ex + a[3] * emx)
+
+
+def uniform_beam(
+    length: float,
+    rho_a: float,
+    ei: float,
+    n_modes: int,
+    *,
+    ei_z: float | None = None,
+    spatial: bool = False,
+    support: str = "free-free",
+    n_quad: int | None = None,
+    section_radius: float | None = None,
+) -> Body:
+    """Uniform Euler-Bernoulli beam along the body x axis with analytic modes.
+
+    Parameters
+    ----------
+    length : float
+        Length L [m] (> 0).
+    rho_a : float
+        Mass per length [kg/m] (> 0).
+    ei : float
+        Bending stiffness for deflection along y [N m^2] (> 0).
+    n_modes : int
+        Number of bending modes per plane (>= 1); rigid modes are excluded.
+    ei_z : float, optional
+        Bending stiffness for deflection along z [N m^2] (spatial beams; default ``ei``).
+    spatial : bool
+        False: planar beam deflecting along y only; True: bending in both planes (2 n_modes modes,
+        sorted by frequency).
+    support : {"free-free", "cantilever"}
+        "free-free": body origin at the centre of mass, beam on x in [-L/2, L/2], mean axes.
+        "cantilever": root clamped to the body frame at the origin, beam on x in [0, L]
+        (tangent frame), as in the Kane-Ryan-Banerjee spin-up beam.
+    n_quad : int, optional
+        Number of Gauss points (default: 8 per half-wave of the highest mode, at least 48).
+    section_radius : float, optional
+        Radius of a solid circular section [m] (default ``L/100``) used only for the rigid-body
+        section inertia ``rho_a L diag(r^2/2, r^2/4, r^2/4)`` added to ``J`` (the elastic model is
+        Euler-Bernoulli: no rotary inertia in the modes). Without it a line body has ``J_xx = 0``.
+
+    Returns
+    -------
+    Body
+
+    Examples
+    --------
+    >>> b = uniform_beam(2.0, 1.0, 40.0, 3)
+    >>> round(float(b.mass), 6)
+    2.0
+    """
+    for name, v in (("body.length", length), ("body.rho_a", rho_a), ("body.ei", ei)):
+        if not (np.isfinite(v) and v > 0):
+            raise InputError(name, v, "a number > 0")
+    if ei_z is not None and not ei_z > 0:
+        raise InputError("body.ei_z", ei_z, "a number > 0 [N m^2]")
+    if n_modes < 1:
+        raise InputError("body.n_modes", n_modes, "an integer >= 1 (a body needs elastic modes)")
+    if support not in ("free-free", "cantilever"):
+        raise InputError("body.support", support, "'free-free' or 'cantilever'")
+    rg = length / 100.0 if section_radius is None else section_radius
+    if not rg > 0:
+        raise InputError("body.section_radius", rg, "a number > 0 [m]")
+    bl = beam_roots(support, n_modes)
+    nq = n_quad or max(48, int(8 * (n_modes + 2)))
+    g, gw = np.polynomial.legendre.leggauss(nq)
+    s = 0.5 * (g + 1.0)  # in [0, 1]
+    x0 = -0.5 * length if support == "free-free" else 0.0
+    masses = rho_a * length * 0.5 * gw
+    points = np.zeros((nq, 3))
+    points[:, 0] = x0 + s * length
+    norm = np.array(
+        [np.sqrt(rho_a * length * np.sum(0.5 * gw * beam_mode(support, b, s) ** 2)) for b in bl]
+    )
+    planes = [(1, ei)] + ([(2, ei_z if ei_z is not None else ei)] if spatial else [])
+    cols, omegas, labels = [], [], []
+    for axis, e_i in planes:
+        for i, b in enumerate(bl):
+            cols.append((axis, b, norm[i]))
+            omegas.append(b**2 * np.sqrt(e_i / (rho_a * length**4)))
+            labels.append(f"bend_{'yz'[axis - 1]}{i + 1}")
+    order = np.argsort(omegas, kind="stable")
+    cols = [cols[i] for i in order]
+    omegas = np.array(omegas)[order]
+    labels = tuple(labels[i] for i in order)
+    n = len(cols)
+
+    def shape_fn(pts):
+        pts = np.atleast_2d(np.asarray(pts, dtype=float))
+        tol = 1e-9 * length
+        ss = (pts[:, 0] - x0) / length
+        off = np.hypot(pts[:, 1], pts[:, 2])
+        bad = (ss < -1e-9) | (ss > 1 + 1e-9) | (off > tol)
+        if np.any(bad):
+            k = int(np.argmax(bad))
+            raise InputError(
+                "point",
+                pts[k].tolist(),
+                f"a point on the beam axis: y = z = 0 and x in [{x0:g}, {x0 + length:g}] m",
+            )
+        ss = np.clip(ss, 0.0, 1.0)
+        Phi = np.zeros((len(pts), 3, n))
+        Psi = np.zeros((len(pts), 3, n))
+        for j, (axis, b, nm) in enumerate(cols):
+            Phi[:, axis, j] = beam_mode(support, b, ss) / nm
+            slope = beam_mode(support, b, ss, 1) / nm / length
+            if axis == 1:
+                Psi[:, 2, j] = slope  # deflection along y: rotation about z = v'
+            else:
+                Psi[:, 1, j] = -slope  # deflection along z: rotation about y = -w'
+        return Phi, Psi
+
+    Phi, _ = shape_fn(points)
+    # unit centrifugal geometric stiffness: N(x) = rho_a int_x^end xi dxi = rho_a (x_end^2 - x^2)/2
+    x_end = x0 + length
+    tension = rho_a * 0.5 * (x_end**2 - points[:, 0] ** 2)
+    dphi = np.zeros((nq, n))
+    for j, (_axis, b, nm) in enumerate(cols):
+        dphi[:, j] = beam_mode(support, b, s, 1) / nm / length
+    same_plane = np.array([[ca[0] == cb[0] for cb in cols] for ca in cols], dtype=float)
+    KG = np.einsum("k,ki,kj->ij", length * 0.5 * gw * tension, dphi, dphi) * same_plane
+    frame = (
+        "mean axes (origin at the centre of mass, x along the beam)"
+        if support == "free-free"
+        else "tangent frame clamped at the root (origin at the root, x along the beam)"
+    )
+    return Body(
+        name=f"uniform {'spatial' if spatial else 'planar'} {support} beam, L={length:g} m",
+        masses=masses,
+        points=points,
+        shapes=Phi,
+        stiffness=np.diag(omegas**2),
+        shape_fn=shape_fn,
+        geometric=KG,
+        frame=frame,
+        length=length,
+        mode_labels=labels,
+        extra_inertia=rho_a * length * rg**2 * np.diag([0.5, 0.25, 0.25]),
+    )
+
+
+# ----------------------------------------------------------------------------------------
+# user-supplied points
+# ----------------------------------------------------------------------------------------
+def point_body(
+    masses,
+    positions,
+    shapes,
+    frequencies=None,
+    stiffness=None,
+    rotation_shapes=None,
+    *,
+    name: str = "user-supplied point body",
+) -> Body:
+    """A body from nodes with masses and mode-shape vectors (e.g. exported from an FE program).
+
+    Parameters
+    ----------
+    masses : array (N,)
+        Nodal masses [kg] (> 0).
+    positions : array (N, 3)
+        Nodal positions in the body frame [m].
+    shapes : array (n, N, 3)
+        Mode ``j`` displacement vector at node ``k``: ``shapes[j, k]``; must be mass-orthonormal.
+    frequencies : array (n,), optional
+        Natural frequencies [rad/s] (> 0); gives ``K_b = diag(omega^2)``.
+    stiffness : array (n, n), optional
+        Modal stiffness (instead of ``frequencies``).
+    rotation_shapes : array (n, N, 3), optional
+        Nodal rotation per unit modal coordinate [rad]; needed for torques applied at nodes.
+
+    Output points and load points must coincide with a node.
+    """
+    m = np.asarray(masses, dtype=float).ravel()
+    P = np.asarray(positions, dtype=float).reshape(-1, 3)
+    S = np.asarray(shapes, dtype=float)
+    if S.ndim != 3 or S.shape[1:] != (m.size, 3):
+        raise InputError("body.shapes", f"shape {S.shape}", f"an array (n_modes, {m.size}, 3)")
+    Phi = np.transpose(S, (1, 2, 0))
+    n = Phi.shape[2]
+    if stiffness is not None:
+        K = np.asarray(stiffness, dtype=float)
+    elif frequencies is not None:
+        f = np.asarray(frequencies, dtype=float).ravel()
+        if f.size != n:
+            raise InputError("body.frequencies", f.tolist(), f"{n} frequencies [rad/s]")
+        if np.any(f <= 0):
+            k = int(np.argmin(f))
+            raise InputError(f"body.frequencies[{k}]", float(f[k]), "a frequency > 0 [rad/s]")
+        K = np.diag(f**2)
+    else:
+        raise InputError(
+            "body.frequencies", "<missing>", "frequencies [rad/s] or a stiffness matrix"
+        )
+    Psi_nodes = None
+    if rotation_shapes is not None:
+        R = np.asarray(rotation_shapes, dtype=float)
+        if R.shape != S.shape:
+            raise InputError("body.rotation_shapes", f"shape {R.shape}", f"shape {S.shape}")
+        Psi_nodes = np.transpose(R, (1, 2, 0))
+    size = float(np.ptp(P, axis=0).max()) if m.size > 1 else 1.0
+    size = size if size > 0 else 1.0
+
+    def shape_fn(pts):
+        pts = np.atleast_2d(np.asarray(pts, dtype=float))
+        d = np.linalg.norm(pts[:, None, :] - P[None, :, :], axis=2)
+        idx = np.argmin(d, axis=1)
+        bad = d[np.arange(len(pts)), idx] > 1e-9 * size
+        if np.any(bad):
+            k = int(np.argmax(bad))
+            raise InputError(
+                "point", pts[k].tolist(), "the position of one of the body's nodes [m]"
+            )
+        Psi = Psi_nodes[idx] if Psi_nodes is not None else np.full((len(pts), 3, n), np.nan)
+        return Phi[idx], Psi
+
+    return Body(
+        name=name,
+        masses=m,
+        points=P,
+        shapes=Phi,
+        stiffness=K,
+        shape_fn=shape_fn,
+        geometric=None,
+        frame="as supplied (mean axes if the modes are free-free)",
+        length=size,
+        mode_labels=tuple(f"mode{j + 1}" for j in range(n)),
+    )

@@ -1,0 +1,224 @@
+"""``FloatingResult``: the xarray view of one or more floating-body solutions."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from rotaflex.core.result import Result, register_result
+
+
+@register_result
+class FloatingResult(Result):
+    """Result of ``rotaflex floating simulate`` (kind ``"floating"``).
+
+    Dimensions: ``solution`` (``full``, ``perturbation`` or ``prescribed``), ``time``, ``axis``
+    (x, y, z), ``quat`` (e0..e3), ``mode``, ``point`` (named output points). Perturbation runs also
+    carry the zero-order and first-order parts (``zero_order_*``, ``first_order_*``).
+    """
+
+    kind = "floating"
+
+    def summary(self):
+        ds = self.dataset
+        out = super().summary()
+        for s in ds["solution"].values:
+            sel = ds.sel(solution=s)
+            for pt in ds["point"].values:
+                d = np.linalg.norm(sel["point_deflection"].sel(point=pt).values, axis=-1)
+                out[f"{s}.{pt}.max_deflection"] = {"value": float(np.nanmax(d)), "unit": "m"}
+            e = sel["energy"].values
+            ok = np.isfinite(e)
+            if ok.sum() > 1:
+                out[f"{s}.energy_change"] = {"value": float(e[ok][-1] - e[ok][0]), "unit": "J"}
+            out[f"{s}.final_euler_123"] = {
+                "value": sel["euler_123"].values[-1].tolist(),
+                "unit": "rad",
+            }
+        if {"full", "perturbation"} <= set(ds["solution"].values) and ds.sizes["point"]:
+            d = ds["point_position"].sel(solution="perturbation") - ds["point_position"].sel(
+                solution="full"
+            )
+            out["max_point_difference_perturbation_vs_full"] = {
+                "value": float(np.nanmax(np.linalg.norm(d.values, axis=-1))),
+                "unit": "m",
+            }
+        return out
+
+    def plot(self):
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        t = ds["time"].values
+        figs = {}
+        fig, ax = new_figure()
+        for s in ds["solution"].values:
+            for a, name in enumerate("xyz"):
+                ax.plot(t, ds["euler_123"].sel(solution=s).values[:, a], label=f"{s} {name}")
+        if "zero_order_euler_123" in ds:
+            ax.plot(t, ds["zero_order_euler_123"].values[:, 2], "k--", lw=1, label="zero order z")
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("Euler 1-2-3 angles [rad]")
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+        figs["attitude"] = fig
+        if ds.sizes["point"]:
+            fig, ax = new_figure()
+            for s in ds["solution"].values:
+                for pt in ds["point"].values:
+                    u = ds["point_deflection"].sel(solution=s, point=pt).values
+                    k = int(np.nanargmax(np.nanmax(np.abs(u), axis=0)))
+                    ax.plot(t, u[:, k], label=f"{s} {pt} {'xyz'[k]}")
+            ax.set_xlabel("time [s]")
+            ax.set_ylabel("elastic deflection (body axes) [m]")
+            ax.legend(fontsize=7)
+            ax.grid(alpha=0.3)
+            figs["deflection"] = fig
+        fig, ax = new_figure()
+        s0 = ds["solution"].values[0]
+        q = ds["modal_displacement"].sel(solution=s0).values
+        for j, lab in enumerate(ds["mode"].values[: min(6, q.shape[1])]):
+            ax.plot(t, q[:, j], label=str(lab))
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel(f"modal coordinates ({s0}) [kg^0.5 m]")
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+        figs["modal"] = fig
+        return figs
+
+
+def build_result(body, solutions, points: dict, config: dict | None = None, wall_time: float = 0.0):
+    """Assemble a :class:`FloatingResult` from :class:`~rotaflex.floating.solve.Solution` s."""
+    import xarray as xr
+
+    from rotaflex.floating.solve import invariants, point_motion
+    from rotaflex.rotation.quaternion import euler_from_quaternion
+
+    names = list(points)
+    P = np.array([points[k] for k in names], dtype=float).reshape(-1, 3)
+    t = solutions[0].time
+    nt, npnt = len(t), len(names)
+
+    def stack(f):
+        return np.stack([f(s) for s in solutions])
+
+    def euler(e):
+        ang = euler_from_quaternion("123", e)
+        return np.unwrap(ang, axis=0)
+
+    pos_pts, defl = [], []
+    for s in solutions:
+        if npnt:
+            a, b = point_motion(body, s, P)
+        else:
+            a = b = np.zeros((nt, 0, 3))
+        pos_pts.append(a)
+        defl.append(b)
+    inv = [invariants(body, s) for s in solutions]
+    ax3 = ("solution", "time", "axis")
+    data = {
+        "position": (ax3, stack(lambda s: s.position), "m", "origin position R_o (inertial)"),
+        "quaternion": (
+            ("solution", "time", "quat"),
+            stack(lambda s: s.quaternion),
+            "1",
+            "attitude",
+        ),
+        "euler_123": (
+            ax3,
+            stack(lambda s: euler(s.quaternion)),
+            "rad",
+            "Euler 1-2-3 angles (output only)",
+        ),
+        "velocity": (ax3, stack(lambda s: s.velocity), "m/s", "V_o (body axes)"),
+        "angular_velocity": (ax3, stack(lambda s: s.angular_velocity), "rad/s", "w (body axes)"),
+        "modal_displacement": (("solution", "time", "mode"), stack(lambda s: s.q), "kg^0.5 m", "q"),
+        "modal_velocity": (("solution", "time", "mode"), stack(lambda s: s.p), "kg^0.5 m/s", "p"),
+        "point_position": (
+            ("solution", "time", "point", "axis"),
+            np.stack(pos_pts),
+            "m",
+            "inertial position of output points",
+        ),
+        "point_deflection": (
+            ("solution", "time", "point", "axis"),
+            np.stack(defl),
+            "m",
+            "elastic deflection of output points (body axes)",
+        ),
+        "momentum": (ax3, np.stack([i[0] for i in inv]), "kg m/s", "linear momentum (inertial)"),
+        "angular_momentum": (
+            ax3,
+            np.stack([i[1] for i in inv]),
+            "kg m^2/s",
+            "angular momentum about the inertial origin",
+        ),
+        "energy": (
+            ("solution", "time"),
+            np.stack([i[2] for i in inv]),
+            "J",
+            "kinetic + strain energy",
+        ),
+        "centre_of_mass": (ax3, np.stack([i[3] for i in inv]), "m", "centre of mass (inertial)"),
+        "min_effective_stiffness": (
+            ("solution", "time"),
+            stack(lambda s: s.min_stiffness),
+            "1/s^2",
+            "min eigenvalue of K_b + M~(w) (+ K_G)",
+        ),
+    }
+    pert = [s for s in solutions if s.method == "perturbation"]
+    if pert:
+        pp = pert[0].parts
+        data.update(
+            {
+                "zero_order_position": (("time", "axis"), pp["R0"], "m", "R_o0"),
+                "zero_order_euler_123": (
+                    ("time", "axis"),
+                    euler(pp["e0"]),
+                    "rad",
+                    "zero-order attitude",
+                ),
+                "zero_order_velocity": (("time", "axis"), pp["V0"], "m/s", "V_o0 (body axes)"),
+                "zero_order_angular_velocity": (
+                    ("time", "axis"),
+                    pp["w0"],
+                    "rad/s",
+                    "w0 (body axes)",
+                ),
+                "first_order_position": (("time", "axis"), pp["R1"], "m", "R_o1"),
+                "first_order_rotation": (("time", "axis"), pp["th1"], "rad", "theta_1 (body axes)"),
+                "first_order_velocity": (("time", "axis"), pp["V1"], "m/s", "V_o1"),
+                "first_order_angular_velocity": (("time", "axis"), pp["w1"], "rad/s", "w1"),
+            }
+        )
+    ds = xr.Dataset(
+        {
+            k: (dims, np.asarray(v, dtype=float), {"units": u, "long_name": ln})
+            for k, (dims, v, u, ln) in data.items()
+        },
+        coords={
+            "solution": [s.method for s in solutions],
+            "time": ("time", t, {"units": "s", "long_name": "time"}),
+            "axis": ["x", "y", "z"],
+            "quat": ["e0", "e1", "e2", "e3"],
+            "mode": list(body.mode_labels),
+            "point": names,
+            "natural_frequency": ("mode", np.sqrt(np.diag(body.stiffness)), {"units": "rad/s"}),
+        },
+    )
+    bad = [s for s in solutions if s.status != "success"]
+    ds.attrs.update(
+        {
+            "status": bad[0].status if bad else "success",
+            "message": " | ".join(f"{s.method}: {s.message}" for s in solutions),
+            "wall_time": float(wall_time),
+            "config": json.dumps(config or {}),
+            "body": body.name,
+            "floating_frame": body.frame,
+            "geometric_stiffness": int(any(s.geometric for s in solutions)),
+            "solver_wall_times": json.dumps({s.method: s.wall_time for s in solutions}),
+        }
+    )
+    return FloatingResult(ds)

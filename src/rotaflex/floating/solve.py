@@ -1,0 +1,365 @@
+"""Solvers: full nonlinear hybrid equations, perturbation method, prescribed spin-up.
+
+:func:`simulate` packs a :class:`~rotaflex.floating.body.Body`, loads and settings into arrays,
+runs the compiled integrator of :mod:`rotaflex.floating.kernels` and post-processes the states
+into a :class:`Solution` (plain arrays, SI units). :mod:`rotaflex.floating.result` turns one or
+more solutions into a ``FloatingResult``.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rotaflex.core.errors import ConvergenceError, InputError
+from rotaflex.floating.body import Body, skew
+from rotaflex.floating.model import Initial, Load, Prescribed, Settings
+
+log = logging.getLogger(__name__)
+
+METHODS = ("full", "perturbation")
+_PROFILES = {"constant": 0, "step": 1, "ramp": 2, "bang-bang": 3, "sinusoid": 4, "pulse": 5}
+
+
+@dataclass
+class Solution:
+    """States of one solver run at the output times (all SI)."""
+
+    method: str
+    time: np.ndarray
+    position: np.ndarray  # (T, 3) inertial origin position R_o
+    quaternion: np.ndarray  # (T, 4)
+    velocity: np.ndarray  # (T, 3) body frame
+    angular_velocity: np.ndarray  # (T, 3) body frame
+    q: np.ndarray  # (T, n)
+    p: np.ndarray  # (T, n)
+    status: str = "success"
+    message: str = ""
+    nfev: int = 0
+    nstep: int = 0
+    wall_time: float = 0.0
+    parts: dict = field(default_factory=dict)  # perturbation: zero/first-order pieces
+    geometric: bool = False
+    min_stiffness: np.ndarray | None = None  # (T,) min eigenvalue of the effective stiffness
+
+
+def pack_body(body: Body):
+    m = np.ascontiguousarray(body.masses, dtype=float)
+    r = np.ascontiguousarray(body.points, dtype=float)
+    Phi = np.ascontiguousarray(body.shapes, dtype=float)
+    n = Phi.shape[2]
+    from rotaflex.floating.body import integrals
+
+    I0 = integrals(body)
+    M0 = I0["M"]
+    KG = body.geometric if body.geometric is not None else np.zeros((n, n))
+    return (
+        m,
+        r,
+        Phi,
+        np.ascontiguousarray(I0["Phibar"]),
+        np.ascontiguousarray(I0["Mb"]),
+        np.ascontiguousarray(body.stiffness, dtype=float),
+        np.ascontiguousarray(KG, dtype=float),
+        np.linalg.inv(M0),
+        np.linalg.inv(M0[:6, :6]),
+        I0["S"].copy(),
+        np.ascontiguousarray(I0["J"]),
+        float(I0["m"]),
+        np.ascontiguousarray(body.extra_inertia, dtype=float),
+    )
+
+
+def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
+    n = body.n_modes
+    nl = len(loads)
+    kind = np.zeros(nl, dtype=np.int64)
+    frame = np.zeros(nl, dtype=np.int64)
+    prof = np.zeros(nl, dtype=np.int64)
+    par = np.zeros((nl, 4))
+    amp = np.zeros((nl, 3))
+    rP = np.zeros((nl, 3))
+    PhiP = np.zeros((nl, 3, n))
+    PsiP = np.zeros((nl, 3, n))
+    for i, ld in enumerate(loads):
+        kind[i] = 0 if ld.kind == "force" else 1
+        frame[i] = 0 if ld.frame == "body" else 1
+        prof[i] = _PROFILES[ld.profile]
+        par[i] = (ld.start, ld.duration, ld.frequency, ld.phase)
+        amp[i] = ld.vector
+        rP[i] = ld.point
+        try:
+            Phi_i, Psi_i = body.shape_fn(np.array([ld.point]))
+        except InputError as exc:
+            raise InputError(f"loads[{i}].point", list(ld.point), exc.allowed) from None
+        PhiP[i], PsiP[i] = Phi_i[0], Psi_i[0]
+        if ld.kind == "torque" and not np.all(np.isfinite(PsiP[i])):
+            raise InputError(
+                f"loads[{i}].kind",
+                "torque",
+                "a force (this body has no rotation shapes for point torques)",
+            )
+    return kind, frame, prof, par, amp, rP, PhiP, PsiP
+
+
+def _breaks(loads, prescribed, t_end):
+    b = [t for ld in loads for t in ld.breakpoints()]
+    if prescribed is not None:
+        b.append(prescribed.spin_up_time)
+    return np.array(sorted({t for t in b if 0.0 < t < t_end}), dtype=float)
+
+
+def use_geometric(body: Body, settings: Settings) -> bool:
+    if settings.geometric_stiffness is None:
+        return body.geometric is not None
+    if settings.geometric_stiffness and body.geometric is None:
+        raise InputError(
+            "solver.geometric_stiffness",
+            True,
+            "false for this body (centrifugal stiffening is available for beam bodies)",
+        )
+    return bool(settings.geometric_stiffness)
+
+
+def _initial_modal(vals, n, name):
+    if len(vals) == 0:
+        return np.zeros(n)
+    if len(vals) != n:
+        raise InputError(f"initial.{name}", list(vals), f"{n} values (one per mode) or none")
+    return np.asarray(vals, dtype=float)
+
+
+def simulate(
+    body: Body,
+    loads=(),
+    initial: Initial | None = None,
+    settings: Settings | None = None,
+    method: str = "full",
+    prescribed: Prescribed | None = None,
+) -> Solution:
+    """Simulate a floating flexible body.
+
+    Parameters
+    ----------
+    body : Body
+    loads : sequence of Load
+    initial : Initial, optional
+        Initial state (default: at rest at the origin, identity attitude).
+    settings : Settings, optional
+    method : {"full", "perturbation"}
+        "full": nonlinear hybrid equations (eq. 5, 7-9), the reference. "perturbation": zero-order
+        rigid (eq. 27, 29-30) plus first-order linear time-varying equations (eq. 31, 35-37), total
+        = zero order + first order. With ``prescribed`` motion both reduce to the same linear
+        elastic equation (the rigid motion is given).
+    prescribed : Prescribed, optional
+        Prescribed rotation about a body-fixed axis (Kane-Ryan-Banerjee spin-up); then only the
+        elastic coordinates are integrated and ``initial`` rigid values are ignored.
+
+    Returns
+    -------
+    Solution
+
+    Raises
+    ------
+    ConvergenceError
+        Step budget exhausted or step size underflow (reports time and error norm).
+    """
+    from rotaflex.floating import kernels
+
+    if method not in METHODS:
+        raise InputError("solver.method", method, "one of " + ", ".join(METHODS))
+    initial = initial or Initial()
+    settings = settings or Settings()
+    n = body.n_modes
+    B = pack_body(body)
+    Lp = pack_loads(body, list(loads))
+    geo = use_geometric(body, settings)
+    nt = int(round(settings.t_end / settings.dt_out))
+    t_out = np.linspace(0.0, nt * settings.dt_out, nt + 1)
+    q0 = _initial_modal(initial.modal_displacement, n, "modal_displacement")
+    p0 = _initial_modal(initial.modal_velocity, n, "modal_velocity")
+    e0 = np.asarray(initial.quaternion, float) / np.linalg.norm(initial.quaternion)
+    rigid0 = np.concatenate([initial.position, e0, initial.velocity, initial.angular_velocity])
+    pres = np.zeros(5)
+    if prescribed is not None:
+        mode = 2
+        ax = np.asarray(prescribed.axis, float)
+        pres[:3] = ax / np.linalg.norm(ax)
+        pres[3], pres[4] = prescribed.rate, prescribed.spin_up_time
+        y0 = np.concatenate([q0, p0])
+        lim = (0, n)
+    elif method == "full":
+        mode = 0
+        y0 = np.concatenate([rigid0, q0, p0])
+        lim = (13, 13 + n)
+    else:
+        mode = 1
+        y0 = np.concatenate([rigid0, np.zeros(12), q0, p0])
+        lim = (25, 25 + n)
+    phimax = float(np.abs(body.shapes).max())
+    q_limit = 10.0 * body.length / max(phimax, 1e-300)
+    t0 = time.perf_counter()
+    Y, st, t_stop, nfev, nstep = kernels.integrate(
+        mode,
+        y0,
+        t_out,
+        _breaks(loads, prescribed, t_out[-1]),
+        settings.rtol,
+        settings.atol,
+        settings.max_steps,
+        q_limit,
+        lim[0],
+        lim[1],
+        B,
+        Lp,
+        geo,
+        pres,
+    )
+    wall = time.perf_counter() - t0
+    if st in (1, 2):
+        what = (
+            "time integration (step budget exhausted)"
+            if st == 1
+            else "time integration (step size underflow)"
+        )
+        raise ConvergenceError(what, float(t_stop), float(nstep), float(settings.max_steps))
+    sol = _unpack(mode, method, t_out, Y, n, prescribed, pres)
+    sol.nfev, sol.nstep, sol.wall_time, sol.geometric = int(nfev), int(nstep), wall, geo
+    sol.min_stiffness = min_effective_stiffness(body, sol.angular_velocity, geo)
+    neg = np.nonzero(sol.min_stiffness < 0)[0]
+    notes = []
+    if neg.size:
+        notes.append(
+            f"effective elastic stiffness K_b + M~(w){' + K_G' if geo else ''} is indefinite from "
+            f"t = {t_out[neg[0]]:.4g} s (min eigenvalue {sol.min_stiffness.min():.4g} 1/s^2): "
+            "centrifugal softening makes the linear modal model unstable"
+            + ("" if geo or body.geometric is None else "; set solver.geometric_stiffness = true")
+        )
+    if st == 3:
+        sol.status = "diverged"
+        notes.insert(
+            0,
+            f"response diverged at t = {t_stop:.4g} s (|q| > {q_limit:.3g}, i.e. "
+            f"deflections > 10 x body size)",
+        )
+        log.warning("floating %s: %s", method, notes[0])
+    sol.message = "; ".join(notes) if notes else f"{nstep} steps, {nfev} evaluations"
+    return sol
+
+
+def _quat_from_rotvec(th):
+    ang = np.linalg.norm(th, axis=-1, keepdims=True)
+    half = 0.5 * ang
+    scale = 0.5 * np.sinc(half / np.pi)
+    return np.concatenate([np.cos(half), scale * th], axis=-1)
+
+
+def _unpack(mode, method, t, Y, n, prescribed, pres) -> Solution:
+    from rotaflex.rotation.quaternion import quaternion_product
+
+    nt = len(t)
+    if mode == 2:
+        ax = pres[:3]
+        from rotaflex.floating.kernels import spin_profile
+
+        prof = np.array([spin_profile(pres[3], pres[4], tt) for tt in t])
+        ang, om = prof[:, 0], prof[:, 1]
+        quat = np.concatenate(
+            [np.cos(0.5 * ang)[:, None], np.sin(0.5 * ang)[:, None] * ax[None]], 1
+        )
+        return Solution(
+            "prescribed",
+            t,
+            np.zeros((nt, 3)),
+            quat,
+            np.zeros((nt, 3)),
+            om[:, None] * ax[None],
+            Y[:, :n],
+            Y[:, n:],
+        )
+    if mode == 0:
+        e = Y[:, 3:7] / np.linalg.norm(Y[:, 3:7], axis=1, keepdims=True)
+        return Solution(
+            "full", t, Y[:, 0:3], e, Y[:, 7:10], Y[:, 10:13], Y[:, 13 : 13 + n], Y[:, 13 + n :]
+        )
+    e0 = Y[:, 3:7] / np.linalg.norm(Y[:, 3:7], axis=1, keepdims=True)
+    th1 = Y[:, 16:19]
+    e = quaternion_product(e0, _quat_from_rotvec(th1))
+    parts = {
+        "R0": Y[:, 0:3],
+        "e0": e0,
+        "V0": Y[:, 7:10],
+        "w0": Y[:, 10:13],
+        "R1": Y[:, 13:16],
+        "th1": th1,
+        "V1": Y[:, 19:22],
+        "w1": Y[:, 22:25],
+    }
+    return Solution(
+        "perturbation",
+        t,
+        Y[:, 0:3] + Y[:, 13:16],
+        e,
+        Y[:, 7:10] + Y[:, 19:22],
+        Y[:, 10:13] + Y[:, 22:25],
+        Y[:, 25 : 25 + n],
+        Y[:, 25 + n :],
+        parts=parts,
+    )
+
+
+def min_effective_stiffness(body: Body, w: np.ndarray, geo: bool) -> np.ndarray:
+    """Smallest eigenvalue of ``K_b + M~(w) (+ (w_y^2 + w_z^2) K_Gw)`` at each time [1/s^2]."""
+    W = skew(w)
+    WW = W @ W  # (T, 3, 3)
+    PP = np.einsum("k,kai,kbj->abij", body.masses, body.shapes, body.shapes)  # (3, 3, n, n)
+    Keff = body.stiffness[None] + np.einsum("tab,abij->tij", WW, PP)
+    if geo and body.geometric is not None:
+        Keff = Keff + (w[:, 1] ** 2 + w[:, 2] ** 2)[:, None, None] * body.geometric[None]
+    return np.linalg.eigvalsh(0.5 * (Keff + np.swapaxes(Keff, 1, 2)))[:, 0]
+
+
+# ----------------------------------------------------------------------------------------
+# post-processing: points, momenta, energy
+# ----------------------------------------------------------------------------------------
+def rotation_matrices(quat: np.ndarray) -> np.ndarray:
+    from rotaflex.rotation.quaternion import quaternion_to_matrix
+
+    return quaternion_to_matrix(quat / np.linalg.norm(quat, axis=-1, keepdims=True))
+
+
+def point_motion(body: Body, sol: Solution, points: np.ndarray):
+    """Inertial positions (T, P, 3) and body-frame elastic deflections (T, P, 3) of points."""
+    Phi, _ = body.shape_fn(points)
+    u = np.einsum("paj,tj->tpa", Phi, sol.q)
+    A = rotation_matrices(sol.quaternion)
+    pos = sol.position[:, None, :] + np.einsum("tab,tpb->tpa", A, points[None] + u)
+    return pos, u
+
+
+def invariants(body: Body, sol: Solution):
+    """Inertial linear momentum (T, 3), angular momentum about the inertial origin (T, 3),
+    total energy (T,) [J] (kinetic + modal strain) and centre-of-mass position (T, 3)."""
+    A = rotation_matrices(sol.quaternion)
+    c = body.points[None] + np.einsum("kaj,tj->tka", body.shapes, sol.q)
+    ud = np.einsum("kaj,tj->tka", body.shapes, sol.p)
+    vb = sol.velocity[:, None, :] + np.cross(sol.angular_velocity[:, None, :], c) + ud
+    m = body.masses
+    Pb = np.einsum("k,tka->ta", m, vb)
+    Hb = np.einsum("k,tka->ta", m, np.cross(c, vb)) + sol.angular_velocity @ body.extra_inertia.T
+    T = 0.5 * np.einsum("k,tka,tka->t", m, vb, vb) + 0.5 * np.einsum(
+        "ta,ab,tb->t", sol.angular_velocity, body.extra_inertia, sol.angular_velocity
+    )
+    if sol.geometric and body.geometric is not None and sol.method == "full":
+        sg = np.einsum("ti,ij,tj->t", sol.q, body.geometric, sol.q)
+        w = sol.angular_velocity
+        Hb = Hb - sg[:, None] * w * np.array([0.0, 1.0, 1.0])
+        T = T - 0.5 * sg * (w[:, 1] ** 2 + w[:, 2] ** 2)
+    P = np.einsum("tab,tb->ta", A, Pb)
+    H = np.cross(sol.position, P) + np.einsum("tab,tb->ta", A, Hb)
+    U = 0.5 * np.einsum("ti,ij,tj->t", sol.q, body.stiffness, sol.q)
+    cm = sol.position + np.einsum("tab,tb->ta", A, np.einsum("k,tka->ta", m, c)) / m.sum()
+    return P, H, T + U, cm
