@@ -112,7 +112,8 @@ def sweep(
                 raise typer.Exit(130) from None
         typer.echo(f"{res.summary_text()} -> {out / 'sweep.nc'}")
         for rec in res.failed[:10]:
-            typer.echo(f"  failed {rec.id} {rec.params}: {rec.status} {rec.error}".rstrip(), err=True)
+            line = f"  failed {rec.id} {rec.params}: {rec.status} {rec.error}"
+            typer.echo(line.rstrip(), err=True)
         if res.n_failed:
             typer.echo(f"{res.n_failed} of {res.n_cases} cases failed: see {out / 'summary.csv'}",
                        err=True)

@@ -18,6 +18,7 @@ CASES: dict[str, str] = {
 #: reproduce target -> module with ``run``; "all" runs every entry in this order
 REPRODUCE: dict[str, str] = {
     "rotor": "rotaflex.reproduce.rotor",
+    "sweep": "rotaflex.reproduce.sweep",  # keep last: sweeps every domain above
 }
 
 

@@ -34,7 +34,9 @@ class SelftestConfig:
     fail: bool = param(False, doc="raise a RuntimeError")
     sleep: float = param(0.0, ge=0.0, unit="s", doc="sleep this long before returning")
     work: int = param(0, ge=0, doc="CPU work: number of 150x150 matrix products")
-    kill_once: str = param("", doc="if set and this file does not exist: create it, then SIGKILL self")
+    kill_once: str = param(
+        "", doc="if set and this file does not exist: create it, then SIGKILL self"
+    )
     kill_always: bool = param(False, doc="SIGKILL the worker process every time")
     started_dir: str = param("", doc="if set, touch a file named after the pid here when starting")
 
@@ -83,7 +85,11 @@ def run_case(config: dict, *, progress: bool = False) -> Result:
             "signal_max": ((), float(np.max(np.abs(sig))), {"units": "m"}),
         },
         coords={"time": ("time", t, {"units": "s"})},
-        attrs={"status": "success", "message": "selftest", "wall_time": time.perf_counter() - t0,
-               "config": json.dumps(config, sort_keys=True)},
+        attrs={
+            "status": "success",
+            "message": "selftest",
+            "wall_time": time.perf_counter() - t0,
+            "config": json.dumps(config, sort_keys=True),
+        },
     )
     return Result(ds)

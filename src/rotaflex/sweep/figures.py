@@ -14,6 +14,7 @@ A figure function that fails is logged and skipped: figures never fail a sweep.
 from __future__ import annotations
 
 import importlib
+import json
 import logging
 import math
 from collections.abc import Callable
@@ -28,8 +29,11 @@ _PANELS_PER_FIGURE = 9
 
 
 def _numeric_vars(ds) -> list[str]:
-    return [n for n, v in ds.data_vars.items()
-            if n not in _BOOKKEEPING and v.dtype.kind in "fiu" and np.isfinite(v.values).any()]
+    return [
+        n
+        for n, v in ds.data_vars.items()
+        if n not in _BOOKKEEPING and v.dtype.kind in "fiu" and np.isfinite(v.values).any()
+    ]
 
 
 def _x_dim(ds) -> str | None:
@@ -63,10 +67,16 @@ def _lines(ds, var: str, x: str):
         sel = {d: 0 for d in others[1:]}
         da = da.isel(sel)
         second = others[0]
-        return [(f"{second}={ds[second].values[i]:g}" if ds[second].dtype.kind in "fiu"
-                 else f"{second}={ds[second].values[i]}",
-                 ds[x].values, da.isel({second: i}).values)
-                for i in range(min(ds.sizes[second], 8))]
+        return [
+            (
+                f"{second}={ds[second].values[i]:g}"
+                if ds[second].dtype.kind in "fiu"
+                else f"{second}={ds[second].values[i]}",
+                ds[x].values,
+                da.isel({second: i}).values,
+            )
+            for i in range(min(ds.sizes[second], 8))
+        ]
     return [("", ds[x].values, da.values)]
 
 
@@ -81,17 +91,17 @@ def generic_figures(ds) -> dict[str, Any]:
     leaf = x.rsplit(".", 1)[-1]
     figs = {}
     for start in range(0, len(names), _PANELS_PER_FIGURE):
-        chunk = names[start:start + _PANELS_PER_FIGURE]
+        chunk = names[start : start + _PANELS_PER_FIGURE]
         ncols = min(3, len(chunk))
         nrows = math.ceil(len(chunk) / ncols)
         fig, axes = new_figure(nrows, ncols, squeeze=False, figsize=(4.2 * ncols, 2.9 * nrows))
-        for ax, name in zip(axes.flat, chunk):
+        for ax, name in zip(axes.flat, chunk, strict=False):
             for label, xv, yv in _lines(ds, name, x):
                 ax.plot(xv, yv, "o-", ms=3, label=label or None)
             ax.set_xlabel(_label(ds[x], x))
             ax.set_ylabel(_label(ds[name]))
             ax.grid(alpha=0.3)
-        for ax in list(axes.flat)[len(chunk):]:
+        for ax in list(axes.flat)[len(chunk) :]:
             ax.set_visible(False)
         handles, labels = axes.flat[0].get_legend_handles_labels()
         if labels:
@@ -126,54 +136,262 @@ def _to_hz(values, unit: str):
     return None
 
 
-def rotor_figures(ds) -> dict[str, Any]:
-    """Campbell-style picture of a spin sweep.
+def _base_config(ds) -> dict:
+    try:
+        return json.loads(ds.attrs.get("base_config", "{}"))
+    except ValueError:
+        return {}
 
-    Top: every summary frequency (unit Hz or rad/s) against spin, with the synchronous 1x line
-    (frequency = spin) - crossings are the critical speeds. Bottom: the response amplitudes
-    (summary scalars in m or rad) against spin on a log axis.
+
+def _get(cfg: dict, dotted: str, default=None):
+    node = cfg
+    for part in dotted.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return default
+        node = node[part]
+    return node
+
+
+def rotor_whirl(spin, polar_inertia: float, diametral_inertia: float, tilt_stiffness: float):
+    """Linear whirl of a rigid disk on an isotropic tilt spring, spinning at ``spin`` [rad/s].
+
+    ``Id w^2 -/+ Ip spin w - k = 0`` gives the forward and backward whirl frequencies [rad/s];
+    a free response that starts at zero tilt with tilt rate ``r`` has the peak tilt
+    ``2 Id r / sqrt((Ip spin)^2 + 4 Id k)`` [rad] (returned per unit ``r``).
+
+    Returns
+    -------
+    forward, backward, peak_per_rate : arrays like ``spin``
+    """
+    spin = np.asarray(spin, dtype=float)
+    root = np.sqrt((polar_inertia * spin) ** 2 + 4 * diametral_inertia * tilt_stiffness)
+    forward = (polar_inertia * spin + root) / (2 * diametral_inertia)
+    backward = (-polar_inertia * spin + root) / (2 * diametral_inertia)
+    with np.errstate(divide="ignore"):
+        peak = 2 * diametral_inertia / root
+    return forward, backward, peak
+
+
+def rotor_reference(ds) -> dict[str, np.ndarray] | None:
+    """Closed-form whirl and peak tilt over the swept spin of a rotor sweep (None if the sweep
+    is not a spin sweep of the default 1-2-3 rotor-disk case starting at zero tilt)."""
+    x = "motion.spin_speed"
+    if x not in ds.dims:
+        return None
+    cfg = _base_config(ds)
+    form = cfg.get("formulation", {})
+    swept = set(json.loads(ds.attrs.get("swept", "[]")))
+    keys = (
+        "disk.polar_inertia",
+        "disk.diametral_inertia",
+        "support.tilt_stiffness",
+        "motion.initial_tilt_rate",
+        "motion.initial_tilt",
+        "disk.inertia",
+    )
+    if (
+        swept & set(keys)
+        or "free_body" in cfg
+        or _get(cfg, "disk.inertia") is not None
+        or form.get("parameterisation", "euler") != "euler"
+        or form.get("sequence", "123") != "123"
+        or form.get("spin_angle") not in (None, 0)
+        or any(_get(cfg, "motion.initial_tilt", (0.0, 0.0)))
+    ):
+        return None
+    ip, id_ = _get(cfg, "disk.polar_inertia", 2.0), _get(cfg, "disk.diametral_inertia", 1.0)
+    k = _get(cfg, "support.tilt_stiffness", 0.0)
+    rate = float(np.hypot(*_get(cfg, "motion.initial_tilt_rate", (1.0, 1.0))))
+    spin = np.asarray(ds[x].values, dtype=float)
+    fwd, bwd, peak = rotor_whirl(spin, ip, id_, k)
+    return {
+        "spin": spin,
+        "forward": fwd,
+        "backward": bwd,
+        "peak_tilt": peak * rate,
+        "backward_critical": np.sqrt(k / (ip + id_)),
+        "forward_critical": np.sqrt(k / (id_ - ip)) if id_ > ip else np.nan,
+    }
+
+
+def rotor_figures(ds) -> dict[str, Any]:
+    """Campbell-style picture of a rotor spin sweep (``motion.spin_speed`` swept).
+
+    Top: whirl frequencies of the linear disk-on-tilt-spring model against spin, with the
+    synchronous 1x line; crossings (critical speeds) marked. Bottom: the simulated peak and RMS
+    tilt against spin, with the linear closed-form peak tilt of a free response.
     """
     from rotaflex.core.plotting import new_figure
 
-    x = _speed_dim(ds, ("spin", "omega", "speed"))
-    if x is None:
+    x = "motion.spin_speed"
+    if x not in ds.dims or "max_tilt_angle" not in ds:
+        return {}
+    ref = rotor_reference(ds)
+    spin = np.asarray(ds[x].values, dtype=float)
+    fig, (top, bottom) = new_figure(2, 1, sharex=True, figsize=(6.4, 6.4))
+    if ref is not None:
+        top.plot(spin, ref["forward"], "-", label="forward whirl (linear model)")
+        top.plot(spin, ref["backward"], "-", label="backward whirl (linear model)")
+        for name in ("backward_critical", "forward_critical"):
+            if np.isfinite(ref[name]) and spin.min() <= ref[name] <= spin.max():
+                top.axvline(ref[name], color="0.5", ls=":", lw=1)
+                top.annotate(
+                    name.replace("_", " "),
+                    (ref[name], 0),
+                    xytext=(3, 3),
+                    textcoords="offset points",
+                    fontsize=7,
+                    rotation=90,
+                )
+    top.plot(spin, np.abs(spin), "k--", lw=1, label="1x spin")
+    top.set_ylabel("whirl frequency [rad/s]")
+    top.legend(fontsize=7)
+    top.grid(alpha=0.3)
+    da = ds["max_tilt_angle"]
+    for label, xv, yv in _lines(ds, "max_tilt_angle", x):
+        bottom.plot(xv, yv, "o", ms=4, label=f"peak tilt (simulated) {label}".strip())
+    if "rms_tilt_angle" in ds:
+        for label, xv, yv in _lines(ds, "rms_tilt_angle", x):
+            bottom.plot(
+                xv, yv, "s", ms=3, mfc="none", label=f"RMS tilt (simulated) {label}".strip()
+            )
+    if ref is not None:
+        fine = np.linspace(spin.min(), spin.max(), 400)
+        cfg = _base_config(ds)
+        rate = float(np.hypot(*_get(cfg, "motion.initial_tilt_rate", (1.0, 1.0))))
+        _, _, peak = rotor_whirl(
+            fine,
+            _get(cfg, "disk.polar_inertia", 2.0),
+            _get(cfg, "disk.diametral_inertia", 1.0),
+            _get(cfg, "support.tilt_stiffness", 0.0),
+        )
+        bottom.plot(fine, peak * rate, "-", lw=1, label="peak tilt, linear closed form")
+    bottom.set_xlabel("spin speed [rad/s]")
+    bottom.set_ylabel(_label(da, "tilt"))
+    bottom.legend(fontsize=7)
+    bottom.grid(alpha=0.3)
+    fig.suptitle("Rotor: Campbell-style whirl and response vs spin")
+    return {"campbell": fig}
+
+
+def _find(ds, *needles: tuple[str, ...]) -> str | None:
+    """First numeric variable whose name contains every substring of one of the ``needles``."""
+    names = _numeric_vars(ds)
+    for group in needles:
+        for n in names:
+            if all(s in n.lower() for s in group):
+                return n
+    return None
+
+
+def _first_int(value) -> int | None:
+    if isinstance(value, (list, tuple)) and value:
+        value = value[0]
+    return int(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+
+
+def gear_figures(ds) -> dict[str, Any]:
+    """Gear speed sweep: dynamic factor and peak-to-peak dynamic transmission error vs speed.
+
+    Summary keys looked for (gear domain): a name containing ``dynamic_factor``; a name
+    containing ``transmission_error`` (or ``dte``) and ``peak_to_peak`` (or ``pp``); optionally
+    a mesh natural frequency [Hz] (name containing ``natural_frequency``). The mesh frequency
+    is ``speed_rpm / 60 * z1`` with ``z1`` the driving gear's teeth (``teeth`` in the config,
+    first entry) or a ``mesh_frequency`` summary variable. Speeds where the k-th mesh harmonic
+    meets the natural frequency, ``k f_mesh = f_n`` (k = 1..4), are marked.
+    """
+    from rotaflex.core.plotting import new_figure
+
+    x = _speed_dim(ds, ("speed", "rpm"))
+    kv = _find(ds, ("dynamic_factor",))
+    dte = _find(
+        ds,
+        ("transmission_error", "peak_to_peak"),
+        ("dte", "peak_to_peak"),
+        ("dte", "pp"),
+        ("transmission_error",),
+    )
+    if x is None or (kv is None and dte is None):
         return {}
     unit = ds[x].attrs.get("units", "") or ("rpm" if x.endswith("_rpm") else "rad/s")
-    spin_hz = _to_hz(ds[x].values, unit)
-    freqs = [n for n in _numeric_vars(ds) if ds[n].attrs.get("units") in ("Hz", "rad/s")]
-    resp = [n for n in _numeric_vars(ds) if ds[n].attrs.get("units") in ("m", "rad")]
-    if not freqs and not resp:
-        return {}
-    fig, axes = new_figure(2 if freqs and resp else 1, 1, squeeze=False, sharex=True)
-    row = 0
-    xs = ds[x].values
-    if freqs:
-        ax = axes[row, 0]
-        for n in freqs:
-            f = _to_hz(ds[n].values, ds[n].attrs["units"])
-            ax.plot(xs, f.reshape(len(xs), -1)[:, 0], "o-", ms=3, label=n)
-        if spin_hz is not None:
-            ax.plot(xs, spin_hz, "k--", lw=1, label="1x spin")
-        ax.set_ylabel("frequency [Hz]")
-        ax.legend(fontsize=7)
+    rev_per_s = _to_hz(ds[x].values, unit)
+    z1 = None
+    cfg = _base_config(ds)
+    for path in ("teeth", "pair.teeth", "gear.teeth", "geometry.teeth", "pinion.teeth"):
+        z1 = z1 or _first_int(_get(cfg, path))
+    fmesh = None
+    if "mesh_frequency" in ds:
+        fmesh = np.asarray(ds["mesh_frequency"].values, dtype=float).reshape(len(ds[x]), -1)[:, 0]
+    elif z1 and rev_per_s is not None:
+        fmesh = rev_per_s * z1
+    fn_name = _find(ds, ("natural_frequency",))
+    fn = float(np.nanmedian(ds[fn_name].values)) if fn_name else None
+    panels = [n for n in (kv, dte) if n is not None]
+    fig, axes = new_figure(
+        len(panels), 1, squeeze=False, sharex=True, figsize=(6.8, 3.3 * len(panels))
+    )
+    xs = np.asarray(ds[x].values, dtype=float)
+    for ax, name in zip(axes[:, 0], panels, strict=True):
+        for label, xv, yv in _lines(ds, name, x):
+            ax.plot(xv, yv, "o-", ms=3, label=label or None)
+        ax.set_ylabel(_label(ds[name]))
         ax.grid(alpha=0.3)
-        row += 1
-    if resp:
-        ax = axes[row, 0]
-        for n in resp:
-            y = np.abs(np.asarray(ds[n].values, dtype=float)).reshape(len(xs), -1)[:, 0]
-            ax.semilogy(xs, np.where(y > 0, y, np.nan), "o-", ms=3, label=_label(ds[n]))
-        ax.set_ylabel("response amplitude")
-        ax.legend(fontsize=7)
-        ax.grid(alpha=0.3, which="both")
+        if fn and fmesh is not None and np.all(np.diff(fmesh) > 0):
+            for k in range(1, 5):
+                speed_k = np.interp(fn / k, fmesh, xs, left=np.nan, right=np.nan)
+                if np.isfinite(speed_k):
+                    ax.axvline(speed_k, color="C3", ls=":", lw=1)
+                    ax.annotate(
+                        f"{k}x f_mesh = f_n",
+                        (speed_k, 1),
+                        xycoords=("data", "axes fraction"),
+                        xytext=(2, -12),
+                        textcoords="offset points",
+                        fontsize=7,
+                        color="C3",
+                    )
+    if fmesh is not None and np.all(np.diff(fmesh) > 0) and len(xs) > 1:
+        top = axes[0, 0].secondary_xaxis(
+            "top",
+            functions=(
+                lambda v: np.interp(v, xs, fmesh, left=np.nan, right=np.nan),
+                lambda f: np.interp(f, fmesh, xs, left=np.nan, right=np.nan),
+            ),
+        )
+        top.set_xlabel("mesh frequency [Hz]")
     axes[-1, 0].set_xlabel(_label(ds[x], x))
-    fig.suptitle("Campbell-style response vs spin")
-    return {"campbell": fig}
+    fig.suptitle("Gear: dynamic response vs speed")
+    return {"gear_speed_sweep": fig}
+
+
+def floating_figures(ds) -> dict[str, Any]:
+    """Floating body: peak elastic deflection against the first swept parameter.
+
+    Looks for a summary name containing ``deflection`` (preferring ``peak``/``max``).
+    """
+    from rotaflex.core.plotting import new_figure
+
+    x = _x_dim(ds)
+    name = _find(ds, ("peak", "deflection"), ("max", "deflection"), ("deflection",))
+    if x is None or name is None:
+        return {}
+    fig, ax = new_figure()
+    for label, xv, yv in _lines(ds, name, x):
+        ax.plot(xv, yv, "o-", ms=3, label=label or None)
+    ax.set_xlabel(_label(ds[x], x))
+    ax.set_ylabel(_label(ds[name]))
+    ax.grid(alpha=0.3)
+    if ax.get_legend_handles_labels()[1]:
+        ax.legend(fontsize=7)
+    ax.set_title("Floating body: peak elastic deflection")
+    return {"peak_deflection": fig}
 
 
 #: domain -> built-in figure function (used when the domain's case module has no hook)
 DOMAIN_FIGURES: dict[str, Callable[[Any], dict[str, Any]]] = {
     "rotor": rotor_figures,
+    "gear": gear_figures,
+    "floating": floating_figures,
 }
 
 
@@ -194,6 +412,7 @@ def sweep_figures(ds, domain: str | None = None) -> dict[str, Any]:
         try:
             figs.update(source(ds))
         except Exception:  # noqa: BLE001 - a figure never fails the sweep
-            log.warning("sweep figures %s failed", getattr(source, "__name__", source),
-                        exc_info=True)
+            log.warning(
+                "sweep figures %s failed", getattr(source, "__name__", source), exc_info=True
+            )
     return figs

@@ -140,10 +140,15 @@ def coerce_values(key: str, values: Sequence[Any], current: Any) -> list[Any]:
         elif isinstance(current, str):
             ok = isinstance(v, str)
         else:
-            raise InputError(key, current, "a scalar config value (number, boolean or string) to sweep")
+            raise InputError(
+                key, current, "a scalar config value (number, boolean or string) to sweep"
+            )
         if not ok:
-            raise InputError(f"--vary {key}", v, f"a value of the same type as the config's "
-                             f"{current!r} ({type(current).__name__})")
+            raise InputError(
+                f"--vary {key}",
+                v,
+                f"a value of the same type as the config's {current!r} ({type(current).__name__})",
+            )
         out.append(v)
     if len(set(map(repr, out))) != len(out):
         raise InputError(f"--vary {key}", out, "distinct values")
@@ -177,7 +182,9 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     checked: dict[str, list[Any]] = {}
     for key, values in vary.items():
         if key == "domain":
-            raise InputError("--vary domain", values, "a key inside the domain's config, not 'domain'")
+            raise InputError(
+                "--vary domain", values, "a key inside the domain's config, not 'domain'"
+            )
         current = get_dotted(base, key)  # InputError naming the key when absent
         if not values:
             raise InputError(f"--vary {key}", values, "at least one value")
@@ -185,9 +192,9 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     cases = []
     for index, combo in enumerate(itertools.product(*checked.values())):
         data = dict(base)
-        for key, value in zip(checked, combo):
+        for key, value in zip(checked, combo, strict=True):
             data = set_dotted(data, key, value)
-        cases.append(Case(case_id(index, data), dict(zip(checked, combo)), data))
+        cases.append(Case(case_id(index, data), dict(zip(checked, combo, strict=True)), data))
     return cases
 
 

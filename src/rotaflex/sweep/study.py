@@ -14,8 +14,9 @@ from rotaflex.sweep.runner import SweepResult, run_sweep
 from rotaflex.sweep.spec import Case, grid_cases, parse_vary
 
 
-def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[Any]]
-         ) -> tuple[str, str, list[Case]]:
+def plan(
+    config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[Any]]
+) -> tuple[str, str, list[Case]]:
     """Validate a config sweep before anything runs.
 
     Parameters
@@ -61,8 +62,9 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
     return domain, CASES[domain], grid_cases(body, axes)
 
 
-def sweep_config(config: Mapping[str, Any], vary, out_dir: str | Path | None, executor: Any = None,
-                 **kwargs: Any) -> SweepResult:
+def sweep_config(
+    config: Mapping[str, Any], vary, out_dir: str | Path | None, executor: Any = None, **kwargs: Any
+) -> SweepResult:
     """Sweep a domain config: :func:`plan`, then :func:`run_sweep` with the domain's ``run_case``.
 
     Extra keyword arguments go to :func:`run_sweep` (``progress``, ``max_retries``, ...).
@@ -74,5 +76,12 @@ def sweep_config(config: Mapping[str, Any], vary, out_dir: str | Path | None, ex
     """
     domain, module, cases = plan(config, vary)
     attrs = {"base_config": json.dumps(dict(config), sort_keys=True, default=str)}
-    return run_sweep(functools.partial(run_module_case, module), cases, executor, out_dir=out_dir,
-                     domain=domain, attrs=attrs, **kwargs)
+    return run_sweep(
+        functools.partial(run_module_case, module),
+        cases,
+        executor,
+        out_dir=out_dir,
+        domain=domain,
+        attrs=attrs,
+        **kwargs,
+    )
