@@ -223,3 +223,17 @@ def test_dask_unreachable_scheduler_is_one_line(tmp_path, selftest_domain, monke
         ],
     )
     assert res.exit_code == 2 and "scheduler" in res.output and "Traceback" not in res.output
+
+
+def test_dask_local_cluster_from_the_cli(tmp_path, selftest_domain):
+    pytest.importorskip("distributed")
+    cfg = _config(tmp_path)
+    out = tmp_path / "out"
+    res = runner.invoke(app, ["sweep", str(cfg), "--vary", "x=1,2,3", "--out", str(out),
+                              "--scheduler", "dask-local", "-j", "1", "-q", "--no-figures"])
+    assert res.exit_code == 0, res.output
+    assert _counts(res.output) == (3, 0, 0)
+    ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
+    np.testing.assert_allclose(ds["a"].values, ds["x"].values ** 2 + 0.5)
+    workers = {json.loads(p.read_text())["worker"] for p in (out / "cases").glob("*/case.json")}
+    assert len(workers) == 1  # -j 1: one single-threaded worker process

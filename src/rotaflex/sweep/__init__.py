@@ -2,7 +2,8 @@
 
 Data in, data out, over a ``concurrent.futures.Executor``: the case function is an importable
 top-level function taking plain picklable data and returning a
-:class:`~rotaflex.core.result.Result`; the client writes one directory per finished case, so an interrupted sweep resumes.
+:class:`~rotaflex.core.result.Result`; the client writes one directory per finished case, so
+an interrupted sweep resumes.
 
 Python API::
 

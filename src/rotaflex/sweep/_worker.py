@@ -75,3 +75,8 @@ def rotaflex_version() -> str:
     import rotaflex
 
     return rotaflex.__version__
+
+
+def ping() -> int:
+    """Health probe of a freshly started worker: its process id."""
+    return os.getpid()

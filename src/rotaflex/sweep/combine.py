@@ -179,7 +179,7 @@ def summary_csv(records) -> str:
 
 
 def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[Path]:
-    """Write ``sweep.nc``, ``summary.csv``, ``sweep.json``, ``figures/*.png``; return figure paths."""
+    """Write ``sweep.nc``, ``summary.csv``, ``sweep.json``, ``figures/*.png``; return the PNGs."""
     out = result.out_dir
     ds = result.dataset
     write_atomic(out / "sweep.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))

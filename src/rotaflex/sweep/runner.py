@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from rotaflex.core.io import write_json_atomic, write_text_atomic
-from rotaflex.sweep._worker import Outcome, execute_case
+from rotaflex.sweep._worker import Outcome, execute_case, ping
 from rotaflex.sweep.spec import Case, as_cases, case_id
 
 log = logging.getLogger("rotaflex.sweep")
@@ -132,11 +132,19 @@ class SerialExecutor(Executor):
         return fut
 
 
+#: thread-count variables set to 1 for local workers unless the user set them (as Dask's nanny
+#: does): N processes x M BLAS threads on N cores oversubscribe the CPU and run much slower
+THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS", "NUMBA_NUM_THREADS")
+
+
 def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
-    """A local process pool whose workers start from a clean interpreter.
+    """A local process pool whose workers start from a clean interpreter, one thread each.
 
     POSIX uses the ``forkserver`` start method with numpy, xarray and the worker module
-    preloaded (fast worker start, no fork of a threaded client); elsewhere ``spawn``.
+    preloaded (fast worker start, no fork of a threaded client); elsewhere ``spawn``. The
+    variables of :data:`THREAD_VARS` are 1 in the workers unless already set. The pool is
+    started (and probed) before it is returned.
     """
     methods = multiprocessing.get_all_start_methods()
     if "forkserver" in methods:
@@ -144,7 +152,22 @@ def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
         ctx.set_forkserver_preload(["numpy", "xarray", "rotaflex.sweep._worker"])
     else:  # pragma: no cover - Windows
         ctx = multiprocessing.get_context("spawn")
-    return ProcessPoolExecutor(max_workers=max_workers or os.cpu_count() or 1, mp_context=ctx)
+    pool = ProcessPoolExecutor(max_workers=max_workers or os.cpu_count() or 1, mp_context=ctx)
+    added = {k: "1" for k in THREAD_VARS if k not in os.environ}
+    os.environ.update(added)  # inherited by the fork server / spawned workers started now
+    try:
+        pool.submit(ping).result()
+    except BrokenProcessPool:
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise RuntimeError(
+            "the local worker processes could not start. If the sweep is run from a script, put "
+            'the code that starts it under `if __name__ == "__main__":` (workers import the main '
+            "module; see the multiprocessing docs)"
+        ) from None
+    finally:
+        for k in added:
+            os.environ.pop(k, None)
+    return pool
 
 
 class _Backend:
@@ -171,7 +194,7 @@ class _Backend:
                 f"not {executor!r}"
             )
         if self.factory is not None:
-            self.executor = self.factory()
+            self.executor = self._start()
         self.window = 2 * _n_workers(self.executor)
 
     def rebuild(self) -> None:
@@ -181,8 +204,11 @@ class _Backend:
                 "pass executor=None, an int, or a factory instead of an instance"
             )
         self.shutdown(wait=False)
-        self.executor = self.factory()
+        self.executor = self._start()
         log.warning("rebuilt the process pool after a worker died")
+
+    def _start(self) -> Executor:
+        return self.factory()
 
     def shutdown(self, wait: bool = True) -> None:
         if not self.owned:
