@@ -92,7 +92,7 @@ def test_linear_whirl_frequencies_match_closed_form():
             continue  # time-varying coefficients: no constant-coefficient eigenproblem
         spec = EOMSpec(sequence=seq, expansion=expansion, spin_index=0)
         tt, q, qd, p, M, f, e, e_dot = derive(spec)
-        vals = dict(zip(p, [1.0, Ip, Id, Id, 0.0, k, Om, 0.0, 0, 0, 0]))
+        vals = dict(zip(p, [1.0, Ip, Id, Id, 0.0, k, Om, 0.0, 0, 0, 0], strict=False))
         Mn = np.array(M.subs(vals), dtype=float)[2:, 2:]
         fq = f.subs(vals)[2:, :]
         Kn = -np.array(fq.jacobian(q[2:]), dtype=float)
@@ -107,7 +107,7 @@ def test_paper_truncated_123_reproduces_eq34():
     tt, q, qd, p, M, f, e, e_dot = derive(
         EOMSpec(sequence="123", convention="paper", expansion="paper_truncated", spin_index=0))
     I, Om = 1.0, 10.0
-    vals = dict(zip(p, [1.0, 2 * I, I, I, 0.0, 0.0, Om, 0.0, 0, 0, 0]))
+    vals = dict(zip(p, [1.0, 2 * I, I, I, 0.0, 0.0, Om, 0.0, 0, 0, 0], strict=False))
     Mn = np.array(M.subs(vals), dtype=float)
     G = np.array(f.subs(vals).jacobian(qd), dtype=float) / Om
     np.testing.assert_allclose(Mn[2:, 2:], I * np.eye(2))

@@ -113,7 +113,7 @@ def _convert(value: Any, tp: Any, meta: Mapping[str, Any], where: str) -> Any:
             if len(value) != len(args):
                 raise InputError(where, value, f"an array of {len(args)} entries")
             types_ = list(args)
-        return tuple(_convert(v, t, meta, f"{where}[{i}]") for i, (v, t) in enumerate(zip(value, types_)))
+        return tuple(_convert(v, t, meta, f"{where}[{i}]") for i, (v, t) in enumerate(zip(value, types_, strict=False)))
     if origin is dict:
         if not isinstance(value, Mapping):
             raise InputError(where, value, "a table")

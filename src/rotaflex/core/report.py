@@ -42,6 +42,13 @@ class Check:
     criterion: str
     passed: bool
     note: str = ""
+    claim: bool = False  # a claim of the paper: reported as holds / does not hold, not as pass/fail
+
+    @property
+    def outcome(self) -> str:
+        if self.claim:
+            return "claim holds" if self.passed else "claim does not hold"
+        return "pass" if self.passed else "FAIL"
 
     def value_text(self) -> str:
         v = self.measured
@@ -78,6 +85,13 @@ class Section:
     wall_time: float = float("nan")
 
     def all_checks(self) -> list[Check]:
+        """Verification checks (pass/fail), excluding the paper's claims."""
+        return [c for c in self._every() if not c.claim]
+
+    def claims(self) -> list[Check]:
+        return [c for c in self._every() if c.claim]
+
+    def _every(self) -> list[Check]:
         return self.checks + [c for f in self.figures for c in f.checks]
 
 
@@ -87,7 +101,7 @@ def _md_checks(checks: list[Check]) -> list[str]:
     rows = ["| check | measured | criterion | result | note |", "|---|---|---|---|---|"]
     for c in checks:
         rows.append(
-            f"| {c.name} | {c.value_text()} | {c.criterion} | {'pass' if c.passed else 'FAIL'} "
+            f"| {c.name} | {c.value_text()} | {c.criterion} | {c.outcome} "
             f"| {c.note} |"
         )
     return rows + [""]
@@ -97,7 +111,9 @@ def render_markdown(sections: list[Section], title: str) -> str:
     lines = [f"# {title}", ""]
     n_all = sum(len(s.all_checks()) for s in sections)
     n_ok = sum(c.passed for s in sections for c in s.all_checks())
-    lines += [f"Checks passed: **{n_ok} / {n_all}**.", ""]
+    claims = [c for s in sections for c in s.claims()]
+    lines += [f"Checks passed: **{n_ok} / {n_all}**. Paper claims examined: {len(claims)} "
+              f"({sum(c.passed for c in claims)} hold).", ""]
     for s in sections:
         lines += [f"## {s.title}", ""]
         if not math.isnan(s.wall_time):
@@ -123,8 +139,8 @@ def _html_checks(checks: list[Check]) -> str:
         return ""
     e = html.escape
     rows = "".join(
-        f"<tr class='{'ok' if c.passed else 'fail'}'><td>{e(c.name)}</td><td>{e(c.value_text())}</td>"
-        f"<td>{e(c.criterion)}</td><td>{'pass' if c.passed else 'FAIL'}</td><td>{e(c.note)}</td></tr>"
+        f"<tr class='{'ok' if c.passed or c.claim else 'fail'}'><td>{e(c.name)}</td>"
+        f"<td>{e(c.value_text())}</td><td>{e(c.criterion)}</td><td>{c.outcome}</td><td>{e(c.note)}</td></tr>"
         for c in checks
     )
     return (
@@ -137,7 +153,9 @@ def render_html(sections: list[Section], title: str) -> str:
     e = html.escape
     n_all = sum(len(s.all_checks()) for s in sections)
     n_ok = sum(c.passed for s in sections for c in s.all_checks())
-    body = [f"<h1>{e(title)}</h1><p>Checks passed: <b>{n_ok} / {n_all}</b>.</p>"]
+    claims = [c for s in sections for c in s.claims()]
+    body = [f"<h1>{e(title)}</h1><p>Checks passed: <b>{n_ok} / {n_all}</b>. Paper claims examined: "
+            f"{len(claims)} ({sum(c.passed for c in claims)} hold).</p>"]
     for s in sections:
         body.append(f"<h2>{e(s.title)}</h2>")
         if not math.isnan(s.wall_time):
@@ -170,7 +188,7 @@ def render_html(sections: list[Section], title: str) -> str:
 def write_report(out_dir: str | Path, sections: list[Section], title: str) -> list[Path]:
     """Write ``report.md``, ``index.html`` and ``checks.json`` into ``out_dir`` atomically."""
     out_dir = Path(out_dir)
-    checks = {s.title: [asdict(c) for c in s.all_checks()] for s in sections}
+    checks = {s.title: [asdict(c) for c in s._every()] for s in sections}
     return [
         write_text_atomic(out_dir / "report.md", render_markdown(sections, title)),
         write_text_atomic(out_dir / "index.html", render_html(sections, title)),

@@ -50,7 +50,7 @@ def body_inertia(model: RotorModel | FreeBody) -> np.ndarray:
 
 def parameter_vector(model: RotorModel | FreeBody) -> np.ndarray:
     J = body_inertia(model)
-    values = dict(zip(("J1", "J2", "J3"), J), m=1.0, k=0.0, k_tilt=0.0, Omega=0.0, phi0=0.0,
+    values = dict(zip(("J1", "J2", "J3"), J, strict=False), m=1.0, k=0.0, k_tilt=0.0, Omega=0.0, phi0=0.0,
                   tau1=0.0, tau2=0.0, tau3=0.0)
     if isinstance(model, RotorModel):
         values.update(m=model.disk.mass, k=model.support.stiffness, k_tilt=model.support.tilt_stiffness,
@@ -186,7 +186,7 @@ def _integrate_lagrange(model, p, t_eval, bar):
     e = np.empty((sol_t.size, 4))
     e_dot = np.empty_like(e)
     qdd = np.empty_like(q)
-    for i, (ti, yi) in enumerate(zip(sol_t, sol_y.T)):  # output only, not the time loop
+    for i, (ti, yi) in enumerate(zip(sol_t, sol_y.T, strict=False)):  # output only, not the time loop
         M, f, ei, edi = parts(ti, yi)
         e[i], e_dot[i] = ei, edi
         with np.errstate(all="ignore"):

@@ -83,7 +83,7 @@ def _euler_attitude(spec: EOMSpec, angles, rates):
     R = Ra * Rb * Rc
     # quaternion of the attitude for output (product of axis quaternions, scalar first)
     e = sp.Matrix([1, 0, 0, 0])
-    for axis, angle in zip((a, b, c), ang):
+    for axis, angle in zip((a, b, c), ang, strict=False):
         qk = sp.Matrix([sp.cos(angle / 2), 0, 0, 0])
         qk[1 + axis] = sp.sin(angle / 2)
         e = _qmul(e, qk)
@@ -131,7 +131,7 @@ def derive(spec: EOMSpec):
         half = spin / 2
         e = sp.Matrix([sp.cos(half), sp.sin(half) * sp.sin(th) * sp.cos(ps),
                        sp.sin(half) * sp.sin(th) * sp.sin(ps), sp.sin(half) * sp.cos(th)])
-        e_dot = e.diff(t) + sum((e.diff(qi) * qdi for qi, qdi in zip(rot_q, rot_qd)), sp.zeros(4, 1))
+        e_dot = e.diff(t) + sum((e.diff(qi) * qdi for qi, qdi in zip(rot_q, rot_qd, strict=False)), sp.zeros(4, 1))
         w_body, w_inertial = _quaternion_rates(e, e_dot)
         S = _skew(e[1:, 0])
         R = sp.eye(3) + 2 * e[0] * S + 2 * S * S
@@ -144,7 +144,7 @@ def derive(spec: EOMSpec):
             angles = [spin if i == spec.spin_index else next(it) for i in range(3)]
             rates = [Omega if i == spec.spin_index else next(itd) for i in range(3)]
         R, w_body, w_inertial, e = _euler_attitude(spec, angles, rates)
-        e_dot = e.diff(t) + sum((e.diff(qi) * qdi for qi, qdi in zip(rot_q, rot_qd)), sp.zeros(4, 1))
+        e_dot = e.diff(t) + sum((e.diff(qi) * qdi for qi, qdi in zip(rot_q, rot_qd, strict=False)), sp.zeros(4, 1))
         polar = int(spec.sequence[spec.spin_index or 0]) - 1
 
     w = w_body if spec.energy == "body" else w_inertial
