@@ -94,3 +94,18 @@ def test_plain_mapping_cases_and_duplicates():
     assert cases[0].params == {"x": 1.0, "tag": "a"} and cases[0].data["arr"] == [1, 2]
     with pytest.raises(InputError):
         as_cases([cases[0], cases[0]])
+
+
+def test_array_entries_and_broadcast():
+    base = {"operation": {"speed_rpm": [4000.0, 4040.0], "torque": 1.0}}
+    both = grid_cases(base, {"operation.speed_rpm": [1000, 2000]})
+    assert [c.data["operation"]["speed_rpm"] for c in both] == [[1000.0, 1000.0], [2000.0, 2000.0]]
+    assert both[1].params == {"operation.speed_rpm": 2000.0}
+    one = grid_cases(base, {"operation.speed_rpm[1]": [5000.0]})
+    assert one[0].data["operation"]["speed_rpm"] == [4000.0, 5000.0]
+    assert base["operation"]["speed_rpm"] == [4000.0, 4040.0]
+    with pytest.raises(InputError) as err:
+        grid_cases(base, {"operation.speed_rpm[2]": [1.0]})
+    assert err.value.field == "operation.speed_rpm[2]"
+    with pytest.raises(InputError):
+        grid_cases(base, {"operation.torque[0]": [1.0]})

@@ -12,6 +12,7 @@ import hashlib
 import itertools
 import json
 import math
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -161,6 +162,43 @@ def case_id(index: int, data: Any) -> str:
     return f"{index:04d}-{hashlib.sha1(blob.encode()).hexdigest()[:8]}"
 
 
+_KEY = re.compile(r"^(?P<path>[^\[\]]+?)(?:\[(?P<index>\d+)\])?$")
+
+
+def _split_key(key: str) -> tuple[str, int | None]:
+    m = _KEY.match(key)
+    if not m:
+        raise InputError("--vary", key, "a dotted config key, optionally KEY[i] for one array entry")
+    return m["path"], None if m["index"] is None else int(m["index"])
+
+
+def _current(base: Mapping[str, Any], key: str) -> tuple[Any, int]:
+    """The config's value at ``key`` (one entry for ``key[i]``) and the array length to fill
+    (0: a scalar; n: a scalar swept value is broadcast to all n entries of an array)."""
+    path, index = _split_key(key)
+    value = get_dotted(base, path)  # InputError naming the key when absent
+    if index is not None:
+        if not isinstance(value, (list, tuple)) or index >= len(value):
+            raise InputError(key, value, f"an array with an entry [{index}]")
+        return value[index], 0
+    if (
+        isinstance(value, (list, tuple))
+        and value
+        and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+    ):
+        return value[0], len(value)
+    return value, 0
+
+
+def _assign(data: dict[str, Any], key: str, value: Any, fill: int) -> dict[str, Any]:
+    path, index = _split_key(key)
+    if index is not None:
+        array = list(get_dotted(data, path))
+        array[index] = value
+        return set_dotted(data, path, array)
+    return set_dotted(data, path, [value] * fill if fill else value)
+
+
 def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> list[Case]:
     """Cases of the Cartesian product of ``vary`` applied to the config ``base``.
 
@@ -169,7 +207,9 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     base : dict
         Parsed TOML config (may carry the top-level ``domain`` key).
     vary : dict
-        Dotted key -> list of values; the first key varies slowest.
+        Dotted key -> list of values; the first key varies slowest. ``key[i]`` sets entry ``i``
+        of an array; a plain key of an array of numbers sets every entry to the value (e.g.
+        both gears' ``operation.speed_rpm``).
 
     Raises
     ------
@@ -180,12 +220,13 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     if not vary:
         raise InputError("--vary", "<none>", "at least one KEY=... to sweep")
     checked: dict[str, list[Any]] = {}
+    fills: dict[str, int] = {}
     for key, values in vary.items():
-        if key == "domain":
+        if _split_key(key)[0] == "domain":
             raise InputError(
                 "--vary domain", values, "a key inside the domain's config, not 'domain'"
             )
-        current = get_dotted(base, key)  # InputError naming the key when absent
+        current, fills[key] = _current(base, key)
         if not values:
             raise InputError(f"--vary {key}", values, "at least one value")
         checked[key] = coerce_values(key, values, current)
@@ -193,7 +234,7 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     for index, combo in enumerate(itertools.product(*checked.values())):
         data = dict(base)
         for key, value in zip(checked, combo, strict=True):
-            data = set_dotted(data, key, value)
+            data = _assign(data, key, value, fills[key])
         cases.append(Case(case_id(index, data), dict(zip(checked, combo, strict=True)), data))
     return cases
 
