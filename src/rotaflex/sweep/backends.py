@@ -56,6 +56,10 @@ def dask_executor(
     timeout = CONNECT_TIMEOUT if timeout is None else timeout
     cluster = None
     client = None
+    dlog = logging.getLogger("distributed")
+    level = dlog.level
+    if not log.isEnabledFor(logging.DEBUG):
+        dlog.setLevel(logging.WARNING)  # cluster start/stop chatter is INFO
     try:
         if address == "dask-local":
             cluster = _local_cluster(distributed, n_workers)
@@ -90,6 +94,7 @@ def dask_executor(
             client.close()
         if cluster is not None:
             cluster.close()
+        dlog.setLevel(level)
 
 
 def _local_cluster(distributed, n_workers: int | None):
