@@ -46,7 +46,7 @@ def test_rotor_spin_sweep_cli_matches_closed_form(tmp_path):
     assert ds["max_tilt_angle"].dims == ("motion.spin_speed", "solver.t_end")
     assert ds.attrs["domain"] == "rotor"
     ref = rotor_reference(ds.isel({"solver.t_end": 0}, drop=True))
-    assert ref is not None
+    assert ref is not None and ref["peak_tilt"] is not None
     sim = ds["max_tilt_angle"].values[:, 0]
     np.testing.assert_allclose(sim, ref["peak_tilt"], rtol=1e-2)
     assert (out / "figures" / "campbell.png").exists()

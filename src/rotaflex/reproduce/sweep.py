@@ -107,7 +107,7 @@ def _rotor_checks(ds) -> list[Check]:
     from rotaflex.sweep.figures import rotor_reference
 
     ref = rotor_reference(ds)
-    if ref is None:
+    if ref is None or ref["peak_tilt"] is None:
         return []
     sim = np.asarray(ds["max_tilt_angle"].values, float)
     rel = float(np.max(np.abs(sim - ref["peak_tilt"]) / ref["peak_tilt"]))

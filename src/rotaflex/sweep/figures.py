@@ -172,43 +172,47 @@ def rotor_whirl(spin, polar_inertia: float, diametral_inertia: float, tilt_stiff
     return forward, backward, peak
 
 
-def rotor_reference(ds) -> dict[str, np.ndarray] | None:
-    """Closed-form whirl and peak tilt over the swept spin of a rotor sweep (None if the sweep
-    is not a spin sweep of the default 1-2-3 rotor-disk case starting at zero tilt)."""
+def rotor_reference(ds) -> dict[str, Any] | None:
+    """Closed-form whirl over the swept spin of a rotor sweep, and the peak tilt of a free
+    response when it starts at zero tilt.
+
+    Returns None unless the sweep varies ``motion.spin_speed`` of a rotor-disk case whose
+    equations are the 1-2-3 (spin first) body-energy ones, nonlinear or exactly linearised,
+    with the disk's inertia and tilt support fixed. ``peak_tilt`` is None when the initial tilt
+    is not zero.
+    """
     x = "motion.spin_speed"
     if x not in ds.dims:
         return None
     cfg = _base_config(ds)
     form = cfg.get("formulation", {})
     swept = set(json.loads(ds.attrs.get("swept", "[]")))
-    keys = (
-        "disk.polar_inertia",
-        "disk.diametral_inertia",
-        "support.tilt_stiffness",
-        "motion.initial_tilt_rate",
-        "motion.initial_tilt",
-        "disk.inertia",
-    )
+    fixed = ("disk.polar_inertia", "disk.diametral_inertia", "support.tilt_stiffness",
+             "disk.inertia", "motion.initial_tilt_rate", "motion.initial_tilt")
     if (
-        swept & set(keys)
+        swept & set(fixed)
         or "free_body" in cfg
         or _get(cfg, "disk.inertia") is not None
         or form.get("parameterisation", "euler") != "euler"
         or form.get("sequence", "123") != "123"
         or form.get("spin_angle") not in (None, 0)
-        or any(_get(cfg, "motion.initial_tilt", (0.0, 0.0)))
+        or form.get("energy", "body") != "body"
+        or form.get("convention", "right-handed") != "right-handed"
+        or form.get("expansion", "nonlinear") not in ("nonlinear", "second_order")
     ):
         return None
     ip, id_ = _get(cfg, "disk.polar_inertia", 2.0), _get(cfg, "disk.diametral_inertia", 1.0)
     k = _get(cfg, "support.tilt_stiffness", 0.0)
-    rate = float(np.hypot(*_get(cfg, "motion.initial_tilt_rate", (1.0, 1.0))))
     spin = np.asarray(ds[x].values, dtype=float)
     fwd, bwd, peak = rotor_whirl(spin, ip, id_, k)
+    at_rest = not any(_get(cfg, "motion.initial_tilt", (0.0, 0.0)))
+    rate = float(np.hypot(*_get(cfg, "motion.initial_tilt_rate", (1.0, 1.0))))
     return {
         "spin": spin,
         "forward": fwd,
         "backward": bwd,
-        "peak_tilt": peak * rate,
+        "peak_tilt": peak * rate if at_rest else None,
+        "peak_per_rate": (ip, id_, k, rate) if at_rest else None,
         "backward_critical": np.sqrt(k / (ip + id_)),
         "forward_critical": np.sqrt(k / (id_ - ip)) if id_ > ip else np.nan,
     }
@@ -255,17 +259,11 @@ def rotor_figures(ds) -> dict[str, Any]:
             bottom.plot(
                 xv, yv, "s", ms=3, mfc="none", label=f"RMS tilt (simulated) {label}".strip()
             )
-    if ref is not None:
+    if ref is not None and ref["peak_per_rate"] is not None:
+        ip, id_, k, rate = ref["peak_per_rate"]
         fine = np.linspace(spin.min(), spin.max(), 400)
-        cfg = _base_config(ds)
-        rate = float(np.hypot(*_get(cfg, "motion.initial_tilt_rate", (1.0, 1.0))))
-        _, _, peak = rotor_whirl(
-            fine,
-            _get(cfg, "disk.polar_inertia", 2.0),
-            _get(cfg, "disk.diametral_inertia", 1.0),
-            _get(cfg, "support.tilt_stiffness", 0.0),
-        )
-        bottom.plot(fine, peak * rate, "-", lw=1, label="peak tilt, linear closed form")
+        bottom.plot(fine, rotor_whirl(fine, ip, id_, k)[2] * rate, "-", lw=1,
+                    label="peak tilt, linear closed form")
     bottom.set_xlabel("spin speed [rad/s]")
     bottom.set_ylabel(_label(da, "tilt"))
     bottom.legend(fontsize=7)
