@@ -95,6 +95,8 @@ def sweep(
     Writes DIR/cases/<id>/ per case, DIR/sweep.nc (swept keys as dimensions), DIR/summary.csv,
     DIR/figures/. Exit status 1 if any case failed, 130 if interrupted.
     """
+    from tqdm.contrib.logging import logging_redirect_tqdm
+
     from rotaflex.core.config import load_toml
     from rotaflex.sweep import plan, sweep_config
     from rotaflex.sweep.backends import executor_for
@@ -102,7 +104,7 @@ def sweep(
     def go():
         cfg = load_toml(config)
         plan(cfg, vary)  # validate everything before starting workers
-        with executor_for(jobs, scheduler) as executor:
+        with executor_for(jobs, scheduler) as executor, logging_redirect_tqdm():
             try:
                 res = sweep_config(cfg, vary, out, executor, progress=not quiet,
                                    max_retries=retries, figures=not no_figures)

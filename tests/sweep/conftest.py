@@ -34,7 +34,8 @@ def dask_cluster(tmp_path_factory):
                     "--scheduler-file",
                     str(sched_file),
                 ],
-                env=env_with_src(),
+                # give up on a task at its first worker death: rotaflex's own retry is tested
+                env={**env_with_src(), "DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "0"},
                 cwd=tmp,
                 stdout=subprocess.DEVNULL,
                 stderr=subprocess.DEVNULL,

@@ -202,6 +202,21 @@ def test_dask_worker_killed_mid_case_sweep_completes(tmp_path, selftest_domain, 
     assert _counts(res.output) == (6, 0, 0)
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
     np.testing.assert_allclose(ds["a"].values, ds["x"].values ** 2 + 0.5)
+    assert ds["attempts"].values.max() >= 2  # KilledWorker came back and the case was resubmitted
+
+
+def test_dask_case_that_always_kills_its_worker_fails_alone(tmp_path, selftest_domain, dask_cluster):
+    cfg = _config(tmp_path, kill_always=False)
+    out = tmp_path / "out"
+    res = runner.invoke(app, ["sweep", str(cfg), "--vary", "kill_always=false,true", "--out", str(out),
+                              "--scheduler", dask_cluster, "--retries", "1", "-q", "--no-figures"])
+    assert res.exit_code == 1, res.output
+    assert "1 of 2 cases failed" in res.output
+    ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
+    bad, good = ds.sel({"kill_always": True}), ds.sel({"kill_always": False})
+    assert str(good["status"].values) == "success" and float(good["a"]) == 1.5
+    assert str(bad["status"].values) == "error" and "KilledWorker" in str(bad["error"].values)
+    assert int(bad["attempts"]) == 2
 
 
 def test_dask_unreachable_scheduler_is_one_line(tmp_path, selftest_domain, monkeypatch):
@@ -237,3 +252,12 @@ def test_dask_local_cluster_from_the_cli(tmp_path, selftest_domain):
     np.testing.assert_allclose(ds["a"].values, ds["x"].values ** 2 + 0.5)
     workers = {json.loads(p.read_text())["worker"] for p in (out / "cases").glob("*/case.json")}
     assert len(workers) == 1  # -j 1: one single-threaded worker process
+
+
+def test_domain_validate_hook_rejects_a_bad_case_before_running(tmp_path, selftest_domain):
+    # the selftest module's validate_config rejects n < 2 (as its run_case would)
+    cfg = _config(tmp_path)
+    out = tmp_path / "out"
+    res = runner.invoke(app, ["sweep", str(cfg), "--vary", "n=1:5:5", "--out", str(out), "-q"])
+    assert res.exit_code == 2 and "'n': 1" in res.output and "n = 1" in res.output
+    assert not out.exists()

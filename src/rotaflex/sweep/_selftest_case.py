@@ -47,6 +47,11 @@ def _die() -> None:
     os.kill(os.getpid(), signal.SIGKILL)
 
 
+def validate_config(config: dict) -> None:
+    """Optional domain hook used by sweeps: raise InputError for a config ``run_case`` rejects."""
+    from_mapping(SelftestConfig, config)
+
+
 def run_case(config: dict, *, progress: bool = False) -> Result:
     """Compute the closed-form selftest outputs (see the module docstring)."""
     import xarray as xr

@@ -38,7 +38,9 @@ def plan(
     Raises
     ------
     InputError
-        Missing/unknown domain, malformed vary spec, repeated key, key not in the config.
+        Missing/unknown domain, malformed vary spec, repeated key, key not in the config, or -
+        when the domain's case module has a ``validate_config(config)`` hook - a case whose
+        values the domain rejects.
     """
     from rotaflex.core.domains import CASES, case_module
 
@@ -46,7 +48,7 @@ def plan(
     if domain is None:
         raise InputError("domain", "<missing>", "a top-level domain = one of " + ", ".join(CASES))
     try:
-        case_module(domain)
+        module = case_module(domain)
     except ImportError as exc:
         raise InputError("domain", domain, f"an installed domain ({exc})") from None
     if isinstance(vary, Mapping):
@@ -59,7 +61,15 @@ def plan(
                 raise InputError(f"--vary {key}", spec, "each key varied once")
             axes[key] = values
     body = {k: v for k, v in config.items() if k != "domain"}
-    return domain, CASES[domain], grid_cases(body, axes)
+    cases = grid_cases(body, axes)
+    validate = getattr(module, "validate_config", None)
+    if validate is not None:  # optional domain hook: every case's values checked up front
+        for case in cases:
+            try:
+                validate(case.data)
+            except InputError as exc:
+                raise InputError(exc.field, exc.value, f"{exc.allowed} (case {case.params})") from None
+    return domain, CASES[domain], cases
 
 
 def sweep_config(
