@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import csv
 import io
-import itertools
 import json
 import logging
 import math
@@ -204,8 +203,3 @@ def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[P
         for stem, fig in sweep_figures(ds, domain).items():
             paths.append(save_figure(fig, out / "figures" / f"{stem}.png"))
     return paths
-
-
-def iter_grid(ds):
-    """Index tuples over the non-``case`` dimensions of ``ds`` (helper for plotting)."""
-    return itertools.product(*(range(ds.sizes[d]) for d in ds.dims))
