@@ -42,10 +42,17 @@ def test_gear_natural_frequency_estimate_by_hand():
 
 
 def test_floating_figure_plots_the_deflection():
-    ds = xr.Dataset({"peak_elastic_deflection": ("slew_time", [3e-3, 2e-3, 1e-3], {"units": "m"})},
-                    coords={"slew_time": ("slew_time", [1.0, 2.0, 4.0], {"units": "s"})})
+    dims = "loads[0].duration"
+    ds = xr.Dataset(
+        {"full.tip.max_deflection": (dims, [3e-3, 2e-3, 1e-3], {"units": "m"}),
+         "perturbation.tip.max_deflection": (dims, [3.1e-3, 2e-3, 1e-3], {"units": "m"}),
+         "full.energy_change": (dims, [1.0, 2.0, 3.0], {"units": "J"})},
+        coords={dims: (dims, [1.0, 2.0, 4.0], {"units": ""})})
     ax = floating_figures(ds)["peak_deflection"].axes[0]
-    np.testing.assert_array_equal(ax.get_lines()[0].get_ydata(), [3e-3, 2e-3, 1e-3])
+    lines = ax.get_lines()
+    assert len(lines) == 2  # the two deflection scalars, not the energy
+    np.testing.assert_array_equal(lines[0].get_ydata(), [3e-3, 2e-3, 1e-3])
+    np.testing.assert_array_equal(lines[1].get_xdata(), [1.0, 2.0, 4.0])
 
 
 def test_gear_speed_sweep_from_the_cli(tmp_path):

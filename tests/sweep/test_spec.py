@@ -109,3 +109,16 @@ def test_array_entries_and_broadcast():
     assert err.value.field == "operation.speed_rpm[2]"
     with pytest.raises(InputError):
         grid_cases(base, {"operation.torque[0]": [1.0]})
+
+
+def test_index_inside_the_path_array_of_tables():
+    base = {"loads": [{"kind": "torque", "duration": 6.0}, {"kind": "force", "duration": 2.0}]}
+    cases = grid_cases(base, {"loads[1].duration": [1.0, 3.0]})
+    assert [c.data["loads"][1]["duration"] for c in cases] == [1.0, 3.0]
+    assert all(c.data["loads"][0] == base["loads"][0] for c in cases)
+    assert base["loads"][1]["duration"] == 2.0
+    with pytest.raises(InputError) as err:
+        grid_cases(base, {"loads[2].duration": [1.0]})
+    assert err.value.field == "loads[2].duration"
+    with pytest.raises(InputError):
+        grid_cases(base, {"loads[0].length": [1.0]})

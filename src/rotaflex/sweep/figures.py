@@ -371,22 +371,26 @@ def gear_figures(ds) -> dict[str, Any]:
 def floating_figures(ds) -> dict[str, Any]:
     """Floating body: peak elastic deflection against the first swept parameter.
 
-    Looks for a summary name containing ``deflection`` (preferring ``peak``/``max``).
+    Plots every summary scalar whose name contains ``deflection`` and ``max`` or ``peak`` (the
+    floating domain's ``<solution>.<point>.max_deflection``, e.g. full and perturbation
+    solutions at the tip), else any ``*deflection*`` scalar.
     """
     from rotaflex.core.plotting import new_figure
 
     x = _x_dim(ds)
-    name = _find(ds, ("peak", "deflection"), ("max", "deflection"), ("deflection",))
-    if x is None or name is None:
+    names = [n for n in _numeric_vars(ds) if "deflection" in n.lower()]
+    peaks = [n for n in names if "max" in n.lower() or "peak" in n.lower()]
+    names = peaks or names
+    if x is None or not names:
         return {}
     fig, ax = new_figure()
-    for label, xv, yv in _lines(ds, name, x):
-        ax.plot(xv, yv, "o-", ms=3, label=label or None)
+    for name in names:
+        for label, xv, yv in _lines(ds, name, x):
+            ax.plot(xv, yv, "o-", ms=3, label=f"{name} {label}".strip())
     ax.set_xlabel(_label(ds[x], x))
-    ax.set_ylabel(_label(ds[name]))
+    ax.set_ylabel(f"peak elastic deflection [{ds[names[0]].attrs.get('units', '')}]")
     ax.grid(alpha=0.3)
-    if ax.get_legend_handles_labels()[1]:
-        ax.legend(fontsize=7)
+    ax.legend(fontsize=7)
     ax.set_title("Floating body: peak elastic deflection")
     return {"peak_deflection": fig}
 

@@ -8,6 +8,7 @@ hash of the case data), so that a re-run can recognise the cases already done.
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import itertools
 import json
@@ -17,7 +18,6 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from rotaflex.core.config import get_dotted, set_dotted
 from rotaflex.core.errors import InputError
 
 _VARY_FORMS = "KEY=START:STOP:N (N evenly spaced values) or KEY=v1,v2,... (a list)"
@@ -162,27 +162,42 @@ def case_id(index: int, data: Any) -> str:
     return f"{index:04d}-{hashlib.sha1(blob.encode()).hexdigest()[:8]}"
 
 
-_KEY = re.compile(r"^(?P<path>[^\[\]]+?)(?:\[(?P<index>\d+)\])?$")
+_SEGMENT = re.compile(r"^(?P<name>[^\[\]]+)(?P<indices>(?:\[\d+\])*)$")
 
 
-def _split_key(key: str) -> tuple[str, int | None]:
-    m = _KEY.match(key)
-    if not m:
-        raise InputError("--vary", key, "a dotted config key, optionally KEY[i] for one array entry")
-    return m["path"], None if m["index"] is None else int(m["index"])
+def _split_key(key: str) -> list[str | int]:
+    """``"loads[0].duration"`` -> ``["loads", 0, "duration"]``."""
+    path: list[str | int] = []
+    for part in key.split("."):
+        m = _SEGMENT.match(part)
+        if not m:
+            raise InputError("--vary", key, "a dotted config key; NAME[i] selects array entry i")
+        path.append(m["name"])
+        path += [int(i) for i in re.findall(r"\[(\d+)\]", m["indices"])]
+    return path
+
+
+def _walk(node: Any, key: str, path: list[str | int]) -> Any:
+    for step in path:
+        if isinstance(step, int):
+            if not isinstance(node, (list, tuple)) or step >= len(node):
+                raise InputError(key, "<missing>", f"an array with an entry [{step}] in the config")
+            node = node[step]
+        else:
+            if not isinstance(node, Mapping) or step not in node:
+                raise InputError(key, "<missing>", "a key present in the config")
+            node = node[step]
+    return node
 
 
 def _current(base: Mapping[str, Any], key: str) -> tuple[Any, int]:
-    """The config's value at ``key`` (one entry for ``key[i]``) and the array length to fill
-    (0: a scalar; n: a scalar swept value is broadcast to all n entries of an array)."""
-    path, index = _split_key(key)
-    value = get_dotted(base, path)  # InputError naming the key when absent
-    if index is not None:
-        if not isinstance(value, (list, tuple)) or index >= len(value):
-            raise InputError(key, value, f"an array with an entry [{index}]")
-        return value[index], 0
+    """The config's value at ``key`` and the array length to fill (0: set the value itself;
+    n: a scalar swept value is broadcast to all n entries of an array of numbers)."""
+    path = _split_key(key)
+    value = _walk(base, key, path)  # InputError naming the key when absent
     if (
-        isinstance(value, (list, tuple))
+        not isinstance(path[-1], int)
+        and isinstance(value, (list, tuple))
         and value
         and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
     ):
@@ -191,12 +206,15 @@ def _current(base: Mapping[str, Any], key: str) -> tuple[Any, int]:
 
 
 def _assign(data: dict[str, Any], key: str, value: Any, fill: int) -> dict[str, Any]:
-    path, index = _split_key(key)
-    if index is not None:
-        array = list(get_dotted(data, path))
-        array[index] = value
-        return set_dotted(data, path, array)
-    return set_dotted(data, path, [value] * fill if fill else value)
+    """A deep copy of ``data`` with ``value`` (or ``[value] * fill``) at ``key``."""
+    path = _split_key(key)
+    out = copy.deepcopy(data)
+    parent = _walk(out, key, path[:-1])
+    if isinstance(parent, tuple):  # a tuple inside the config: rebuild it as a list
+        parent = list(parent)
+        _walk(out, key, path[:-2])[path[-2]] = parent
+    parent[path[-1]] = [value] * fill if fill else value
+    return out
 
 
 def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> list[Case]:
@@ -207,9 +225,10 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     base : dict
         Parsed TOML config (may carry the top-level ``domain`` key).
     vary : dict
-        Dotted key -> list of values; the first key varies slowest. ``key[i]`` sets entry ``i``
-        of an array; a plain key of an array of numbers sets every entry to the value (e.g.
-        both gears' ``operation.speed_rpm``).
+        Dotted key -> list of values; the first key varies slowest. ``name[i]`` selects entry
+        ``i`` of an array (``loads[0].duration``, ``operation.speed_rpm[1]``); a key whose value
+        is an array of numbers sets every entry to the value (both gears'
+        ``operation.speed_rpm``).
 
     Raises
     ------
@@ -222,7 +241,7 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     checked: dict[str, list[Any]] = {}
     fills: dict[str, int] = {}
     for key, values in vary.items():
-        if _split_key(key)[0] == "domain":
+        if _split_key(key) == ["domain"]:
             raise InputError(
                 "--vary domain", values, "a key inside the domain's config, not 'domain'"
             )
