@@ -75,3 +75,25 @@ def test_gear_speed_sweep_from_the_cli(tmp_path):
     cfg = json.loads((out / "cases" / ds["case_id"].values[1] / "case.json").read_text())["config"]
     assert cfg["operation"]["speed_rpm"] == [20000.0, 20000.0]
     assert (out / "figures" / "gear_speed_sweep.png").exists()
+
+
+def test_floating_slew_time_sweep_from_the_cli(tmp_path):
+    pytest.importorskip("rotaflex.floating.case")
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+    from rotaflex.core.domains import CASES
+
+    if "floating" not in CASES:
+        pytest.skip("floating domain not registered")
+    example = Path(__file__).resolve().parents[2] / "examples" / "sweep" / "floating_slew.toml"
+    out = tmp_path / "out"
+    res = CliRunner().invoke(app, ["sweep", str(example), "--vary", "loads[0].duration=2,6",
+                                   "--out", str(out), "-j", "2", "-q"])
+    assert res.exit_code == 0, res.output
+    ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
+    peak = ds["full.tip.max_deflection"]
+    assert peak.dims == ("loads[0].duration",) and (peak.values > 0).all()
+    cfg = json.loads((out / "cases" / ds["case_id"].values[1] / "case.json").read_text())["config"]
+    assert cfg["loads"][0]["duration"] == 6.0
+    assert (out / "figures" / "peak_deflection.png").exists()

@@ -49,10 +49,26 @@ def _gear_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]:
     return config, {"operation.speed_rpm": speeds}
 
 
+def _floating_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]:
+    config = {
+        "body": {"type": "beam", "beam": {"length": 4.0, "rho_a": 2.0, "ei": 40.0,
+                                          "n_modes": 4, "support": "free-free"}},
+        "loads": [{"kind": "torque", "vector": [0.0, 0.0, 5.0], "point": [0.0, 0.0, 0.0],
+                   "frame": "body", "profile": "bang-bang", "start": 0.0, "duration": 4.0}],
+        "solver": {"method": "full", "t_end": 10.0, "dt_out": 0.02},
+        "outputs": {"tip": [2.0, 0.0, 0.0]},
+    }
+    n = 4 if fast else 13
+    return config, {"loads[0].duration": [float(v) for v in np.linspace(2.0, 8.0, n)]}
+
+
 #: domain -> built-in sweep example (used when the domain's case module has no ``sweep_example``)
-EXAMPLES = {"rotor": _rotor_example, "gear": _gear_example}
+EXAMPLES = {"rotor": _rotor_example, "gear": _gear_example, "floating": _floating_example}
 
 _CAPTIONS = {
+    "floating": ("Floating beam slew-time sweep (not in the paper)",
+                 "Peak elastic tip deflection of a free-free beam slewed by a bang-bang torque "
+                 "against the slew (torque) duration."),
     "gear": ("Gear speed sweep (issue 4 flagship; not in the paper)",
              "Dynamic factor (peak contact force / static tau / r_b) against the initial speed of "
              "both gears, coarse tooth mesh, single-tooth contact span; mesh-frequency harmonics "
