@@ -95,6 +95,8 @@ def sweep(
     Writes DIR/cases/<id>/ per case, DIR/sweep.nc (swept keys as dimensions), DIR/summary.csv,
     DIR/figures/. Exit status 1 if any case failed, 130 if interrupted.
     """
+    from tqdm.contrib.logging import logging_redirect_tqdm
+
     from rotaflex.core.config import load_toml
     from rotaflex.sweep import plan, sweep_config
     from rotaflex.sweep.backends import executor_for
@@ -102,7 +104,7 @@ def sweep(
     def go():
         cfg = load_toml(config)
         plan(cfg, vary)  # validate everything before starting workers
-        with executor_for(jobs, scheduler) as executor:
+        with executor_for(jobs, scheduler) as executor, logging_redirect_tqdm():
             try:
                 res = sweep_config(cfg, vary, out, executor, progress=not quiet,
                                    max_retries=retries, figures=not no_figures)
@@ -112,7 +114,8 @@ def sweep(
                 raise typer.Exit(130) from None
         typer.echo(f"{res.summary_text()} -> {out / 'sweep.nc'}")
         for rec in res.failed[:10]:
-            typer.echo(f"  failed {rec.id} {rec.params}: {rec.status} {rec.error}".rstrip(), err=True)
+            line = f"  failed {rec.id} {rec.params}: {rec.status} {rec.error}"
+            typer.echo(line.rstrip(), err=True)
         if res.n_failed:
             typer.echo(f"{res.n_failed} of {res.n_cases} cases failed: see {out / 'summary.csv'}",
                        err=True)

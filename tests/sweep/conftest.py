@@ -5,6 +5,7 @@ import time
 import pytest
 from sweep_helpers import PY, env_with_src, stop
 
+
 @pytest.fixture
 def selftest_domain(monkeypatch):
     from rotaflex.core import domains
@@ -14,17 +15,32 @@ def selftest_domain(monkeypatch):
 
 @pytest.fixture(scope="module")
 def dask_cluster(tmp_path_factory):
-    """A real ``dask scheduler`` and two ``dask worker`` processes (nanny, 1 thread) on 127.0.0.1."""
+    """A real ``dask scheduler`` and two ``dask worker`` processes (nanny, 1 thread), 127.0.0.1."""
     pytest.importorskip("distributed")
     tmp = tmp_path_factory.mktemp("dask")
     sched_file = tmp / "scheduler.json"
     dask = [PY, "-m", "distributed.cli.dask_scheduler"]
     procs = []
     try:
-        procs.append(subprocess.Popen(
-            [*dask, "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
-             "--scheduler-file", str(sched_file)],
-            env=env_with_src(), cwd=tmp, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        procs.append(
+            subprocess.Popen(
+                [
+                    *dask,
+                    "--host",
+                    "127.0.0.1",
+                    "--port",
+                    "0",
+                    "--no-dashboard",
+                    "--scheduler-file",
+                    str(sched_file),
+                ],
+                # give up on a task at its first worker death: rotaflex's own retry is tested
+                env={**env_with_src(), "DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "0"},
+                cwd=tmp,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
+        )
         deadline = time.monotonic() + 60
         while not sched_file.exists():
             if time.monotonic() > deadline or procs[0].poll() is not None:
@@ -32,11 +48,31 @@ def dask_cluster(tmp_path_factory):
             time.sleep(0.2)
         address = json.loads(sched_file.read_text())["address"]
         for i in range(2):
-            procs.append(subprocess.Popen(
-                [PY, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1",
-                 "--nworkers", "1", "--host", "127.0.0.1", "--no-dashboard",
-                 "--local-directory", str(tmp / f"w{i}"), "--death-timeout", "60"],
-                env=env_with_src(), cwd=tmp, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+            procs.append(
+                subprocess.Popen(
+                    [
+                        PY,
+                        "-m",
+                        "distributed.cli.dask_worker",
+                        address,
+                        "--nthreads",
+                        "1",
+                        "--nworkers",
+                        "1",
+                        "--host",
+                        "127.0.0.1",
+                        "--no-dashboard",
+                        "--local-directory",
+                        str(tmp / f"w{i}"),
+                        "--death-timeout",
+                        "60",
+                    ],
+                    env=env_with_src(),
+                    cwd=tmp,
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                )
+            )
         from distributed import Client
 
         with Client(address, timeout=30) as client:

@@ -22,6 +22,7 @@ REPRODUCE: dict[str, str] = {
     "rotor": "rotaflex.reproduce.rotor",
     "gear": "rotaflex.reproduce.gear",
     "floating": "rotaflex.reproduce.floating",
+    "sweep": "rotaflex.reproduce.sweep",  # keep last: sweeps every domain above
 }
 
 

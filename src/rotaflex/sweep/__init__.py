@@ -1,8 +1,9 @@
 """Parameter studies: many cases of one model, on local processes or a Dask cluster.
 
 Data in, data out, over a ``concurrent.futures.Executor``: the case function is an importable
-top-level function taking plain picklable data and returning a :class:`~rotaflex.core.result.Result`;
-the client writes one directory per finished case, so an interrupted sweep resumes.
+top-level function taking plain picklable data and returning a
+:class:`~rotaflex.core.result.Result`; the client writes one directory per finished case, so
+an interrupted sweep resumes.
 
 Python API::
 
@@ -19,6 +20,15 @@ from rotaflex.sweep.spec import Case, as_cases, grid_cases, parse_vary
 from rotaflex.sweep.study import plan, sweep_config
 
 __all__ = [
-    "Case", "CaseRecord", "SerialExecutor", "SweepResult", "as_cases", "grid_cases", "parse_vary",
-    "plan", "process_pool", "run_sweep", "sweep_config",
+    "Case",
+    "CaseRecord",
+    "SerialExecutor",
+    "SweepResult",
+    "as_cases",
+    "grid_cases",
+    "parse_vary",
+    "plan",
+    "process_pool",
+    "run_sweep",
+    "sweep_config",
 ]

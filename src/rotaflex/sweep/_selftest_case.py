@@ -34,7 +34,9 @@ class SelftestConfig:
     fail: bool = param(False, doc="raise a RuntimeError")
     sleep: float = param(0.0, ge=0.0, unit="s", doc="sleep this long before returning")
     work: int = param(0, ge=0, doc="CPU work: number of 150x150 matrix products")
-    kill_once: str = param("", doc="if set and this file does not exist: create it, then SIGKILL self")
+    kill_once: str = param(
+        "", doc="if set and this file does not exist: create it, then SIGKILL self"
+    )
     kill_always: bool = param(False, doc="SIGKILL the worker process every time")
     started_dir: str = param("", doc="if set, touch a file named after the pid here when starting")
 
@@ -43,6 +45,11 @@ def _die() -> None:
     if multiprocessing.parent_process() is None:
         raise RuntimeError("selftest refuses to kill a main process (use a process pool or Dask)")
     os.kill(os.getpid(), signal.SIGKILL)
+
+
+def validate_config(config: dict) -> None:
+    """Optional domain hook used by sweeps: raise InputError for a config ``run_case`` rejects."""
+    from_mapping(SelftestConfig, config)
 
 
 def run_case(config: dict, *, progress: bool = False) -> Result:
@@ -83,7 +90,11 @@ def run_case(config: dict, *, progress: bool = False) -> Result:
             "signal_max": ((), float(np.max(np.abs(sig))), {"units": "m"}),
         },
         coords={"time": ("time", t, {"units": "s"})},
-        attrs={"status": "success", "message": "selftest", "wall_time": time.perf_counter() - t0,
-               "config": json.dumps(config, sort_keys=True)},
+        attrs={
+            "status": "success",
+            "message": "selftest",
+            "wall_time": time.perf_counter() - t0,
+            "config": json.dumps(config, sort_keys=True),
+        },
     )
     return Result(ds)

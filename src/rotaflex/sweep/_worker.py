@@ -51,8 +51,13 @@ def execute_case(case_fn: Callable[[Any], Any], data: Any) -> Outcome:
     try:
         result = case_fn(data)
     except Exception as exc:  # noqa: BLE001 - every case error is recorded, the sweep goes on
-        return Outcome(None, f"{type(exc).__name__}: {exc}", traceback.format_exc(),
-                       time.perf_counter() - t0, worker)
+        return Outcome(
+            None,
+            f"{type(exc).__name__}: {exc}",
+            traceback.format_exc(),
+            time.perf_counter() - t0,
+            worker,
+        )
     return Outcome(result, "", "", time.perf_counter() - t0, worker)
 
 
@@ -70,3 +75,8 @@ def rotaflex_version() -> str:
     import rotaflex
 
     return rotaflex.__version__
+
+
+def ping() -> int:
+    """Health probe of a freshly started worker: its process id."""
+    return os.getpid()

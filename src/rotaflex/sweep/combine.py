@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import csv
 import io
-import itertools
 import json
 import logging
 import math
@@ -104,9 +103,14 @@ def combine(records, attrs: dict[str, Any] | None = None):
         return np.full(shape, np.nan) if kind == "f" else np.full(shape, "", dtype=object)
 
     data = {n: filled("f" if numeric[n] else "s") for n in names}
-    extra = {"status": filled("s"), "error": filled("s"), "case_id": filled("s"),
-             "attempts": np.zeros(shape, dtype=np.int64), "case_wall_time": filled("f")}
-    for r, idx in zip(records, index):
+    extra = {
+        "status": filled("s"),
+        "error": filled("s"),
+        "case_id": filled("s"),
+        "attempts": np.zeros(shape, dtype=np.int64),
+        "case_wall_time": filled("f"),
+    }
+    for r, idx in zip(records, index, strict=True):
         for n in names:
             item = r.summary.get(n)
             if item is not None and item.get("value") is not None:
@@ -123,8 +127,12 @@ def combine(records, attrs: dict[str, Any] | None = None):
     variables["attempts"] = (dims, extra["attempts"], {"units": ""})
     variables["case_wall_time"] = (dims, extra["case_wall_time"], {"units": "s"})
     n_failed = sum(r.status != "success" for r in records)
-    meta = {"n_cases": len(records), "n_failed": n_failed, "swept": json.dumps(keys),
-            "layout": "grid" if is_grid else "list"}
+    meta = {
+        "n_cases": len(records),
+        "n_failed": n_failed,
+        "swept": json.dumps(keys),
+        "layout": "grid" if is_grid else "list",
+    }
     for k, v in (attrs or {}).items():
         meta[k] = v if isinstance(v, (str, int, float)) else json.dumps(v, default=str)
     return xr.Dataset(variables, coords=coords, attrs=meta)
@@ -142,28 +150,49 @@ def summary_csv(records) -> str:
                 units[name] = str(item.get("unit", ""))
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["case_id", *(f"{k} [{param_units(k)}]" if param_units(k) else k for k in keys),
-                "status", *(f"{n} [{units[n]}]" if units[n] else n for n in names),
-                "attempts", "case_wall_time [s]", "error"])
+    w.writerow(
+        [
+            "case_id",
+            *(f"{k} [{param_units(k)}]" if param_units(k) else k for k in keys),
+            "status",
+            *(f"{n} [{units[n]}]" if units[n] else n for n in names),
+            "attempts",
+            "case_wall_time [s]",
+            "error",
+        ]
+    )
     for r in records:
         vals = [r.summary.get(n, {}).get("value", "") for n in names]
-        w.writerow([r.id, *(r.params.get(k, "") for k in keys), r.status,
-                    *("" if v is None else v for v in vals), r.attempts,
-                    f"{r.wall_time:.6g}", r.error.splitlines()[0] if r.error else ""])
+        w.writerow(
+            [
+                r.id,
+                *(r.params.get(k, "") for k in keys),
+                r.status,
+                *("" if v is None else v for v in vals),
+                r.attempts,
+                f"{r.wall_time:.6g}",
+                r.error.splitlines()[0] if r.error else "",
+            ]
+        )
     return buf.getvalue()
 
 
 def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[Path]:
-    """Write ``sweep.nc``, ``summary.csv``, ``sweep.json`` and ``figures/*.png``; return figure paths."""
+    """Write ``sweep.nc``, ``summary.csv``, ``sweep.json``, ``figures/*.png``; return the PNGs."""
     out = result.out_dir
     ds = result.dataset
     write_atomic(out / "sweep.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))
     write_text_atomic(out / "summary.csv", summary_csv(result.records))
     manifest = {
-        "n_cases": result.n_cases, "n_failed": result.n_failed, "n_computed": result.n_computed,
-        "domain": domain or "", "swept": json.loads(ds.attrs["swept"]),
-        "failed": [{"id": r.id, "params": r.params, "status": r.status, "error": r.error}
-                   for r in result.failed],
+        "n_cases": result.n_cases,
+        "n_failed": result.n_failed,
+        "n_computed": result.n_computed,
+        "domain": domain or "",
+        "swept": json.loads(ds.attrs["swept"]),
+        "failed": [
+            {"id": r.id, "params": r.params, "status": r.status, "error": r.error}
+            for r in result.failed
+        ],
     }
     write_json_atomic(out / "sweep.json", manifest)
     paths: list[Path] = []
@@ -174,8 +203,3 @@ def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[P
         for stem, fig in sweep_figures(ds, domain).items():
             paths.append(save_figure(fig, out / "figures" / f"{stem}.png"))
     return paths
-
-
-def iter_grid(ds):
-    """Index tuples over the non-``case`` dimensions of ``ds`` (helper for plotting)."""
-    return itertools.product(*(range(ds.sizes[d]) for d in ds.dims))

@@ -21,15 +21,21 @@ import os
 import time
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
-from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, Future, wait
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import (
+    FIRST_COMPLETED,
+    CancelledError,
+    Executor,
+    Future,
+    ProcessPoolExecutor,
+    wait,
+)
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from rotaflex.core.io import write_json_atomic, write_text_atomic
-from rotaflex.sweep._worker import Outcome, execute_case
+from rotaflex.sweep._worker import Outcome, execute_case, ping
 from rotaflex.sweep.spec import Case, as_cases, case_id
 
 log = logging.getLogger("rotaflex.sweep")
@@ -105,8 +111,10 @@ class SweepResult:
 
     def summary_text(self) -> str:
         """One line: counts of cases computed, reused and failed, and the wall time."""
-        text = (f"{self.n_cases} cases: {self.n_computed} computed, {self.n_reused} reused from an "
-                f"earlier run, {self.n_failed} failed; {self.wall_time:.1f} s")
+        text = (
+            f"{self.n_cases} cases: {self.n_computed} computed, {self.n_reused} reused from an "
+            f"earlier run, {self.n_failed} failed; {self.wall_time:.1f} s"
+        )
         return text
 
 
@@ -124,11 +132,19 @@ class SerialExecutor(Executor):
         return fut
 
 
+#: thread-count variables set to 1 for local workers unless the user set them (as Dask's nanny
+#: does): N processes x M BLAS threads on N cores oversubscribe the CPU and run much slower
+THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS", "NUMBA_NUM_THREADS")
+
+
 def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
-    """A local process pool whose workers start from a clean interpreter.
+    """A local process pool whose workers start from a clean interpreter, one thread each.
 
     POSIX uses the ``forkserver`` start method with numpy, xarray and the worker module
-    preloaded (fast worker start, no fork of a threaded client); elsewhere ``spawn``.
+    preloaded (fast worker start, no fork of a threaded client); elsewhere ``spawn``. The
+    variables of :data:`THREAD_VARS` are 1 in the workers unless already set. The pool is
+    started (and probed) before it is returned.
     """
     methods = multiprocessing.get_all_start_methods()
     if "forkserver" in methods:
@@ -136,7 +152,22 @@ def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
         ctx.set_forkserver_preload(["numpy", "xarray", "rotaflex.sweep._worker"])
     else:  # pragma: no cover - Windows
         ctx = multiprocessing.get_context("spawn")
-    return ProcessPoolExecutor(max_workers=max_workers or os.cpu_count() or 1, mp_context=ctx)
+    pool = ProcessPoolExecutor(max_workers=max_workers or os.cpu_count() or 1, mp_context=ctx)
+    added = {k: "1" for k in THREAD_VARS if k not in os.environ}
+    os.environ.update(added)  # inherited by the fork server / spawned workers started now
+    try:
+        pool.submit(ping).result()
+    except BrokenProcessPool:
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise RuntimeError(
+            "the local worker processes could not start. If the sweep is run from a script, put "
+            'the code that starts it under `if __name__ == "__main__":` (workers import the main '
+            "module; see the multiprocessing docs)"
+        ) from None
+    finally:
+        for k in added:
+            os.environ.pop(k, None)
+    return pool
 
 
 class _Backend:
@@ -158,19 +189,26 @@ class _Backend:
         elif callable(executor):
             self.factory, self.owned = executor, True
         else:
-            raise TypeError(f"executor must be None, 'serial', an int, an Executor or a factory, "
-                            f"not {executor!r}")
+            raise TypeError(
+                f"executor must be None, 'serial', an int, an Executor or a factory, "
+                f"not {executor!r}"
+            )
         if self.factory is not None:
-            self.executor = self.factory()
+            self.executor = self._start()
         self.window = 2 * _n_workers(self.executor)
 
     def rebuild(self) -> None:
         if self.factory is None:
-            raise RuntimeError("the executor broke (a worker process died) and cannot be rebuilt: "
-                               "pass executor=None, an int, or a factory instead of an instance")
+            raise RuntimeError(
+                "the executor broke (a worker process died) and cannot be rebuilt: "
+                "pass executor=None, an int, or a factory instead of an instance"
+            )
         self.shutdown(wait=False)
-        self.executor = self.factory()
+        self.executor = self._start()
         log.warning("rebuilt the process pool after a worker died")
+
+    def _start(self) -> Executor:
+        return self.factory()
 
     def shutdown(self, wait: bool = True) -> None:
         if not self.owned:
@@ -222,9 +260,17 @@ def _read_done(case: Case, case_dir: Path) -> CaseRecord | None:
         summary = json.loads((case_dir / "summary.json").read_text())
     except (OSError, ValueError):
         return None
-    return CaseRecord(case.id, dict(case.params), info.get("status", "unknown"), info.get("error", ""),
-                      summary, info.get("wall_time", float("nan")), info.get("attempts", 1),
-                      False, info.get("worker", ""))
+    return CaseRecord(
+        case.id,
+        dict(case.params),
+        info.get("status", "unknown"),
+        info.get("error", ""),
+        summary,
+        info.get("wall_time", float("nan")),
+        info.get("attempts", 1),
+        False,
+        info.get("worker", ""),
+    )
 
 
 def _jsonable(data: Any) -> Any:
@@ -235,15 +281,24 @@ def _jsonable(data: Any) -> Any:
         return repr(data)
 
 
-def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None,
-           case_figures: bool) -> CaseRecord:
+def _store(
+    case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, case_figures: bool
+) -> CaseRecord:
     """Record a finished case; write its files at once when ``out_dir`` is given."""
-    rec = CaseRecord(case.id, dict(case.params), attempts=attempts, computed=True,
-                     wall_time=outcome.wall_time, worker=outcome.worker)
+    rec = CaseRecord(
+        case.id,
+        dict(case.params),
+        attempts=attempts,
+        computed=True,
+        wall_time=outcome.wall_time,
+        worker=outcome.worker,
+    )
     trace = outcome.traceback
     result = outcome.result
     if not outcome.error and not (hasattr(result, "save") and hasattr(result, "summary")):
-        outcome.error = f"TypeError: the case function returned {type(result).__name__}, not a Result"
+        outcome.error = (
+            f"TypeError: the case function returned {type(result).__name__}, not a Result"
+        )
     if not outcome.error:
         try:
             rec.summary = result.summary()
@@ -258,9 +313,17 @@ def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None,
         return rec
     case_dir = out_dir / "cases" / case.id
     case_dir.mkdir(parents=True, exist_ok=True)
-    info = {"id": case.id, "params": case.params, "status": rec.status, "error": rec.error,
-            "attempts": attempts, "wall_time": rec.wall_time, "worker": rec.worker,
-            "data_hash": _data_hash(case.data), "config": _jsonable(case.data)}
+    info = {
+        "id": case.id,
+        "params": case.params,
+        "status": rec.status,
+        "error": rec.error,
+        "attempts": attempts,
+        "wall_time": rec.wall_time,
+        "worker": rec.worker,
+        "data_hash": _data_hash(case.data),
+        "config": _jsonable(case.data),
+    }
     if rec.status == "error":
         write_text_atomic(case_dir / "error.txt", f"{rec.error}\n\n{trace}")
         write_json_atomic(case_dir / "case.json", {**info, "state": "error"})
@@ -275,8 +338,10 @@ def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None,
 
 
 def _crash_error(exc: BaseException, n: int) -> str:
-    return (f"WorkerDied: the worker process died while running this case {n} time(s) "
-            f"(last: {type(exc).__name__}: {exc})")
+    return (
+        f"WorkerDied: the worker process died while running this case {n} time(s) "
+        f"(last: {type(exc).__name__}: {exc})"
+    )
 
 
 def run_sweep(
@@ -352,8 +417,13 @@ def run_sweep(
             todo.append(case)
     total = len(cases)
     if out is not None:
-        log.info("sweep of %d cases in %s: %d done earlier, %d to run", total, out, total - len(todo),
-                 len(todo))
+        log.info(
+            "sweep of %d cases in %s: %d done earlier, %d to run",
+            total,
+            out,
+            total - len(todo),
+            len(todo),
+        )
 
     bar = None
     if progress is True:
@@ -397,8 +467,13 @@ def run_sweep(
     return result
 
 
-def _drive(backend: _Backend, case_fn, todo: deque[Case],
-           finish: Callable[[Case, Outcome, int], None], max_retries: int) -> None:
+def _drive(
+    backend: _Backend,
+    case_fn,
+    todo: deque[Case],
+    finish: Callable[[Case, Outcome, int], None],
+    max_retries: int,
+) -> None:
     """Submit/collect loop: keep ``backend.window`` cases in flight; handle worker deaths."""
     attempts: dict[str, int] = {}
     deaths: dict[str, int] = {}

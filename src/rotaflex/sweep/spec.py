@@ -8,15 +8,16 @@ hash of the case data), so that a re-run can recognise the cases already done.
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import itertools
 import json
 import math
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from rotaflex.core.config import get_dotted, set_dotted
 from rotaflex.core.errors import InputError
 
 _VARY_FORMS = "KEY=START:STOP:N (N evenly spaced values) or KEY=v1,v2,... (a list)"
@@ -140,10 +141,15 @@ def coerce_values(key: str, values: Sequence[Any], current: Any) -> list[Any]:
         elif isinstance(current, str):
             ok = isinstance(v, str)
         else:
-            raise InputError(key, current, "a scalar config value (number, boolean or string) to sweep")
+            raise InputError(
+                key, current, "a scalar config value (number, boolean or string) to sweep"
+            )
         if not ok:
-            raise InputError(f"--vary {key}", v, f"a value of the same type as the config's "
-                             f"{current!r} ({type(current).__name__})")
+            raise InputError(
+                f"--vary {key}",
+                v,
+                f"a value of the same type as the config's {current!r} ({type(current).__name__})",
+            )
         out.append(v)
     if len(set(map(repr, out))) != len(out):
         raise InputError(f"--vary {key}", out, "distinct values")
@@ -156,6 +162,61 @@ def case_id(index: int, data: Any) -> str:
     return f"{index:04d}-{hashlib.sha1(blob.encode()).hexdigest()[:8]}"
 
 
+_SEGMENT = re.compile(r"^(?P<name>[^\[\]]+)(?P<indices>(?:\[\d+\])*)$")
+
+
+def _split_key(key: str) -> list[str | int]:
+    """``"loads[0].duration"`` -> ``["loads", 0, "duration"]``."""
+    path: list[str | int] = []
+    for part in key.split("."):
+        m = _SEGMENT.match(part)
+        if not m:
+            raise InputError("--vary", key, "a dotted config key; NAME[i] selects array entry i")
+        path.append(m["name"])
+        path += [int(i) for i in re.findall(r"\[(\d+)\]", m["indices"])]
+    return path
+
+
+def _walk(node: Any, key: str, path: list[str | int]) -> Any:
+    for step in path:
+        if isinstance(step, int):
+            if not isinstance(node, (list, tuple)) or step >= len(node):
+                raise InputError(key, "<missing>", f"an array with an entry [{step}] in the config")
+            node = node[step]
+        else:
+            if not isinstance(node, Mapping) or step not in node:
+                raise InputError(key, "<missing>", "a key present in the config")
+            node = node[step]
+    return node
+
+
+def _current(base: Mapping[str, Any], key: str) -> tuple[Any, int]:
+    """The config's value at ``key`` and the array length to fill (0: set the value itself;
+    n: a scalar swept value is broadcast to all n entries of an array of numbers)."""
+    path = _split_key(key)
+    value = _walk(base, key, path)  # InputError naming the key when absent
+    if (
+        not isinstance(path[-1], int)
+        and isinstance(value, (list, tuple))
+        and value
+        and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+    ):
+        return value[0], len(value)
+    return value, 0
+
+
+def _assign(data: dict[str, Any], key: str, value: Any, fill: int) -> dict[str, Any]:
+    """A deep copy of ``data`` with ``value`` (or ``[value] * fill``) at ``key``."""
+    path = _split_key(key)
+    out = copy.deepcopy(data)
+    parent = _walk(out, key, path[:-1])
+    if isinstance(parent, tuple):  # a tuple inside the config: rebuild it as a list
+        parent = list(parent)
+        _walk(out, key, path[:-2])[path[-2]] = parent
+    parent[path[-1]] = [value] * fill if fill else value
+    return out
+
+
 def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> list[Case]:
     """Cases of the Cartesian product of ``vary`` applied to the config ``base``.
 
@@ -164,7 +225,10 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     base : dict
         Parsed TOML config (may carry the top-level ``domain`` key).
     vary : dict
-        Dotted key -> list of values; the first key varies slowest.
+        Dotted key -> list of values; the first key varies slowest. ``name[i]`` selects entry
+        ``i`` of an array (``loads[0].duration``, ``operation.speed_rpm[1]``); a key whose value
+        is an array of numbers sets every entry to the value (both gears'
+        ``operation.speed_rpm``).
 
     Raises
     ------
@@ -175,19 +239,22 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     if not vary:
         raise InputError("--vary", "<none>", "at least one KEY=... to sweep")
     checked: dict[str, list[Any]] = {}
+    fills: dict[str, int] = {}
     for key, values in vary.items():
-        if key == "domain":
-            raise InputError("--vary domain", values, "a key inside the domain's config, not 'domain'")
-        current = get_dotted(base, key)  # InputError naming the key when absent
+        if _split_key(key) == ["domain"]:
+            raise InputError(
+                "--vary domain", values, "a key inside the domain's config, not 'domain'"
+            )
+        current, fills[key] = _current(base, key)
         if not values:
             raise InputError(f"--vary {key}", values, "at least one value")
         checked[key] = coerce_values(key, values, current)
     cases = []
     for index, combo in enumerate(itertools.product(*checked.values())):
         data = dict(base)
-        for key, value in zip(checked, combo):
-            data = set_dotted(data, key, value)
-        cases.append(Case(case_id(index, data), dict(zip(checked, combo)), data))
+        for key, value in zip(checked, combo, strict=True):
+            data = _assign(data, key, value, fills[key])
+        cases.append(Case(case_id(index, data), dict(zip(checked, combo, strict=True)), data))
     return cases
 
 

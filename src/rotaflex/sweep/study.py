@@ -14,8 +14,9 @@ from rotaflex.sweep.runner import SweepResult, run_sweep
 from rotaflex.sweep.spec import Case, grid_cases, parse_vary
 
 
-def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[Any]]
-         ) -> tuple[str, str, list[Case]]:
+def plan(
+    config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[Any]]
+) -> tuple[str, str, list[Case]]:
     """Validate a config sweep before anything runs.
 
     Parameters
@@ -37,7 +38,9 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
     Raises
     ------
     InputError
-        Missing/unknown domain, malformed vary spec, repeated key, key not in the config.
+        Missing/unknown domain, malformed vary spec, repeated key, key not in the config, or -
+        when the domain's case module has a ``validate_config(config)`` hook - a case whose
+        values the domain rejects.
     """
     from rotaflex.core.domains import CASES, case_module
 
@@ -45,7 +48,7 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
     if domain is None:
         raise InputError("domain", "<missing>", "a top-level domain = one of " + ", ".join(CASES))
     try:
-        case_module(domain)
+        module = case_module(domain)
     except ImportError as exc:
         raise InputError("domain", domain, f"an installed domain ({exc})") from None
     if isinstance(vary, Mapping):
@@ -58,11 +61,20 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
                 raise InputError(f"--vary {key}", spec, "each key varied once")
             axes[key] = values
     body = {k: v for k, v in config.items() if k != "domain"}
-    return domain, CASES[domain], grid_cases(body, axes)
+    cases = grid_cases(body, axes)
+    validate = getattr(module, "validate_config", None)
+    if validate is not None:  # optional domain hook: every case's values checked up front
+        for case in cases:
+            try:
+                validate(case.data)
+            except InputError as exc:
+                raise InputError(exc.field, exc.value, f"{exc.allowed} (case {case.params})") from None
+    return domain, CASES[domain], cases
 
 
-def sweep_config(config: Mapping[str, Any], vary, out_dir: str | Path | None, executor: Any = None,
-                 **kwargs: Any) -> SweepResult:
+def sweep_config(
+    config: Mapping[str, Any], vary, out_dir: str | Path | None, executor: Any = None, **kwargs: Any
+) -> SweepResult:
     """Sweep a domain config: :func:`plan`, then :func:`run_sweep` with the domain's ``run_case``.
 
     Extra keyword arguments go to :func:`run_sweep` (``progress``, ``max_retries``, ...).
@@ -74,5 +86,12 @@ def sweep_config(config: Mapping[str, Any], vary, out_dir: str | Path | None, ex
     """
     domain, module, cases = plan(config, vary)
     attrs = {"base_config": json.dumps(dict(config), sort_keys=True, default=str)}
-    return run_sweep(functools.partial(run_module_case, module), cases, executor, out_dir=out_dir,
-                     domain=domain, attrs=attrs, **kwargs)
+    return run_sweep(
+        functools.partial(run_module_case, module),
+        cases,
+        executor,
+        out_dir=out_dir,
+        domain=domain,
+        attrs=attrs,
+        **kwargs,
+    )
