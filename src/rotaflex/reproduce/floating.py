@@ -442,7 +442,7 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
         "the rigid maneuver forces the modes only through the load distribution (Q_1).",
         "The rigid-only comparison against the rotor domain's free-body solver is not in this "
         "branch (rotor not merged yet); the zero-order solution is checked against the closed-form "
-        "torque-free axisymmetric body in tests/floating/test_dynamics.py.",
+        "torque-free axisymmetric body in tests/floating/test_floating_dynamics.py.",
         f"Wall time of this section: {time.perf_counter() - t0:.1f} s.",
     ]
     return sec
