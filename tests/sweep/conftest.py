@@ -16,7 +16,6 @@ def selftest_domain(monkeypatch):
 @pytest.fixture(scope="module")
 def dask_cluster(tmp_path_factory):
     """A real ``dask scheduler`` and two ``dask worker`` processes (nanny, 1 thread), 127.0.0.1."""
-    pytest.importorskip("distributed")
     tmp = tmp_path_factory.mktemp("dask")
     sched_file = tmp / "scheduler.json"
     dask = [PY, "-m", "distributed.cli.dask_scheduler"]

@@ -55,19 +55,17 @@ def test_floating_figure_plots_the_deflection():
     np.testing.assert_array_equal(lines[1].get_xdata(), [1.0, 2.0, 4.0])
 
 
-def test_gear_speed_sweep_from_the_cli(tmp_path):
-    pytest.importorskip("rotaflex.gear.case")
+@pytest.mark.parametrize("backend", [["-j", "2"], ["--scheduler", "dask-local", "-j", "2"]],
+                         ids=["process-pool", "dask-local"])
+def test_gear_speed_sweep_from_the_cli(tmp_path, backend):
     from typer.testing import CliRunner
 
     from rotaflex.cli import app
-    from rotaflex.core.domains import CASES
 
-    if "gear" not in CASES:
-        pytest.skip("gear domain not registered")
     example = Path(__file__).resolve().parents[2] / "examples" / "sweep" / "gear_speed.toml"
     out = tmp_path / "out"
     res = CliRunner().invoke(app, ["sweep", str(example), "--vary", "operation.speed_rpm=15000,20000",
-                                   "--out", str(out), "-j", "2", "-q"])
+                                   "--out", str(out), *backend, "-q"])
     assert res.exit_code == 0, res.output
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
     assert ds["dynamic_factor"].dims == ("operation.speed_rpm",)
@@ -78,14 +76,9 @@ def test_gear_speed_sweep_from_the_cli(tmp_path):
 
 
 def test_floating_slew_time_sweep_from_the_cli(tmp_path):
-    pytest.importorskip("rotaflex.floating.case")
     from typer.testing import CliRunner
 
     from rotaflex.cli import app
-    from rotaflex.core.domains import CASES
-
-    if "floating" not in CASES:
-        pytest.skip("floating domain not registered")
     example = Path(__file__).resolve().parents[2] / "examples" / "sweep" / "floating_slew.toml"
     out = tmp_path / "out"
     res = CliRunner().invoke(app, ["sweep", str(example), "--vary", "loads[0].duration=2,6",

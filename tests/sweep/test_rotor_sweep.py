@@ -10,7 +10,6 @@ from typer.testing import CliRunner
 from rotaflex.cli import app
 from rotaflex.sweep.figures import rotor_figures, rotor_reference, rotor_whirl
 
-pytest.importorskip("rotaflex.rotor.case")
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "sweep" / "rotor_spin.toml"
 runner = CliRunner()
 

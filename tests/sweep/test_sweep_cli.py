@@ -6,7 +6,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-import pytest
 import xarray as xr
 from sweep_helpers import PY, env_with_src
 from typer.testing import CliRunner
@@ -220,7 +219,6 @@ def test_dask_case_that_always_kills_its_worker_fails_alone(tmp_path, selftest_d
 
 
 def test_dask_unreachable_scheduler_is_one_line(tmp_path, selftest_domain, monkeypatch):
-    pytest.importorskip("distributed")
     monkeypatch.setattr("rotaflex.sweep.backends.CONNECT_TIMEOUT", 2.0)
     cfg = _config(tmp_path)
     res = runner.invoke(
@@ -241,7 +239,6 @@ def test_dask_unreachable_scheduler_is_one_line(tmp_path, selftest_domain, monke
 
 
 def test_dask_local_cluster_from_the_cli(tmp_path, selftest_domain):
-    pytest.importorskip("distributed")
     cfg = _config(tmp_path)
     out = tmp_path / "out"
     res = runner.invoke(app, ["sweep", str(cfg), "--vary", "x=1,2,3", "--out", str(out),
