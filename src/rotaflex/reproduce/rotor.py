@@ -149,7 +149,8 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
         "Paper's inertial-frame energies 1/2 w^T J w. The 3-1-3 curves use J_313 = I diag(1, 2, 1) as "
         "printed, which puts the polar moment on body y although the spin theta is about body z.",
         [Check("paper: 3-1-3 underestimates the energy (mean K_313 / mean K_q)", ratio, "", "< 1",
-               ratio < 1, claim=True, note= "holds, but only because J_313 as printed puts the polar moment on the wrong "
+               ratio < 1, claim=True,
+               note="holds, but only because J_313 as printed puts the polar moment on the wrong "
                "axis: with the polar moment on z the ratio is "
 
                f"{float(np.mean(K313_consistent) / np.mean(Kq)):.4f}")]))
@@ -188,7 +189,8 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     z = (1 + 1j) * (np.exp(2j * OMEGA * tt) - 1) / (2j * OMEGA)  # closed form of the linear EOM
     err9 = float(np.max(np.abs(q9[:, 0] + 1j * q9[:, 1] - z)))
     img, data = _save(out, 9, {"theta (eq. 34, linear)": q9[:, 0], "psi (eq. 34, linear)": q9[:, 1],
-                               "theta exact 2nd order (right-handed)": r9x.dataset["generalized_coordinate"].values[:, 2],
+                               "theta exact 2nd order (right-handed)":
+                                   r9x.dataset["generalized_coordinate"].values[:, 2],
                                "theta nonlinear (right-handed)": r9n.dataset["generalized_coordinate"].values[:, 2]},
                       tt, "angle", "rad", "Fig. 9", {"theta nonlinear (right-handed)": "--"})
     figs.append(FigureEntry("Fig. 9", CAPTIONS[9], img, data,
@@ -203,7 +205,8 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     runs313 = {
         10: ({"sequence": "313", "expansion": "nonlinear"}, "nonlinear, body frame"),
         11: ({"sequence": "313", "expansion": "paper_truncated"}, "linear (paper truncation), body frame"),
-        12: ({"sequence": "313", "energy": "inertial_paper", "expansion": "nonlinear"}, "nonlinear, inertial frame (paper energy)"),
+        12: ({"sequence": "313", "energy": "inertial_paper", "expansion": "nonlinear"},
+             "nonlinear, inertial frame (paper energy)"),
     }
     for n, (form, what) in runs313.items():
         rp = _simulate(form, inertia=np.diag(J313_PAPER), n_output=n_out)
@@ -241,7 +244,8 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     # ---- Fig. 13: quaternion EOM (M_q singular whenever phi = 2 k pi)
     spin0 = np.pi / 2
     rb = _simulate({"parameterisation": "quaternion_spherical", "energy": "body"}, n_output=n_out, spin0=spin0)
-    ri = _simulate({"parameterisation": "quaternion_spherical", "energy": "inertial_paper"}, n_output=n_out, spin0=spin0)
+    ri = _simulate({"parameterisation": "quaternion_spherical", "energy": "inertial_paper"},
+                   n_output=n_out, spin0=spin0)
     r0 = _simulate({"parameterisation": "quaternion_spherical"}, n_output=n_out)
     qb, qi = rb.dataset["generalized_coordinate"].values[:, 2:], ri.dataset["generalized_coordinate"].values[:, 2:]
     tb, ti = rb.dataset["time"].values, ri.dataset["time"].values

@@ -120,7 +120,8 @@ class Solver:
     rtol: float = param(1e-9, gt=0, lt=1)
     atol: float = param(1e-12, gt=0)
     n_output: int = param(1001, ge=2)
-    singular_tolerance: float = param(1e-8, gt=0, lt=1, doc="relative det(M) below which the mass matrix counts as singular")
+    singular_tolerance: float = param(1e-8, gt=0, lt=1,
+                                      doc="relative det(M) below which the mass matrix counts as singular")
 
 
 @dataclass(frozen=True)

@@ -241,10 +241,14 @@ def _dataset(model, t, q, qd, e, e_dot, coordinates, p):
         "generalized_velocity": (("time", "coordinate"), qd, {"units": "SI (m/s or rad/s)", "long_name": "q'"}),
         "quaternion": (("time", "component"), e, {"units": "1", "long_name": "Euler parameters"}),
         "omega_body": (("time", "axis"), w_body, {"units": "rad/s", "long_name": "body-frame angular velocity"}),
-        "omega_inertial": (("time", "axis"), w_inertial, {"units": "rad/s", "long_name": "inertial-frame angular velocity"}),
-        "rotational_kinetic_energy": ("time", K_rot, {"units": "J", "long_name": "rotational kinetic energy 1/2 w*^T J w*"}),
-        "rotational_energy_paper": ("time", K_paper, {"units": "J", "long_name": "paper's 1/2 w^T J w (body J, inertial w)"}),
-        "angular_momentum": (("time", "axis"), H, {"units": "kg m^2/s", "long_name": "angular momentum (inertial frame)"}),
+        "omega_inertial": (("time", "axis"), w_inertial,
+            {"units": "rad/s", "long_name": "inertial-frame angular velocity"}),
+        "rotational_kinetic_energy": ("time", K_rot,
+            {"units": "J", "long_name": "rotational kinetic energy 1/2 w*^T J w*"}),
+        "rotational_energy_paper": ("time", K_paper,
+            {"units": "J", "long_name": "paper's 1/2 w^T J w (body J, inertial w)"}),
+        "angular_momentum": (("time", "axis"), H,
+            {"units": "kg m^2/s", "long_name": "angular momentum (inertial frame)"}),
     }
     K = K_rot.copy()
     if isinstance(model, RotorModel):
