@@ -974,7 +974,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
               x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, out, out_mu, info):
     """Advance ``n_steps`` RK4 steps with the three constraint passes per step.
 
-    ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3);
+    ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3
+    [, restitution e]);
     ``ipar`` = (n_accel, max_iter, n_points, rec_row, initialise). ``sc`` carries running
     scalars: (t, W_ext, D_vel, E_el, -, F_peak, res1, res2, res3, it1, it2, it3, s_final,
     shat, n_impacts, tie_res, pbar, phat, tau_A, tau_B). Records are written every
@@ -982,6 +983,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     """
     dt = par[0]
     tpar = par[1:4]
+    rest = par[10] if par.shape[0] > 10 else 0.0  # coefficient of restitution e
     tol1 = par[4]
     tol2 = par[5]
     tol3 = par[6]
@@ -1176,9 +1178,12 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 sh += cw[0, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
                 i = cnod[1, j]
                 sh -= cw[1, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
-            e0[ic] = sh
+            vtgt = 0.0
             if pbar < 0.0 and sh > tol2 and mu0[ic] == 0.0:
                 sc[14] += 1.0
+                # Newton impact law: target -e * (approach velocity) instead of 0
+                vtgt = -rest * sh
+            e0[ic] = sh - vtgt
             contact_column(c21, c22, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
                            mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
             mu0[:] = mu
@@ -1193,7 +1198,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 return 2, row
             sc[7] = max(sc[7], res)
             sc[10] = max(sc[10], its)
-            sc[13] = e0[ic] + yc
+            sc[13] = e0[ic] + yc + vtgt
             sc[17] = mu[ic]
             for r in range(nc):
                 e0[r] = mu[r] - mu0[r]
