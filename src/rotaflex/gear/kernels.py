@@ -1114,6 +1114,18 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 return 4, row
             cn[0] = cres[3]
             cn[1] = cres[4]
+            # approach velocity of the predicted state (before the passes): impact reference
+            sh_pred = 0.0
+            for j in range(3):
+                i = cnod[0, j]
+                sh_pred += cw[0, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
+                i = cnod[1, j]
+                sh_pred -= cw[1, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
+            ke_pred = kinetic_energy(v, om, mf_minv, mf_jd)
+            for r in range(nd):
+                xsum[r] = x[r]  # predicted state (strain energy of a closing step)
+            psum[0] = phi[0]
+            psum[1] = phi[1]
             set_rotation(phi, mf_theta0, rot)
             tie_vectors(x, mf_cen, mi_tie_node, mi_tie_gear, rot, bvec, rx)
             # ---- pass 1: displacement constraints (eq. 8, 19)
@@ -1165,6 +1177,16 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             tie_vectors(x, mf_cen, mi_tie_node, mi_tie_gear, rot, bvec, rx)
             # ---- pass 2: velocity constraints (eq. 15, 20, 22)
             ke0 = kinetic_energy(v, om, mf_minv, mf_jd)
+            closing = pbar < 0.0 and mu0[ic] == 0.0
+            if closing:
+                # a contact closes: the displacement pass stops the penetration with a force
+                # held over the step, i.e. it takes part in the impact; its change of kinetic
+                # + strain energy is counted in D (strain part added after pass 3)
+                set_rotation(psum, mf_theta0, rot)
+                se_pred = elastic_force(xsum, mf_xloc, mi_gid, mf_cen, rot, mi_indptr,
+                                        mi_indices, mf_data, wbuf, floc, fglob, tel)
+                set_rotation(phi, mf_theta0, rot)
+                sc[2] += ke_pred + se_pred - ke0
             for k in range(nt):
                 i = mi_tie_node[k]
                 g = mi_tie_gear[k]
@@ -1181,8 +1203,10 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             vtgt = 0.0
             if pbar < 0.0 and sh > tol2 and mu0[ic] == 0.0:
                 sc[14] += 1.0
-                # Newton impact law: target -e * (approach velocity) instead of 0
-                vtgt = -rest * sh
+            if rest > 0.0 and pbar < 0.0 and sh_pred > tol2 and mu0[ic] == 0.0:
+                # Newton impact law: target -e x (approach velocity before the displacement
+                # pass, which already removes part of it) instead of 0
+                vtgt = -rest * sh_pred
             e0[ic] = sh - vtgt
             contact_column(c21, c22, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
                            mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
@@ -1219,6 +1243,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             sc[19] = tau_new1
         else:
             pbar = -1.0 if cres[2] <= 0.0 else 0.0
+            closing = False
         # ---- pass 3: acceleration constraints (eq. 17, 21, 23)
         ct[0] = cres[0]
         ct[1] = cres[1]
@@ -1280,6 +1305,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
         gsc[:] = 0.0
         sc[0] = t
         sc[3] = eel
+        if closing:
+            sc[2] -= eel  # strain energy after the displacement pass (positions unchanged since)
         force = -mu[ic]
         if force > sc[5]:
             sc[5] = force
