@@ -181,32 +181,44 @@ def contact_search(pa, ma, pb, mb, sig_a, sig_b, a0, b0, res):
             conv = True
             break
     if not conv:
-        # robust fallback: scan for a sign change, then bisection
+        # robust fallback: scan for sign changes, bisect the one nearest the warm start
         na = 200
         prev_f = 0.0
         prev_a = -0.6
         bb = b0
         found = False
+        best = 1e300
+        lo0 = 0.0
+        hi0 = 0.0
+        flo0 = 0.0
+        blo0 = b0
+        prev_b = b0
         for i in range(na + 1):
             aa = -0.6 + 2.2 * i / na
             ff, bb, okk = _normal_fn(pa, ma, pb, mb, sig_a, aa, bb, bq, bs)
             if i > 0 and ff * prev_f <= 0.0:
-                lo, hi, flo = prev_a, aa, prev_f
-                for _ in range(200):
-                    mid = 0.5 * (lo + hi)
-                    fm, bb, okk = _normal_fn(pa, ma, pb, mb, sig_a, mid, bb, bq, bs)
-                    if fm * flo <= 0.0:
-                        hi = mid
-                    else:
-                        lo, flo = mid, fm
-                    if hi - lo < 1e-14:
-                        break
-                a1 = 0.5 * (lo + hi)
-                f1, b1, ok1 = _normal_fn(pa, ma, pb, mb, sig_a, a1, bb, bq, bs)
-                found = True
-                break
+                dist = abs(0.5 * (prev_a + aa) - a0)
+                if dist < best:
+                    best = dist
+                    lo0, hi0, flo0, blo0 = prev_a, aa, prev_f, prev_b
+                    found = True
             prev_f = ff
             prev_a = aa
+            prev_b = bb
+        if found:
+            lo, hi, flo = lo0, hi0, flo0
+            bb = blo0
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                fm, bb, okk = _normal_fn(pa, ma, pb, mb, sig_a, mid, bb, bq, bs)
+                if fm * flo <= 0.0:
+                    hi = mid
+                else:
+                    lo, flo = mid, fm
+                if hi - lo < 1e-14:
+                    break
+            a1 = 0.5 * (lo + hi)
+            f1, b1, ok1 = _normal_fn(pa, ma, pb, mb, sig_a, a1, bb, bq, bs)
         if not found:
             # no common normal (e.g. a straight flank against a corner): corner contact of B
             a1 = min(max(a0, 0.0), 1.0)
@@ -978,7 +990,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     [, restitution e]);
     ``ipar`` = (n_accel, max_iter, n_points, rec_row, initialise). ``sc`` carries running
     scalars: (t, W_ext, D_vel, E_el, -, F_peak, res1, res2, res3, it1, it2, it3, s_final,
-    shat, n_impacts, tie_res, pbar, phat, tau_A, tau_B). Records are written every
+    shat, n_impacts, tie_res, pbar, phat, tau_A, tau_B, contact rates (4)). Records are written every
     ``rec_every`` steps into ``out`` starting at row ``ipar[3]``; returns (status, next row).
     """
     dt = par[0]
@@ -1033,6 +1045,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     cw_t = np.empty((2, 3))
     ct = np.zeros(4)
     rates = np.zeros(4)
+    for j in range(4):
+        rates[j] = sc[20 + j]  # contact-parameter rates carried over from the previous call
     zero4 = np.zeros(4)
     ccol = np.zeros(nc)
     e0 = np.zeros(nc)
@@ -1272,6 +1286,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
         spline_second(vb, mvb)
         hs, _ad, _bd = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, mf_sig[0], mf_sig[1],
                                      cres, rates)
+        for j in range(4):
+            sc[20 + j] = rates[j]
         sa = hs
         for j in range(3):
             i = cnod[0, j]
