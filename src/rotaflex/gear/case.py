@@ -326,6 +326,8 @@ def to_dataset(out, model, geo, tau0, th2, ths):
     add("normal_velocity", ("time",), r["normal_velocity"], "m/s",
         "relative normal velocity (> 0 approaching)")
     add("contact_point", ("time", "gear", "xy"), cp, "m", "contact point")
+    add("contact_parameter", ("time", "gear"), np.column_stack([r["param_a"], r["param_b"]]),
+        "1", "flank spline parameter of the contact point (0 root, 1 tip)")
     add("contact_case", ("time",), r["contact_case"], "1",
         "0 flank-flank, 1 tip of B on A, 2 tip of A on B")
     add("tie_multiplier", ("time", "tie"), out.tie_multipliers, "N",
