@@ -6,8 +6,9 @@
    peak and mean single-pair contact force, DTE, fillet stress.
 3. Driver choice for the speed-mismatch cases (Fig. 10, 11): driver A and driver B, contact
    losses / regains, peak force, energy balance.
+4. Quasi-static (1000 rpm) DTE and fillet stress against static FE, coarse and default meshes.
 
-    PYTHONPATH=src python benchmarks/bench_gear_post.py [sizes] [mesh] [driver]
+    PYTHONPATH=src python benchmarks/bench_gear_post.py [sizes] [mesh] [driver] [qs]
 """
 
 from __future__ import annotations
@@ -81,7 +82,20 @@ def driver() -> None:
                   f"{s['root_stress_peak'] / 1e6:.1f} MPa", flush=True)
 
 
+def quasi_static() -> None:
+    """Quasi-static DTE / fillet stress vs static FE on the coarse and default meshes."""
+    from rotaflex.reproduce.gear_post import quasi_static_entry
+
+    for preset in ("coarse", "default"):
+        res = run_case({"operation": {"speed_rpm": [1000.0, 1000.0], "span_deg": 10.53},
+                        "mesh": {"preset": preset}, "output": {"every": 20}})
+        with tempfile.TemporaryDirectory() as d:
+            entry = quasi_static_entry(res, Path(d), preset)
+        for c in entry.checks:
+            print(f"{preset:8s} {c.name}: {c.measured:.4f} ({c.criterion})", flush=True)
+
+
 if __name__ == "__main__":
-    which = sys.argv[1:] or ["sizes", "mesh", "driver"]
+    which = sys.argv[1:] or ["sizes", "mesh", "driver", "qs"]
     for w in which:
-        {"sizes": sizes, "mesh": mesh, "driver": driver}[w]()
+        {"sizes": sizes, "mesh": mesh, "driver": driver, "qs": quasi_static}[w]()

@@ -336,7 +336,8 @@ def to_dataset(out, model, geo, tau0, th2, ths):
     add("kinetic_energy", ("time",), r["kinetic_energy"], "J", "kinetic energy")
     add("external_work", ("time",), r["external_work"], "J", "external work")
     add("velocity_pass_loss", ("time",), r["velocity_pass_loss"], "J",
-        "kinetic energy removed by the velocity pass (impacts, plastic)")
+        "energy removed by the velocity pass (and by the displacement pass on steps where "
+        "the contact closes): impact loss")
     add("energy_balance", ("time",), balance, "J",
         "E_kin + E_strain - W_ext + D_velocity_pass - E_0")
     for k, name in enumerate(("displacement", "velocity", "acceleration")):

@@ -54,7 +54,8 @@ def _common_checks(ds, tol_energy=0.02) -> list[Check]:
     return [
         Check("energy balance |E_kin + E_strain - W_ext + D - E_0| / max E_strain", bal, "",
               f"< {tol_energy:g}", bal < tol_energy,
-              "D = kinetic energy removed by the velocity pass (plastic impacts). The drift comes "
+              "D = energy removed by the constraint passes at impacts (velocity pass; on a step "
+              "where a contact closes also the displacement pass). The drift comes "
               "from the one-sided convergence to the 1e-12 m tolerance (|p| * tol per step)."),
         Check("tie residual after each step (max)", float(ds["max_tie_residual"]), "m",
               "<= 1e-12 m", float(ds["max_tie_residual"]) <= tol * (1 + 1e-6)),
