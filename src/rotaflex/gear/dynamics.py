@@ -441,6 +441,7 @@ def simulate(
         3: "acceleration pass (eq. 21)",
     }
     first = True
+    next_progress = progress_every
     while done < n_steps:
         n = min(chunk, n_steps - done)
         row_before = row
@@ -476,8 +477,9 @@ def simulate(
         done += n
         if snap_every and (done % snap_every < chunk or done == n_steps):
             snaps.append((float(sc[0]), x.reshape(-1, 2).copy()))
-        if progress is not None:
+        if progress is not None and (done >= next_progress or done == n_steps):
             progress(done, n_steps)
+            next_progress = done + progress_every
     wall = time.perf_counter() - t0
     out = out[:row]
     records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
