@@ -151,7 +151,7 @@ class GearResult(Result):
         fig, ax = new_figure()
         ax.plot(ang, ds["contact_force"].values, lw=0.8, label="contact force")
         ax.plot(ang, ds["nominal_force_ramp"].values, "k--", lw=0.8,
-                label="quasi-static tau_A / r_b")
+                label="quasi-static tau_driver / r_b")
         ax.set_xlabel("rotation angle of gear A [deg]")
         ax.set_ylabel("contact force [N]")
         ax.grid(alpha=0.3)
@@ -317,7 +317,7 @@ def to_dataset(out, model, geo, tau0, th2, ths):
         "contact force of the velocity pass (impulse / dt at impacts)")
     add("peak_force_interval", ("time",), r["force_peak"], "N",
         "largest contact force since the previous record")
-    add("nominal_force_ramp", ("time",), ramp, "N", "tau_A(theta_A) / r_b")
+    add("nominal_force_ramp", ("time",), ramp, "N", "driver torque tau(theta_driver) / r_b (Fig. 7)")
     add("rotation_angle", ("time", "gear"), rot, "rad", "rotation angle (running direction)")
     add("angular_velocity", ("time", "gear"), omega, "rad/s", "angular velocity")
     add("torque", ("time", "gear"), np.column_stack([r["torque_A"], r["torque_B"]]), "N m",

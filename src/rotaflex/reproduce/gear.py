@@ -74,7 +74,7 @@ def _figure(ds, path: Path, title: str):
     fig, ax = new_figure()
     ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
     ax.plot(ang, ds["contact_force"].values, lw=0.8, label="contact force (this work)")
-    ax.plot(ang, ds["nominal_force_ramp"].values, "k--", lw=0.8, label="quasi-static tau_A/r_b")
+    ax.plot(ang, ds["nominal_force_ramp"].values, "k--", lw=0.8, label="quasi-static tau_driver/r_b")
     ax.set_xlabel("rotation angle of gear A from start of contact [deg]")
     ax.set_ylabel("contact force [N]")
     ax.set_title(title, fontsize=9)
