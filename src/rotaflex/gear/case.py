@@ -6,10 +6,18 @@ TOML layout (all tables optional; defaults are the paper's data, section 4)::
     [gear]       module, teeth, pressure_angle_deg, face_width, tip_radius, root_radius
     [material]   youngs_modulus, poisson_ratio, density
     disk_inertia = 2.965e-4
-    [operation]  speed_rpm = [4000, 4000], torque, theta_2_deg, theta_s_deg, span_deg
-    [mesh]       preset = "default" | "coarse", n_points
-    [solver]     method = "paper_rk4", dt, tolerance, accel_n, max_iter
-    [output]     every, vtu_snapshots
+    [operation]  speed_rpm = [4000, 4000], torque, theta_2_deg, theta_s_deg, span_deg,
+                 driver = "A" | "B"
+    [mesh]       preset = "default" | "coarse" | "fine", n_points
+    [solver]     method = "paper_rk4", dt, tolerance, accel_n, max_iter, restitution
+    [output]     every, vtu_snapshots, root_stress
+
+Driver: gear A turns counter-clockwise about the origin, B clockwise about (0, a). The driver
+gets the drive torque (in its running direction), the other gear the load torque (against its
+running direction), both ramped with the driver's rotation as in Fig. 7. ``driver = "B"`` is run
+as the mirror image (reflection about y = a/2 maps a counter-clockwise driver at the origin onto
+a clockwise driver at (0, a)): the kernel simulates the driver as its gear A, and the outputs are
+relabelled (gear axes swapped, contact points mirrored), which is exact for identical gears.
 """
 
 from __future__ import annotations
@@ -66,12 +74,15 @@ class OperationConfig:
     theta_s_deg: float | None = param(None, unit="deg", gt=0.0,
                                       doc="single-tooth contact angle (default from geometry)")
     span_deg: float | None = param(None, unit="deg", gt=0.0,
-                                   doc="rotation of gear A simulated (default theta_s)")
+                                   doc="rotation of the driver simulated (default theta_s)")
+    driver: Literal["A", "B"] = param("A", doc="gear that gets the drive torque; the other "
+                                           "gets the load torque")
 
 
 @dataclass(frozen=True)
 class MeshConfig:
-    preset: Literal["default", "coarse"] = param("default")
+    preset: Literal["default", "coarse", "fine"] = param(
+        "default", doc="tooth mesh; 'fine' (2x default) needs dt <= 1.7e-8 s")
     n_points: int = param(61, ge=8, le=1000, doc="spline data points per flank")
 
 
@@ -83,12 +94,16 @@ class SolverConfig:
                              doc="displacement tolerance; velocity/acceleration: tol/dt, tol/dt^2")
     accel_n: int = param(4, ge=1, le=5, doc="acceleration level n of appendix B")
     max_iter: int = param(500, ge=1)
+    restitution: float = param(0.0, ge=0.0, le=1.0,
+                               doc="Newton coefficient e of the contact-point impact law "
+                                   "(0 = plastic, the paper's velocity pass)")
 
 
 @dataclass(frozen=True)
 class OutputConfig:
     every: int = param(10, ge=1, doc="record every n-th step (1 = full rate)")
     vtu_snapshots: int = param(0, ge=0, le=1000, doc="number of VTU snapshots")
+    root_stress: bool = param(True, doc="record the fillet nodes for root_stress(time, gear)")
 
 
 @dataclass(frozen=True)
@@ -121,7 +136,8 @@ class GearResult(Result):
         keep = {k: out[k] for k in ("status", "wall_time")}
         for name in ("peak_contact_force", "mean_single_pair_force", "nominal_force",
                      "dynamic_factor", "energy_balance_error", "energy_balance_abs", "steps",
-                     "time_per_step", "impacts", "max_tie_residual"):
+                     "time_per_step", "impacts", "max_tie_residual", "dte_peak_to_peak",
+                     "root_stress_peak"):
             if name in ds:
                 keep[name] = {"value": ds[name].item(), "unit": ds[name].attrs.get("units", "")}
         return keep
@@ -135,7 +151,7 @@ class GearResult(Result):
         fig, ax = new_figure()
         ax.plot(ang, ds["contact_force"].values, lw=0.8, label="contact force")
         ax.plot(ang, ds["nominal_force_ramp"].values, "k--", lw=0.8,
-                label="quasi-static tau_A / r_b")
+                label="quasi-static tau_driver / r_b")
         ax.set_xlabel("rotation angle of gear A [deg]")
         ax.set_ylabel("contact force [N]")
         ax.grid(alpha=0.3)
@@ -154,6 +170,25 @@ class GearResult(Result):
         ax.set_ylabel("normal gap [um]")
         ax.grid(alpha=0.3)
         figs["gap"] = fig
+        if "transmission_error" in ds:
+            fig, ax = new_figure()
+            ax.plot(ang, ds["transmission_error"].values * 1e6, lw=0.8)
+            ax.set_xlabel("rotation angle of gear A [deg]")
+            ax.set_ylabel("DTE r_bA theta_A - r_bB theta_B [um] (> 0: B lags)")
+            ax.grid(alpha=0.3)
+            figs["transmission_error"] = fig
+        if "root_stress" in ds:
+            fig, ax = new_figure()
+            for g in ("A", "B"):
+                ax.plot(ang, ds["root_stress"].sel(gear=g).values / 1e6, lw=0.8,
+                        label=f"gear {g}, loaded fillet")
+                ax.plot(ang, ds["root_stress_opposite"].sel(gear=g).values / 1e6, lw=0.8,
+                        ls="--", label=f"gear {g}, opposite fillet")
+            ax.set_xlabel("rotation angle of gear A [deg]")
+            ax.set_ylabel("fillet tangential stress, 30-deg point [MPa]")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=8)
+            figs["root_stress"] = fig
         return figs
 
     def save(self, out_dir, *, figures=True):
@@ -172,13 +207,17 @@ class GearResult(Result):
         return paths
 
 
+#: 2x the default tooth mesh (1125 nodes; RK4 limit 1.74e-8 s, see docs/gear-fe.md)
+FINE = dict(n_flank=20, n_through=10, n_fillet=4, n_rim=8)
+
+
 def build(cfg: GearCaseConfig):
     """Geometry, meshes and the assembled two-gear model of a configuration."""
     from rotaflex.gear import dynamics
     from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
 
     geo = cfg.gear.geometry()
-    kw = COARSE if cfg.mesh.preset == "coarse" else DEFAULT
+    kw = {"coarse": COARSE, "default": DEFAULT, "fine": FINE}[cfg.mesh.preset]
     mesh = build_tooth_mesh(geo, **kw)
     mat = cfg.material
     model = dynamics.build_model(geo, geo, mesh, mesh, youngs_modulus=mat.youngs_modulus,
@@ -206,6 +245,14 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
         raise InputError("operation.theta_2_deg", math.degrees(th2),
                          f"<= theta_s / 2 = {math.degrees(ths) / 2:g} deg")
     span = math.radians(op.span_deg) if op.span_deg is not None else ths
+    # the kernel's gear A is always the driver (driver = "B": mirror image, see module doc)
+    speeds = tuple(op.speed_rpm) if op.driver == "A" else tuple(op.speed_rpm[::-1])
+    probe = None
+    if cfg.output.root_stress:
+        from rotaflex.gear.post import root_stress_probe
+
+        probe = root_stress_probe(model, cfg.material.youngs_modulus,
+                                  cfg.material.poisson_ratio)
     bar = None
     cb = None
     if progress:
@@ -219,15 +266,23 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
             bar.refresh()
 
     try:
-        out = dynamics.simulate(model, speeds_rpm=op.speed_rpm, torque=op.torque, theta_2=th2,
+        out = dynamics.simulate(model, speeds_rpm=speeds, torque=op.torque, theta_2=th2,
                                 theta_s=ths, span=span, dt=cfg.solver.dt,
                                 tol=cfg.solver.tolerance, n_accel=cfg.solver.accel_n,
                                 max_iter=cfg.solver.max_iter, record_every=cfg.output.every,
-                                snapshots=cfg.output.vtu_snapshots, progress=cb)
+                                snapshots=cfg.output.vtu_snapshots, progress=cb,
+                                restitution=cfg.solver.restitution,
+                                record_nodes=None if probe is None else probe.nodes)
     finally:
         if bar is not None:
             bar.close()
     ds = to_dataset(out, model, geo, op.torque, th2, ths)
+    if probe is not None:
+        add_root_stress(ds, out, model, probe)
+    if op.driver == "B":
+        ds = mirror_driver_b(ds, model.centre_distance)
+    add_transmission_error(ds, geo.base_radius, geo.base_radius)
+    ds.attrs["driver"] = op.driver
     ds.attrs.update(status="success", message="", wall_time=time.perf_counter() - t_wall,
                     config=json.dumps(asdict(cfg)))
     return GearResult(ds)
@@ -262,7 +317,7 @@ def to_dataset(out, model, geo, tau0, th2, ths):
         "contact force of the velocity pass (impulse / dt at impacts)")
     add("peak_force_interval", ("time",), r["force_peak"], "N",
         "largest contact force since the previous record")
-    add("nominal_force_ramp", ("time",), ramp, "N", "tau_A(theta_A) / r_b")
+    add("nominal_force_ramp", ("time",), ramp, "N", "driver torque tau(theta_driver) / r_b (Fig. 7)")
     add("rotation_angle", ("time", "gear"), rot, "rad", "rotation angle (running direction)")
     add("angular_velocity", ("time", "gear"), omega, "rad/s", "angular velocity")
     add("torque", ("time", "gear"), np.column_stack([r["torque_A"], r["torque_B"]]), "N m",
@@ -271,6 +326,8 @@ def to_dataset(out, model, geo, tau0, th2, ths):
     add("normal_velocity", ("time",), r["normal_velocity"], "m/s",
         "relative normal velocity (> 0 approaching)")
     add("contact_point", ("time", "gear", "xy"), cp, "m", "contact point")
+    add("contact_parameter", ("time", "gear"), np.column_stack([r["param_a"], r["param_b"]]),
+        "1", "flank spline parameter of the contact point (0 root, 1 tip)")
     add("contact_case", ("time",), r["contact_case"], "1",
         "0 flank-flank, 1 tip of B on A, 2 tip of A on B")
     add("tie_multiplier", ("time", "tie"), out.tie_multipliers, "N",
@@ -279,7 +336,8 @@ def to_dataset(out, model, geo, tau0, th2, ths):
     add("kinetic_energy", ("time",), r["kinetic_energy"], "J", "kinetic energy")
     add("external_work", ("time",), r["external_work"], "J", "external work")
     add("velocity_pass_loss", ("time",), r["velocity_pass_loss"], "J",
-        "kinetic energy removed by the velocity pass (impacts, plastic)")
+        "energy removed by the velocity pass (and by the displacement pass on steps where "
+        "the contact closes): impact loss")
     add("energy_balance", ("time",), balance, "J",
         "E_kin + E_strain - W_ext + D_velocity_pass - E_0")
     for k, name in enumerate(("displacement", "velocity", "acceleration")):
@@ -323,4 +381,78 @@ def to_dataset(out, model, geo, tau0, th2, ths):
         ds["snapshot_displacement"] = (("snapshot", "node", "xy"),
                                        np.stack([s[1] - xref for s in out.snapshots]),
                                        {"units": "m"})
+    return ds
+
+
+def add_root_stress(ds, out, model, probe) -> None:
+    """``root_stress(time, gear)`` (loaded fillet) and ``root_stress_opposite`` [Pa] in place.
+
+    Surface tangential stress at the 30-degree fillet tangent point (ISO 6336-3) from the
+    co-rotational elastic displacements of the recorded fillet-element nodes
+    (:func:`rotaflex.gear.post.root_stress_history`, vectorised over the records).
+    """
+    from rotaflex.gear.post import root_stress_history
+
+    r = out.records
+    phi = np.column_stack([r["phi_A"], r["phi_B"]])
+    sig = root_stress_history(model, probe, out.node_positions, phi)  # (nt, gear, side)
+    ds["root_stress"] = (("time", "gear"), sig[:, :, 0], {
+        "units": "Pa", "long_name": "tangential stress at the loaded-flank fillet, 30-deg "
+        "tangent point (ISO 6336-3); tension > 0"})
+    ds["root_stress_opposite"] = (("time", "gear"), sig[:, :, 1], {
+        "units": "Pa", "long_name": "tangential stress at the opposite fillet, 30-deg point"})
+    peak = float(np.max(sig[:, :, 0])) if sig.size else 0.0
+    ds["root_stress_peak"] = ((), peak, {"units": "Pa",
+                                         "long_name": "largest loaded-fillet stress (records)"})
+
+
+def add_transmission_error(ds, rb_a: float, rb_b: float) -> None:
+    """``transmission_error(time)`` = r_bA theta_A - r_bB theta_B [m] and its peak-to-peak.
+
+    Rotations in the running directions since t = 0, where the unloaded teeth touch: the DTE is
+    relative to the rigid kinematics of that position; positive = gear B lags behind A.
+    """
+    rot = ds["rotation_angle"].values
+    dte = rb_a * rot[:, 0] - rb_b * rot[:, 1]
+    ds["transmission_error"] = (("time",), dte, {
+        "units": "m", "long_name": "dynamic transmission error r_bA theta_A - r_bB theta_B "
+        "along the line of action (> 0: B lags), relative to t = 0"})
+    p2p = float(np.ptp(dte)) if dte.size else 0.0
+    ds["dte_peak_to_peak"] = ((), p2p, {"units": "m",
+                                        "long_name": "peak-to-peak transmission error"})
+
+
+def mirror_driver_b(ds, centre_distance: float):
+    """Relabel a run whose kernel gear A was the driver as ``driver = "B"`` (mirror image).
+
+    Reflection about y = a/2 swaps the gear centres and keeps both running directions, so the
+    gear axes are swapped and every y coordinate becomes a - y. Disk-frame tie multipliers keep
+    the kernel's tooth frame (mirrored); only their gear blocks are swapped.
+    """
+    swap = [1, 0]
+    for name in list(ds.data_vars):
+        if "gear" in ds[name].dims:
+            attrs = ds[name].attrs
+            ds[name] = ds[name].isel(gear=swap).assign_coords(gear=["A", "B"])
+            ds[name].attrs.update(attrs)
+    cp = ds["contact_point"].values.copy()
+    cp[..., 1] = centre_distance - cp[..., 1]
+    ds["contact_point"].values[...] = cp
+    ds["torque"].attrs["long_name"] = "external torque (load on A, drive on B)"
+    if "tie_multiplier" in ds:
+        n = ds.sizes["tie"]
+        ds["tie_multiplier"].values[...] = np.concatenate(
+            [ds["tie_multiplier"].values[:, n // 2:], ds["tie_multiplier"].values[:, : n // 2]],
+            axis=1)
+    if "reference_position" in ds:
+        nn = ds.sizes["node"] // 2
+        for name in ("reference_position", "snapshot_displacement"):
+            v = ds[name].values
+            v = np.concatenate([v[..., nn:, :], v[..., :nn, :]], axis=-2)
+            if name == "reference_position":
+                v[..., 1] = centre_distance - v[..., 1]
+            else:
+                v[..., 1] = -v[..., 1]
+            ds[name].values[...] = v
+    ds.attrs["mirrored"] = "driver B: simulated as the mirror image (kernel gear A = B)"
     return ds

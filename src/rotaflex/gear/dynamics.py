@@ -305,6 +305,8 @@ class SimulationOutput:
     initial_energy: float
     snapshots: list  # (time, positions (N, 2)) pairs
     dt: float
+    node_positions: np.ndarray | None = None  # (n_rec, len(record_nodes), 2) or None
+    record_nodes: np.ndarray | None = None
 
 
 def simulate(
@@ -323,6 +325,8 @@ def simulate(
     snapshots=0,
     progress=None,
     progress_every=2000,
+    restitution=0.0,
+    record_nodes=None,
 ) -> SimulationOutput:
     """Integrate the pair over a rotation ``span`` of gear A [rad] with the paper's scheme.
 
@@ -348,6 +352,13 @@ def simulate(
     snapshots : int
         Number of nodal-position snapshots to keep (for VTU output).
     progress : callable(done_steps, total_steps) or None
+    restitution : float
+        Newton coefficient of restitution e in [0, 1]: at an impact (a contact that closes
+        while approaching) the velocity pass targets a relative normal velocity of
+        -e x the approach velocity instead of 0 (e = 0: the paper's plastic impact).
+    record_nodes : array of int or None
+        Global node ids whose positions are stored at every record (``node_positions``), e.g.
+        the support of the root-stress operator. The kernel is then called once per record.
     """
     from rotaflex.gear.kernels import run_steps
 
@@ -385,7 +396,12 @@ def simulate(
     out = np.zeros((n_rec, len(RECORD_COLUMNS)))
     out_mu = np.zeros((n_rec, nc - 1))
     info = np.zeros(4)
-    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps])
+    if not 0.0 <= restitution <= 1.0:
+        raise InputError("solver.restitution", restitution, "in [0, 1]")
+    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps,
+                    float(restitution)])
+    rec_nodes = None if record_nodes is None else np.asarray(record_nodes, dtype=np.int64)
+    rec_x = None if rec_nodes is None else np.zeros((n_rec, len(rec_nodes), 2))
     args_model = (
         model.gid,
         k.indptr.astype(np.int64),
@@ -414,6 +430,8 @@ def simulate(
     chunk = max(record_every, (progress_every // record_every) * record_every)
     if snap_every:
         chunk = min(chunk, max(record_every, (snap_every // record_every) * record_every))
+    if rec_nodes is not None:
+        chunk = record_every  # one record per call: x is the recorded state on return
     t0 = time.perf_counter()
     done = 0
     row = 0
@@ -423,8 +441,10 @@ def simulate(
         3: "acceleration pass (eq. 21)",
     }
     first = True
+    next_progress = progress_every
     while done < n_steps:
         n = min(chunk, n_steps - done)
+        row_before = row
         ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0], dtype=np.int64)
         status, row = run_steps(
             n,
@@ -448,6 +468,8 @@ def simulate(
             info,
         )
         first = False
+        if rec_x is not None and row > row_before:
+            rec_x[row - 1] = x.reshape(-1, 2)[rec_nodes]
         if status in names:
             raise ConvergenceError(names[status], info[0], info[1], info[2])
         if status == 4:
@@ -455,8 +477,9 @@ def simulate(
         done += n
         if snap_every and (done % snap_every < chunk or done == n_steps):
             snaps.append((float(sc[0]), x.reshape(-1, 2).copy()))
-        if progress is not None:
+        if progress is not None and (done >= next_progress or done == n_steps):
             progress(done, n_steps)
+            next_progress = done + progress_every
     wall = time.perf_counter() - t0
     out = out[:row]
     records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
@@ -468,4 +491,6 @@ def simulate(
         initial_energy=float(e0),
         snapshots=snaps,
         dt=dt,
+        node_positions=None if rec_x is None else rec_x[:row].copy(),
+        record_nodes=rec_nodes,
     )

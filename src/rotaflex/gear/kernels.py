@@ -181,32 +181,44 @@ def contact_search(pa, ma, pb, mb, sig_a, sig_b, a0, b0, res):
             conv = True
             break
     if not conv:
-        # robust fallback: scan for a sign change, then bisection
+        # robust fallback: scan for sign changes, bisect the one nearest the warm start
         na = 200
         prev_f = 0.0
         prev_a = -0.6
         bb = b0
         found = False
+        best = 1e300
+        lo0 = 0.0
+        hi0 = 0.0
+        flo0 = 0.0
+        blo0 = b0
+        prev_b = b0
         for i in range(na + 1):
             aa = -0.6 + 2.2 * i / na
             ff, bb, okk = _normal_fn(pa, ma, pb, mb, sig_a, aa, bb, bq, bs)
             if i > 0 and ff * prev_f <= 0.0:
-                lo, hi, flo = prev_a, aa, prev_f
-                for _ in range(200):
-                    mid = 0.5 * (lo + hi)
-                    fm, bb, okk = _normal_fn(pa, ma, pb, mb, sig_a, mid, bb, bq, bs)
-                    if fm * flo <= 0.0:
-                        hi = mid
-                    else:
-                        lo, flo = mid, fm
-                    if hi - lo < 1e-14:
-                        break
-                a1 = 0.5 * (lo + hi)
-                f1, b1, ok1 = _normal_fn(pa, ma, pb, mb, sig_a, a1, bb, bq, bs)
-                found = True
-                break
+                dist = abs(0.5 * (prev_a + aa) - a0)
+                if dist < best:
+                    best = dist
+                    lo0, hi0, flo0, blo0 = prev_a, aa, prev_f, prev_b
+                    found = True
             prev_f = ff
             prev_a = aa
+            prev_b = bb
+        if found:
+            lo, hi, flo = lo0, hi0, flo0
+            bb = blo0
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                fm, bb, okk = _normal_fn(pa, ma, pb, mb, sig_a, mid, bb, bq, bs)
+                if fm * flo <= 0.0:
+                    hi = mid
+                else:
+                    lo, flo = mid, fm
+                if hi - lo < 1e-14:
+                    break
+            a1 = 0.5 * (lo + hi)
+            f1, b1, ok1 = _normal_fn(pa, ma, pb, mb, sig_a, a1, bb, bq, bs)
         if not found:
             # no common normal (e.g. a straight flank against a corner): corner contact of B
             a1 = min(max(a0, 0.0), 1.0)
@@ -974,14 +986,16 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
               x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, out, out_mu, info):
     """Advance ``n_steps`` RK4 steps with the three constraint passes per step.
 
-    ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3);
+    ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3
+    [, restitution e]);
     ``ipar`` = (n_accel, max_iter, n_points, rec_row, initialise). ``sc`` carries running
     scalars: (t, W_ext, D_vel, E_el, -, F_peak, res1, res2, res3, it1, it2, it3, s_final,
-    shat, n_impacts, tie_res, pbar, phat, tau_A, tau_B). Records are written every
+    shat, n_impacts, tie_res, pbar, phat, tau_A, tau_B, contact rates (4)). Records are written every
     ``rec_every`` steps into ``out`` starting at row ``ipar[3]``; returns (status, next row).
     """
     dt = par[0]
     tpar = par[1:4]
+    rest = par[10] if par.shape[0] > 10 else 0.0  # coefficient of restitution e
     tol1 = par[4]
     tol2 = par[5]
     tol3 = par[6]
@@ -1031,6 +1045,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     cw_t = np.empty((2, 3))
     ct = np.zeros(4)
     rates = np.zeros(4)
+    for j in range(4):
+        rates[j] = sc[20 + j]  # contact-parameter rates carried over from the previous call
     zero4 = np.zeros(4)
     ccol = np.zeros(nc)
     e0 = np.zeros(nc)
@@ -1112,6 +1128,18 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 return 4, row
             cn[0] = cres[3]
             cn[1] = cres[4]
+            # approach velocity of the predicted state (before the passes): impact reference
+            sh_pred = 0.0
+            for j in range(3):
+                i = cnod[0, j]
+                sh_pred += cw[0, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
+                i = cnod[1, j]
+                sh_pred -= cw[1, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
+            ke_pred = kinetic_energy(v, om, mf_minv, mf_jd)
+            for r in range(nd):
+                xsum[r] = x[r]  # predicted state (strain energy of a closing step)
+            psum[0] = phi[0]
+            psum[1] = phi[1]
             set_rotation(phi, mf_theta0, rot)
             tie_vectors(x, mf_cen, mi_tie_node, mi_tie_gear, rot, bvec, rx)
             # ---- pass 1: displacement constraints (eq. 8, 19)
@@ -1163,6 +1191,16 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             tie_vectors(x, mf_cen, mi_tie_node, mi_tie_gear, rot, bvec, rx)
             # ---- pass 2: velocity constraints (eq. 15, 20, 22)
             ke0 = kinetic_energy(v, om, mf_minv, mf_jd)
+            closing = pbar < 0.0 and mu0[ic] == 0.0
+            if closing:
+                # a contact closes: the displacement pass stops the penetration with a force
+                # held over the step, i.e. it takes part in the impact; its change of kinetic
+                # + strain energy is counted in D (strain part added after pass 3)
+                set_rotation(psum, mf_theta0, rot)
+                se_pred = elastic_force(xsum, mf_xloc, mi_gid, mf_cen, rot, mi_indptr,
+                                        mi_indices, mf_data, wbuf, floc, fglob, tel)
+                set_rotation(phi, mf_theta0, rot)
+                sc[2] += ke_pred + se_pred - ke0
             for k in range(nt):
                 i = mi_tie_node[k]
                 g = mi_tie_gear[k]
@@ -1176,9 +1214,14 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 sh += cw[0, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
                 i = cnod[1, j]
                 sh -= cw[1, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
-            e0[ic] = sh
+            vtgt = 0.0
             if pbar < 0.0 and sh > tol2 and mu0[ic] == 0.0:
                 sc[14] += 1.0
+            if rest > 0.0 and pbar < 0.0 and sh_pred > tol2 and mu0[ic] == 0.0:
+                # Newton impact law: target -e x (approach velocity before the displacement
+                # pass, which already removes part of it) instead of 0
+                vtgt = -rest * sh_pred
+            e0[ic] = sh - vtgt
             contact_column(c21, c22, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
                            mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
             mu0[:] = mu
@@ -1193,7 +1236,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 return 2, row
             sc[7] = max(sc[7], res)
             sc[10] = max(sc[10], its)
-            sc[13] = e0[ic] + yc
+            sc[13] = e0[ic] + yc + vtgt
             sc[17] = mu[ic]
             for r in range(nc):
                 e0[r] = mu[r] - mu0[r]
@@ -1214,6 +1257,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             sc[19] = tau_new1
         else:
             pbar = -1.0 if cres[2] <= 0.0 else 0.0
+            closing = False
         # ---- pass 3: acceleration constraints (eq. 17, 21, 23)
         ct[0] = cres[0]
         ct[1] = cres[1]
@@ -1242,6 +1286,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
         spline_second(vb, mvb)
         hs, _ad, _bd = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, mf_sig[0], mf_sig[1],
                                      cres, rates)
+        for j in range(4):
+            sc[20 + j] = rates[j]
         sa = hs
         for j in range(3):
             i = cnod[0, j]
@@ -1275,6 +1321,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
         gsc[:] = 0.0
         sc[0] = t
         sc[3] = eel
+        if closing:
+            sc[2] -= eel  # strain energy after the displacement pass (positions unchanged since)
         force = -mu[ic]
         if force > sc[5]:
             sc[5] = force
