@@ -323,6 +323,7 @@ def simulate(
     snapshots=0,
     progress=None,
     progress_every=2000,
+    multipliers="iterative",
 ) -> SimulationOutput:
     """Integrate the pair over a rotation ``span`` of gear A [rad] with the paper's scheme.
 
@@ -348,6 +349,9 @@ def simulate(
     snapshots : int
         Number of nodal-position snapshots to keep (for VTU output).
     progress : callable(done_steps, total_steps) or None
+    multipliers : {"iterative", "direct"}
+        ``"iterative"``: the accelerated iteration of eq. 19-24 (the paper's scheme);
+        ``"direct"``: exact solve of each pass (:mod:`rotaflex.gear.kernels_direct`).
     """
     from rotaflex.gear.kernels import run_steps
 
@@ -360,7 +364,15 @@ def simulate(
         )
     omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
     n_steps = max(1, int(round(span / (omega[0] * dt))))
+    if multipliers not in ("iterative", "direct"):
+        raise InputError("solver.multipliers", multipliers, "'iterative' or 'direct'")
     eps = tie_eigen_bounds(model, dt)
+    if multipliers == "direct":
+        from rotaflex.gear.kernels_direct import factor_tie_blocks
+
+        dfac, dperm, _ = factor_tie_blocks(model, dt)
+    else:
+        dfac, dperm = np.ones((3, 1, 1)), np.zeros(1, dtype=np.int64)
     k = model.stiffness
     x = model.reference_positions()
     nn = model.n_nodes
@@ -425,7 +437,8 @@ def simulate(
     first = True
     while done < n_steps:
         n = min(chunk, n_steps - done)
-        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0], dtype=np.int64)
+        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0,
+                         1 if multipliers == "direct" else 0], dtype=np.int64)
         status, row = run_steps(
             n,
             record_every,
@@ -446,6 +459,8 @@ def simulate(
             out,
             out_mu,
             info,
+            dfac,
+            dperm,
         )
         first = False
         if status in names:
