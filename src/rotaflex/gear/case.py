@@ -9,7 +9,9 @@ TOML layout (all tables optional; defaults are the paper's data, section 4)::
     [operation]  speed_rpm = [4000, 4000], torque, theta_2_deg, theta_s_deg, span_deg,
                  driver = "A" | "B"
     [mesh]       preset = "default" | "coarse" | "fine", n_points
-    [solver]     method = "paper_rk4", dt, tolerance, accel_n, max_iter, restitution
+    [solver]     method = "paper_rk4" | "reduced_hht", dt (default per method), tolerance,
+                 accel_n, max_iter, multipliers = "iterative" | "direct", restitution,
+                 modes, hht_alpha
     [output]     every, vtu_snapshots, root_stress
 
 Driver: gear A turns counter-clockwise about the origin, B clockwise about (0, a). The driver
@@ -86,10 +88,24 @@ class MeshConfig:
     n_points: int = param(61, ge=8, le=1000, doc="spline data points per flank")
 
 
+#: default time step of paper_rk4 [s]; reduced_hht: REDUCED_STEP_ANGLE / omega_A
+DEFAULT_DT = {"paper_rk4": 3e-8}
+#: rotation of gear A per step of reduced_hht by default [rad] (1.2e-6 s at 4000 rpm,
+#: 2.4e-7 s at 20000 rpm; see docs/gear-dynamics.md for the accuracy behind this choice)
+REDUCED_STEP_ANGLE = 5e-4
+
+
 @dataclass(frozen=True)
 class SolverConfig:
-    method: Literal["paper_rk4"] = param("paper_rk4")
-    dt: float = param(3e-8, unit="s", gt=0.0)
+    method: Literal["paper_rk4", "reduced_hht"] = param(
+        "paper_rk4", doc="paper_rk4: the paper's RK4 + multiplier passes; reduced_hht: "
+        "Craig-Bampton teeth + implicit HHT-alpha (large steps, docs/gear-dynamics.md)")
+    dt: float | None = param(None, unit="s", gt=0.0,
+                             doc="time step (default 3e-8 s paper_rk4; 5e-4 rad / omega_A reduced_hht)")
+    multipliers: Literal["iterative", "direct"] = param(
+        "iterative", doc="paper_rk4 passes: the iteration of eq. 19-24 or the direct solve")
+    modes: int = param(20, ge=0, le=500, doc="reduced_hht: fixed-interface modes per tooth")
+    hht_alpha: float = param(-0.05, ge=-1.0 / 3.0, le=0.0, doc="reduced_hht: HHT alpha")
     tolerance: float = param(1e-12, unit="m", gt=0.0,
                              doc="displacement tolerance; velocity/acceleration: tol/dt, tol/dt^2")
     accel_n: int = param(4, ge=1, le=5, doc="acceleration level n of appendix B")
@@ -101,7 +117,8 @@ class SolverConfig:
 
 @dataclass(frozen=True)
 class OutputConfig:
-    every: int = param(10, ge=1, doc="record every n-th step (1 = full rate)")
+    every: int | None = param(None, ge=1, doc="record every n-th step (1 = full rate; default "
+                              "10 for paper_rk4, 1 for reduced_hht)")
     vtu_snapshots: int = param(0, ge=0, le=1000, doc="number of VTU snapshots")
     root_stress: bool = param(True, doc="record the fillet nodes for root_stress(time, gear)")
 
@@ -247,8 +264,13 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     span = math.radians(op.span_deg) if op.span_deg is not None else ths
     # the kernel's gear A is always the driver (driver = "B": mirror image, see module doc)
     speeds = tuple(op.speed_rpm) if op.driver == "A" else tuple(op.speed_rpm[::-1])
+    sol = cfg.solver
+    if sol.method == "reduced_hht" and sol.restitution > 0.0:
+        raise InputError("solver.restitution", sol.restitution,
+                         "0 with method = 'reduced_hht' (its impact law is plastic)")
     probe = None
-    if cfg.output.root_stress:
+    # reduced_hht eliminates the fillet nodes' FE field (Craig-Bampton): no root stress there
+    if cfg.output.root_stress and sol.method == "paper_rk4":
         from rotaflex.gear.post import root_stress_probe
 
         probe = root_stress_probe(model, cfg.material.youngs_modulus,
@@ -265,14 +287,33 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
             bar.n = done
             bar.refresh()
 
+    if sol.dt is not None:
+        dt = sol.dt
+    elif sol.method == "reduced_hht":
+        dt = REDUCED_STEP_ANGLE / (op.speed_rpm[0] * math.pi / 30)
+    else:
+        dt = DEFAULT_DT[sol.method]
+    every = cfg.output.every or (1 if sol.method == "reduced_hht" else 10)
     try:
-        out = dynamics.simulate(model, speeds_rpm=speeds, torque=op.torque, theta_2=th2,
-                                theta_s=ths, span=span, dt=cfg.solver.dt,
-                                tol=cfg.solver.tolerance, n_accel=cfg.solver.accel_n,
-                                max_iter=cfg.solver.max_iter, record_every=cfg.output.every,
-                                snapshots=cfg.output.vtu_snapshots, progress=cb,
-                                restitution=cfg.solver.restitution,
-                                record_nodes=None if probe is None else probe.nodes)
+        if sol.method == "reduced_hht":
+            from rotaflex.gear import reduced
+
+            red = reduced.build_reduced(model, sol.modes)
+            out = reduced.simulate_reduced(red, speeds_rpm=speeds, torque=op.torque,
+                                           theta_2=th2, theta_s=ths, span=span, dt=dt,
+                                           alpha=sol.hht_alpha, tol=sol.tolerance,
+                                           max_iter=min(sol.max_iter, 100),
+                                           record_every=every,
+                                           snapshots=cfg.output.vtu_snapshots, progress=cb)
+        else:
+            out = dynamics.simulate(model, speeds_rpm=speeds, torque=op.torque,
+                                    theta_2=th2, theta_s=ths, span=span, dt=dt,
+                                    tol=sol.tolerance, n_accel=sol.accel_n,
+                                    max_iter=sol.max_iter, record_every=every,
+                                    snapshots=cfg.output.vtu_snapshots, progress=cb,
+                                    restitution=sol.restitution,
+                                    multipliers=sol.multipliers,
+                                    record_nodes=None if probe is None else probe.nodes)
     finally:
         if bar is not None:
             bar.close()

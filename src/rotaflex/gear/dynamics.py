@@ -327,6 +327,7 @@ def simulate(
     progress_every=2000,
     restitution=0.0,
     record_nodes=None,
+    multipliers="iterative",
 ) -> SimulationOutput:
     """Integrate the pair over a rotation ``span`` of gear A [rad] with the paper's scheme.
 
@@ -359,6 +360,9 @@ def simulate(
     record_nodes : array of int or None
         Global node ids whose positions are stored at every record (``node_positions``), e.g.
         the support of the root-stress operator. The kernel is then called once per record.
+    multipliers : {"iterative", "direct"}
+        ``"iterative"``: the accelerated iteration of eq. 19-24 (the paper's scheme);
+        ``"direct"``: exact solve of each pass (:mod:`rotaflex.gear.kernels_direct`).
     """
     from rotaflex.gear.kernels import run_steps
 
@@ -371,7 +375,15 @@ def simulate(
         )
     omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
     n_steps = max(1, int(round(span / (omega[0] * dt))))
+    if multipliers not in ("iterative", "direct"):
+        raise InputError("solver.multipliers", multipliers, "'iterative' or 'direct'")
     eps = tie_eigen_bounds(model, dt)
+    if multipliers == "direct":
+        from rotaflex.gear.kernels_direct import factor_tie_blocks
+
+        dfac, dperm, _ = factor_tie_blocks(model, dt)
+    else:
+        dfac, dperm = np.ones((3, 1, 1)), np.zeros(1, dtype=np.int64)
     k = model.stiffness
     x = model.reference_positions()
     nn = model.n_nodes
@@ -445,7 +457,8 @@ def simulate(
     while done < n_steps:
         n = min(chunk, n_steps - done)
         row_before = row
-        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0], dtype=np.int64)
+        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0,
+                         1 if multipliers == "direct" else 0], dtype=np.int64)
         status, row = run_steps(
             n,
             record_every,
@@ -466,6 +479,8 @@ def simulate(
             out,
             out_mu,
             info,
+            dfac,
+            dperm,
         )
         first = False
         if rec_x is not None and row > row_before:

@@ -30,6 +30,8 @@ import math
 import numpy as np
 from numba import njit
 
+from rotaflex.gear.kernels_direct import direct_pass
+
 # ----------------------------------------------------------------------------- splines
 
 
@@ -925,6 +927,65 @@ def iterate_pass(
     return res, max_iter, False, y[ic]
 
 
+@njit(cache=True)
+def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, minv, tie_node, tie_gear,
+                 jd, bvec, rot, tb_i, tb_j, tb_b, ccol, work, stats):
+    """Direct multiplier solve of one pass (:mod:`rotaflex.gear.kernels_direct`), checked.
+
+    After the exact solve the error ``e0 + C dmu`` is re-evaluated with the structured
+    :func:`c_matvec` and, if above ``tol``, refined (at most ``max_ref`` times). Same return
+    values as :func:`iterate_pass` (iterations = number of solves).
+    """
+    nc = e0.shape[0]
+    ic = nc - 1
+    e = work[1]
+    dmu = work[2]
+    t1 = work[3]
+    y = work[4]
+    y[:] = 0.0
+    buf = work[7:13]
+    res = 0.0
+    for it in range(max_ref + 1):
+        for r in range(nc):
+            e[r] = e0[r] + y[r]
+        direct_pass(mode, e, mu, pbar, lb, perm, tie_gear, bvec, ccol, tol, dmu, buf)
+        for r in range(nc):
+            mu[r] += dmu[r]
+        c_matvec(dmu, t1, True, c1, c2, minv, tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j,
+                 tb_b, ccol, work[5], work[6])
+        for r in range(nc):
+            y[r] += t1[r]
+        res = 0.0
+        for r in range(ic):
+            res = max(res, abs(e0[r] + y[r]))
+        sval = e0[ic] + y[ic]
+        p = mu[ic]
+        if mode == 1:
+            act = (p < 0.0) or (sval > 0.0)
+        else:
+            act = (pbar < 0.0) and ((sval > 0.0) or (p < 0.0))
+        if act:
+            res = max(res, abs(sval))
+        if res <= tol:
+            stats[0] = res
+            stats[1] = it + 1
+            return res, it + 1, True, y[ic]
+    stats[0] = res
+    stats[1] = max_ref + 1
+    return res, max_ref + 1, False, y[ic]
+
+
+@njit(cache=True)
+def solve_pass(direct, lb, perm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter,
+               minv, tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, ccol, work, stats):
+    """Dispatch one pass to the iteration of eq. 19-24 or to the direct solve."""
+    if direct:
+        return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, lb, perm, minv, tie_node,
+                            tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, ccol, work, stats)
+    return iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, minv,
+                        tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, ccol, work, stats)
+
+
 # ----------------------------------------------------------------------------- time stepping
 
 
@@ -983,12 +1044,15 @@ def kinetic_energy(v, om, minv, jd):
 def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi_tie_gear,
               mi_flank, mi_nedge, mi_tb_i, mi_tb_j, mf_xloc, mf_minv, mf_data, mf_cen,
               mf_theta0, mf_jd, mf_sig, mf_tb_b, mf_rsgn, par, ipar,
-              x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, out, out_mu, info):
+              x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, out, out_mu, info,
+              dfac, dperm):
     """Advance ``n_steps`` RK4 steps with the three constraint passes per step.
 
     ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3
     [, restitution e]);
-    ``ipar`` = (n_accel, max_iter, n_points, rec_row, initialise). ``sc`` carries running
+    ``ipar`` = (n_accel, max_iter, n_points, rec_row, initialise, direct);
+    with direct = 1 the passes use the exact solve of :func:`direct_solve` with the banded
+    factors ``dfac`` (3, n, bw + 1) of the tie block and the row order ``dperm``. ``sc`` carries running
     scalars: (t, W_ext, D_vel, E_el, -, F_peak, res1, res2, res3, it1, it2, it3, s_final,
     shat, n_impacts, tie_res, pbar, phat, tau_A, tau_B, contact rates (4)). Records are written every
     ``rec_every`` steps into ``out`` starting at row ``ipar[3]``; returns (status, next row).
@@ -1051,7 +1115,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     ccol = np.zeros(nc)
     e0 = np.zeros(nc)
     mu0 = np.zeros(nc)
-    work = np.zeros((7, nc))
+    work = np.zeros((13, nc))
     stats = np.zeros(2)
     c11 = dt * dt / 2.0
     c12 = dt**4 / 24.0
@@ -1060,6 +1124,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     cn[0] = cres[3]
     cn[1] = cres[4]
     init = ipar[4] == 1
+    direct = ipar[5] == 1
     if init:
         if not contact_geometry(x, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb, mb, cres,
                                 cnod, cw):
@@ -1151,7 +1216,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             contact_column(c11, c12, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
                            mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
             mu0[:] = mu
-            res, its, ok, yc = iterate_pass(1, e0, mu, 0.0, c11, c12, par[7], tol1, n_acc,
+            res, its, ok, yc = solve_pass(
+                direct, dfac[0], dperm, 1, e0, mu, 0.0, c11, c12, par[7], tol1, n_acc,
                                             max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd,
                                             bvec, rot, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work,
                                             stats)
@@ -1225,7 +1291,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             contact_column(c21, c22, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
                            mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
             mu0[:] = mu
-            res, its, ok, yc = iterate_pass(2, e0, mu, pbar, c21, c22, par[8], tol2, n_acc,
+            res, its, ok, yc = solve_pass(
+                direct, dfac[1], dperm, 2, e0, mu, pbar, c21, c22, par[8], tol2, n_acc,
                                             max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd,
                                             bvec, rot, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work,
                                             stats)
@@ -1298,7 +1365,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
         contact_column(1.0, 0.0, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
                        mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
         mu0[:] = mu
-        res, its, ok, yc = iterate_pass(3, e0, mu, pbar, 1.0, 0.0, par[9], tol3, n_acc,
+        res, its, ok, yc = solve_pass(
+                direct, dfac[2], dperm, 3, e0, mu, pbar, 1.0, 0.0, par[9], tol3, n_acc,
                                         max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd, bvec,
                                         rot, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work, stats)
         if not ok:
