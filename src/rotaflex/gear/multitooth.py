@@ -1,0 +1,338 @@
+"""Two or three elastic teeth per gear: the two-pair zones modelled directly (issue 3, part 3).
+
+Model
+-----
+Each gear is a rigid disk carrying ``n`` (2 or 3) adjacent elastic teeth at the angular pitch
+``2 pi / z``; every tooth is its own pitch-sector mesh (:func:`rotaflex.gear.mesh.build_tooth_mesh`)
+whose root nodes (inner arc and side cuts) are tied to the disk, exactly as the single tooth of
+:mod:`rotaflex.gear.dynamics`. Tooth ``j`` of A can touch tooth ``j`` of B only: ``n`` contact
+pairs, each unilateral with its own contact search (minimum normal distance between the spline
+surfaces), sliding terms and multiplier row in the paper's three-pass iteration
+(:func:`rotaflex.gear.kernels_multi.run_steps_m`). Both disks carry the constant torque
+``tau_0`` (drive on A, load on B): no Fig. 7 ramps.
+
+Pair ``j`` has the contact angle ``psi_j + phi_A`` (rotation of A since that pair's geometric
+start of contact), ``psi_j = (1 - j) * 2 pi / z``: pair 0 is the previous pair (it starts at
+the beginning of its final two-pair zone), pair 1 is just entering contact, pair 2 (three
+teeth) is the next one. Gear frames: the disk frame of each gear is the tooth frame of its
+pair-1 tooth (placed as in the single-tooth model); tooth ``j`` of A is turned by ``+psi_j``,
+of B by ``-psi_j`` (B turns clockwise).
+
+Start: quasi-static preload. The loaded pairs' tooth deflections and B's rigid rotation are
+found from the static balance of tau_0 (linear FE compliances of each pair at its contact
+point, unilateral), so the run starts close to equilibrium instead of with a sudden torque.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from rotaflex.core.errors import ConvergenceError, InputError
+from rotaflex.gear.dynamics import GearPairModel, tie_eigen_bounds, torque_ramp
+
+
+@dataclass
+class MultiToothModel(GearPairModel):
+    """:class:`GearPairModel` with ``n_teeth`` teeth per gear and one contact pair per tooth."""
+
+    n_teeth: int = 1
+    pair_flank: np.ndarray | None = None  # (npair, 2, nfl) flank node ids, root -> tip
+    pair_nedge: np.ndarray | None = None  # (npair, 2)
+    pair_psi: np.ndarray | None = None  # (npair,) contact angle of each pair at t = 0 [rad]
+    tooth_offset: np.ndarray | None = None  # (2, n) turn of each tooth in its disk frame [rad]
+    tooth_node0: np.ndarray | None = None  # (2, n) first global node of each tooth
+    initial_positions: np.ndarray | None = None  # (2N,) preloaded start state
+    preload: dict | None = None
+
+
+def _rot(t):
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[c, -s], [s, c]])
+
+
+def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio, density,
+                      inertia, n_points=61):
+    """Two identical gears with ``n_teeth`` elastic teeth each, placed at the start of contact
+    of pair 1 (see module docstring)."""
+    from rotaflex.gear import dynamics, fe
+
+    if n_teeth not in (1, 2, 3):
+        raise InputError("model.teeth_per_gear", n_teeth, "1, 2 or 3")
+    base = dynamics.build_model(geometry, geometry, mesh, mesh, youngs_modulus=youngs_modulus,
+                                poisson_ratio=poisson_ratio, density=density, inertia=inertia,
+                                n_points=n_points)
+    pitch = 2 * math.pi / geometry.teeth
+    m_enter = min(1, n_teeth - 1)
+    psi = np.array([(m_enter - j) * pitch for j in range(n_teeth)])
+    k0 = fe.stiffness_matrix(mesh, youngs_modulus, poisson_ratio).tocsr()
+    m0 = fe.lumped_mass(mesh, density)[::2]
+    nn = mesh.n_nodes
+    roots = np.asarray(mesh.root_nodes, dtype=np.int64)
+    fl0 = np.asarray(mesh.flank_nodes["left"], dtype=np.int64)
+    xl, gid, minv, ks, tie_node, tie_gear = [], [], [], [], [], []
+    tb_i, tb_j, tb_b = [], [], []
+    offsets = np.zeros((2, n_teeth))
+    node0 = np.zeros((2, n_teeth), dtype=np.int64)
+    off = 0
+    ntie = 0
+    for g in range(2):
+        for j in range(n_teeth):
+            ang = psi[j] if g == 0 else -psi[j]
+            offsets[g, j] = ang
+            node0[g, j] = off
+            r = _rot(ang)
+            if ang == 0.0:
+                k = k0.copy()
+            else:
+                t = sp.block_diag([r] * nn, format="csr")
+                k = (t @ k0 @ t.T).tocsr()
+            xl.append(mesh.nodes @ r.T)
+            gid.append(np.full(nn, g))
+            minv.append(1.0 / m0)
+            ks.append(k)
+            tie_node.append(roots + off)
+            tie_gear.append(np.full(len(roots), g))
+            bi, bj, bb = dynamics._tie_blocks(k, roots, ntie)
+            tb_i += bi
+            tb_j += bj
+            tb_b += bb
+            off += nn
+            ntie += len(roots)
+    pair_flank = np.zeros((n_teeth, 2, len(fl0)), dtype=np.int64)
+    for j in range(n_teeth):
+        for g in range(2):
+            pair_flank[j, g] = fl0 + node0[g, j]
+    nedge = (len(fl0) - 1) // 2
+    model = MultiToothModel(
+        geometry=base.geometry, meshes=base.meshes, centre_distance=base.centre_distance,
+        theta0=base.theta0.copy(), centres=base.centres,
+        xloc=np.ascontiguousarray(np.vstack(xl)), gid=np.concatenate(gid).astype(np.int64),
+        minv=np.concatenate(minv), stiffness=sp.block_diag(ks, format="csr"),
+        tie_node=np.concatenate(tie_node).astype(np.int64),
+        tie_gear=np.concatenate(tie_gear).astype(np.int64),
+        tb_i=np.array(tb_i, dtype=np.int64), tb_j=np.array(tb_j, dtype=np.int64),
+        tb_b=np.ascontiguousarray(np.array(tb_b, dtype=float).reshape(-1, 2, 2)),
+        flank=pair_flank[min(1, n_teeth - 1)].copy(), nedge=np.array([nedge, nedge]),
+        sig=base.sig, inertia=base.inertia, rsgn=base.rsgn, n_points=base.n_points,
+        dt_limit=base.dt_limit, n_teeth=n_teeth, pair_flank=pair_flank,
+        pair_nedge=np.full((n_teeth, 2), nedge, dtype=np.int64), pair_psi=psi,
+        tooth_offset=offsets, tooth_node0=node0,
+    )
+    model.initial_positions = model.reference_positions()
+    return model
+
+
+def pair_geometry(model: MultiToothModel, x: np.ndarray, start=(0.3, 0.99)):
+    """Contact search of every pair at positions ``x``: (cres (npair, 8), cnod, cw)."""
+    from rotaflex.gear.kernels import contact_geometry
+
+    npair = model.n_teeth
+    m = model.n_points
+    cres = np.zeros((npair, 8))
+    cnod = np.zeros((npair, 2, 3), dtype=np.int64)
+    cw = np.zeros((npair, 2, 3))
+    for j in range(npair):
+        cres[j, 0], cres[j, 1] = start
+        buf = [np.empty((m, 2)) for _ in range(4)]
+        if not contact_geometry(x, model.pair_flank[j], model.pair_nedge[j], model.sig, m,
+                                *buf, cres[j], cnod[j], cw[j]):
+            raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
+    return cres, cnod, cw
+
+
+def _positions(model, theta0, u_local):
+    """Global positions for disk orientations ``theta0`` and tooth-frame displacements."""
+    x = np.empty((model.n_nodes, 2))
+    nn = model.meshes[0].n_nodes
+    for g in range(2):
+        for j in range(model.n_teeth):
+            a = model.tooth_node0[g, j]
+            r = _rot(theta0[g] + model.tooth_offset[g, j])
+            x[a:a + nn] = model.centres[g] + (model.meshes[0].nodes + u_local[g, j]) @ r.T
+    return x.ravel()
+
+
+def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
+                   poisson_ratio: float, n_iter: int = 4) -> dict:
+    """Quasi-static start: deflect the loaded pairs and turn B so the pairs carry ``torque``.
+
+    Linear statics per tooth (root nodes fixed to the disk) with a unit normal point force
+    distributed as in the dynamics (quadratic edge shape functions); the pair forces
+    ``P_j = max(0, (beta d_j - h_j) / c_j)`` (h_j rigid gap, d_j moment arm about B's centre,
+    c_j pair compliance) balance ``torque`` on B. Repeated ``n_iter`` times with the gaps of the
+    deformed state. Sets ``model.theta0`` (B) and ``model.initial_positions``; returns the pair
+    forces, compliances and the final gaps.
+    """
+    from rotaflex.gear.static import solve_static
+
+    mesh = model.meshes[0]
+    nn = mesh.n_nodes
+    npair = model.n_teeth
+    theta_ref = model.theta0.copy()
+    u = np.zeros((2, npair, nn, 2))
+    x = _positions(model, theta_ref, u)
+    cres, cnod, cw = pair_geometry(model, x)
+    comp = np.zeros(npair)
+    unit = np.zeros((2, npair, nn, 2))
+    arm = np.zeros(npair)
+    for j in range(npair):
+        n = cres[j, 3:5]
+        disp = []
+        for g in range(2):
+            r = _rot(theta_ref[g] + model.tooth_offset[g, j])
+            nl = r.T @ n
+            f = np.zeros(2 * nn)
+            sgn = -1.0 if g == 0 else 1.0
+            for q in range(3):
+                i = cnod[j, g, q] - model.tooth_node0[g, j]
+                f[2 * i:2 * i + 2] += sgn * cw[j, g, q] * nl
+            ul = solve_static(mesh, f, youngs_modulus, poisson_ratio).reshape(-1, 2)
+            unit[g, j] = ul
+            ug = ul @ r.T
+            disp.append(sum(cw[j, g, q] * (n @ ug[cnod[j, g, q] - model.tooth_node0[g, j]])
+                            for q in range(3)))
+        comp[j] = disp[1] - disp[0]
+        xb = np.array([sum(cw[j, 1, q] * x[2 * cnod[j, 1, q] + d] for q in range(3))
+                       for d in range(2)])
+        rb_vec = xb - model.centres[1]
+        arm[j] = -(rb_vec[0] * n[1] - rb_vec[1] * n[0])
+    h_eff = cres[:, 2].copy()
+    beta = 0.0
+    pj = np.zeros(npair)
+    for _ in range(n_iter):
+        def bal(b, h=h_eff):
+            return np.sum(np.maximum(0.0, (b * arm - h) / comp) * arm) - torque
+
+        lo = float(np.min(h_eff / arm))
+        hi = lo + max(torque * np.max(comp) / np.min(arm) ** 2, 1e-12)
+        while bal(hi) < 0.0:
+            hi = lo + 2 * (hi - lo)
+        from scipy.optimize import brentq
+
+        beta = brentq(bal, lo, hi, xtol=1e-16, rtol=1e-15) if torque > 0 else 0.0
+        pj = np.maximum(0.0, (beta * arm - h_eff) / comp)
+        for j in range(npair):
+            for g in range(2):
+                u[g, j] = pj[j] * unit[g, j]
+        th = theta_ref.copy()
+        th[1] += beta
+        x = _positions(model, th, u)
+        c2, _, _ = pair_geometry(model, x)
+        pred = np.where(pj > 0, 0.0, h_eff - beta * arm)
+        h_eff = h_eff + (c2[:, 2] - pred)
+    model.theta0 = th
+    model.initial_positions = x
+    model.preload = {"force": pj, "compliance": comp, "arm": arm, "gap": c2[:, 2],
+                     "beta": beta}
+    return model.preload
+
+
+def strain_energy(model: GearPairModel, x: np.ndarray) -> float:
+    """Strain energy 1/2 w^T K w of the co-rotational displacements at positions ``x`` [J]."""
+    xr = x.reshape(-1, 2)
+    w = np.empty_like(xr)
+    for g in range(2):
+        sel = model.gid == g
+        r = _rot(model.theta0[g])
+        w[sel] = (xr[sel] - model.centres[g]) @ r - model.xloc[sel]
+    w = w.ravel()
+    return float(0.5 * w @ (model.stiffness @ w))
+
+
+@dataclass
+class MultiOutput:
+    """Raw histories returned by :func:`simulate_multi`."""
+
+    records: dict  # global name -> (n_rec,)
+    pair_records: dict  # per-pair name -> (n_rec, npair)
+    tie_multipliers: np.ndarray
+    steps: int
+    wall_time: float
+    initial_energy: float
+    dt: float
+
+
+def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta_s, span, dt,
+                   torque_mode=1, tol=1e-12, n_accel=4, max_iter=500, record_every=10,
+                   progress=None, progress_every=2000) -> MultiOutput:
+    """Integrate the multi-tooth pair over a rotation ``span`` of gear A [rad].
+
+    Same scheme and parameters as :func:`rotaflex.gear.dynamics.simulate`; ``torque_mode`` 1
+    applies the constant ``torque`` to both disks, 0 the Fig. 7 ramps (for the comparison with
+    the single-tooth kernel). Starts from ``model.initial_positions`` rotating rigidly.
+    """
+    from rotaflex.gear.kernels import kinetic_energy
+    from rotaflex.gear.kernels_multi import GLOBAL_COLUMNS, PAIR_COLUMNS, run_steps_m
+
+    if dt > model.dt_limit:
+        raise InputError("solver.dt", dt,
+                         f"a step <= the RK4 stability limit of the mesh, {model.dt_limit:.4g} s"
+                         " (refine dt or coarsen the smallest elements)")
+    omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
+    n_steps = max(1, int(round(span / (omega[0] * dt))))
+    eps = tie_eigen_bounds(model, dt)
+    k = model.stiffness
+    x = model.initial_positions.copy()
+    nn = model.n_nodes
+    npair = model.n_teeth
+    om = np.array([omega[0], -omega[1]])
+    v = np.empty(2 * nn)
+    for g in range(2):
+        sel = np.where(model.gid == g)[0]
+        rel = x.reshape(-1, 2)[sel] - model.centres[g]
+        v[2 * sel] = -om[g] * rel[:, 1]
+        v[2 * sel + 1] = om[g] * rel[:, 0]
+    a = np.zeros(2 * nn)
+    alp = np.zeros(2)
+    phi = np.zeros(2)
+    nc = 2 * len(model.tie_node) + npair
+    mu = np.zeros(nc)
+    cres = np.zeros((npair, 8))
+    cres[:, 0], cres[:, 1] = 0.3, 0.99
+    cnod = np.zeros((npair, 2, 3), dtype=np.int64)
+    cw = np.zeros((npair, 2, 3))
+    sc = np.zeros(24)
+    spair = np.zeros((npair, 5))
+    n_rec = n_steps // record_every + 1
+    out = np.zeros((n_rec, len(GLOBAL_COLUMNS)))
+    outp = np.zeros((n_rec, npair, len(PAIR_COLUMNS)))
+    out_mu = np.zeros((n_rec, nc - npair))
+    info = np.zeros(4)
+    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps])
+    args_model = (model.gid, k.indptr.astype(np.int64), k.indices.astype(np.int64),
+                  model.tie_node, model.tie_gear, model.pair_flank, model.pair_nedge,
+                  model.tb_i, model.tb_j, model.xloc, model.minv, k.data.astype(float),
+                  model.centres, model.theta0, model.inertia, model.sig, model.tb_b, model.rsgn)
+    e0 = kinetic_energy(v, om, model.minv, model.inertia) + strain_energy(model, x)
+    chunk = max(record_every, (progress_every // record_every) * record_every)
+    names = {1: "displacement pass (eq. 19)", 2: "velocity pass (eq. 20)",
+             3: "acceleration pass (eq. 21)"}
+    t0 = time.perf_counter()
+    done = 0
+    row = 0
+    first = True
+    while done < n_steps:
+        n = min(chunk, n_steps - done)
+        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0,
+                         torque_mode], dtype=np.int64)
+        status, row = run_steps_m(n, record_every, *args_model, par, ipar, x, v, a, phi, om,
+                                  alp, mu, cres, cnod, cw, sc, spair, out, outp, out_mu, info)
+        first = False
+        if status in names:
+            raise ConvergenceError(names[status], info[0], info[1], info[2])
+        if status == 4:
+            raise ConvergenceError("contact search", info[0], float("nan"), 0.0)
+        done += n
+        if progress is not None:
+            progress(done, n_steps)
+    wall = time.perf_counter() - t0
+    return MultiOutput(
+        records={name: out[:row, i].copy() for i, name in enumerate(GLOBAL_COLUMNS)},
+        pair_records={name: outp[:row, :, i].copy() for i, name in enumerate(PAIR_COLUMNS)},
+        tie_multipliers=out_mu[:row].copy(), steps=n_steps, wall_time=wall,
+        initial_energy=float(e0), dt=dt)
