@@ -38,6 +38,7 @@ from rotaflex.gear.kernels import (
     sample_flank,
     set_rotation,
     sliding_terms,
+    spline_eval,
     spline_second,
     tie_row_sums,
     tie_vectors,
@@ -359,17 +360,150 @@ def _transfer(dmu, mi_tie_node, mi_tie_gear, bvec, rot, cnod, cw, cn, gsc, gth):
 
 
 @njit(cache=True)
+def corner_contact(pa, ma, pb, mb, sig_a, sig_b, which, a0, b0, res):
+    """Tip-corner contact outside the path of contact (same output as ``contact_search``).
+
+    ``which`` 1: the tip corner of B projected on A's flank, A's normal (before the start of
+    contact, where the common normal of the splines lies beyond B's tip); 2: the tip corner of
+    A projected on B, B's normal reversed (after the end of contact). These are the corner
+    branches of :func:`rotaflex.gear.kernels.contact_search`, used directly because the
+    common-normal iteration can converge to a distant pair before the teeth meet.
+    """
+    bq = np.empty((3, 2))
+    bs = np.empty((3, 2))
+    if which == 1:
+        spline_eval(pb, mb, 1.0, bs)
+        cx, cy = bs[0, 0], bs[0, 1]
+        a = a0
+        b = 1.0
+        for _ in range(40):
+            spline_eval(pa, ma, a, bq)
+            dx = cx - bq[0, 0]
+            dy = cy - bq[0, 1]
+            f = dx * bq[1, 0] + dy * bq[1, 1]
+            df = -(bq[1, 0] ** 2 + bq[1, 1] ** 2) + dx * bq[2, 0] + dy * bq[2, 1]
+            da = -f / df
+            a += da
+            if abs(da) < 1e-14:
+                break
+        a = min(max(a, 0.0), 1.0)
+        spline_eval(pa, ma, a, bq)
+        ln = math.hypot(bq[1, 0], bq[1, 1])
+        n0 = -sig_a * bq[1, 1] / ln
+        n1 = sig_a * bq[1, 0] / ln
+        q = 0
+    else:
+        spline_eval(pa, ma, 1.0, bq)
+        cx, cy = bq[0, 0], bq[0, 1]
+        a = 1.0
+        b = b0
+        for _ in range(40):
+            spline_eval(pb, mb, b, bs)
+            dx = cx - bs[0, 0]
+            dy = cy - bs[0, 1]
+            f = dx * bs[1, 0] + dy * bs[1, 1]
+            df = -(bs[1, 0] ** 2 + bs[1, 1] ** 2) + dx * bs[2, 0] + dy * bs[2, 1]
+            db = -f / df
+            b += db
+            if abs(db) < 1e-14:
+                break
+        b = min(max(b, 0.0), 1.0)
+        spline_eval(pb, mb, b, bs)
+        lb = math.hypot(bs[1, 0], bs[1, 1])
+        n0 = sig_b * bs[1, 1] / lb
+        n1 = -sig_b * bs[1, 0] / lb
+        q = 1
+    spline_eval(pa, ma, a, bq)
+    spline_eval(pb, mb, b, bs)
+    res[0] = a
+    res[1] = b
+    res[2] = (bs[0, 0] - bq[0, 0]) * n0 + (bs[0, 1] - bq[0, 1]) * n1
+    res[3] = n0
+    res[4] = n1
+    res[5] = which
+    res[6] = q
+    res[7] = 1.0
+
+
+@njit(cache=True)
+def pair_contact(x, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw, mode):
+    """``contact_geometry`` of one pair; ``mode`` 0 = minimum-distance search, 1 / 2 = the
+    tip-corner projection of :func:`corner_contact`. Returns False on failure."""
+    if mode == 0:
+        return contact_geometry(x, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw)
+    sample_flank(x, flank[0], nedge[0], pa)
+    sample_flank(x, flank[1], nedge[1], pb)
+    spline_second(pa, ma)
+    spline_second(pb, mb)
+    corner_contact(pa, ma, pb, mb, sig[0], sig[1], mode, cres[0], cres[1], cres)
+    nodes = np.empty(3, np.int64)
+    w = np.empty(3)
+    for side in range(2):
+        flank_weights(flank[side], nedge[side], cres[side], nodes, w)
+        for j in range(3):
+            cnod[side, j] = nodes[j]
+            cw[side, j] = w[j]
+    return True
+
+
+@njit(cache=True)
+def search_pairs(x, phi0, rsgn0, mi_flank, mi_nedge, mf_sig, mpts, mf_psi, mf_wtab, lo, hi,
+                 corners, pa, ma, pb, mb, cres, cnod, cw, spair):
+    """Contact search of every pair whose nominal contact angle ``psi_j + rsgn0 phi0`` lies in
+    the mesh window [lo, hi]. A pair entering the window is warm-started from ``mf_wtab``
+    (involute contact parameters on a uniform grid of the contact angle over [0, theta_s]);
+    before the start of contact (psi < 0) the tip corner of B is projected on A, after its end
+    (psi > theta_s) the tip corner of A on B (:func:`corner_contact`), in between the
+    minimum-distance search of the single-pair model (``corners`` False: always the search);
+    a pair outside it is not searched: gap 1 m, case -1, zero-weight contact row.
+    Returns False if a search failed."""
+    npair = cres.shape[0]
+    nw = mf_wtab.shape[0]
+    for jp in range(npair):
+        psi = mf_psi[jp] + rsgn0 * phi0
+        if psi >= lo and psi <= hi:
+            if spair[jp, 5] == 0.0:
+                z = (min(max(psi, 0.0), mf_wtab[nw - 1, 2]) / mf_wtab[nw - 1, 2]) * (nw - 1)
+                k = min(int(z), nw - 2)
+                f = z - k
+                cres[jp, 0] = (1 - f) * mf_wtab[k, 0] + f * mf_wtab[k + 1, 0]
+                cres[jp, 1] = (1 - f) * mf_wtab[k, 1] + f * mf_wtab[k + 1, 1]
+            mode = 0
+            if corners and psi < 0.0:
+                mode = 1
+            elif corners and psi > mf_wtab[nw - 1, 2]:
+                mode = 2
+            if not pair_contact(x, mi_flank[jp], mi_nedge[jp], mf_sig, mpts, pa[jp], ma[jp],
+                                pb[jp], mb[jp], cres[jp], cnod[jp], cw[jp], mode):
+                return False
+            spair[jp, 5] = 1.0
+        else:
+            spair[jp, 5] = 0.0
+            cres[jp, 2] = 1.0
+            cres[jp, 3] = 1.0
+            cres[jp, 4] = 0.0
+            cres[jp, 5] = -1.0
+            for side in range(2):
+                for j in range(3):
+                    cnod[jp, side, j] = mi_flank[jp, side, j]
+                    cw[jp, side, j] = 0.0
+    return True
+
+
+@njit(cache=True)
 def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi_tie_gear,
                 mi_flank, mi_nedge, mi_tb_i, mi_tb_j, mf_xloc, mf_minv, mf_data, mf_cen,
-                mf_theta0, mf_jd, mf_sig, mf_tb_b, mf_rsgn, par, ipar,
+                mf_theta0, mf_jd, mf_sig, mf_tb_b, mf_rsgn, mf_psi, mf_wtab, par, ipar,
                 x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, spair, out, outp, out_mu, info):
     """Advance ``n_steps`` RK4 steps with three constraint passes and ``npair`` contacts.
 
-    ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3);
+    ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3, lo,
+    hi, corners) with [lo, hi] the window of nominal contact angles in which a pair is searched (see
+    :func:`search_pairs`; ``mf_psi`` initial contact angles, ``mf_wtab`` warm-start table);
     ``ipar`` = (n_accel, max_iter, n_points, rec_row, initialise, torque_mode). ``sc`` =
     (t, W_ext, D_vel, E_el, -, -, res1, res2, res3, it1, it2, it3, -, -, n_impacts, tie_res,
     -, -, tau_A, tau_B); ``spair[j]`` = (s after pass 1, s_dot after pass 2, p_bar, p_hat,
-    peak force since the last record). Global records go to ``out``, per-pair records to
+    peak force since the last record, in-mesh flag). Global records go to ``out``, per-pair records to
     ``outp[row, j]`` (see GLOBAL_COLUMNS / PAIR_COLUMNS). Returns (status, next row).
     """
     dt = par[0]
@@ -438,20 +572,16 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
     c12 = dt**4 / 24.0
     c21 = dt
     c22 = dt**3 / 6.0
+    lo = par[10]
+    hi = par[11]
+    corners = par[12] != 0.0
     init = ipar[4] == 1
     if init:
-        for jp in range(npair):
-            if not contact_geometry(x, mi_flank[jp], mi_nedge[jp], mf_sig, mpts, pa[jp], ma[jp],
-                                    pb[jp], mb[jp], cres[jp], cnod[jp], cw[jp]):
-                info[0] = sc[0]
-                return 4, row
-    else:
-        # rebuild the splines of the state left by the previous call
-        for jp in range(npair):
-            sample_flank(x, mi_flank[jp, 0], mi_nedge[jp, 0], pa[jp])
-            sample_flank(x, mi_flank[jp, 1], mi_nedge[jp, 1], pb[jp])
-            spline_second(pa[jp], ma[jp])
-            spline_second(pb[jp], mb[jp])
+        if not search_pairs(x, phi[0], mf_rsgn[0], mi_flank, mi_nedge, mf_sig, mpts, mf_psi,
+                            mf_wtab, lo, hi, corners, pa, ma, pb, mb, cres, cnod, cw,
+                            spair):
+            info[0] = sc[0]
+            return 4, row
     for jp in range(npair):
         cn[jp, 0] = cres[jp, 3]
         cn[jp, 1] = cres[jp, 4]
@@ -511,11 +641,12 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
                 om[g] += dt / 6.0 * osum[g]
             t = t + dt
             # ---- contact search of every pair at the predicted state
+            if not search_pairs(x, phi[0], mf_rsgn[0], mi_flank, mi_nedge, mf_sig, mpts, mf_psi,
+                                mf_wtab, lo, hi, corners, pa, ma, pb, mb, cres, cnod, cw,
+                            spair):
+                info[0] = t
+                return 4, row
             for jp in range(npair):
-                if not contact_geometry(x, mi_flank[jp], mi_nedge[jp], mf_sig, mpts, pa[jp],
-                                        ma[jp], pb[jp], mb[jp], cres[jp], cnod[jp], cw[jp]):
-                    info[0] = t
-                    return 4, row
                 cn[jp, 0] = cres[jp, 3]
                 cn[jp, 1] = cres[jp, 4]
             set_rotation(phi, mf_theta0, rot)
@@ -641,6 +772,11 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
             e0[2 * k] = -al0 + bvec[k, 0] * alp[g] + om[g] ** 2 * rx[k, 0] - 2 * om[g] * vl1
             e0[2 * k + 1] = -al1 + bvec[k, 1] * alp[g] + om[g] ** 2 * rx[k, 1] + 2 * om[g] * vl0
         for jp in range(npair):
+            if spair[jp, 5] == 0.0:
+                e0[ic + jp] = 0.0
+                for q in range(4):
+                    rates[jp, q] = 0.0
+                continue
             sample_flank(v, mi_flank[jp, 0], mi_nedge[jp, 0], va)
             sample_flank(v, mi_flank[jp, 1], mi_nedge[jp, 1], vb)
             spline_second(va, mva)

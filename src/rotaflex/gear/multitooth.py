@@ -56,9 +56,12 @@ def _rot(t):
 
 
 def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio, density,
-                      inertia, n_points=61):
-    """Two identical gears with ``n_teeth`` elastic teeth each, placed at the start of contact
-    of pair 1 (see module docstring)."""
+                      inertia, n_points=61, start_angle=0.0):
+    """Two identical gears with ``n_teeth`` elastic teeth each.
+
+    Placed (rigidly, unloaded) so that pair 1 is at the contact angle ``start_angle`` [rad]
+    (0 = geometric start of contact, < 0 = before it; see module docstring).
+    """
     from rotaflex.gear import dynamics, fe
 
     if n_teeth not in (1, 2, 3):
@@ -68,7 +71,8 @@ def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio,
                                 n_points=n_points)
     pitch = 2 * math.pi / geometry.teeth
     m_enter = min(1, n_teeth - 1)
-    psi = np.array([(m_enter - j) * pitch for j in range(n_teeth)])
+    psi = np.array([(m_enter - j) * pitch for j in range(n_teeth)]) + start_angle
+    base.theta0 = base.theta0 + np.array([start_angle, -start_angle])
     k0 = fe.stiffness_matrix(mesh, youngs_modulus, poisson_ratio).tocsr()
     m0 = fe.lumped_mass(mesh, density)[::2]
     nn = mesh.n_nodes
@@ -127,9 +131,43 @@ def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio,
     return model
 
 
-def pair_geometry(model: MultiToothModel, x: np.ndarray, start=(0.3, 0.99)):
-    """Contact search of every pair at positions ``x``: (cres (npair, 8), cnod, cw)."""
-    from rotaflex.gear.kernels import contact_geometry
+def involute_start(model: MultiToothModel, psi: float) -> tuple[float, float]:
+    """Flank parameters (a, b) of the rigid involute contact point at contact angle ``psi``.
+
+    Used as the warm start of each pair's contact search; ``psi`` is clamped to the path of
+    contact (a pair out of mesh starts from its nearest end of contact).
+    """
+    from rotaflex.gear.kernels import sample_flank
+
+    g = model.geometry[0]
+    rb = g.base_radius
+    a = model.centre_distance
+    length = math.sqrt(a * a - (2 * rb) ** 2)
+    ra = g.tip_radius_
+    s_end = math.sqrt(ra**2 - rb**2)
+    s_start = length - s_end
+    s = min(max(s_start + rb * psi, s_start), s_end)
+    r_a = math.hypot(rb, s)
+    r_b = math.hypot(rb, length - s)
+    mesh = model.meshes[0]
+    pts = np.empty((model.n_points, 2))
+    fl = np.asarray(mesh.flank_nodes["left"], dtype=np.int64)
+    sample_flank(mesh.nodes.ravel().copy(), fl, (len(fl) - 1) // 2, pts)
+    rad = np.maximum.accumulate(np.hypot(pts[:, 0], pts[:, 1]))
+    rad = rad + 1e-12 * np.arange(len(rad))
+    par = np.linspace(0.0, 1.0, model.n_points)
+    return float(np.interp(r_a, rad, par)), float(np.interp(r_b, rad, par))
+
+
+def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: float = 0.0,
+                  theta_s: float | None = None):
+    """Contact search of every pair at positions ``x``: (cres (npair, 8), cnod, cw).
+
+    ``start`` (npair, 2) warm starts; default: the involute contact point of each pair at
+    gear A's rotation ``phi_a`` (:func:`involute_start`). With ``theta_s`` given, pairs before
+    the start / after the end of contact use the tip-corner projection, as in the solver.
+    """
+    from rotaflex.gear.kernels_multi import pair_contact
 
     npair = model.n_teeth
     m = model.n_points
@@ -137,10 +175,15 @@ def pair_geometry(model: MultiToothModel, x: np.ndarray, start=(0.3, 0.99)):
     cnod = np.zeros((npair, 2, 3), dtype=np.int64)
     cw = np.zeros((npair, 2, 3))
     for j in range(npair):
-        cres[j, 0], cres[j, 1] = start
+        if start is None:
+            cres[j, 0], cres[j, 1] = involute_start(model, model.pair_psi[j] + phi_a)
+        else:
+            cres[j, 0], cres[j, 1] = start[j]
         buf = [np.empty((m, 2)) for _ in range(4)]
-        if not contact_geometry(x, model.pair_flank[j], model.pair_nedge[j], model.sig, m,
-                                *buf, cres[j], cnod[j], cw[j]):
+        psi = model.pair_psi[j] + phi_a
+        mode = 0 if theta_s is None else (1 if psi < 0 else (2 if psi > theta_s else 0))
+        if not pair_contact(x, model.pair_flank[j], model.pair_nedge[j], model.sig, m, *buf,
+                            cres[j], cnod[j], cw[j], mode):
             raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
     return cres, cnod, cw
 
@@ -158,13 +201,15 @@ def _positions(model, theta0, u_local):
 
 
 def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
-                   poisson_ratio: float, n_iter: int = 4) -> dict:
+                   poisson_ratio: float, theta_s: float, window: float = math.radians(1.0),
+                   n_iter: int = 4) -> dict:
     """Quasi-static start: deflect the loaded pairs and turn B so the pairs carry ``torque``.
 
     Linear statics per tooth (root nodes fixed to the disk) with a unit normal point force
     distributed as in the dynamics (quadratic edge shape functions); the pair forces
     ``P_j = max(0, (beta d_j - h_j) / c_j)`` (h_j rigid gap, d_j moment arm about B's centre,
-    c_j pair compliance) balance ``torque`` on B. Repeated ``n_iter`` times with the gaps of the
+    c_j pair compliance) balance ``torque`` on B; pairs outside the mesh window
+    ``[-window, theta_s + window]`` of contact angles are ignored. Repeated ``n_iter`` times with the gaps of the
     deformed state. Sets ``model.theta0`` (B) and ``model.initial_positions``; returns the pair
     forces, compliances and the final gaps.
     """
@@ -176,11 +221,13 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
     theta_ref = model.theta0.copy()
     u = np.zeros((2, npair, nn, 2))
     x = _positions(model, theta_ref, u)
-    cres, cnod, cw = pair_geometry(model, x)
-    comp = np.zeros(npair)
+    inmesh = (model.pair_psi >= -window) & (model.pair_psi <= theta_s + window)
+    cres, cnod, cw = pair_geometry(model, x, theta_s=theta_s)
+    cres[~inmesh, 2] = 1.0
+    comp = np.ones(npair)
     unit = np.zeros((2, npair, nn, 2))
     arm = np.zeros(npair)
-    for j in range(npair):
+    for j in np.where(inmesh)[0]:
         n = cres[j, 3:5]
         disp = []
         for g in range(2):
@@ -201,6 +248,7 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
                        for d in range(2)])
         rb_vec = xb - model.centres[1]
         arm[j] = -(rb_vec[0] * n[1] - rb_vec[1] * n[0])
+    arm[~inmesh] = np.max(arm[inmesh])
     h_eff = cres[:, 2].copy()
     beta = 0.0
     pj = np.zeros(npair)
@@ -222,7 +270,8 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
         th = theta_ref.copy()
         th[1] += beta
         x = _positions(model, th, u)
-        c2, _, _ = pair_geometry(model, x)
+        c2, _, _ = pair_geometry(model, x, start=cres[:, :2], theta_s=theta_s)
+        c2[~inmesh, 2] = 1.0
         pred = np.where(pj > 0, 0.0, h_eff - beta * arm)
         h_eff = h_eff + (c2[:, 2] - pred)
     model.theta0 = th
@@ -257,14 +306,22 @@ class MultiOutput:
     dt: float
 
 
+def warm_start_table(model: MultiToothModel, theta_s: float, n: int = 61) -> np.ndarray:
+    """(n, 3): involute contact parameters (a, b) on a uniform grid of the contact angle."""
+    ang = np.linspace(0.0, theta_s, n)
+    return np.array([[*involute_start(model, t), t] for t in ang])
+
+
 def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta_s, span, dt,
-                   torque_mode=1, tol=1e-12, n_accel=4, max_iter=500, record_every=10,
+                   torque_mode=1, window=math.radians(1.0), tol=1e-12, n_accel=4, max_iter=500, record_every=10,
                    progress=None, progress_every=2000) -> MultiOutput:
     """Integrate the multi-tooth pair over a rotation ``span`` of gear A [rad].
 
     Same scheme and parameters as :func:`rotaflex.gear.dynamics.simulate`; ``torque_mode`` 1
     applies the constant ``torque`` to both disks, 0 the Fig. 7 ramps (for the comparison with
-    the single-tooth kernel). Starts from ``model.initial_positions`` rotating rigidly.
+    the single-tooth kernel). A pair is searched only while its nominal contact angle is within
+    ``[-window, theta_s + window]`` (``window=None``: always, as the single-tooth model).
+    Starts from ``model.initial_positions`` rotating rigidly.
     """
     from rotaflex.gear.kernels import kinetic_energy
     from rotaflex.gear.kernels_multi import GLOBAL_COLUMNS, PAIR_COLUMNS, run_steps_m
@@ -293,21 +350,26 @@ def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta
     nc = 2 * len(model.tie_node) + npair
     mu = np.zeros(nc)
     cres = np.zeros((npair, 8))
-    cres[:, 0], cres[:, 1] = 0.3, 0.99
+    for j in range(npair):
+        cres[j, 0], cres[j, 1] = involute_start(model, model.pair_psi[j])
     cnod = np.zeros((npair, 2, 3), dtype=np.int64)
     cw = np.zeros((npair, 2, 3))
     sc = np.zeros(24)
-    spair = np.zeros((npair, 5))
+    spair = np.zeros((npair, 6))
     n_rec = n_steps // record_every + 1
     out = np.zeros((n_rec, len(GLOBAL_COLUMNS)))
     outp = np.zeros((n_rec, npair, len(PAIR_COLUMNS)))
     out_mu = np.zeros((n_rec, nc - npair))
     info = np.zeros(4)
-    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps])
+    lo, hi = (-1e9, 1e9) if window is None else (-window, theta_s + window)
+    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps, lo, hi,
+                    0.0 if window is None else 1.0])
+    wtab = warm_start_table(model, theta_s)
     args_model = (model.gid, k.indptr.astype(np.int64), k.indices.astype(np.int64),
                   model.tie_node, model.tie_gear, model.pair_flank, model.pair_nedge,
                   model.tb_i, model.tb_j, model.xloc, model.minv, k.data.astype(float),
-                  model.centres, model.theta0, model.inertia, model.sig, model.tb_b, model.rsgn)
+                  model.centres, model.theta0, model.inertia, model.sig, model.tb_b, model.rsgn,
+                  model.pair_psi, wtab)
     e0 = kinetic_energy(v, om, model.minv, model.inertia) + strain_energy(model, x)
     chunk = max(record_every, (progress_every // record_every) * record_every)
     names = {1: "displacement pass (eq. 19)", 2: "velocity pass (eq. 20)",
