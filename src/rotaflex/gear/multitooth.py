@@ -71,7 +71,8 @@ def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio,
                                 n_points=n_points)
     pitch = 2 * math.pi / geometry.teeth
     m_enter = min(1, n_teeth - 1)
-    psi = np.array([(m_enter - j) * pitch for j in range(n_teeth)]) + start_angle
+    tooth_turn = np.array([(m_enter - j) * pitch for j in range(n_teeth)])
+    psi = tooth_turn + start_angle
     base.theta0 = base.theta0 + np.array([start_angle, -start_angle])
     k0 = fe.stiffness_matrix(mesh, youngs_modulus, poisson_ratio).tocsr()
     m0 = fe.lumped_mass(mesh, density)[::2]
@@ -86,7 +87,7 @@ def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio,
     ntie = 0
     for g in range(2):
         for j in range(n_teeth):
-            ang = psi[j] if g == 0 else -psi[j]
+            ang = tooth_turn[j] if g == 0 else -tooth_turn[j]
             offsets[g, j] = ang
             node0[g, j] = off
             r = _rot(ang)
@@ -202,7 +203,7 @@ def _positions(model, theta0, u_local):
 
 def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
                    poisson_ratio: float, theta_s: float, window: float = math.radians(1.0),
-                   n_iter: int = 4) -> dict:
+                   n_iter: int = 4, start=None) -> dict:
     """Quasi-static start: deflect the loaded pairs and turn B so the pairs carry ``torque``.
 
     Linear statics per tooth (root nodes fixed to the disk) with a unit normal point force
@@ -222,7 +223,7 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
     u = np.zeros((2, npair, nn, 2))
     x = _positions(model, theta_ref, u)
     inmesh = (model.pair_psi >= -window) & (model.pair_psi <= theta_s + window)
-    cres, cnod, cw = pair_geometry(model, x, theta_s=theta_s)
+    cres, cnod, cw = pair_geometry(model, x, start=start, theta_s=theta_s)
     cres[~inmesh, 2] = 1.0
     comp = np.ones(npair)
     unit = np.zeros((2, npair, nn, 2))
@@ -398,3 +399,221 @@ def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta
         pair_records={name: outp[:row, :, i].copy() for i, name in enumerate(PAIR_COLUMNS)},
         tie_multipliers=out_mu[:row].copy(), steps=n_steps, wall_time=wall,
         initial_energy=float(e0), dt=dt)
+
+
+# ----------------------------------------------------------------------------- case / output
+def default_span(n_teeth: int, pitch: float, theta_s: float, start_angle: float) -> float:
+    """Rotation of A simulated by default: pair 1 from its start angle up to the entry of the
+    next pair (two teeth) or over its whole contact theta_s (three teeth) [rad]."""
+    return (pitch if n_teeth == 2 else theta_s) - start_angle
+
+
+def run_multi_case(cfg, *, progress: bool = False):
+    """``run_case`` for ``[model] teeth_per_gear`` = 2 or 3 (validated ``GearCaseConfig``)."""
+    import json
+    from dataclasses import asdict
+
+    from rotaflex.gear.case import GearResult, build
+    from rotaflex.gear.geometry import contact_angles
+
+    t_wall = time.perf_counter()
+    geo, mesh, _ = build(cfg)
+    n = cfg.model.teeth_per_gear
+    start = math.radians(cfg.model.start_angle_deg)
+    window = math.radians(cfg.model.mesh_window_deg)
+    if start < -window:
+        raise InputError("model.start_angle_deg", cfg.model.start_angle_deg,
+                         f">= -mesh_window_deg = {-cfg.model.mesh_window_deg:g}")
+    ths, th2 = contact_angles(geo, geo)
+    op = cfg.operation
+    if op.theta_s_deg is not None:
+        ths = math.radians(op.theta_s_deg)
+    if op.theta_2_deg is not None:
+        th2 = math.radians(op.theta_2_deg)
+    pitch = 2 * math.pi / geo.teeth
+    limit = (n - 1) * pitch - start
+    span = math.radians(op.span_deg) if op.span_deg is not None else default_span(
+        n, pitch, ths, start)
+    if span > limit * (1 + 1e-9):
+        raise InputError("operation.span_deg", math.degrees(span),
+                         f"<= {math.degrees(limit):.4g} deg with {n} teeth per gear (beyond it "
+                         "a pair of teeth that is not modelled would be in contact)")
+    mat = cfg.material
+    model = build_multi_model(geo, mesh, n, youngs_modulus=mat.youngs_modulus,
+                              poisson_ratio=mat.poisson_ratio, density=mat.density,
+                              inertia=(cfg.disk_inertia, cfg.disk_inertia),
+                              n_points=cfg.mesh.n_points, start_angle=start)
+    static_preload(model, op.torque, mat.youngs_modulus, mat.poisson_ratio, ths, window)
+    bar = None
+    cb = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=1, unit="step", desc=f"gear {n} teeth")
+
+        def cb(done, total):
+            bar.total = total
+            bar.n = done
+            bar.refresh()
+
+    try:
+        out = simulate_multi(model, speeds_rpm=op.speed_rpm, torque=op.torque, theta_2=th2,
+                             theta_s=ths, span=span, dt=cfg.solver.dt, window=window,
+                             tol=cfg.solver.tolerance, n_accel=cfg.solver.accel_n,
+                             max_iter=cfg.solver.max_iter, record_every=cfg.output.every,
+                             progress=cb)
+    finally:
+        if bar is not None:
+            bar.close()
+    ds = to_dataset_multi(out, model, geo, op.torque, th2, ths)
+    ds.attrs.update(status="success", message="", wall_time=time.perf_counter() - t_wall,
+                    config=json.dumps(asdict(cfg)))
+    return GearResult(ds)
+
+
+def zone_pairs(pair_angle: np.ndarray, theta_s: float) -> np.ndarray:
+    """Number of pairs nominally in contact (contact angle in [0, theta_s]) per record."""
+    return np.sum((pair_angle >= 0.0) & (pair_angle <= theta_s), axis=1)
+
+
+def to_dataset_multi(out: MultiOutput, model: MultiToothModel, geo, tau0, th2, ths):
+    """Histories of :func:`simulate_multi` as an xarray Dataset with a ``pair`` dimension."""
+    import xarray as xr
+
+    r = out.records
+    pr = out.pair_records
+    rb = geo.base_radius
+    nominal = tau0 / rb
+    npair = model.n_teeth
+    rot = np.column_stack([r["phi_A"], -r["phi_B"]])
+    pair_angle = model.pair_psi[None, :] + rot[:, :1]
+    force = pr["force"]
+    total = force.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        share = np.where(total[:, None] > 0, force / total[:, None], np.nan)
+    insearch = pr["contact_case"] >= 0
+    gap = np.where(insearch, pr["gap"], np.nan)
+    balance = (r["kinetic_energy"] + r["strain_energy"] - r["external_work"]
+               + r["velocity_pass_loss"] - out.initial_energy)
+    ds = xr.Dataset(coords={"time": ("time", r["time"], {"units": "s"}), "gear": ["A", "B"],
+                            "xy": ["x", "y"], "pair": np.arange(npair)})
+
+    def add(name, dims, val, units, long):
+        ds[name] = (dims, np.asarray(val), {"units": units, "long_name": long})
+
+    add("contact_force", ("time", "pair"), force, "N", "contact force of each pair "
+        "(acceleration pass)")
+    add("contact_force_displacement_pass", ("time", "pair"), pr["force_disp"], "N",
+        "contact force of the displacement pass")
+    add("contact_force_velocity_pass", ("time", "pair"), pr["force_vel"], "N",
+        "contact force of the velocity pass (impulse / dt at impacts)")
+    add("peak_force_interval", ("time", "pair"), pr["force_peak"], "N",
+        "largest contact force since the previous record")
+    add("total_contact_force", ("time",), total, "N", "sum of the pair forces")
+    add("load_share", ("time", "pair"), share, "1", "pair force / sum of pair forces")
+    add("pair_angle", ("time", "pair"), pair_angle, "rad",
+        "contact angle of each pair (rotation of A since its geometric start of contact)")
+    add("fig7_ramp_force", ("time", "pair"),
+        torque_ramp(pair_angle, tau0, th2, ths) / rb, "N",
+        "force of the pair implied by the Fig. 7 torque ramps, tau(angle)/r_b")
+    add("nominal_force_ramp", ("time",), np.full(len(total), nominal), "N",
+        "tau_0 / r_b (constant torques)")
+    add("rotation_angle", ("time", "gear"), rot, "rad", "rotation angle (running direction)")
+    add("angular_velocity", ("time", "gear"), np.column_stack([r["omega_A"], -r["omega_B"]]),
+        "rad/s", "angular velocity")
+    add("torque", ("time", "gear"), np.column_stack([r["torque_A"], r["torque_B"]]), "N m",
+        "external torque (drive on A, load on B)")
+    add("gap", ("time", "pair"), gap, "m", "normal gap (> 0 open; NaN: pair out of mesh)")
+    add("normal_velocity", ("time", "pair"), pr["normal_velocity"], "m/s",
+        "relative normal velocity (> 0 approaching)")
+    cp = np.stack([np.stack([pr["cpA_x"], pr["cpA_y"]], axis=-1),
+                   np.stack([pr["cpB_x"], pr["cpB_y"]], axis=-1)], axis=2)
+    add("contact_point", ("time", "pair", "gear", "xy"), cp, "m", "contact point")
+    add("contact_case", ("time", "pair"), pr["contact_case"], "1",
+        "0 flank-flank, 1 tip of B on A, 2 tip of A on B, -1 out of mesh (not searched)")
+    add("tie_multiplier", ("time", "tie"), out.tie_multipliers, "N",
+        "tie-constraint multipliers (disk-frame components)")
+    add("strain_energy", ("time",), r["strain_energy"], "J", "strain energy of all teeth")
+    add("kinetic_energy", ("time",), r["kinetic_energy"], "J", "kinetic energy")
+    add("external_work", ("time",), r["external_work"], "J", "external work")
+    add("velocity_pass_loss", ("time",), r["velocity_pass_loss"], "J",
+        "kinetic energy removed by the velocity pass (impacts, plastic)")
+    add("energy_balance", ("time",), balance, "J",
+        "E_kin + E_strain - W_ext + D_velocity_pass - E_0")
+    for k, name in enumerate(("displacement", "velocity", "acceleration")):
+        add(f"residual_{name}", ("time",), r[("res_disp", "res_vel", "res_acc")[k]],
+            ("m", "m/s", "m/s^2")[k], f"largest {name} constraint error since last record")
+        add(f"iterations_{name}", ("time",), r[("iter_disp", "iter_vel", "iter_acc")[k]], "1",
+            f"most iterations of the {name} pass since last record")
+    add("tie_residual", ("time",), r["tie_residual"], "m", "largest tie error after the step")
+    add("impact_count", ("time",), r["impacts"], "1", "impacts so far")
+    nz = zone_pairs(pair_angle, ths)
+    single = nz == 1
+    mean_single = float(np.mean(total[single])) if np.any(single) else float("nan")
+    peak = float(np.max(pr["force_peak"])) if len(total) else 0.0
+    e_ref = max(float(np.max(r["strain_energy"])) if len(total) else 0.0, 1e-300)
+    bal_abs = float(np.max(np.abs(balance))) if len(total) else 0.0
+    scalars = {
+        "peak_contact_force": (peak, "N"),
+        "mean_single_pair_force": (mean_single, "N"),
+        "mean_total_force": (float(np.mean(total)) if len(total) else float("nan"), "N"),
+        "nominal_force": (nominal, "N"),
+        "dynamic_factor": (peak / nominal if nominal > 0 else float("nan"), "1"),
+        "energy_balance_abs": (bal_abs, "J"),
+        "energy_balance_error": (bal_abs / e_ref, "1"),
+        "steps": (out.steps, "1"),
+        "time_per_step": (out.wall_time / max(out.steps, 1), "s"),
+        "impacts": (float(r["impacts"][-1]) if len(total) else 0.0, "1"),
+        "max_tie_residual": (float(np.max(r["tie_residual"])) if len(total) else 0.0, "m"),
+        "base_radius": (rb, "m"),
+        "theta_2": (th2, "rad"),
+        "theta_s": (ths, "rad"),
+        "dt": (out.dt, "s"),
+        "solver_wall_time": (out.wall_time, "s"),
+        "teeth_per_gear": (npair, "1"),
+        "preload_beta": (float(model.preload["beta"]) if model.preload else 0.0, "rad"),
+    }
+    for name, (val, unit) in scalars.items():
+        ds[name] = ((), val, {"units": unit})
+    if model.preload:
+        ds["preload_force"] = (("pair",), model.preload["force"], {"units": "N"})
+    return ds
+
+
+def plot_multi(ds) -> dict:
+    """Figures of a multi-tooth result: pair forces vs the Fig. 7 ramps, load share, energy."""
+    from rotaflex.core.plotting import new_figure
+
+    figs = {}
+    ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
+    fig, ax = new_figure()
+    for j in ds["pair"].values:
+        line, = ax.plot(ang, ds["contact_force"].sel(pair=j).values, lw=0.8, label=f"pair {j}")
+        ax.plot(ang, ds["fig7_ramp_force"].sel(pair=j).values, "--", lw=0.7,
+                color=line.get_color())
+    ax.plot(ang, ds["total_contact_force"].values, "k", lw=0.6, label="sum")
+    ax.axhline(float(ds["nominal_force"]), color="grey", lw=0.5)
+    ax.set_xlabel("rotation angle of gear A [deg]")
+    ax.set_ylabel("contact force [N] (dashed: Fig. 7 ramps)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    figs["contact_force"] = fig
+    fig, ax = new_figure()
+    ax.plot(ang, ds["load_share"].values, lw=0.8)
+    ax.set_xlabel("rotation angle of gear A [deg]")
+    ax.set_ylabel("load share of each pair [-]")
+    ax.grid(alpha=0.3)
+    figs["load_share"] = fig
+    fig, ax = new_figure()
+    ax.plot(ds["time"].values * 1e3, ds["energy_balance"].values, lw=0.8)
+    ax.set_xlabel("time [ms]")
+    ax.set_ylabel("E_kin + E_strain - W_ext + D_impact - E_0 [J]")
+    ax.grid(alpha=0.3)
+    figs["energy_balance"] = fig
+    fig, ax = new_figure()
+    ax.plot(ang, ds["gap"].values * 1e6, lw=0.8)
+    ax.set_xlabel("rotation angle of gear A [deg]")
+    ax.set_ylabel("normal gap of each pair [um]")
+    ax.grid(alpha=0.3)
+    figs["gap"] = fig
+    return figs
