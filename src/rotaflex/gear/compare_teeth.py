@@ -35,9 +35,7 @@ def static_share(mesh, angles, torque=22.25) -> np.ndarray:
     """Load share of the entering pair at contact angles ``angles`` [rad] from the static FE
     preload of the three-tooth model (pairs 0 and 1 in mesh)."""
     from rotaflex.gear.geometry import contact_angles
-    from rotaflex.gear.multitooth import build_multi_model, static_preload
-
-    from rotaflex.gear.multitooth import pair_geometry
+    from rotaflex.gear.multitooth import build_multi_model, pair_geometry, static_preload
 
     g = _gear()
     ths, _ = contact_angles(g, g)
@@ -98,7 +96,6 @@ def comparison(dom: Path, *, fast: bool) -> FigureEntry:
     mean_total = float(np.mean(total))
     # load share of the entering pair (pair 1) over its first two-pair zone
     edges = np.radians([0.5, 2.0, 4.0, 6.0, 8.0])
-    mids = 0.5 * (edges[1:] + edges[:-1])
     share = ds["load_share"].values[:, 1]
     dyn = zone_means(pa[:, 1], share, edges)
     mesh = build_tooth_mesh(_gear(), **COARSE)

@@ -35,6 +35,9 @@ import scipy.sparse as sp
 from rotaflex.core.errors import ConvergenceError, InputError
 from rotaflex.gear.dynamics import GearPairModel, tie_eigen_bounds, torque_ramp
 
+#: default mesh window: pairs are searched from 1 deg before to 1 deg after their contact [rad]
+WINDOW = math.radians(1.0)
+
 
 @dataclass
 class MultiToothModel(GearPairModel):
@@ -202,7 +205,7 @@ def _positions(model, theta0, u_local):
 
 
 def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
-                   poisson_ratio: float, theta_s: float, window: float = math.radians(1.0),
+                   poisson_ratio: float, theta_s: float, window: float = WINDOW,
                    n_iter: int = 4, start=None) -> dict:
     """Quasi-static start: deflect the loaded pairs and turn B so the pairs carry ``torque``.
 
@@ -314,8 +317,8 @@ def warm_start_table(model: MultiToothModel, theta_s: float, n: int = 61) -> np.
 
 
 def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta_s, span, dt,
-                   torque_mode=1, window=math.radians(1.0), tol=1e-12, n_accel=4, max_iter=500, record_every=10,
-                   progress=None, progress_every=2000) -> MultiOutput:
+                   torque_mode=1, window=WINDOW, tol=1e-12, n_accel=4, max_iter=500,
+                   record_every=10, progress=None, progress_every=2000) -> MultiOutput:
     """Integrate the multi-tooth pair over a rotation ``span`` of gear A [rad].
 
     Same scheme and parameters as :func:`rotaflex.gear.dynamics.simulate`; ``torque_mode`` 1
