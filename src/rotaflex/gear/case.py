@@ -13,6 +13,9 @@ TOML layout (all tables optional; defaults are the paper's data, section 4)::
                  accel_n, max_iter, multipliers = "iterative" | "direct", restitution,
                  modes, hht_alpha
     [output]     every, vtu_snapshots, root_stress
+    [model]      teeth_per_gear = 1 | 2 | 3, start_angle_deg, mesh_window_deg
+                 (2-3: several contact pairs, constant torques; :mod:`rotaflex.gear.multitooth`;
+                 paper_rk4 with iterative multipliers, driver A only)
 
 Driver: gear A turns counter-clockwise about the origin, B clockwise about (0, a). The driver
 gets the drive torque (in its running direction), the other gear the load torque (against its
@@ -124,6 +127,20 @@ class OutputConfig:
 
 
 @dataclass(frozen=True)
+class ModelConfig:
+    """Number of elastic teeth per gear (issue 3, part 3)."""
+
+    teeth_per_gear: int = param(1, ge=1, le=3,
+                                doc="1: the paper's model with the Fig. 7 torque ramps; 2-3: "
+                                    "adjacent teeth, several contact pairs, constant torques")
+    start_angle_deg: float = param(-0.5, unit="deg", le=0.0,
+                                   doc="contact angle of the entering pair at t = 0 (2-3 teeth)")
+    mesh_window_deg: float = param(1.0, unit="deg", gt=0.0, le=5.0,
+                                   doc="pairs are searched from this angle before the start of "
+                                       "contact to this angle after its end (2-3 teeth)")
+
+
+@dataclass(frozen=True)
 class GearCaseConfig:
     gear: GearConfig = field(default_factory=GearConfig)
     material: MaterialConfig = field(default_factory=MaterialConfig)
@@ -132,6 +149,7 @@ class GearCaseConfig:
     mesh: MeshConfig = field(default_factory=MeshConfig)
     solver: SolverConfig = field(default_factory=SolverConfig)
     output: OutputConfig = field(default_factory=OutputConfig)
+    model: ModelConfig = field(default_factory=ModelConfig)
 
     def __post_init__(self) -> None:
         op = self.operation
@@ -154,7 +172,7 @@ class GearResult(Result):
         for name in ("peak_contact_force", "mean_single_pair_force", "nominal_force",
                      "dynamic_factor", "energy_balance_error", "energy_balance_abs", "steps",
                      "time_per_step", "impacts", "max_tie_residual", "dte_peak_to_peak",
-                     "root_stress_peak"):
+                     "root_stress_peak", "mean_total_force", "teeth_per_gear"):
             if name in ds:
                 keep[name] = {"value": ds[name].item(), "unit": ds[name].attrs.get("units", "")}
         return keep
@@ -163,6 +181,10 @@ class GearResult(Result):
         from rotaflex.core.plotting import new_figure
 
         ds = self.dataset
+        if "pair" in ds.dims:
+            from rotaflex.gear.multitooth import plot_multi
+
+            return plot_multi(ds)
         figs = {}
         ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
         fig, ax = new_figure()
@@ -250,6 +272,10 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     from rotaflex.gear.geometry import contact_angles
 
     cfg = from_mapping(GearCaseConfig, config)
+    if cfg.model.teeth_per_gear > 1:
+        from rotaflex.gear.multitooth import run_multi_case
+
+        return run_multi_case(cfg, progress=progress)
     t_wall = time.perf_counter()
     geo, mesh, model = build(cfg)
     ths, th2 = contact_angles(geo, geo)

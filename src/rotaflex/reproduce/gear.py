@@ -170,6 +170,9 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
         data="gear/quasi_static.nc",
         description=f"{rpm:g} rpm, coarse mesh, {int(ds['steps'])} steps.", checks=qchecks))
     figures += post_entries
+    from rotaflex.gear.compare_teeth import comparison
+
+    figures.append(comparison(dom, fast=fast))
     intro = (
         "Lee & Jang, dynamic contact of spur gears: two identical 28-tooth gears, one elastic "
         "8-node FE tooth per gear on a rigid disk, RK4 with dt = 3e-8 s, three constraint passes "
