@@ -59,9 +59,10 @@ class Body:
     shape_fn : callable
         ``shape_fn(points (P, 3)) -> (Phi (P, 3, n), Psi (P, 3, n))``: translational and rotational
         mode shapes at arbitrary body points; raises InputError for points outside the body.
-    geometric : ndarray (n, n) or None
-        Unit centrifugal geometric stiffness ``K_Gw``: the stiffening is
-        ``(w_y^2 + w_z^2) K_Gw`` for a beam along the body x axis; None if not available.
+    geometric : ndarray (3, 3, n, n) or None
+        Unit centrifugal geometric stiffness ``G[a, b]`` (symmetric in ``a, b``): the stiffening
+        at body angular velocity ``w`` is ``K_G(w) = sum_ab w_a w_b G[a, b]`` (for a beam along
+        the body x axis only ``G[1, 1] = G[2, 2] = K_Gw`` are non-zero); None if not available.
     frame : str
         The floating frame, stated for output.
     length : float
@@ -361,6 +362,8 @@ def uniform_beam(
         dphi[:, j] = beam_mode(support, b, s, 1) / nm / length
     same_plane = np.array([[ca[0] == cb[0] for cb in cols] for ca in cols], dtype=float)
     KG = np.einsum("k,ki,kj->ij", length * 0.5 * gw * tension, dphi, dphi) * same_plane
+    G = np.zeros((3, 3, n, n))
+    G[1, 1] = G[2, 2] = KG  # axial tension from w_y^2 + w_z^2 only (beam along x)
     frame = (
         "mean axes (origin at the centre of mass, x along the beam)"
         if support == "free-free"
@@ -373,7 +376,7 @@ def uniform_beam(
         shapes=Phi,
         stiffness=np.diag(omegas**2),
         shape_fn=shape_fn,
-        geometric=KG,
+        geometric=G,
         frame=frame,
         length=length,
         mode_labels=labels,
