@@ -71,6 +71,9 @@ class Body:
     extra_inertia : ndarray (3, 3)
         Inertia [kg m^2] of rigid (non-elastic) mass about the body origin added to ``J``, e.g. the
         polar inertia of a beam's cross-sections, which a line of points does not carry.
+    rigid : bool
+        True only for :func:`rigid_body` (no elastic modes, for cross-checks against rigid-body
+        solvers); a normal body must have at least one elastic mode.
     """
 
     name: str
@@ -84,6 +87,7 @@ class Body:
     length: float = 1.0
     mode_labels: tuple = ()
     extra_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+    rigid: bool = False
 
     def __post_init__(self):
         validate_body(self)
@@ -118,6 +122,10 @@ def validate_body(b: Body) -> None:
     if b.shapes.ndim != 3 or b.shapes.shape[:2] != (m.size, 3):
         raise InputError("body.shapes", f"shape {b.shapes.shape}", f"shape ({m.size}, 3, n_modes)")
     n = b.shapes.shape[2]
+    if b.rigid:
+        if n != 0:
+            raise InputError("body.n_modes", n, "0 for a rigid body")
+        return
     if n == 0:
         raise InputError(
             "body.n_modes",
@@ -381,6 +389,40 @@ def uniform_beam(
         length=length,
         mode_labels=labels,
         extra_inertia=rho_a * length * rg**2 * np.diag([0.5, 0.25, 0.25]),
+    )
+
+
+def rigid_body(mass: float, inertia, *, name: str = "rigid body") -> Body:
+    """A body without elastic modes (cross-check path only, e.g. against the rotor domain).
+
+    Parameters
+    ----------
+    mass : float
+        Mass [kg] (> 0), concentrated at the body origin (the centre of mass).
+    inertia : array (3,) or (3, 3)
+        Principal moments about body x, y, z, or the full inertia tensor about the origin
+        [kg m^2] (symmetric positive definite).
+    """
+    J = np.asarray(inertia, dtype=float)
+    J = np.diag(J) if J.shape == (3,) else J
+    if J.shape != (3, 3) or not np.allclose(J, J.T) or np.linalg.eigvalsh(J).min() <= 0:
+        raise InputError("body.inertia", J.tolist(), "a symmetric positive definite tensor [kg m^2]")
+
+    def shape_fn(pts):
+        pts = np.atleast_2d(np.asarray(pts, dtype=float))
+        return np.zeros((len(pts), 3, 0)), np.zeros((len(pts), 3, 0))
+
+    return Body(
+        name=name,
+        masses=np.array([float(mass)]),
+        points=np.zeros((1, 3)),
+        shapes=np.zeros((1, 3, 0)),
+        stiffness=np.zeros((0, 0)),
+        shape_fn=shape_fn,
+        frame="centre of mass (rigid body)",
+        length=float(np.sqrt(np.trace(J) / mass)) if mass > 0 else 1.0,
+        extra_inertia=J,
+        rigid=True,
     )
 
 

@@ -216,7 +216,7 @@ def simulate(
         mode = 1
         y0 = np.concatenate([rigid0, np.zeros(12), q0, p0])
         lim = (25, 25 + n)
-    phimax = float(np.abs(body.shapes).max())
+    phimax = float(np.abs(body.shapes).max(initial=0.0))
     q_limit = 10.0 * body.length / max(phimax, 1e-300)
     t0 = time.perf_counter()
     Y, st, t_stop, nfev, nstep = kernels.integrate(
@@ -330,6 +330,8 @@ def _unpack(mode, method, t, Y, n, prescribed, pres) -> Solution:
 
 def min_effective_stiffness(body: Body, w: np.ndarray, geo: bool) -> np.ndarray:
     """Smallest eigenvalue of ``K_b + M~(w) (+ K_G(w))`` at each time [1/s^2]."""
+    if body.n_modes == 0:
+        return np.full(len(w), np.inf)
     W = skew(w)
     WW = W @ W  # (T, 3, 3)
     PP = np.einsum("k,kai,kbj->abij", body.masses, body.shapes, body.shapes)  # (3, 3, n, n)
