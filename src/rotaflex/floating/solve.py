@@ -55,6 +55,14 @@ def pack_body(body: Body):
     Phi = np.asarray(body.shapes, dtype=float)
     I0 = integrals(body)
     M0 = I0["M"]
+    ev = np.linalg.eigvalsh(M0[:6, :6])
+    if ev.min() <= 1e-12 * ev.max():
+        raise InputError(
+            "body",
+            f"rigid-body mass matrix eigenvalues min {ev.min():.3g}, max {ev.max():.3g}",
+            "a mass distribution with a non-singular inertia tensor (e.g. collinear point masses "
+            "need rotary inertia about their line)",
+        )
     P = np.einsum("k,kai,kbj->abij", m, Phi, Phi)
     R1 = np.einsum("k,kaj,kb->abj", m, Phi, r)
     G = geometric_tensor(body)
@@ -136,7 +144,8 @@ def use_geometric(body: Body, settings: Settings) -> bool:
         raise InputError(
             "solver.geometric_stiffness",
             True,
-            "false for this body (centrifugal stiffening is available for beam bodies)",
+            "false for this body (centrifugal stiffening needs beam or FE bodies, or point bodies "
+            "with body.points.geometric)",
         )
     return bool(settings.geometric_stiffness)
 
@@ -191,9 +200,9 @@ def simulate(
     initial = initial or Initial()
     settings = settings or Settings()
     n = body.n_modes
+    geo = use_geometric(body, settings)
     B = pack_body(body)
     Lp = pack_loads(body, list(loads))
-    geo = use_geometric(body, settings)
     nt = int(round(settings.t_end / settings.dt_out))
     t_out = np.linspace(0.0, nt * settings.dt_out, nt + 1)
     q0 = _initial_modal(initial.modal_displacement, n, "modal_displacement")
