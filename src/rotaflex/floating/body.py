@@ -566,6 +566,8 @@ def point_body(
     m = np.asarray(masses, dtype=float).ravel()
     P = np.asarray(positions, dtype=float).reshape(-1, 3)
     S = np.asarray(shapes, dtype=float)
+    if S.size == 0:
+        S = S.reshape(0, m.size, 3)
     if S.ndim != 3 or S.shape[1:] != (m.size, 3):
         raise InputError("body.shapes", f"shape {S.shape}", f"an array (n_modes, {m.size}, 3)")
     Phi = np.transpose(S, (1, 2, 0))
