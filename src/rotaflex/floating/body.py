@@ -59,9 +59,10 @@ class Body:
     shape_fn : callable
         ``shape_fn(points (P, 3)) -> (Phi (P, 3, n), Psi (P, 3, n))``: translational and rotational
         mode shapes at arbitrary body points; raises InputError for points outside the body.
-    geometric : ndarray (n, n) or None
-        Unit centrifugal geometric stiffness ``K_Gw``: the stiffening is
-        ``(w_y^2 + w_z^2) K_Gw`` for a beam along the body x axis; None if not available.
+    geometric : ndarray (3, 3, n, n) or None
+        Unit centrifugal geometric stiffness ``G[a, b]`` (symmetric in ``a, b``): the stiffening
+        at body angular velocity ``w`` is ``K_G(w) = sum_ab w_a w_b G[a, b]`` (for a beam along
+        the body x axis only ``G[1, 1] = G[2, 2] = K_Gw`` are non-zero); None if not available.
     frame : str
         The floating frame, stated for output.
     length : float
@@ -70,6 +71,9 @@ class Body:
     extra_inertia : ndarray (3, 3)
         Inertia [kg m^2] of rigid (non-elastic) mass about the body origin added to ``J``, e.g. the
         polar inertia of a beam's cross-sections, which a line of points does not carry.
+    rigid : bool
+        True only for :func:`rigid_body` (no elastic modes, for cross-checks against rigid-body
+        solvers); a normal body must have at least one elastic mode.
     """
 
     name: str
@@ -83,6 +87,7 @@ class Body:
     length: float = 1.0
     mode_labels: tuple = ()
     extra_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+    rigid: bool = False
 
     def __post_init__(self):
         validate_body(self)
@@ -117,6 +122,10 @@ def validate_body(b: Body) -> None:
     if b.shapes.ndim != 3 or b.shapes.shape[:2] != (m.size, 3):
         raise InputError("body.shapes", f"shape {b.shapes.shape}", f"shape ({m.size}, 3, n_modes)")
     n = b.shapes.shape[2]
+    if b.rigid:
+        if n != 0:
+            raise InputError("body.n_modes", n, "0 for a rigid body")
+        return
     if n == 0:
         raise InputError(
             "body.n_modes",
@@ -252,6 +261,7 @@ def uniform_beam(
     support: str = "free-free",
     n_quad: int | None = None,
     section_radius: float | None = None,
+    attachment_points=(),
 ) -> Body:
     """Uniform Euler-Bernoulli beam along the body x axis with analytic modes.
 
@@ -280,6 +290,14 @@ def uniform_beam(
         Radius of a solid circular section [m] (default ``L/100``) used only for the rigid-body
         section inertia ``rho_a L diag(r^2/2, r^2/4, r^2/4)`` added to ``J`` (the elastic model is
         Euler-Bernoulli: no rotary inertia in the modes). Without it a line body has ``J_xx = 0``.
+    attachment_points : sequence of (3,) floats
+        Load points [m] on the beam axis. For each, the static deflection under a unit
+        transverse force (free-free: with inertia relief, made mass-orthogonal to the rigid
+        modes; cantilever: clamped root) is added in each bending plane, and the set
+        ``[modes, attachments]`` is re-diagonalised by Rayleigh-Ritz (stiffness by quadrature of
+        ``EI phi'' phi''``), so the modes stay mass-orthonormal with diagonal ``K_b``; the extra
+        "pseudo-modes" (labels ``attach_y1`` ...) carry the residual static flexibility of an end
+        load that the truncated modal series misses.
 
     Returns
     -------
@@ -314,53 +332,111 @@ def uniform_beam(
     norm = np.array(
         [np.sqrt(rho_a * length * np.sum(0.5 * gw * beam_mode(support, b, s) ** 2)) for b in bl]
     )
-    planes = [(1, ei)] + ([(2, ei_z if ei_z is not None else ei)] if spatial else [])
-    cols, omegas, labels = [], [], []
-    for axis, e_i in planes:
-        for i, b in enumerate(bl):
-            cols.append((axis, b, norm[i]))
-            omegas.append(b**2 * np.sqrt(e_i / (rho_a * length**4)))
-            labels.append(f"bend_{'yz'[axis - 1]}{i + 1}")
-    order = np.argsort(omegas, kind="stable")
-    cols = [cols[i] for i in order]
-    omegas = np.array(omegas)[order]
-    labels = tuple(labels[i] for i in order)
-    n = len(cols)
+    xq, wq = points[:, 0], length * 0.5 * gw
+    x_end = x0 + length
 
-    def shape_fn(pts):
+    def check_points(pts, where):
         pts = np.atleast_2d(np.asarray(pts, dtype=float))
-        tol = 1e-9 * length
         ss = (pts[:, 0] - x0) / length
-        off = np.hypot(pts[:, 1], pts[:, 2])
-        bad = (ss < -1e-9) | (ss > 1 + 1e-9) | (off > tol)
+        bad = (ss < -1e-9) | (ss > 1 + 1e-9) | (np.hypot(pts[:, 1], pts[:, 2]) > 1e-9 * length)
         if np.any(bad):
             k = int(np.argmax(bad))
             raise InputError(
-                "point",
+                where,
                 pts[k].tolist(),
-                f"a point on the beam axis: y = z = 0 and x in [{x0:g}, {x0 + length:g}] m",
+                f"a point on the beam axis: y = z = 0 and x in [{x0:g}, {x_end:g}] m",
             )
-        ss = np.clip(ss, 0.0, 1.0)
-        Phi = np.zeros((len(pts), 3, n))
-        Psi = np.zeros((len(pts), 3, n))
-        for j, (axis, b, nm) in enumerate(cols):
-            Phi[:, axis, j] = beam_mode(support, b, ss) / nm
-            slope = beam_mode(support, b, ss, 1) / nm / length
+        return np.clip(pts[:, 0], x0, x_end)
+
+    att = (
+        check_points(attachment_points, "body.attachment_points")
+        if len(attachment_points)
+        else np.zeros(0)
+    )
+
+    def attach(a, x, deriv):
+        """Static deflection x EI under a unit transverse force at ``a`` (free-free: with inertia
+        relief ``q = -rho_a (a0 + alpha x)``; cantilever: clamped at the root)."""
+        if support == "cantilever":
+            t = np.clip(a - x, 0.0, None)
+            return [(a * a * x - (a**3 - t**3) / 3.0) / 2.0, (a * a - t * t) / 2.0, t][deriv]
+        P = np.polynomial.Polynomial
+        q = P([-1.0 / length, -12.0 * a / length**3])  # rho_a (a0 + alpha x) per unit force
+        mom = q.integ(lbnd=x0).integ(lbnd=x0)  # bending moment of the distributed relief load
+        t = np.clip(x - a, 0.0, None)
+        return [mom.integ(2, lbnd=x0)(x) + t**3 / 6.0, mom.integ(lbnd=x0)(x) + t * t / 2.0,
+                mom(x) + t][deriv]
+
+    # rigid-body part of each attachment shape (free-free: mass-orthogonal projection on 1, x)
+    rig = np.zeros((len(att), 2))
+    if support == "free-free":
+        Mr2 = np.array([[masses.sum(), masses @ xq], [masses @ xq, masses @ xq**2]])
+        for i, a in enumerate(att):
+            w0 = attach(a, xq, 0)
+            rig[i] = np.linalg.solve(Mr2, [masses @ w0, masses @ (xq * w0)])
+
+    def raw(x, deriv, e_i):
+        """Columns [elastic modes, attachment shapes] of one bending plane and their x-derivs."""
+        ss = (x - x0) / length
+        cols = [beam_mode(support, b, ss, deriv) / nm / length**deriv for b, nm in zip(bl, norm, strict=True)]
+        for i, a in enumerate(att):
+            v = attach(a, x, deriv) - [rig[i, 0] + rig[i, 1] * x, rig[i, 1], 0.0][deriv]
+            cols.append(v / e_i)
+        return np.column_stack(cols)
+
+    planes = [(1, ei)] + ([(2, ei_z if ei_z is not None else ei)] if spatial else [])
+    cols, om2, labels, Cs = [], [], [], []
+    for p_i, (axis, e_i) in enumerate(planes):
+        name = "yz"[axis - 1]
+        if len(att):
+            # Rayleigh-Ritz on [modes, attachments]: mass-orthonormal, diagonal stiffness
+            from scipy.linalg import eigh
+
+            R0, R2 = raw(xq, 0, e_i), raw(xq, 2, e_i)
+            Mr = np.einsum("k,ki,kj->ij", masses, R0, R0)
+            Kr = np.einsum("k,ki,kj->ij", wq * e_i, R2, R2)
+            w2, C = eigh(0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T))
+            sg = np.sign(C[:n_modes].diagonal())
+            C[:, :n_modes] *= np.where(sg == 0, 1.0, sg)
+        else:
+            C = np.eye(n_modes)
+            w2 = (bl**2 * np.sqrt(e_i / (rho_a * length**4))) ** 2
+        Cs.append(C)
+        for j in range(C.shape[1]):
+            cols.append((axis, p_i, j))
+            om2.append(w2[j])
+            labels.append(f"bend_{name}{j + 1}" if j < n_modes else f"attach_{name}{j + 1 - n_modes}")
+    order = np.argsort(om2, kind="stable")
+    cols = [cols[i] for i in order]
+    omegas = np.sqrt(np.array(om2)[order])
+    labels = tuple(labels[i] for i in order)
+    n = len(cols)
+
+    def plane_values(x, deriv):
+        return [raw(x, deriv, e_i) @ Cs[p_i] for p_i, (_a, e_i) in enumerate(planes)]
+
+    def shape_fn(pts):
+        x = check_points(pts, "point")
+        vals, slopes = plane_values(x, 0), plane_values(x, 1)
+        Phi = np.zeros((len(x), 3, n))
+        Psi = np.zeros((len(x), 3, n))
+        for j, (axis, p_i, c) in enumerate(cols):
+            Phi[:, axis, j] = vals[p_i][:, c]
             if axis == 1:
-                Psi[:, 2, j] = slope  # deflection along y: rotation about z = v'
+                Psi[:, 2, j] = slopes[p_i][:, c]  # deflection along y: rotation about z = v'
             else:
-                Psi[:, 1, j] = -slope  # deflection along z: rotation about y = -w'
+                Psi[:, 1, j] = -slopes[p_i][:, c]  # deflection along z: rotation about y = -w'
         return Phi, Psi
 
     Phi, _ = shape_fn(points)
     # unit centrifugal geometric stiffness: N(x) = rho_a int_x^end xi dxi = rho_a (x_end^2 - x^2)/2
-    x_end = x0 + length
-    tension = rho_a * 0.5 * (x_end**2 - points[:, 0] ** 2)
-    dphi = np.zeros((nq, n))
-    for j, (_axis, b, nm) in enumerate(cols):
-        dphi[:, j] = beam_mode(support, b, s, 1) / nm / length
+    tension = rho_a * 0.5 * (x_end**2 - xq**2)
+    sl = plane_values(xq, 1)
+    dphi = np.column_stack([sl[p_i][:, c] for (_a, p_i, c) in cols])
     same_plane = np.array([[ca[0] == cb[0] for cb in cols] for ca in cols], dtype=float)
-    KG = np.einsum("k,ki,kj->ij", length * 0.5 * gw * tension, dphi, dphi) * same_plane
+    KG = np.einsum("k,ki,kj->ij", wq * tension, dphi, dphi) * same_plane
+    G = np.zeros((3, 3, n, n))
+    G[1, 1] = G[2, 2] = KG  # axial tension from w_y^2 + w_z^2 only (beam along x)
     frame = (
         "mean axes (origin at the centre of mass, x along the beam)"
         if support == "free-free"
@@ -373,11 +449,78 @@ def uniform_beam(
         shapes=Phi,
         stiffness=np.diag(omegas**2),
         shape_fn=shape_fn,
-        geometric=KG,
+        geometric=G,
         frame=frame,
         length=length,
         mode_labels=labels,
         extra_inertia=rho_a * length * rg**2 * np.diag([0.5, 0.25, 0.25]),
+    )
+
+
+_PAIRS = {"xx": (0, 0), "yy": (1, 1), "zz": (2, 2), "xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
+
+
+def geometric_tensor_from(data, n: int) -> np.ndarray:
+    """Unit geometric stiffness tensor (3, 3, n, n) from a dict of pairs or a full array."""
+    G = np.zeros((3, 3, n, n))
+    if isinstance(data, dict):
+        for key, mat in data.items():
+            if key not in _PAIRS:
+                raise InputError(f"body.geometric.{key}", key, "one of " + ", ".join(_PAIRS))
+            a, b = _PAIRS[key]
+            G[a, b] = G[b, a] = _sym_matrix(mat, n, f"body.geometric.{key}")
+    else:
+        arr = np.asarray(data, dtype=float)
+        if arr.shape != (3, 3, n, n):
+            raise InputError("body.geometric", f"shape {arr.shape}", f"shape (3, 3, {n}, {n})")
+        for a in range(3):
+            for b in range(3):
+                G[a, b] = _sym_matrix(arr[a, b], n, f"body.geometric[{a}][{b}]")
+        if not np.allclose(G, np.swapaxes(G, 0, 1)):
+            raise InputError("body.geometric", "G[a, b] != G[b, a]", "symmetric in a, b")
+    return G
+
+
+def _sym_matrix(mat, n, where):
+    m = np.asarray(mat, dtype=float)
+    if m.shape != (n, n) or not np.all(np.isfinite(m)):
+        raise InputError(where, f"shape {m.shape}", f"a finite {n} x {n} matrix")
+    if not np.allclose(m, m.T, rtol=1e-9, atol=1e-12 * max(np.abs(m).max(), 1e-300)):
+        raise InputError(where, "non-symmetric", "a symmetric matrix [1]")
+    return 0.5 * (m + m.T)
+
+
+def rigid_body(mass: float, inertia, *, name: str = "rigid body") -> Body:
+    """A body without elastic modes (cross-check path only, e.g. against the rotor domain).
+
+    Parameters
+    ----------
+    mass : float
+        Mass [kg] (> 0), concentrated at the body origin (the centre of mass).
+    inertia : array (3,) or (3, 3)
+        Principal moments about body x, y, z, or the full inertia tensor about the origin
+        [kg m^2] (symmetric positive definite).
+    """
+    J = np.asarray(inertia, dtype=float)
+    J = np.diag(J) if J.shape == (3,) else J
+    if J.shape != (3, 3) or not np.allclose(J, J.T) or np.linalg.eigvalsh(J).min() <= 0:
+        raise InputError("body.inertia", J.tolist(), "a symmetric positive definite tensor [kg m^2]")
+
+    def shape_fn(pts):
+        pts = np.atleast_2d(np.asarray(pts, dtype=float))
+        return np.zeros((len(pts), 3, 0)), np.zeros((len(pts), 3, 0))
+
+    return Body(
+        name=name,
+        masses=np.array([float(mass)]),
+        points=np.zeros((1, 3)),
+        shapes=np.zeros((1, 3, 0)),
+        stiffness=np.zeros((0, 0)),
+        shape_fn=shape_fn,
+        frame="centre of mass (rigid body)",
+        length=float(np.sqrt(np.trace(J) / mass)) if mass > 0 else 1.0,
+        extra_inertia=J,
+        rigid=True,
     )
 
 
@@ -392,6 +535,7 @@ def point_body(
     stiffness=None,
     rotation_shapes=None,
     *,
+    geometric=None,
     name: str = "user-supplied point body",
 ) -> Body:
     """A body from nodes with masses and mode-shape vectors (e.g. exported from an FE program).
@@ -410,12 +554,20 @@ def point_body(
         Modal stiffness (instead of ``frequencies``).
     rotation_shapes : array (n, N, 3), optional
         Nodal rotation per unit modal coordinate [rad]; needed for torques applied at nodes.
+    geometric : dict or array (3, 3, n, n), optional
+        Unit centrifugal geometric stiffness (from the user's FE program: the modal projection
+        of the geometric stiffness of the axial stress under the centrifugal load of
+        ``w_a w_b = 1``), as ``{"xx": (n, n), "yy": ..., "xy": ...}`` (missing pairs are zero) or
+        a full tensor; ``K_G(w) = sum_ab w_a w_b G[a, b]``. Without it the body has no geometric
+        stiffness option.
 
     Output points and load points must coincide with a node.
     """
     m = np.asarray(masses, dtype=float).ravel()
     P = np.asarray(positions, dtype=float).reshape(-1, 3)
     S = np.asarray(shapes, dtype=float)
+    if S.size == 0:
+        S = S.reshape(0, m.size, 3)
     if S.ndim != 3 or S.shape[1:] != (m.size, 3):
         raise InputError("body.shapes", f"shape {S.shape}", f"an array (n_modes, {m.size}, 3)")
     Phi = np.transpose(S, (1, 2, 0))
@@ -463,7 +615,7 @@ def point_body(
         shapes=Phi,
         stiffness=K,
         shape_fn=shape_fn,
-        geometric=None,
+        geometric=None if geometric is None else geometric_tensor_from(geometric, n),
         frame="as supplied (mean axes if the modes are free-free)",
         length=size,
         mode_labels=tuple(f"mode{j + 1}" for j in range(n)),

@@ -78,6 +78,9 @@ class PointsConfig:
     shapes: tuple[tuple[Vec3, ...], ...] = param(doc="shapes[mode][node] = (ux, uy, uz)")
     frequencies: tuple[float, ...] = param(unit="rad/s")
     rotation_shapes: tuple[tuple[Vec3, ...], ...] | None = param(None)
+    geometric: dict[str, tuple[tuple[float, ...], ...]] | None = param(
+        None, doc="unit centrifugal geometric stiffness per pair xx, yy, zz, xy, xz, yz (n x n)"
+    )
 
 
 @dataclass(frozen=True)
@@ -86,6 +89,10 @@ class BodyConfig:
     beam: BeamConfig | None = param(None)
     frame: FrameConfig | None = param(None)
     points: PointsConfig | None = param(None)
+    attachment_points: tuple[Vec3, ...] = param(
+        (), unit="m", doc="load points for inertia-relief attachment modes (beam and frame)"
+    )
+    attach_at_loads: bool = param(False, doc="add attachment modes at every force-load point")
 
     def __post_init__(self):
         if getattr(self, self.type) is None:
@@ -102,9 +109,18 @@ class FloatingCase:
     outputs: dict[str, Vec3] = param({}, unit="m", doc="named body points (undeformed, body frame)")
 
 
-def build_body(cfg: BodyConfig):
-    """The :class:`~rotaflex.floating.body.Body` of a body config."""
+def build_body(cfg: BodyConfig, loads=()):
+    """The :class:`~rotaflex.floating.body.Body` of a body config (``loads`` for attach_at_loads)."""
     from rotaflex.floating.body import point_body, uniform_beam
+
+    att = [tuple(p) for p in cfg.attachment_points]
+    if cfg.attach_at_loads:
+        att += [tuple(ld.point) for ld in loads if ld.kind == "force" and ld.point not in att]
+    if att and cfg.type == "points":
+        raise InputError(
+            "body.attachment_points", [list(p) for p in att], "none for a points body "
+            "(supply the attachment shapes as extra modes from the FE program)"
+        )
 
     if cfg.type == "beam":
         b = cfg.beam
@@ -118,6 +134,7 @@ def build_body(cfg: BodyConfig):
             support=b.support,
             n_quad=b.n_quad,
             section_radius=b.section_radius,
+            attachment_points=att,
         )
     if cfg.type == "frame":
         from rotaflex.floating.fe import frame_body
@@ -143,6 +160,7 @@ def build_body(cfg: BodyConfig):
             j=f.j,
             n_modes=f.n_modes,
             up=f.up,
+            attachment_points=att,
         )
     p = cfg.points
     return point_body(
@@ -151,6 +169,7 @@ def build_body(cfg: BodyConfig):
         p.shapes,
         frequencies=p.frequencies,
         rotation_shapes=p.rotation_shapes,
+        geometric=p.geometric,
     )
 
 
@@ -167,7 +186,7 @@ def run_case(config: dict, *, progress: bool = False):
 
     t0 = time.perf_counter()
     case = from_mapping(FloatingCase, config)
-    body = build_body(case.body)
+    body = build_body(case.body, case.loads)
     names = list(case.outputs)
     if names:
         pts = np.array([case.outputs[k] for k in names], dtype=float)

@@ -91,6 +91,8 @@ def frame_body(
     n_modes: int,
     up=(0.0, 0.0, 1.0),
     name: str = "FE frame body",
+    attachment_points=(),
+    geometric: bool = True,
 ) -> Body:
     """Free-free modes of a 3-D frame model as a :class:`Body` (mean axes).
 
@@ -110,6 +112,12 @@ def frame_body(
         Number of lowest elastic (non-rigid) modes kept (>= 1).
     up : (3,) floats
         Reference vector for the element local y axis (``y = up x x``).
+    attachment_points : sequence of (3,) floats
+        Load points [m] (on an element axis) at which inertia-relief attachment modes for unit
+        forces along x, y, z are added to the elastic modes (see :func:`augment_ritz`).
+    geometric : bool
+        Compute the unit centrifugal geometric stiffness ``G[a, b]`` from the axial forces of the
+        inertia-relieved static centrifugal load (see :func:`centrifugal_geometric`).
 
     Returns
     -------
@@ -190,10 +198,10 @@ def frame_body(
     MR = M @ Rg
     modes = modes - Rg @ np.linalg.solve(Rg.T @ MR, MR.T @ modes)
     modes = modes / np.sqrt(np.einsum("ij,ik,kj->j", modes, M, modes))
-    Phi = np.einsum("pad,pdj->paj", Nglob, modes[dofs[E_]])
     size = float(np.ptp(X, axis=0).max())
 
-    def shape_fn(pts):
+    def interp(pts):
+        """Global displacement/rotation interpolation (P, 3, ndof-columns) and DOF indices."""
         pts = np.atleast_2d(np.asarray(pts, dtype=float))
         A0 = X[El[:, 0]]
         dvec = X[El[:, 1]] - A0
@@ -210,7 +218,31 @@ def frame_body(
         Tg = T[ie]
         Ng = np.einsum("pba,pbc,pcd->pad", Lam[ie], nu, Tg)
         Nr = np.einsum("pba,pbc,pcd->pad", Lam[ie], nt, Tg)
-        md = modes[dofs[ie]]
+        return Ng, Nr, dofs[ie]
+
+    labels = [f"fe{k + 1}" for k in range(n_modes)]
+    if len(attachment_points):
+        Pa = np.asarray(attachment_points, dtype=float).reshape(-1, 3)
+        try:
+            Ng, _, dd = interp(Pa)
+        except InputError as exc:
+            raise InputError("body.attachment_points", exc.value, exc.allowed) from None
+        F = np.zeros((ndof, 3 * len(Pa)))
+        for i in range(len(Pa)):
+            np.add.at(F, (dd[i], slice(3 * i, 3 * i + 3)), Ng[i].T)
+        U = inertia_relief_solve(K, M, Rg, F)
+        modes, om2, n_att = augment_ritz(modes, U, M, K)
+        labels += [f"attach{k + 1}" for k in range(n_att)]
+    G = None
+    if geometric:
+        G = centrifugal_geometric(
+            K, M, Rg, modes, mass, pos, Nglob, dofs[E_], L, Lam, T, El, e * area
+        )
+    Phi = np.einsum("pad,pdj->paj", Nglob, modes[dofs[E_]])
+
+    def shape_fn(pts):
+        Ng, Nr, dd = interp(pts)
+        md = modes[dd]
         return np.einsum("pad,pdj->paj", Ng, md), np.einsum("pad,pdj->paj", Nr, md)
 
     body = Body(
@@ -220,12 +252,99 @@ def frame_body(
         shapes=Phi,
         stiffness=np.diag(om2),
         shape_fn=shape_fn,
-        geometric=None,
+        geometric=G,
         frame="mean axes (free-free FE modes, axes parallel to the model's axes)",
         length=size,
-        mode_labels=tuple(f"fe{k + 1}" for k in range(n_modes)),
+        mode_labels=tuple(labels),
     )
     return body
+
+
+def inertia_relief_solve(K, M, Rg, F):
+    """Static deflections ``U`` of a free structure under loads ``F`` (ndof, k) with inertia relief.
+
+    The rigid-body part of the load is balanced by the rigid acceleration it causes
+    (``F_r = F - M R (R^T M R)^-1 R^T F``) and ``U`` is mass-orthogonal to the rigid modes ``R``:
+    ``K U = F_r``, ``R^T M U = 0`` (solved with the regularised ``K + M R (R^T M R)^-1 R^T M``).
+    """
+    MR = M @ Rg
+    A = Rg.T @ MR
+    Fr = F - MR @ np.linalg.solve(A, Rg.T @ F)
+    return np.linalg.solve(K + MR @ np.linalg.solve(A, MR.T), Fr)
+
+
+def augment_ritz(modes, U, M, K, tol: float = 1e-8):
+    """Add attachment vectors ``U`` to mass-normalised ``modes``; return a normal-mode basis.
+
+    ``U`` is made mass-orthogonal to ``modes`` (and to earlier columns; near-dependent columns
+    with relative norm < ``tol`` are dropped), then the whole set is diagonalised by a
+    Rayleigh-Ritz step, so the result is again mass-orthonormal with diagonal stiffness. Because
+    the elastic modes are exact eigenvectors, they are reproduced and the attachment part becomes
+    extra "pseudo-modes" (sorted after them).
+
+    Returns ``(basis, omega^2, n_added)``.
+    """
+    V = [modes[:, j] for j in range(modes.shape[1])]
+    added = []
+    for k in range(U.shape[1]):
+        u = U[:, k].copy()
+        nrm0 = np.sqrt(u @ M @ u)
+        for v in V + added:
+            u -= v * (v @ M @ u)
+        nrm = np.sqrt(max(u @ M @ u, 0.0))
+        if nrm > tol * nrm0:
+            added.append(u / nrm)
+    A = np.column_stack([modes] + [a[:, None] for a in added])
+    from scipy.linalg import eigh
+
+    Kr = A.T @ K @ A
+    Mr = A.T @ M @ A
+    w2, C = eigh(0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T))
+    basis = A @ C
+    basis = basis / np.sqrt(np.einsum("ij,ik,kj->j", basis, M, basis))
+    # keep the sign of the original modes (first n columns match them)
+    n = modes.shape[1]
+    sg = np.sign(np.einsum("ij,ik,kj->j", basis[:, :n], M, modes))
+    basis[:, :n] *= np.where(sg == 0, 1.0, sg)
+    return basis, w2, len(added)
+
+
+def centrifugal_geometric(K, M, Rg, modes, mass, pos, Nglob, pdofs, L, Lam, T, El, ea):
+    """Unit geometric stiffness ``G[a, b]`` (3, 3, n, n) of a spinning free frame.
+
+    The centrifugal load of ``w_a w_b`` on mass point ``k`` is
+    ``m_k (delta_ab r_k - (e_a r_kb + e_b r_ka) / 2)`` (``r`` from the centre of mass). Its
+    inertia-relieved static deflection gives the element axial forces ``N_e`` (tension > 0);
+    each element contributes ``N_e int (v'^2 + w'^2) dx`` (consistent Hermite geometric
+    stiffness of both bending planes; no torsional term). ``K_G(w) = sum_ab w_a w_b G[a, b]``.
+    """
+    ndof = K.shape[0]
+    rc = pos - (mass @ pos) / mass.sum()
+    pairs = [(a, b) for a in range(3) for b in range(a, 3)]
+    F = np.zeros((ndof, len(pairs)))
+    for c, (a, b) in enumerate(pairs):
+        f = -0.5 * mass[:, None] * (np.eye(3)[a][None] * rc[:, b : b + 1] + np.eye(3)[b][None]
+                                    * rc[:, a : a + 1])
+        if a == b:
+            f = f + mass[:, None] * rc
+        np.add.at(F[:, c], pdofs, np.einsum("pad,pa->pd", Nglob, f))
+    U = inertia_relief_solve(K, M, Rg, F)
+    ex = Lam[:, 0, :]
+    idx1 = 6 * El[:, 0][:, None] + np.arange(3)
+    idx2 = 6 * El[:, 1][:, None] + np.arange(3)
+    _, nt = _interp(np.repeat(_GP, len(L)), np.tile(L, len(_GP)))
+    nt = nt.reshape(len(_GP), len(L), 3, 12)
+    # unit element matrix int (th_z^2 + th_y^2) dx in local coordinates, transformed to global
+    kg1 = np.einsum("g,e,geai,geaj->eij", _GW, L, nt[:, :, 1:, :], nt[:, :, 1:, :])
+    kg1 = np.einsum("eji,ejk,ekl->eil", T, kg1, T)
+    dofs = np.concatenate([6 * El[:, :1] + np.arange(6), 6 * El[:, 1:] + np.arange(6)], axis=1)
+    G = np.zeros((3, 3, modes.shape[1], modes.shape[1]))
+    for c, (a, b) in enumerate(pairs):
+        N = ea / L * np.einsum("ea,ea->e", ex, U[idx2, c] - U[idx1, c])
+        KG = np.zeros((ndof, ndof))
+        np.add.at(KG, (dofs[:, :, None], dofs[:, None, :]), N[:, None, None] * kg1)
+        G[a, b] = G[b, a] = modes.T @ KG @ modes
+    return G
 
 
 def straight_beam_nodes(

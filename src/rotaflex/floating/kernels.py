@@ -112,6 +112,141 @@ def skew3(a):
 
 
 # ----------------------------------------------------------------------------------------
+# small allocation-free helpers (also valid for n = 0 modes)
+# ----------------------------------------------------------------------------------------
+@njit(cache=True, inline="always")
+def cr(a0, a1, a2, b0, b1, b2):
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+@njit(cache=True)
+def mvec(A, x):
+    """``A @ x`` by loops (avoids a BLAS call per small product)."""
+    out = np.zeros(A.shape[0])
+    for i in range(A.shape[0]):
+        s = 0.0
+        for j in range(A.shape[1]):
+            s += A[i, j] * x[j]
+        out[i] = s
+    return out
+
+
+@njit(cache=True)
+def mtvec(A, x):
+    """``A.T @ x`` by loops."""
+    out = np.zeros(A.shape[1])
+    for j in range(A.shape[0]):
+        xj = x[j]
+        for i in range(A.shape[1]):
+            out[i] += A[j, i] * xj
+    return out
+
+
+@njit(cache=True)
+def outer3(a, b):
+    out = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = a[i] * b[j]
+    return out
+
+
+@njit(cache=True)
+def phi_dot(Ph, q):
+    """``Ph @ q`` for ``Ph`` (3, n) as a new (3,) array (loops: n may be 0)."""
+    out = np.zeros(3)
+    for a in range(3):
+        s = 0.0
+        for j in range(q.shape[0]):
+            s += Ph[a, j] * q[j]
+        out[a] = s
+    return out
+
+
+@njit(cache=True)
+def sub_phiT(f, off, Ph, v):
+    """``f[off:] -= Ph^T v`` for ``Ph`` (3, n)."""
+    for j in range(Ph.shape[1]):
+        f[off + j] -= Ph[0, j] * v[0] + Ph[1, j] * v[1] + Ph[2, j] * v[2]
+
+
+@njit(cache=True)
+def sub_mat(f, off, K, q):
+    """``f[off:] -= K q``."""
+    n = q.shape[0]
+    for i in range(n):
+        s = 0.0
+        for j in range(n):
+            s += K[i, j] * q[j]
+        f[off + i] -= s
+
+
+@njit(cache=True)
+def contract(T, x, out):
+    """``out[a, b, i] = sum_j T[a, b, i, j] x[j]`` (T: (3, 3, n, n))."""
+    n = x.shape[0]
+    for a in range(3):
+        for b in range(3):
+            for i in range(n):
+                s = 0.0
+                for j in range(n):
+                    s += T[a, b, i, j] * x[j]
+                out[a, b, i] = s
+
+
+@njit(cache=True)
+def contract3(R1, x, out):
+    """``out[a, b] = sum_j R1[a, b, j] x[j]``."""
+    for a in range(3):
+        for b in range(3):
+            s = 0.0
+            for j in range(x.shape[0]):
+                s += R1[a, b, j] * x[j]
+            out[a, b] = s
+
+
+@njit(cache=True)
+def sub_weighted(f, off, W, T):
+    """``f[off + j] -= sum_ab W[a, b] T[a, b, j]``."""
+    for a in range(3):
+        for b in range(3):
+            wab = W[a, b]
+            if wab != 0.0:
+                for j in range(T.shape[2]):
+                    f[off + j] -= wab * T[a, b, j]
+
+
+@njit(cache=True)
+def phi_cross(Pq, out):
+    """``out[:, j] = sum m (u x Phi_j)`` from ``Pq[a, b, j] = sum m Phi_aj u_b``."""
+    for j in range(Pq.shape[2]):
+        out[0, j] = Pq[2, 1, j] - Pq[1, 2, j]
+        out[1, j] = Pq[0, 2, j] - Pq[2, 0, j]
+        out[2, j] = Pq[1, 0, j] - Pq[0, 1, j]
+
+
+@njit(cache=True)
+def geometric_terms(G, gnz, w, q, p, f, off, Smat, Sdot):
+    """Centrifugal stiffening ``K_G(w) = sum_ab w_a w_b G_ab``: ``f[off:] -= K_G(w) q``;
+    ``Smat[a, b] = q^T G_ab q`` and ``Sdot[a, b] = 2 p^T G_ab q`` (for the w rows)."""
+    n = q.shape[0]
+    for a in range(3):
+        for b in range(3):
+            Smat[a, b] = 0.0
+            Sdot[a, b] = 0.0
+            if gnz[a, b] == 0:
+                continue
+            ww = w[a] * w[b]
+            for i in range(n):
+                s = 0.0
+                for j in range(n):
+                    s += G[a, b, i, j] * q[j]
+                f[off + i] -= ww * s
+                Smat[a, b] += q[i] * s
+                Sdot[a, b] += 2.0 * p[i] * s
+
+
+# ----------------------------------------------------------------------------------------
 # loads
 # ----------------------------------------------------------------------------------------
 @njit(cache=True)
@@ -126,18 +261,18 @@ def loads_full(t, A, q, L):
             continue
         v = s * amp[i]
         if frame[i] == INERTIAL:
-            v = A.T @ v
+            v = mtvec(A, v)
         if kind[i] == FORCE:
-            c = rP[i] + PhiP[i] @ q
+            c = rP[i] + phi_dot(PhiP[i], q)
             mo = cross(c, v)
             for a in range(3):
                 H[a] += v[a]
                 H[3 + a] += mo[a]
-            H[6:] += PhiP[i].T @ v
+            sub_phiT(H, 6, PhiP[i], -v)
         else:
             for a in range(3):
                 H[3 + a] += v[a]
-            H[6:] += PsiP[i].T @ v
+            sub_phiT(H, 6, PsiP[i], -v)
     return H
 
 
@@ -155,98 +290,65 @@ def loads_perturbation(t, A0, th1, q1, L):
         v0 = s * amp[i]
         v1 = np.zeros(3)
         if frame[i] == INERTIAL:
-            v0 = A0.T @ v0
+            v0 = mtvec(A0, v0)
             v1 = cross(v0, th1)  # (I - th1~) v0 - v0
         if kind[i] == FORCE:
             m0 = cross(rP[i], v0)
-            m1 = cross(rP[i], v1) + cross(PhiP[i] @ q1, v0)
+            m1 = cross(rP[i], v1) + cross(phi_dot(PhiP[i], q1), v0)
             for a in range(3):
                 H0[a] += v0[a]
                 H0[3 + a] += m0[a]
                 H1[a] += v1[a]
                 H1[3 + a] += m1[a]
-            H1[6:] += PhiP[i].T @ v0
+            sub_phiT(H1, 6, PhiP[i], -v0)
         else:
             for a in range(3):
                 H0[3 + a] += v0[a]
                 H1[3 + a] += v1[a]
-            H1[6:] += PsiP[i].T @ v0
+            sub_phiT(H1, 6, PsiP[i], -v0)
     return H0, H1
 
 
 # ----------------------------------------------------------------------------------------
-# right-hand sides
+# right-hand sides, written with body-integral tensors (no loop over quadrature points):
+#   P[a, b, i, j] = sum m Phi_ai Phi_bj,  R1[a, b, j] = sum m Phi_aj r_b,
+# so that with u = Phi q:  sum m u_a r_b = R1 . q,  sum m Phi_aj u_b = (P . q)[a, b, j].
 # ----------------------------------------------------------------------------------------
-@njit(cache=True, inline="always")
-def cr(a0, a1, a2, b0, b1, b2):
-    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
-
-
-@njit(cache=True, inline="always")
-def mv(Phi, k, q):
-    """``Phi[k] @ q`` as a tuple of three floats (no allocation)."""
-    s0 = 0.0
-    s1 = 0.0
-    s2 = 0.0
-    for j in range(q.shape[0]):
-        s0 += Phi[k, 0, j] * q[j]
-        s1 += Phi[k, 1, j] * q[j]
-        s2 += Phi[k, 2, j] * q[j]
-    return s0, s1, s2
-
-
-@njit(cache=True, inline="always")
-def sub_phit(f, off, mk, Phi, k, b0, b1, b2):
-    """``f[off:] -= mk Phi[k]^T b``."""
-    for j in range(Phi.shape[2]):
-        f[off + j] -= mk * (Phi[k, 0, j] * b0 + Phi[k, 1, j] * b1 + Phi[k, 2, j] * b2)
-
-
 @njit(cache=True)
-def mass_matrix(q, B):
-    """Full mass matrix ``M(q)`` of eq. 22 by quadrature over the body points."""
-    m, r, Phi, Phibar, Mb, Kb, KGw, Minv0, Mrinv, S0, J0, mtot, Je = B
-    n = q.shape[0]
-    M = np.zeros((6 + n, 6 + n))
-    S = np.zeros(3)
-    J = Je.copy()
-    Pt = np.zeros((3, n))
-    for k in range(m.shape[0]):
-        u0, u1, u2 = mv(Phi, k, q)
-        c0, c1, c2 = r[k, 0] + u0, r[k, 1] + u1, r[k, 2] + u2
-        mk = m[k]
-        S[0] += mk * c0
-        S[1] += mk * c1
-        S[2] += mk * c2
-        cc = c0 * c0 + c1 * c1 + c2 * c2
-        J[0, 0] += mk * (cc - c0 * c0)
-        J[1, 1] += mk * (cc - c1 * c1)
-        J[2, 2] += mk * (cc - c2 * c2)
-        J[0, 1] -= mk * c0 * c1
-        J[0, 2] -= mk * c0 * c2
-        J[1, 2] -= mk * c1 * c2
-        for j in range(n):  # Phi~ = sum m c~ Phi
-            Pt[0, j] += mk * (c1 * Phi[k, 2, j] - c2 * Phi[k, 1, j])
-            Pt[1, j] += mk * (c2 * Phi[k, 0, j] - c0 * Phi[k, 2, j])
-            Pt[2, j] += mk * (c0 * Phi[k, 1, j] - c1 * Phi[k, 0, j])
-    J[1, 0], J[2, 0], J[2, 1] = J[0, 1], J[0, 2], J[1, 2]
-    St = skew3(S)
-    for a in range(3):
-        M[a, a] = mtot
-    M[0:3, 3:6] = -St
-    M[3:6, 0:3] = St
-    M[3:6, 3:6] = J
-    M[0:3, 6:] = Phibar
-    M[6:, 0:3] = Phibar.T
-    M[3:6, 6:] = Pt
-    M[6:, 3:6] = Pt.T
-    M[6:, 6:] = Mb
-    return M
+def solve_spd(M, f):
+    """Solve ``M x = f`` for a symmetric positive definite ``M`` (Cholesky, in place on copies)."""
+    n = M.shape[0]
+    Lc = M.copy()
+    x = f.copy()
+    for j in range(n):
+        s = Lc[j, j]
+        for k in range(j):
+            s -= Lc[j, k] * Lc[j, k]
+        if not s > 0.0:
+            return np.linalg.solve(M, f)  # not SPD (far outside the model's range): LU
+        d = np.sqrt(s)
+        Lc[j, j] = d
+        for i in range(j + 1, n):
+            s = Lc[i, j]
+            for k in range(j):
+                s -= Lc[i, k] * Lc[j, k]
+            Lc[i, j] = s / d
+    for i in range(n):
+        s = x[i]
+        for k in range(i):
+            s -= Lc[i, k] * x[k]
+        x[i] = s / Lc[i, i]
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for k in range(i + 1, n):
+            s -= Lc[k, i] * x[k]
+        x[i] = s / Lc[i, i]
+    return x
 
 
 @njit(cache=True)
 def rhs_full(t, y, B, L, geo):
-    m, r, Phi, Phibar, Mb, Kb, KGw, Minv0, Mrinv, S0, J0, mtot, Je = B
+    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv = B
     n = Kb.shape[0]
     dy = np.empty_like(y)
     e = y[3:7]
@@ -255,46 +357,84 @@ def rhs_full(t, y, B, L, geo):
     q = y[13 : 13 + n]
     p = y[13 + n :]
     A = quat_matrix(e)
-    dy[0:3] = A @ V
+    dy[0:3] = mvec(A, V)
     quat_rate(e, w, dy[3:7])
     f = loads_full(t, A, q, L)
-    f[6:] -= Kb @ q
-    sg = 0.0
+    sub_mat(f, 6, Kb, q)
+    Pq = np.empty((3, 3, n))
+    Pp = np.empty((3, 3, n))
+    contract(P, q, Pq)
+    contract(P, p, Pp)
+    U1 = np.empty((3, 3))
+    D = np.empty((3, 3))
+    contract3(R1, q, U1)  # sum m u_a r_b
+    contract3(R1, p, D)  # sum m udot_a r_b
+    UU = np.zeros((3, 3))
+    for a in range(3):
+        for b in range(3):
+            s = 0.0
+            s2 = 0.0
+            for i in range(n):
+                s += q[i] * Pq[a, b, i]  # sum m u_a u_b
+                s2 += p[i] * Pq[a, b, i]  # sum m udot_a u_b
+            UU[a, b] = s
+            D[a, b] += s2  # D = sum m udot c^T
+    S = S0 + phi_dot(Phibar, q)
+    tr1 = U1[0, 0] + U1[1, 1] + U1[2, 2]
+    tr2 = UU[0, 0] + UU[1, 1] + UU[2, 2]
+    J = J0 - U1 - U1.T - UU
+    for a in range(3):
+        J[a, a] += 2.0 * tr1 + tr2
+    Pt = Pt0.copy()
+    X = np.empty((3, n))
+    phi_cross(Pq, X)
+    Pt += X
+    # velocity-dependent terms: sum m L^T b with b = w x V + w x (w x c) + 2 w x udot
+    wV = cross(w, V)
+    ud = phi_dot(Phibar, p)
+    fv = mtot * wV + cross(w, cross(w, S)) + 2.0 * cross(w, ud)
+    trD = D[0, 0] + D[1, 1] + D[2, 2]
+    fw = cross(S, wV) + cross(w, mvec(J, w)) + 2.0 * (trD * w - mvec(D, w))
+    for a in range(3):
+        f[a] -= fv[a]
+        f[3 + a] -= fw[a]
+    sub_phiT(f, 6, Phibar, wV)
+    W = outer3(w, w)
+    ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+    for a in range(3):
+        W[a, a] -= ww
+    sub_weighted(f, 6, W, R1)
+    sub_weighted(f, 6, W, Pq)
+    Wt = skew3(2.0 * w)
+    sub_weighted(f, 6, Wt, Pp)
+    M = np.zeros((6 + n, 6 + n))
     if geo:
-        # foreshortening term of the Lagrangian: L_G = -1/2 (w_y^2 + w_z^2) q^T K_Gw q; it adds
-        # the stiffness to the q rows and J_G = -s diag(0, 1, 1) (s = q^T K_Gw q) to the w rows
-        kq = KGw @ q
-        sg = q @ kq
-        f[6:] -= (w[1] * w[1] + w[2] * w[2]) * kq
-        sd = 2.0 * (p @ kq)
-        f[4] += sd * w[1] - sg * w[0] * w[2]
-        f[5] += sd * w[2] + sg * w[0] * w[1]
-    f[3:6] -= cross(w, Je @ w)
-    x0, x1, x2 = w[0], w[1], w[2]
-    wv0, wv1, wv2 = cr(x0, x1, x2, V[0], V[1], V[2])
-    for k in range(m.shape[0]):
-        mk = m[k]
-        u0, u1, u2 = mv(Phi, k, q)
-        d0, d1, d2 = mv(Phi, k, p)
-        c0, c1, c2 = r[k, 0] + u0, r[k, 1] + u1, r[k, 2] + u2
-        a0, a1, a2 = cr(x0, x1, x2, c0, c1, c2)
-        a0, a1, a2 = cr(x0, x1, x2, a0, a1, a2)
-        g0, g1, g2 = cr(x0, x1, x2, d0, d1, d2)
-        b0 = wv0 + a0 + 2.0 * g0
-        b1 = wv1 + a1 + 2.0 * g1
-        b2 = wv2 + a2 + 2.0 * g2
-        h0, h1, h2 = cr(c0, c1, c2, b0, b1, b2)
-        f[0] -= mk * b0
-        f[1] -= mk * b1
-        f[2] -= mk * b2
-        f[3] -= mk * h0
-        f[4] -= mk * h1
-        f[5] -= mk * h2
-        sub_phit(f, 6, mk, Phi, k, b0, b1, b2)
-    M = mass_matrix(q, B)
-    M[4, 4] -= sg
-    M[5, 5] -= sg
-    xd = np.linalg.solve(M, f)
+        # foreshortening term of the Lagrangian: L_G = -1/2 q^T K_G(w) q = -1/2 w^T S(q) w adds
+        # the stiffness to the q rows and the inertia change -S(q) to the w rows
+        Smat = np.empty((3, 3))
+        Sdot = np.empty((3, 3))
+        geometric_terms(G, gnz, w, q, p, f, 6, Smat, Sdot)
+        gw = mvec(Sdot, w) + cross(w, mvec(Smat, w))
+        for a in range(3):
+            f[3 + a] += gw[a]
+            for b in range(3):
+                M[3 + a, 3 + b] -= Smat[a, b]
+    St = skew3(S)
+    for a in range(3):
+        M[a, a] = mtot
+        for b in range(3):
+            M[a, 3 + b] = -St[a, b]
+            M[3 + a, b] = St[a, b]
+            M[3 + a, 3 + b] += J[a, b]
+        for j in range(n):
+            M[a, 6 + j] = Phibar[a, j]
+            M[6 + j, a] = Phibar[a, j]
+            M[3 + a, 6 + j] = Pt[a, j]
+            M[6 + j, 3 + a] = Pt[a, j]
+    for i in range(n):
+        for j in range(n):
+            M[6 + i, 6 + j] = Mb[i, j]
+    xd = solve_spd(M, f)
     dy[7:13] = xd[0:6]
     dy[13 : 13 + n] = p
     dy[13 + n :] = xd[6:]
@@ -304,81 +444,100 @@ def rhs_full(t, y, B, L, geo):
 @njit(cache=True)
 def zero_order_accel(t, y, B, L):
     """Zero-order rigid accelerations ``(Vdot0, wdot0)`` of eq. 27 and the load split."""
-    m, r, Phi, Phibar, Mb, Kb, KGw, Minv0, Mrinv, S0, J0, mtot, Je = B
+    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv = B
     n = Kb.shape[0]
     A0 = quat_matrix(y[3:7])
     V0, w0 = y[7:10], y[10:13]
     th1 = y[16:19]
     q1 = y[25 : 25 + n]
     H0, H1 = loads_perturbation(t, A0, th1, q1, L)
-    Jw = J0 @ w0
+    Jw = mvec(J0, w0)
     g = np.zeros(6)
     wV = cross(w0, V0)
     wwS = cross(w0, cross(w0, S0))
     g[0:3] = mtot * wV + wwS
     g[3:6] = cross(S0, wV) + cross(w0, Jw)
-    acc = Mrinv @ (H0 - g)
+    acc = mvec(Mrinv, H0 - g)
     return acc, A0, H1
 
 
 @njit(cache=True)
 def rhs_perturbation(t, y, B, L, geo):
-    m, r, Phi, Phibar, Mb, Kb, KGw, Minv0, Mrinv, S0, J0, mtot, Je = B
+    """Zero order + exact linearisation of :func:`rhs_full` about ``(x0(t), q = p = 0)``."""
+    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv = B
     n = Kb.shape[0]
     dy = np.empty_like(y)
     V0, w0 = y[7:10], y[10:13]
     th1, V1, w1 = y[16:19], y[19:22], y[22:25]
     q1, p1 = y[25 : 25 + n], y[25 + n :]
     acc, A0, H1 = zero_order_accel(t, y, B, L)
-    dy[0:3] = A0 @ V0
+    Vd0, wd0 = acc[0:3], acc[3:6]
+    dy[0:3] = mvec(A0, V0)
     quat_rate(y[3:7], w0, dy[3:7])
     dy[7:13] = acc
-    # first order: f = H1 + d - (linear velocity/stiffness terms); d_3 = -sum m Phi^T a0_k
     f = H1.copy()
-    f[6:] -= Kb @ q1
+    sub_mat(f, 6, Kb, q1)
+    Pq = np.empty((3, 3, n))
+    Pp = np.empty((3, 3, n))
+    contract(P, q1, Pq)
+    contract(P, p1, Pp)
+    U1 = np.empty((3, 3))
+    dD = np.empty((3, 3))
+    contract3(R1, q1, U1)
+    contract3(R1, p1, dD)
+    dJ = -U1 - U1.T
+    tr1 = U1[0, 0] + U1[1, 1] + U1[2, 2]
+    for a in range(3):
+        dJ[a, a] += 2.0 * tr1
+    dS = phi_dot(Phibar, q1)
+    ud = phi_dot(Phibar, p1)
+    wV0 = cross(w0, V0)
+    dwV = cross(w1, V0) + cross(w0, V1)
+    # rigid rows: linearised velocity terms and the mass-matrix change times the zero-order accel.
+    fv = (
+        mtot * dwV
+        + cross(w1, cross(w0, S0))
+        + cross(w0, cross(w1, S0))
+        + cross(w0, cross(w0, dS))
+        + 2.0 * cross(w0, ud)
+        + cross(wd0, dS)
+    )
+    trD = dD[0, 0] + dD[1, 1] + dD[2, 2]
+    fw = (
+        cross(dS, wV0)
+        + cross(S0, dwV)
+        + cross(w1, mvec(J0, w0))
+        + cross(w0, mvec(J0, w1))
+        + cross(w0, mvec(dJ, w0))
+        + 2.0 * (trD * w0 - mvec(dD, w0))
+        + cross(dS, Vd0)
+        + mvec(dJ, wd0)
+    )
+    for a in range(3):
+        f[a] -= fv[a]
+        f[3 + a] -= fw[a]
+    # elastic rows: first-order terms and the rigid maneuver's inertial load d (eq. 28)
+    W0 = outer3(w0, w0)
+    dW = outer3(w1, w0) + outer3(w0, w1)
+    ww = w0[0] * w0[0] + w0[1] * w0[1] + w0[2] * w0[2]
+    w01 = w0[0] * w1[0] + w0[1] * w1[1] + w0[2] * w1[2]
+    for a in range(3):
+        W0[a, a] -= ww
+        dW[a, a] -= 2.0 * w01
+    sub_phiT(f, 6, Phibar, dwV + Vd0 + wV0)
+    sub_phiT(f, 6, Pt0, wd0)
+    X = np.empty((3, n))
+    phi_cross(Pq, X)
+    sub_phiT(f, 6, X, wd0)
+    sub_weighted(f, 6, W0 + dW, R1)
+    sub_weighted(f, 6, W0, Pq)
+    sub_weighted(f, 6, skew3(2.0 * w0), Pp)
     if geo:
-        f[6:] -= (w0[1] * w0[1] + w0[2] * w0[2]) * (KGw @ q1)
-    f[3:6] -= cross(w1, Je @ w0) + cross(w0, Je @ w1)
-    o0, o1, o2 = w0[0], w0[1], w0[2]
-    s0, s1, s2 = w1[0], w1[1], w1[2]
-    al0, al1, al2 = acc[3], acc[4], acc[5]
-    t0, t1, t2 = cr(o0, o1, o2, V0[0], V0[1], V0[2])
-    base0, base1, base2 = t0 + acc[0], t1 + acc[1], t2 + acc[2]
-    a_, b_, c_ = cr(s0, s1, s2, V0[0], V0[1], V0[2])
-    d_, e_, f_ = cr(o0, o1, o2, V1[0], V1[1], V1[2])
-    g00, g01, g02 = a_ + d_, b_ + e_, c_ + f_
-    for k in range(m.shape[0]):
-        mk = m[k]
-        r0, r1, r2 = r[k, 0], r[k, 1], r[k, 2]
-        u0, u1, u2 = mv(Phi, k, q1)
-        v0, v1, v2 = mv(Phi, k, p1)
-        # a0 = Vd0 + w0 x V0 + wd0 x r + w0 x (w0 x r)
-        x0, x1, x2 = cr(al0, al1, al2, r0, r1, r2)
-        wr0, wr1, wr2 = cr(o0, o1, o2, r0, r1, r2)
-        y0_, y1_, y2_ = cr(o0, o1, o2, wr0, wr1, wr2)
-        a00, a01, a02 = base0 + x0 + y0_, base1 + x1 + y1_, base2 + x2 + y2_
-        # g = w1 x V0 + w0 x V1 + wd0 x u + w1 x (w0 x r) + w0 x (w1 x r) + w0 x (w0 x u) + 2 w0 x v
-        h0, h1, h2 = cr(al0, al1, al2, u0, u1, u2)
-        i0, i1, i2 = cr(s0, s1, s2, wr0, wr1, wr2)
-        j0, j1, j2 = cr(s0, s1, s2, r0, r1, r2)
-        j0, j1, j2 = cr(o0, o1, o2, j0, j1, j2)
-        k0, k1, k2 = cr(o0, o1, o2, u0, u1, u2)
-        k0, k1, k2 = cr(o0, o1, o2, k0, k1, k2)
-        l0, l1, l2 = cr(o0, o1, o2, v0, v1, v2)
-        gg0 = g00 + h0 + i0 + j0 + k0 + 2.0 * l0
-        gg1 = g01 + h1 + i1 + j1 + k1 + 2.0 * l1
-        gg2 = g02 + h2 + i2 + j2 + k2 + 2.0 * l2
-        p0_, p1_, p2_ = cr(r0, r1, r2, gg0, gg1, gg2)
-        q0_, q1_, q2_ = cr(u0, u1, u2, a00, a01, a02)
-        f[0] -= mk * gg0
-        f[1] -= mk * gg1
-        f[2] -= mk * gg2
-        f[3] -= mk * (p0_ + q0_)
-        f[4] -= mk * (p1_ + q1_)
-        f[5] -= mk * (p2_ + q2_)
-        sub_phit(f, 6, mk, Phi, k, gg0 + a00, gg1 + a01, gg2 + a02)
-    xd = Minv0 @ f
-    dy[13:16] = A0 @ (V1 + cross(th1, V0))
+        Smat = np.empty((3, 3))
+        Sdot = np.empty((3, 3))
+        geometric_terms(G, gnz, w0, q1, p1, f, 6, Smat, Sdot)
+    xd = mvec(Minv0, f)
+    dy[13:16] = mvec(A0, (V1 + cross(th1, V0)))
     dy[16:19] = w1 - cross(w0, th1)
     dy[19:25] = xd[0:6]
     dy[25 : 25 + n] = p1
@@ -388,26 +547,29 @@ def rhs_perturbation(t, y, B, L, geo):
 
 @njit(cache=True)
 def rhs_prescribed(t, y, B, L, geo, axis, rate, t_up):
-    m, r, Phi, Phibar, Mb, Kb, KGw, Minv0, Mrinv, S0, J0, mtot, Je = B
+    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv = B
     n = Kb.shape[0]
     q, p = y[0:n], y[n:]
     _, om, al = spin_profile(rate, t_up, t)
-    x0, x1, x2 = om * axis[0], om * axis[1], om * axis[2]
-    z0, z1, z2 = al * axis[0], al * axis[1], al * axis[2]
-    A = np.eye(3)
-    f = np.zeros(6 + n)
-    f[6:] = loads_full(t, A, q, L)[6:] - Kb @ q
+    w = om * axis
+    f = loads_full(t, np.eye(3), q, L)
+    sub_mat(f, 6, Kb, q)
     if geo:
-        f[6:] -= (x1 * x1 + x2 * x2) * (KGw @ q)
-    for k in range(m.shape[0]):
-        u0, u1, u2 = mv(Phi, k, q)
-        d0, d1, d2 = mv(Phi, k, p)
-        c0, c1, c2 = r[k, 0] + u0, r[k, 1] + u1, r[k, 2] + u2
-        a0, a1, a2 = cr(z0, z1, z2, c0, c1, c2)
-        b0, b1, b2 = cr(x0, x1, x2, c0, c1, c2)
-        b0, b1, b2 = cr(x0, x1, x2, b0, b1, b2)
-        g0, g1, g2 = cr(x0, x1, x2, d0, d1, d2)
-        sub_phit(f, 6, m[k], Phi, k, a0 + b0 + 2.0 * g0, a1 + b1 + 2.0 * g1, a2 + b2 + 2.0 * g2)
+        Smat = np.empty((3, 3))
+        Sdot = np.empty((3, 3))
+        geometric_terms(G, gnz, w, q, p, f, 6, Smat, Sdot)
+    Pq = np.empty((3, 3, n))
+    Pp = np.empty((3, 3, n))
+    contract(P, q, Pq)
+    contract(P, p, Pp)
+    # sum m Phi^T (alpha x c + w x (w x c) + 2 w x udot)
+    W = skew3(al * axis) + outer3(w, w)
+    ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+    for a in range(3):
+        W[a, a] -= ww
+    sub_weighted(f, 6, W, R1)
+    sub_weighted(f, 6, W, Pq)
+    sub_weighted(f, 6, skew3(2.0 * w), Pp)
     dy = np.empty_like(y)
     dy[0:n] = p
     dy[n:] = np.linalg.solve(Mb, f[6:])
@@ -479,24 +641,27 @@ def integrate(
             hit = True
         else:
             h_try = h
+        ys = np.empty(ny)
         for s in range(1, 7):
-            ys = y.copy()
-            for j in range(s):
-                if _A[s, j] != 0.0:
-                    ys += h_try * _A[s, j] * K[j]
+            for i in range(ny):
+                acc = y[i]
+                for j in range(s):
+                    acc += h_try * _A[s, j] * K[j, i]
+                ys[i] = acc
             ts = t + _C[s] * h_try
             if hit and _C[s] == 1.0:
                 ts = t_target - 1e-13 * span  # stay left of a load jump at t_target
             K[s] = rhs(mode, ts, ys, B, L, geo, pres)
         nfev += 6
         y_new = ys  # stage 7 evaluates at the 5th-order solution (FSAL)
-        err = np.zeros(ny)
-        for j in range(7):
-            if _E[j] != 0.0:
-                err += _E[j] * K[j]
-        err *= h_try
-        sc = atol + rtol * np.maximum(np.abs(y), np.abs(y_new))
-        en = np.sqrt(np.mean((err / sc) ** 2))
+        en = 0.0
+        for i in range(ny):
+            er = 0.0
+            for j in range(7):
+                er += _E[j] * K[j, i]
+            sc = atol + rtol * max(abs(y[i]), abs(y_new[i]))
+            en += (h_try * er / sc) ** 2
+        en = np.sqrt(en / ny)
         if not np.isfinite(en):
             en = 1e10
         nstep += 1

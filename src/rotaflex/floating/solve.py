@@ -47,30 +47,55 @@ class Solution:
 
 
 def pack_body(body: Body):
-    m = np.ascontiguousarray(body.masses, dtype=float)
-    r = np.ascontiguousarray(body.points, dtype=float)
-    Phi = np.ascontiguousarray(body.shapes, dtype=float)
-    n = Phi.shape[2]
+    """Body-integral tensors for the kernels (see :mod:`rotaflex.floating.kernels`)."""
     from rotaflex.floating.body import integrals
 
+    m = np.asarray(body.masses, dtype=float)
+    r = np.asarray(body.points, dtype=float)
+    Phi = np.asarray(body.shapes, dtype=float)
     I0 = integrals(body)
     M0 = I0["M"]
-    KG = body.geometric if body.geometric is not None else np.zeros((n, n))
+    ev = np.linalg.eigvalsh(M0[:6, :6])
+    if ev.min() <= 1e-12 * ev.max():
+        raise InputError(
+            "body",
+            f"rigid-body mass matrix eigenvalues min {ev.min():.3g}, max {ev.max():.3g}",
+            "a mass distribution with a non-singular inertia tensor (e.g. collinear point masses "
+            "need rotary inertia about their line)",
+        )
+    P = np.einsum("k,kai,kbj->abij", m, Phi, Phi)
+    R1 = np.einsum("k,kaj,kb->abj", m, Phi, r)
+    G = geometric_tensor(body)
+    gnz = (np.abs(G).reshape(3, 3, -1).max(axis=2, initial=0.0) > 0).astype(np.int64)
+    c = np.ascontiguousarray
     return (
-        m,
-        r,
-        Phi,
-        np.ascontiguousarray(I0["Phibar"]),
-        np.ascontiguousarray(I0["Mb"]),
-        np.ascontiguousarray(body.stiffness, dtype=float),
-        np.ascontiguousarray(KG, dtype=float),
+        float(I0["m"]),
+        I0["S"].copy(),
+        c(I0["J"]),
+        c(I0["Phibar"]),
+        c(I0["Phitilde"]),
+        c(I0["Mb"]),
+        c(np.asarray(body.stiffness, dtype=float)),
+        c(P),
+        c(R1),
+        c(G),
+        gnz,
         np.linalg.inv(M0),
         np.linalg.inv(M0[:6, :6]),
-        I0["S"].copy(),
-        np.ascontiguousarray(I0["J"]),
-        float(I0["m"]),
-        np.ascontiguousarray(body.extra_inertia, dtype=float),
     )
+
+
+def geometric_tensor(body: Body) -> np.ndarray:
+    """Unit geometric stiffness ``G[a, b]`` (3, 3, n, n): ``K_G(w) = sum_ab w_a w_b G[a, b]``."""
+    n = body.n_modes
+    if body.geometric is None:
+        return np.zeros((3, 3, n, n))
+    return np.asarray(body.geometric, dtype=float)
+
+
+def geometric_stiffness(body: Body, w) -> np.ndarray:
+    """``K_G(w)`` (..., n, n) for angular velocities ``w`` (..., 3) [1/s^2]."""
+    return np.einsum("...a,...b,abij->...ij", w, w, geometric_tensor(body))
 
 
 def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
@@ -119,7 +144,8 @@ def use_geometric(body: Body, settings: Settings) -> bool:
         raise InputError(
             "solver.geometric_stiffness",
             True,
-            "false for this body (centrifugal stiffening is available for beam bodies)",
+            "false for this body (centrifugal stiffening needs beam or FE bodies, or point bodies "
+            "with body.points.geometric)",
         )
     return bool(settings.geometric_stiffness)
 
@@ -174,9 +200,9 @@ def simulate(
     initial = initial or Initial()
     settings = settings or Settings()
     n = body.n_modes
+    geo = use_geometric(body, settings)
     B = pack_body(body)
     Lp = pack_loads(body, list(loads))
-    geo = use_geometric(body, settings)
     nt = int(round(settings.t_end / settings.dt_out))
     t_out = np.linspace(0.0, nt * settings.dt_out, nt + 1)
     q0 = _initial_modal(initial.modal_displacement, n, "modal_displacement")
@@ -199,7 +225,7 @@ def simulate(
         mode = 1
         y0 = np.concatenate([rigid0, np.zeros(12), q0, p0])
         lim = (25, 25 + n)
-    phimax = float(np.abs(body.shapes).max())
+    phimax = float(np.abs(body.shapes).max(initial=0.0))
     q_limit = 10.0 * body.length / max(phimax, 1e-300)
     t0 = time.perf_counter()
     Y, st, t_stop, nfev, nstep = kernels.integrate(
@@ -312,13 +338,15 @@ def _unpack(mode, method, t, Y, n, prescribed, pres) -> Solution:
 
 
 def min_effective_stiffness(body: Body, w: np.ndarray, geo: bool) -> np.ndarray:
-    """Smallest eigenvalue of ``K_b + M~(w) (+ (w_y^2 + w_z^2) K_Gw)`` at each time [1/s^2]."""
+    """Smallest eigenvalue of ``K_b + M~(w) (+ K_G(w))`` at each time [1/s^2]."""
+    if body.n_modes == 0:
+        return np.full(len(w), np.inf)
     W = skew(w)
     WW = W @ W  # (T, 3, 3)
     PP = np.einsum("k,kai,kbj->abij", body.masses, body.shapes, body.shapes)  # (3, 3, n, n)
     Keff = body.stiffness[None] + np.einsum("tab,abij->tij", WW, PP)
     if geo and body.geometric is not None:
-        Keff = Keff + (w[:, 1] ** 2 + w[:, 2] ** 2)[:, None, None] * body.geometric[None]
+        Keff = Keff + geometric_stiffness(body, w)
     return np.linalg.eigvalsh(0.5 * (Keff + np.swapaxes(Keff, 1, 2)))[:, 0]
 
 
@@ -354,10 +382,11 @@ def invariants(body: Body, sol: Solution):
         "ta,ab,tb->t", sol.angular_velocity, body.extra_inertia, sol.angular_velocity
     )
     if sol.geometric and body.geometric is not None and sol.method == "full":
-        sg = np.einsum("ti,ij,tj->t", sol.q, body.geometric, sol.q)
+        # L_G = -1/2 w^T S(q) w with S_ab = q^T G_ab q
+        Sm = np.einsum("ti,abij,tj->tab", sol.q, body.geometric, sol.q)
         w = sol.angular_velocity
-        Hb = Hb - sg[:, None] * w * np.array([0.0, 1.0, 1.0])
-        T = T - 0.5 * sg * (w[:, 1] ** 2 + w[:, 2] ** 2)
+        Hb = Hb - np.einsum("tab,tb->ta", Sm, w)
+        T = T - 0.5 * np.einsum("ta,tab,tb->t", w, Sm, w)
     P = np.einsum("tab,tb->ta", A, Pb)
     H = np.cross(sol.position, P) + np.einsum("tab,tb->ta", A, Hb)
     U = 0.5 * np.einsum("ti,ij,tj->t", sol.q, body.stiffness, sol.q)

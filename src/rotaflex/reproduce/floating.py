@@ -440,9 +440,13 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
         "sign pattern, which we could not verify from the scan.",
         "Free-free modes in mean axes make phibar = phibar_b = 0, so for the paper's free-free beam "  # noqa: E501
         "the rigid maneuver forces the modes only through the load distribution (Q_1).",
-        "The rigid-only comparison against the rotor domain's free-body solver is not in this "
-        "branch (rotor not merged yet); the zero-order solution is checked against the closed-form "
-        "torque-free axisymmetric body in tests/floating/test_floating_dynamics.py.",
+        "A rigid body (elastic part off, rigid_body) reproduces the rotor domain's free-body "
+        "Newton-Euler solver under constant body or inertial torque (attitude and body rates agree "
+        "to < 1e-10, full and perturbation paths; tests/floating/test_floating_rigid.py).",
+        "Static attachment modes (inertia relief) make an end load's static deflection exact with "
+        "any number of elastic modes (8 modes alone: 0.2 % error); FE geometric stiffness from the "
+        "centrifugal axial force agrees with the analytic beam's to 1.4e-3 at 40 elements "
+        "(observed order 2.0); see tests/floating/test_floating_attach_geo.py.",
         f"Wall time of this section: {time.perf_counter() - t0:.1f} s.",
     ]
     return sec
