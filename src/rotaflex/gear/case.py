@@ -19,7 +19,7 @@ TOML layout (all tables optional; defaults are the paper's data, section 4)::
 
 Driver: gear A turns counter-clockwise about the origin, B clockwise about (0, a). The driver
 gets the drive torque (in its running direction), the other gear the load torque (against its
-running direction), both ramped with the driver's rotation as in Fig. 7. ``driver = "B"`` is run
+running direction), each ramped with its own gear's rotation as in Fig. 7. ``driver = "B"`` is run
 as the mirror image (reflection about y = a/2 maps a counter-clockwise driver at the origin onto
 a clockwise driver at (0, a)): the kernel simulates the driver as its gear A, and the outputs are
 relabelled (gear axes swapped, contact points mirrored), which is exact for identical gears.

@@ -68,11 +68,69 @@ def _common_checks(ds, tol_energy=0.02) -> list[Check]:
     ]
 
 
-def _figure(ds, path: Path, title: str):
+def _lumped(preset: str):
+    """Lumped torsional model of the same meshes (:mod:`rotaflex.gear.lumped`) and the angles."""
+    from rotaflex.core.config import from_mapping
+    from rotaflex.gear.case import GearCaseConfig, build
+    from rotaflex.gear.geometry import contact_angles
+    from rotaflex.gear.lumped import lumped_pair
+
+    cfg = from_mapping(GearCaseConfig, {"mesh": {"preset": preset}})
+    geo, _, model = build(cfg)
+    ths, th2 = contact_angles(geo, geo)
+    mat = cfg.material
+    pair = lumped_pair(model, youngs_modulus=mat.youngs_modulus,
+                       poisson_ratio=mat.poisson_ratio, theta_s=ths)
+    return pair, th2, ths, cfg.operation.torque
+
+
+def _lumped_checks(ds, lumped, rattling: bool) -> tuple[list[Check], dict, str]:
+    """Compare a run with the lumped model (same driver, same speeds); checks + curve."""
+    from rotaflex.gear.lumped import simulate_lumped
+
+    pair, th2, ths, torque = lumped
+    drv = ds.attrs.get("driver", "A")
+    other = "B" if drv == "A" else "A"
+    w0 = ds["angular_velocity"].isel(time=0) * 30.0 / math.pi
+    speeds = (float(w0.sel(gear=drv)), float(w0.sel(gear=other)))
+    # identical gears: "B drives" is the lumped pair with the driver as its first inertia
+    lr = simulate_lumped(pair, speeds_rpm=speeds, torque=torque, theta_2=th2, theta_s=ths,
+                         span=ths, n_output=20001)
+    nominal = float(ds["nominal_force"])
+    ang = ds["rotation_angle"].sel(gear=drv).values
+    f = ds["contact_force"].values
+    fl = np.interp(ang, lr["angle_A"], lr["contact_force"])
+    peak, peak_l = float(f.max()), float(lr["contact_force"].max())
+    rms = float(np.sqrt(np.mean((f - fl) ** 2)))
+    rel = abs(peak / peak_l - 1.0) if peak_l > 0 else (0.0 if peak < 0.01 * nominal else 1.0)
+    checks = [Check(
+        "peak contact force vs lumped torsional model of the same meshes", rel, "",
+        "< 0.15", rel < 0.15,
+        f"FE {peak:.1f} N, lumped {peak_l:.1f} N; RMS difference {rms:.1f} N "
+        f"({rms / nominal * 100:.1f} % of tau_0/r_b). The lumped model has rigid teeth inertia "
+        "(no ~140 kHz tooth vibration), see docs/gear-dynamics.md")]
+    if rattling:
+        thr = 0.01 * nominal
+        fe = _separations(f, ang, thr)
+        lu = _separations(lr["contact_force"], lr["angle_A"], thr)
+        ok = abs(fe[0] - lu[0]) <= 1 and abs(fe[1] - lu[1]) <= 1
+        checks.append(Check("separations / re-contacts vs lumped model", f"{fe[0]} / {fe[1]}", "",
+                            f"lumped {lu[0]} / {lu[1]}, +-1 each", ok,
+                            "same counting (1 % of tau_0/r_b threshold) on both histories"))
+    curve = {"angle": np.degrees(np.interp(lr["time"], ds["time"].values,
+                                           ds["rotation_angle"].sel(gear="A").values)),
+             "force": lr["contact_force"]}
+    return checks, curve, f" Lumped model: peak {peak_l:.1f} N, RMS difference {rms:.1f} N."
+
+
+def _figure(ds, path: Path, title: str, lumped_curve=None):
     from rotaflex.core.plotting import new_figure, save_figure
 
     fig, ax = new_figure()
     ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
+    if lumped_curve is not None:
+        ax.plot(lumped_curve["angle"], lumped_curve["force"], color="0.6", lw=1.6,
+                label="lumped torsional model (same meshes)")
     ax.plot(ang, ds["contact_force"].values, lw=0.8, label="contact force (this work)")
     ax.plot(ang, ds["nominal_force_ramp"].values, "k--", lw=0.8, label="quasi-static tau_driver/r_b")
     ax.set_xlabel("rotation angle of gear A from start of contact [deg]")
@@ -94,6 +152,8 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
     from rotaflex.reproduce import gear_post
 
     fig8 = None
+    lumped = _lumped(preset)
+    references = {}
     for stem, label, caption, speeds in CASES:
         drv_note = ""
         if speeds[0] != speeds[1]:
@@ -110,26 +170,27 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
         ds = res.dataset
         if stem == "fig8":
             fig8 = res
+        if speeds[0] == speeds[1]:
+            references[speeds[0]] = res
         res.to_netcdf(dom / f"{stem}.nc")
+        lchecks, lcurve, lnote = _lumped_checks(ds, lumped, speeds[0] != speeds[1])
         _figure(ds, dom / f"{stem}.png", f"{speeds[0]:g} / {speeds[1]:g} rpm, {preset} mesh, "
-                f"driver {ds.attrs.get('driver', 'A')}")
+                f"driver {ds.attrs.get('driver', 'A')}", lcurve)
         nominal = float(ds["nominal_force"])
         peak = float(ds["peak_contact_force"])
-        checks = _common_checks(ds)
-        checks.append(Check("peak contact force / (tau_0 / r_b)", peak / nominal, "",
-                            "finite, < 5 (no blow-up)", peak / nominal < 5.0,
-                            f"peak {peak:.1f} N; tau_0/r_b = {nominal:.1f} N"))
+        checks = _common_checks(ds) + lchecks
         desc = (f"{ds.sizes['time']} records of {int(ds['steps'])} RK4 steps (dt = 3e-8 s), "
                 f"solver {float(ds['solver_wall_time']):.1f} s "
                 f"({float(ds['time_per_step']) * 1e6:.0f} us/step). Peak {peak:.1f} N, dynamic "
-                f"factor {peak / nominal:.3f}.")
+                f"factor {peak / nominal:.3f}." + lnote)
         if speeds[0] != speeds[1]:
             thr = 0.01 * nominal
             ang = ds["rotation_angle"].sel(gear="A").values
             lost, regained = _separations(ds["contact_force"].values, ang, thr)
             checks.append(Check("rattling: contact losses after first loaded contact", lost, "",
                                 ">= 1 (teeth separate)", lost >= 1))
-            checks.append(Check("rattling: re-contacts after a separation", regained, "",
+            checks.append(Check("paper's claim (text under Fig. 10/11): re-contacts after a "
+                                "separation", regained, "",
                                 ">= 1 (teeth re-impact)", regained >= 1,
                                 f"{int(ds['impacts'])} steps with a plastic impact (velocity "
                                 "pass stopping an approaching contact faster than 1e-12/dt). "
@@ -170,6 +231,9 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
         data="gear/quasi_static.nc",
         description=f"{rpm:g} rpm, coarse mesh, {int(ds['steps'])} steps.", checks=qchecks))
     figures += post_entries
+    from rotaflex.reproduce.gear_methods import methods_entry
+
+    figures.append(methods_entry(references, dom, preset))
     from rotaflex.gear.compare_teeth import comparison
 
     figures.append(comparison(dom, fast=fast))
@@ -191,7 +255,12 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
                       "driving the faster B runs away at once (the ramped torques remove only "
                       "~16 of the 21 rad/s within theta_s); with B driving, B hits A at once, "
                       "the pair bounces through the tooth compliance (one contact, one "
-                      "separation) and does not meet again within theta_s.",
+                      "separation) and does not meet again within theta_s. The lumped "
+                      "torsional model of the same meshes gives the same sequence. Scaling: "
+                      "the separation speed grows with the speed difference (5x from Fig. 10 "
+                      "to 11) while the torque that closes the gap does not, and theta_s lasts "
+                      "5x shorter, so a re-impact within theta_s is ~25x less likely than at "
+                      "4,000/4,040 rpm. The paper's claim is listed as a failed check.",
                   ])
     sec.wall_time = time.perf_counter() - t0
     return sec
