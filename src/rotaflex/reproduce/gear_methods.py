@@ -42,7 +42,7 @@ def methods_entry(references: dict, dom: Path, preset: str) -> FigureEntry:
 
     fig, axes = new_figure(1, len(references), squeeze=False)
     checks, notes = [], []
-    for ax, (rpm, ref) in zip(axes[0], sorted(references.items())):
+    for ax, (rpm, ref) in zip(axes[0], sorted(references.items()), strict=True):
         rds = ref.dataset
         nominal = float(rds["nominal_force"])
         t_ref = float(rds["solver_wall_time"])
