@@ -350,9 +350,22 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
         ds = mirror_driver_b(ds, model.centre_distance)
     add_transmission_error(ds, geo.base_radius, geo.base_radius)
     ds.attrs["driver"] = op.driver
-    ds.attrs.update(status="success", message="", wall_time=time.perf_counter() - t_wall,
-                    config=json.dumps(asdict(cfg)))
+    ds.attrs.update(status="success", message=run_message(ds),
+                    wall_time=time.perf_counter() - t_wall, config=json.dumps(asdict(cfg)))
     return GearResult(ds)
+
+
+def run_message(ds) -> str:
+    """One line for the CLI: peak force, dynamic factor, DTE, energy balance, cost."""
+    parts = [f"peak contact force {float(ds['peak_contact_force']):.1f} N "
+             f"(dynamic factor {float(ds['dynamic_factor']):.3f})"]
+    if "dte_peak_to_peak" in ds:
+        parts.append(f"DTE peak-to-peak {float(ds['dte_peak_to_peak']) * 1e6:.2f} um")
+    if "root_stress_peak" in ds:
+        parts.append(f"fillet stress peak {float(ds['root_stress_peak']) / 1e6:.1f} MPa")
+    parts.append(f"energy balance {float(ds['energy_balance_error']) * 100:.2f} %")
+    parts.append(f"{int(ds['steps'])} steps in {float(ds['solver_wall_time']):.1f} s")
+    return ", ".join(parts)
 
 
 def to_dataset(out, model, geo, tau0, th2, ths):

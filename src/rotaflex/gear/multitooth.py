@@ -416,7 +416,7 @@ def run_multi_case(cfg, *, progress: bool = False):
     import json
     from dataclasses import asdict
 
-    from rotaflex.gear.case import DEFAULT_DT, GearResult, build
+    from rotaflex.gear.case import DEFAULT_DT, GearResult, build, run_message
     from rotaflex.gear.geometry import contact_angles
 
     t_wall = time.perf_counter()
@@ -478,8 +478,8 @@ def run_multi_case(cfg, *, progress: bool = False):
         if bar is not None:
             bar.close()
     ds = to_dataset_multi(out, model, geo, op.torque, th2, ths)
-    ds.attrs.update(status="success", message="", wall_time=time.perf_counter() - t_wall,
-                    config=json.dumps(asdict(cfg)))
+    ds.attrs.update(status="success", message=run_message(ds),
+                    wall_time=time.perf_counter() - t_wall, config=json.dumps(asdict(cfg)))
     return GearResult(ds)
 
 
