@@ -94,6 +94,30 @@ def test_eq42_planar_reduction_matrix_by_matrix():
     assert np.abs(d[6:] - e["d3"]).max() < 1e-12 and np.abs(e["d3"]).max() > 0.1
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_eq44_inertial_form_matches_the_kernel_row(seed):
+    from rotaflex.floating.reduction import planar_eq44_residual, planar_inertial_to_body
+
+    b = uniform_beam(2.0, 1.5, 30.0, 4, support="cantilever")
+    rng = np.random.default_rng(seed)
+    n = b.n_modes
+    zero = dict(th=rng.uniform(-3, 3), thd=rng.normal(), thdd=rng.normal(),
+                Rd=rng.normal(size=2), Rdd=rng.normal(size=2))
+    first = dict(th=rng.normal(), thd=rng.normal(), thdd=rng.normal(), Rd=rng.normal(size=2),
+                 Rdd=rng.normal(size=2), q=1e-2 * rng.normal(size=n),
+                 qd=1e-2 * rng.normal(size=n), qdd=1e-2 * rng.normal(size=n))
+    bf = planar_inertial_to_body(zero, first)
+    k = first_order_matrices(b, bf["V0"], [0, 0, zero["thd"]], bf["Vd0"], [0, 0, zero["thdd"]])
+    row = k["M0"][6:] @ bf["x1d"] + k["G"][6:] @ bf["x1"] + k["K"][6:] @ first["q"] - k["d"][6:]
+    ref = planar_eq44_residual(b, zero, first)
+    assert np.abs(row - ref).max() < 1e-10 * np.abs(ref).max()
+    # the theta_1 term is far above the tolerance, so a wrong sign of it would fail above
+    pb = b.masses @ b.shapes[:, 1, :]
+    c, s = np.cos(zero["th"]), np.sin(zero["th"])
+    term = pb * (c * zero["Rdd"][0] + s * zero["Rdd"][1]) * first["th"]
+    assert np.abs(term).max() > 1e-3 * np.abs(ref).max()
+
+
 def test_eq32_3d_matches_except_phihat_sign(body3d):
     st = ([0.3, -0.2, 0.5], [0.4, -0.7, 1.1], [0.1, 0.2, -0.3], [0.5, 0.3, -0.2])
     k, p = first_order_matrices(body3d, *st), paper_matrices(body3d, *st)

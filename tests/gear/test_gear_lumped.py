@@ -47,3 +47,16 @@ def test_fe_contact_force_matches_lumped_model_at_4000rpm(coarse_pair):
     assert math.sqrt(np.mean((force - ref) ** 2)) < 0.02 * NOMINAL
     # the dynamic overshoot is real: both models exceed the quasi-static force by > 10 %
     assert lump["contact_force"].max() > 1.1 * NOMINAL
+
+
+def test_separation_count_merges_short_gaps():
+    from rotaflex.reproduce.gear import _separations
+
+    t = np.arange(0.0, 200e-6, 1e-6)
+    f = np.full_like(t, 100.0)
+    f[:5] = 0.0  # before the first contact: not a separation
+    f[20:30] = 0.0  # 10 us flicker
+    f[60:110] = 0.0  # 50 us separation, then re-contact
+    f[150:] = 0.0  # separated until the end
+    assert _separations(f, t, 1.0) == (3, 2)
+    assert _separations(f, t, 1.0, 20e-6) == (2, 1)

@@ -154,3 +154,46 @@ def planar_eq42(body: Body, Vx0, Vy0, thd0, Vyd0, thdd0) -> dict[str, np.ndarray
         "p1": np.zeros((body.n_modes,) * 2),
         "d3": -pb * (Vyd0 + thd0 * Vx0) - thdd0 * pbb,
     }
+
+
+def planar_inertial_to_body(zero: dict, first: dict) -> dict[str, np.ndarray]:
+    """Body-frame velocities of a planar motion from inertial ones (eq. 29, 35 and 43).
+
+    ``zero``: ``th``, ``thd``, ``thdd`` [rad, rad/s, rad/s^2], ``Rd``, ``Rdd`` (2,) [m/s, m/s^2];
+    ``first``: the same first-order quantities plus ``qd``, ``qdd`` (n,). ``V = R(theta)^T Rdot``
+    linearised about the zero-order motion gives ``V_0``, ``Vdot_0`` and the first-order
+    velocity vector ``x1 = (V_1, w_1, p_1)`` and its time derivative in the kernel's layout.
+    """
+    c, s = np.cos(zero["th"]), np.sin(zero["th"])
+    w0 = zero["thd"]
+    (rx, ry), (rxx, ryy) = zero["Rd"], zero["Rdd"]
+    V0 = np.array([c * rx + s * ry, -s * rx + c * ry])
+    Vd0 = np.array([c * rxx + s * ryy + w0 * V0[1], -s * rxx + c * ryy - w0 * V0[0]])
+    th1, thd1 = first["th"], first["thd"]
+    (ax, ay), (axx, ayy) = first["Rd"], first["Rdd"]
+    V1 = np.array([c * ax + s * ay + th1 * V0[1], -s * ax + c * ay - th1 * V0[0]])  # eq. 43
+    Vd1 = np.array([c * axx + s * ayy + w0 * (-s * ax + c * ay) + thd1 * V0[1] + th1 * Vd0[1],
+                    -s * axx + c * ayy - w0 * (c * ax + s * ay) - thd1 * V0[0] - th1 * Vd0[0]])
+    x1 = np.concatenate([V1, [0.0, 0.0, 0.0, thd1], first["qd"]])
+    x1d = np.concatenate([Vd1, [0.0, 0.0, 0.0, first["thdd"]], first["qdd"]])
+    return {"V0": np.append(V0, 0.0), "Vd0": np.append(Vd0, 0.0), "x1": x1, "x1d": x1d}
+
+
+def planar_eq44_residual(body: Body, zero: dict, first: dict) -> np.ndarray:
+    """Left minus right side of eq. 44 (no external load Q_1), beam along x, modes in y.
+
+    Read with the dots the scan lost restored: ``phibar (-s R''_x1 + c R''_y1) + phibar_b
+    theta''_1 + M_b q''_1 - phibar (c R''_x0 + s R''_y0) theta_1 + (K_b - theta'_0^2 M_b) q_1
+    = -phibar_b theta''_0 + phibar (s R''_x0 - c R''_y0)``. The theta_1 term is the one
+    obtained by substituting eq. 43 into eq. 42 (docs/floating.md); the print's sign pattern
+    there could not be read from the scan.
+    """
+    m, x, phi = body.masses, body.points[:, 0], body.shapes[:, 1, :]
+    pb, pbb = m @ phi, (m * x) @ phi
+    c, s = np.cos(zero["th"]), np.sin(zero["th"])
+    (rxx, ryy), (axx, ayy) = zero["Rdd"], first["Rdd"]
+    lhs = (pb * (-s * axx + c * ayy) + pbb * first["thdd"] + first["qdd"]
+           - pb * (c * rxx + s * ryy) * first["th"]
+           + (body.stiffness - zero["thd"] ** 2 * np.eye(body.n_modes)) @ first["q"])
+    rhs = -pbb * zero["thdd"] + pb * (s * rxx - c * ryy)
+    return lhs - rhs
