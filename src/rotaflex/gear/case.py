@@ -355,6 +355,30 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     return GearResult(ds)
 
 
+def run_scalars(out, r, balance, *, peak, mean_single, nominal, rb, th2, ths) -> dict:
+    """Summary scalars (name -> (value, unit)) shared by the one- and multi-tooth results."""
+    n = len(balance)
+    e_ref = max(float(np.max(r["strain_energy"])) if n else 0.0, 1e-300)
+    bal_abs = float(np.max(np.abs(balance))) if n else 0.0
+    return {
+        "peak_contact_force": (peak, "N"),
+        "mean_single_pair_force": (mean_single, "N"),
+        "nominal_force": (nominal, "N"),
+        "dynamic_factor": (peak / nominal if nominal > 0 else float("nan"), "1"),
+        "energy_balance_abs": (bal_abs, "J"),
+        "energy_balance_error": (bal_abs / e_ref, "1"),
+        "steps": (out.steps, "1"),
+        "time_per_step": (out.wall_time / max(out.steps, 1), "s"),
+        "impacts": (float(r["impacts"][-1]) if n else 0.0, "1"),
+        "max_tie_residual": (float(np.max(r["tie_residual"])) if n else 0.0, "m"),
+        "base_radius": (rb, "m"),
+        "theta_2": (th2, "rad"),
+        "theta_s": (ths, "rad"),
+        "dt": (out.dt, "s"),
+        "solver_wall_time": (out.wall_time, "s"),
+    }
+
+
 def run_message(ds) -> str:
     """One line for the CLI: peak force, dynamic factor, DTE, energy balance, cost."""
     parts = [f"peak contact force {float(ds['peak_contact_force']):.1f} N "
@@ -430,25 +454,8 @@ def to_dataset(out, model, geo, tau0, th2, ths):
     peak = float(np.max(r["force_peak"])) if len(r["force_peak"]) else 0.0
     single = (rot[:, 0] > th2) & (rot[:, 0] < ths - th2)
     mean_single = float(np.mean(r["force"][single])) if np.any(single) else float("nan")
-    e_ref = max(float(np.max(r["strain_energy"])) if len(balance) else 0.0, 1e-300)
-    bal_abs = float(np.max(np.abs(balance))) if len(balance) else 0.0
-    scalars = {
-        "peak_contact_force": (peak, "N"),
-        "mean_single_pair_force": (mean_single, "N"),
-        "nominal_force": (nominal, "N"),
-        "dynamic_factor": (peak / nominal if nominal > 0 else float("nan"), "1"),
-        "energy_balance_abs": (bal_abs, "J"),
-        "energy_balance_error": (bal_abs / e_ref, "1"),
-        "steps": (out.steps, "1"),
-        "time_per_step": (out.wall_time / max(out.steps, 1), "s"),
-        "impacts": (float(r["impacts"][-1]) if len(balance) else 0.0, "1"),
-        "max_tie_residual": (float(np.max(r["tie_residual"])) if len(balance) else 0.0, "m"),
-        "base_radius": (rb, "m"),
-        "theta_2": (th2, "rad"),
-        "theta_s": (ths, "rad"),
-        "dt": (out.dt, "s"),
-        "solver_wall_time": (out.wall_time, "s"),
-    }
+    scalars = run_scalars(out, r, balance, peak=peak, mean_single=mean_single, nominal=nominal,
+                          rb=rb, th2=th2, ths=ths)
     for name, (val, unit) in scalars.items():
         ds[name] = ((), val, {"units": unit})
     if out.snapshots:

@@ -492,6 +492,8 @@ def to_dataset_multi(out: MultiOutput, model: MultiToothModel, geo, tau0, th2, t
     """Histories of :func:`simulate_multi` as an xarray Dataset with a ``pair`` dimension."""
     import xarray as xr
 
+    from rotaflex.gear.case import run_scalars
+
     r = out.records
     pr = out.pair_records
     rb = geo.base_radius
@@ -563,28 +565,13 @@ def to_dataset_multi(out: MultiOutput, model: MultiToothModel, geo, tau0, th2, t
     single = nz == 1
     mean_single = float(np.mean(total[single])) if np.any(single) else float("nan")
     peak = float(np.max(pr["force_peak"])) if len(total) else 0.0
-    e_ref = max(float(np.max(r["strain_energy"])) if len(total) else 0.0, 1e-300)
-    bal_abs = float(np.max(np.abs(balance))) if len(total) else 0.0
-    scalars = {
-        "peak_contact_force": (peak, "N"),
-        "mean_single_pair_force": (mean_single, "N"),
+    scalars = run_scalars(out, r, balance, peak=peak, mean_single=mean_single, nominal=nominal,
+                          rb=rb, th2=th2, ths=ths)
+    scalars.update({
         "mean_total_force": (float(np.mean(total)) if len(total) else float("nan"), "N"),
-        "nominal_force": (nominal, "N"),
-        "dynamic_factor": (peak / nominal if nominal > 0 else float("nan"), "1"),
-        "energy_balance_abs": (bal_abs, "J"),
-        "energy_balance_error": (bal_abs / e_ref, "1"),
-        "steps": (out.steps, "1"),
-        "time_per_step": (out.wall_time / max(out.steps, 1), "s"),
-        "impacts": (float(r["impacts"][-1]) if len(total) else 0.0, "1"),
-        "max_tie_residual": (float(np.max(r["tie_residual"])) if len(total) else 0.0, "m"),
-        "base_radius": (rb, "m"),
-        "theta_2": (th2, "rad"),
-        "theta_s": (ths, "rad"),
-        "dt": (out.dt, "s"),
-        "solver_wall_time": (out.wall_time, "s"),
         "teeth_per_gear": (npair, "1"),
         "preload_beta": (float(model.preload["beta"]) if model.preload else 0.0, "rad"),
-    }
+    })
     for name, (val, unit) in scalars.items():
         ds[name] = ((), val, {"units": unit})
     if model.preload:
