@@ -494,8 +494,13 @@ def search_pairs(x, phi0, rsgn0, mi_flank, mi_nedge, mf_sig, mpts, mf_psi, mf_wt
 def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi_tie_gear,
                 mi_flank, mi_nedge, mi_tb_i, mi_tb_j, mf_xloc, mf_minv, mf_data, mf_cen,
                 mf_theta0, mf_jd, mf_sig, mf_tb_b, mf_rsgn, mf_psi, mf_wtab, par, ipar,
-                x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, spair, out, outp, out_mu, info):
+                x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, spair, rates, out, outp, out_mu,
+                info):
     """Advance ``n_steps`` RK4 steps with three constraint passes and ``npair`` contacts.
+
+    ``rates`` (npair, 4) holds the contact-parameter rates (da/dt, db/dt, dn/dt) of each pair; it
+    is state, carried across calls like ``x`` and ``v`` (a run split into calls is bit-identical
+    to one call).
 
     ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3, lo,
     hi, corners) with [lo, hi] the window of nominal contact angles in which a pair is searched (see
@@ -558,7 +563,6 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
     cnod_t = np.empty((npair, 2, 3), np.int64)
     cw_t = np.empty((npair, 2, 3))
     ct = np.zeros((npair, 4))
-    rates = np.zeros((npair, 4))
     zero4 = np.zeros((npair, 4))
     rate1 = np.zeros(4)
     ccol = np.zeros((npair, nc))

@@ -376,6 +376,7 @@ def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta
                   model.pair_psi, wtab)
     e0 = kinetic_energy(v, om, model.minv, model.inertia) + strain_energy(model, x)
     chunk = max(record_every, (progress_every // record_every) * record_every)
+    rates = np.zeros((len(model.pair_psi), 4))  # contact-parameter rates, carried across calls
     names = {1: "displacement pass (eq. 19)", 2: "velocity pass (eq. 20)",
              3: "acceleration pass (eq. 21)"}
     t0 = time.perf_counter()
@@ -387,7 +388,8 @@ def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta
         ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0,
                          torque_mode], dtype=np.int64)
         status, row = run_steps_m(n, record_every, *args_model, par, ipar, x, v, a, phi, om,
-                                  alp, mu, cres, cnod, cw, sc, spair, out, outp, out_mu, info)
+                                  alp, mu, cres, cnod, cw, sc, spair, rates, out, outp, out_mu,
+                                  info)
         first = False
         if status in names:
             raise ConvergenceError(names[status], info[0], info[1], info[2])
