@@ -77,3 +77,5 @@ def test_smoothing_resolution_is_validated():
     with pytest.raises(InputError, match="contact_smoothing"):
         run_case({"mesh": {"preset": "coarse", "n_points": 10, "contact_smoothing": 9},
                   "operation": {"span_deg": 0.1}})
+    with pytest.raises(InputError, match="contact_smoothing"):
+        run_case({"mesh": {"contact_smoothing": 12}, "solver": {"method": "reduced_hht"}})

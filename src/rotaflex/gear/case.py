@@ -277,6 +277,10 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     from rotaflex.gear.geometry import contact_angles
 
     cfg = from_mapping(GearCaseConfig, config)
+    if cfg.mesh.contact_smoothing > 0 and (cfg.model.teeth_per_gear > 1
+                                           or cfg.solver.method != "paper_rk4"):
+        raise InputError("mesh.contact_smoothing", cfg.mesh.contact_smoothing,
+                         "0 unless solver.method = 'paper_rk4' with teeth_per_gear = 1")
     if cfg.model.teeth_per_gear > 1:
         from rotaflex.gear.multitooth import run_multi_case
 
