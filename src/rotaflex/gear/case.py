@@ -89,6 +89,11 @@ class MeshConfig:
     preset: Literal["default", "coarse", "fine"] = param(
         "default", doc="tooth mesh; 'fine' (2x default) needs dt <= 1.7e-8 s")
     n_points: int = param(61, ge=8, le=1000, doc="spline data points per flank")
+    contact_smoothing: int = param(
+        0, ge=0, le=100,
+        doc="contact surfaces without the short-wave flank deformation (the point force's own "
+            "indentation): uniform intervals of the least-squares cubic fit; 0 = paper's surfaces "
+            "(paper_rk4 only)")
 
 
 #: default time step of paper_rk4 [s]; reduced_hht: REDUCED_STEP_ANGLE / omega_A
@@ -272,6 +277,10 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     from rotaflex.gear.geometry import contact_angles
 
     cfg = from_mapping(GearCaseConfig, config)
+    if cfg.mesh.contact_smoothing > 0 and (cfg.model.teeth_per_gear > 1
+                                           or cfg.solver.method != "paper_rk4"):
+        raise InputError("mesh.contact_smoothing", cfg.mesh.contact_smoothing,
+                         "0 unless solver.method = 'paper_rk4' with teeth_per_gear = 1")
     if cfg.model.teeth_per_gear > 1:
         from rotaflex.gear.multitooth import run_multi_case
 
@@ -339,6 +348,7 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
                                     snapshots=cfg.output.vtu_snapshots, progress=cb,
                                     restitution=sol.restitution,
                                     multipliers=sol.multipliers,
+                                    smoothing=cfg.mesh.contact_smoothing,
                                     record_nodes=None if probe is None else probe.nodes)
     finally:
         if bar is not None:

@@ -250,6 +250,51 @@ def build_model(
     return model
 
 
+def smoothing_tables(model: GearPairModel, n_intervals: int, per_interval: int = 40):
+    """Tables of the smoothed contact surfaces (:func:`rotaflex.gear.kernels.sample_smooth`).
+
+    The flank displacement is replaced by its least-squares fit with a clamped cubic B-spline of
+    ``n_intervals`` uniform intervals of the flank parameter (L2 projection on a fine grid of
+    ``(n_points - 1) * per_interval + 1`` parameters). Returns ``tab`` (2, NT, n_flank): the
+    weights T_n(s) of the flank nodes on that grid, and ``mloc`` (2, n_points, 2): the misfit
+    ``X(s) - sum_n T_n(s) X_n`` of the undeformed flank (tooth frame) at the spline points, so
+    that the undeformed surface is the FE edge exactly. ``n_intervals = 0``: dummy arrays (the
+    paper's surfaces and 3-node contact force).
+    """
+    if n_intervals <= 0:
+        return np.zeros((2, 2, 1)), np.zeros((2, 1, 2))
+    mpts = model.n_points
+    if n_intervals + 3 > mpts:
+        raise InputError("mesh.contact_smoothing", n_intervals,
+                         f"0 or 1..{mpts - 3} (n_points - 3)")
+    from scipy.interpolate import BSpline
+
+    from rotaflex.gear.kernels import flank_weights
+
+    nt = (mpts - 1) * per_interval + 1
+    grid = np.linspace(0.0, 1.0, nt)
+    knots = np.concatenate([[0.0] * 3, np.linspace(0.0, 1.0, n_intervals + 1), [1.0] * 3])
+    b = BSpline.design_matrix(grid, knots, 3).toarray()
+    nf = model.flank.shape[1]
+    tab = np.empty((2, nt, nf))
+    mloc = np.empty((2, mpts, 2))
+    nodes = np.empty(3, dtype=np.int64)
+    w = np.empty(3)
+    for g in range(2):
+        fl = model.flank[g]
+        col = {int(i): j for j, i in enumerate(fl)}
+        q = np.zeros((nt, nf))
+        for r, s in enumerate(grid):
+            flank_weights(fl, int(model.nedge[g]), s, nodes, w)
+            for j in range(3):
+                q[r, col[int(nodes[j])]] += w[j]
+        tab[g] = b @ np.linalg.solve(b.T @ b, b.T @ q)
+        xl = model.xloc[fl]
+        rows = np.arange(mpts) * per_interval
+        mloc[g] = q[rows] @ xl - tab[g][rows] @ xl
+    return np.ascontiguousarray(tab), mloc
+
+
 def _flank_points(model: GearPairModel, x: np.ndarray) -> list[np.ndarray]:
     from rotaflex.gear.kernels import sample_flank
 
@@ -328,6 +373,7 @@ def simulate(
     restitution=0.0,
     record_nodes=None,
     multipliers="iterative",
+    smoothing=0,
 ) -> SimulationOutput:
     """Integrate the pair over a rotation ``span`` of gear A [rad] with the paper's scheme.
 
@@ -366,6 +412,7 @@ def simulate(
     """
     from rotaflex.gear.kernels import run_steps
 
+    tab, mloc = smoothing_tables(model, smoothing)
     if dt > model.dt_limit:
         raise InputError(
             "solver.dt",
@@ -401,8 +448,9 @@ def simulate(
     mu = np.zeros(nc)
     cres = np.zeros(8)
     cres[0], cres[1] = 0.3, 0.99
-    cnod = np.zeros((2, 3), dtype=np.int64)
-    cw = np.zeros((2, 3))
+    nw = 3 if smoothing <= 0 else model.flank.shape[1]
+    cnod = np.zeros((2, nw), dtype=np.int64)
+    cw = np.zeros((2, nw))
     sc = np.zeros(24)
     n_rec = n_steps // record_every + 1
     out = np.zeros((n_rec, len(RECORD_COLUMNS)))
@@ -481,6 +529,8 @@ def simulate(
             info,
             dfac,
             dperm,
+            tab,
+            mloc,
         )
         first = False
         if rec_x is not None and row > row_before:

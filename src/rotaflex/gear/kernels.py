@@ -539,6 +539,82 @@ def contact_geometry(x, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw)
 
 
 @njit(cache=True)
+def smooth_weights(tab, s, w):
+    """Weights ``w`` (n_flank,) of the flank nodes at parameter ``s`` of the smoothed surface:
+    linear interpolation in the table ``tab`` (NT, n_flank) of a uniform parameter grid."""
+    nt = tab.shape[0]
+    z = min(max(s, 0.0), 1.0) * (nt - 1)
+    i = min(int(z), nt - 2)
+    f = z - i
+    for n in range(tab.shape[1]):
+        w[n] = (1.0 - f) * tab[i, n] + f * tab[i + 1, n]
+
+
+@njit(cache=True)
+def sample_smooth(x, flank, tab, mloc, theta, omega, vel, out):
+    """Smoothed surface data: ``out[k] = sum_n tab[row_k, n] x_n + omega J R(theta) mloc[k]``
+    at the M spline parameters k / (M - 1) (``row_k = k (NT - 1) / (M - 1)``).
+
+    With ``vel = False`` (``x`` the node positions; ``omega J`` replaced by the identity) this is
+    the surface; with ``vel = True``, velocities and the disk speed it is the surface velocity (see
+    :func:`contact_geometry_smooth`). ``mloc`` (M, 2) is the misfit of the smoothed undeformed
+    flank, in the tooth frame.
+    """
+    mpts = out.shape[0]
+    nt = tab.shape[0]
+    step = (nt - 1) // (mpts - 1)
+    c = math.cos(theta)
+    s = math.sin(theta)
+    for k in range(mpts):
+        r = k * step
+        p0 = 0.0
+        p1 = 0.0
+        for n in range(flank.shape[0]):
+            i = flank[n]
+            p0 += tab[r, n] * x[2 * i]
+            p1 += tab[r, n] * x[2 * i + 1]
+        m0 = c * mloc[k, 0] - s * mloc[k, 1]
+        m1 = s * mloc[k, 0] + c * mloc[k, 1]
+        if not vel:
+            out[k, 0] = p0 + m0
+            out[k, 1] = p1 + m1
+        else:
+            out[k, 0] = p0 - omega * m1
+            out[k, 1] = p1 + omega * m0
+
+
+@njit(cache=True)
+def contact_geometry_smooth(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw,
+                            theta0, tab, mloc):
+    """:func:`contact_geometry` on the smoothed flank surfaces.
+
+    The surface of tooth g is ``P(s) = X_ref(s) + sum_n T_n(s) (x_n - X_ref,n)``: the FE
+    flank's reference shape plus the least-squares cubic-spline fit of the displacement of its
+    nodes (``tab[g]`` = T on a parameter grid, ``mloc[g]`` = the reference misfit
+    ``X_ref(s) - sum_n T_n(s) X_ref,n``). The constraint row is the exact derivative of the gap
+    of that surface: the contact force is spread over the flank nodes with the weights T(a)
+    (``cnod`` = all flank nodes, ``cw`` = T at the contact parameters). ``cnod.shape[1] == 3``
+    selects the paper's surfaces and 3-node force (:func:`contact_geometry`).
+    """
+    if cnod.shape[1] == 3:
+        return contact_geometry(x, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw)
+    sample_smooth(x, flank[0], tab[0], mloc[0], theta0[0] + phi[0], 1.0, False, pa)
+    sample_smooth(x, flank[1], tab[1], mloc[1], theta0[1] + phi[1], 1.0, False, pb)
+    spline_second(pa, ma)
+    spline_second(pb, mb)
+    contact_search(pa, ma, pb, mb, sig[0], sig[1], cres[0], cres[1], cres)
+    if cres[7] == 0.0:
+        return False
+    w = np.empty(cnod.shape[1])
+    for side in range(2):
+        smooth_weights(tab[side], cres[side], w)
+        for n in range(cnod.shape[1]):
+            cnod[side, n] = flank[side, n]
+            cw[side, n] = w[n]
+    return True
+
+
+@njit(cache=True)
 def gt_apply(dmu, tie_node, tie_gear, bvec, rot, cnod, cw, cn, g, gth):
     """g (x part) and gth (disk part) of G^T dmu, added into the given arrays.
 
@@ -557,7 +633,7 @@ def gt_apply(dmu, tie_node, tie_gear, bvec, rot, cnod, cw, cn, g, gth):
         gth[gg] += bvec[k, 0] * l0 + bvec[k, 1] * l1
     p = dmu[2 * nt]
     if p != 0.0:
-        for j in range(3):
+        for j in range(cnod.shape[1]):
             i = cnod[0, j]
             g[2 * i] += cw[0, j] * cn[0] * p
             g[2 * i + 1] += cw[0, j] * cn[1] * p
@@ -617,7 +693,7 @@ def contact_column(
     nt = tie_node.shape[0]
     for side in range(2):
         sgn = 1.0 if side == 0 else -1.0
-        for j in range(3):
+        for j in range(cnod.shape[1]):
             i = cnod[side, j]
             g[2 * i] += sgn * cw[side, j] * cn[0]
             g[2 * i + 1] += sgn * cw[side, j] * cn[1]
@@ -636,7 +712,7 @@ def contact_column(
     acc = 0.0
     for side in range(2):
         sgn = 1.0 if side == 0 else -1.0
-        for j in range(3):
+        for j in range(cnod.shape[1]):
             i = cnod[side, j]
             gg = gid[i]
             c = rot[gg, 0]
@@ -649,7 +725,7 @@ def contact_column(
     ccol[2 * nt] = acc
     # clear the scratch vectors
     for side in range(2):
-        for j in range(3):
+        for j in range(cnod.shape[1]):
             i = cnod[side, j]
             g[2 * i] = 0.0
             g[2 * i + 1] = 0.0
@@ -992,7 +1068,7 @@ def solve_pass(direct, lb, perm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc
 @njit(cache=True)
 def accelerations(x, phi, mu, tau_off, ct, rates, flank, nedge, cnod, cw, xloc, gid, cen, theta0,
                   jd, minv, indptr, indices, data, tie_node, tie_gear, rsgn, tpar, rot, bvec, rx,
-                  wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp):
+                  wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp, tab):
     """Accelerations at a (stage) state for given multipliers ``mu``; returns strain energy.
 
     The constraint force is ``G(q)^T mu`` with the Jacobian at the stage state: tie forces
@@ -1008,16 +1084,24 @@ def accelerations(x, phi, mu, tau_off, ct, rates, flank, nedge, cnod, cw, xloc, 
     ln = math.hypot(n0, n1)
     cn_s[0] = n0 / ln
     cn_s[1] = n1 / ln
-    nodes = np.empty(3, np.int64)
-    w = np.empty(3)
-    flank_weights(flank[0], nedge[0], ct[0] + rates[0] * tau_off, nodes, w)
-    for j in range(3):
-        cnod[0, j] = nodes[j]
-        cw[0, j] = w[j]
-    flank_weights(flank[1], nedge[1], ct[1] + rates[1] * tau_off, nodes, w)
-    for j in range(3):
-        cnod[1, j] = nodes[j]
-        cw[1, j] = w[j]
+    if cnod.shape[1] == 3:
+        nodes = np.empty(3, np.int64)
+        w = np.empty(3)
+        flank_weights(flank[0], nedge[0], ct[0] + rates[0] * tau_off, nodes, w)
+        for j in range(3):
+            cnod[0, j] = nodes[j]
+            cw[0, j] = w[j]
+        flank_weights(flank[1], nedge[1], ct[1] + rates[1] * tau_off, nodes, w)
+        for j in range(3):
+            cnod[1, j] = nodes[j]
+            cw[1, j] = w[j]
+    else:
+        ws = np.empty(cnod.shape[1])
+        for side in range(2):
+            smooth_weights(tab[side], ct[side] + rates[side] * tau_off, ws)
+            for j in range(cnod.shape[1]):
+                cnod[side, j] = flank[side, j]
+                cw[side, j] = ws[j]
     fc[:] = 0.0
     fth[:] = 0.0
     gt_apply(mu, tie_node, tie_gear, bvec, rot, cnod, cw, cn_s, fc, fth)
@@ -1045,7 +1129,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
               mi_flank, mi_nedge, mi_tb_i, mi_tb_j, mf_xloc, mf_minv, mf_data, mf_cen,
               mf_theta0, mf_jd, mf_sig, mf_tb_b, mf_rsgn, par, ipar,
               x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, out, out_mu, info,
-              dfac, dperm):
+              dfac, dperm, tab, mloc):
     """Advance ``n_steps`` RK4 steps with the three constraint passes per step.
 
     ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3
@@ -1105,8 +1189,9 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     mvb = np.empty((mpts, 2))
     cn = np.empty(2)
     cn_s = np.empty(2)
-    cnod_t = np.empty((2, 3), np.int64)
-    cw_t = np.empty((2, 3))
+    nw = cnod.shape[1]
+    cnod_t = np.empty((2, nw), np.int64)
+    cw_t = np.empty((2, nw))
     ct = np.zeros(4)
     rates = np.zeros(4)
     for j in range(4):
@@ -1126,8 +1211,8 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     init = ipar[4] == 1
     direct = ipar[5] == 1
     if init:
-        if not contact_geometry(x, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb, mb, cres,
-                                cnod, cw):
+        if not contact_geometry_smooth(x, phi, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb,
+                                       mb, cres, cnod, cw, mf_theta0, tab, mloc):
             info[0] = sc[0]
             return 4, row
         cn[0] = cres[3]
@@ -1172,7 +1257,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 accelerations(xs, ps, mu, hh, ct, rates, mi_flank, mi_nedge, cnod_t, cw_t,
                               mf_xloc, mi_gid, mf_cen, mf_theta0, mf_jd, mf_minv, mi_indptr,
                               mi_indices, mf_data, mi_tie_node, mi_tie_gear, mf_rsgn, tpar, rot,
-                              bvec, rx, wbuf, floc, fglob, tel, fc, fth, cn_s, ak, alk)
+                              bvec, rx, wbuf, floc, fglob, tel, fc, fth, cn_s, ak, alk, tab)
                 for r in range(nd):
                     xsum[r] += wgt * vs[r]
                     asum[r] += wgt * ak[r]
@@ -1187,15 +1272,15 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 om[g] += dt / 6.0 * osum[g]
             t = t + dt
             # ---- contact search at the predicted state
-            if not contact_geometry(x, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb, mb, cres,
-                                    cnod, cw):
+            if not contact_geometry_smooth(x, phi, mi_flank, mi_nedge, mf_sig, mpts, pa, ma,
+                                           pb, mb, cres, cnod, cw, mf_theta0, tab, mloc):
                 info[0] = t
                 return 4, row
             cn[0] = cres[3]
             cn[1] = cres[4]
             # approach velocity of the predicted state (before the passes): impact reference
             sh_pred = 0.0
-            for j in range(3):
+            for j in range(nw):
                 i = cnod[0, j]
                 sh_pred += cw[0, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
                 i = cnod[1, j]
@@ -1275,7 +1360,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 e0[2 * k] = -(cc * v[2 * i] + ss * v[2 * i + 1]) + bvec[k, 0] * om[g]
                 e0[2 * k + 1] = -(-ss * v[2 * i] + cc * v[2 * i + 1]) + bvec[k, 1] * om[g]
             sh = 0.0
-            for j in range(3):
+            for j in range(nw):
                 i = cnod[0, j]
                 sh += cw[0, j] * (cn[0] * v[2 * i] + cn[1] * v[2 * i + 1])
                 i = cnod[1, j]
@@ -1333,7 +1418,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
         eel = accelerations(x, phi, mu, 0.0, ct, zero4, mi_flank, mi_nedge, cnod, cw, mf_xloc,
                             mi_gid, mf_cen, mf_theta0, mf_jd, mf_minv, mi_indptr, mi_indices,
                             mf_data, mi_tie_node, mi_tie_gear, mf_rsgn, tpar, rot, bvec, rx,
-                            wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp)
+                            wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp, tab)
         for k in range(nt):
             i = mi_tie_node[k]
             g = mi_tie_gear[k]
@@ -1347,8 +1432,14 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             e0[2 * k] = -al0 + bvec[k, 0] * alp[g] + om[g] ** 2 * rx[k, 0] - 2 * om[g] * vl1
             e0[2 * k + 1] = -al1 + bvec[k, 1] * alp[g] + om[g] ** 2 * rx[k, 1] + 2 * om[g] * vl0
         # sliding terms of the relative normal acceleration (appendix A)
-        sample_flank(v, mi_flank[0], mi_nedge[0], va)
-        sample_flank(v, mi_flank[1], mi_nedge[1], vb)
+        if nw == 3:
+            sample_flank(v, mi_flank[0], mi_nedge[0], va)
+            sample_flank(v, mi_flank[1], mi_nedge[1], vb)
+        else:
+            sample_smooth(v, mi_flank[0], tab[0], mloc[0], mf_theta0[0] + phi[0], om[0], True,
+                              va)
+            sample_smooth(v, mi_flank[1], tab[1], mloc[1], mf_theta0[1] + phi[1], om[1], True,
+                              vb)
         spline_second(va, mva)
         spline_second(vb, mvb)
         hs, _ad, _bd = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, mf_sig[0], mf_sig[1],
@@ -1356,7 +1447,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
         for j in range(4):
             sc[20 + j] = rates[j]
         sa = hs
-        for j in range(3):
+        for j in range(nw):
             i = cnod[0, j]
             sa += cw[0, j] * (cn[0] * a[2 * i] + cn[1] * a[2 * i + 1])
             i = cnod[1, j]
@@ -1415,7 +1506,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             for side in range(2):
                 px = 0.0
                 py = 0.0
-                for j in range(3):
+                for j in range(nw):
                     i = cnod[side, j]
                     px += cw[side, j] * x[2 * i]
                     py += cw[side, j] * x[2 * i + 1]
