@@ -365,6 +365,31 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     return GearResult(ds)
 
 
+def add_constraint_histories(add, r, tie_multipliers, balance) -> None:
+    """Tie multipliers, energies, energy balance and constraint residuals per record.
+
+    Shared by the one- and multi-tooth results; ``add(name, dims, values, units, long_name)``
+    stores one variable.
+    """
+    add("tie_multiplier", ("time", "tie"), tie_multipliers, "N",
+        "tie-constraint multipliers (disk-frame components)")
+    add("strain_energy", ("time",), r["strain_energy"], "J", "strain energy of the teeth")
+    add("kinetic_energy", ("time",), r["kinetic_energy"], "J", "kinetic energy")
+    add("external_work", ("time",), r["external_work"], "J", "external work")
+    add("velocity_pass_loss", ("time",), r["velocity_pass_loss"], "J",
+        "energy removed by the velocity pass (and by the displacement pass on steps where "
+        "the contact closes): impact loss")
+    add("energy_balance", ("time",), balance, "J",
+        "E_kin + E_strain - W_ext + D_velocity_pass - E_0")
+    for k, name in enumerate(("displacement", "velocity", "acceleration")):
+        add(f"residual_{name}", ("time",), r[("res_disp", "res_vel", "res_acc")[k]],
+            ("m", "m/s", "m/s^2")[k], f"largest {name} constraint error since last record")
+        add(f"iterations_{name}", ("time",), r[("iter_disp", "iter_vel", "iter_acc")[k]], "1",
+            f"most iterations of the {name} pass since last record")
+    add("tie_residual", ("time",), r["tie_residual"], "m", "largest tie error after the step")
+    add("impact_count", ("time",), r["impacts"], "1", "impacts so far")
+
+
 def run_scalars(out, r, balance, *, peak, mean_single, nominal, rb, th2, ths) -> dict:
     """Summary scalars (name -> (value, unit)) shared by the one- and multi-tooth results."""
     n = len(balance)
@@ -444,23 +469,7 @@ def to_dataset(out, model, geo, tau0, th2, ths):
         "1", "flank spline parameter of the contact point (0 root, 1 tip)")
     add("contact_case", ("time",), r["contact_case"], "1",
         "0 flank-flank, 1 tip of B on A, 2 tip of A on B")
-    add("tie_multiplier", ("time", "tie"), out.tie_multipliers, "N",
-        "tie-constraint multipliers (disk-frame components)")
-    add("strain_energy", ("time",), r["strain_energy"], "J", "tooth strain energy")
-    add("kinetic_energy", ("time",), r["kinetic_energy"], "J", "kinetic energy")
-    add("external_work", ("time",), r["external_work"], "J", "external work")
-    add("velocity_pass_loss", ("time",), r["velocity_pass_loss"], "J",
-        "energy removed by the velocity pass (and by the displacement pass on steps where "
-        "the contact closes): impact loss")
-    add("energy_balance", ("time",), balance, "J",
-        "E_kin + E_strain - W_ext + D_velocity_pass - E_0")
-    for k, name in enumerate(("displacement", "velocity", "acceleration")):
-        add(f"residual_{name}", ("time",), r[("res_disp", "res_vel", "res_acc")[k]],
-            ("m", "m/s", "m/s^2")[k], f"largest {name} constraint error since last record")
-        add(f"iterations_{name}", ("time",), r[("iter_disp", "iter_vel", "iter_acc")[k]], "1",
-            f"most iterations of the {name} pass since last record")
-    add("tie_residual", ("time",), r["tie_residual"], "m", "largest tie error after the step")
-    add("impact_count", ("time",), r["impacts"], "1", "impacts so far")
+    add_constraint_histories(add, r, out.tie_multipliers, balance)
     peak = float(np.max(r["force_peak"])) if len(r["force_peak"]) else 0.0
     single = (rot[:, 0] > th2) & (rot[:, 0] < ths - th2)
     mean_single = float(np.mean(r["force"][single])) if np.any(single) else float("nan")

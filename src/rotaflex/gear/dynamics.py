@@ -354,6 +354,18 @@ class SimulationOutput:
     record_nodes: np.ndarray | None = None
 
 
+def rigid_velocities(model, x: np.ndarray, om: np.ndarray) -> np.ndarray:
+    """Nodal velocities [m/s] (flat, 2 per node) of both gears turning rigidly at ``om``
+    [rad/s] (counter-clockwise positive) about their centres, at positions ``x``."""
+    v = np.empty(2 * model.n_nodes)
+    for g in range(2):
+        sel = np.where(model.gid == g)[0]
+        rel = x.reshape(-1, 2)[sel] - model.centres[g]
+        v[2 * sel] = -om[g] * rel[:, 1]
+        v[2 * sel + 1] = om[g] * rel[:, 0]
+    return v
+
+
 def simulate(
     model: GearPairModel,
     *,
@@ -436,12 +448,7 @@ def simulate(
     nn = model.n_nodes
     phi = np.zeros(2)
     om = np.array([omega[0], -omega[1]])
-    v = np.empty(2 * nn)
-    for g in range(2):
-        sel = np.where(model.gid == g)[0]
-        rel = x.reshape(-1, 2)[sel] - model.centres[g]
-        v[2 * sel] = -om[g] * rel[:, 1]
-        v[2 * sel + 1] = om[g] * rel[:, 0]
+    v = rigid_velocities(model, x, om)
     a = np.zeros(2 * nn)
     alp = np.zeros(2)
     nc = 2 * len(model.tie_node) + 1

@@ -33,7 +33,12 @@ import numpy as np
 import scipy.sparse as sp
 
 from rotaflex.core.errors import ConvergenceError, InputError
-from rotaflex.gear.dynamics import GearPairModel, tie_eigen_bounds, torque_ramp
+from rotaflex.gear.dynamics import (
+    GearPairModel,
+    rigid_velocities,
+    tie_eigen_bounds,
+    torque_ramp,
+)
 
 #: default mesh window: pairs are searched from 1 deg before to 1 deg after their contact [rad]
 WINDOW = math.radians(1.0)
@@ -342,12 +347,7 @@ def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta
     nn = model.n_nodes
     npair = model.n_teeth
     om = np.array([omega[0], -omega[1]])
-    v = np.empty(2 * nn)
-    for g in range(2):
-        sel = np.where(model.gid == g)[0]
-        rel = x.reshape(-1, 2)[sel] - model.centres[g]
-        v[2 * sel] = -om[g] * rel[:, 1]
-        v[2 * sel + 1] = om[g] * rel[:, 0]
+    v = rigid_velocities(model, x, om)
     a = np.zeros(2 * nn)
     alp = np.zeros(2)
     phi = np.zeros(2)
@@ -494,7 +494,7 @@ def to_dataset_multi(out: MultiOutput, model: MultiToothModel, geo, tau0, th2, t
     """Histories of :func:`simulate_multi` as an xarray Dataset with a ``pair`` dimension."""
     import xarray as xr
 
-    from rotaflex.gear.case import run_scalars
+    from rotaflex.gear.case import add_constraint_histories, run_scalars
 
     r = out.records
     pr = out.pair_records
@@ -547,22 +547,7 @@ def to_dataset_multi(out: MultiOutput, model: MultiToothModel, geo, tau0, th2, t
     add("contact_point", ("time", "pair", "gear", "xy"), cp, "m", "contact point")
     add("contact_case", ("time", "pair"), pr["contact_case"], "1",
         "0 flank-flank, 1 tip of B on A, 2 tip of A on B, -1 out of mesh (not searched)")
-    add("tie_multiplier", ("time", "tie"), out.tie_multipliers, "N",
-        "tie-constraint multipliers (disk-frame components)")
-    add("strain_energy", ("time",), r["strain_energy"], "J", "strain energy of all teeth")
-    add("kinetic_energy", ("time",), r["kinetic_energy"], "J", "kinetic energy")
-    add("external_work", ("time",), r["external_work"], "J", "external work")
-    add("velocity_pass_loss", ("time",), r["velocity_pass_loss"], "J",
-        "kinetic energy removed by the velocity pass (impacts, plastic)")
-    add("energy_balance", ("time",), balance, "J",
-        "E_kin + E_strain - W_ext + D_velocity_pass - E_0")
-    for k, name in enumerate(("displacement", "velocity", "acceleration")):
-        add(f"residual_{name}", ("time",), r[("res_disp", "res_vel", "res_acc")[k]],
-            ("m", "m/s", "m/s^2")[k], f"largest {name} constraint error since last record")
-        add(f"iterations_{name}", ("time",), r[("iter_disp", "iter_vel", "iter_acc")[k]], "1",
-            f"most iterations of the {name} pass since last record")
-    add("tie_residual", ("time",), r["tie_residual"], "m", "largest tie error after the step")
-    add("impact_count", ("time",), r["impacts"], "1", "impacts so far")
+    add_constraint_histories(add, r, out.tie_multipliers, balance)
     nz = zone_pairs(pair_angle, ths)
     single = nz == 1
     mean_single = float(np.mean(total[single])) if np.any(single) else float("nan")
