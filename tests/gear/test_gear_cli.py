@@ -66,3 +66,18 @@ def test_bad_mesh_preset_is_one_clear_line(tmp_path):
     assert res.exit_code == 2
     assert "mesh.preset" in res.output and "medium" in res.output
     assert not (tmp_path / "o" / "result.nc").exists()
+
+
+@pytest.mark.parametrize("extra, field", [
+    ('[model]\nteeth_per_gear = 2\n[solver]\nmethod = "reduced_hht"\n', "solver.method"),
+    ('[model]\nteeth_per_gear = 3\n[solver]\nmultipliers = "direct"\n', "solver.multipliers"),
+    ('[model]\nteeth_per_gear = 2\n[operation]\ndriver = "B"\n', "operation.driver"),
+    ('[solver]\nmethod = "reduced_hht"\nrestitution = 0.5\n', "solver.restitution"),
+])
+def test_unsupported_option_combinations_are_one_clear_line(extra, field, tmp_path):
+    cfg = tmp_path / "case.toml"
+    cfg.write_text('domain = "gear"\n[mesh]\npreset = "coarse"\n' + extra)
+    res = CliRunner().invoke(app, ["gear", "simulate", str(cfg), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2, res.output
+    assert field in res.output
+    assert len([ln for ln in res.output.splitlines() if ln.strip()]) == 1

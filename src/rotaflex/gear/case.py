@@ -201,26 +201,11 @@ class GearResult(Result):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
         figs["contact_force"] = fig
-        fig, ax = new_figure()
-        t = ds["time"].values * 1e3
-        ax.plot(t, ds["energy_balance"].values, lw=0.8)
-        ax.set_xlabel("time [ms]")
-        ax.set_ylabel("E_kin + E_strain - W_ext + D_impact - E_0 [J]")
-        ax.grid(alpha=0.3)
-        figs["energy_balance"] = fig
-        fig, ax = new_figure()
-        ax.plot(ang, ds["gap"].values * 1e6, lw=0.8)
-        ax.set_xlabel("rotation angle of gear A [deg]")
-        ax.set_ylabel("normal gap [um]")
-        ax.grid(alpha=0.3)
-        figs["gap"] = fig
+        figs.update(history_figures(ds, "normal gap [um]"))
         if "transmission_error" in ds:
-            fig, ax = new_figure()
-            ax.plot(ang, ds["transmission_error"].values * 1e6, lw=0.8)
-            ax.set_xlabel("rotation angle of gear A [deg]")
-            ax.set_ylabel("DTE r_bA theta_A - r_bB theta_B [um] (> 0: B lags)")
-            ax.grid(alpha=0.3)
-            figs["transmission_error"] = fig
+            figs["transmission_error"] = line_figure(
+                ang, ds["transmission_error"].values * 1e6, ANGLE_LABEL,
+                "DTE r_bA theta_A - r_bB theta_B [um] (> 0: B lags)")
         if "root_stress" in ds:
             fig, ax = new_figure()
             for g in ("A", "B"):
@@ -363,6 +348,32 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     ds.attrs.update(status="success", message=run_message(ds),
                     wall_time=time.perf_counter() - t_wall, config=json.dumps(asdict(cfg)))
     return GearResult(ds)
+
+
+ANGLE_LABEL = "rotation angle of gear A [deg]"
+
+
+def line_figure(x, y, xlabel: str, ylabel: str):
+    """One-panel line plot (y may have several columns) with the project's style."""
+    from rotaflex.core.plotting import new_figure
+
+    fig, ax = new_figure()
+    ax.plot(x, y, lw=0.8)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def history_figures(ds, gap_label: str) -> dict:
+    """Energy-balance and gap figures shared by the one- and multi-tooth results."""
+    ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
+    return {
+        "energy_balance": line_figure(ds["time"].values * 1e3, ds["energy_balance"].values,
+                                      "time [ms]",
+                                      "E_kin + E_strain - W_ext + D_impact - E_0 [J]"),
+        "gap": line_figure(ang, ds["gap"].values * 1e6, ANGLE_LABEL, gap_label),
+    }
 
 
 def add_constraint_histories(add, r, tie_multipliers, balance) -> None:

@@ -569,6 +569,7 @@ def to_dataset_multi(out: MultiOutput, model: MultiToothModel, geo, tau0, th2, t
 def plot_multi(ds) -> dict:
     """Figures of a multi-tooth result: pair forces vs the Fig. 7 ramps, load share, energy."""
     from rotaflex.core.plotting import new_figure
+    from rotaflex.gear.case import ANGLE_LABEL, history_figures, line_figure
 
     figs = {}
     ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
@@ -584,22 +585,7 @@ def plot_multi(ds) -> dict:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     figs["contact_force"] = fig
-    fig, ax = new_figure()
-    ax.plot(ang, ds["load_share"].values, lw=0.8)
-    ax.set_xlabel("rotation angle of gear A [deg]")
-    ax.set_ylabel("load share of each pair [-]")
-    ax.grid(alpha=0.3)
-    figs["load_share"] = fig
-    fig, ax = new_figure()
-    ax.plot(ds["time"].values * 1e3, ds["energy_balance"].values, lw=0.8)
-    ax.set_xlabel("time [ms]")
-    ax.set_ylabel("E_kin + E_strain - W_ext + D_impact - E_0 [J]")
-    ax.grid(alpha=0.3)
-    figs["energy_balance"] = fig
-    fig, ax = new_figure()
-    ax.plot(ang, ds["gap"].values * 1e6, lw=0.8)
-    ax.set_xlabel("rotation angle of gear A [deg]")
-    ax.set_ylabel("normal gap of each pair [um]")
-    ax.grid(alpha=0.3)
-    figs["gap"] = fig
+    figs["load_share"] = line_figure(ang, ds["load_share"].values, ANGLE_LABEL,
+                                     "load share of each pair [-]")
+    figs.update(history_figures(ds, "normal gap of each pair [um]"))
     return figs
