@@ -1,4 +1,10 @@
-"""Command line: ``rotaflex reproduce|rotor|floating|gear|sweep ...``. Parses, calls, saves."""
+"""Command line: ``rotaflex reproduce|rotor|floating|gear|sweep|docs ...``. Parses, checks, calls, saves.
+
+Every expected failure is one line on stderr: exit status 2 for bad input (the dotted field, the
+value as typed, what is allowed; also a missing or unknown option), 1 when the computation
+failed or a result failed its own checks, 130 when interrupted. Output directories and input
+files are checked before any computation starts.
+"""
 
 from __future__ import annotations
 
@@ -11,25 +17,57 @@ from typing import Annotated, Any
 
 import typer
 
-from rotaflex.core.domains import CASES, REPRODUCE
+from rotaflex.core.domains import CASES, COMMANDS, REPRODUCE
 from rotaflex.core.errors import ConvergenceError, InputError, SingularityError
 
 app = typer.Typer(
     add_completion=False,
     no_args_is_help=True,
+    pretty_exceptions_enable=False,
     help="Dynamics of rotating and flexible machine elements (rotors, floating bodies, gears).",
 )
 
-Out = Annotated[Path, typer.Option("--out", "-o", help="Output directory (created if missing).")]
-Quiet = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars.")]
+Out = Annotated[
+    str,
+    typer.Option(
+        "--out", "-o", help="Output directory; its parent must exist. An earlier result there is replaced as a whole."
+    ),
+]
+Quiet = Annotated[bool, typer.Option("--quiet", "-q", help="No progress output.")]
 Debug = Annotated[bool, typer.Option("--debug", help="Show tracebacks on error.")]
+Format = Annotated[str, typer.Option("--format", help="Figure file format: png, svg or pdf.")]
+Dpi = Annotated[int, typer.Option("--dpi", help="Resolution of PNG figures [dots per inch].")]
+NoFigures = Annotated[bool, typer.Option("--no-figures", help="Skip figures.")]
+
+#: files that mark a directory as an earlier output of a command (never replace anything else)
+RESULT_MARKERS = ("result.nc", "summary.json")
+SWEEP_MARKERS = ("sweep.json", "sweep.nc", "cases")
+REPORT_MARKERS = ("report.md", "checks.json", "index.html", *REPRODUCE)
+
+
+def _version(value: bool) -> None:
+    if value:
+        import rotaflex
+
+        typer.echo(f"rotaflex {rotaflex.__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version and exit.")
+    ] = False,
+) -> None:
+    """Dynamics of rotating and flexible machine elements (rotors, floating bodies, gears)."""
 
 
 def guarded(fn: Callable[[], Any], debug: bool) -> Any:
     """Run ``fn``; expected failures become one line on stderr and a non-zero exit status.
 
     Exit status 2: bad input (field, value, what is allowed). Exit status 1: the computation
-    failed (no convergence, singular parameterisation). ``--debug`` re-raises with traceback.
+    failed (no convergence, singular parameterisation). 130: interrupted (Ctrl-C).
+    ``--debug`` re-raises with traceback.
     """
     logging.basicConfig(level=logging.DEBUG if debug else logging.WARNING, format="%(message)s")
     try:
@@ -44,6 +82,31 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
             raise
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(1) from None
+    except KeyboardInterrupt:
+        if debug:
+            raise
+        typer.echo("interrupted", err=True)
+        raise typer.Exit(130) from None
+
+
+def _figure_options(fmt: str, dpi: int) -> None:
+    from rotaflex.core.plotting import FORMATS
+
+    if fmt not in FORMATS:
+        raise InputError("--format", fmt, "one of " + ", ".join(FORMATS))
+    if not 10 <= dpi <= 2400:
+        raise InputError("--dpi", dpi, "an integer from 10 to 2400")
+
+
+def _limit_threads():
+    """Pin BLAS/OpenMP pools to one thread: our matrices are small, and on a loaded machine
+    extra threads cost far more than they gain (a 600x600 eigh: 13 s with default threads under
+    load, 0.13 s with one). ``ROTAFLEX_BLAS_THREADS`` overrides."""
+    import os
+
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=int(os.environ.get("ROTAFLEX_BLAS_THREADS", "1")))
 
 
 @app.command()
@@ -51,21 +114,30 @@ def reproduce(
     target: Annotated[str, typer.Argument(help="Domain to reproduce: " + ", ".join([*REPRODUCE, "all"]))],
     out: Out,
     fast: Annotated[bool, typer.Option("--fast", help="Shorter/coarser runs (for smoke tests).")] = False,
+    fmt: Format = "png",
+    dpi: Dpi = 150,
     quiet: Quiet = False,
     debug: Debug = False,
 ) -> None:
     """Re-run the papers' numerical examples; write figures, data, report.md and index.html."""
-    from rotaflex.reproduce import reproduce as run_reproduce
 
     def go():
+        from rotaflex.core import plotting
+        from rotaflex.core.io import check_out_dir
+        from rotaflex.reproduce import reproduce as run_reproduce
+
         if target not in REPRODUCE and target != "all":
             raise InputError("target", target, "one of " + ", ".join([*REPRODUCE, "all"]))
+        _figure_options(fmt, dpi)
+        out_dir = check_out_dir(out, marker=REPORT_MARKERS)
+        plotting.configure(fmt=fmt, dpi=dpi)
         names = list(REPRODUCE) if target == "all" else [target]
         t0 = time.perf_counter()
-        report = run_reproduce(names, out, fast=fast, progress=not quiet)
+        with _limit_threads():
+            report = run_reproduce(names, out_dir, fast=fast, progress=not quiet)
         typer.echo(
             f"{report['passed']}/{report['checks']} checks passed in "
-            f"{time.perf_counter() - t0:.1f} s; report: {out / 'report.md'}"
+            f"{time.perf_counter() - t0:.1f} s; report: {out_dir / 'report.md'}"
         )
         if report["passed"] < report["checks"]:
             typer.echo("some checks did not pass: see the report", err=True)
@@ -83,91 +155,216 @@ def sweep(
             "--vary",
             "--param",
             "-p",
-            help="KEY=START:STOP:N or KEY=v1,v2,...; KEY is a dotted config path. Repeat for a grid.",
+            help="KEY=START:STOP:N or KEY=v1,v2,...; KEY is any dotted config key. Repeat for a grid.",
         ),
     ],
     jobs: Annotated[
         int | None, typer.Option("--jobs", "-j", help="Local worker processes (default: one per core; 0: serial here).")
     ] = None,
     scheduler: Annotated[
-        str | None, typer.Option("--scheduler", help="Dask scheduler address tcp://host:port, or dask-local.")
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="Dask scheduler address tcp://host:port (a TRUSTED cluster: results are unpickled), or dask-local.",
+        ),
     ] = None,
     retries: Annotated[int, typer.Option("--retries", help="Re-runs of a case whose worker died.", min=0)] = 2,
-    no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip PNG figures.")] = False,
+    no_figures: NoFigures = False,
+    fmt: Format = "png",
+    dpi: Dpi = 150,
     quiet: Quiet = False,
     debug: Debug = False,
 ) -> None:
     """Run CONFIG for every combination of the --vary values; resume in DIR if re-run.
 
     Writes DIR/cases/<id>/ per case, DIR/sweep.nc (swept keys as dimensions), DIR/summary.csv,
-    DIR/figures/. Exit status 1 if any case failed, 130 if interrupted.
+    DIR/figures/. Every case is validated before any runs. Exit status 1 if any case failed,
+    130 if interrupted.
     """
-    from tqdm.contrib.logging import logging_redirect_tqdm
-
-    from rotaflex.core.config import load_toml
-    from rotaflex.sweep import plan, sweep_config
-    from rotaflex.sweep.backends import executor_for
 
     def go():
+        from tqdm.contrib.logging import logging_redirect_tqdm
+
+        from rotaflex.core import plotting
+        from rotaflex.core.config import load_toml
+        from rotaflex.core.io import check_out_dir
+        from rotaflex.core.provenance import provenance
+        from rotaflex.sweep import plan, sweep_config
+        from rotaflex.sweep.backends import executor_for
+
+        _figure_options(fmt, dpi)
+        if jobs is not None and jobs < 0:
+            raise InputError("--jobs", jobs, "an integer >= 0 (0 = serial in this process)")
+        out_dir = check_out_dir(out, marker=SWEEP_MARKERS)
         cfg = load_toml(config)
-        plan(cfg, vary)  # validate everything before starting workers
-        with executor_for(jobs, scheduler) as executor, logging_redirect_tqdm():
+        plan(cfg, vary)  # validate every case before starting workers
+        plotting.configure(fmt=fmt, dpi=dpi)
+        with executor_for(jobs, scheduler) as executor, logging_redirect_tqdm(), _limit_threads():
             try:
                 res = sweep_config(
-                    cfg, vary, out, executor, progress=not quiet, max_retries=retries, figures=not no_figures
+                    cfg,
+                    vary,
+                    out_dir,
+                    executor,
+                    progress=not quiet,
+                    max_retries=retries,
+                    figures=not no_figures,
+                    attrs=provenance(config),
                 )
             except KeyboardInterrupt:
                 typer.echo(
-                    f"interrupted: finished cases are in {out / 'cases'}; run the same "
+                    f"interrupted: finished cases are in {out_dir / 'cases'}; run the same "
                     "command again to compute only the missing ones",
                     err=True,
                 )
                 raise typer.Exit(130) from None
-        typer.echo(f"{res.summary_text()} -> {out / 'sweep.nc'}")
+        typer.echo(f"{res.summary_text()} -> {out_dir / 'sweep.nc'}")
         for rec in res.failed[:10]:
             line = f"  failed {rec.id} {rec.params}: {rec.status} {rec.error}"
             typer.echo(line.rstrip(), err=True)
         if res.n_failed:
-            typer.echo(f"{res.n_failed} of {res.n_cases} cases failed: see {out / 'summary.csv'}", err=True)
+            typer.echo(f"{res.n_failed} of {res.n_cases} cases failed: see {out_dir / 'summary.csv'}", err=True)
             raise typer.Exit(1)
 
     guarded(go, debug)
 
 
-def _simulate_command(domain: str) -> Callable[..., None]:
-    def simulate(
+def _run_command(domain: str, verb: str) -> Callable[..., None]:
+    def run(
         config: Annotated[Path, typer.Argument(help="TOML case file.")],
         out: Out,
-        no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip PNG figures.")] = False,
+        no_figures: NoFigures = False,
+        fmt: Format = "png",
+        dpi: Dpi = 150,
         quiet: Quiet = False,
         debug: Debug = False,
     ) -> None:
-        from rotaflex.core.config import load_toml
-        from rotaflex.core.domains import run_config
-
         def go():
-            result = run_config(load_toml(config), domain=domain, progress=not quiet)
-            paths = result.save(out, figures=not no_figures)
-            typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out}")
+            from rotaflex.core.config import load_toml
+            from rotaflex.core.domains import command, split_config, validate
+            from rotaflex.core.io import check_out_dir
+            from rotaflex.core.provenance import provenance
+
+            _figure_options(fmt, dpi)
+            out_dir = check_out_dir(out, marker=RESULT_MARKERS)
+            _, body = split_config(load_toml(config), domain=domain)
+            validate(domain, body)
+            with _limit_threads():
+                result = command(domain, verb)(body, progress=not quiet)
+            paths = result.save(out_dir, figures=not no_figures, fig_format=fmt, dpi=dpi, provenance=provenance(config))
+            typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out_dir}")
             if result.status != "success":
                 raise typer.Exit(1)
 
         guarded(go, debug)
 
-    simulate.__doc__ = f"Simulate one {domain} case from CONFIG; write result.nc, summary.json, figures."
-    return simulate
+    run.__doc__ = (
+        f"Simulate one {domain} case from CONFIG; write result.nc, summary.json, figures."
+        if verb == "simulate"
+        else f"Run '{verb}' on one {domain} case from CONFIG; write result.nc, summary.json, figures."
+    )
+    return run
+
+
+def _template_command(domain: str) -> Callable[..., None]:
+    def template(debug: Debug = False) -> None:
+        def go():
+            typer.echo(domain_template(domain), nl=False)
+
+        guarded(go, debug)
+
+    template.__doc__ = f"Print a commented {domain} config with every key, default, unit and allowed range."
+    return template
+
+
+def domain_template(domain: str) -> str:
+    """The generated TOML template of ``domain`` (InputError if the domain has no ``SCHEMA``)."""
+    from rotaflex.core.domains import case_module
+    from rotaflex.core.schema import template
+
+    module = case_module(domain)
+    schema = getattr(module, "SCHEMA", None)
+    if schema is None:
+        raise InputError("domain", domain, "a domain whose case module exposes SCHEMA (not yet for this one)")
+    text = template(schema, domain)
+    for table, alt in getattr(module, "ALTERNATIVES", {}).items():
+        body = template(alt, domain, table=table).split("\n", 4)[-1]  # skip the header lines
+        text += "\n# ---- alternatively, a [" + table + "] case (nothing else beside it):\n"
+        text += "".join(
+            f"# {line}\n" if line and not line.startswith("#") else f"{line}\n" for line in body.split("\n")
+        )
+    return text
+
+
+docs_app = typer.Typer(no_args_is_help=True, help="Generated documentation.")
+app.add_typer(docs_app, name="docs")
+
+
+def config_reference() -> str:
+    """The Markdown config reference of every domain that exposes ``SCHEMA``."""
+    import importlib
+
+    from rotaflex.core.schema import reference_markdown
+
+    schemas = {}
+    for domain, modname in CASES.items():
+        try:
+            module = importlib.import_module(modname)
+        except ImportError:  # pragma: no cover - a domain not installed
+            continue
+        if getattr(module, "SCHEMA", None) is None:
+            continue
+        schemas[domain] = [("", module.SCHEMA), *getattr(module, "ALTERNATIVES", {}).items()]
+    return reference_markdown(schemas)
+
+
+@docs_app.command("config-reference")
+def _config_reference_cmd(
+    out: Annotated[Path | None, typer.Option("--out", "-o", help="Write to this file instead of stdout.")] = None,
+) -> None:
+    """Print (or write) docs/config-reference.md, generated from the config schemas."""
+    text = config_reference()
+    if out is None:
+        typer.echo(text, nl=False)
+    else:
+        from rotaflex.core.io import write_text_atomic
+
+        write_text_atomic(out, text)
 
 
 for _domain in CASES:
     _sub = typer.Typer(no_args_is_help=True, help=f"{_domain.capitalize()} cases.")
-    _sub.command("simulate")(_simulate_command(_domain))
+    _sub.command("simulate")(_run_command(_domain, "simulate"))
+    _sub.command("template")(_template_command(_domain))
+    for _verb in COMMANDS.get(_domain, {}):
+        _sub.command(_verb)(_run_command(_domain, _verb))
     app.add_typer(_sub, name=_domain)
 
 
-def main() -> None:
-    """Console-script entry point."""
-    app(prog_name="rotaflex")
+def main(argv: list[str] | None = None) -> int:
+    """Console-script entry point: usage errors are one line too (no boxed usage text)."""
+    try:  # recent typer vendors click
+        from typer._click import exceptions as click
+    except ImportError:  # pragma: no cover
+        from click import exceptions as click
+
+    try:
+        code = app(args=argv, prog_name="rotaflex", standalone_mode=False)
+    except click.NoArgsIsHelpError:  # the help text is already printed
+        code = 0
+    except click.UsageError as exc:
+        hint = f" (see '{exc.ctx.command_path} --help')" if exc.ctx else ""
+        typer.echo(f"error: {exc.format_message()}{hint}", err=True)
+        code = 2
+    except click.ClickException as exc:
+        typer.echo(f"error: {exc.format_message()}", err=True)
+        code = exc.exit_code
+    except click.Abort:
+        typer.echo("interrupted", err=True)
+        code = 130
+    code = code if isinstance(code, int) else 0
+    sys.exit(code)
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    main()

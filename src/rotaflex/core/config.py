@@ -62,6 +62,11 @@ def _range_text(meta: Mapping[str, Any]) -> str:
     return (" " + " and ".join(parts) if parts else "") + unit
 
 
+#: magnitude above which an integer in a config is refused (int64 range; a float cannot hold more
+#: than ~1.8e308 and a 400-digit integer is a typing mistake, not a parameter)
+INT_LIMIT = 2**63 - 1
+
+
 def _check_range(x: float, meta: Mapping[str, Any], where: str, kind: str) -> None:
     ok = (
         (meta.get("gt") is None or x > meta["gt"])
@@ -87,13 +92,17 @@ def _convert(value: Any, tp: Any, meta: Mapping[str, Any], where: str) -> Any:
     if tp is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(where, value, f"a number{_range_text(meta)}")
+        if isinstance(value, int) and abs(value) > INT_LIMIT:
+            raise InputError(where, value, f"a finite number of magnitude <= {INT_LIMIT:.3g}{_range_text(meta)}")
         if not math.isfinite(value):
-            raise InputError(where, value, "a finite number")
-        _check_range(float(value), meta, where, "a number")
+            raise InputError(where, value, f"a finite number{_range_text(meta)}")
+        _check_range(value, meta, where, "a number")
         return float(value)
     if tp is int:
         if isinstance(value, bool) or not isinstance(value, int):
             raise InputError(where, value, f"an integer{_range_text(meta)}")
+        if abs(value) > INT_LIMIT:
+            raise InputError(where, value, f"an integer of magnitude <= {INT_LIMIT}{_range_text(meta)}")
         _check_range(value, meta, where, "an integer")
         return value
     if tp is bool:
@@ -162,16 +171,59 @@ def to_mapping(obj: Any) -> dict[str, Any]:
     return dataclasses.asdict(obj)
 
 
+#: largest config file read [bytes]; a case file is a few kB (this also bounds ``/dev/zero``)
+MAX_CONFIG_BYTES = 4 * 2**20
+
+
 def load_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file, turning syntax errors into an :class:`InputError`."""
+    """Read a TOML file (at most :data:`MAX_CONFIG_BYTES`), every failure an :class:`InputError`.
+
+    Refused with the file named: missing, a directory, unreadable, too large (or endless, like
+    ``/dev/zero``), not UTF-8, not valid TOML, nested too deeply.
+    """
+    text_path = str(path)
     path = Path(path)
     try:
         with path.open("rb") as fh:
-            return tomllib.load(fh)
+            raw = fh.read(MAX_CONFIG_BYTES + 1)
     except FileNotFoundError:
-        raise InputError("config", str(path), "an existing TOML file") from None
+        raise InputError("config", text_path, "an existing TOML file") from None
+    except IsADirectoryError:
+        raise InputError("config", text_path, "a TOML file, not a directory") from None
+    except OSError as exc:
+        raise InputError("config", text_path, f"a readable TOML file ({exc.strerror})") from None
+    if len(raw) > MAX_CONFIG_BYTES:
+        raise InputError("config", text_path, f"a TOML file of at most {MAX_CONFIG_BYTES // 2**20} MiB")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError("config", text_path, f"a UTF-8 text file (byte {exc.start} is not UTF-8)") from None
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError("config", str(path), f"valid TOML ({exc})") from None
+        raise InputError("config", text_path, f"valid TOML ({exc})") from None
+    except RecursionError:
+        raise InputError("config", text_path, "TOML nested less deeply (arrays/tables nested too deep)") from None
+
+
+def budget(field: str, value: Any, estimate: float, limit: float, what: str) -> None:
+    """Refuse a value whose estimated cost exceeds a budget, before anything is allocated.
+
+    Parameters
+    ----------
+    field : str
+        Dotted config field to blame (the one the user would change).
+    value : object
+        Its value as typed.
+    estimate : float
+        Estimated cost (samples, steps, cases, bytes...) of running with it.
+    limit : float
+        The largest cost accepted.
+    what : str
+        Unit of the estimate in words, e.g. ``"output samples"``.
+    """
+    if not (estimate <= limit):  # also refuses nan
+        raise InputError(field, value, f"a value needing at most {limit:.3g} {what} (this needs ~{estimate:.3g})")
 
 
 def set_dotted(data: dict[str, Any], key: str, value: Any) -> dict[str, Any]:

@@ -1,14 +1,32 @@
 """Registry of the domains the CLI, the reproduce report and the sweeps know about.
 
-Each simulation domain provides a module with ``run_case(config: dict, *, progress=False)
--> Result`` that validates a parsed TOML config and simulates it. Each reproduce target provides
-a module with ``run(out_dir: Path, *, fast: bool, progress: bool) -> Section``.
+Hook contract of a domain's case module (the ``CASES`` entry):
+
+``run_case(config: dict, *, progress: bool = False) -> Result``
+    Validate a parsed TOML config (without the ``domain`` key) and simulate it. Required.
+``validate_config(config: dict) -> None``
+    Optional. Check a config completely *without running it*, raising
+    :class:`~rotaflex.core.errors.InputError` (field, value as typed, what is allowed) for
+    anything ``run_case`` would refuse, including size/step budgets. A sweep calls it for every
+    planned case before any case runs, and the CLI calls it before a single run starts.
+``SCHEMA``
+    Optional. The root config dataclass (fields declared with
+    :func:`rotaflex.core.config.param`); used for ``rotaflex <domain> template``, the generated
+    config reference, and the defaults of sweep keys not written in the base file.
+
+Each reproduce target provides a module with ``run(out_dir: Path, *, fast: bool, progress: bool)
+-> Section``; it may report per-case progress through :func:`rotaflex.core.report.step`.
+
+Per-domain CLI verbs are data in :data:`COMMANDS`: domain -> verb -> ``"module:function"``, the
+function having the signature of ``run_case``; ``rotaflex <domain> <verb> CONFIG --out DIR``
+runs it like ``simulate``.
 """
 
 from __future__ import annotations
 
 import importlib
 from types import ModuleType
+from typing import Any
 
 #: domain name -> module with ``run_case``
 CASES: dict[str, str] = {
@@ -25,14 +43,53 @@ REPRODUCE: dict[str, str] = {
     "sweep": "rotaflex.reproduce.sweep",  # keep last: sweeps every domain above
 }
 
+#: extra CLI verbs: domain -> verb -> "module:function" (signature of ``run_case``)
+COMMANDS: dict[str, dict[str, str]] = {}
 
-def case_module(domain: str) -> ModuleType:
-    """The ``run_case`` module of ``domain`` (raises InputError for an unknown domain)."""
+
+def check_domain(domain: Any, field: str = "domain") -> str:
+    """``domain`` if it names a registered domain, else an InputError (also for non-strings)."""
     from rotaflex.core.errors import InputError
 
-    if domain not in CASES:
-        raise InputError("domain", domain, "one of " + ", ".join(CASES))
-    return importlib.import_module(CASES[domain])
+    if not isinstance(domain, str) or domain not in CASES:
+        raise InputError(field, domain, "a string, one of " + ", ".join(repr(d) for d in CASES))
+    return domain
+
+
+def case_module(domain: Any) -> ModuleType:
+    """The ``run_case`` module of ``domain`` (raises InputError for an unknown domain)."""
+    return importlib.import_module(CASES[check_domain(domain)])
+
+
+def schema_of(domain: str) -> type | None:
+    """The domain's root config dataclass (``SCHEMA`` of its case module), or None."""
+    return getattr(case_module(domain), "SCHEMA", None)
+
+
+def validate(domain: str, config: dict) -> None:
+    """Run the domain's ``validate_config`` hook on ``config`` (no-op if it has none)."""
+    hook = getattr(case_module(domain), "validate_config", None)
+    if hook is not None:
+        hook(config)
+
+
+def split_config(config: dict, *, domain: str | None = None) -> tuple[str, dict]:
+    """The domain of a parsed config (from ``domain`` or its ``domain`` key) and the body.
+
+    If both are given they must agree.
+    """
+    from rotaflex.core.errors import InputError
+
+    if not isinstance(config, dict):
+        raise InputError("config", config, "a TOML table")
+    cfg_domain = config.get("domain")
+    if domain is None:
+        if cfg_domain is None:
+            raise InputError("domain", "<missing>", "a top-level key, one of " + ", ".join(repr(d) for d in CASES))
+        domain = check_domain(cfg_domain)
+    elif cfg_domain is not None and cfg_domain != domain:
+        raise InputError("domain", cfg_domain, f"{domain!r} for 'rotaflex {domain} ...'")
+    return domain, {k: v for k, v in config.items() if k != "domain"}
 
 
 def run_config(config: dict, *, domain: str | None = None, progress: bool = False):
@@ -41,14 +98,13 @@ def run_config(config: dict, *, domain: str | None = None, progress: bool = Fals
     The domain comes from ``domain`` or the config's top-level ``domain`` key; if both are
     given they must agree.
     """
-    from rotaflex.core.errors import InputError
-
-    cfg_domain = config.get("domain")
-    if domain is None:
-        if cfg_domain is None:
-            raise InputError("domain", "<missing>", "one of " + ", ".join(CASES))
-        domain = cfg_domain
-    elif cfg_domain is not None and cfg_domain != domain:
-        raise InputError("domain", cfg_domain, f"{domain!r} for 'rotaflex {domain} simulate'")
-    body = {k: v for k, v in config.items() if k != "domain"}
+    domain, body = split_config(config, domain=domain)
     return case_module(domain).run_case(body, progress=progress)
+
+
+def command(domain: str, verb: str):
+    """The function registered for ``rotaflex <domain> <verb>`` (``simulate``: ``run_case``)."""
+    if verb == "simulate":
+        return case_module(domain).run_case
+    module, _, name = COMMANDS[domain][verb].partition(":")
+    return getattr(importlib.import_module(module), name)

@@ -18,7 +18,25 @@ class InputError(ValueError):
 
     def __init__(self, field: str, value: object, allowed: str):
         self.field, self.value, self.allowed = field, value, allowed
-        super().__init__(f"{field} = {value!r} is invalid: expected {allowed}")
+        super().__init__(f"{field} = {shown(value)} is invalid: expected {allowed}")
+
+
+class CheckFailed(RuntimeError):
+    """A result failed one of its own checks (energy balance, constraint residual, ...).
+
+    Domains set ``status = "failed_check"`` on the result instead of raising when they can
+    still save it; this exception is for callers that cannot.
+    """
+
+
+def shown(value: object, limit: int = 60) -> str:
+    """``repr(value)`` as typed, shortened in the middle when very long (a 400-digit integer)."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**limit:
+        digits = str(abs(value))
+        return f"{'-' if value < 0 else ''}{digits[:6]}...{digits[-3:]} ({len(digits)} digits)"
+    text = repr(value)
+    text = text.replace("\n", " ").replace("\r", " ")
+    return text if len(text) <= limit else text[: limit - 20] + "..." + text[-15:]
 
 
 class ConvergenceError(RuntimeError):

@@ -20,10 +20,41 @@ def new_figure(nrows: int = 1, ncols: int = 1, **kw: Any):
     return plt.subplots(nrows, ncols, **kw)
 
 
-def save_figure(fig, path: str | Path, dpi: int = 110) -> Path:
-    """Save ``fig`` as PNG atomically and close it."""
+#: figure file formats the commands accept (``--format``)
+FORMATS = ("png", "svg", "pdf")
+#: default resolution of PNG figures [dots per inch]
+DPI = 150
+
+
+_CHOSEN: dict[str, Any] = {"fmt": None, "dpi": None}
+
+
+def configure(*, fmt: str | None = None, dpi: int | None = None) -> None:
+    """Set the figure format and resolution of this process (the CLI's ``--format``/``--dpi``).
+
+    Applies to every :func:`save_figure` call that does not pass its own ``fmt``/``dpi``.
+    """
+    _CHOSEN.update(fmt=fmt, dpi=dpi)
+
+
+def chosen_format() -> str:
+    """The figure format set by :func:`configure` (``"png"`` by default)."""
+    return _CHOSEN["fmt"] or "png"
+
+
+def save_figure(fig, path: str | Path, dpi: int | None = None, fmt: str | None = None) -> Path:
+    """Save ``fig`` atomically and close it.
+
+    The format is ``fmt``, else the one chosen with :func:`configure`, else the path's suffix;
+    the suffix is adapted to the format.
+    """
+    path = Path(path)
+    fmt = fmt or _CHOSEN["fmt"] or path.suffix.lstrip(".") or "png"
+    dpi = dpi or _CHOSEN["dpi"]
+    if path.suffix.lstrip(".") != fmt:
+        path = path.with_suffix(f".{fmt}")
     try:
-        return write_atomic(path, lambda p: fig.savefig(p, format="png", dpi=dpi))
+        return write_atomic(path, lambda p: fig.savefig(p, format=fmt, dpi=dpi or DPI))
     finally:
         plt.close(fig)
 

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from rotaflex.core.io import write_atomic, write_json_atomic
+from rotaflex.core.io import replace_dir, write_atomic, write_json_atomic
 
 
 class Result:
@@ -75,18 +75,62 @@ class Result:
 
         return time_series_figures(self.dataset)
 
-    def save(self, out_dir: str | Path, *, figures: bool = True) -> list[Path]:
-        """Write ``result.nc``, ``summary.json`` and (optionally) PNG figures into ``out_dir``."""
-        out_dir = Path(out_dir)
-        out_dir.mkdir(parents=True, exist_ok=True)
-        paths = [self.to_netcdf(out_dir / "result.nc")]
-        paths.append(write_json_atomic(out_dir / "summary.json", self.summary()))
-        if figures:
-            from rotaflex.core.plotting import save_figure
+    def write_extra(self, out_dir: Path) -> list[Path]:
+        """Domain-specific files written with the result set (e.g. meshes); none by default."""
+        return []
 
-            for stem, fig in self.plot().items():
-                paths.append(save_figure(fig, out_dir / f"{stem}.png"))
-        return paths
+    def save(
+        self,
+        out_dir: str | Path,
+        *,
+        figures: bool = True,
+        fig_format: str = "png",
+        dpi: int | None = None,
+        provenance: dict[str, Any] | None = None,
+    ) -> list[Path]:
+        """Write ``result.nc``, ``summary.json``, extra files and figures into ``out_dir`` as a set.
+
+        Everything is written into a temporary sibling directory that then replaces
+        ``out_dir`` in one step (:func:`rotaflex.core.io.replace_dir`): an interrupted save
+        leaves the previous result directory complete, never a mix of old and new files.
+
+        Parameters
+        ----------
+        figures : bool
+            Write the figures of :meth:`plot`.
+        fig_format : {"png", "svg", "pdf"}
+        dpi : int, optional
+            Resolution of raster figures (default of :func:`rotaflex.core.plotting.save_figure`).
+        provenance : dict, optional
+            Global attributes to add (see :func:`rotaflex.core.provenance.provenance`); the
+            version, commit and time are added if missing.
+        """
+        from rotaflex.core.provenance import provenance as _prov
+
+        self.dataset.attrs.update({**_prov(), **(provenance or {})})
+
+        def write(tmp: Path) -> list[Path]:
+            paths = [self.to_netcdf(tmp / "result.nc")]
+            paths.append(write_json_atomic(tmp / "summary.json", self.summary()))
+            paths += self.write_extra(tmp)
+            if figures:
+                from rotaflex.core.plotting import save_figure
+
+                for stem, fig in self.plot().items():
+                    paths.append(save_figure(fig, tmp / f"{stem}.{fig_format}", dpi=dpi, fmt=fig_format))
+            return paths
+
+        return replace_dir(out_dir, write)
+
+    def failed_check(self, name: str, measured: str, criterion: str) -> None:
+        """Mark the result as failing one of its own checks (``status = "failed_check"``).
+
+        The CLI then exits 1 and prints ``message``, which names the check, the measured value
+        and the criterion.
+        """
+        self.dataset.attrs["status"] = "failed_check"
+        self.dataset.attrs["message"] = f"check {name!r} failed: {measured} (required {criterion})"
+        self.dataset.attrs["failed_check"] = name
 
 
 _KINDS: dict[str, type[Result]] = {}

@@ -118,11 +118,17 @@ class Motion:
 class Solver:
     """Time integration with ``scipy.integrate.solve_ivp``."""
 
-    t_end: float = param(10.0, unit="s", gt=0)
-    method: Literal["DOP853", "RK45", "Radau", "BDF", "LSODA"] = "DOP853"
-    rtol: float = param(1e-9, gt=0, lt=1)
-    atol: float = param(1e-12, gt=0)
-    n_output: int = param(1001, ge=2)
+    t_end: float = param(10.0, unit="s", gt=0, doc="end of the simulated interval")
+    method: Literal["DOP853", "RK45", "Radau", "BDF", "LSODA"] = param("DOP853", doc="scipy solve_ivp method")
+    rtol: float = param(1e-9, gt=0, lt=1, doc="relative tolerance")
+    atol: float = param(1e-12, gt=0, doc="absolute tolerance")
+    n_output: int = param(1001, ge=2, le=1_000_000, doc="output samples, evenly spaced over [0, t_end]")
+    max_steps: int = param(
+        2_000_000,
+        ge=1,
+        le=10**9,
+        doc="step budget: runs estimated to need more steps are refused, runs that take more are stopped",
+    )
     singular_tolerance: float = param(
         1e-8, gt=0, lt=1, doc="relative det(M) below which the mass matrix counts as singular"
     )

@@ -10,6 +10,7 @@ from dataclasses import asdict
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from rotaflex.core.config import budget
 from rotaflex.rotation.quaternion import (
     quaternion_from_euler,
     quaternion_rates_from_body,
@@ -17,6 +18,7 @@ from rotaflex.rotation.quaternion import (
     rates_from_quaternion,
 )
 from rotaflex.rotor.model import FreeBody, RotorModel
+from rotaflex.rotor.result import RotorResult
 from rotaflex.rotor.symbolic import PARAMETERS, EOMSpec, compiled
 
 log = logging.getLogger(__name__)
@@ -74,17 +76,96 @@ def parameter_vector(model: RotorModel | FreeBody) -> np.ndarray:
     return np.array([values[name] for name in PARAMETERS])
 
 
+#: steps per period of the fastest motion that an explicit method needs at tight tolerances
+#: (DOP853 at rtol 1e-9 took 20-40 on the paper's rotor cases); used only for the estimate
+STEPS_PER_PERIOD = 40
+#: right-hand-side evaluations per step (DOP853: 12; implicit methods use more, with Jacobians)
+EVALS_PER_STEP = 12
+#: wall time of one right-hand-side evaluation [s] (measured 20-60 us for the generated code)
+EVAL_SECONDS = 40e-6
+
+
+def fastest_rate(model: RotorModel | FreeBody) -> float:
+    """Largest angular frequency of the motion [rad/s], an upper estimate used for step budgets.
+
+    Spin, initial rates, support natural frequencies, all scaled by the inertia ratio (the
+    gyroscopic whirl of a disk runs up to J_max/J_min times the spin).
+    """
+    J = body_inertia(model)
+    ratio = float(np.max(J) / np.min(J))
+    if isinstance(model, FreeBody):
+        rates = [float(np.max(np.abs(model.initial_body_rate)))]
+        torque = float(np.max(np.abs(model.torque)))
+        rates.append(np.sqrt(torque / float(np.min(J))))  # rate reached in 1 s under the torque, order
+    else:
+        mo, su = model.motion, model.support
+        rates = [
+            abs(mo.spin_speed),
+            float(np.max(np.abs(mo.initial_tilt_rate))),
+            np.sqrt(su.stiffness / model.disk.mass),
+            np.sqrt(su.tilt_stiffness / float(np.min(J))),
+        ]
+    return ratio * max(rates)
+
+
+def estimated_steps(model: RotorModel | FreeBody) -> float:
+    """Estimated integration steps for ``model.solver.t_end`` (at least 1)."""
+    w = fastest_rate(model)
+    return max(1.0, model.solver.t_end * w / (2 * np.pi) * STEPS_PER_PERIOD)
+
+
+def check_budget(model: RotorModel | FreeBody) -> None:
+    """Refuse a run whose estimated steps exceed ``solver.max_steps`` (InputError naming the
+    field that drives the estimate, with the estimated wall time)."""
+    steps = estimated_steps(model)
+    s = model.solver
+    if steps <= s.max_steps:
+        return
+    seconds = steps * EVALS_PER_STEP * EVAL_SECONDS
+    prefix = "free_body." if isinstance(model, FreeBody) else ""
+    field, value = f"{prefix}solver.t_end", s.t_end
+    if isinstance(model, RotorModel) and abs(model.motion.spin_speed) * s.t_end > 1e6:
+        if abs(model.motion.spin_speed) >= 1e4:
+            field, value = "motion.spin_speed", model.motion.spin_speed
+    budget(
+        field,
+        value,
+        steps,
+        s.max_steps,
+        f"integration steps (solver.max_steps; this run would take ~{_duration(seconds)}; "
+        "shorten t_end or raise max_steps)",
+    )
+
+
+def _duration(seconds: float) -> str:
+    for unit, size in (("days", 86400.0), ("h", 3600.0), ("min", 60.0)):
+        if seconds >= size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.3g} s"
+
+
+class _StepBudget(Exception):
+    """Raised from the right-hand side when a run exceeds its evaluation budget."""
+
+    def __init__(self, t: float):
+        self.t = t
+
+
 class _Progress:
     """A tqdm bar over simulated time, updated from the right-hand side at most 200 times."""
 
-    def __init__(self, t_end: float, enabled: bool):
+    def __init__(self, t_end: float, enabled: bool, max_evals: float = float("inf")):
         self.t_end, self.bar, self.shown = t_end, None, 0.0
+        self.evals, self.max_evals = 0, max_evals
         if enabled:
             from tqdm import tqdm
 
             self.bar = tqdm(total=100, unit="%", desc="simulating", leave=False)
 
     def __call__(self, t: float) -> None:
+        self.evals += 1
+        if self.evals > self.max_evals:
+            raise _StepBudget(t)
         if self.bar is not None and t - self.shown >= self.t_end / 200:
             self.bar.n = int(100 * min(t, self.t_end) / self.t_end)
             self.bar.refresh()
@@ -110,13 +191,13 @@ def simulate(model: RotorModel | FreeBody, *, progress: bool = False):
         ``status`` is "success", "singular" (the mass matrix became singular: the run stops at
         that time and ``message`` says when and how singular) or "failed" (integrator failure).
     """
-    from rotaflex.rotor.case import RotorResult
-
+    check_budget(model)
     t0 = _time.perf_counter()
     solver = model.solver
     p = parameter_vector(model)
     t_eval = np.linspace(0.0, solver.t_end, solver.n_output)
-    bar = _Progress(solver.t_end, progress)
+    # the estimate can be low (stiff or chaotic motion): stop at 4x the budget rather than hang
+    bar = _Progress(solver.t_end, progress, max_evals=4 * EVALS_PER_STEP * solver.max_steps)
     try:
         if isinstance(model, FreeBody) and model.formulation.parameterisation == "quaternion":
             sol, outputs = _integrate_newton_euler(model, p, t_eval, bar)
@@ -188,16 +269,7 @@ def _integrate_lagrange(model, p, t_eval, bar):
         )
         sol_t, sol_y, nfev = np.array([0.0]), y0[:, None], 0
     else:
-        sol = solve_ivp(
-            rhs,
-            (0.0, t_eval[-1]),
-            y0,
-            method=model.solver.method,
-            t_eval=t_eval,
-            rtol=model.solver.rtol,
-            atol=model.solver.atol,
-            events=singular,
-        )
+        sol = _solve(rhs, y0, model.solver, t_eval, bar, events=singular)
         sol_t, sol_y, nfev = sol.t, sol.y, sol.nfev
         if sol.status == 1:
             t_s = float(sol.t_events[0][0])
@@ -211,7 +283,7 @@ def _integrate_lagrange(model, p, t_eval, bar):
         elif sol.status == 0:
             status, message = "success", f"integrated to t = {t_eval[-1]:g} s ({sol.nfev} evaluations)"
         else:
-            status, message = "failed", f"solve_ivp: {sol.message}"
+            status, message = "failed", sol.message
     q, qd = sol_y[:n].T, sol_y[n:].T
     e = np.empty((sol_t.size, 4))
     e_dot = np.empty_like(e)
@@ -225,7 +297,11 @@ def _integrate_lagrange(model, p, t_eval, bar):
             except np.linalg.LinAlgError:
                 qdd[i] = np.nan
     ds = _dataset(model, sol_t, q, qd, e, e_dot, ns["COORDINATES"], p)
-    ds["generalized_acceleration"] = (("time", "coordinate"), qdd, {"units": "SI", "long_name": "q''"})
+    ds["generalized_acceleration"] = (
+        ("time", "coordinate"),
+        qdd,
+        _mixed(ns["COORDINATES"], " s-2", "generalized accelerations"),
+    )
     return {"status": status, "message": message, "nfev": nfev}, ds
 
 
@@ -245,22 +321,79 @@ def _integrate_newton_euler(model: FreeBody, p, t_eval, bar):
         return np.concatenate([e_dot, w_dot])
 
     s = model.solver
-    sol = solve_ivp(
-        rhs,
-        (0.0, t_eval[-1]),
-        np.concatenate([e0, model.initial_body_rate]),
-        method=s.method,
-        t_eval=t_eval,
-        rtol=s.rtol,
-        atol=s.atol,
-    )
+    sol = _solve(rhs, np.concatenate([e0, model.initial_body_rate]), s, t_eval, bar)
     e = sol.y[:4].T / np.linalg.norm(sol.y[:4].T, axis=1, keepdims=True)
     w = sol.y[4:].T
     e_dot = quaternion_rates_from_body(e, w)
     ds = _dataset(model, sol.t, e, e_dot, e, e_dot, ("e0", "e1", "e2", "e3"), p)
     status = "success" if sol.status == 0 else "failed"
-    msg = f"integrated to t = {sol.t[-1]:g} s ({sol.nfev} evaluations)" if sol.status == 0 else sol.message
+    msg = f"integrated to t = {sol.t[-1]:g} s ({sol.nfev} evaluations)" if sol.status == 0 else str(sol.message)
     return {"status": status, "message": msg, "nfev": sol.nfev}, ds
+
+
+def _solve(rhs, y0, solver, t_eval, bar, events=None):
+    """``solve_ivp`` that always returns at least the initial sample and says how it failed.
+
+    A failure before the first output sample (e.g. the first step already below the spacing of
+    floating-point numbers) or an exceeded step budget gives ``status = -1`` with the time
+    reached in ``message``; the samples integrated so far are kept.
+    """
+    from types import SimpleNamespace
+
+    try:
+        sol = solve_ivp(
+            rhs,
+            (0.0, t_eval[-1]),
+            y0,
+            method=solver.method,
+            t_eval=t_eval,
+            rtol=solver.rtol,
+            atol=solver.atol,
+            events=events,
+        )
+    except _StepBudget as exc:
+        return SimpleNamespace(
+            t=np.array([0.0]),
+            y=np.asarray(y0, float)[:, None],
+            nfev=bar.evals,
+            status=-1,
+            message=(
+                f"step budget exceeded: {bar.evals} right-hand-side evaluations reached t = {exc.t:.6g} s "
+                f"of {t_eval[-1]:g} s (solver.max_steps = {solver.max_steps}); the motion is faster or "
+                "stiffer than estimated: shorten t_end, loosen rtol or raise max_steps"
+            ),
+            t_events=None,
+            y_events=None,
+        )
+    sol.t = np.asarray(sol.t, float)
+    sol.y = np.asarray(sol.y, float).reshape(len(y0), -1)
+    if sol.status == -1:
+        reached = float(sol.t[-1]) if sol.t.size else 0.0
+        sol.message = f"integration failed after t = {reached:.6g} s of {t_eval[-1]:g} s: {sol.message}"
+    if sol.t.size == 0 or sol.t[0] != 0.0:  # failed before the first output sample
+        sol.t = np.concatenate([[0.0], sol.t])
+        sol.y = np.hstack([np.asarray(y0, float)[:, None], sol.y])
+    return sol
+
+
+def coordinate_unit(name: str) -> str:
+    """CF unit of a generalized coordinate: translations in m, angles in rad, quaternion 1."""
+    if name in ("U", "V"):
+        return "m"
+    if name.startswith(("e", "eps")):
+        return "1"
+    return "rad"
+
+
+def _mixed(coordinates, per: str, long_name: str) -> dict:
+    """Attributes of a variable over ``coordinate``: a CF ``units`` string when every coordinate
+    has the same unit; otherwise no ``units`` (CF has no mixed units) and the per-coordinate
+    units named in ``units_per_coordinate`` (the ``coordinate_units`` coordinate, times ``per``)."""
+    units = {coordinate_unit(c) for c in coordinates}
+    if len(units) == 1:
+        u = units.pop()
+        return {"units": (u + per) if u != "1" else (per.strip() or "1"), "long_name": long_name}
+    return {"long_name": long_name, "units_per_coordinate": "coordinate_units" + (f" times{per}" if per else "")}
 
 
 def _dataset(model, t, q, qd, e, e_dot, coordinates, p):
@@ -274,8 +407,16 @@ def _dataset(model, t, q, qd, e, e_dot, coordinates, p):
     K_paper = 0.5 * np.einsum("ti,i,ti->t", w_inertial, J, w_inertial)
     H = np.einsum("tij,j,tj->ti", R, J, w_body)
     vars_ = {
-        "generalized_coordinate": (("time", "coordinate"), q, {"units": "SI (m or rad)", "long_name": "q"}),
-        "generalized_velocity": (("time", "coordinate"), qd, {"units": "SI (m/s or rad/s)", "long_name": "q'"}),
+        "generalized_coordinate": (
+            ("time", "coordinate"),
+            q,
+            _mixed(coordinates, "", "generalized coordinates q"),
+        ),
+        "generalized_velocity": (
+            ("time", "coordinate"),
+            qd,
+            _mixed(coordinates, " s-1", "generalized velocities dq/dt"),
+        ),
         "quaternion": (("time", "component"), e, {"units": "1", "long_name": "Euler parameters"}),
         "omega_body": (("time", "axis"), w_body, {"units": "rad/s", "long_name": "body-frame angular velocity"}),
         "omega_inertial": (
@@ -314,6 +455,7 @@ def _dataset(model, t, q, qd, e, e_dot, coordinates, p):
         coords={
             "time": ("time", t, {"units": "s"}),
             "coordinate": ("coordinate", list(coordinates)),
+            "coordinate_units": ("coordinate", [coordinate_unit(c) for c in coordinates]),
             "axis": ("axis", ["x", "y", "z"]),
             "component": ("component", ["e0", "e1", "e2", "e3"]),
         },

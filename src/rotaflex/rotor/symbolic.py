@@ -16,6 +16,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import os
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -244,24 +245,67 @@ def cache_dir() -> Path:
 _LOADED: dict[str, dict] = {}
 
 
+def _trusted_dir(path: Path) -> bool:
+    """The cache directory exists, is ours and nobody else can write into it.
+
+    Cached source is executed, so a directory others can write to would let them run code as
+    us; such a cache is ignored (the equations are derived again, in memory).
+    """
+    try:
+        st = path.stat()
+    except OSError:
+        return False
+    return stat.S_ISDIR(st.st_mode) and st.st_uid == os.getuid() and not (st.st_mode & 0o022)
+
+
+def _digest(source: str) -> str:
+    return hashlib.sha256(source.encode("utf-8")).hexdigest()
+
+
+def _read_cached(path: Path) -> str | None:
+    """Cached source whose stored SHA-256 matches it, in a trusted directory; else None."""
+    sums = path.with_suffix(".sha256")
+    if not (path.exists() and sums.exists() and _trusted_dir(path.parent)):
+        return None
+    try:
+        source = path.read_text(encoding="utf-8")
+        expected = sums.read_text(encoding="utf-8").strip()
+    except (OSError, UnicodeDecodeError):
+        return None
+    if _digest(source) != expected:
+        log.warning("cached rotor equations %s do not match their checksum; deriving again", path)
+        return None
+    return source
+
+
+def _write_cached(path: Path, source: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
+    if not _trusted_dir(path.parent):
+        log.warning("not caching rotor equations: %s is not owned by this user or writable by others", path.parent)
+        return
+    write_text_atomic(path, source)
+    write_text_atomic(path.with_suffix(".sha256"), _digest(source) + "\n")
+
+
 def compiled(spec: EOMSpec, *, use_cache: bool = True) -> dict:
     """Namespace with ``_all``, ``N_DOF``, ``COORDINATES`` for ``spec`` (derived at most once).
 
     Looks in memory, then on disk, then derives with sympy and writes the source atomically.
+    Cached source is executed only if its directory belongs to the user, is not writable by
+    others, and the source matches the SHA-256 stored beside it.
     """
     key = spec.key()
     if use_cache and key in _LOADED:
         return _LOADED[key]
     path = cache_dir() / f"eom_{key}.py"
-    source = None
-    if use_cache and path.exists():
-        source = path.read_text(encoding="utf-8")
+    source = _read_cached(path) if use_cache else None
+    if source is not None:
         log.debug("rotor EOM %s loaded from cache %s", spec, path)
-    if source is None:
+    else:
         log.info("deriving rotor EOM for %s", spec)
         source = generate_source(spec)
         try:
-            write_text_atomic(path, source)
+            _write_cached(path, source)
         except OSError as exc:  # a read-only home must not stop a simulation
             log.warning("could not cache derived equations at %s: %s", path, exc)
     namespace: dict = {}

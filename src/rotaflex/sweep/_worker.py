@@ -77,6 +77,44 @@ def rotaflex_version() -> str:
     return rotaflex.__version__
 
 
+#: seconds between checks that the client process is still alive
+PARENT_POLL = 1.0
+
+
+def init_worker(client_pid: int) -> None:
+    """Initializer of local pool workers.
+
+    * Ctrl-C goes to the whole process group; the client handles it (one line, exit 130), so
+      workers ignore SIGINT instead of printing their own tracebacks.
+    * A daemon thread polls the client's pid and ends this worker when the client is gone
+      (``kill -9`` of the client would otherwise leave workers computing for the rest of their
+      case, orphaned).
+    * BLAS/OpenMP pools pinned to one thread (one process per core already fills the machine).
+    """
+    import signal
+    import threading
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def watch() -> None:
+        while True:
+            time.sleep(PARENT_POLL)
+            try:
+                os.kill(client_pid, 0)
+            except ProcessLookupError:
+                os._exit(1)
+            except PermissionError:  # pid reused by another user's process: the client is gone
+                os._exit(1)
+
+    threading.Thread(target=watch, name="rotaflex-parent-watch", daemon=True).start()
+    try:
+        from threadpoolctl import threadpool_limits
+
+        threadpool_limits(limits=1)
+    except ImportError:  # pragma: no cover - a dependency, but never fatal in a worker
+        pass
+
+
 def ping() -> int:
     """Health probe of a freshly started worker: its process id."""
     return os.getpid()

@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from rotaflex.core.io import write_json_atomic, write_text_atomic
-from rotaflex.sweep._worker import Outcome, execute_case, ping
+from rotaflex.sweep._worker import Outcome, execute_case, init_worker, ping
 from rotaflex.sweep.spec import Case, as_cases, case_id
 
 log = logging.getLogger("rotaflex.sweep")
@@ -158,7 +158,12 @@ def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
         ctx.set_forkserver_preload(["numpy", "xarray", "rotaflex.sweep._worker"])
     else:  # pragma: no cover - Windows
         ctx = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=max_workers or os.cpu_count() or 1, mp_context=ctx)
+    pool = ProcessPoolExecutor(
+        max_workers=max_workers or os.cpu_count() or 1,
+        mp_context=ctx,
+        initializer=init_worker,
+        initargs=(os.getpid(),),
+    )
     added = {k: "1" for k in THREAD_VARS if k not in os.environ}
     os.environ.update(added)  # inherited by the fork server / spawned workers started now
     try:

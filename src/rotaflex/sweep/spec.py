@@ -14,13 +14,17 @@ import itertools
 import json
 import math
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 from rotaflex.core.errors import InputError
 
 _VARY_FORMS = "KEY=START:STOP:N (N evenly spaced values) or KEY=v1,v2,... (a list)"
+
+#: most cases one sweep may plan; refused before any case is built (a 1e8-point grid would need
+#: several GB for its configs alone). Split bigger studies into several sweeps.
+MAX_CASES = 100_000
 
 
 @dataclass(frozen=True)
@@ -104,6 +108,8 @@ def parse_vary(spec: str) -> tuple[str, list[Any]]:
         n = _scalar(parts[2])
         if isinstance(n, bool) or not isinstance(n, int) or n < 1:
             raise InputError(f"--vary {key}", parts[2], "an integer N >= 1 (number of values)")
+        if n > MAX_CASES:
+            raise InputError(f"--vary {key}", parts[2], f"an integer N from 1 to {MAX_CASES} (cases per sweep)")
         if n == 1:
             if start != stop:
                 raise InputError(f"--vary {key}", rhs, "START == STOP when N = 1")
@@ -115,6 +121,8 @@ def parse_vary(spec: str) -> tuple[str, list[Any]]:
         values = [start + i * step for i in range(n)]
         values[0], values[-1] = float(start), float(stop)
         return key, [float(v) for v in values]
+    if rhs.count(",") >= MAX_CASES:
+        raise InputError(f"--vary {key}", f"<{rhs.count(',') + 1} values>", f"at most {MAX_CASES} values")
     values = [_scalar(v) for v in rhs.split(",")]
     if any(isinstance(v, str) and not v for v in values):
         raise InputError(f"--vary {key}", rhs, "a comma-separated list without empty entries")
@@ -215,7 +223,26 @@ def _assign(data: dict[str, Any], key: str, value: Any, fill: int) -> dict[str, 
     return out
 
 
-def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> list[Case]:
+def _insert(base: Mapping[str, Any], key: str, value: Any) -> dict[str, Any]:
+    """A copy of ``base`` with ``value`` at the dotted ``key`` (array indices stripped),
+    creating missing tables."""
+    out = copy.deepcopy(dict(base))
+    names = [p for p in _split_key(key) if isinstance(p, str)]
+    node = out
+    for name in names[:-1]:
+        child = node.setdefault(name, {})
+        if not isinstance(child, dict):
+            raise InputError(key, child, f"a path through tables, but {name!r} is a value")
+        node = child
+    node[names[-1]] = copy.deepcopy(value)
+    return out
+
+
+def grid_cases(
+    base: Mapping[str, Any],
+    vary: Mapping[str, Sequence[Any]],
+    defaults: Callable[[str], Any] | None = None,
+) -> list[Case]:
     """Cases of the Cartesian product of ``vary`` applied to the config ``base``.
 
     Parameters
@@ -227,6 +254,10 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
         ``i`` of an array (``loads[0].duration``, ``operation.speed_rpm[1]``); a key whose value
         is an array of numbers sets every entry to the value (both gears'
         ``operation.speed_rpm``).
+    defaults : callable, optional
+        ``defaults(key)`` -> the schema default of a key not written in ``base`` (raising
+        InputError for a key the schema does not have); without it, every varied key must be
+        in ``base``.
 
     Raises
     ------
@@ -236,11 +267,22 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     """
     if not vary:
         raise InputError("--vary", "<none>", "at least one KEY=... to sweep")
+    n_cases = math.prod(len(v) for v in vary.values())
+    if n_cases > MAX_CASES:
+        raise InputError(
+            "--vary", f"<{' x '.join(str(len(v)) for v in vary.values())} grid>", f"at most {MAX_CASES} cases"
+        )
     checked: dict[str, list[Any]] = {}
     fills: dict[str, int] = {}
     for key, values in vary.items():
         if _split_key(key) == ["domain"]:
             raise InputError("--vary domain", values, "a key inside the domain's config, not 'domain'")
+        if defaults is not None:
+            base_key = key.split("[", 1)[0]
+            try:
+                _walk(base, key, _split_key(base_key))
+            except InputError:
+                base = _insert(base, base_key, defaults(base_key))
         current, fills[key] = _current(base, key)
         if not values:
             raise InputError(f"--vary {key}", values, "at least one value")

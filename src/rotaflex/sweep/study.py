@@ -40,11 +40,14 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
         when the domain's case module has a ``validate_config(config)`` hook - a case whose
         values the domain rejects.
     """
-    from rotaflex.core.domains import CASES, case_module
+    from rotaflex.core.domains import CASES, case_module, check_domain
 
+    if not isinstance(config, Mapping):
+        raise InputError("config", config, "a TOML table")
     domain = config.get("domain")
     if domain is None:
         raise InputError("domain", "<missing>", "a top-level domain = one of " + ", ".join(CASES))
+    check_domain(domain)
     try:
         module = case_module(domain)
     except ImportError as exc:
@@ -59,7 +62,7 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
                 raise InputError(f"--vary {key}", spec, "each key varied once")
             axes[key] = values
     body = {k: v for k, v in config.items() if k != "domain"}
-    cases = grid_cases(body, axes)
+    cases = grid_cases(body, axes, defaults=_schema_defaults(module))
     validate = getattr(module, "validate_config", None)
     if validate is not None:  # optional domain hook: every case's values checked up front
         for case in cases:
@@ -68,6 +71,25 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
             except InputError as exc:
                 raise InputError(exc.field, exc.value, f"{exc.allowed} (case {case.params})") from None
     return domain, CASES[domain], cases
+
+
+def _schema_defaults(module):
+    """``key -> default`` from the domain's ``SCHEMA`` (and ``ALTERNATIVES`` root tables), so a
+    sweep may vary any schema key; None if the domain has no schema."""
+    schema = getattr(module, "SCHEMA", None)
+    if schema is None:
+        return None
+    from rotaflex.core.schema import default_of
+
+    alternatives = getattr(module, "ALTERNATIVES", {})
+
+    def lookup(key: str):
+        table, _, rest = key.partition(".")
+        if table in alternatives and rest:
+            return default_of(alternatives[table], rest)
+        return default_of(schema, key)
+
+    return lookup
 
 
 def sweep_config(
@@ -83,7 +105,7 @@ def sweep_config(
     >>> res = sweep_config(load_toml("rotor.toml"), ["spin.omega=0:100:11"], "out/sweep")
     """
     domain, module, cases = plan(config, vary)
-    attrs = {"base_config": json.dumps(dict(config), sort_keys=True, default=str)}
+    attrs = {"base_config": json.dumps(dict(config), sort_keys=True, default=str), **kwargs.pop("attrs", {})}
     return run_sweep(
         functools.partial(run_module_case, module),
         cases,

@@ -1,0 +1,204 @@
+"""Read a config schema (the frozen dataclasses of a domain): defaults of any key, a commented
+TOML template, and the Markdown config reference.
+
+Everything here is generated from the dataclass fields and their :func:`~rotaflex.core.config.param`
+metadata (unit, bounds, doc), so the template and the reference cannot drift from the code.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import types
+import typing
+from collections.abc import Iterator
+from typing import Any, Literal, get_args, get_origin, get_type_hints
+
+from rotaflex.core.errors import InputError
+
+_MISSING = dataclasses.MISSING
+
+
+@dataclasses.dataclass
+class Entry:
+    """One key of a schema."""
+
+    key: str  # dotted path
+    type: str  # in words
+    default: Any  # plain data, or _MISSING when required
+    unit: str
+    allowed: str
+    doc: str
+    table: bool  # a nested table (dataclass) rather than a value
+
+
+def _nested(tp: Any) -> type | None:
+    """The dataclass inside ``tp`` (``X`` or ``X | None``), or None."""
+    if dataclasses.is_dataclass(tp):
+        return tp
+    if get_origin(tp) in (typing.Union, types.UnionType):
+        inner = [a for a in get_args(tp) if a is not type(None)]
+        if len(inner) == 1 and dataclasses.is_dataclass(inner[0]):
+            return inner[0]
+    return None
+
+
+def _type_text(tp: Any) -> str:
+    origin, args = get_origin(tp), get_args(tp)
+    if origin in (typing.Union, types.UnionType):
+        inner = [a for a in args if a is not type(None)]
+        return " or ".join(_type_text(a) for a in inner) + (" (optional)" if len(inner) < len(args) else "")
+    if origin is Literal:
+        return "one of " + ", ".join(repr(a) for a in args)
+    if origin is tuple:
+        if len(args) == 2 and args[1] is Ellipsis:
+            return f"array of {_type_text(args[0])}"
+        return f"array of {len(args)} {_type_text(args[0])}"
+    if origin is dict:
+        return f"table of {_type_text(args[1])}"
+    return {float: "number", int: "integer", bool: "boolean", str: "string"}.get(tp, getattr(tp, "__name__", str(tp)))
+
+
+def _bounds(meta) -> str:
+    parts = []
+    for key, op in (("gt", ">"), ("ge", ">="), ("lt", "<"), ("le", "<=")):
+        if meta.get(key) is not None:
+            parts.append(f"{op} {meta[key]:g}")
+    return " and ".join(parts)
+
+
+def _plain(value: Any) -> Any:
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: _plain(getattr(value, f.name)) for f in dataclasses.fields(value) if f.init}
+    if isinstance(value, (tuple, list)):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    return value
+
+
+def _default(f: dataclasses.Field) -> Any:
+    if f.default is not _MISSING:
+        return _plain(f.default)
+    if f.default_factory is not _MISSING:
+        return _plain(f.default_factory())
+    return _MISSING
+
+
+def entries(schema: type, prefix: str = "") -> Iterator[Entry]:
+    """Every key of ``schema``, tables before their keys, in declaration order."""
+    hints = get_type_hints(schema)
+    for f in dataclasses.fields(schema):
+        if not f.init:
+            continue
+        key = f"{prefix}{f.name}"
+        tp = hints[f.name]
+        meta = f.metadata
+        doc = meta.get("doc", "") or ""
+        nested = _nested(tp)
+        if nested is not None:
+            first = (nested.__doc__ or "").strip().splitlines()
+            yield Entry(key, "table", _default(f), "", "", doc or (first[0] if first else ""), True)
+            yield from entries(nested, key + ".")
+            continue
+        allowed = _type_text(tp)
+        b = _bounds(meta)
+        if b:
+            allowed += f", {b}"
+        yield Entry(key, _type_text(tp), _default(f), meta.get("unit") or "", allowed, doc, False)
+
+
+def default_of(schema: type, dotted: str) -> Any:
+    """The default value of the dotted key ``dotted`` in ``schema`` (as plain data).
+
+    Raises
+    ------
+    InputError
+        No such key, or the key is required (has no default).
+    """
+    known = {e.key: e for e in entries(schema)}
+    base = dotted.split("[", 1)[0]
+    if base not in known:
+        close = [k for k in known if k.rsplit(".", 1)[-1] == base.rsplit(".", 1)[-1]]
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        raise InputError(dotted, "<missing>", f"a key of the config schema{hint}")
+    e = known[base]
+    if e.default is _MISSING:
+        raise InputError(dotted, "<missing>", "a value in the base config (this key has no default)")
+    return e.default
+
+
+def _toml(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    return str(value)
+
+
+def template(schema: type, domain: str, *, table: str = "") -> str:
+    """A commented TOML config with every key at its default, its unit and allowed values.
+
+    Keys without a default are written commented out with ``<required>``; optional keys whose
+    default is "not set" are commented out too, so the file loads as it is.
+    """
+    doc = (schema.__doc__ or "").strip().splitlines()
+    lines = [
+        f"# rotaflex {domain} case: every key with its default, unit and allowed values.",
+        f"# {doc[0]}" if doc else "",
+        "# Generated from the schema (rotaflex " + domain + " template); delete what you do not change.",
+        "",
+        f'domain = "{domain}"',
+    ]
+    prefix = f"{table}." if table else ""
+    if table:
+        lines += ["", f"[{table}]"]
+    for e in entries(schema):
+        if e.table:
+            lines += ["", f"[{prefix}{e.key}]"] + ([f"# {e.doc}"] if e.doc else [])
+            continue
+        name = e.key.rsplit(".", 1)[-1]
+        info = " ".join(x for x in (f"[{e.unit}]" if e.unit else "", e.allowed + ".", e.doc) if x)
+        lines.append(f"# {info}")
+        if e.default is _MISSING:
+            lines.append(f"# {name} = <required>")
+        elif e.default is None:
+            lines.append(f"# {name} =   (not set by default)")
+        else:
+            lines.append(f"{name} = {_toml(e.default)}")
+    return "\n".join(lines).replace("\n\n\n", "\n\n") + "\n"
+
+
+def reference_markdown(schemas: dict[str, list[tuple[str, type]]]) -> str:
+    """The config reference: one table of keys per domain (and per alternative root table)."""
+    out = [
+        "# Configuration reference",
+        "",
+        "Generated from the code by `rotaflex docs config-reference` (do not edit by hand; a test checks",
+        "that this file is up to date). `rotaflex <domain> template` prints the same keys as a commented",
+        "TOML file. Values are SI unless the key's name says otherwise (`speed_rpm`, `span_deg`).",
+        "",
+    ]
+    for domain, roots in schemas.items():
+        out += [f"## {domain}", ""]
+        for table, schema in roots:
+            doc = (schema.__doc__ or "").strip().splitlines()
+            title = f"`[{table}]` case" if table else "Top-level tables"
+            out += [f"### {title}: {doc[0] if doc else schema.__name__}", ""]
+            out += ["| key | default | unit | allowed | description |", "|---|---|---|---|---|"]
+            prefix = f"{table}." if table else ""
+            for e in entries(schema):
+                if e.table:
+                    continue
+                default = (
+                    "required" if e.default is _MISSING else ("not set" if e.default is None else _toml(e.default))
+                )
+                cells = [f"`{prefix}{e.key}`", f"`{default}`", e.unit, e.allowed, e.doc]
+                out.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
+            out.append("")
+    return "\n".join(out)
