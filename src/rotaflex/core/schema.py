@@ -51,8 +51,8 @@ def _type_text(tp: Any) -> str:
         return "one of " + ", ".join(repr(a) for a in args)
     if origin is tuple:
         if len(args) == 2 and args[1] is Ellipsis:
-            return f"array of {_type_text(args[0])}"
-        return f"array of {len(args)} {_type_text(args[0])}"
+            return f"array of {_type_text(args[0])}s"
+        return f"array of {len(args)} {_type_text(args[0])}s"
     if origin is dict:
         return f"table of {_type_text(args[1])}"
     return {float: "number", int: "integer", bool: "boolean", str: "string"}.get(tp, getattr(tp, "__name__", str(tp)))

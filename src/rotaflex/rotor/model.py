@@ -29,10 +29,12 @@ class Disk:
     polar moment sits on the body axis of the spin rotation.
     """
 
-    mass: float = param(1.0, unit="kg", gt=0)
-    polar_inertia: float = param(2.0, unit="kg m^2", gt=0)
-    diametral_inertia: float = param(1.0, unit="kg m^2", gt=0)
-    inertia: tuple[float, float, float] | None = param(None, unit="kg m^2", gt=0)
+    mass: float = param(1.0, unit="kg", gt=0, doc="disk mass")
+    polar_inertia: float = param(2.0, unit="kg m^2", gt=0, doc="moment of inertia about the spin axis")
+    diametral_inertia: float = param(1.0, unit="kg m^2", gt=0, doc="moment of inertia about a diameter")
+    inertia: tuple[float, float, float] | None = param(
+        None, unit="kg m^2", gt=0, doc="principal inertias about body x, y, z (overrides polar/diametral)"
+    )
 
 
 @dataclass(frozen=True)
@@ -44,8 +46,8 @@ class Support:
     parameterisation.
     """
 
-    stiffness: float = param(0.0, unit="N/m", ge=0)
-    tilt_stiffness: float = param(0.0, unit="N m/rad", ge=0)
+    stiffness: float = param(0.0, unit="N/m", ge=0, doc="translational support stiffness")
+    tilt_stiffness: float = param(0.0, unit="N m/rad", ge=0, doc="tilt support stiffness")
 
 
 @dataclass(frozen=True)
@@ -73,12 +75,14 @@ class Formulation:
         Tait-Bryan and 2 for proper Euler sequences (the paper's choices for 1-2-3 and 3-1-3).
     """
 
-    parameterisation: Parameterisation = "euler"
-    sequence: str = "123"
-    convention: Literal["right-handed", "paper"] = "right-handed"
-    energy: Literal["body", "inertial_paper"] = "body"
-    expansion: Literal["nonlinear", "second_order", "paper_truncated"] = "nonlinear"
-    spin_angle: int | None = param(None, ge=0, le=2)
+    parameterisation: Parameterisation = param("euler", doc="rotation coordinates")
+    sequence: str = param("123", doc="Euler sequence, e.g. 123 or 313")
+    convention: Literal["right-handed", "paper"] = param("right-handed", doc="'paper': the printed 1-2-3 maps")
+    energy: Literal["body", "inertial_paper"] = param("body", doc="kinetic energy used (see docs/rotor.md)")
+    expansion: Literal["nonlinear", "second_order", "paper_truncated"] = param(
+        "nonlinear", doc="full equations or their second-order expansion"
+    )
+    spin_angle: int | None = param(None, ge=0, le=2, doc="index of the prescribed Euler angle (default by sequence)")
 
     def __post_init__(self):
         if self.sequence not in SEQUENCES:
@@ -106,12 +110,12 @@ class Motion:
     eps_theta, eps_psi) [rad], [rad/s].
     """
 
-    spin_speed: float = param(10.0, unit="rad/s")
-    initial_spin_angle: float = param(0.0, unit="rad")
-    initial_tilt: tuple[float, float] = param((0.0, 0.0), unit="rad")
-    initial_tilt_rate: tuple[float, float] = param((1.0, 1.0), unit="rad/s")
-    initial_displacement: tuple[float, float] = param((0.0, 0.0), unit="m")
-    initial_velocity: tuple[float, float] = param((0.0, 0.0), unit="m/s")
+    spin_speed: float = param(10.0, unit="rad/s", doc="prescribed spin rate")
+    initial_spin_angle: float = param(0.0, unit="rad", doc="spin angle at t = 0")
+    initial_tilt: tuple[float, float] = param((0.0, 0.0), unit="rad", doc="the two free rotation coordinates")
+    initial_tilt_rate: tuple[float, float] = param((1.0, 1.0), unit="rad/s", doc="their rates")
+    initial_displacement: tuple[float, float] = param((0.0, 0.0), unit="m", doc="U, V")
+    initial_velocity: tuple[float, float] = param((0.0, 0.0), unit="m/s", doc="dU/dt, dV/dt")
 
 
 @dataclass(frozen=True)
@@ -166,11 +170,11 @@ class FreeBody:
     torque : constant applied torque [N m] in the frame ``torque_frame``
     """
 
-    inertia: tuple[float, float, float] = param((1.0, 1.0, 2.0), unit="kg m^2", gt=0)
-    initial_angles: tuple[float, float, float] = param((0.1, 0.4, 0.2), unit="rad")
-    initial_body_rate: tuple[float, float, float] = param((0.3, 0.0, 5.0), unit="rad/s")
-    torque: tuple[float, float, float] = param((0.0, 0.0, 0.0), unit="N m")
-    torque_frame: Literal["body", "inertial"] = "body"
+    inertia: tuple[float, float, float] = param((1.0, 1.0, 2.0), unit="kg m^2", gt=0, doc="principal inertias")
+    initial_angles: tuple[float, float, float] = param((0.1, 0.4, 0.2), unit="rad", doc="initial Euler angles")
+    initial_body_rate: tuple[float, float, float] = param((0.3, 0.0, 5.0), unit="rad/s", doc="body-frame rates")
+    torque: tuple[float, float, float] = param((0.0, 0.0, 0.0), unit="N m", doc="constant applied torque")
+    torque_frame: Literal["body", "inertial"] = param("body", doc="frame of the torque components")
     formulation: Formulation = param(Formulation(sequence="123"))
     solver: Solver = param(Solver())
 
