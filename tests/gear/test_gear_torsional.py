@@ -191,3 +191,25 @@ def test_bad_input():
         harmonic_mesh(-1.0)
     with pytest.raises(InputError, match="speeds_rpm"):
         speed_sweep(_one_dof(), 10.0, [3000.0, 2000.0])
+
+
+def test_case_from_toml_point_and_sweep():
+    from pathlib import Path
+
+    from rotaflex.core.config import load_toml
+    from rotaflex.gear.torsional_case import run_torsional
+
+    path = Path(__file__).parents[2] / "examples" / "gear" / "torsional_dynamic_factor.toml"
+    cfg = load_toml(path)
+    cfg.pop("domain")
+    cfg["mesh"] = {"source": "contact_pattern", "pair_stiffness": 1.2e8}  # skip the FE statics
+    cfg["sweep"]["speeds_rpm"] = cfg["sweep"]["speeds_rpm"][:4]
+    sw = run_torsional(cfg)
+    assert sw.dataset["dynamic_factor"].shape == (2, 4) and "iso_kv" in sw.dataset
+    cfg.pop("sweep")
+    point = run_torsional(cfg)
+    assert point.status == "success" and point.dataset["dynamic_factor"].item() > 1.0
+    with pytest.raises(InputError, match="train.motor_slope"):
+        run_torsional({"train": {"motor_slope": -1.0}})
+    with pytest.raises(InputError, match="mesh.source"):
+        run_torsional({"mesh": {"source": "fem"}})
