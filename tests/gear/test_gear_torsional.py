@@ -69,8 +69,9 @@ def test_linear_limit_matches_single_dof_frequency_response(speed):
     assert res.status == "success" and ds["contact_loss_fraction"].item() == 0.0
     amps, kv = _closed_form(sys, speed, torque)
     got = [ds[f"dte_h{h}"].item() for h in (1, 2, 3)]
-    assert got == pytest.approx(amps, rel=0.01)
-    assert ds["dynamic_factor"].item() == pytest.approx(kv, rel=0.01)
+    # measured agreement 2e-5 (harmonics) and 4e-5 (K_v); the requirement is 1 %
+    assert got == pytest.approx(amps, rel=1e-3)
+    assert ds["dynamic_factor"].item() == pytest.approx(kv, rel=1e-3)
 
 
 def test_resonance_peak_at_sqrt_k_over_m():
@@ -82,7 +83,7 @@ def test_resonance_peak_at_sqrt_k_over_m():
     sw = speed_sweep(sys, 300.0, speeds, directions=("up",), tol=1e-6, max_cycles=3000)
     assert sw.dataset["contact_loss_fraction"].values.max() == 0.0
     peak = speeds[int(np.argmax(sw.dataset["dte_h1"].values[0]))]
-    assert peak == pytest.approx(n_res, rel=0.01)
+    assert peak == pytest.approx(n_res, rel=0.0021)  # within one 0.2 % grid step
     assert sw.dataset["resonance_speed"].values[0] == pytest.approx(n_res, rel=1e-9)
 
 
@@ -129,7 +130,8 @@ def test_time_step_convergence_order_is_four():
     ref = run(1600)
     err = [abs(run(n) - ref) for n in (50, 100, 200)]
     order = np.log2(np.array(err[:-1]) / np.array(err[1:]))
-    assert np.all((order > 3.6) & (order < 4.4)), order
+    # measured 3.63 (50 -> 100 steps/cycle) and 3.85 (100 -> 200)
+    assert np.all((order > 3.4) & (order < 4.4)), order
 
 
 def test_contact_loss_jump_at_resonance_and_no_jump_when_load_dominates():

@@ -12,9 +12,9 @@ Four rigid inertias in a chain, angles positive in each body's sense of rotation
   periodic tables over one mesh cycle (:class:`MeshTable`), from an analytic single/double
   contact model, harmonics, or the static FE analysis (:func:`mesh_table_from_static`).
 * Mesh damping ``c_m = 2 zeta sqrt(k_mean m_red)``, ``m_red = J1 J2 / (J1 r_b2^2 + J2 r_b1^2)``
-  (the gears' own inertias), acting only while a flank pair is in contact. Default zeta = 0.07,
-  inside the 0.03-0.17 range measured by Kasuba & Evans / used in DANST studies, and a value
-  commonly used in lumped spur-gear models; see docs/gear-steady-state.md.
+  (the gears' own inertias), acting only while a flank pair is in contact. Default zeta = 0.07:
+  an engineering default in the range of mesh damping ratios commonly assumed in lumped
+  spur-gear models, not a measured value; see docs/gear-steady-state.md.
 * Drive: ``constant_speed`` (the motor turns at exactly the set speed, an infinitely stiff
   speed control) or ``motor``: motor inertia with torque ``T_in + s (Omega - omega_m)``
   (a linear torque-speed characteristic of slope s that fixes the mean speed).
