@@ -201,7 +201,7 @@ def test_case_from_toml_point_and_sweep():
     from rotaflex.core.config import load_toml
     from rotaflex.gear.torsional_case import run_torsional
 
-    path = Path(__file__).parents[2] / "examples" / "gear" / "torsional_dynamic_factor.toml"
+    path = Path(__file__).parents[2] / "examples" / "gear" / "steady" / "torsional_dynamic_factor.toml"
     cfg = load_toml(path)
     cfg.pop("domain")
     cfg["mesh"] = {"source": "contact_pattern", "pair_stiffness": 1.2e8}  # skip the FE statics
