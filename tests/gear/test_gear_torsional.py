@@ -181,7 +181,12 @@ def test_iso_overlay_and_figures():
     line = figs["speed_sweep"].axes[0].lines[0]
     assert np.allclose(line.get_ydata(), sw.dataset["dynamic_factor"].values[0])
     r, _ = steady_state(sys, OperatingPoint(speed_rpm=4000.0))
-    assert set(r.plot()) == {"time_series", "one_cycle", "spectrum"}
+    point_figs = r.plot()
+    assert set(point_figs) == {"time_series", "one_cycle", "spectrum"}
+    import matplotlib.pyplot as plt
+
+    for f in (*figs.values(), *point_figs.values()):
+        plt.close(f)
 
 
 def test_bad_input():
