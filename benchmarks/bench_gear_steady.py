@@ -26,8 +26,7 @@ from rotaflex.gear.torsional import (
 )
 from rotaflex.gear.torsional_sweep import iso_input, speed_sweep
 
-G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                 root_radius=0.04048)
+G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
 TORQUE = 22.25
 
 
@@ -35,16 +34,20 @@ def main(out_dir=None):
     t = time.perf_counter()
     ms = mesh_stiffness(G, G, 210e9, 0.3, torque=TORQUE)
     mesh = mesh_table_from_static(ms, G.teeth)
-    print(f"static FE mesh stiffness table: {time.perf_counter() - t:.2f} s; one-cycle mean "
-          f"{mesh.mean_stiffness:.4g} N/m, min {mesh.stiffness.min():.4g}, max "
-          f"{mesh.stiffness.max():.4g}")
+    print(
+        f"static FE mesh stiffness table: {time.perf_counter() - t:.2f} s; one-cycle mean "
+        f"{mesh.mean_stiffness:.4g} N/m, min {mesh.stiffness.min():.4g}, max "
+        f"{mesh.stiffness.max():.4g}"
+    )
     rb = G.base_radius
     # both gears free (motor with a stiff torque-speed characteristic, rigid shafts): the mesh
     # mode is the free pair's sqrt(k_mean / m_red), the same resonance ISO 6336-1 uses
     system = TorsionalSystem(mesh=mesh, base_radius=(rb, rb), drive="motor", motor_slope=0.5)
     nf = natural_frequencies(system)
-    print(f"mesh natural frequency {nf['frequency'][0]:.1f} Hz -> 1x resonance "
-          f"{60 * nf['frequency'][0] / 28:.0f} rpm, 2x {30 * nf['frequency'][0] / 28:.0f} rpm")
+    print(
+        f"mesh natural frequency {nf['frequency'][0]:.1f} Hz -> 1x resonance "
+        f"{60 * nf['frequency'][0] / 28:.0f} rpm, 2x {30 * nf['frequency'][0] / 28:.0f} rpm"
+    )
     op = OperatingPoint(speed_rpm=10000.0, torque=TORQUE)
     steady_state(system, op, fixed_cycles=50)  # compile / load the cached kernel
     best = np.inf
@@ -52,31 +55,38 @@ def main(out_dir=None):
         t = time.perf_counter()
         res, _ = steady_state(system, op, fixed_cycles=50)
         best = min(best, time.perf_counter() - t)
-    print(f"one steady-state point, 50 mesh cycles, {res.dataset.attrs['samples_per_cycle']} "
-          f"steps/cycle: {best * 1e3:.1f} ms (best of 5); K_v {res.dataset['dynamic_factor'].item():.3f}")
+    print(
+        f"one steady-state point, 50 mesh cycles, {res.dataset.attrs['samples_per_cycle']} "
+        f"steps/cycle: {best * 1e3:.1f} ms (best of 5); K_v {res.dataset['dynamic_factor'].item():.3f}"
+    )
     t = time.perf_counter()
     res, _ = steady_state(system, op)
     print(f"run-until-periodic point: {(time.perf_counter() - t) * 1e3:.1f} ms, {res.message}")
 
     eps = contact_ratio(G, G)
     iso_c = iso6336_stiffness(G, G, TORQUE / rb / G.face_width / 1e3)
-    iso = iso_input(system, TORQUE, G.face_width, eps, c_single=iso_c["c_single"] * 1e9,
-                    f_pb_eff=5e-6, f_f_eff=4e-6)
+    iso = iso_input(system, TORQUE, G.face_width, eps, c_single=iso_c["c_single"] * 1e9, f_pb_eff=5e-6, f_f_eff=4e-6)
     speeds = np.linspace(2000.0, 22000.0, 40)
     t = time.perf_counter()
     sw = speed_sweep(system, TORQUE, speeds, iso=iso)
     wall = time.perf_counter() - t
     ds = sw.dataset
-    print(f"40-speed up-and-down sweep (80 steady states): {wall:.2f} s; {sw.message}; "
-          f"largest up/down K_v difference {sw.hysteresis():.3f}")
-    print(f"ISO 6336-1 method B: n_E1 = {iso.resonance_speed_rpm:.0f} rpm (c_gamma_alpha = "
-          f"{iso.c_gamma_alpha / 1e9:.2f} N/(mm um) from the model's mean stiffness), "
-          f"N_S = {iso.n_s:.3f}")
+    print(
+        f"40-speed up-and-down sweep (80 steady states): {wall:.2f} s; {sw.message}; "
+        f"largest up/down K_v difference {sw.hysteresis():.3f}"
+    )
+    print(
+        f"ISO 6336-1 method B: n_E1 = {iso.resonance_speed_rpm:.0f} rpm (c_gamma_alpha = "
+        f"{iso.c_gamma_alpha / 1e9:.2f} N/(mm um) from the model's mean stiffness), "
+        f"N_S = {iso.n_s:.3f}"
+    )
     print(" speed  Kv_up Kv_down  DTEpp_up[um] loss_up loss_down  ISO_Kv")
     for j, s in enumerate(speeds):
-        print(f"{s:6.0f} {ds.dynamic_factor.values[0, j]:6.3f} {ds.dynamic_factor.values[1, j]:6.3f}"
-              f" {ds.dte_pp.values[0, j] * 1e6:8.3f} {ds.contact_loss_fraction.values[0, j]:8.3f}"
-              f" {ds.contact_loss_fraction.values[1, j]:8.3f} {ds.iso_kv.values[j]:7.3f}")
+        print(
+            f"{s:6.0f} {ds.dynamic_factor.values[0, j]:6.3f} {ds.dynamic_factor.values[1, j]:6.3f}"
+            f" {ds.dte_pp.values[0, j] * 1e6:8.3f} {ds.contact_loss_fraction.values[0, j]:8.3f}"
+            f" {ds.contact_loss_fraction.values[1, j]:8.3f} {ds.iso_kv.values[j]:7.3f}"
+        )
     if out_dir:
         paths = sw.save(out_dir)
         paths += res.save(f"{out_dir}/point_10000rpm")

@@ -30,8 +30,7 @@ def test_subharmonic_signal_has_period_two():
 
 
 def test_quasi_periodic_signal_is_not_periodic():
-    _, x = _signal(lambda t: np.sin(2 * np.pi * t) + 0.3 * np.sin(2 * np.pi * math.sqrt(2) * t),
-                   n_cycles=40)
+    _, x = _signal(lambda t: np.sin(2 * np.pi * t) + 0.3 * np.sin(2 * np.pi * math.sqrt(2) * t), n_cycles=40)
     per = detect_period(x, SPC, 1e-4, max_period=4)
     assert per.period == 0
     assert per.change > 0.05  # the measured change is reported

@@ -18,16 +18,15 @@ from rotaflex.gear.torsional import (
 )
 from rotaflex.gear.torsional_sweep import iso_input, speed_sweep
 
-RB = 0.04177          # base radius of the paper's 28-tooth gears [m]
-J = 2.965e-4          # disk inertia [kg m^2]
-K = 1.9e8             # mean mesh stiffness [N/m]
+RB = 0.04177  # base radius of the paper's 28-tooth gears [m]
+J = 2.965e-4  # disk inertia [kg m^2]
+K = 1.9e8  # mean mesh stiffness [N/m]
 E = (1.0e-6, 0.4e-6, 0.2e-6)  # unloaded TE harmonics 1x, 2x, 3x [m]
 
 
 def _one_dof(**kw):
     """Pinion turned at constant speed (rigid input shaft), wheel + load one inertia."""
-    return TorsionalSystem(mesh=harmonic_mesh(K, (), E), base_radius=(RB, RB),
-                           inertia=(J, J), **kw)
+    return TorsionalSystem(mesh=harmonic_mesh(K, (), E), base_radius=(RB, RB), inertia=(J, J), **kw)
 
 
 def _closed_form(sys, speed_rpm, torque):
@@ -50,10 +49,17 @@ def _closed_form(sys, speed_rpm, torque):
 def test_natural_frequency_closed_forms():
     s1 = _one_dof()
     assert natural_frequencies(s1)["frequency"][0] == pytest.approx(
-        math.sqrt(K / (J / RB**2)) / (2 * math.pi), rel=1e-12)
+        math.sqrt(K / (J / RB**2)) / (2 * math.pi), rel=1e-12
+    )
     # free pair (motor drive, no shafts): sqrt(k / m_red), m_red = J1 J2 / (J1 rb2^2 + J2 rb1^2)
-    s2 = TorsionalSystem(mesh=harmonic_mesh(K), base_radius=(RB, 2 * RB), teeth=(28, 56),
-                         inertia=(J, 3 * J), drive="motor", motor_slope=1.0)
+    s2 = TorsionalSystem(
+        mesh=harmonic_mesh(K),
+        base_radius=(RB, 2 * RB),
+        teeth=(28, 56),
+        inertia=(J, 3 * J),
+        drive="motor",
+        motor_slope=1.0,
+    )
     m_red = 3 * J * J / (J * 4 * RB**2 + 3 * J * RB**2)
     nf = natural_frequencies(s2)
     assert len(nf["frequency"]) == 1  # rigid-body mode dropped
@@ -63,8 +69,9 @@ def test_natural_frequency_closed_forms():
 @pytest.mark.parametrize("speed", [3000.0, 6000.0, 9000.0, 11000.0, 11400.0, 12500.0, 16000.0])
 def test_linear_limit_matches_single_dof_frequency_response(speed):
     sys, torque = _one_dof(), 300.0  # static deflection 38 um >> TE: no contact loss
-    res, _ = steady_state(sys, OperatingPoint(speed_rpm=speed, torque=torque), tol=1e-7,
-                          max_cycles=2000, steps_per_cycle=200)
+    res, _ = steady_state(
+        sys, OperatingPoint(speed_rpm=speed, torque=torque), tol=1e-7, max_cycles=2000, steps_per_cycle=200
+    )
     ds = res.dataset
     assert res.status == "success" and ds["contact_loss_fraction"].item() == 0.0
     amps, kv = _closed_form(sys, speed, torque)
@@ -76,8 +83,9 @@ def test_linear_limit_matches_single_dof_frequency_response(speed):
 
 def test_resonance_peak_at_sqrt_k_over_m():
     # zeta = 0.01: Q = 50, a 0.1 um TE gives 5 um << the 38 um static deflection (linear)
-    sys = TorsionalSystem(mesh=harmonic_mesh(K, (), (0.1e-6,)), base_radius=(RB, RB),
-                          inertia=(J, J), mesh_damping_ratio=0.01)
+    sys = TorsionalSystem(
+        mesh=harmonic_mesh(K, (), (0.1e-6,)), base_radius=(RB, RB), inertia=(J, J), mesh_damping_ratio=0.01
+    )
     n_res = 60 * math.sqrt(K * RB**2 / J) / (2 * math.pi) / 28
     speeds = n_res * np.linspace(0.97, 1.03, 31)
     sw = speed_sweep(sys, 300.0, speeds, directions=("up",), tol=1e-6, max_cycles=3000)
@@ -88,10 +96,18 @@ def test_resonance_peak_at_sqrt_k_over_m():
 
 
 def _elastic(drive="constant_speed", torque=40.0):
-    return TorsionalSystem(mesh=harmonic_mesh(K, (0.15 * K, 0.05 * K), E), base_radius=(RB, RB),
-                           motor_inertia=1e-3, load_inertia=2e-3, input_shaft_stiffness=4e4,
-                           input_shaft_damping=1.5, output_shaft_stiffness=6e4,
-                           output_shaft_damping=2.0, drive=drive, motor_slope=0.5)
+    return TorsionalSystem(
+        mesh=harmonic_mesh(K, (0.15 * K, 0.05 * K), E),
+        base_radius=(RB, RB),
+        motor_inertia=1e-3,
+        load_inertia=2e-3,
+        input_shaft_stiffness=4e4,
+        input_shaft_damping=1.5,
+        output_shaft_stiffness=6e4,
+        output_shaft_damping=2.0,
+        drive=drive,
+        motor_slope=0.5,
+    )
 
 
 @pytest.mark.parametrize("drive", ["constant_speed", "motor"])
@@ -122,6 +138,7 @@ def test_energy_balance_with_contact_loss():
 
 def test_time_step_convergence_order_is_four():
     sys, op = _elastic(), OperatingPoint(speed_rpm=8000.0, torque=40.0)
+
     def run(n):  # exactly n steps per mesh cycle (no automatic refinement)
         h = simulate(sys, op, 10, steps_per_cycle=n, points_per_period=1)
         assert h["spc"] == n
@@ -157,15 +174,13 @@ def test_pure_stiffness_excitation_is_load_invariant():
     sys = TorsionalSystem(mesh=contact_pattern_mesh(1.2e8, 1.64), base_radius=(RB, RB))
     out = []
     for torque in (5.0, 50.0):
-        r, _ = steady_state(sys, OperatingPoint(speed_rpm=9000.0, torque=torque), tol=1e-7,
-                            max_cycles=2000)
+        r, _ = steady_state(sys, OperatingPoint(speed_rpm=9000.0, torque=torque), tol=1e-7, max_cycles=2000)
         out.append([r.dataset[k].item() for k in ("dynamic_factor", "contact_loss_fraction")])
     assert out[0] == pytest.approx(out[1], rel=1e-6, abs=1e-9)
 
 
 def test_not_periodic_is_reported_with_the_change():
-    sys = TorsionalSystem(mesh=harmonic_mesh(K, (), (1e-6,)), base_radius=(RB, RB),
-                          mesh_damping_ratio=0.0)
+    sys = TorsionalSystem(mesh=harmonic_mesh(K, (), (1e-6,)), base_radius=(RB, RB), mesh_damping_ratio=0.0)
     r, _ = steady_state(sys, OperatingPoint(speed_rpm=9000.0, torque=300.0), fixed_cycles=30)
     assert r.status == "not_periodic"
     assert r.dataset["change"].item() > 1e-4

@@ -11,8 +11,16 @@ from rotaflex.gear.iso6336_kv import IsoKvInput, cv_coefficients, iso_kv, reduce
 
 # c' = 14, c_gamma_alpha = 20 N/(mm um); m_red = 0.01 kg/mm; K_A F_t/b = 200 N/mm;
 # f_pb,eff = 10 um, f_f,eff = 8 um, no relief; z1 = 28, eps = 1.6
-INP = IsoKvInput(z1=28, c_single=14e9, c_gamma_alpha=20e9, m_red=10.0, load_per_width=2e5,
-                 eps_gamma=1.6, f_pb_eff=10e-6, f_f_eff=8e-6)
+INP = IsoKvInput(
+    z1=28,
+    c_single=14e9,
+    c_gamma_alpha=20e9,
+    m_red=10.0,
+    load_per_width=2e5,
+    eps_gamma=1.6,
+    f_pb_eff=10e-6,
+    f_f_eff=8e-6,
+)
 
 
 def test_resonance_speed_in_the_standards_units():
@@ -59,8 +67,7 @@ def test_reduced_mass_of_equal_gears():
     j, rb, b = 2.965e-4, 0.0418, 6.35e-3
     assert reduced_mass_per_width((j, j), (rb, rb), b) == pytest.approx(j / (2 * rb**2) / b)
     # a much heavier wheel: m_red -> the pinion's J1 / r_b1^2
-    assert reduced_mass_per_width((j, 1e6 * j), (rb, 2 * rb), b) == pytest.approx(
-        j / rb**2 / b, rel=1e-5)
+    assert reduced_mass_per_width((j, 1e6 * j), (rb, 2 * rb), b) == pytest.approx(j / rb**2 / b, rel=1e-5)
 
 
 def test_bad_input():

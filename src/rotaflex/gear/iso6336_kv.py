@@ -37,8 +37,7 @@ import numpy as np
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
 
-__all__ = ["IsoKvInput", "cv_coefficients", "iso_kv", "reduced_mass_per_width",
-           "resonance_speed_rpm"]
+__all__ = ["IsoKvInput", "cv_coefficients", "iso_kv", "reduced_mass_per_width", "resonance_speed_rpm"]
 
 
 def cv_coefficients(eps_gamma: float) -> dict[str, float]:
@@ -60,8 +59,14 @@ def cv_coefficients(eps_gamma: float) -> dict[str, float]:
     if e <= 2.0:
         cv = {"Cv1": 0.32, "Cv2": 0.34, "Cv3": 0.23, "Cv4": 0.90, "Cv5": 0.47, "Cv6": 0.47}
     else:
-        cv = {"Cv1": 0.32, "Cv2": 0.57 / (e - 0.3), "Cv3": 0.096 / (e - 1.56),
-              "Cv4": (0.57 - 0.05 * e) / (e - 1.44), "Cv5": 0.47, "Cv6": 0.12 / (e - 1.74)}
+        cv = {
+            "Cv1": 0.32,
+            "Cv2": 0.57 / (e - 0.3),
+            "Cv3": 0.096 / (e - 1.56),
+            "Cv4": (0.57 - 0.05 * e) / (e - 1.44),
+            "Cv5": 0.47,
+            "Cv6": 0.12 / (e - 1.74),
+        }
     if e <= 1.5:
         cv["Cv7"] = 0.75
     elif e <= 2.5:
@@ -102,8 +107,7 @@ class IsoKvInput:
 
     z1: int = param(28, gt=0, doc="pinion teeth")
     c_single: float = param(14e9, unit="N/m^2", gt=0.0, doc="single stiffness c' per width")
-    c_gamma_alpha: float = param(20e9, unit="N/m^2", gt=0.0,
-                                 doc="mesh stiffness c_gamma_alpha per width")
+    c_gamma_alpha: float = param(20e9, unit="N/m^2", gt=0.0, doc="mesh stiffness c_gamma_alpha per width")
     m_red: float = param(10.0, unit="kg/m", gt=0.0, doc="reduced mass per face width")
     load_per_width: float = param(1e5, unit="N/m", gt=0.0, doc="K_A F_t / b")
     eps_gamma: float = param(1.6, gt=1.0, doc="total contact ratio")
@@ -125,8 +129,11 @@ class IsoKvInput:
     def b_factors(self) -> tuple[float, float, float]:
         """(B_p, B_f, B_k) [-]."""
         w = self.load_per_width
-        return (self.c_single * self.f_pb_eff / w, self.c_single * self.f_f_eff / w,
-                abs(1.0 - self.c_single * self.tip_relief / w))
+        return (
+            self.c_single * self.f_pb_eff / w,
+            self.c_single * self.f_f_eff / w,
+            abs(1.0 - self.c_single * self.tip_relief / w),
+        )
 
 
 def iso_kv(inp: IsoKvInput, speed_rpm) -> np.ndarray:
@@ -159,6 +166,8 @@ def iso_kv(inp: IsoKvInput, speed_rpm) -> np.ndarray:
     kv_main = cv["Cv1"] * bp + cv["Cv2"] * bf + cv["Cv4"] * bk + 1.0
     kv_super = cv["Cv5"] * bp + cv["Cv6"] * bf + cv["Cv7"]
     kv_mid = kv_super + (kv_main - kv_super) / 0.35 * (1.5 - ratio)
-    return np.select([ratio <= inp.n_s, ratio <= 1.15, ratio < 1.5],
-                     [ratio * k_sub + 1.0, np.full_like(ratio, kv_main), kv_mid],
-                     default=kv_super)
+    return np.select(
+        [ratio <= inp.n_s, ratio <= 1.15, ratio < 1.5],
+        [ratio * k_sub + 1.0, np.full_like(ratio, kv_main), kv_mid],
+        default=kv_super,
+    )

@@ -27,8 +27,7 @@ import numpy as np
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result, register_result
 
-__all__ = ["Periodicity", "SteadyStateResult", "cycle_change", "detect_period",
-           "harmonic_amplitudes", "steady_metrics"]
+__all__ = ["Periodicity", "SteadyStateResult", "cycle_change", "detect_period", "harmonic_amplitudes", "steady_metrics"]
 
 
 def _cycles(x: np.ndarray, spc: int) -> int:
@@ -63,7 +62,7 @@ def cycle_change(x, spc: int, period: int = 1, scale: float | None = None) -> fl
         return math.inf
     x = x[: n * spc]
     w = period * spc
-    last, before = x[-w:], x[-2 * w: -w]
+    last, before = x[-w:], x[-2 * w : -w]
     if scale is None:
         scale = float(np.ptp(last)) or 1.0
     return float(np.max(np.abs(last - before)) / scale)
@@ -88,8 +87,7 @@ class Periodicity:
     changes: tuple
 
 
-def detect_period(x, spc: int, tol: float, *, max_period: int = 4,
-                  scale: float | None = None) -> Periodicity:
+def detect_period(x, spc: int, tol: float, *, max_period: int = 4, scale: float | None = None) -> Periodicity:
     """Smallest period (1 ... ``max_period`` mesh cycles) with change below ``tol``.
 
     See :func:`cycle_change`. A quasi-periodic signal (two incommensurate frequencies) never
@@ -116,7 +114,7 @@ def harmonic_amplitudes(x, spc: int, n_cycles: int, orders=(1, 2, 3)) -> np.ndar
     n = _cycles(x, spc)
     if n_cycles < 1 or n_cycles > n:
         raise InputError("n_cycles", n_cycles, f"1 ... {n} (cycles available)")
-    seg = x[n * spc - n_cycles * spc: n * spc]
+    seg = x[n * spc - n_cycles * spc : n * spc]
     spec = np.fft.rfft(seg)
     nn = len(seg)
     out = []
@@ -155,10 +153,15 @@ def steady_metrics(dte, force, static_force: float, spc: int, n_cycles: int) -> 
         raise InputError("n_cycles", n_cycles, f"<= {n} (cycles available)")
     sl = slice(n * spc - n_cycles * spc, n * spc)
     d, f = dte[sl], force[sl]
-    out = {"dte_pp": float(np.ptp(d)), "dte_rms": float(np.std(d)), "dte_mean": float(d.mean()),
-           "force_max": float(f.max()), "force_min": float(f.min()),
-           "dynamic_factor": float(f.max() / static_force),
-           "contact_loss_fraction": float(np.mean(f <= 0.0))}
+    out = {
+        "dte_pp": float(np.ptp(d)),
+        "dte_rms": float(np.std(d)),
+        "dte_mean": float(d.mean()),
+        "force_max": float(f.max()),
+        "force_min": float(f.min()),
+        "dynamic_factor": float(f.max() / static_force),
+        "contact_loss_fraction": float(np.mean(f <= 0.0)),
+    }
     for k, a in zip((1, 2, 3), harmonic_amplitudes(d, spc, n_cycles), strict=True):
         out[f"dte_h{k}"] = float(a)
     for k, a in zip((1, 2, 3), harmonic_amplitudes(f, spc, n_cycles), strict=True):
@@ -166,10 +169,21 @@ def steady_metrics(dte, force, static_force: float, spc: int, n_cycles: int) -> 
     return out
 
 
-METRIC_UNITS = {"dte_pp": "m", "dte_rms": "m", "dte_mean": "m", "dte_h1": "m", "dte_h2": "m",
-                "dte_h3": "m", "force_max": "N", "force_min": "N", "force_h1": "N",
-                "force_h2": "N", "force_h3": "N", "dynamic_factor": "1",
-                "contact_loss_fraction": "1"}
+METRIC_UNITS = {
+    "dte_pp": "m",
+    "dte_rms": "m",
+    "dte_mean": "m",
+    "dte_h1": "m",
+    "dte_h2": "m",
+    "dte_h3": "m",
+    "force_max": "N",
+    "force_min": "N",
+    "force_h1": "N",
+    "force_h2": "N",
+    "force_h3": "N",
+    "dynamic_factor": "1",
+    "contact_loss_fraction": "1",
+}
 
 
 @register_result
@@ -206,8 +220,7 @@ class SteadyStateResult(Result):
             s = slice(c * spc, (c + 1) * spc + 1)
             ph = np.arange(len(ds["mesh_force"].values[s])) / spc
             ax.plot(ph, ds["mesh_force"].values[s], label=f"cycle {c + 1}")
-        ax.set(xlabel="mesh phase [cycles]", ylabel="mesh force [N]",
-               title="last mesh cycles (overlaid)")
+        ax.set(xlabel="mesh phase [cycles]", ylabel="mesh force [N]", title="last mesh cycles (overlaid)")
         ax.legend()
         figs["one_cycle"] = fig
         fig, ax = new_figure()
@@ -216,7 +229,10 @@ class SteadyStateResult(Result):
         order = np.arange(len(amp)) / n_cyc
         sel = order <= 6
         ax.plot(order[sel], amp[sel] * 1e6, marker=".")
-        ax.set(xlabel=f"frequency / mesh frequency ({fm:.0f} Hz)", ylabel="DTE amplitude [um]",
-               title="spectrum over whole mesh cycles, rectangular window")
+        ax.set(
+            xlabel=f"frequency / mesh frequency ({fm:.0f} Hz)",
+            ylabel="DTE amplitude [um]",
+            title="spectrum over whole mesh cycles, rectangular window",
+        )
         figs["spectrum"] = fig
         return figs

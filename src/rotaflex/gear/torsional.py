@@ -40,9 +40,19 @@ from rotaflex.core.errors import InputError
 from rotaflex.gear.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
 from rotaflex.gear.torsional_kernel import run_rk4
 
-__all__ = ["MeshTable", "OperatingPoint", "TorsionalSystem", "contact_pattern_mesh",
-           "energy_balance", "harmonic_mesh", "mesh_table_from_static", "natural_frequencies",
-           "resonance_speeds_rpm", "simulate", "steady_state"]
+__all__ = [
+    "MeshTable",
+    "OperatingPoint",
+    "TorsionalSystem",
+    "contact_pattern_mesh",
+    "energy_balance",
+    "harmonic_mesh",
+    "mesh_table_from_static",
+    "natural_frequencies",
+    "resonance_speeds_rpm",
+    "simulate",
+    "steady_state",
+]
 
 DEFAULT_DAMPING_RATIO = 0.07
 
@@ -133,8 +143,7 @@ def harmonic_mesh(k_mean: float, k_harmonics=(), te_harmonics=(), n: int = 256) 
     return MeshTable(k, e, "cubic")
 
 
-def contact_pattern_mesh(k_pair: float, contact_ratio: float, n: int = 400,
-                         unloaded_te: float = 0.0) -> MeshTable:
+def contact_pattern_mesh(k_pair: float, contact_ratio: float, n: int = 400, unloaded_te: float = 0.0) -> MeshTable:
     """Analytic single/double contact mesh: each pair has stiffness ``k_pair`` over its contact.
 
     The cycle starts when a pair enters: two pairs for ``0 <= phi < eps - 1``, one after.
@@ -179,12 +188,10 @@ class TorsionalSystem:
     input_shaft_damping: float = param(0.0, unit="N m s/rad", ge=0.0)
     output_shaft_stiffness: float = param(math.inf, unit="N m/rad", gt=0.0)
     output_shaft_damping: float = param(0.0, unit="N m s/rad", ge=0.0)
-    mesh_damping_ratio: float = param(DEFAULT_DAMPING_RATIO, ge=0.0,
-                                      doc="zeta of c_m = 2 zeta sqrt(k_mean m_red)")
+    mesh_damping_ratio: float = param(DEFAULT_DAMPING_RATIO, ge=0.0, doc="zeta of c_m = 2 zeta sqrt(k_mean m_red)")
     backlash: float = param(-1.0, unit="m", doc="back-side contact after this gap; < 0: none")
     drive: Literal["constant_speed", "motor"] = param("constant_speed")
-    motor_slope: float = param(0.0, unit="N m s/rad", ge=0.0,
-                               doc="torque-speed slope of the motor (drive = 'motor')")
+    motor_slope: float = param(0.0, unit="N m s/rad", ge=0.0, doc="torque-speed slope of the motor (drive = 'motor')")
 
     def __post_init__(self):
         z1, z2 = self.teeth
@@ -195,10 +202,8 @@ class TorsionalSystem:
             raise InputError("motor_slope", self.motor_slope, "> 0 with drive = 'motor'")
         if math.isfinite(self.output_shaft_stiffness) and self.load_inertia <= 0.0:
             raise InputError("load_inertia", self.load_inertia, "> 0 with an elastic output shaft")
-        if (self.drive == "motor" and math.isfinite(self.input_shaft_stiffness)
-                and self.motor_inertia <= 0.0):
-            raise InputError("motor_inertia", self.motor_inertia,
-                             "> 0 with drive = 'motor' and an elastic input shaft")
+        if self.drive == "motor" and math.isfinite(self.input_shaft_stiffness) and self.motor_inertia <= 0.0:
+            raise InputError("motor_inertia", self.motor_inertia, "> 0 with drive = 'motor' and an elastic input shaft")
 
     @property
     def reduced_mass(self) -> float:
@@ -209,8 +214,7 @@ class TorsionalSystem:
     @property
     def mesh_damping(self) -> float:
         """c_m [N s/m]."""
-        return 2.0 * self.mesh_damping_ratio * math.sqrt(self.mesh.mean_stiffness
-                                                         * self.reduced_mass)
+        return 2.0 * self.mesh_damping_ratio * math.sqrt(self.mesh.mean_stiffness * self.reduced_mass)
 
 
 @dataclass(frozen=True)
@@ -252,12 +256,14 @@ def _chain(sys: TorsionalSystem, op: OperatingPoint) -> _Chain:
     motor = sys.drive == "motor"
     nodes = []  # (name, J, torque, slope, nominal, prescribed)
     if math.isfinite(sys.input_shaft_stiffness):
-        nodes.append(["motor", sys.motor_inertia, t_in if motor else 0.0,
-                      sys.motor_slope if motor else 0.0, w1, not motor])
+        nodes.append(
+            ["motor", sys.motor_inertia, t_in if motor else 0.0, sys.motor_slope if motor else 0.0, w1, not motor]
+        )
         nodes.append(["pinion", j1, 0.0, 0.0, w1, False])
     else:
-        nodes.append(["pinion", j1 + sys.motor_inertia, t_in if motor else 0.0,
-                      sys.motor_slope if motor else 0.0, w1, not motor])
+        nodes.append(
+            ["pinion", j1 + sys.motor_inertia, t_in if motor else 0.0, sys.motor_slope if motor else 0.0, w1, not motor]
+        )
     ip = len(nodes) - 1
     if math.isfinite(sys.output_shaft_stiffness):
         nodes.append(["wheel", j2, 0.0, 0.0, w2, False])
@@ -275,10 +281,19 @@ def _chain(sys: TorsionalSystem, op: OperatingPoint) -> _Chain:
     inertia = np.array([v[1] for v in nodes], dtype=float)
     presc = np.array([v[5] for v in nodes], dtype=np.bool_)
     jinv = np.where(presc | (inertia <= 0), 0.0, 1.0 / np.where(inertia > 0, inertia, 1.0))
-    return _Chain(jinv, inertia, ks, cs, np.array([v[2] for v in nodes], dtype=float),
-                  np.array([v[3] for v in nodes], dtype=float),
-                  np.array([v[4] for v in nodes], dtype=float), presc, ip, iw,
-                  [v[0] for v in nodes])
+    return _Chain(
+        jinv,
+        inertia,
+        ks,
+        cs,
+        np.array([v[2] for v in nodes], dtype=float),
+        np.array([v[3] for v in nodes], dtype=float),
+        np.array([v[4] for v in nodes], dtype=float),
+        presc,
+        ip,
+        iw,
+        [v[0] for v in nodes],
+    )
 
 
 # ------------------------------------------------------------------------- linear analysis
@@ -288,7 +303,7 @@ def _linear_matrices(sys: TorsionalSystem, op: OperatingPoint):
     K = np.zeros((n, n))
     for i in range(n - 1):
         k = ch.ks[i]
-        K[i:i + 2, i:i + 2] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
+        K[i : i + 2, i : i + 2] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
     r1, r2 = sys.base_radius
     g = np.zeros(n)
     g[ch.ip], g[ch.iw] = r1, -r2
@@ -316,10 +331,8 @@ def natural_frequencies(sys: TorsionalSystem, op: OperatingPoint | None = None) 
     w2, vec = eigh(K + K_mesh, np.diag(m))
     keep = w2 > 1e-9 * np.max(np.abs(w2))
     w2, vec = w2[keep], vec[:, keep]
-    energy = np.einsum("im,ij,jm->m", vec, K_mesh, vec) / np.einsum("im,ij,jm->m", vec,
-                                                                   K + K_mesh, vec)
-    return {"frequency": np.sqrt(w2) / (2 * np.pi), "mesh_energy": energy,
-            "mesh_mode": int(np.argmax(energy))}
+    energy = np.einsum("im,ij,jm->m", vec, K_mesh, vec) / np.einsum("im,ij,jm->m", vec, K + K_mesh, vec)
+    return {"frequency": np.sqrt(w2) / (2 * np.pi), "mesh_energy": energy, "mesh_mode": int(np.argmax(energy))}
 
 
 def resonance_speeds_rpm(sys: TorsionalSystem, orders=(1, 2, 3), min_mesh_energy=0.05):
@@ -368,8 +381,7 @@ def _initial_state(sys, op, ch: _Chain) -> State:
 
 def _continue_from(state: State, ch: _Chain) -> State:
     """Keep angles and vibration velocities, move the mean speeds to the new nominal ones."""
-    return State(state.theta.copy(), state.omega - state.nominal + ch.nominal, state.time,
-                 ch.nominal.copy())
+    return State(state.theta.copy(), state.omega - state.nominal + ch.nominal, state.time, ch.nominal.copy())
 
 
 def _steps_per_cycle(sys, op, steps_per_cycle: int, points_per_period: int) -> int:
@@ -386,17 +398,44 @@ def _run(sys, op, ch, st: State, n_cycles: int, spc: int):
     r1, r2 = sys.base_radius
     ramp = op.ramp_cycles * t_mesh
     t, th, om, f, d, dd = run_rk4(
-        st.theta, st.omega, st.time, dt, n_cycles * spc, 1, ch.jinv, ch.ks, ch.cs, ch.torque,
-        ch.slope, ch.nominal, ch.presc, ramp, ch.ip, ch.iw, r1, r2, float(sys.teeth[0]), 0.0,
-        mesh.coefficients(mesh.stiffness), mesh.coefficients(mesh.unloaded_te),
-        sys.mesh_damping, sys.backlash)
+        st.theta,
+        st.omega,
+        st.time,
+        dt,
+        n_cycles * spc,
+        1,
+        ch.jinv,
+        ch.ks,
+        ch.cs,
+        ch.torque,
+        ch.slope,
+        ch.nominal,
+        ch.presc,
+        ramp,
+        ch.ip,
+        ch.iw,
+        r1,
+        r2,
+        float(sys.teeth[0]),
+        0.0,
+        mesh.coefficients(mesh.stiffness),
+        mesh.coefficients(mesh.unloaded_te),
+        sys.mesh_damping,
+        sys.backlash,
+    )
     st.time = float(t[-1])
     return {"time": t, "theta": th, "omega": om, "force": f, "delta": d, "ddelta": dd}
 
 
-def simulate(sys: TorsionalSystem, op: OperatingPoint, n_cycles: int, *,
-             steps_per_cycle: int = 100, points_per_period: int = 40,
-             state: State | None = None) -> dict:
+def simulate(
+    sys: TorsionalSystem,
+    op: OperatingPoint,
+    n_cycles: int,
+    *,
+    steps_per_cycle: int = 100,
+    points_per_period: int = 40,
+    state: State | None = None,
+) -> dict:
     """Integrate ``n_cycles`` mesh cycles; every step is recorded.
 
     Parameters
@@ -418,8 +457,7 @@ def simulate(sys: TorsionalSystem, op: OperatingPoint, n_cycles: int, *,
     spc = _steps_per_cycle(sys, op, steps_per_cycle, points_per_period)
     h = _run(sys, op, ch, st, n_cycles, spc)
     r1, r2 = sys.base_radius
-    h.update(dte=r1 * h["theta"][:, ch.ip] - r2 * h["theta"][:, ch.iw], spc=spc, state=st,
-             names=ch.names)
+    h.update(dte=r1 * h["theta"][:, ch.ip] - r2 * h["theta"][:, ch.iw], spc=spc, state=st, names=ch.names)
     return h
 
 
@@ -479,10 +517,13 @@ def energy_balance(sys: TorsionalSystem, op: OperatingPoint, hist: dict) -> dict
     def integral(p):
         return float(simpson(p, x=t))
 
-    out = {"energy_change": float(e_tot[-1] - e_tot[0]), "work_in": integral(p_in),
-           "dissipated": integral(diss), "parametric": integral(p_par)}
-    out["residual"] = out["energy_change"] - (out["work_in"] - out["dissipated"]
-                                              + out["parametric"])
+    out = {
+        "energy_change": float(e_tot[-1] - e_tot[0]),
+        "work_in": integral(p_in),
+        "dissipated": integral(diss),
+        "parametric": integral(p_par),
+    }
+    out["residual"] = out["energy_change"] - (out["work_in"] - out["dissipated"] + out["parametric"])
     return out
 
 
@@ -494,8 +535,7 @@ def _periodicity(buf, ch, sys, spc, tol, max_period, f_static) -> Periodicity:
     r1, r2 = sys.base_radius
     dte = r1 * buf["theta"][:, ch.ip] - r2 * buf["theta"][:, ch.iw]
     pf = detect_period(buf["force"], spc, tol, max_period=max_period, scale=f_static)
-    pd = detect_period(dte, spc, tol, max_period=max_period,
-                       scale=f_static / sys.mesh.mean_stiffness)
+    pd = detect_period(dte, spc, tol, max_period=max_period, scale=f_static / sys.mesh.mean_stiffness)
     changes = tuple(max(a, b) for a, b in zip(pf.changes, pd.changes, strict=True))
     for p, c in enumerate(changes, start=1):
         if c <= tol:
@@ -503,11 +543,21 @@ def _periodicity(buf, ch, sys, spc, tol, max_period, f_static) -> Periodicity:
     return Periodicity(0, min(changes), changes)
 
 
-def steady_state(sys: TorsionalSystem, op: OperatingPoint, *, tol: float = 1e-4,
-                 min_cycles: int = 20, max_cycles: int = 400, eval_cycles: int = 10,
-                 fixed_cycles: int | None = None, max_period: int = 4,
-                 steps_per_cycle: int = 100, points_per_period: int = 40,
-                 state: State | None = None, config: dict | None = None):
+def steady_state(
+    sys: TorsionalSystem,
+    op: OperatingPoint,
+    *,
+    tol: float = 1e-4,
+    min_cycles: int = 20,
+    max_cycles: int = 400,
+    eval_cycles: int = 10,
+    fixed_cycles: int | None = None,
+    max_period: int = 4,
+    steps_per_cycle: int = 100,
+    points_per_period: int = 40,
+    state: State | None = None,
+    config: dict | None = None,
+):
     """Run until periodic, then evaluate the last ``eval_cycles`` mesh cycles.
 
     Periodicity: the cycle-to-cycle changes (:func:`~.steady.cycle_change`) of the mesh force
@@ -542,8 +592,7 @@ def steady_state(sys: TorsionalSystem, op: OperatingPoint, *, tol: float = 1e-4,
         h = _run(sys, op, ch, st, block, spc)
         done += block
         rows = {k: v[:-1] for k, v in h.items()}  # drop the next cycle's first sample
-        buf = rows if buf is None else {k: np.concatenate([buf[k], rows[k]])[-keep * spc:]
-                                        for k in rows}
+        buf = rows if buf is None else {k: np.concatenate([buf[k], rows[k]])[-keep * spc :] for k in rows}
         if fixed_cycles is None and done >= min_cycles:
             per = _periodicity(buf, ch, sys, spc, tol, max_period, f_static)
             if per.period:
@@ -558,12 +607,15 @@ def steady_state(sys: TorsionalSystem, op: OperatingPoint, *, tol: float = 1e-4,
     met = steady_metrics(dte[sl], buf["force"][sl], f_static, spc, n_eval)
     nf = natural_frequencies(sys, op)
     status = "success" if per.period else "not_periodic"
-    msg = (f"periodic with period {per.period} mesh cycle(s) after {done} cycles, change "
-           f"{per.change:.2e} <= {tol:g}" if per.period else
-           f"not periodic after {done} mesh cycles: smallest cycle-to-cycle change "
-           f"{per.change:.2e} > tol {tol:g} (periods 1-{max_period})")
-    ds = xr.Dataset(coords={"time": ("time", buf["time"][sl], {"units": "s"}),
-                            "mode": ("mode", np.arange(len(nf["frequency"])))})
+    msg = (
+        f"periodic with period {per.period} mesh cycle(s) after {done} cycles, change {per.change:.2e} <= {tol:g}"
+        if per.period
+        else f"not periodic after {done} mesh cycles: smallest cycle-to-cycle change "
+        f"{per.change:.2e} > tol {tol:g} (periods 1-{max_period})"
+    )
+    ds = xr.Dataset(
+        coords={"time": ("time", buf["time"][sl], {"units": "s"}), "mode": ("mode", np.arange(len(nf["frequency"])))}
+    )
     ds["dte"] = ("time", dte[sl], {"units": "m", "long_name": "dynamic transmission error"})
     ds["mesh_force"] = ("time", buf["force"][sl], {"units": "N", "long_name": "mesh force"})
     for k, v in met.items():
@@ -574,8 +626,14 @@ def steady_state(sys: TorsionalSystem, op: OperatingPoint, *, tol: float = 1e-4,
     ds["natural_frequency"] = ("mode", nf["frequency"], {"units": "Hz"})
     ds["mesh_energy_share"] = ("mode", nf["mesh_energy"], {"units": "1"})
 
-    ds.attrs.update(status=status, message=msg, wall_time=time.perf_counter() - t0,
-                    samples_per_cycle=spc, static_force=f_static, speed_rpm=op.speed_rpm,
-                    mesh_frequency=op.omega * sys.teeth[0] / (2 * np.pi),
-                    config=json.dumps(config or {}))
+    ds.attrs.update(
+        status=status,
+        message=msg,
+        wall_time=time.perf_counter() - t0,
+        samples_per_cycle=spc,
+        static_force=f_static,
+        speed_rpm=op.speed_rpm,
+        mesh_frequency=op.omega * sys.teeth[0] / (2 * np.pi),
+        config=json.dumps(config or {}),
+    )
     return SteadyStateResult(ds), st

@@ -55,21 +55,26 @@ class GearSpec:
     poisson_ratio: float = param(0.3, gt=0.0, lt=0.5)
 
     def geometry(self) -> tuple[GearGeometry, GearGeometry]:
-        return tuple(GearGeometry(module=self.module, teeth=z, face_width=self.face_width,
-                                  pressure_angle_deg=self.pressure_angle_deg,
-                                  tip_radius=None if self.tip_radius is None else self.tip_radius[i],
-                                  root_radius=(None if self.root_radius is None
-                                               else self.root_radius[i]))
-                     for i, z in enumerate(self.teeth))
+        return tuple(
+            GearGeometry(
+                module=self.module,
+                teeth=z,
+                face_width=self.face_width,
+                pressure_angle_deg=self.pressure_angle_deg,
+                tip_radius=None if self.tip_radius is None else self.tip_radius[i],
+                root_radius=(None if self.root_radius is None else self.root_radius[i]),
+            )
+            for i, z in enumerate(self.teeth)
+        )
 
 
 @dataclass(frozen=True)
 class MeshSpec:
     source: Literal["static_fe", "contact_pattern"] = param(
-        "static_fe", doc="static FE mesh stiffness (gear.static) or the analytic 1/2-pair model")
+        "static_fe", doc="static FE mesh stiffness (gear.static) or the analytic 1/2-pair model"
+    )
     pair_stiffness: float = param(1.2e8, unit="N/m", gt=0.0, doc="contact_pattern only")
-    unloaded_te_pp: float = param(0.0, unit="m", ge=0.0,
-                                  doc="triangular unloaded TE per cycle (contact_pattern only)")
+    unloaded_te_pp: float = param(0.0, unit="m", ge=0.0, doc="triangular unloaded TE per cycle (contact_pattern only)")
     damping_ratio: float = param(0.07, ge=0.0, doc="mesh damping ratio zeta")
     backlash: float | None = param(None, unit="m", ge=0.0, doc="omitted: no back-side contact")
     table_points: int = param(400, ge=16)
@@ -80,11 +85,9 @@ class TrainSpec:
     inertia: tuple[float, float] = param((2.965e-4, 2.965e-4), unit="kg m^2")
     motor_inertia: float = param(0.0, unit="kg m^2", ge=0.0)
     load_inertia: float = param(0.0, unit="kg m^2", ge=0.0)
-    input_shaft_stiffness: float | None = param(None, unit="N m/rad", gt=0.0,
-                                                doc="omitted: rigid")
+    input_shaft_stiffness: float | None = param(None, unit="N m/rad", gt=0.0, doc="omitted: rigid")
     input_shaft_damping: float = param(0.0, unit="N m s/rad", ge=0.0)
-    output_shaft_stiffness: float | None = param(None, unit="N m/rad", gt=0.0,
-                                                 doc="omitted: rigid")
+    output_shaft_stiffness: float | None = param(None, unit="N m/rad", gt=0.0, doc="omitted: rigid")
     output_shaft_damping: float = param(0.0, unit="N m s/rad", ge=0.0)
     drive: Literal["motor", "constant_speed"] = param("motor")
     motor_slope: float = param(0.5, unit="N m s/rad", gt=0.0)
@@ -142,22 +145,33 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
     if cfg.mesh.source == "static_fe":
         from rotaflex.gear.static import mesh_stiffness
 
-        ms = mesh_stiffness(g1, g2, cfg.gear.youngs_modulus, cfg.gear.poisson_ratio,
-                            torque=cfg.operation.torque * g1.base_radius / g2.base_radius)
+        ms = mesh_stiffness(
+            g1,
+            g2,
+            cfg.gear.youngs_modulus,
+            cfg.gear.poisson_ratio,
+            torque=cfg.operation.torque * g1.base_radius / g2.base_radius,
+        )
         mesh = mesh_table_from_static(ms, g1.teeth, cfg.mesh.table_points)
     else:
-        mesh = contact_pattern_mesh(cfg.mesh.pair_stiffness, eps, cfg.mesh.table_points,
-                                    cfg.mesh.unloaded_te_pp)
+        mesh = contact_pattern_mesh(cfg.mesh.pair_stiffness, eps, cfg.mesh.table_points, cfg.mesh.unloaded_te_pp)
     t = cfg.train
     sys = TorsionalSystem(
-        mesh=mesh, teeth=tuple(cfg.gear.teeth), base_radius=(g1.base_radius, g2.base_radius),
-        inertia=tuple(t.inertia), motor_inertia=t.motor_inertia, load_inertia=t.load_inertia,
+        mesh=mesh,
+        teeth=tuple(cfg.gear.teeth),
+        base_radius=(g1.base_radius, g2.base_radius),
+        inertia=tuple(t.inertia),
+        motor_inertia=t.motor_inertia,
+        load_inertia=t.load_inertia,
         input_shaft_stiffness=t.input_shaft_stiffness or math.inf,
         input_shaft_damping=t.input_shaft_damping,
         output_shaft_stiffness=t.output_shaft_stiffness or math.inf,
-        output_shaft_damping=t.output_shaft_damping, mesh_damping_ratio=cfg.mesh.damping_ratio,
-        backlash=-1.0 if cfg.mesh.backlash is None else cfg.mesh.backlash, drive=t.drive,
-        motor_slope=t.motor_slope)
+        output_shaft_damping=t.output_shaft_damping,
+        mesh_damping_ratio=cfg.mesh.damping_ratio,
+        backlash=-1.0 if cfg.mesh.backlash is None else cfg.mesh.backlash,
+        drive=t.drive,
+        motor_slope=t.motor_slope,
+    )
     return sys, eps
 
 
@@ -165,22 +179,31 @@ def run_torsional(config: dict, *, progress: bool = False) -> Result:
     """Validate ``config`` (module docstring), run one steady state or a speed sweep."""
     cfg = from_mapping(TorsionalCaseConfig, config)
     if cfg.steady.min_cycles > cfg.steady.max_cycles:
-        raise InputError("steady.min_cycles", cfg.steady.min_cycles,
-                         f"<= steady.max_cycles = {cfg.steady.max_cycles}")
+        raise InputError("steady.min_cycles", cfg.steady.min_cycles, f"<= steady.max_cycles = {cfg.steady.max_cycles}")
     sys, eps = build_system(cfg)
     s = cfg.steady
-    kw = dict(tol=s.tol, min_cycles=s.min_cycles, max_cycles=s.max_cycles,
-              eval_cycles=s.eval_cycles, fixed_cycles=s.fixed_cycles,
-              steps_per_cycle=s.steps_per_cycle)
+    kw = dict(
+        tol=s.tol,
+        min_cycles=s.min_cycles,
+        max_cycles=s.max_cycles,
+        eval_cycles=s.eval_cycles,
+        fixed_cycles=s.fixed_cycles,
+        steps_per_cycle=s.steps_per_cycle,
+    )
     op = cfg.operation
     if len(cfg.sweep.speeds_rpm) >= 2:
-        iso = iso_input(sys, op.torque, cfg.gear.face_width, eps, f_pb_eff=cfg.iso.f_pb_eff,
-                        f_f_eff=cfg.iso.f_f_eff, tip_relief=cfg.iso.tip_relief,
-                        application_factor=cfg.iso.application_factor)
-        res = speed_sweep(sys, op.torque, cfg.sweep.speeds_rpm,
-                          directions=cfg.sweep.directions, iso=iso, **kw)
+        iso = iso_input(
+            sys,
+            op.torque,
+            cfg.gear.face_width,
+            eps,
+            f_pb_eff=cfg.iso.f_pb_eff,
+            f_f_eff=cfg.iso.f_f_eff,
+            tip_relief=cfg.iso.tip_relief,
+            application_factor=cfg.iso.application_factor,
+        )
+        res = speed_sweep(sys, op.torque, cfg.sweep.speeds_rpm, directions=cfg.sweep.directions, iso=iso, **kw)
     else:
-        res, _ = steady_state(sys, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles),
-                              **kw)
+        res, _ = steady_state(sys, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), **kw)
     res.dataset.attrs["config"] = json.dumps(to_mapping(cfg))
     return res

@@ -54,8 +54,31 @@ def _mesh(th, om, ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash):
 
 
 @njit(cache=True)
-def _rhs(t, th, om, out_th, out_om, jinv, ks, cs, torque, slope, nominal, presc, ramp_time,
-         ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash):
+def _rhs(
+    t,
+    th,
+    om,
+    out_th,
+    out_om,
+    jinv,
+    ks,
+    cs,
+    torque,
+    slope,
+    nominal,
+    presc,
+    ramp_time,
+    ip,
+    iw,
+    rb1,
+    rb2,
+    z1,
+    phi0,
+    kc,
+    ec,
+    c_m,
+    backlash,
+):
     n = th.shape[0]
     f, _, _, _ = _mesh(th, om, ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash)
     scale = 1.0
@@ -79,8 +102,32 @@ def _rhs(t, th, om, out_th, out_om, jinv, ks, cs, torque, slope, nominal, presc,
 
 
 @njit(cache=True)
-def run_rk4(th, om, t0, dt, n_steps, record_every, jinv, ks, cs, torque, slope, nominal, presc,
-            ramp_time, ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash):
+def run_rk4(
+    th,
+    om,
+    t0,
+    dt,
+    n_steps,
+    record_every,
+    jinv,
+    ks,
+    cs,
+    torque,
+    slope,
+    nominal,
+    presc,
+    ramp_time,
+    ip,
+    iw,
+    rb1,
+    rb2,
+    z1,
+    phi0,
+    kc,
+    ec,
+    c_m,
+    backlash,
+):
     """Advance ``n_steps`` RK4 steps of size ``dt`` [s] from (th, om) at time t0 [s].
 
     ``th``/``om`` are updated in place. Every ``record_every`` steps (and at the start) the
@@ -123,23 +170,115 @@ def run_rk4(th, om, t0, dt, n_steps, record_every, jinv, ks, cs, torque, slope, 
             r += 1
         if step == n_steps:
             break
-        _rhs(t, th, om, k1t, k1o, jinv, ks, cs, torque, slope, nominal, presc, ramp_time,
-             ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash)
+        _rhs(
+            t,
+            th,
+            om,
+            k1t,
+            k1o,
+            jinv,
+            ks,
+            cs,
+            torque,
+            slope,
+            nominal,
+            presc,
+            ramp_time,
+            ip,
+            iw,
+            rb1,
+            rb2,
+            z1,
+            phi0,
+            kc,
+            ec,
+            c_m,
+            backlash,
+        )
         for i in range(n):
             yt[i] = th[i] + 0.5 * dt * k1t[i]
             yo[i] = om[i] + 0.5 * dt * k1o[i]
-        _rhs(t + 0.5 * dt, yt, yo, k2t, k2o, jinv, ks, cs, torque, slope, nominal, presc,
-             ramp_time, ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash)
+        _rhs(
+            t + 0.5 * dt,
+            yt,
+            yo,
+            k2t,
+            k2o,
+            jinv,
+            ks,
+            cs,
+            torque,
+            slope,
+            nominal,
+            presc,
+            ramp_time,
+            ip,
+            iw,
+            rb1,
+            rb2,
+            z1,
+            phi0,
+            kc,
+            ec,
+            c_m,
+            backlash,
+        )
         for i in range(n):
             yt[i] = th[i] + 0.5 * dt * k2t[i]
             yo[i] = om[i] + 0.5 * dt * k2o[i]
-        _rhs(t + 0.5 * dt, yt, yo, k3t, k3o, jinv, ks, cs, torque, slope, nominal, presc,
-             ramp_time, ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash)
+        _rhs(
+            t + 0.5 * dt,
+            yt,
+            yo,
+            k3t,
+            k3o,
+            jinv,
+            ks,
+            cs,
+            torque,
+            slope,
+            nominal,
+            presc,
+            ramp_time,
+            ip,
+            iw,
+            rb1,
+            rb2,
+            z1,
+            phi0,
+            kc,
+            ec,
+            c_m,
+            backlash,
+        )
         for i in range(n):
             yt[i] = th[i] + dt * k3t[i]
             yo[i] = om[i] + dt * k3o[i]
-        _rhs(t + dt, yt, yo, k4t, k4o, jinv, ks, cs, torque, slope, nominal, presc, ramp_time,
-             ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash)
+        _rhs(
+            t + dt,
+            yt,
+            yo,
+            k4t,
+            k4o,
+            jinv,
+            ks,
+            cs,
+            torque,
+            slope,
+            nominal,
+            presc,
+            ramp_time,
+            ip,
+            iw,
+            rb1,
+            rb2,
+            z1,
+            phi0,
+            kc,
+            ec,
+            c_m,
+            backlash,
+        )
         for i in range(n):
             th[i] += dt / 6.0 * (k1t[i] + 2.0 * k2t[i] + 2.0 * k3t[i] + k4t[i])
             om[i] += dt / 6.0 * (k1o[i] + 2.0 * k2o[i] + 2.0 * k3o[i] + k4o[i])

@@ -29,9 +29,18 @@ from rotaflex.gear.torsional import (
 __all__ = ["SpeedSweepResult", "iso_input", "speed_sweep"]
 
 
-def iso_input(sys: TorsionalSystem, torque: float, face_width: float, contact_ratio: float, *,
-              c_single: float | None = None, f_pb_eff: float = 0.0, f_f_eff: float = 0.0,
-              tip_relief: float = 0.0, application_factor: float = 1.0) -> IsoKvInput:
+def iso_input(
+    sys: TorsionalSystem,
+    torque: float,
+    face_width: float,
+    contact_ratio: float,
+    *,
+    c_single: float | None = None,
+    f_pb_eff: float = 0.0,
+    f_f_eff: float = 0.0,
+    tip_relief: float = 0.0,
+    application_factor: float = 1.0,
+) -> IsoKvInput:
     """ISO 6336-1 method B data matching the torsional model.
 
     ``c_gamma_alpha = k_mean / b`` (the model's mean mesh stiffness), ``m_red`` from the gears'
@@ -40,15 +49,28 @@ def iso_input(sys: TorsionalSystem, torque: float, face_width: float, contact_ra
     """
     c_g = sys.mesh.mean_stiffness / face_width
     c1 = c_g / (0.75 * contact_ratio + 0.25) if c_single is None else c_single
-    return IsoKvInput(z1=int(sys.teeth[0]), c_single=c1, c_gamma_alpha=c_g,
-                      m_red=reduced_mass_per_width(sys.inertia, sys.base_radius, face_width),
-                      load_per_width=application_factor * torque / sys.base_radius[1]
-                      / face_width, eps_gamma=contact_ratio, f_pb_eff=f_pb_eff,
-                      f_f_eff=f_f_eff, tip_relief=tip_relief)
+    return IsoKvInput(
+        z1=int(sys.teeth[0]),
+        c_single=c1,
+        c_gamma_alpha=c_g,
+        m_red=reduced_mass_per_width(sys.inertia, sys.base_radius, face_width),
+        load_per_width=application_factor * torque / sys.base_radius[1] / face_width,
+        eps_gamma=contact_ratio,
+        f_pb_eff=f_pb_eff,
+        f_f_eff=f_f_eff,
+        tip_relief=tip_relief,
+    )
 
 
-def speed_sweep(sys: TorsionalSystem, torque: float, speeds_rpm, *,
-                directions=("up", "down"), iso: IsoKvInput | None = None, **steady_kw):
+def speed_sweep(
+    sys: TorsionalSystem,
+    torque: float,
+    speeds_rpm,
+    *,
+    directions=("up", "down"),
+    iso: IsoKvInput | None = None,
+    **steady_kw,
+):
     """Steady state at each speed, with continuation, up and then down.
 
     Parameters
@@ -94,33 +116,44 @@ def speed_sweep(sys: TorsionalSystem, torque: float, speeds_rpm, *,
                 data[k][di, j] = res.dataset[k].item()
     nf = natural_frequencies(sys)
     res_speeds = resonance_speeds_rpm(sys)
-    ds = xr.Dataset(coords={"direction": ("direction", list(directions)),
-                            "speed": ("speed", speeds, {"units": "rpm",
-                                                        "long_name": "pinion speed"}),
-                            "mode": ("mode", np.arange(len(nf["frequency"])))})
+    ds = xr.Dataset(
+        coords={
+            "direction": ("direction", list(directions)),
+            "speed": ("speed", speeds, {"units": "rpm", "long_name": "pinion speed"}),
+            "mode": ("mode", np.arange(len(nf["frequency"]))),
+        }
+    )
     units = dict(METRIC_UNITS, change="1", period_cycles="1", cycles_run="1")
     for k in names:
         ds[k] = (("direction", "speed"), data[k], {"units": units[k]})
     ds["converged"] = (("direction", "speed"), data["period_cycles"] > 0, {"units": "1"})
     ds["natural_frequency"] = ("mode", nf["frequency"], {"units": "Hz"})
-    ds["resonance_speed"] = ("resonance", np.array([r[2] for r in res_speeds]),
-                             {"units": "rpm", "long_name": "pinion speed: mesh order h meets f_n"})
+    ds["resonance_speed"] = (
+        "resonance",
+        np.array([r[2] for r in res_speeds]),
+        {"units": "rpm", "long_name": "pinion speed: mesh order h meets f_n"},
+    )
     ds["resonance_order"] = ("resonance", np.array([r[0] for r in res_speeds]), {"units": "1"})
     if iso is not None:
-        ds["iso_kv"] = ("speed", iso_kv(iso, speeds),
-                        {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
+        ds["iso_kv"] = ("speed", iso_kv(iso, speeds), {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
         ds.attrs["iso_resonance_speed"] = iso.resonance_speed_rpm
     # a response that does not settle at some speed (quasi-periodic or chaotic motion next to a
     # jump) is a finding of the sweep, not a failure of the run: named in the message, counted
-    bad = [f"{directions[d]} {speeds[j]:.0f} rpm (change {data['change'][d, j]:.2g})"
-           for d, j in np.argwhere(~ds["converged"].values)]
+    bad = [
+        f"{directions[d]} {speeds[j]:.0f} rpm (change {data['change'][d, j]:.2g})"
+        for d, j in np.argwhere(~ds["converged"].values)
+    ]
     ds["n_not_periodic"] = ((), len(bad), {"units": "1"})
     msg = f"{ds['converged'].size - len(bad)} of {ds['converged'].size} points periodic"
     if bad:
         msg += "; not periodic: " + ", ".join(bad)
-    ds.attrs.update(status="success", message=msg, wall_time=time.perf_counter() - t0,
-                    torque=torque,
-                    config=json.dumps({"torque": torque, "speeds_rpm": speeds.tolist()}))
+    ds.attrs.update(
+        status="success",
+        message=msg,
+        wall_time=time.perf_counter() - t0,
+        torque=torque,
+        config=json.dumps({"torque": torque, "speeds_rpm": speeds.tolist()}),
+    )
     return SpeedSweepResult(ds)
 
 
@@ -151,8 +184,7 @@ class SpeedSweepResult(Result):
             ax[1].plot(sp, ds["dte_pp"].values[di] * 1e6, mk, ms=3, label=f"model, {d}")
         if "iso_kv" in ds:
             ax[0].plot(sp, ds["iso_kv"].values, "k-", lw=1.0, label="ISO 6336-1 method B")
-        for r, h in zip(ds["resonance_speed"].values, ds["resonance_order"].values,
-                        strict=True):
+        for r, h in zip(ds["resonance_speed"].values, ds["resonance_order"].values, strict=True):
             if sp[0] <= r <= sp[-1]:
                 for a in ax:
                     a.axvline(r, c="gray", lw=0.8, ls=":")
@@ -162,4 +194,3 @@ class SpeedSweepResult(Result):
         ax[0].legend(fontsize=7)
         ax[1].legend(fontsize=7)
         return {"speed_sweep": fig}
-
