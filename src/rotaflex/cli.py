@@ -248,7 +248,8 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             _figure_options(fmt, dpi)
             out_dir = check_out_dir(out, marker=RESULT_MARKERS)
             _, body = split_config(load_toml(config), domain=domain)
-            validate(domain, body)
+            if verb == "simulate":  # other verbs validate their own schema first thing
+                validate(domain, body)
             with _limit_threads():
                 result = command(domain, verb)(body, progress=not quiet)
             paths = result.save(out_dir, figures=not no_figures, fig_format=fmt, dpi=dpi, provenance=provenance(config))

@@ -65,3 +65,28 @@ def test_steady_metrics_known_signal():
     assert m["dte_h1"] == pytest.approx(1e-6, rel=1e-9)
     with pytest.raises(InputError, match="n_cycles"):
         steady_metrics(dte, force, 100.0, SPC, 13)
+
+
+def test_cli_gear_steady_runs_a_short_sweep(tmp_path):
+    """`rotaflex gear steady` runs the example's model over a short sweep and writes the set."""
+    import json
+    import re
+    from pathlib import Path
+
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+
+    example = Path(__file__).parents[2] / "examples" / "gear" / "steady" / "torsional_dynamic_factor.toml"
+    text, n = re.subn(r"speeds_rpm = \[[^\]]*\]", "speeds_rpm = [4000.0, 8000.0, 16000.0]", example.read_text())
+    assert n == 1
+    (tmp_path / "c.toml").write_text(text)
+    res = CliRunner().invoke(app, ["gear", "steady", str(tmp_path / "c.toml"), "--out", str(tmp_path / "o"), "-q"])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "o" / "result.nc").exists()
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    for d in ("up", "down"):
+        assert summary[f"max_dynamic_factor_{d}"]["value"] >= 1.0
+        assert summary[f"speed_at_max_dynamic_factor_{d}"]["value"] in (4000.0, 8000.0, 16000.0)
+    # the linear resonance speed is a property of the model, not of the sampled speeds
+    assert 10000.0 < summary["resonance_speed"]["value"] < 20000.0

@@ -44,7 +44,9 @@ REPRODUCE: dict[str, str] = {
 }
 
 #: extra CLI verbs: domain -> verb -> "module:function" (signature of ``run_case``)
-COMMANDS: dict[str, dict[str, str]] = {}
+COMMANDS: dict[str, dict[str, str]] = {
+    "gear": {"steady": "rotaflex.gear.torsional_case:run_torsional"},
+}
 
 
 def check_domain(domain: Any, field: str = "domain") -> str:

@@ -208,7 +208,7 @@ class SteadyStateResult(Result):
         figs = {}
         fig, ax = new_figure(2, 1, sharex=True)
         ax[0].plot(t * 1e3, ds["dte"].values * 1e6)
-        ax[0].set_ylabel("DTE [um]")
+        ax[0].set_ylabel("DTE [µm]")
         ax[1].plot(t * 1e3, ds["mesh_force"].values)
         ax[1].axhline(float(ds.attrs["static_force"]), ls="--", c="k", lw=0.8, label="static")
         ax[1].set(xlabel="time [ms]", ylabel="mesh force [N]")

@@ -171,6 +171,25 @@ class SpeedSweepResult(Result):
         v = ds[name].values
         return float(np.nanmax(np.abs(v[0] - v[1])))
 
+    def summary(self) -> dict:
+        """Base scalars plus the peak K_v and DTE per direction, the hysteresis and the resonances."""
+        out = super().summary()
+        ds = self.dataset
+        sp = ds["speed"].values
+        for di, d in enumerate(ds["direction"].values):
+            kv = ds["dynamic_factor"].values[di]
+            if np.all(np.isnan(kv)):
+                continue
+            i = int(np.nanargmax(kv))
+            out[f"max_dynamic_factor_{d}"] = {"value": float(kv[i]), "unit": "1"}
+            out[f"speed_at_max_dynamic_factor_{d}"] = {"value": float(sp[i]), "unit": "rpm"}
+            out[f"max_dte_pp_{d}"] = {"value": float(np.nanmax(ds["dte_pp"].values[di])), "unit": "m"}
+        out["dynamic_factor_hysteresis"] = {"value": self.hysteresis(), "unit": "1"}
+        res = ds["resonance_speed"].values[ds["resonance_order"].values == 1]
+        if res.size:
+            out["resonance_speed"] = {"value": float(res[0]), "unit": "rpm"}
+        return out
+
     def plot(self) -> dict:
         """Figure ``speed_sweep``: K_v (with ISO method B) and DTE p-p vs speed."""
         from rotaflex.core.plotting import new_figure
@@ -190,7 +209,7 @@ class SpeedSweepResult(Result):
                     a.axvline(r, c="gray", lw=0.8, ls=":")
                 ax[0].annotate(f"{int(h)}x f_n", (r, 1.0), fontsize=7, rotation=90)
         ax[0].set(ylabel="K_v = F_max / F_static [-]")
-        ax[1].set(xlabel="pinion speed [rpm]", ylabel="DTE peak-to-peak [um]")
+        ax[1].set(xlabel="pinion speed [rpm]", ylabel="DTE peak-to-peak [µm]")
         ax[0].legend(fontsize=7)
         ax[1].legend(fontsize=7)
         return {"speed_sweep": fig}
