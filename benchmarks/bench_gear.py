@@ -21,8 +21,10 @@ import time
 
 import numpy as np
 
-from rotaflex.gear import dynamics, kernels
+from rotaflex.gear import dynamics
 from rotaflex.gear.geometry import GearGeometry, contact_angles
+from rotaflex.gear.kernels import contact as kernels
+from rotaflex.gear.kernels.rk4 import elastic_force
 from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
 
 
@@ -78,10 +80,10 @@ def main() -> None:
     bufs = [np.zeros(nd) for _ in range(3)]
     tel = np.zeros(2)
     idx = (k.indptr.astype(np.int64), k.indices.astype(np.int64), k.data)
-    kernels.elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
+    elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
     t0 = time.perf_counter()
     for _ in range(n):
-        kernels.elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
+        elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
     t_force = (time.perf_counter() - t0) / n
     print(f"  contact search (sampling + 2 splines + search), Python-called: "
           f"{t_search * 1e6:.1f} us ({t_search / per:.1%} of a step)")

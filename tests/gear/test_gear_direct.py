@@ -7,7 +7,7 @@ import pytest
 
 from rotaflex.gear import dynamics
 from rotaflex.gear.geometry import GearGeometry, contact_angles
-from rotaflex.gear.kernels_direct import direct_pass, factor_tie_blocks
+from rotaflex.gear.kernels.passes import direct_pass, factor_tie_blocks
 from rotaflex.gear.mesh import COARSE, build_tooth_mesh
 
 DT = 3e-8

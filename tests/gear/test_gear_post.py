@@ -9,7 +9,7 @@ import pytest
 from rotaflex.core.errors import InputError
 from rotaflex.gear import dynamics, post
 from rotaflex.gear.geometry import GearGeometry, contact_angles
-from rotaflex.gear.kernels import flank_weights
+from rotaflex.gear.kernels.contact import flank_weights
 from rotaflex.gear.mesh import COARSE, build_tooth_mesh
 from rotaflex.gear.static import flank_contact_point
 

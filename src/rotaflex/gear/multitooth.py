@@ -8,7 +8,7 @@ whose root nodes (inner arc and side cuts) are tied to the disk, exactly as the 
 :mod:`rotaflex.gear.dynamics`. Tooth ``j`` of A can touch tooth ``j`` of B only: ``n`` contact
 pairs, each unilateral with its own contact search (minimum normal distance between the spline
 surfaces), sliding terms and multiplier row in the paper's three-pass iteration
-(:func:`rotaflex.gear.kernels_multi.run_steps_m`). Both disks carry the constant torque
+(:func:`rotaflex.gear.kernels.rk4.run_steps`). Both disks carry the constant torque
 ``tau_0`` (drive on A, load on B): no Fig. 7 ramps.
 
 Pair ``j`` has the contact angle ``psi_j + phi_A`` (rotation of A since that pair's geometric
@@ -35,8 +35,6 @@ import scipy.sparse as sp
 from rotaflex.core.errors import ConvergenceError, InputError
 from rotaflex.gear.dynamics import (
     GearPairModel,
-    rigid_velocities,
-    tie_eigen_bounds,
     torque_ramp,
 )
 
@@ -146,7 +144,7 @@ def involute_start(model: MultiToothModel, psi: float) -> tuple[float, float]:
     Used as the warm start of each pair's contact search; ``psi`` is clamped to the path of
     contact (a pair out of mesh starts from its nearest end of contact).
     """
-    from rotaflex.gear.kernels import sample_flank
+    from rotaflex.gear.kernels.contact import sample_flank
 
     g = model.geometry[0]
     rb = g.base_radius
@@ -176,7 +174,7 @@ def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: floa
     gear A's rotation ``phi_a`` (:func:`involute_start`). With ``theta_s`` given, pairs before
     the start / after the end of contact use the tip-corner projection, as in the solver.
     """
-    from rotaflex.gear.kernels_multi import pair_contact
+    from rotaflex.gear.kernels.contact import pair_contact
 
     npair = model.n_teeth
     m = model.n_points
@@ -191,8 +189,9 @@ def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: floa
         buf = [np.empty((m, 2)) for _ in range(4)]
         psi = model.pair_psi[j] + phi_a
         mode = 0 if theta_s is None else (1 if psi < 0 else (2 if psi > theta_s else 0))
-        if not pair_contact(x, model.pair_flank[j], model.pair_nedge[j], model.sig, m, *buf,
-                            cres[j], cnod[j], cw[j], mode):
+        if not pair_contact(x, np.zeros(2), model.pair_flank[j], model.pair_nedge[j], model.sig,
+                            m, *buf, cres[j], cnod[j], cw[j], mode, model.theta0,
+                            np.zeros((2, 2, 1)), np.zeros((2, 1, 2))):
             raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
     return cres, cnod, cw
 
@@ -302,19 +301,6 @@ def strain_energy(model: GearPairModel, x: np.ndarray) -> float:
     return float(0.5 * w @ (model.stiffness @ w))
 
 
-@dataclass
-class MultiOutput:
-    """Raw histories returned by :func:`simulate_multi`."""
-
-    records: dict  # global name -> (n_rec,)
-    pair_records: dict  # per-pair name -> (n_rec, npair)
-    tie_multipliers: np.ndarray
-    steps: int
-    wall_time: float
-    initial_energy: float
-    dt: float
-
-
 def warm_start_table(model: MultiToothModel, theta_s: float, n: int = 61) -> np.ndarray:
     """(n, 3): involute contact parameters (a, b) on a uniform grid of the contact angle."""
     ang = np.linspace(0.0, theta_s, n)
@@ -322,88 +308,19 @@ def warm_start_table(model: MultiToothModel, theta_s: float, n: int = 61) -> np.
 
 
 def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta_s, span, dt,
-                   torque_mode=1, window=WINDOW, tol=1e-12, n_accel=4, max_iter=500,
-                   record_every=10, progress=None, progress_every=2000) -> MultiOutput:
+                   torque_mode=1, window=WINDOW, n_accel=4, **kw):
     """Integrate the multi-tooth pair over a rotation ``span`` of gear A [rad].
 
-    Same scheme and parameters as :func:`rotaflex.gear.dynamics.simulate`; ``torque_mode`` 1
-    applies the constant ``torque`` to both disks, 0 the Fig. 7 ramps (for the comparison with
-    the single-tooth kernel). A pair is searched only while its nominal contact angle is within
-    ``[-window, theta_s + window]`` (``window=None``: always, as the single-tooth model).
-    Starts from ``model.initial_positions`` rotating rigidly.
+    :func:`rotaflex.gear.dynamics.integrate` with ``torque_mode`` 1 (the constant ``torque`` on
+    both disks; 0: the Fig. 7 ramps, for the comparison with the single-tooth model), the mesh
+    ``window`` and the warm-start table of this model; starts from ``model.initial_positions``
+    rotating rigidly. Other keywords as :func:`~rotaflex.gear.dynamics.integrate`.
     """
-    from rotaflex.gear.kernels import kinetic_energy
-    from rotaflex.gear.kernels_multi import GLOBAL_COLUMNS, PAIR_COLUMNS, run_steps_m
+    from rotaflex.gear.dynamics import integrate
 
-    if dt > model.dt_limit:
-        raise InputError("solver.dt", dt,
-                         f"a step <= the RK4 stability limit of the mesh, {model.dt_limit:.4g} s"
-                         " (refine dt or coarsen the smallest elements)")
-    omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
-    n_steps = max(1, int(round(span / (omega[0] * dt))))
-    eps = tie_eigen_bounds(model, dt)
-    k = model.stiffness
-    x = model.initial_positions.copy()
-    nn = model.n_nodes
-    npair = model.n_teeth
-    om = np.array([omega[0], -omega[1]])
-    v = rigid_velocities(model, x, om)
-    a = np.zeros(2 * nn)
-    alp = np.zeros(2)
-    phi = np.zeros(2)
-    nc = 2 * len(model.tie_node) + npair
-    mu = np.zeros(nc)
-    cres = np.zeros((npair, 8))
-    for j in range(npair):
-        cres[j, 0], cres[j, 1] = involute_start(model, model.pair_psi[j])
-    cnod = np.zeros((npair, 2, 3), dtype=np.int64)
-    cw = np.zeros((npair, 2, 3))
-    sc = np.zeros(24)
-    spair = np.zeros((npair, 6))
-    n_rec = n_steps // record_every + 1
-    out = np.zeros((n_rec, len(GLOBAL_COLUMNS)))
-    outp = np.zeros((n_rec, npair, len(PAIR_COLUMNS)))
-    out_mu = np.zeros((n_rec, nc - npair))
-    info = np.zeros(4)
-    lo, hi = (-1e9, 1e9) if window is None else (-window, theta_s + window)
-    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps, lo, hi,
-                    0.0 if window is None else 1.0])
-    wtab = warm_start_table(model, theta_s)
-    args_model = (model.gid, k.indptr.astype(np.int64), k.indices.astype(np.int64),
-                  model.tie_node, model.tie_gear, model.pair_flank, model.pair_nedge,
-                  model.tb_i, model.tb_j, model.xloc, model.minv, k.data.astype(float),
-                  model.centres, model.theta0, model.inertia, model.sig, model.tb_b, model.rsgn,
-                  model.pair_psi, wtab)
-    e0 = kinetic_energy(v, om, model.minv, model.inertia) + strain_energy(model, x)
-    chunk = max(record_every, (progress_every // record_every) * record_every)
-    rates = np.zeros((len(model.pair_psi), 4))  # contact-parameter rates, carried across calls
-    names = {1: "displacement pass (eq. 19)", 2: "velocity pass (eq. 20)",
-             3: "acceleration pass (eq. 21)"}
-    t0 = time.perf_counter()
-    done = 0
-    row = 0
-    first = True
-    while done < n_steps:
-        n = min(chunk, n_steps - done)
-        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0,
-                         torque_mode], dtype=np.int64)
-        status, row = run_steps_m(n, record_every, *args_model, par, ipar, x, v, a, phi, om,
-                                  alp, mu, cres, cnod, cw, sc, spair, rates, out, outp, out_mu,
-                                  info)
-        first = False
-        if status in names:
-            raise ConvergenceError(names[status], info[0], info[1], info[2])
-        if status == 4:
-            raise ConvergenceError("contact search", info[0], float("nan"), 0.0)
-        done += n
-        if progress is not None:
-            progress(done, n_steps)
-    wall = time.perf_counter() - t0
-    return MultiOutput(
-        records={name: out[:row, i].copy() for i, name in enumerate(GLOBAL_COLUMNS)},
-        pair_records={name: outp[:row, :, i].copy() for i, name in enumerate(PAIR_COLUMNS)},
-        tie_multipliers=out_mu[:row].copy(), steps=n_steps, wall_time=wall,
-        initial_energy=float(e0), dt=dt)
+    return integrate(model, speeds_rpm=speeds_rpm, torque=torque, theta_2=theta_2,
+                     theta_s=theta_s, span=span, dt=dt, torque_mode=torque_mode, window=window,
+                     warm_start=warm_start_table(model, theta_s), n_accel=n_accel, **kw)
 
 
 # ----------------------------------------------------------------------------- case / output
@@ -490,7 +407,7 @@ def zone_pairs(pair_angle: np.ndarray, theta_s: float) -> np.ndarray:
     return np.sum((pair_angle >= 0.0) & (pair_angle <= theta_s), axis=1)
 
 
-def to_dataset_multi(out: MultiOutput, model: MultiToothModel, geo, tau0, th2, ths):
+def to_dataset_multi(out, model: MultiToothModel, geo, tau0, th2, ths):
     """Histories of :func:`simulate_multi` as an xarray Dataset with a ``pair`` dimension."""
     import xarray as xr
 

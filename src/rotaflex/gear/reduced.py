@@ -37,14 +37,12 @@ the rotation per step must stay small (``omega dt <= 0.01 rad``).
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
 
 from rotaflex.core.errors import ConvergenceError, InputError
-from rotaflex.gear.dynamics import RECORD_COLUMNS, SimulationOutput
 
 #: points per mesh-contact period required by :func:`time_step_limit`
 STEPS_PER_CONTACT_PERIOD = 20
@@ -229,14 +227,15 @@ def simulate_reduced(
     snapshots=0,
     progress=None,
     progress_every=2000,
-) -> SimulationOutput:
+):
     """Integrate the reduced pair with HHT-alpha over a rotation ``span`` of gear A [rad].
 
     Parameters as :func:`rotaflex.gear.dynamics.simulate`, plus ``alpha`` (HHT parameter in
     [-1/3, 0]; 0 = trapezoidal rule). ``tol`` [m] bounds the Newton displacement increment and
     the penetration of active contacts.
     """
-    from rotaflex.gear.kernels_reduced import chol_solve, evaluate, kinetic, run_hht
+    from rotaflex.gear.kernels.hht import RECORD_COLUMNS, chol_solve, evaluate, kinetic, run_hht
+    from rotaflex.gear.solvers import SolverOutput, drive
 
     if not -1.0 / 3.0 <= alpha <= 0.0:
         raise InputError("solver.hht_alpha", alpha, "[-1/3, 0]")
@@ -308,38 +307,31 @@ def simulate_reduced(
     out = np.zeros((n_rec, len(RECORD_COLUMNS)))
     out_p = np.zeros((n_rec, npair))
     info = np.zeros(4)
-    snaps = []
-    snap_every = max(1, n_steps // snapshots) if snapshots else 0
-    chunk = max(record_every, (progress_every // record_every) * record_every)
-    if snap_every:
-        chunk = min(chunk, max(record_every, (snap_every // record_every) * record_every))
-    t0 = time.perf_counter()
-    done = 0
-    row = 0
-    while done < n_steps:
-        nstep = min(chunk, n_steps - done)
-        ipar = np.array([max_iter, base.n_points, row], dtype=np.int64)
-        status, row = run_hht(nstep, record_every, red.nr, red.fl_map, red.mr, red.kr, red.gr, red.hx, red.cx,
-                              red.ix, np.asarray(base.inertia, float), sfac, m0fac, red.fl_gear,
-                              red.fl_start, red.fl_len, red.fl_xref, base.centres, base.theta0,
-                              base.sig, red.pairs, base.rsgn, par, ipar, z, zd, za, phi, phid,
-                              phia, p, cres, cnod, cw, fz, fphi, sc, out, out_p, info)
-        if status == 1:
-            raise ConvergenceError("HHT Newton iteration (reduced method)", info[0], info[1],
-                                   info[2])
-        if status == 4:
-            raise ConvergenceError("contact search", info[0], float("nan"), 0.0)
-        done += nstep
-        if snap_every and (done % snap_every < chunk or done == n_steps):
-            snaps.append((float(sc[0]), positions(red, z, phi)))
-        if progress is not None:
-            progress(done, n_steps)
-    wall = time.perf_counter() - t0
+    row = [0]
+
+    def step(nstep, first):
+        ipar = np.array([max_iter, base.n_points, row[0]], dtype=np.int64)
+        status, row[0] = run_hht(nstep, record_every, red.nr, red.fl_map, red.mr, red.kr, red.gr,
+                                 red.hx, red.cx, red.ix, np.asarray(base.inertia, float), sfac,
+                                 m0fac, red.fl_gear, red.fl_start, red.fl_len, red.fl_xref,
+                                 base.centres, base.theta0, base.sig, red.pairs, base.rsgn, par,
+                                 ipar, z, zd, za, phi, phid, phia, p, cres, cnod, cw, fz, fphi,
+                                 sc, out, out_p, info)
+        return (5 if status == 1 else status), row[0]
+
+    row, snaps, wall = drive(step, n_steps=n_steps, record_every=record_every,
+                             time_of=lambda: sc[0], positions=lambda: positions(red, z, phi),
+                             info=info, snapshots=snapshots, progress=progress,
+                             progress_every=progress_every)
     out = out[:row]
     records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
-    records["pair_forces"] = out_p[:row].copy()
-    return SimulationOutput(records=records, tie_multipliers=np.zeros((row, 0)), steps=n_steps,
-                            wall_time=wall, initial_energy=e0, snapshots=snaps, dt=dt)
+    return SolverOutput(records=records, pair_records={"force": out_p[:row].copy()},
+                        tie_multipliers=np.zeros((row, 0)), steps=n_steps, wall_time=wall,
+                        initial_energy=e0, dt=dt, snapshots=snaps)
+
+
+#: the registry entry point (same parameters as :func:`simulate_reduced`)
+integrate = simulate_reduced
 
 
 def positions(red: ReducedPairModel, z: np.ndarray, phi: np.ndarray) -> np.ndarray:

@@ -15,7 +15,44 @@ import math
 import numpy as np
 from numba import njit
 
-from rotaflex.gear.kernels import contact_geometry, ramp_torque
+from rotaflex.gear.kernels.contact import contact_geometry
+from rotaflex.gear.kernels.rk4 import ramp_torque
+
+#: columns of the per-record output array written by :func:`run_hht`
+RECORD_COLUMNS = (
+    "time",
+    "phi_A",
+    "phi_B",
+    "omega_A",
+    "omega_B",
+    "force",
+    "force_disp",
+    "force_vel",
+    "gap",
+    "cpA_x",
+    "cpA_y",
+    "cpB_x",
+    "cpB_y",
+    "param_a",
+    "param_b",
+    "kinetic_energy",
+    "strain_energy",
+    "external_work",
+    "velocity_pass_loss",
+    "res_disp",
+    "res_vel",
+    "res_acc",
+    "iter_disp",
+    "iter_vel",
+    "iter_acc",
+    "force_peak",
+    "torque_A",
+    "torque_B",
+    "contact_case",
+    "normal_velocity",
+    "tie_residual",
+    "impacts",
+)
 
 
 @njit(cache=True)
