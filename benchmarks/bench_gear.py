@@ -21,8 +21,9 @@ import time
 
 import numpy as np
 
-from rotaflex.gear import dynamics
-from rotaflex.gear.geometry import GearGeometry, contact_angles
+from rotaflex.gear import dynamics, paper
+from rotaflex.gear.config import rpm_to_rad_s
+from rotaflex.gear.geometry import contact_angles
 from rotaflex.gear.kernels import contact as kernels
 from rotaflex.gear.kernels.rk4 import elastic_force
 from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
@@ -34,18 +35,16 @@ def main() -> None:
     ap.add_argument("--span", type=float, default=None, help="rotation span [deg]")
     ap.add_argument("--rpm", type=float, default=4000.0)
     args = ap.parse_args()
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                     root_radius=0.04048)
+    g = paper.geometry()
     mesh = build_tooth_mesh(g, **(COARSE if args.coarse else DEFAULT))
-    model = dynamics.build_model(g, g, mesh, mesh, youngs_modulus=210e9, poisson_ratio=0.3,
-                                 density=7800.0, inertia=(2.965e-4, 2.965e-4))
+    model = dynamics.build_model(g, g, mesh, mesh, **paper.material())
     ths, th2 = contact_angles(g, g)
     span = math.radians(args.span) if args.span else ths
     # warm-up (numba compile / cache load)
-    dynamics.simulate(model, speeds_rpm=(4000, 4000), torque=22.25, theta_2=th2, theta_s=ths,
+    dynamics.simulate(model, speeds=rpm_to_rad_s((4000, 4000)), torque=paper.TORQUE, theta_2=th2, theta_s=ths,
                       span=1e-4, dt=3e-8)
     rpm = (args.rpm, args.rpm)
-    out = dynamics.simulate(model, speeds_rpm=rpm, torque=22.25, theta_2=th2,
+    out = dynamics.simulate(model, speeds=rpm_to_rad_s(rpm), torque=paper.TORQUE, theta_2=th2,
                             theta_s=ths, span=span, dt=3e-8, record_every=1)
     per = out.wall_time / out.steps
     k = model.stiffness
@@ -105,9 +104,9 @@ def compare(model, ref, rpm, th2, ths, span):
 
     tr, fr = ref.records["time"], ref.records["force"]
     rows = [("paper_rk4 iterative", 3e-8, ref.steps, ref.wall_time, 0.0, 0.0, fr.max())]
-    dynamics.simulate(model, speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths,
+    dynamics.simulate(model, speeds=rpm_to_rad_s(rpm), torque=paper.TORQUE, theta_2=th2, theta_s=ths,
                       span=1e-4, dt=3e-8, multipliers="direct")
-    d = dynamics.simulate(model, speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths,
+    d = dynamics.simulate(model, speeds=rpm_to_rad_s(rpm), torque=paper.TORQUE, theta_2=th2, theta_s=ths,
                           span=span, dt=3e-8, record_every=1, multipliers="direct")
     df = d.records["force"] - fr
     rows.append(("paper_rk4 direct", 3e-8, d.steps, d.wall_time, np.abs(df).max(),
@@ -117,9 +116,9 @@ def compare(model, ref, rpm, th2, ths, span):
     t_build = time.perf_counter() - t0
     om = rpm[0] * math.pi / 30
     for dt in (2e-6, 5e-4 / om, 5e-7, 2.5e-7):
-        if dt > reduced.time_step_limit(red, rpm):
+        if dt > reduced.time_step_limit(red, rpm_to_rad_s(rpm)):
             continue
-        kw = dict(speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths, dt=dt)
+        kw = dict(speeds=rpm_to_rad_s(rpm), torque=paper.TORQUE, theta_2=th2, theta_s=ths, dt=dt)
         reduced.simulate_reduced(red, span=20 * om * dt, **kw)  # compile / cache load
         o = reduced.simulate_reduced(red, span=span, **kw)
         f = o.records["force"]

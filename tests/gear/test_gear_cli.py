@@ -70,8 +70,6 @@ def test_bad_mesh_preset_is_one_clear_line(tmp_path):
 
 @pytest.mark.parametrize("extra, field", [
     ('[model]\nteeth_per_gear = 2\n[solver]\nmethod = "reduced_hht"\n', "solver.method"),
-    ('[model]\nteeth_per_gear = 3\n[solver]\nmultipliers = "direct"\n', "solver.multipliers"),
-    ('[model]\nteeth_per_gear = 2\n[operation]\ndriver = "B"\n', "operation.driver"),
     ('[solver]\nmethod = "reduced_hht"\nrestitution = 0.5\n', "solver.restitution"),
 ])
 def test_unsupported_option_combinations_are_one_clear_line(extra, field, tmp_path):

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from rotaflex.gear import dynamics
+from rotaflex.gear.config import rpm_to_rad_s
 from rotaflex.gear.geometry import GearGeometry, contact_angles
 from rotaflex.gear.kernels.passes import direct_pass, factor_tie_blocks
 from rotaflex.gear.mesh import COARSE, build_tooth_mesh
@@ -87,7 +88,7 @@ def test_direct_equals_iterative_on_a_short_span(model):
     ths, th2 = contact_angles(g, g)
     outs = {}
     for mode in ("iterative", "direct"):
-        outs[mode] = dynamics.simulate(mod, speeds_rpm=(4000, 4000), torque=22.25, theta_2=th2,
+        outs[mode] = dynamics.simulate(mod, speeds=rpm_to_rad_s((4000, 4000)), torque=22.25, theta_2=th2,
                                        theta_s=ths, span=math.radians(1.5), dt=DT,
                                        record_every=5, multipliers=mode)
     a, b = outs["iterative"].records, outs["direct"].records

@@ -22,7 +22,7 @@ Time integration (section 3): :func:`integrate`, kernel :func:`rotaflex.gear.ker
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -42,9 +42,13 @@ def torque_ramp(theta: np.ndarray | float, tau0: float, theta_2: float, theta_s:
     return tau0 * f
 
 
-@dataclass
+@dataclass(frozen=True)
 class GearPairModel:
-    """Assembled arrays of the two-gear model (gear A nodes first, then gear B)."""
+    """Assembled arrays of the two-gear model (gear A nodes first, then gear B).
+
+    Frozen: a changed model is a new one (``dataclasses.replace``); the arrays are not
+    written after construction.
+    """
 
     geometry: tuple
     meshes: tuple
@@ -207,7 +211,9 @@ def build_model(
         if abs(pair.gap) < 1e-14:
             break
         # a counter-clockwise turn of B by d moves its flank towards A by about r_b * d
-        model.theta0[1] += pair.gap / rb[1]
+        theta0 = model.theta0.copy()
+        theta0[1] += pair.gap / rb[1]
+        model = replace(model, theta0=theta0)
     if abs(pair.gap) > 1e-10 or pair.case == "tip_A":
         raise InputError("geometry", "gear pair", "teeth that meet at the start of contact")
     return model
@@ -340,7 +346,7 @@ def pair_layout(model):
 def integrate(
     model: GearPairModel,
     *,
-    speeds_rpm,
+    speeds,
     torque,
     theta_2,
     theta_s,
@@ -357,7 +363,7 @@ def integrate(
     record_nodes=None,
     multipliers="iterative",
     smoothing=0,
-    torque_mode=0,
+    torque_mode=None,
     window=None,
     warm_start=None,
 ):
@@ -367,8 +373,9 @@ def integrate(
     ----------
     model : GearPairModel or MultiToothModel
         One contact pair per tooth (see :func:`pair_layout`).
-    speeds_rpm : (float, float)
-        Initial speeds of A (counter-clockwise) and B (clockwise) [rpm].
+    speeds : (float, float)
+        Initial speeds of A (counter-clockwise) and B (clockwise) [rad/s]
+        (:func:`rotaflex.gear.config.rpm_to_rad_s`).
     torque : float
         tau_0 [N m]; drive torque on A and load torque on B.
     theta_2, theta_s : float
@@ -398,14 +405,16 @@ def integrate(
         ``"direct"``: exact solve of each pass (:func:`rotaflex.gear.kernels.passes.direct_solve`).
     smoothing : int
         Intervals of the smoothed contact surfaces (0 = the paper's surfaces).
-    torque_mode : int
-        0: the Fig. 7 ramps on both disks; 1: constant ``torque`` (several teeth per gear).
+    torque_mode : int or None
+        0: the Fig. 7 ramps on both disks; 1: constant ``torque``. Default: 0 for one tooth per
+        gear, 1 for several.
     window : float or None
         A pair is searched only while its nominal contact angle is within
         ``[-window, theta_s + window]`` [rad], with tip-corner contact outside [0, theta_s]
         (None: always searched, as the single-tooth model).
     warm_start : (nw, 3) array or None
-        Involute contact parameters (a, b, contact angle) for pairs entering the window.
+        Involute contact parameters (a, b, contact angle) for pairs entering the window
+        (default: none for one tooth per gear, the involute table of the model for several).
 
     Returns
     -------
@@ -428,9 +437,16 @@ def integrate(
     if not 0.0 <= restitution <= 1.0:
         raise InputError("solver.restitution", restitution, "in [0, 1]")
     flank, nedge, psi, start, x = pair_layout(model)
+    multi = getattr(model, "pair_flank", None) is not None
+    if torque_mode is None:
+        torque_mode = 1 if multi else 0
+    if warm_start is None and multi:
+        from rotaflex.gear.multitooth import warm_start_table
+
+        warm_start = warm_start_table(model, theta_s)
     npair = flank.shape[0]
     tab, mloc = smoothing_tables(model, smoothing, flank, nedge)
-    omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
+    omega = np.asarray(speeds, dtype=float)
     n_steps = max(1, int(round(span / (omega[0] * dt))))
     eps = tie_eigen_bounds(model, dt)
     if multipliers == "direct":
@@ -473,7 +489,7 @@ def integrate(
                   outp=np.zeros((n_rec, npair, len(PAIR_COLUMNS))),
                   out_mu=np.zeros((n_rec, nc - npair)), info=np.zeros(4))
     e0 = kinetic_energy(v, om, model.minv, model.inertia)
-    if getattr(model, "pair_flank", None) is not None:
+    if multi:
         from rotaflex.gear.multitooth import strain_energy
 
         e0 = e0 + strain_energy(model, x)

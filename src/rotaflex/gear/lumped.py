@@ -169,7 +169,7 @@ def lumped_pair(model, *, youngs_modulus: float, poisson_ratio: float, theta_s: 
     return LumpedPair(ang, q, _unloaded_te(model, ang), inertia, rb)
 
 
-def simulate_lumped(pair: LumpedPair, *, speeds_rpm, torque: float, theta_2: float,
+def simulate_lumped(pair: LumpedPair, *, speeds, torque: float, theta_2: float,
                     theta_s: float, span: float, n_output: int = 2001, rtol: float = 1e-10):
     """Integrate the lumped pair over a rotation ``span`` of gear A.
 
@@ -198,7 +198,7 @@ def simulate_lumped(pair: LumpedPair, *, speeds_rpm, torque: float, theta_2: flo
                 (torque_ramp(y[0], torque, theta_2, theta_s) - rb * p) / ja,
                 (rb * p - torque_ramp(y[1], torque, theta_2, theta_s)) / jb]
 
-    w = np.asarray(speeds_rpm, dtype=float) * math.pi / 30.0
+    w = np.asarray(speeds, dtype=float)
     t_end = span / w[0]
     # the mesh spring period is ~0.1 ms; max_step keeps the contact switch resolved
     sol = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0, w[0], w[1]], method="DOP853", rtol=rtol,

@@ -37,7 +37,7 @@ the rotation per step must stay small (``omega dt <= 0.01 rad``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg as sla
@@ -50,7 +50,7 @@ STEPS_PER_CONTACT_PERIOD = 20
 MAX_ROTATION_PER_STEP = 0.01
 
 
-@dataclass
+@dataclass(frozen=True)
 class ReducedPairModel:
     """Craig-Bampton data of both gears, padded to a common size ``n``."""
 
@@ -176,8 +176,7 @@ def build_reduced(model, n_modes: int = 20) -> ReducedPairModel:
         modes=np.array(oms) if n_modes else np.zeros((2, 0)),
         contact_period=0.0,
     )
-    red.contact_period = _contact_period(red)
-    return red
+    return replace(red, contact_period=_contact_period(red))
 
 
 def _contact_period(red: ReducedPairModel) -> float:
@@ -205,16 +204,16 @@ def _contact_period(red: ReducedPairModel) -> float:
     return 2 * math.pi * math.sqrt(meq * comp)
 
 
-def time_step_limit(red: ReducedPairModel, speeds_rpm) -> float:
+def time_step_limit(red: ReducedPairModel, speeds) -> float:
     """Largest dt accepted by the large-step method [s] (see module docstring)."""
-    om = max(abs(float(s)) for s in speeds_rpm) * 2 * math.pi / 60
+    om = max(abs(float(s)) for s in speeds)
     return min(red.contact_period / STEPS_PER_CONTACT_PERIOD, MAX_ROTATION_PER_STEP / om)
 
 
 def simulate_reduced(
     red: ReducedPairModel,
     *,
-    speeds_rpm,
+    speeds,
     torque,
     theta_2,
     theta_s,
@@ -239,13 +238,13 @@ def simulate_reduced(
 
     if not -1.0 / 3.0 <= alpha <= 0.0:
         raise InputError("solver.hht_alpha", alpha, "[-1/3, 0]")
-    lim = time_step_limit(red, speeds_rpm)
+    lim = time_step_limit(red, speeds)
     if dt > lim:
         raise InputError("solver.dt", dt, f"<= {lim:.4g} s for the reduced implicit method "
                          f"({STEPS_PER_CONTACT_PERIOD} steps per contact period "
                          f"{red.contact_period:.3g} s and <= {MAX_ROTATION_PER_STEP} rad per step)")
     base = red.base
-    omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
+    omega = np.asarray(speeds, dtype=float)
     n_steps = max(1, int(round(span / (omega[0] * dt))))
     n = red.mr.shape[1]
     beta = 0.25 * (1 - alpha) ** 2
@@ -328,10 +327,6 @@ def simulate_reduced(
     return SolverOutput(records=records, pair_records={"force": out_p[:row].copy()},
                         tie_multipliers=np.zeros((row, 0)), steps=n_steps, wall_time=wall,
                         initial_energy=e0, dt=dt, snapshots=snaps)
-
-
-#: the registry entry point (same parameters as :func:`simulate_reduced`)
-integrate = simulate_reduced
 
 
 def positions(red: ReducedPairModel, z: np.ndarray, phi: np.ndarray) -> np.ndarray:

@@ -113,11 +113,12 @@ def paper_rk4(model, **kw) -> SolverOutput:
     return integrate(model, **kw)
 
 
-def reduced_hht(model, **kw) -> SolverOutput:
-    """Craig-Bampton teeth + HHT-alpha (see :func:`rotaflex.gear.reduced.integrate`)."""
-    from rotaflex.gear.reduced import integrate
+def reduced_hht(model, *, modes: int = 20, **kw) -> SolverOutput:
+    """Craig-Bampton teeth (``modes`` fixed-interface modes per tooth) + HHT-alpha (see
+    :func:`rotaflex.gear.reduced.simulate_reduced`) of the FE pair ``model``."""
+    from rotaflex.gear.reduced import build_reduced, simulate_reduced
 
-    return integrate(model, **kw)
+    return simulate_reduced(build_reduced(model, modes), **kw)
 
 
 #: method name -> integrator ``fn(model, **options) -> SolverOutput``
