@@ -324,7 +324,11 @@ def simulate_reduced(
                              progress_every=progress_every)
     out = out[:row]
     records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
-    return SolverOutput(records=records, pair_records={"force": out_p[:row].copy()},
+    from rotaflex.gear.kernels.rk4 import PAIR_COLUMNS
+
+    # one contact pair: its columns of the record are the per-pair histories
+    pair_records = {name: records[name][:, None].copy() for name in PAIR_COLUMNS}
+    return SolverOutput(records=records, pair_records=pair_records,
                         tie_multipliers=np.zeros((row, 0)), steps=n_steps, wall_time=wall,
                         initial_energy=e0, dt=dt, snapshots=snaps)
 

@@ -176,65 +176,124 @@ def run_message(ds) -> str:
     return ", ".join(parts)
 
 
-def to_dataset(out, model, geo, tau0, th2, ths):
-    """Histories of :func:`rotaflex.gear.dynamics.simulate` as an xarray Dataset."""
+def histories(out, model, geo, tau0, th2, ths):
+    """Histories of a run as an xarray Dataset (the one builder for any number of pairs).
+
+    Per-pair variables carry a ``pair`` dimension when the model has several pairs; with one
+    pair (one tooth per gear, the paper's model with the Fig. 7 ramps) it is dropped, and the
+    pair-sum variables (total force, load share, pair angle) are omitted.
+    """
     import xarray as xr
 
     r = out.records
+    pr = out.pair_records
     rb = geo.base_radius
     nominal = tau0 / rb
+    force = pr["force"]
+    npair = force.shape[1]
+    multi = npair > 1
     rot = np.column_stack([r["phi_A"], -r["phi_B"]])
-    omega = np.column_stack([r["omega_A"], -r["omega_B"]])
-    cp = np.stack([np.column_stack([r["cpA_x"], r["cpA_y"]]),
-                   np.column_stack([r["cpB_x"], r["cpB_y"]])], axis=1)
+    psi = np.asarray(getattr(model, "pair_psi", None) if multi else [0.0], dtype=float)
+    pair_angle = psi[None, :] + rot[:, :1]
     balance = (r["kinetic_energy"] + r["strain_energy"] - r["external_work"]
                + r["velocity_pass_loss"] - out.initial_energy)
-    ramp = np.asarray(torque_ramp(rot[:, 0], tau0, th2, ths)) / rb
-    ds = xr.Dataset(coords={"time": ("time", r["time"], {"units": "s"}), "gear": ["A", "B"],
-                            "xy": ["x", "y"]})
+    coords = {"time": ("time", r["time"], {"units": "s"}), "gear": ["A", "B"], "xy": ["x", "y"]}
+    if multi:
+        coords["pair"] = np.arange(npair)
+    ds = xr.Dataset(coords=coords)
 
     def add(name, dims, val, units, long):
         ds[name] = (dims, np.asarray(val), {"units": units, "long_name": long})
 
-    add("contact_force", ("time",), r["force"], "N", "contact force (acceleration pass)")
-    add("contact_force_displacement_pass", ("time",), r["force_disp"], "N",
+    def per_pair(val):
+        return val if multi else val[:, 0]
+
+    pdim = ("pair",) if multi else ()
+    add("contact_force", ("time", *pdim), per_pair(force), "N",
+        "contact force" + (" of each pair" if multi else "") + " (acceleration pass)")
+    add("contact_force_displacement_pass", ("time", *pdim), per_pair(pr["force_disp"]), "N",
         "contact force of the displacement pass")
-    add("contact_force_velocity_pass", ("time",), r["force_vel"], "N",
+    add("contact_force_velocity_pass", ("time", *pdim), per_pair(pr["force_vel"]), "N",
         "contact force of the velocity pass (impulse / dt at impacts)")
-    add("peak_force_interval", ("time",), r["force_peak"], "N",
+    add("peak_force_interval", ("time", *pdim), per_pair(pr["force_peak"]), "N",
         "largest contact force since the previous record")
-    add("nominal_force_ramp", ("time",), ramp, "N", "driver torque tau(theta_driver) / r_b (Fig. 7)")
+    if multi:
+        total = force.sum(axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = np.where(total[:, None] > 0, force / total[:, None], np.nan)
+        add("total_contact_force", ("time",), total, "N", "sum of the pair forces")
+        add("load_share", ("time", "pair"), share, "1", "pair force / sum of pair forces")
+        add("pair_angle", ("time", "pair"), pair_angle, "rad",
+            "contact angle of each pair (rotation of A since its geometric start of contact)")
+        add("fig7_ramp_force", ("time", "pair"), torque_ramp(pair_angle, tau0, th2, ths) / rb,
+            "N", "force of the pair implied by the Fig. 7 torque ramps, tau(angle)/r_b")
+        add("nominal_force_ramp", ("time",), np.full(len(total), nominal), "N",
+            "tau_0 / r_b (constant torques)")
+    else:
+        add("nominal_force_ramp", ("time",), np.asarray(torque_ramp(rot[:, 0], tau0, th2, ths))
+            / rb, "N", "driver torque tau(theta_driver) / r_b (Fig. 7)")
     add("rotation_angle", ("time", "gear"), rot, "rad", "rotation angle (running direction)")
-    add("angular_velocity", ("time", "gear"), omega, "rad/s", "angular velocity")
+    add("angular_velocity", ("time", "gear"), np.column_stack([r["omega_A"], -r["omega_B"]]),
+        "rad/s", "angular velocity")
     add("torque", ("time", "gear"), np.column_stack([r["torque_A"], r["torque_B"]]), "N m",
         "external torque (drive on A, load on B)")
-    add("gap", ("time",), r["gap"], "m", "normal gap (> 0 open)")
-    add("normal_velocity", ("time",), r["normal_velocity"], "m/s",
+    # a pair outside its mesh window is not searched (contact case -1): no gap
+    gap = np.where(pr["contact_case"] >= 0, pr["gap"], np.nan)
+    add("gap", ("time", *pdim), per_pair(gap), "m",
+        "normal gap (> 0 open" + ("; NaN: pair out of mesh)" if multi else ")"))
+    add("normal_velocity", ("time", *pdim), per_pair(pr["normal_velocity"]), "m/s",
         "relative normal velocity (> 0 approaching)")
-    add("contact_point", ("time", "gear", "xy"), cp, "m", "contact point")
-    add("contact_parameter", ("time", "gear"), np.column_stack([r["param_a"], r["param_b"]]),
-        "1", "flank spline parameter of the contact point (0 root, 1 tip)")
-    add("contact_case", ("time",), r["contact_case"], "1",
-        "0 flank-flank, 1 tip of B on A, 2 tip of A on B")
+    cp = np.stack([np.stack([pr["cpA_x"], pr["cpA_y"]], axis=-1),
+                   np.stack([pr["cpB_x"], pr["cpB_y"]], axis=-1)], axis=2)
+    add("contact_point", ("time", *pdim, "gear", "xy"), per_pair(cp), "m", "contact point")
+    add("contact_parameter", ("time", *pdim, "gear"),
+        per_pair(np.stack([pr["param_a"], pr["param_b"]], axis=-1)), "1",
+        "flank spline parameter of the contact point (0 root, 1 tip)")
+    add("contact_case", ("time", *pdim), per_pair(pr["contact_case"]), "1",
+        "0 flank-flank, 1 tip of B on A, 2 tip of A on B"
+        + (", -1 out of mesh (not searched)" if multi else ""))
     add_constraint_histories(add, r, out.tie_multipliers, balance)
-    peak = float(np.max(r["force_peak"])) if len(r["force_peak"]) else 0.0
-    single = (rot[:, 0] > th2) & (rot[:, 0] < ths - th2)
-    mean_single = float(np.mean(r["force"][single])) if np.any(single) else float("nan")
+    peak = float(np.max(pr["force_peak"])) if len(force) else 0.0
+    if multi:
+        single = zone_pairs(pair_angle, ths) == 1
+        load = force.sum(axis=1)
+    else:
+        single = (rot[:, 0] > th2) & (rot[:, 0] < ths - th2)
+        load = force[:, 0]
+    mean_single = float(np.mean(load[single])) if np.any(single) else float("nan")
     scalars = run_scalars(out, r, balance, peak=peak, mean_single=mean_single, nominal=nominal,
                           rb=rb, th2=th2, ths=ths)
+    if multi:
+        scalars.update({
+            "mean_total_force": (float(np.mean(load)) if len(load) else float("nan"), "N"),
+            "teeth_per_gear": (npair, "1"),
+            "preload_beta": (float(model.preload["beta"]) if model.preload else 0.0, "rad"),
+        })
     for name, (val, unit) in scalars.items():
         ds[name] = ((), val, {"units": unit})
+    if multi and model.preload:
+        ds["preload_force"] = (("pair",), model.preload["force"], {"units": "N"})
     if out.snapshots:
-        xref = model.reference_positions().reshape(-1, 2)
+        add_snapshots(ds, out, model)
+    return ds
+
+
+def add_snapshots(ds, out, model) -> None:
+    """Reference positions, element connectivity and the displacement snapshots (VTU output)."""
+    xref = model.reference_positions().reshape(-1, 2)
+    node0 = getattr(model, "tooth_node0", None)
+    if node0 is None:
         offs = np.concatenate([[0], np.cumsum([m.n_nodes for m in model.meshes])])
         elems = np.vstack([m.elements + offs[g] for g, m in enumerate(model.meshes)])
-        ds["reference_position"] = (("node", "xy"), xref, {"units": "m"})
-        ds["element_nodes"] = (("element", "corner"), elems, {"units": "1"})
-        ds["snapshot_time"] = (("snapshot",), [s[0] for s in out.snapshots], {"units": "s"})
-        ds["snapshot_displacement"] = (("snapshot", "node", "xy"),
-                                       np.stack([s[1] - xref for s in out.snapshots]),
-                                       {"units": "m"})
-    return ds
+    else:
+        elems = np.vstack([model.meshes[g].elements + node0[g, j]
+                           for g in range(2) for j in range(node0.shape[1])])
+    ds["reference_position"] = (("node", "xy"), xref, {"units": "m"})
+    ds["element_nodes"] = (("element", "corner"), elems, {"units": "1"})
+    ds["snapshot_time"] = (("snapshot",), [s[0] for s in out.snapshots], {"units": "s"})
+    ds["snapshot_displacement"] = (("snapshot", "node", "xy"),
+                                   np.stack([s[1] - xref for s in out.snapshots]),
+                                   {"units": "m"})
 
 
 def add_root_stress(ds, out, model, probe) -> None:
@@ -316,80 +375,6 @@ def zone_pairs(pair_angle: np.ndarray, theta_s: float) -> np.ndarray:
     return np.sum((pair_angle >= 0.0) & (pair_angle <= theta_s), axis=1)
 
 
-def to_dataset_multi(out, model, geo, tau0, th2, ths):
-    """Histories of a run with several teeth per gear as an xarray Dataset with a ``pair`` dimension."""
-    import xarray as xr
-
-    r = out.records
-    pr = out.pair_records
-    rb = geo.base_radius
-    nominal = tau0 / rb
-    npair = model.n_teeth
-    rot = np.column_stack([r["phi_A"], -r["phi_B"]])
-    pair_angle = model.pair_psi[None, :] + rot[:, :1]
-    force = pr["force"]
-    total = force.sum(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        share = np.where(total[:, None] > 0, force / total[:, None], np.nan)
-    insearch = pr["contact_case"] >= 0
-    gap = np.where(insearch, pr["gap"], np.nan)
-    balance = (r["kinetic_energy"] + r["strain_energy"] - r["external_work"]
-               + r["velocity_pass_loss"] - out.initial_energy)
-    ds = xr.Dataset(coords={"time": ("time", r["time"], {"units": "s"}), "gear": ["A", "B"],
-                            "xy": ["x", "y"], "pair": np.arange(npair)})
-
-    def add(name, dims, val, units, long):
-        ds[name] = (dims, np.asarray(val), {"units": units, "long_name": long})
-
-    add("contact_force", ("time", "pair"), force, "N", "contact force of each pair "
-        "(acceleration pass)")
-    add("contact_force_displacement_pass", ("time", "pair"), pr["force_disp"], "N",
-        "contact force of the displacement pass")
-    add("contact_force_velocity_pass", ("time", "pair"), pr["force_vel"], "N",
-        "contact force of the velocity pass (impulse / dt at impacts)")
-    add("peak_force_interval", ("time", "pair"), pr["force_peak"], "N",
-        "largest contact force since the previous record")
-    add("total_contact_force", ("time",), total, "N", "sum of the pair forces")
-    add("load_share", ("time", "pair"), share, "1", "pair force / sum of pair forces")
-    add("pair_angle", ("time", "pair"), pair_angle, "rad",
-        "contact angle of each pair (rotation of A since its geometric start of contact)")
-    add("fig7_ramp_force", ("time", "pair"),
-        torque_ramp(pair_angle, tau0, th2, ths) / rb, "N",
-        "force of the pair implied by the Fig. 7 torque ramps, tau(angle)/r_b")
-    add("nominal_force_ramp", ("time",), np.full(len(total), nominal), "N",
-        "tau_0 / r_b (constant torques)")
-    add("rotation_angle", ("time", "gear"), rot, "rad", "rotation angle (running direction)")
-    add("angular_velocity", ("time", "gear"), np.column_stack([r["omega_A"], -r["omega_B"]]),
-        "rad/s", "angular velocity")
-    add("torque", ("time", "gear"), np.column_stack([r["torque_A"], r["torque_B"]]), "N m",
-        "external torque (drive on A, load on B)")
-    add("gap", ("time", "pair"), gap, "m", "normal gap (> 0 open; NaN: pair out of mesh)")
-    add("normal_velocity", ("time", "pair"), pr["normal_velocity"], "m/s",
-        "relative normal velocity (> 0 approaching)")
-    cp = np.stack([np.stack([pr["cpA_x"], pr["cpA_y"]], axis=-1),
-                   np.stack([pr["cpB_x"], pr["cpB_y"]], axis=-1)], axis=2)
-    add("contact_point", ("time", "pair", "gear", "xy"), cp, "m", "contact point")
-    add("contact_case", ("time", "pair"), pr["contact_case"], "1",
-        "0 flank-flank, 1 tip of B on A, 2 tip of A on B, -1 out of mesh (not searched)")
-    add_constraint_histories(add, r, out.tie_multipliers, balance)
-    nz = zone_pairs(pair_angle, ths)
-    single = nz == 1
-    mean_single = float(np.mean(total[single])) if np.any(single) else float("nan")
-    peak = float(np.max(pr["force_peak"])) if len(total) else 0.0
-    scalars = run_scalars(out, r, balance, peak=peak, mean_single=mean_single, nominal=nominal,
-                          rb=rb, th2=th2, ths=ths)
-    scalars.update({
-        "mean_total_force": (float(np.mean(total)) if len(total) else float("nan"), "N"),
-        "teeth_per_gear": (npair, "1"),
-        "preload_beta": (float(model.preload["beta"]) if model.preload else 0.0, "rad"),
-    })
-    for name, (val, unit) in scalars.items():
-        ds[name] = ((), val, {"units": unit})
-    if model.preload:
-        ds["preload_force"] = (("pair",), model.preload["force"], {"units": "N"})
-    return ds
-
-
 def plot_multi(ds) -> dict:
     """Figures of a multi-tooth result: pair forces vs the Fig. 7 ramps, load share, energy."""
     from rotaflex.core.plotting import new_figure
@@ -421,12 +406,9 @@ def build_dataset(out, model, geo, run, probe=None):
     """
     from rotaflex.gear.config import MAX_ENERGY_BALANCE_ERROR, MAX_TIE_RESIDUAL
 
-    if run.teeth_per_gear > 1:
-        ds = to_dataset_multi(out, model, geo, run.torque, run.theta_2, run.theta_s)
-    else:
-        ds = to_dataset(out, model, geo, run.torque, run.theta_2, run.theta_s)
-        if probe is not None:
-            add_root_stress(ds, out, model, probe)
+    ds = histories(out, model, geo, run.torque, run.theta_2, run.theta_s)
+    if probe is not None:
+        add_root_stress(ds, out, model, probe)
     if run.driver == "B":
         ds = mirror_driver_b(ds, model.centre_distance)
     if run.teeth_per_gear == 1:
