@@ -68,7 +68,7 @@ def respond(g, gth, c1, c2, minv, gid, rot, jd, indptr, indices, data, zk, tx, t
 
 
 @njit(cache=True)
-def tie_row_sums(c1, c2, minv, tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, rs):
+def tie_row_sums(c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, rs):
     """Row sums of |C| over the tie block (for the infinity norm of appendix B)."""
     nt = tie_node.shape[0]
     sb0 = 0.0
@@ -283,8 +283,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, minv
     coef = np.zeros(33)
     act = np.zeros(npair, np.bool_)
     allact = np.ones(npair, np.bool_)
-    tie_row_sums(c1, c2, minv, tie_node, tie_gear, jd, bvec, np.zeros((2, 2)), tb_i, tb_j,
-                 tb_b, rs)
+    tie_row_sums(c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, rs)
     last_mask = -1
     nrm = 1.0
     bbar = 1.0

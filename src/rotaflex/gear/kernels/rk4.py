@@ -171,7 +171,7 @@ def accelerations(x, phi, mu, tau_off, ct, rates, m, tpar, tmode, cnod, cw, rot,
     nw = cnod.shape[2]
     nodes = np.empty(3, np.int64)
     w = np.empty(3)
-    ws = np.empty(nw)
+    ws = np.empty(nw if nw != 3 else 0)
     for jp in range(ct.shape[0]):
         n0 = ct[jp, 2] + rates[jp, 2] * tau_off
         n1 = ct[jp, 3] + rates[jp, 3] * tau_off
