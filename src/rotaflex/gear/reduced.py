@@ -233,6 +233,7 @@ def simulate_reduced(
     [-1/3, 0]; 0 = trapezoidal rule). ``tol`` [m] bounds the Newton displacement increment and
     the penetration of active contacts.
     """
+    from rotaflex.gear.kernels.arrays import HHTModel, HHTParams, HHTRecords, HHTState
     from rotaflex.gear.kernels.hht import RECORD_COLUMNS, chol_solve, evaluate, kinetic, run_hht
     from rotaflex.gear.solvers import SolverOutput, drive
 
@@ -300,22 +301,27 @@ def simulate_reduced(
     e0 = float(kinetic(z, zd, phid, red.nr, red.mr, red.gr, red.hx, red.cx, red.ix,
                        base.inertia)) + e_strain
     rref = float(max(g.tip_radius_ for g in base.geometry))
-    par = np.array([dt, alpha, *tpar, tol, rref])
     sc = np.zeros(8)
     n_rec = n_steps // record_every + 1
     out = np.zeros((n_rec, len(RECORD_COLUMNS)))
     out_p = np.zeros((n_rec, npair))
     info = np.zeros(4)
+    m = HHTModel(nr=red.nr, fl_map=red.fl_map, mr=red.mr, kr=red.kr, gr=red.gr, hx=red.hx,
+                 cx=red.cx, ix=red.ix, inertia=np.asarray(base.inertia, float), sfac=sfac,
+                 m0fac=m0fac, fl_gear=red.fl_gear, fl_start=red.fl_start, fl_len=red.fl_len,
+                 fl_xref=red.fl_xref, centres=base.centres,
+                 theta0=np.asarray(base.theta0, float), sig=base.sig, pairs=red.pairs,
+                 rsgn=base.rsgn)
+    prm = HHTParams(dt=float(dt), alpha=float(alpha), tau0=float(tpar[0]),
+                    theta_2=float(tpar[1]), theta_s=float(tpar[2]), tol=float(tol),
+                    r_ref=rref, max_iter=int(max_iter), n_points=int(base.n_points))
+    state = HHTState(z=z, zd=zd, za=za, phi=phi, phid=phid, phia=phia, p=p, cres=cres,
+                     cnod=cnod, cw=cw, fz=fz, fphi=fphi, sc=sc)
+    rec = HHTRecords(out=out, outp=out_p, info=info)
     row = [0]
 
     def step(nstep, first):
-        ipar = np.array([max_iter, base.n_points, row[0]], dtype=np.int64)
-        status, row[0] = run_hht(nstep, record_every, red.nr, red.fl_map, red.mr, red.kr, red.gr,
-                                 red.hx, red.cx, red.ix, np.asarray(base.inertia, float), sfac,
-                                 m0fac, red.fl_gear, red.fl_start, red.fl_len, red.fl_xref,
-                                 base.centres, base.theta0, base.sig, red.pairs, base.rsgn, par,
-                                 ipar, z, zd, za, phi, phid, phia, p, cres, cnod, cw, fz, fphi,
-                                 sc, out, out_p, info)
+        status, row[0] = run_hht(nstep, record_every, row[0], m, prm, state, rec)
         return (5 if status == 1 else status), row[0]
 
     row, snaps, wall = drive(step, n_steps=n_steps, record_every=record_every,

@@ -3,7 +3,8 @@
 :class:`ModelArrays` is the assembled pair (constant during a run), :class:`StepParams` the
 scalars and factors of one run, :class:`State` everything a call of
 :func:`rotaflex.gear.kernels.rk4.run_steps` advances (a run split into calls is bit-identical to
-one call), :class:`Records` the output buffers.
+one call), :class:`Records` the output buffers. The ``HHT*`` groups are those of
+:func:`rotaflex.gear.kernels.hht.run_hht` (reduced teeth).
 
 Per-gear quantities are indexed by gear (0 = A, 1 = B): ``centres[g]``, ``theta0[g]``,
 ``inertia[g]``, ``rsgn[g]``, ``sig[g]``; node arrays cover both gears (A's nodes first) with
@@ -97,4 +98,63 @@ class Records(NamedTuple):
     out: np.ndarray  # (n_rec, len(GLOBAL_COLUMNS))
     outp: np.ndarray  # (n_rec, npair, len(PAIR_COLUMNS))
     out_mu: np.ndarray  # (n_rec, 2 nt)
+    info: np.ndarray  # (4,)
+
+
+class HHTModel(NamedTuple):
+    """Craig-Bampton pair of :func:`rotaflex.gear.kernels.hht.run_hht` (padded to ``n``)."""
+
+    nr: np.ndarray  # (2,) used size per gear
+    fl_map: np.ndarray
+    mr: np.ndarray  # (2, n, n) reduced mass [kg]
+    kr: np.ndarray  # (2, n, n) reduced stiffness [N/m]
+    gr: np.ndarray
+    hx: np.ndarray
+    cx: np.ndarray
+    ix: np.ndarray
+    inertia: np.ndarray  # (2,) disk polar inertia [kg m^2]
+    sfac: np.ndarray  # Cholesky factors of the HHT iteration matrix per gear
+    m0fac: np.ndarray  # Cholesky factors of the mass matrix per gear
+    fl_gear: np.ndarray
+    fl_start: np.ndarray
+    fl_len: np.ndarray
+    fl_xref: np.ndarray  # flank reference positions [m]
+    centres: np.ndarray  # (2, 2) [m]
+    theta0: np.ndarray  # (2,) [rad]
+    sig: np.ndarray  # (2,)
+    pairs: np.ndarray  # (npair, 2) flank ids of each contact pair
+    rsgn: np.ndarray  # (2,)
+
+
+class HHTParams(NamedTuple):
+    dt: float  # [s]
+    alpha: float  # HHT alpha in [-1/3, 0]
+    tau0: float  # [N m]
+    theta_2: float  # [rad]
+    theta_s: float  # [rad]
+    tol: float  # [m]
+    r_ref: float  # reference radius of the angle residual [m]
+    max_iter: int
+    n_points: int
+
+
+class HHTState(NamedTuple):
+    z: np.ndarray  # (2, n) reduced coordinates
+    zd: np.ndarray
+    za: np.ndarray
+    phi: np.ndarray  # (2,) [rad]
+    phid: np.ndarray
+    phia: np.ndarray
+    p: np.ndarray  # (npair,) contact forces
+    cres: np.ndarray
+    cnod: np.ndarray
+    cw: np.ndarray
+    fz: np.ndarray  # F at the current state
+    fphi: np.ndarray
+    sc: np.ndarray  # (8,) running scalars
+
+
+class HHTRecords(NamedTuple):
+    out: np.ndarray  # (n_rec, len(RECORD_COLUMNS of kernels.hht))
+    outp: np.ndarray  # (n_rec, npair)
     info: np.ndarray  # (4,)
