@@ -77,6 +77,24 @@ class GearPairModel:
     def n_nodes(self) -> int:
         return int(self.xloc.shape[0])
 
+    #: torque of the disks: the Fig. 7 ramps (one tooth per gear) or the constant tau_0
+    constant_torque = False
+
+    def pair_layout(self):
+        """Contact pairs: flank ids (npair, 2, nfl), edges (npair, 2), nominal contact angles at
+        t = 0 (npair,), initial contact parameters (npair, 2) and start positions (2N,).
+        One tooth per gear is one pair starting at the start of contact, unloaded."""
+        return (self.flank[None], self.nedge[None], np.zeros(1), np.array([[0.3, 0.99]]),
+                self.reference_positions())
+
+    def warm_start_table(self, theta_s: float):
+        """Involute contact parameters for pairs entering the mesh window (none for one pair)."""
+        return None
+
+    def start_strain_energy(self, x: np.ndarray) -> float:
+        """Strain energy of the start state [J] (0: the single pair starts unloaded)."""
+        return 0.0
+
     def reference_positions(self) -> np.ndarray:
         """Global node positions at t = 0, flattened (2N,)."""
         out = np.empty((self.n_nodes, 2))
@@ -326,23 +344,6 @@ def rigid_velocities(model, x: np.ndarray, om: np.ndarray) -> np.ndarray:
     return v
 
 
-def pair_layout(model):
-    """Contact pairs of a model: flank ids (npair, 2, nfl), edges (npair, 2), nominal contact
-    angles at t = 0 (npair,), initial contact parameters (npair, 2) and start positions (2N,).
-
-    One tooth per gear (:class:`GearPairModel`) is one pair starting at the start of contact;
-    models with several teeth (:class:`rotaflex.gear.multitooth.MultiToothModel`) provide their
-    own ``pair_*`` arrays and a preloaded start state."""
-    if getattr(model, "pair_flank", None) is not None:
-        from rotaflex.gear.multitooth import involute_start
-
-        start = np.array([involute_start(model, p) for p in model.pair_psi])
-        return (model.pair_flank, model.pair_nedge, np.asarray(model.pair_psi, float), start,
-                model.initial_positions.copy())
-    return (model.flank[None], model.nedge[None], np.zeros(1), np.array([[0.3, 0.99]]),
-            model.reference_positions())
-
-
 def integrate(
     model: GearPairModel,
     *,
@@ -372,7 +373,7 @@ def integrate(
     Parameters
     ----------
     model : GearPairModel or MultiToothModel
-        One contact pair per tooth (see :func:`pair_layout`).
+        One contact pair per tooth (see :meth:`GearPairModel.pair_layout`).
     speeds : (float, float)
         Initial speeds of A (counter-clockwise) and B (clockwise) [rad/s]
         (:func:`rotaflex.gear.config.rpm_to_rad_s`).
@@ -421,9 +422,9 @@ def integrate(
     rotaflex.gear.solvers.SolverOutput
         For one pair, ``records`` also holds the pair columns of that pair (shorthand).
     """
+    from rotaflex.gear.driver import SolverOutput, drive
     from rotaflex.gear.kernels.arrays import ModelArrays, Records, State, StepParams
     from rotaflex.gear.kernels.rk4 import GLOBAL_COLUMNS, PAIR_COLUMNS, kinetic_energy, run_steps
-    from rotaflex.gear.solvers import SolverOutput, drive
 
     if dt > model.dt_limit:
         raise InputError(
@@ -436,14 +437,11 @@ def integrate(
         raise InputError("solver.multipliers", multipliers, "'iterative' or 'direct'")
     if not 0.0 <= restitution <= 1.0:
         raise InputError("solver.restitution", restitution, "in [0, 1]")
-    flank, nedge, psi, start, x = pair_layout(model)
-    multi = getattr(model, "pair_flank", None) is not None
+    flank, nedge, psi, start, x = model.pair_layout()
     if torque_mode is None:
-        torque_mode = 1 if multi else 0
-    if warm_start is None and multi:
-        from rotaflex.gear.multitooth import warm_start_table
-
-        warm_start = warm_start_table(model, theta_s)
+        torque_mode = 1 if model.constant_torque else 0
+    if warm_start is None:
+        warm_start = model.warm_start_table(theta_s)
     npair = flank.shape[0]
     tab, mloc = smoothing_tables(model, smoothing, flank, nedge)
     omega = np.asarray(speeds, dtype=float)
@@ -488,11 +486,7 @@ def integrate(
     rec = Records(out=np.zeros((n_rec, len(GLOBAL_COLUMNS))),
                   outp=np.zeros((n_rec, npair, len(PAIR_COLUMNS))),
                   out_mu=np.zeros((n_rec, nc - npair)), info=np.zeros(4))
-    e0 = kinetic_energy(v, om, model.minv, model.inertia)
-    if multi:
-        from rotaflex.gear.multitooth import strain_energy
-
-        e0 = e0 + strain_energy(model, x)
+    e0 = kinetic_energy(v, om, model.minv, model.inertia) + model.start_strain_energy(x)
     rec_nodes = None if record_nodes is None else np.asarray(record_nodes, dtype=np.int64)
     rec_x = None if rec_nodes is None else np.zeros((n_rec, len(rec_nodes), 2))
     row = [0]

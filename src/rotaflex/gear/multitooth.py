@@ -53,6 +53,23 @@ class MultiToothModel(GearPairModel):
     initial_positions: np.ndarray | None = None  # (2N,) preloaded start state
     preload: dict | None = None
 
+    #: constant tau_0 on both disks (no Fig. 7 ramps)
+    constant_torque = True
+
+    def pair_layout(self):
+        """Pairs of adjacent teeth, warm-started at the involute point, preloaded start."""
+        start = np.array([involute_start(self, p) for p in self.pair_psi])
+        return (self.pair_flank, self.pair_nedge, np.asarray(self.pair_psi, float), start,
+                self.initial_positions.copy())
+
+    def warm_start_table(self, theta_s: float, n: int = 61) -> np.ndarray:
+        """(n, 3): involute contact parameters (a, b) on a uniform grid of the contact angle."""
+        ang = np.linspace(0.0, theta_s, n)
+        return np.array([[*involute_start(self, t), t] for t in ang])
+
+    def start_strain_energy(self, x: np.ndarray) -> float:
+        return strain_energy(self, x)
+
 
 def _rot(t):
     c, s = math.cos(t), math.sin(t)
@@ -295,12 +312,6 @@ def strain_energy(model: GearPairModel, x: np.ndarray) -> float:
     return float(0.5 * w @ (model.stiffness @ w))
 
 
-def warm_start_table(model: MultiToothModel, theta_s: float, n: int = 61) -> np.ndarray:
-    """(n, 3): involute contact parameters (a, b) on a uniform grid of the contact angle."""
-    ang = np.linspace(0.0, theta_s, n)
-    return np.array([[*involute_start(model, t), t] for t in ang])
-
-
 def simulate_multi(model: MultiToothModel, *, speeds, torque, theta_2, theta_s, span, dt,
                    torque_mode=1, window=WINDOW, n_accel=4, **kw):
     """Integrate the multi-tooth pair over a rotation ``span`` of gear A [rad].
@@ -314,4 +325,4 @@ def simulate_multi(model: MultiToothModel, *, speeds, torque, theta_2, theta_s, 
 
     return integrate(model, speeds=speeds, torque=torque, theta_2=theta_2,
                      theta_s=theta_s, span=span, dt=dt, torque_mode=torque_mode, window=window,
-                     warm_start=warm_start_table(model, theta_s), n_accel=n_accel, **kw)
+                     n_accel=n_accel, **kw)

@@ -233,9 +233,9 @@ def simulate_reduced(
     [-1/3, 0]; 0 = trapezoidal rule). ``tol`` [m] bounds the Newton displacement increment and
     the penetration of active contacts.
     """
+    from rotaflex.gear.driver import SolverOutput, drive
     from rotaflex.gear.kernels.arrays import HHTModel, HHTParams, HHTRecords, HHTState
     from rotaflex.gear.kernels.hht import RECORD_COLUMNS, chol_solve, evaluate, kinetic, run_hht
-    from rotaflex.gear.solvers import SolverOutput, drive
 
     if not -1.0 / 3.0 <= alpha <= 0.0:
         raise InputError("solver.hht_alpha", alpha, "[-1/3, 0]")
