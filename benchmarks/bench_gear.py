@@ -114,7 +114,7 @@ def compare(model, ref, rpm, th2, ths, span):
     t0 = time.perf_counter()
     red = reduced.build_reduced(model, 20)
     t_build = time.perf_counter() - t0
-    om = rpm[0] * math.pi / 30
+    om = float(rpm_to_rad_s(rpm)[0])
     for dt in (2e-6, 5e-4 / om, 5e-7, 2.5e-7):
         if dt > reduced.time_step_limit(red, rpm_to_rad_s(rpm)):
             continue
