@@ -27,7 +27,13 @@ from rotaflex.gear.sweep_figures import sweep_figures
 SCHEMA = GearCaseConfig
 
 __all__ = [
-    "SCHEMA", "GearCaseConfig", "GearResult", "build", "prepare", "run_case", "sweep_figures",
+    "SCHEMA",
+    "GearCaseConfig",
+    "GearResult",
+    "build",
+    "prepare",
+    "run_case",
+    "sweep_figures",
     "validate_config",
 ]
 
@@ -52,9 +58,9 @@ def validate_config(config: dict) -> None:
     cfg, _, _, model, run = prepare(config)
     if run.method == "paper_rk4":
         if run.dt > model.dt_limit:
-            raise InputError("solver.dt", cfg.solver.dt,
-                             f"a step <= the RK4 stability limit of the mesh, "
-                             f"{model.dt_limit:.4g} s")
+            raise InputError(
+                "solver.dt", cfg.solver.dt, f"a step <= the RK4 stability limit of the mesh, {model.dt_limit:.4g} s"
+            )
         tie_eigen_bounds(model, run.dt)
 
 
@@ -64,8 +70,7 @@ def _preload(cfg, model, run):
     from rotaflex.gear.multitooth import static_preload
 
     mat = cfg.material
-    return static_preload(model, run.torque, mat.youngs_modulus, mat.poisson_ratio,
-                          run.theta_s, run.window)
+    return static_preload(model, run.torque, mat.youngs_modulus, mat.poisson_ratio, run.theta_s, run.window)
 
 
 def run_case(config: dict, *, progress: bool = False) -> GearResult:
@@ -80,11 +85,18 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     if cfg.output.root_stress and run.method == "paper_rk4" and run.teeth_per_gear == 1:
         from rotaflex.gear.post import root_stress_probe
 
-        probe = root_stress_probe(model, cfg.material.youngs_modulus,
-                                  cfg.material.poisson_ratio)
-    kw = dict(run.options, speeds=run.speeds, torque=run.torque, theta_2=run.theta_2,
-              theta_s=run.theta_s, span=run.span, dt=run.dt, record_every=run.every,
-              snapshots=cfg.output.vtu_snapshots)
+        probe = root_stress_probe(model, cfg.material.youngs_modulus, cfg.material.poisson_ratio)
+    kw = dict(
+        run.options,
+        speeds=run.speeds,
+        torque=run.torque,
+        theta_2=run.theta_2,
+        theta_s=run.theta_s,
+        span=run.span,
+        dt=run.dt,
+        record_every=run.every,
+        snapshots=cfg.output.vtu_snapshots,
+    )
     if probe is not None:
         kw["record_nodes"] = probe.nodes
     if run.teeth_per_gear > 1:

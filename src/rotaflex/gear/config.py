@@ -75,26 +75,38 @@ class GearConfig:
         lo = math.floor(2 * self.root_radius / self.module) + 1
         hi = math.ceil(2 * self.tip_radius / self.module) - 1
         if not lo <= self.teeth <= hi:
-            raise InputError("gear.teeth", self.teeth,
-                             f"{lo}..{hi} with module {self.module:g} m, root_radius "
-                             f"{self.root_radius:g} m and tip_radius {self.tip_radius:g} m "
-                             "(pitch radius m z / 2 between them; set the radii with the teeth)")
+            raise InputError(
+                "gear.teeth",
+                self.teeth,
+                f"{lo}..{hi} with module {self.module:g} m, root_radius "
+                f"{self.root_radius:g} m and tip_radius {self.tip_radius:g} m "
+                "(pitch radius m z / 2 between them; set the radii with the teeth)",
+            )
 
     def geometry(self):
         from rotaflex.gear.geometry import GearGeometry
 
         try:
-            return GearGeometry(module=self.module, teeth=self.teeth, face_width=self.face_width,
-                                pressure_angle_deg=self.pressure_angle_deg,
-                                tip_radius=self.tip_radius, root_radius=self.root_radius)
+            return GearGeometry(
+                module=self.module,
+                teeth=self.teeth,
+                face_width=self.face_width,
+                pressure_angle_deg=self.pressure_angle_deg,
+                tip_radius=self.tip_radius,
+                root_radius=self.root_radius,
+            )
         except InputError as exc:
             raise InputError(f"gear.{exc.field}", exc.value, exc.allowed) from None
 
 
 @dataclass(frozen=True)
 class MaterialConfig:
-    youngs_modulus: float = param(paper.YOUNGS_MODULUS, unit="Pa", gt=MIN_YOUNGS_MODULUS,
-                                  doc="Young's modulus (> 1e8 Pa: engineering gear materials)")
+    youngs_modulus: float = param(
+        paper.YOUNGS_MODULUS,
+        unit="Pa",
+        gt=MIN_YOUNGS_MODULUS,
+        doc="Young's modulus (> 1e8 Pa: engineering gear materials)",
+    )
     poisson_ratio: float = param(paper.POISSON_RATIO, gt=0.0, lt=0.5)
     density: float = param(paper.DENSITY, unit="kg/m^3", gt=0.0)
 
@@ -103,35 +115,40 @@ class MaterialConfig:
 class OperationConfig:
     """Initial speeds, torque and the angles of Fig. 7."""
 
-    speed_rpm: tuple[float, float] = param((paper.SPEED_RPM, paper.SPEED_RPM), unit="rpm",
-                                           gt=0.0, doc="initial speeds of gear A, gear B")
+    speed_rpm: tuple[float, float] = param(
+        (paper.SPEED_RPM, paper.SPEED_RPM), unit="rpm", gt=0.0, doc="initial speeds of gear A, gear B"
+    )
     torque: float = param(paper.TORQUE, unit="N m", ge=0.0, doc="tau_0 of Fig. 7")
-    theta_2_deg: float | None = param(None, unit="deg", gt=0.0,
-                                      doc="two-pair zone (default from involute geometry)")
-    theta_s_deg: float | None = param(None, unit="deg", gt=0.0,
-                                      doc="single-tooth contact angle (default from geometry)")
-    span_deg: float | None = param(None, unit="deg", gt=0.0,
-                                   doc="rotation of gear A simulated (default theta_s; at "
-                                       "least one output record)")
-    driver: Literal["A", "B"] = param("A", doc="gear that gets the drive torque; the other "
-                                           "gets the load torque")
+    theta_2_deg: float | None = param(None, unit="deg", gt=0.0, doc="two-pair zone (default from involute geometry)")
+    theta_s_deg: float | None = param(
+        None, unit="deg", gt=0.0, doc="single-tooth contact angle (default from geometry)"
+    )
+    span_deg: float | None = param(
+        None, unit="deg", gt=0.0, doc="rotation of gear A simulated (default theta_s; at least one output record)"
+    )
+    driver: Literal["A", "B"] = param("A", doc="gear that gets the drive torque; the other gets the load torque")
 
 
 @dataclass(frozen=True)
 class MeshConfig:
     preset: Literal["default", "coarse", "fine"] = param(
-        "default", doc="tooth mesh; 'fine' (2x default) needs dt <= 1.7e-8 s")
+        "default", doc="tooth mesh; 'fine' (2x default) needs dt <= 1.7e-8 s"
+    )
     n_points: int = param(61, ge=8, le=1000, doc="spline data points per flank")
     contact_smoothing: int = param(
-        0, ge=0, le=100,
+        0,
+        ge=0,
+        le=100,
         doc="contact surfaces without the short-wave flank deformation (the point force's own "
-            "indentation): uniform intervals of the least-squares cubic fit; 0 = paper's surfaces "
-            "(paper_rk4 only; at most n_points - 3)")
+        "indentation): uniform intervals of the least-squares cubic fit; 0 = paper's surfaces "
+        "(paper_rk4 only; at most n_points - 3)",
+    )
 
     def __post_init__(self) -> None:
         if self.contact_smoothing > 0 and self.contact_smoothing + 3 > self.n_points:
-            raise InputError("mesh.contact_smoothing", self.contact_smoothing,
-                             f"0 or 1..{self.n_points - 3} (n_points - 3)")
+            raise InputError(
+                "mesh.contact_smoothing", self.contact_smoothing, f"0 or 1..{self.n_points - 3} (n_points - 3)"
+            )
 
 
 #: default time step of paper_rk4 [s]; reduced_hht: REDUCED_STEP_ANGLE / omega_A
@@ -144,33 +161,49 @@ REDUCED_STEP_ANGLE = 5e-4
 @dataclass(frozen=True)
 class SolverConfig:
     method: Literal["paper_rk4", "reduced_hht"] = param(
-        "paper_rk4", doc="paper_rk4: the paper's RK4 + multiplier passes; reduced_hht: "
-        "Craig-Bampton teeth + implicit HHT-alpha (large steps, docs/gear-dynamics.md)")
-    dt: float | None = param(None, unit="s", gt=0.0,
-                             doc="time step (default 3e-8 s paper_rk4; 5e-4 rad / omega_A reduced_hht)")
+        "paper_rk4",
+        doc="paper_rk4: the paper's RK4 + multiplier passes; reduced_hht: "
+        "Craig-Bampton teeth + implicit HHT-alpha (large steps, docs/gear-dynamics.md)",
+    )
+    dt: float | None = param(
+        None, unit="s", gt=0.0, doc="time step (default 3e-8 s paper_rk4; 5e-4 rad / omega_A reduced_hht)"
+    )
     multipliers: Literal["iterative", "direct"] = param(
-        "iterative", doc="paper_rk4 passes: the iteration of eq. 19-24 or the direct solve")
+        "iterative", doc="paper_rk4 passes: the iteration of eq. 19-24 or the direct solve"
+    )
     modes: int = param(20, ge=0, le=500, doc="reduced_hht: fixed-interface modes per tooth (>= 1)")
     hht_alpha: float = param(-0.05, ge=-1.0 / 3.0, le=0.0, doc="reduced_hht: HHT alpha")
-    tolerance: float = param(1e-12, unit="m", ge=TOLERANCE_RANGE[0], le=TOLERANCE_RANGE[1],
-                             doc="displacement tolerance; velocity/acceleration: tol/dt, tol/dt^2")
+    tolerance: float = param(
+        1e-12,
+        unit="m",
+        ge=TOLERANCE_RANGE[0],
+        le=TOLERANCE_RANGE[1],
+        doc="displacement tolerance; velocity/acceleration: tol/dt, tol/dt^2",
+    )
     accel_n: int = param(4, ge=1, le=5, doc="acceleration level n of appendix B")
     max_iter: int = param(500, ge=1)
-    restitution: float = param(0.0, ge=0.0, le=1.0,
-                               doc="Newton coefficient e of the contact-point impact law "
-                                   "(0 = plastic, the paper's velocity pass)")
+    restitution: float = param(
+        0.0,
+        ge=0.0,
+        le=1.0,
+        doc="Newton coefficient e of the contact-point impact law (0 = plastic, the paper's velocity pass)",
+    )
 
     def __post_init__(self) -> None:
         if self.method == "reduced_hht" and self.modes < 1:
-            raise InputError("solver.modes", self.modes,
-                             ">= 1 with method = 'reduced_hht' (fixed-interface modes carry the "
-                             "tooth's inertia beyond its static shapes)")
+            raise InputError(
+                "solver.modes",
+                self.modes,
+                ">= 1 with method = 'reduced_hht' (fixed-interface modes carry the "
+                "tooth's inertia beyond its static shapes)",
+            )
 
 
 @dataclass(frozen=True)
 class OutputConfig:
-    every: int | None = param(None, ge=1, doc="record every n-th step (1 = full rate; default "
-                              "10 for paper_rk4, 1 for reduced_hht)")
+    every: int | None = param(
+        None, ge=1, doc="record every n-th step (1 = full rate; default 10 for paper_rk4, 1 for reduced_hht)"
+    )
     vtu_snapshots: int = param(0, ge=0, le=1000, doc="number of VTU snapshots")
     root_stress: bool = param(True, doc="record the fillet nodes for root_stress(time, gear)")
 
@@ -179,19 +212,29 @@ class OutputConfig:
 class ModelConfig:
     """Number of elastic teeth per gear."""
 
-    teeth_per_gear: int = param(1, ge=1, le=3,
-                                doc="1: the paper's model with the Fig. 7 torque ramps; 2-3: "
-                                    "adjacent teeth, several contact pairs, constant torques")
-    start_angle_deg: float = param(-0.5, unit="deg", le=0.0,
-                                   doc="contact angle of the entering pair at t = 0 (2-3 teeth)")
-    mesh_window_deg: float = param(1.0, unit="deg", gt=0.0, le=5.0,
-                                   doc="pairs are searched from this angle before the start of "
-                                       "contact to this angle after its end (2-3 teeth)")
+    teeth_per_gear: int = param(
+        1,
+        ge=1,
+        le=3,
+        doc="1: the paper's model with the Fig. 7 torque ramps; 2-3: "
+        "adjacent teeth, several contact pairs, constant torques",
+    )
+    start_angle_deg: float = param(
+        -0.5, unit="deg", le=0.0, doc="contact angle of the entering pair at t = 0 (2-3 teeth)"
+    )
+    mesh_window_deg: float = param(
+        1.0,
+        unit="deg",
+        gt=0.0,
+        le=5.0,
+        doc="pairs are searched from this angle before the start of contact to this angle after its end (2-3 teeth)",
+    )
 
     def __post_init__(self) -> None:
         if self.start_angle_deg < -self.mesh_window_deg:
-            raise InputError("model.start_angle_deg", self.start_angle_deg,
-                             f">= -mesh_window_deg = {-self.mesh_window_deg:g}")
+            raise InputError(
+                "model.start_angle_deg", self.start_angle_deg, f">= -mesh_window_deg = {-self.mesh_window_deg:g}"
+            )
 
 
 @dataclass(frozen=True)
@@ -209,17 +252,21 @@ class GearCaseConfig:
         op = self.operation
         if op.theta_2_deg is not None and op.theta_s_deg is not None:
             if 2 * op.theta_2_deg > op.theta_s_deg:
-                raise InputError("operation.theta_2_deg", op.theta_2_deg,
-                                 f"<= theta_s_deg / 2 = {op.theta_s_deg / 2:g}")
+                raise InputError(
+                    "operation.theta_2_deg", op.theta_2_deg, f"<= theta_s_deg / 2 = {op.theta_s_deg / 2:g}"
+                )
         if self.mesh.contact_smoothing > 0 and self.solver.method != "paper_rk4":
-            raise InputError("mesh.contact_smoothing", self.mesh.contact_smoothing,
-                             "0 unless solver.method = 'paper_rk4'")
+            raise InputError(
+                "mesh.contact_smoothing", self.mesh.contact_smoothing, "0 unless solver.method = 'paper_rk4'"
+            )
         if self.solver.method == "reduced_hht" and self.solver.restitution > 0.0:
-            raise InputError("solver.restitution", self.solver.restitution,
-                             "0 with method = 'reduced_hht' (its impact law is plastic)")
+            raise InputError(
+                "solver.restitution",
+                self.solver.restitution,
+                "0 with method = 'reduced_hht' (its impact law is plastic)",
+            )
         if self.model.teeth_per_gear > 1 and self.solver.method != "paper_rk4":
-            raise InputError("solver.method", self.solver.method,
-                             "'paper_rk4' with [model] teeth_per_gear > 1")
+            raise InputError("solver.method", self.solver.method, "'paper_rk4' with [model] teeth_per_gear > 1")
 
 
 #: 2x the default tooth mesh (1125 nodes; RK4 limit 1.74e-8 s, see docs/gear-fe.md)
@@ -261,14 +308,19 @@ def build(cfg: GearCaseConfig):
     kw = {"coarse": COARSE, "default": DEFAULT, "fine": FINE}[cfg.mesh.preset]
     mesh = build_tooth_mesh(geo, **kw)
     mat = cfg.material
-    common = dict(youngs_modulus=mat.youngs_modulus, poisson_ratio=mat.poisson_ratio,
-                  density=mat.density, inertia=(cfg.disk_inertia, cfg.disk_inertia),
-                  n_points=cfg.mesh.n_points)
+    common = dict(
+        youngs_modulus=mat.youngs_modulus,
+        poisson_ratio=mat.poisson_ratio,
+        density=mat.density,
+        inertia=(cfg.disk_inertia, cfg.disk_inertia),
+        n_points=cfg.mesh.n_points,
+    )
     if cfg.model.teeth_per_gear > 1:
         from rotaflex.gear.multitooth import build_multi_model
 
-        model = build_multi_model(geo, mesh, cfg.model.teeth_per_gear,
-                                  start_angle=math.radians(cfg.model.start_angle_deg), **common)
+        model = build_multi_model(
+            geo, mesh, cfg.model.teeth_per_gear, start_angle=math.radians(cfg.model.start_angle_deg), **common
+        )
     else:
         model = dynamics.build_model(geo, geo, mesh, mesh, **common)
     return geo, mesh, model
@@ -291,9 +343,11 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
     if op.theta_2_deg is not None:
         th2 = math.radians(op.theta_2_deg)
     if 2 * th2 > ths:
-        raise InputError("operation.theta_2_deg", op.theta_2_deg if op.theta_2_deg is not None
-                         else round(math.degrees(th2), 6),
-                         f"<= theta_s / 2 = {math.degrees(ths) / 2:g} deg")
+        raise InputError(
+            "operation.theta_2_deg",
+            op.theta_2_deg if op.theta_2_deg is not None else round(math.degrees(th2), 6),
+            f"<= theta_s / 2 = {math.degrees(ths) / 2:g} deg",
+        )
     # kernel gear A is always the driver (driver = "B": mirror image, see rotaflex.gear.result)
     rpm = tuple(op.speed_rpm) if op.driver == "A" else tuple(op.speed_rpm[::-1])
     speeds = rpm_to_rad_s(rpm)
@@ -309,9 +363,12 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
     if n > 1:
         limit = (n - 1) * 2 * math.pi / geo.teeth - start
         if span > limit * (1 + 1e-9):
-            raise InputError("operation.span_deg", op.span_deg,
-                             f"<= {math.degrees(limit):.4g} deg with {n} teeth per gear (beyond "
-                             "it a pair of teeth that is not modelled would be in contact)")
+            raise InputError(
+                "operation.span_deg",
+                op.span_deg,
+                f"<= {math.degrees(limit):.4g} deg with {n} teeth per gear (beyond "
+                "it a pair of teeth that is not modelled would be in contact)",
+            )
     if sol.dt is not None:
         dt = sol.dt
     elif sol.method == "reduced_hht":
@@ -323,32 +380,58 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
     step_angle = float(speeds[0]) * dt
     n_steps = max(1, int(round(span / step_angle)))
     if span < every * step_angle * (1 - 1e-9):
-        raise InputError("operation.span_deg", op.span_deg,
-                         f">= {math.degrees(every * step_angle):.3g} deg: at least one output "
-                         f"record ({every} steps of {math.degrees(step_angle):.3g} deg)")
+        raise InputError(
+            "operation.span_deg",
+            op.span_deg,
+            f">= {math.degrees(every * step_angle):.3g} deg: at least one output "
+            f"record ({every} steps of {math.degrees(step_angle):.3g} deg)",
+        )
     if n_steps > MAX_STEPS:
-        key, value = (("solver.dt", sol.dt) if sol.dt is not None or op.span_deg is None
-                      else ("operation.span_deg", op.span_deg))
-        raise InputError(key, value,
-                         f"a run of <= {MAX_STEPS:.0e} steps (this one: {n_steps:.3g} steps of "
-                         f"dt = {dt:g} s over {math.degrees(span):.4g} deg; raise solver.dt or "
-                         "shorten operation.span_deg)")
+        key, value = (
+            ("solver.dt", sol.dt) if sol.dt is not None or op.span_deg is None else ("operation.span_deg", op.span_deg)
+        )
+        raise InputError(
+            key,
+            value,
+            f"a run of <= {MAX_STEPS:.0e} steps (this one: {n_steps:.3g} steps of "
+            f"dt = {dt:g} s over {math.degrees(span):.4g} deg; raise solver.dt or "
+            "shorten operation.span_deg)",
+        )
     nn = int(model.n_nodes)
     n_rec = n_steps // every + 1
     per_rec = 8 * (19 + 13 * n + 2 * len(model.tie_node) + 16)
     mem = n_rec * per_rec + 8 * 2 * nn * cfg.output.vtu_snapshots
     if mem > MAX_OUTPUT_BYTES:
-        raise InputError("output.every", cfg.output.every,
-                         f"a decimation with recorded histories <= {MAX_OUTPUT_BYTES / 1e9:g} GB "
-                         f"(this one: {n_rec:.3g} records, {mem / 1e9:.3g} GB)")
+        raise InputError(
+            "output.every",
+            cfg.output.every,
+            f"a decimation with recorded histories <= {MAX_OUTPUT_BYTES / 1e9:g} GB "
+            f"(this one: {n_rec:.3g} records, {mem / 1e9:.3g} GB)",
+        )
     if sol.method == "reduced_hht":
-        options = dict(alpha=sol.hht_alpha, tol=sol.tolerance, max_iter=min(sol.max_iter, 100),
-                       modes=sol.modes)
+        options = dict(alpha=sol.hht_alpha, tol=sol.tolerance, max_iter=min(sol.max_iter, 100), modes=sol.modes)
     else:
-        options = dict(tol=sol.tolerance, n_accel=sol.accel_n, max_iter=sol.max_iter,
-                       restitution=sol.restitution, multipliers=sol.multipliers,
-                       smoothing=cfg.mesh.contact_smoothing)
-    return Run(method=sol.method, speeds=(float(speeds[0]), float(speeds[1])),
-               torque=op.torque, theta_2=th2, theta_s=ths, span=span, dt=dt, every=every,
-               n_steps=n_steps, driver=op.driver, teeth_per_gear=n, start_angle=start,
-               window=window, options=options)
+        options = dict(
+            tol=sol.tolerance,
+            n_accel=sol.accel_n,
+            max_iter=sol.max_iter,
+            restitution=sol.restitution,
+            multipliers=sol.multipliers,
+            smoothing=cfg.mesh.contact_smoothing,
+        )
+    return Run(
+        method=sol.method,
+        speeds=(float(speeds[0]), float(speeds[1])),
+        torque=op.torque,
+        theta_2=th2,
+        theta_s=ths,
+        span=span,
+        dt=dt,
+        every=every,
+        n_steps=n_steps,
+        driver=op.driver,
+        teeth_per_gear=n,
+        start_angle=start,
+        window=window,
+        options=options,
+    )

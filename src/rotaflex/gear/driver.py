@@ -56,10 +56,20 @@ class SolverOutput:
     record_nodes: np.ndarray | None = None
 
 
-def drive(step: Callable[[int, bool], tuple[int, int]], *, n_steps: int, record_every: int,
-          time_of: Callable[[], float], positions: Callable[[], np.ndarray],
-          info: np.ndarray, snapshots: int = 0, record_nodes=None, rec_x=None,
-          progress=None, progress_every: int = 2000) -> tuple[int, list, float]:
+def drive(
+    step: Callable[[int, bool], tuple[int, int]],
+    *,
+    n_steps: int,
+    record_every: int,
+    time_of: Callable[[], float],
+    positions: Callable[[], np.ndarray],
+    info: np.ndarray,
+    snapshots: int = 0,
+    record_nodes=None,
+    rec_x=None,
+    progress=None,
+    progress_every: int = 2000,
+) -> tuple[int, list, float]:
     """The driver loop shared by every method.
 
     ``step(n, first)`` advances ``n`` steps and returns ``(status, rows written so far)``;

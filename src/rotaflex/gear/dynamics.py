@@ -84,8 +84,7 @@ class GearPairModel:
         """Contact pairs: flank ids (npair, 2, nfl), edges (npair, 2), nominal contact angles at
         t = 0 (npair,), initial contact parameters (npair, 2) and start positions (2N,).
         One tooth per gear is one pair starting at the start of contact, unloaded."""
-        return (self.flank[None], self.nedge[None], np.zeros(1), np.array([[0.3, 0.99]]),
-                self.reference_positions())
+        return (self.flank[None], self.nedge[None], np.zeros(1), np.array([[0.3, 0.99]]), self.reference_positions())
 
     def warm_start_table(self, theta_s: float):
         """Involute contact parameters for pairs entering the mesh window (none for one pair)."""
@@ -237,8 +236,7 @@ def build_model(
     return model
 
 
-def smoothing_tables(model: GearPairModel, n_intervals: int, flank=None, nedge=None,
-                     per_interval: int = 40):
+def smoothing_tables(model: GearPairModel, n_intervals: int, flank=None, nedge=None, per_interval: int = 40):
     """Tables of the smoothed contact surfaces (:func:`rotaflex.gear.kernels.contact.sample_smooth`).
 
     The flank displacement is replaced by its least-squares fit with a clamped cubic B-spline of
@@ -257,8 +255,7 @@ def smoothing_tables(model: GearPairModel, n_intervals: int, flank=None, nedge=N
         return np.zeros((npair, 2, 2, 1)), np.zeros((npair, 2, 1, 2))
     mpts = model.n_points
     if n_intervals + 3 > mpts:
-        raise InputError("mesh.contact_smoothing", n_intervals,
-                         f"0 or 1..{mpts - 3} (n_points - 3)")
+        raise InputError("mesh.contact_smoothing", n_intervals, f"0 or 1..{mpts - 3} (n_points - 3)")
     from scipy.interpolate import BSpline
 
     from rotaflex.gear.kernels.contact import flank_weights
@@ -325,8 +322,7 @@ def tie_eigen_bounds(model: GearPairModel, dt: float) -> np.ndarray:
             raise InputError(
                 "solver.dt",
                 dt,
-                "a step for which the constraint matrix is positive"
-                f" definite (dt < {model.dt_limit:.4g} s)",
+                f"a step for which the constraint matrix is positive definite (dt < {model.dt_limit:.4g} s)",
             )
         out.append(lam[0])
     return np.array(out)
@@ -464,28 +460,73 @@ def integrate(
     n_rec = n_steps // record_every + 1
     lo, hi = (-1e9, 1e9) if window is None else (-window, theta_s + window)
     arrays = ModelArrays(
-        gid=model.gid, indptr=k.indptr.astype(np.int64), indices=k.indices.astype(np.int64),
-        data=k.data.astype(float), xloc=model.xloc, minv=model.minv, centres=model.centres,
-        theta0=np.asarray(model.theta0, dtype=float), inertia=np.asarray(model.inertia, float),
-        rsgn=model.rsgn, sig=model.sig, tie_node=model.tie_node, tie_gear=model.tie_gear,
-        tb_i=model.tb_i, tb_j=model.tb_j, tb_b=model.tb_b, flank=np.ascontiguousarray(flank),
-        nedge=np.ascontiguousarray(nedge), psi=psi,
+        gid=model.gid,
+        indptr=k.indptr.astype(np.int64),
+        indices=k.indices.astype(np.int64),
+        data=k.data.astype(float),
+        xloc=model.xloc,
+        minv=model.minv,
+        centres=model.centres,
+        theta0=np.asarray(model.theta0, dtype=float),
+        inertia=np.asarray(model.inertia, float),
+        rsgn=model.rsgn,
+        sig=model.sig,
+        tie_node=model.tie_node,
+        tie_gear=model.tie_gear,
+        tb_i=model.tb_i,
+        tb_j=model.tb_j,
+        tb_b=model.tb_b,
+        flank=np.ascontiguousarray(flank),
+        nedge=np.ascontiguousarray(nedge),
+        psi=psi,
         wtab=np.zeros((1, 3)) if warm_start is None else np.asarray(warm_start, float),
-        tab=tab, mloc=mloc)
+        tab=tab,
+        mloc=mloc,
+    )
     params = StepParams(
-        dt=float(dt), tau0=float(torque), theta_2=float(theta_2), theta_s=float(theta_s),
-        tol_disp=float(tol), tol_vel=tol / dt, tol_acc=tol / dt**2, eps_disp=float(eps[0]),
-        eps_vel=float(eps[1]), eps_acc=float(eps[2]), restitution=float(restitution),
-        window_lo=float(lo), window_hi=float(hi), corners=window is not None,
-        n_accel=int(n_accel), max_iter=int(max_iter), n_points=int(model.n_points),
-        torque_mode=int(torque_mode), direct=multipliers == "direct", dfac=dfac, dperm=dperm)
+        dt=float(dt),
+        tau0=float(torque),
+        theta_2=float(theta_2),
+        theta_s=float(theta_s),
+        tol_disp=float(tol),
+        tol_vel=tol / dt,
+        tol_acc=tol / dt**2,
+        eps_disp=float(eps[0]),
+        eps_vel=float(eps[1]),
+        eps_acc=float(eps[2]),
+        restitution=float(restitution),
+        window_lo=float(lo),
+        window_hi=float(hi),
+        corners=window is not None,
+        n_accel=int(n_accel),
+        max_iter=int(max_iter),
+        n_points=int(model.n_points),
+        torque_mode=int(torque_mode),
+        direct=multipliers == "direct",
+        dfac=dfac,
+        dperm=dperm,
+    )
     state = State(
-        x=x, v=v, a=np.zeros(2 * nn), phi=np.zeros(2), om=om, alp=np.zeros(2), mu=np.zeros(nc),
-        cres=cres, cnod=np.zeros((npair, 2, nw), dtype=np.int64), cw=np.zeros((npair, 2, nw)),
-        sc=np.zeros(24), spair=np.zeros((npair, 6)), rates=np.zeros((npair, 4)))
-    rec = Records(out=np.zeros((n_rec, len(GLOBAL_COLUMNS))),
-                  outp=np.zeros((n_rec, npair, len(PAIR_COLUMNS))),
-                  out_mu=np.zeros((n_rec, nc - npair)), info=np.zeros(4))
+        x=x,
+        v=v,
+        a=np.zeros(2 * nn),
+        phi=np.zeros(2),
+        om=om,
+        alp=np.zeros(2),
+        mu=np.zeros(nc),
+        cres=cres,
+        cnod=np.zeros((npair, 2, nw), dtype=np.int64),
+        cw=np.zeros((npair, 2, nw)),
+        sc=np.zeros(24),
+        spair=np.zeros((npair, 6)),
+        rates=np.zeros((npair, 4)),
+    )
+    rec = Records(
+        out=np.zeros((n_rec, len(GLOBAL_COLUMNS))),
+        outp=np.zeros((n_rec, npair, len(PAIR_COLUMNS))),
+        out_mu=np.zeros((n_rec, nc - npair)),
+        info=np.zeros(4),
+    )
     e0 = kinetic_energy(v, om, model.minv, model.inertia) + model.start_strain_energy(x)
     rec_nodes = None if record_nodes is None else np.asarray(record_nodes, dtype=np.int64)
     rec_x = None if rec_nodes is None else np.zeros((n_rec, len(rec_nodes), 2))
@@ -495,18 +536,35 @@ def integrate(
         status, row[0] = run_steps(n, record_every, row[0], first, arrays, params, state, rec)
         return status, row[0]
 
-    nrow, snaps, wall = drive(step, n_steps=n_steps, record_every=record_every,
-                              time_of=lambda: state.sc[0], positions=lambda: x.reshape(-1, 2),
-                              info=rec.info, snapshots=snapshots, record_nodes=rec_nodes,
-                              rec_x=rec_x, progress=progress, progress_every=progress_every)
+    nrow, snaps, wall = drive(
+        step,
+        n_steps=n_steps,
+        record_every=record_every,
+        time_of=lambda: state.sc[0],
+        positions=lambda: x.reshape(-1, 2),
+        info=rec.info,
+        snapshots=snapshots,
+        record_nodes=rec_nodes,
+        rec_x=rec_x,
+        progress=progress,
+        progress_every=progress_every,
+    )
     records = {name: rec.out[:nrow, i].copy() for i, name in enumerate(GLOBAL_COLUMNS)}
     pair_records = {name: rec.outp[:nrow, :, i].copy() for i, name in enumerate(PAIR_COLUMNS)}
     if npair == 1:
         records.update({name: val[:, 0].copy() for name, val in pair_records.items()})
     return SolverOutput(
-        records=records, pair_records=pair_records, tie_multipliers=rec.out_mu[:nrow].copy(),
-        steps=n_steps, wall_time=wall, initial_energy=float(e0), dt=dt, snapshots=snaps,
-        node_positions=None if rec_x is None else rec_x[:nrow].copy(), record_nodes=rec_nodes)
+        records=records,
+        pair_records=pair_records,
+        tie_multipliers=rec.out_mu[:nrow].copy(),
+        steps=n_steps,
+        wall_time=wall,
+        initial_energy=float(e0),
+        dt=dt,
+        snapshots=snaps,
+        node_positions=None if rec_x is None else rec_x[:nrow].copy(),
+        record_nodes=rec_nodes,
+    )
 
 
 #: the single-tooth entry point (same parameters as :func:`integrate`)

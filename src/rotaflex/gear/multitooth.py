@@ -59,8 +59,13 @@ class MultiToothModel(GearPairModel):
     def pair_layout(self):
         """Pairs of adjacent teeth, warm-started at the involute point, preloaded start."""
         start = np.array([involute_start(self, p) for p in self.pair_psi])
-        return (self.pair_flank, self.pair_nedge, np.asarray(self.pair_psi, float), start,
-                self.initial_positions.copy())
+        return (
+            self.pair_flank,
+            self.pair_nedge,
+            np.asarray(self.pair_psi, float),
+            start,
+            self.initial_positions.copy(),
+        )
 
     def warm_start_table(self, theta_s: float, n: int = 61) -> np.ndarray:
         """(n, 3): involute contact parameters (a, b) on a uniform grid of the contact angle."""
@@ -76,8 +81,9 @@ def _rot(t):
     return np.array([[c, -s], [s, c]])
 
 
-def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio, density,
-                      inertia, n_points=61, start_angle=0.0):
+def build_multi_model(
+    geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio, density, inertia, n_points=61, start_angle=0.0
+):
     """Two identical gears with ``n_teeth`` elastic teeth each.
 
     Placed (rigidly, unloaded) so that pair 1 is at the contact angle ``start_angle`` [rad]
@@ -87,9 +93,17 @@ def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio,
 
     if n_teeth not in (1, 2, 3):
         raise InputError("model.teeth_per_gear", n_teeth, "1, 2 or 3")
-    base = dynamics.build_model(geometry, geometry, mesh, mesh, youngs_modulus=youngs_modulus,
-                                poisson_ratio=poisson_ratio, density=density, inertia=inertia,
-                                n_points=n_points)
+    base = dynamics.build_model(
+        geometry,
+        geometry,
+        mesh,
+        mesh,
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+        density=density,
+        inertia=inertia,
+        n_points=n_points,
+    )
     pitch = 2 * math.pi / geometry.teeth
     m_enter = min(1, n_teeth - 1)
     tooth_turn = np.array([(m_enter - j) * pitch for j in range(n_teeth)])
@@ -134,19 +148,33 @@ def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio,
             pair_flank[j, g] = fl0 + node0[g, j]
     nedge = (len(fl0) - 1) // 2
     model = MultiToothModel(
-        geometry=base.geometry, meshes=base.meshes, centre_distance=base.centre_distance,
-        theta0=base.theta0 + np.array([start_angle, -start_angle]), centres=base.centres,
-        xloc=np.ascontiguousarray(np.vstack(xl)), gid=np.concatenate(gid).astype(np.int64),
-        minv=np.concatenate(minv), stiffness=sp.block_diag(ks, format="csr"),
+        geometry=base.geometry,
+        meshes=base.meshes,
+        centre_distance=base.centre_distance,
+        theta0=base.theta0 + np.array([start_angle, -start_angle]),
+        centres=base.centres,
+        xloc=np.ascontiguousarray(np.vstack(xl)),
+        gid=np.concatenate(gid).astype(np.int64),
+        minv=np.concatenate(minv),
+        stiffness=sp.block_diag(ks, format="csr"),
         tie_node=np.concatenate(tie_node).astype(np.int64),
         tie_gear=np.concatenate(tie_gear).astype(np.int64),
-        tb_i=np.array(tb_i, dtype=np.int64), tb_j=np.array(tb_j, dtype=np.int64),
+        tb_i=np.array(tb_i, dtype=np.int64),
+        tb_j=np.array(tb_j, dtype=np.int64),
         tb_b=np.ascontiguousarray(np.array(tb_b, dtype=float).reshape(-1, 2, 2)),
-        flank=pair_flank[min(1, n_teeth - 1)].copy(), nedge=np.array([nedge, nedge]),
-        sig=base.sig, inertia=base.inertia, rsgn=base.rsgn, n_points=base.n_points,
-        dt_limit=base.dt_limit, n_teeth=n_teeth, pair_flank=pair_flank,
-        pair_nedge=np.full((n_teeth, 2), nedge, dtype=np.int64), pair_psi=psi,
-        tooth_offset=offsets, tooth_node0=node0,
+        flank=pair_flank[min(1, n_teeth - 1)].copy(),
+        nedge=np.array([nedge, nedge]),
+        sig=base.sig,
+        inertia=base.inertia,
+        rsgn=base.rsgn,
+        n_points=base.n_points,
+        dt_limit=base.dt_limit,
+        n_teeth=n_teeth,
+        pair_flank=pair_flank,
+        pair_nedge=np.full((n_teeth, 2), nedge, dtype=np.int64),
+        pair_psi=psi,
+        tooth_offset=offsets,
+        tooth_node0=node0,
     )
     return replace(model, initial_positions=model.reference_positions())
 
@@ -179,8 +207,7 @@ def involute_start(model: MultiToothModel, psi: float) -> tuple[float, float]:
     return float(np.interp(r_a, rad, par)), float(np.interp(r_b, rad, par))
 
 
-def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: float = 0.0,
-                  theta_s: float | None = None):
+def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: float = 0.0, theta_s: float | None = None):
     """Contact search of every pair at positions ``x``: (cres (npair, 8), cnod, cw).
 
     ``start`` (npair, 2) warm starts; default: the involute contact point of each pair at
@@ -202,9 +229,22 @@ def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: floa
         buf = [np.empty((m, 2)) for _ in range(4)]
         psi = model.pair_psi[j] + phi_a
         mode = 0 if theta_s is None else (1 if psi < 0 else (2 if psi > theta_s else 0))
-        if not pair_contact(x, np.zeros(2), model.pair_flank[j], model.pair_nedge[j], model.sig,
-                            m, *buf, cres[j], cnod[j], cw[j], mode, model.theta0,
-                            np.zeros((2, 2, 1)), np.zeros((2, 1, 2))):
+        if not pair_contact(
+            x,
+            np.zeros(2),
+            model.pair_flank[j],
+            model.pair_nedge[j],
+            model.sig,
+            m,
+            *buf,
+            cres[j],
+            cnod[j],
+            cw[j],
+            mode,
+            model.theta0,
+            np.zeros((2, 2, 1)),
+            np.zeros((2, 1, 2)),
+        ):
             raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
     return cres, cnod, cw
 
@@ -217,13 +257,20 @@ def _positions(model, theta0, u_local):
         for j in range(model.n_teeth):
             a = model.tooth_node0[g, j]
             r = _rot(theta0[g] + model.tooth_offset[g, j])
-            x[a:a + nn] = model.centres[g] + (model.meshes[0].nodes + u_local[g, j]) @ r.T
+            x[a : a + nn] = model.centres[g] + (model.meshes[0].nodes + u_local[g, j]) @ r.T
     return x.ravel()
 
 
-def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
-                   poisson_ratio: float, theta_s: float, window: float = WINDOW,
-                   n_iter: int = 4, start=None) -> dict:
+def static_preload(
+    model: MultiToothModel,
+    torque: float,
+    youngs_modulus: float,
+    poisson_ratio: float,
+    theta_s: float,
+    window: float = WINDOW,
+    n_iter: int = 4,
+    start=None,
+) -> dict:
     """Quasi-static start: deflect the loaded pairs and turn B so the pairs carry ``torque``.
 
     Linear statics per tooth (root nodes fixed to the disk) with a unit normal point force
@@ -258,15 +305,13 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
             sgn = -1.0 if g == 0 else 1.0
             for q in range(3):
                 i = cnod[j, g, q] - model.tooth_node0[g, j]
-                f[2 * i:2 * i + 2] += sgn * cw[j, g, q] * nl
+                f[2 * i : 2 * i + 2] += sgn * cw[j, g, q] * nl
             ul = solve_static(mesh, f, youngs_modulus, poisson_ratio).reshape(-1, 2)
             unit[g, j] = ul
             ug = ul @ r.T
-            disp.append(sum(cw[j, g, q] * (n @ ug[cnod[j, g, q] - model.tooth_node0[g, j]])
-                            for q in range(3)))
+            disp.append(sum(cw[j, g, q] * (n @ ug[cnod[j, g, q] - model.tooth_node0[g, j]]) for q in range(3)))
         comp[j] = disp[1] - disp[0]
-        xb = np.array([sum(cw[j, 1, q] * x[2 * cnod[j, 1, q] + d] for q in range(3))
-                       for d in range(2)])
+        xb = np.array([sum(cw[j, 1, q] * x[2 * cnod[j, 1, q] + d] for q in range(3)) for d in range(2)])
         rb_vec = xb - model.centres[1]
         arm[j] = -(rb_vec[0] * n[1] - rb_vec[1] * n[0])
     arm[~inmesh] = np.max(arm[inmesh])
@@ -274,6 +319,7 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
     beta = 0.0
     pj = np.zeros(npair)
     for _ in range(n_iter):
+
         def bal(b, h=h_eff):
             return np.sum(np.maximum(0.0, (b * arm - h) / comp) * arm) - torque
 
@@ -295,9 +341,12 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
         c2[~inmesh, 2] = 1.0
         pred = np.where(pj > 0, 0.0, h_eff - beta * arm)
         h_eff = h_eff + (c2[:, 2] - pred)
-    return replace(model, theta0=th, initial_positions=x,
-                   preload={"force": pj, "compliance": comp, "arm": arm, "gap": c2[:, 2],
-                            "beta": beta})
+    return replace(
+        model,
+        theta0=th,
+        initial_positions=x,
+        preload={"force": pj, "compliance": comp, "arm": arm, "gap": c2[:, 2], "beta": beta},
+    )
 
 
 def strain_energy(model: GearPairModel, x: np.ndarray) -> float:
@@ -312,8 +361,9 @@ def strain_energy(model: GearPairModel, x: np.ndarray) -> float:
     return float(0.5 * w @ (model.stiffness @ w))
 
 
-def simulate_multi(model: MultiToothModel, *, speeds, torque, theta_2, theta_s, span, dt,
-                   torque_mode=1, window=WINDOW, n_accel=4, **kw):
+def simulate_multi(
+    model: MultiToothModel, *, speeds, torque, theta_2, theta_s, span, dt, torque_mode=1, window=WINDOW, n_accel=4, **kw
+):
     """Integrate the multi-tooth pair over a rotation ``span`` of gear A [rad].
 
     :func:`rotaflex.gear.dynamics.integrate` with ``torque_mode`` 1 (the constant ``torque`` on
@@ -323,6 +373,16 @@ def simulate_multi(model: MultiToothModel, *, speeds, torque, theta_2, theta_s, 
     """
     from rotaflex.gear.dynamics import integrate
 
-    return integrate(model, speeds=speeds, torque=torque, theta_2=theta_2,
-                     theta_s=theta_s, span=span, dt=dt, torque_mode=torque_mode, window=window,
-                     n_accel=n_accel, **kw)
+    return integrate(
+        model,
+        speeds=speeds,
+        torque=torque,
+        theta_2=theta_2,
+        theta_s=theta_s,
+        span=span,
+        dt=dt,
+        torque_mode=torque_mode,
+        window=window,
+        n_accel=n_accel,
+        **kw,
+    )

@@ -27,12 +27,21 @@ def geometry():
     """The paper's gear (:class:`rotaflex.gear.geometry.GearGeometry`)."""
     from rotaflex.gear.geometry import GearGeometry
 
-    return GearGeometry(module=MODULE, teeth=TEETH, face_width=FACE_WIDTH,
-                        pressure_angle_deg=PRESSURE_ANGLE_DEG, tip_radius=TIP_RADIUS,
-                        root_radius=ROOT_RADIUS)
+    return GearGeometry(
+        module=MODULE,
+        teeth=TEETH,
+        face_width=FACE_WIDTH,
+        pressure_angle_deg=PRESSURE_ANGLE_DEG,
+        tip_radius=TIP_RADIUS,
+        root_radius=ROOT_RADIUS,
+    )
 
 
 def material() -> dict:
     """Material keywords of :func:`rotaflex.gear.dynamics.build_model` (SI)."""
-    return {"youngs_modulus": YOUNGS_MODULUS, "poisson_ratio": POISSON_RATIO, "density": DENSITY,
-            "inertia": (DISK_INERTIA, DISK_INERTIA)}
+    return {
+        "youngs_modulus": YOUNGS_MODULUS,
+        "poisson_ratio": POISSON_RATIO,
+        "density": DENSITY,
+        "inertia": (DISK_INERTIA, DISK_INERTIA),
+    }

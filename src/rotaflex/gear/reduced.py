@@ -241,9 +241,13 @@ def simulate_reduced(
         raise InputError("solver.hht_alpha", alpha, "[-1/3, 0]")
     lim = time_step_limit(red, speeds)
     if dt > lim:
-        raise InputError("solver.dt", dt, f"<= {lim:.4g} s for the reduced implicit method "
-                         f"({STEPS_PER_CONTACT_PERIOD} steps per contact period "
-                         f"{red.contact_period:.3g} s and <= {MAX_ROTATION_PER_STEP} rad per step)")
+        raise InputError(
+            "solver.dt",
+            dt,
+            f"<= {lim:.4g} s for the reduced implicit method "
+            f"({STEPS_PER_CONTACT_PERIOD} steps per contact period "
+            f"{red.contact_period:.3g} s and <= {MAX_ROTATION_PER_STEP} rad per step)",
+        )
     base = red.base
     omega = np.asarray(speeds, dtype=float)
     n_steps = max(1, int(round(span / (omega[0] * dt))))
@@ -283,12 +287,43 @@ def simulate_reduced(
     fz = np.zeros((2, n))
     fphi = np.zeros(2)
     ok = np.zeros(1, dtype=np.int64)
-    e_strain = evaluate(z, zd, phi, phid, p, red.nr, red.fl_map, red.mr, red.kr, red.gr, red.cx, red.fl_gear,
-                        red.fl_start, red.fl_len, red.fl_xref, base.centres, base.theta0,
-                        base.sig, red.pairs, base.n_points, base.rsgn, tpar, np.empty(2 * nf),
-                        np.zeros((2, maxfl), dtype=np.int64), np.zeros(2, dtype=np.int64),
-                        *[np.empty((base.n_points, 2)) for _ in range(4)], cres, cnod, cw,
-                        np.zeros((npair, 2, n + 1)), np.zeros(npair), fz, fphi, np.zeros(2), ok)
+    e_strain = evaluate(
+        z,
+        zd,
+        phi,
+        phid,
+        p,
+        red.nr,
+        red.fl_map,
+        red.mr,
+        red.kr,
+        red.gr,
+        red.cx,
+        red.fl_gear,
+        red.fl_start,
+        red.fl_len,
+        red.fl_xref,
+        base.centres,
+        base.theta0,
+        base.sig,
+        red.pairs,
+        base.n_points,
+        base.rsgn,
+        tpar,
+        np.empty(2 * nf),
+        np.zeros((2, maxfl), dtype=np.int64),
+        np.zeros(2, dtype=np.int64),
+        *[np.empty((base.n_points, 2)) for _ in range(4)],
+        cres,
+        cnod,
+        cw,
+        np.zeros((npair, 2, n + 1)),
+        np.zeros(npair),
+        fz,
+        fphi,
+        np.zeros(2),
+        ok,
+    )
     if not ok[0]:
         raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
     for g in range(2):
@@ -298,25 +333,49 @@ def simulate_reduced(
         chol_solve(m0[g], rhs, sol)
         za[g, :m] = sol[:m]
         phia[g] = sol[m]
-    e0 = float(kinetic(z, zd, phid, red.nr, red.mr, red.gr, red.hx, red.cx, red.ix,
-                       base.inertia)) + e_strain
+    e0 = float(kinetic(z, zd, phid, red.nr, red.mr, red.gr, red.hx, red.cx, red.ix, base.inertia)) + e_strain
     rref = float(max(g.tip_radius_ for g in base.geometry))
     sc = np.zeros(8)
     n_rec = n_steps // record_every + 1
     out = np.zeros((n_rec, len(RECORD_COLUMNS)))
     out_p = np.zeros((n_rec, npair))
     info = np.zeros(4)
-    m = HHTModel(nr=red.nr, fl_map=red.fl_map, mr=red.mr, kr=red.kr, gr=red.gr, hx=red.hx,
-                 cx=red.cx, ix=red.ix, inertia=np.asarray(base.inertia, float), sfac=sfac,
-                 m0fac=m0fac, fl_gear=red.fl_gear, fl_start=red.fl_start, fl_len=red.fl_len,
-                 fl_xref=red.fl_xref, centres=base.centres,
-                 theta0=np.asarray(base.theta0, float), sig=base.sig, pairs=red.pairs,
-                 rsgn=base.rsgn)
-    prm = HHTParams(dt=float(dt), alpha=float(alpha), tau0=float(tpar[0]),
-                    theta_2=float(tpar[1]), theta_s=float(tpar[2]), tol=float(tol),
-                    r_ref=rref, max_iter=int(max_iter), n_points=int(base.n_points))
-    state = HHTState(z=z, zd=zd, za=za, phi=phi, phid=phid, phia=phia, p=p, cres=cres,
-                     cnod=cnod, cw=cw, fz=fz, fphi=fphi, sc=sc)
+    m = HHTModel(
+        nr=red.nr,
+        fl_map=red.fl_map,
+        mr=red.mr,
+        kr=red.kr,
+        gr=red.gr,
+        hx=red.hx,
+        cx=red.cx,
+        ix=red.ix,
+        inertia=np.asarray(base.inertia, float),
+        sfac=sfac,
+        m0fac=m0fac,
+        fl_gear=red.fl_gear,
+        fl_start=red.fl_start,
+        fl_len=red.fl_len,
+        fl_xref=red.fl_xref,
+        centres=base.centres,
+        theta0=np.asarray(base.theta0, float),
+        sig=base.sig,
+        pairs=red.pairs,
+        rsgn=base.rsgn,
+    )
+    prm = HHTParams(
+        dt=float(dt),
+        alpha=float(alpha),
+        tau0=float(tpar[0]),
+        theta_2=float(tpar[1]),
+        theta_s=float(tpar[2]),
+        tol=float(tol),
+        r_ref=rref,
+        max_iter=int(max_iter),
+        n_points=int(base.n_points),
+    )
+    state = HHTState(
+        z=z, zd=zd, za=za, phi=phi, phid=phid, phia=phia, p=p, cres=cres, cnod=cnod, cw=cw, fz=fz, fphi=fphi, sc=sc
+    )
     rec = HHTRecords(out=out, outp=out_p, info=info)
     row = [0]
 
@@ -324,19 +383,33 @@ def simulate_reduced(
         status, row[0] = run_hht(nstep, record_every, row[0], m, prm, state, rec)
         return (5 if status == 1 else status), row[0]
 
-    row, snaps, wall = drive(step, n_steps=n_steps, record_every=record_every,
-                             time_of=lambda: sc[0], positions=lambda: positions(red, z, phi),
-                             info=info, snapshots=snapshots, progress=progress,
-                             progress_every=progress_every)
+    row, snaps, wall = drive(
+        step,
+        n_steps=n_steps,
+        record_every=record_every,
+        time_of=lambda: sc[0],
+        positions=lambda: positions(red, z, phi),
+        info=info,
+        snapshots=snapshots,
+        progress=progress,
+        progress_every=progress_every,
+    )
     out = out[:row]
     records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
     from rotaflex.gear.kernels.rk4 import PAIR_COLUMNS
 
     # one contact pair: its columns of the record are the per-pair histories
     pair_records = {name: records[name][:, None].copy() for name in PAIR_COLUMNS}
-    return SolverOutput(records=records, pair_records=pair_records,
-                        tie_multipliers=np.zeros((row, 0)), steps=n_steps, wall_time=wall,
-                        initial_energy=e0, dt=dt, snapshots=snaps)
+    return SolverOutput(
+        records=records,
+        pair_records=pair_records,
+        tie_multipliers=np.zeros((row, 0)),
+        steps=n_steps,
+        wall_time=wall,
+        initial_energy=e0,
+        dt=dt,
+        snapshots=snaps,
+    )
 
 
 def positions(red: ReducedPairModel, z: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -348,6 +421,9 @@ def positions(red: ReducedPairModel, z: np.ndarray, phi: np.ndarray) -> np.ndarr
         w = (red.transform[g] @ z[g, : red.nr[g]]).reshape(-1, 2)
         u = base.xloc[sel] + w
         c, s = math.cos(base.theta0[g] + phi[g]), math.sin(base.theta0[g] + phi[g])
-        out.append(np.column_stack([base.centres[g, 0] + c * u[:, 0] - s * u[:, 1],
-                                    base.centres[g, 1] + s * u[:, 0] + c * u[:, 1]]))
+        out.append(
+            np.column_stack(
+                [base.centres[g, 0] + c * u[:, 0] - s * u[:, 1], base.centres[g, 1] + s * u[:, 0] + c * u[:, 1]]
+            )
+        )
     return np.vstack(out)

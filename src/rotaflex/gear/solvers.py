@@ -20,8 +20,7 @@ from collections.abc import Callable
 
 from rotaflex.gear.driver import STATUS, SolverOutput, drive, raise_status
 
-__all__ = ["METHODS", "STATUS", "SolverOutput", "drive", "paper_rk4", "raise_status",
-           "reduced_hht"]
+__all__ = ["METHODS", "STATUS", "SolverOutput", "drive", "paper_rk4", "raise_status", "reduced_hht"]
 
 
 def paper_rk4(model, **kw) -> SolverOutput:

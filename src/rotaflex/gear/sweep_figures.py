@@ -15,9 +15,13 @@ from rotaflex.gear import paper
 from rotaflex.sweep.figures import _base_config, _find, _get, _label, _lines, _speed_dim
 
 #: gear-domain defaults (the paper's pair) used when the config omits them
-GEAR_DEFAULTS = {"gear.module": paper.MODULE, "gear.teeth": paper.TEETH,
-                 "gear.pressure_angle_deg": paper.PRESSURE_ANGLE_DEG,
-                 "gear.face_width": paper.FACE_WIDTH, "disk_inertia": paper.DISK_INERTIA}
+GEAR_DEFAULTS = {
+    "gear.module": paper.MODULE,
+    "gear.teeth": paper.TEETH,
+    "gear.pressure_angle_deg": paper.PRESSURE_ANGLE_DEG,
+    "gear.face_width": paper.FACE_WIDTH,
+    "disk_inertia": paper.DISK_INERTIA,
+}
 #: ISO 6336-1 mean mesh stiffness c_gamma of solid steel spur gears [N/(mm um)] = [1e9 N/m^2]
 ISO_C_GAMMA = 20.0e9
 
@@ -66,9 +70,7 @@ def sweep_figures(ds) -> dict[str, Any]:
     else:
         fn, fn_label = est["natural_frequency"], "f_n (ISO estimate)"
     panels = [n for n in (kv, dte) if n is not None]
-    fig, axes = new_figure(
-        len(panels), 1, squeeze=False, sharex=True, figsize=(6.8, 3.3 * len(panels) + 0.6)
-    )
+    fig, axes = new_figure(len(panels), 1, squeeze=False, sharex=True, figsize=(6.8, 3.3 * len(panels) + 0.6))
     xs = np.asarray(ds[x].values, dtype=float)
     for ax, name in zip(axes[:, 0], panels, strict=True):
         for label, xv, yv in _lines(ds, name, x):
@@ -81,10 +83,17 @@ def sweep_figures(ds) -> dict[str, Any]:
             speed_k = 60 * fn / (k * z) / to_rpm  # k z n / 60 = f_n
             if xs.min() <= speed_k <= xs.max():
                 ax.axvline(speed_k, color="C3", ls=":", lw=1)
-                ax.annotate(f"{k} f_mesh = {fn_label}", (speed_k, 1),
-                            xycoords=("data", "axes fraction"), xytext=(2, -10),
-                            textcoords="offset points", fontsize=7, color="C3", rotation=90,
-                            va="top")
+                ax.annotate(
+                    f"{k} f_mesh = {fn_label}",
+                    (speed_k, 1),
+                    xycoords=("data", "axes fraction"),
+                    xytext=(2, -10),
+                    textcoords="offset points",
+                    fontsize=7,
+                    color="C3",
+                    rotation=90,
+                    va="top",
+                )
     if to_rpm is not None:
         top = axes[0, 0].secondary_xaxis(
             "top", functions=(lambda v: v * to_rpm * z / 60, lambda f: f * 60 / (z * to_rpm))
@@ -93,4 +102,3 @@ def sweep_figures(ds) -> dict[str, Any]:
     axes[-1, 0].set_xlabel(_label(ds[x], x))
     fig.suptitle(f"Gear: dynamic response vs speed ({fn_label} = {fn:.0f} Hz)")
     return {"gear_speed_sweep": fig}
-

@@ -188,8 +188,14 @@ def rotor_reference(ds) -> dict[str, Any] | None:
     cfg = _base_config(ds)
     form = cfg.get("formulation", {})
     swept = set(json.loads(ds.attrs.get("swept", "[]")))
-    fixed = ("disk.polar_inertia", "disk.diametral_inertia", "support.tilt_stiffness",
-             "disk.inertia", "motion.initial_tilt_rate", "motion.initial_tilt")
+    fixed = (
+        "disk.polar_inertia",
+        "disk.diametral_inertia",
+        "support.tilt_stiffness",
+        "disk.inertia",
+        "motion.initial_tilt_rate",
+        "motion.initial_tilt",
+    )
     if (
         swept & set(fixed)
         or "free_body" in cfg
@@ -257,14 +263,11 @@ def rotor_figures(ds) -> dict[str, Any]:
         bottom.plot(xv, yv, "o", ms=4, label=f"peak tilt (simulated) {label}".strip())
     if "rms_tilt_angle" in ds:
         for label, xv, yv in _lines(ds, "rms_tilt_angle", x):
-            bottom.plot(
-                xv, yv, "s", ms=3, mfc="none", label=f"RMS tilt (simulated) {label}".strip()
-            )
+            bottom.plot(xv, yv, "s", ms=3, mfc="none", label=f"RMS tilt (simulated) {label}".strip())
     if ref is not None and ref["peak_per_rate"] is not None:
         ip, id_, k, rate = ref["peak_per_rate"]
         fine = np.linspace(spin.min(), spin.max(), 400)
-        bottom.plot(fine, rotor_whirl(fine, ip, id_, k)[2] * rate, "-", lw=1,
-                    label="peak tilt, linear closed form")
+        bottom.plot(fine, rotor_whirl(fine, ip, id_, k)[2] * rate, "-", lw=1, label="peak tilt, linear closed form")
     bottom.set_xlabel("spin speed [rad/s]")
     bottom.set_ylabel(_label(da, "tilt"))
     bottom.legend(fontsize=7)
@@ -340,7 +343,5 @@ def sweep_figures(ds, domain: str | None = None) -> dict[str, Any]:
         try:
             figs.update(source(ds))
         except Exception:  # noqa: BLE001 - a figure never fails the sweep
-            log.warning(
-                "sweep figures %s failed", getattr(source, "__name__", source), exc_info=True
-            )
+            log.warning("sweep figures %s failed", getattr(source, "__name__", source), exc_info=True)
     return figs

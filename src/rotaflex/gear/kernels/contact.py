@@ -398,9 +398,7 @@ def sample_flank(x, flank, nedge, out):
     for k in range(mpts):
         flank_weights(flank, nedge, k / (mpts - 1), nodes, w)
         for d in range(2):
-            out[k, d] = (
-                w[0] * x[2 * nodes[0] + d] + w[1] * x[2 * nodes[1] + d] + w[2] * x[2 * nodes[2] + d]
-            )
+            out[k, d] = w[0] * x[2 * nodes[0] + d] + w[1] * x[2 * nodes[1] + d] + w[2] * x[2 * nodes[2] + d]
 
 
 @njit(cache=True)
@@ -475,8 +473,7 @@ def sample_smooth(x, flank, tab, mloc, theta, omega, vel, out):
 
 
 @njit(cache=True)
-def contact_geometry_smooth(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw,
-                            theta0, tab, mloc):
+def contact_geometry_smooth(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw, theta0, tab, mloc):
     """:func:`contact_geometry` on the smoothed flank surfaces.
 
     The surface of tooth g is ``P(s) = X_ref(s) + sum_n T_n(s) (x_n - X_ref,n)``: the FE
@@ -572,15 +569,15 @@ def corner_contact(pa, ma, pb, mb, sig_a, sig_b, which, a0, b0, res):
 
 
 @njit(cache=True)
-def pair_contact(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw, mode, theta0,
-                 tab, mloc):
+def pair_contact(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw, mode, theta0, tab, mloc):
     """Contact geometry of one pair. ``mode`` 0 = minimum-distance search, 1 / 2 = the tip-corner
     projection of :func:`corner_contact`. ``cnod.shape[1] == 3``: the paper's surfaces and 3-node
     force; otherwise the smoothed surfaces of ``tab``/``mloc`` (:func:`contact_geometry_smooth`).
     Returns False on failure."""
     if mode == 0:
-        return contact_geometry_smooth(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres,
-                                       cnod, cw, theta0, tab, mloc)
+        return contact_geometry_smooth(
+            x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw, theta0, tab, mloc
+        )
     nw = cnod.shape[1]
     if nw == 3:
         sample_flank(x, flank[0], nedge[0], pa)
@@ -610,8 +607,31 @@ def pair_contact(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw
 
 
 @njit(cache=True)
-def search_pairs(x, phi, rsgn0, flank, nedge, sig, mpts, psi0, wtab, lo, hi, corners, theta0,
-                 tab, mloc, pa, ma, pb, mb, cres, cnod, cw, spair):
+def search_pairs(
+    x,
+    phi,
+    rsgn0,
+    flank,
+    nedge,
+    sig,
+    mpts,
+    psi0,
+    wtab,
+    lo,
+    hi,
+    corners,
+    theta0,
+    tab,
+    mloc,
+    pa,
+    ma,
+    pb,
+    mb,
+    cres,
+    cnod,
+    cw,
+    spair,
+):
     """Contact search of every pair whose nominal contact angle ``psi0[j] + rsgn0 phi[0]`` lies
     in the mesh window [lo, hi] (one pair, no window: ``lo, hi = -inf, inf``).
 
@@ -639,9 +659,25 @@ def search_pairs(x, phi, rsgn0, flank, nedge, sig, mpts, psi0, wtab, lo, hi, cor
                 mode = 1
             elif corners and psi > wtab[nw - 1, 2]:
                 mode = 2
-            if not pair_contact(x, phi, flank[jp], nedge[jp], sig, mpts, pa[jp], ma[jp], pb[jp],
-                                mb[jp], cres[jp], cnod[jp], cw[jp], mode, theta0, tab[jp],
-                                mloc[jp]):
+            if not pair_contact(
+                x,
+                phi,
+                flank[jp],
+                nedge[jp],
+                sig,
+                mpts,
+                pa[jp],
+                ma[jp],
+                pb[jp],
+                mb[jp],
+                cres[jp],
+                cnod[jp],
+                cw[jp],
+                mode,
+                theta0,
+                tab[jp],
+                mloc[jp],
+            ):
                 return False
             spair[jp, 5] = 1.0
         else:

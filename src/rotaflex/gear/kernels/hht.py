@@ -91,9 +91,46 @@ def flank_positions(z, phi, fl_map, fl_gear, fl_start, fl_len, fl_xref, cen, the
 
 
 @njit(cache=True)
-def evaluate(z, zd, phi, phid, p, nr, fl_map, mr, kr, gr, cx, fl_gear, fl_start, fl_len, fl_xref, cen,
-             theta0, sig, pairs, mpts, rsgn, tpar, xf, flid, nedge2, pa, ma, pb, mb, cres, cnod, cw,
-             grow, sgap, fz, fphi, tau, ok):
+def evaluate(
+    z,
+    zd,
+    phi,
+    phid,
+    p,
+    nr,
+    fl_map,
+    mr,
+    kr,
+    gr,
+    cx,
+    fl_gear,
+    fl_start,
+    fl_len,
+    fl_xref,
+    cen,
+    theta0,
+    sig,
+    pairs,
+    mpts,
+    rsgn,
+    tpar,
+    xf,
+    flid,
+    nedge2,
+    pa,
+    ma,
+    pb,
+    mb,
+    cres,
+    cnod,
+    cw,
+    grow,
+    sgap,
+    fz,
+    fphi,
+    tau,
+    ok,
+):
     """Contact search of every pair, constraint gradients and the force vectors F(q, qd, p).
 
     ``grow`` (npair, 2, n + 1): gradient of the penetration ``s`` of each pair with respect to
@@ -117,8 +154,7 @@ def evaluate(z, zd, phi, phid, p, nr, fl_map, mr, kr, gr, cx, fl_gear, fl_start,
         sg = np.empty(2)
         sg[0] = sig[fa]
         sg[1] = sig[fb]
-        if not contact_geometry(xf, flid, nedge2, sg, mpts, pa, ma, pb, mb, cres[k], cnod[k],
-                                cw[k]):
+        if not contact_geometry(xf, flid, nedge2, sg, mpts, pa, ma, pb, mb, cres[k], cnod[k], cw[k]):
             ok[0] = 0
             return 0.0
         n0 = cres[k, 3]
@@ -331,9 +367,46 @@ def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
                     zd[g, i] = zdn[g, i] + h * ((1.0 - gam) * zan[g, i] + gam * za[g, i])
                 phi[g] = phin[g] + h * phidn[g] + h * h * ((0.5 - beta) * phian[g] + beta * phia[g])
                 phid[g] = phidn[g] + h * ((1.0 - gam) * phian[g] + gam * phia[g])
-            energy = evaluate(z, zd, phi, phid, p, nr, fl_map, mr, kr, gr, cx, fl_gear, fl_start, fl_len,
-                              fl_xref, cen, theta0, sig, pairs, mpts, rsgn, tpar, xf, flid, nedge2,
-                              pa, ma, pb, mb, cres, cnod, cw, grow, sgap, fz, fphi, tau, ok)
+            energy = evaluate(
+                z,
+                zd,
+                phi,
+                phid,
+                p,
+                nr,
+                fl_map,
+                mr,
+                kr,
+                gr,
+                cx,
+                fl_gear,
+                fl_start,
+                fl_len,
+                fl_xref,
+                cen,
+                theta0,
+                sig,
+                pairs,
+                mpts,
+                rsgn,
+                tpar,
+                xf,
+                flid,
+                nedge2,
+                pa,
+                ma,
+                pb,
+                mb,
+                cres,
+                cnod,
+                cw,
+                grow,
+                sgap,
+                fz,
+                fphi,
+                tau,
+                ok,
+            )
             if ok[0] == 0:
                 info[0] = t + h
                 return 4, row

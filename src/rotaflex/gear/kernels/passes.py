@@ -157,8 +157,7 @@ def gt_apply(dmu, tie_node, tie_gear, bvec, rot, cnod, cw, cn, g, gth):
 
 
 @njit(cache=True)
-def contact_columns(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cnod, cw, cn,
-                      g, zk, ccol):
+def contact_columns(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cnod, cw, cn, g, zk, ccol):
     """Columns of C = G W G^T of every contact row (W = c1 M^-1 - c2 M^-1 K_g M^-1)."""
     nt = tie_node.shape[0]
     npair = cnod.shape[0]
@@ -205,8 +204,7 @@ def contact_columns(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cno
 
 
 @njit(cache=True)
-def c_matvec(z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b,
-               ccol, yl, kz):
+def c_matvec(z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, yl, kz):
     """out = C' z: tie block (structured) + the active contact rows/columns (``act`` mask)."""
     nt = tie_node.shape[0]
     ic = 2 * nt
@@ -258,8 +256,29 @@ def c_matvec(z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j
 
 
 @njit(cache=True)
-def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, minv, tie_node,
-                   tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, work, stats):
+def iterate_pass(
+    mode,
+    e0,
+    mu,
+    pbar,
+    c1,
+    c2,
+    eps_tie,
+    tol,
+    n_acc,
+    max_iter,
+    minv,
+    tie_node,
+    tie_gear,
+    jd,
+    bvec,
+    tb_i,
+    tb_j,
+    tb_b,
+    ccol,
+    work,
+    stats,
+):
     """Multiplier / contact-force iteration of eq. 19-21 with ``npair`` unilateral rows.
 
     Each contact row is active when (mode 1) its force is compressive or it penetrates, or
@@ -355,8 +374,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, minv
         for r in range(nc):
             d[r] = coef[deg] * e[r]
         for j in range(deg - 1, -1, -1):
-            c_matvec(d, t1, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j,
-                       tb_b, ccol, yl, kz)
+            c_matvec(d, t1, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, yl, kz)
             for r in range(nc):
                 d[r] = t1[r] / nrm + coef[j] * e[r]
         for r in range(nc):
@@ -367,8 +385,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, minv
             d[ic + jp] = newp - p
         for r in range(nc):
             mu[r] += d[r]
-        c_matvec(d, t1, allact, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b,
-                   ccol, yl, kz)
+        c_matvec(d, t1, allact, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, yl, kz)
         for r in range(nc):
             y[r] += t1[r]
     stats[0] = res
@@ -587,8 +604,29 @@ def direct_pass_pairs(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, to
 
 
 @njit(cache=True)
-def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, minv, tie_node, tie_gear,
-                 jd, bvec, tb_i, tb_j, tb_b, ccol, work, stats):
+def direct_solve(
+    mode,
+    e0,
+    mu,
+    pbar,
+    c1,
+    c2,
+    tol,
+    max_ref,
+    lb,
+    perm,
+    minv,
+    tie_node,
+    tie_gear,
+    jd,
+    bvec,
+    tb_i,
+    tb_j,
+    tb_b,
+    ccol,
+    work,
+    stats,
+):
     """Direct multiplier solve of one pass, checked.
 
     After the exact solve the error ``e0 + C dmu`` is re-evaluated with the structured
@@ -616,8 +654,7 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, minv, tie_n
             direct_pass_pairs(mode, e, mu, pbar, lb, perm, tie_gear, bvec, ccol, tol, dmu, buf)
         for r in range(nc):
             mu[r] += dmu[r]
-        c_matvec(dmu, t1, allact, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b,
-                 ccol, work[5], work[6])
+        c_matvec(dmu, t1, allact, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, work[5], work[6])
         for r in range(nc):
             y[r] += t1[r]
         res = 0.0
@@ -642,15 +679,81 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, minv, tie_n
 
 
 @njit(cache=True)
-def solve_pass(direct, lb, perm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter,
-               minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, work, stats):
+def solve_pass(
+    direct,
+    lb,
+    perm,
+    mode,
+    e0,
+    mu,
+    pbar,
+    c1,
+    c2,
+    eps_tie,
+    tol,
+    n_acc,
+    max_iter,
+    minv,
+    tie_node,
+    tie_gear,
+    jd,
+    bvec,
+    tb_i,
+    tb_j,
+    tb_b,
+    ccol,
+    work,
+    stats,
+):
     """Dispatch one pass to the iteration of eq. 19-24 or to the direct solve; returns
     (residual, iterations, converged) and leaves C (mu - mu_start) in ``work[0]``."""
     if direct:
-        return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, lb, perm, minv, tie_node,
-                            tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, work, stats)
-    return iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, minv,
-                        tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, work, stats)
+        return direct_solve(
+            mode,
+            e0,
+            mu,
+            pbar,
+            c1,
+            c2,
+            tol,
+            3,
+            lb,
+            perm,
+            minv,
+            tie_node,
+            tie_gear,
+            jd,
+            bvec,
+            tb_i,
+            tb_j,
+            tb_b,
+            ccol,
+            work,
+            stats,
+        )
+    return iterate_pass(
+        mode,
+        e0,
+        mu,
+        pbar,
+        c1,
+        c2,
+        eps_tie,
+        tol,
+        n_acc,
+        max_iter,
+        minv,
+        tie_node,
+        tie_gear,
+        jd,
+        bvec,
+        tb_i,
+        tb_j,
+        tb_b,
+        ccol,
+        work,
+        stats,
+    )
 
 
 def factor_tie_blocks(model, dt: float):
@@ -696,11 +799,8 @@ def factor_tie_blocks(model, dt: float):
     for p, c1 in enumerate((dt * dt / 2, dt, 1.0)):
         y = np.empty((2, n))
         s2 = np.empty((2, 2))
-        prepare_woodbury(np.ascontiguousarray(lband[p]), perm, bmat,
-                         c1 / np.asarray(model.inertia, dtype=float), y, s2)
+        prepare_woodbury(np.ascontiguousarray(lband[p]), perm, bmat, c1 / np.asarray(model.inertia, dtype=float), y, s2)
         packed[p, :n, nb] = y[0]
         packed[p, :n, nb + 1] = y[1]
         packed[p, n, :4] = s2.ravel()
     return packed, perm, bw
-
-

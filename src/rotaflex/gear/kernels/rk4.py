@@ -45,14 +45,41 @@ from rotaflex.gear.kernels.passes import (
 
 #: global columns of the per-record output ``Records.out``
 GLOBAL_COLUMNS = (
-    "time", "phi_A", "phi_B", "omega_A", "omega_B", "kinetic_energy", "strain_energy",
-    "external_work", "velocity_pass_loss", "res_disp", "res_vel", "res_acc", "iter_disp",
-    "iter_vel", "iter_acc", "torque_A", "torque_B", "tie_residual", "impacts",
+    "time",
+    "phi_A",
+    "phi_B",
+    "omega_A",
+    "omega_B",
+    "kinetic_energy",
+    "strain_energy",
+    "external_work",
+    "velocity_pass_loss",
+    "res_disp",
+    "res_vel",
+    "res_acc",
+    "iter_disp",
+    "iter_vel",
+    "iter_acc",
+    "torque_A",
+    "torque_B",
+    "tie_residual",
+    "impacts",
 )
 #: per-pair columns of the per-record output ``Records.outp``
 PAIR_COLUMNS = (
-    "force", "force_disp", "force_vel", "gap", "cpA_x", "cpA_y", "cpB_x", "cpB_y", "param_a",
-    "param_b", "force_peak", "contact_case", "normal_velocity",
+    "force",
+    "force_disp",
+    "force_vel",
+    "gap",
+    "cpA_x",
+    "cpA_y",
+    "cpB_x",
+    "cpB_y",
+    "param_a",
+    "param_b",
+    "force_peak",
+    "contact_case",
+    "normal_velocity",
 )
 
 
@@ -155,8 +182,31 @@ def torque_of(g, phi_g, rsgn_g, tpar, mode):
 
 
 @njit(cache=True)
-def accelerations(x, phi, mu, tau_off, ct, rates, m, tpar, tmode, cnod, cw, rot, bvec, rx, wbuf,
-                  floc, fglob, tel, fc, fth, cn_s, a, alp):
+def accelerations(
+    x,
+    phi,
+    mu,
+    tau_off,
+    ct,
+    rates,
+    m,
+    tpar,
+    tmode,
+    cnod,
+    cw,
+    rot,
+    bvec,
+    rx,
+    wbuf,
+    floc,
+    fglob,
+    tel,
+    fc,
+    fth,
+    cn_s,
+    a,
+    alp,
+):
     """Accelerations at a (stage) state for multipliers ``mu``; returns the strain energy.
 
     The constraint force is ``G(q)^T mu`` with the Jacobian at the stage state: tie forces
@@ -193,8 +243,7 @@ def accelerations(x, phi, mu, tau_off, ct, rates, m, tpar, tmode, cnod, cw, rot,
     fc[:] = 0.0
     fth[:] = 0.0
     gt_apply(mu, m.tie_node, m.tie_gear, bvec, rot, cnod, cw, cn_s, fc, fth)
-    energy = elastic_force(x, m.xloc, m.gid, m.centres, rot, m.indptr, m.indices, m.data, wbuf,
-                           floc, fglob, tel)
+    energy = elastic_force(x, m.xloc, m.gid, m.centres, rot, m.indptr, m.indices, m.data, wbuf, floc, fglob, tel)
     nn = m.xloc.shape[0]
     for i in range(nn):
         a[2 * i] = m.minv[i] * (fglob[2 * i] + fc[2 * i])
@@ -333,9 +382,31 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
     hi = p.window_hi
     corners = p.corners
     if init:
-        if not search_pairs(x, phi, m.rsgn[0], m.flank, m.nedge, m.sig, mpts, m.psi, m.wtab, lo,
-                            hi, corners, m.theta0, m.tab, m.mloc, pa, ma, pb, mb, cres, cnod,
-                            cw, spair):
+        if not search_pairs(
+            x,
+            phi,
+            m.rsgn[0],
+            m.flank,
+            m.nedge,
+            m.sig,
+            mpts,
+            m.psi,
+            m.wtab,
+            lo,
+            hi,
+            corners,
+            m.theta0,
+            m.tab,
+            m.mloc,
+            pa,
+            ma,
+            pb,
+            mb,
+            cres,
+            cnod,
+            cw,
+            spair,
+        ):
             info[0] = sc[0]
             return 4, row
     for jp in range(npair):
@@ -380,8 +451,31 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
                     for g in range(2):
                         ps[g] = phi[g] + hh * os_[g]
                         os_[g] = om[g] + hh * alk[g]
-                accelerations(xs, ps, mu, hh, ct, rates, m, tpar, tmode, cnod_t, cw_t, rot,
-                              bvec, rx, wbuf, floc, fglob, tel, fc, fth, cn_s, ak, alk)
+                accelerations(
+                    xs,
+                    ps,
+                    mu,
+                    hh,
+                    ct,
+                    rates,
+                    m,
+                    tpar,
+                    tmode,
+                    cnod_t,
+                    cw_t,
+                    rot,
+                    bvec,
+                    rx,
+                    wbuf,
+                    floc,
+                    fglob,
+                    tel,
+                    fc,
+                    fth,
+                    cn_s,
+                    ak,
+                    alk,
+                )
                 for q in range(nd):
                     xsum[q] += wgt * vs[q]
                     asum[q] += wgt * ak[q]
@@ -396,9 +490,31 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
                 om[g] += dt / 6.0 * osum[g]
             t = t + dt
             # ---- contact search of every pair at the predicted state
-            if not search_pairs(x, phi, m.rsgn[0], m.flank, m.nedge, m.sig, mpts, m.psi, m.wtab,
-                                lo, hi, corners, m.theta0, m.tab, m.mloc, pa, ma, pb, mb, cres,
-                                cnod, cw, spair):
+            if not search_pairs(
+                x,
+                phi,
+                m.rsgn[0],
+                m.flank,
+                m.nedge,
+                m.sig,
+                mpts,
+                m.psi,
+                m.wtab,
+                lo,
+                hi,
+                corners,
+                m.theta0,
+                m.tab,
+                m.mloc,
+                pa,
+                ma,
+                pb,
+                mb,
+                cres,
+                cnod,
+                cw,
+                spair,
+            ):
                 info[0] = t
                 return 4, row
             for jp in range(npair):
@@ -420,13 +536,36 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
                 e0[2 * k + 1] = -(rx[k, 1] - m.xloc[i, 1])
             for jp in range(npair):
                 e0[ic + jp] = -cres[jp, 2]
-            contact_columns(c11, c12, minv, m.gid, rot, m.indptr, m.indices, m.data, m.tie_node,
-                            cnod, cw, cn, gsc, zk, ccol)
+            contact_columns(
+                c11, c12, minv, m.gid, rot, m.indptr, m.indices, m.data, m.tie_node, cnod, cw, cn, gsc, zk, ccol
+            )
             mu0[:] = mu
-            res, its, ok = solve_pass(direct, p.dfac[0], p.dperm, 1, e0, mu, pbar, c11, c12,
-                                      p.eps_disp, tol1, n_acc, max_iter, minv, m.tie_node,
-                                      m.tie_gear, jd, bvec, m.tb_i, m.tb_j, m.tb_b, ccol, work,
-                                      stats)
+            res, its, ok = solve_pass(
+                direct,
+                p.dfac[0],
+                p.dperm,
+                1,
+                e0,
+                mu,
+                pbar,
+                c11,
+                c12,
+                p.eps_disp,
+                tol1,
+                n_acc,
+                max_iter,
+                minv,
+                m.tie_node,
+                m.tie_gear,
+                jd,
+                bvec,
+                m.tb_i,
+                m.tb_j,
+                m.tb_b,
+                ccol,
+                work,
+                stats,
+            )
             if not ok:
                 info[0] = t
                 info[1] = res
@@ -472,8 +611,9 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
                 # held over the step, i.e. it takes part in the impact; its change of kinetic
                 # + strain energy is counted in D (strain part added after pass 3)
                 set_rotation(psum, m.theta0, rot)
-                se_pred = elastic_force(xsum, m.xloc, m.gid, m.centres, rot, m.indptr,
-                                        m.indices, m.data, wbuf, floc, fglob, tel)
+                se_pred = elastic_force(
+                    xsum, m.xloc, m.gid, m.centres, rot, m.indptr, m.indices, m.data, wbuf, floc, fglob, tel
+                )
                 set_rotation(phi, m.theta0, rot)
                 sc[2] += ke_pred + se_pred - ke0
             for k in range(nt):
@@ -493,13 +633,36 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
                     # displacement pass, which already removes part of it) instead of 0
                     vtgt[jp] = -rest * sh_pred[jp]
                 e0[ic + jp] = sh - vtgt[jp]
-            contact_columns(c21, c22, minv, m.gid, rot, m.indptr, m.indices, m.data, m.tie_node,
-                            cnod, cw, cn, gsc, zk, ccol)
+            contact_columns(
+                c21, c22, minv, m.gid, rot, m.indptr, m.indices, m.data, m.tie_node, cnod, cw, cn, gsc, zk, ccol
+            )
             mu0[:] = mu
-            res, its, ok = solve_pass(direct, p.dfac[1], p.dperm, 2, e0, mu, pbar, c21, c22,
-                                      p.eps_vel, tol2, n_acc, max_iter, minv, m.tie_node,
-                                      m.tie_gear, jd, bvec, m.tb_i, m.tb_j, m.tb_b, ccol, work,
-                                      stats)
+            res, its, ok = solve_pass(
+                direct,
+                p.dfac[1],
+                p.dperm,
+                2,
+                e0,
+                mu,
+                pbar,
+                c21,
+                c22,
+                p.eps_vel,
+                tol2,
+                n_acc,
+                max_iter,
+                minv,
+                m.tie_node,
+                m.tie_gear,
+                jd,
+                bvec,
+                m.tb_i,
+                m.tb_j,
+                m.tb_b,
+                ccol,
+                work,
+                stats,
+            )
             if not ok:
                 info[0] = t
                 info[1] = res
@@ -515,8 +678,7 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
             gsc[:] = 0.0
             gth[:] = 0.0
             gt_apply(dmu, m.tie_node, m.tie_gear, bvec, rot, cnod, cw, cn, gsc, gth)
-            respond(gsc, gth, c21, c22, minv, m.gid, rot, jd, m.indptr, m.indices, m.data, zk,
-                    v, om, 1.0)
+            respond(gsc, gth, c21, c22, minv, m.gid, rot, jd, m.indptr, m.indices, m.data, zk, v, om, 1.0)
             zk[:] = 0.0
             gsc[:] = 0.0
             sc[2] += ke0 - kinetic_energy(v, om, minv, jd)
@@ -536,8 +698,31 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
             ct[jp, 1] = cres[jp, 1]
             ct[jp, 2] = cn[jp, 0]
             ct[jp, 3] = cn[jp, 1]
-        eel = accelerations(x, phi, mu, 0.0, ct, zero4, m, tpar, tmode, cnod, cw, rot, bvec, rx,
-                            wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp)
+        eel = accelerations(
+            x,
+            phi,
+            mu,
+            0.0,
+            ct,
+            zero4,
+            m,
+            tpar,
+            tmode,
+            cnod,
+            cw,
+            rot,
+            bvec,
+            rx,
+            wbuf,
+            floc,
+            fglob,
+            tel,
+            fc,
+            fth,
+            cn_s,
+            a,
+            alp,
+        )
         for k in range(nt):
             i = m.tie_node[k]
             g = m.tie_gear[k]
@@ -561,14 +746,13 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
                 sample_flank(v, m.flank[jp, 0], m.nedge[jp, 0], va)
                 sample_flank(v, m.flank[jp, 1], m.nedge[jp, 1], vb)
             else:
-                sample_smooth(v, m.flank[jp, 0], m.tab[jp, 0], m.mloc[jp, 0],
-                              m.theta0[0] + phi[0], om[0], True, va)
-                sample_smooth(v, m.flank[jp, 1], m.tab[jp, 1], m.mloc[jp, 1],
-                              m.theta0[1] + phi[1], om[1], True, vb)
+                sample_smooth(v, m.flank[jp, 0], m.tab[jp, 0], m.mloc[jp, 0], m.theta0[0] + phi[0], om[0], True, va)
+                sample_smooth(v, m.flank[jp, 1], m.tab[jp, 1], m.mloc[jp, 1], m.theta0[1] + phi[1], om[1], True, vb)
             spline_second(va, mva)
             spline_second(vb, mvb)
-            hs, _ad, _bd = sliding_terms(pa[jp], ma[jp], va, mva, pb[jp], mb[jp], vb, mvb,
-                                         m.sig[0], m.sig[1], cres[jp], rate1)
+            hs, _ad, _bd = sliding_terms(
+                pa[jp], ma[jp], va, mva, pb[jp], mb[jp], vb, mvb, m.sig[0], m.sig[1], cres[jp], rate1
+            )
             for q in range(4):
                 rates[jp, q] = rate1[q]
             sa = hs
@@ -578,12 +762,36 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
                 i = cnod[jp, 1, j]
                 sa -= cw[jp, 1, j] * (cn[jp, 0] * a[2 * i] + cn[jp, 1] * a[2 * i + 1])
             e0[ic + jp] = sa
-        contact_columns(1.0, 0.0, minv, m.gid, rot, m.indptr, m.indices, m.data, m.tie_node,
-                        cnod, cw, cn, gsc, zk, ccol)
+        contact_columns(
+            1.0, 0.0, minv, m.gid, rot, m.indptr, m.indices, m.data, m.tie_node, cnod, cw, cn, gsc, zk, ccol
+        )
         mu0[:] = mu
-        res, its, ok = solve_pass(direct, p.dfac[2], p.dperm, 3, e0, mu, pbar, 1.0, 0.0,
-                                  p.eps_acc, tol3, n_acc, max_iter, minv, m.tie_node, m.tie_gear,
-                                  jd, bvec, m.tb_i, m.tb_j, m.tb_b, ccol, work, stats)
+        res, its, ok = solve_pass(
+            direct,
+            p.dfac[2],
+            p.dperm,
+            3,
+            e0,
+            mu,
+            pbar,
+            1.0,
+            0.0,
+            p.eps_acc,
+            tol3,
+            n_acc,
+            max_iter,
+            minv,
+            m.tie_node,
+            m.tie_gear,
+            jd,
+            bvec,
+            m.tb_i,
+            m.tb_j,
+            m.tb_b,
+            ccol,
+            work,
+            stats,
+        )
         if not ok:
             info[0] = t
             info[1] = res
