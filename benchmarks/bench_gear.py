@@ -21,8 +21,11 @@ import time
 
 import numpy as np
 
-from rotaflex.gear import dynamics, kernels
-from rotaflex.gear.geometry import GearGeometry, contact_angles
+from rotaflex.gear import dynamics, paper
+from rotaflex.gear.config import rpm_to_rad_s
+from rotaflex.gear.geometry import contact_angles
+from rotaflex.gear.kernels import contact as kernels
+from rotaflex.gear.kernels.rk4 import elastic_force
 from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
 
 
@@ -32,18 +35,25 @@ def main() -> None:
     ap.add_argument("--span", type=float, default=None, help="rotation span [deg]")
     ap.add_argument("--rpm", type=float, default=4000.0)
     args = ap.parse_args()
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
+    g = paper.geometry()
     mesh = build_tooth_mesh(g, **(COARSE if args.coarse else DEFAULT))
-    model = dynamics.build_model(
-        g, g, mesh, mesh, youngs_modulus=210e9, poisson_ratio=0.3, density=7800.0, inertia=(2.965e-4, 2.965e-4)
-    )
+    model = dynamics.build_model(g, g, mesh, mesh, **paper.material())
     ths, th2 = contact_angles(g, g)
     span = math.radians(args.span) if args.span else ths
     # warm-up (numba compile / cache load)
-    dynamics.simulate(model, speeds_rpm=(4000, 4000), torque=22.25, theta_2=th2, theta_s=ths, span=1e-4, dt=3e-8)
+    dynamics.simulate(
+        model, speeds=rpm_to_rad_s((4000, 4000)), torque=paper.TORQUE, theta_2=th2, theta_s=ths, span=1e-4, dt=3e-8
+    )
     rpm = (args.rpm, args.rpm)
     out = dynamics.simulate(
-        model, speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths, span=span, dt=3e-8, record_every=1
+        model,
+        speeds=rpm_to_rad_s(rpm),
+        torque=paper.TORQUE,
+        theta_2=th2,
+        theta_s=ths,
+        span=span,
+        dt=3e-8,
+        record_every=1,
     )
     per = out.wall_time / out.steps
     k = model.stiffness
@@ -82,10 +92,10 @@ def main() -> None:
     bufs = [np.zeros(nd) for _ in range(3)]
     tel = np.zeros(2)
     idx = (k.indptr.astype(np.int64), k.indices.astype(np.int64), k.data)
-    kernels.elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
+    elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
     t0 = time.perf_counter()
     for _ in range(n):
-        kernels.elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
+        elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
     t_force = (time.perf_counter() - t0) / n
     print(
         f"  contact search (sampling + 2 splines + search), Python-called: "
@@ -114,12 +124,19 @@ def compare(model, ref, rpm, th2, ths, span):
     tr, fr = ref.records["time"], ref.records["force"]
     rows = [("paper_rk4 iterative", 3e-8, ref.steps, ref.wall_time, 0.0, 0.0, fr.max())]
     dynamics.simulate(
-        model, speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths, span=1e-4, dt=3e-8, multipliers="direct"
+        model,
+        speeds=rpm_to_rad_s(rpm),
+        torque=paper.TORQUE,
+        theta_2=th2,
+        theta_s=ths,
+        span=1e-4,
+        dt=3e-8,
+        multipliers="direct",
     )
     d = dynamics.simulate(
         model,
-        speeds_rpm=rpm,
-        torque=22.25,
+        speeds=rpm_to_rad_s(rpm),
+        torque=paper.TORQUE,
         theta_2=th2,
         theta_s=ths,
         span=span,
@@ -142,11 +159,11 @@ def compare(model, ref, rpm, th2, ths, span):
     t0 = time.perf_counter()
     red = reduced.build_reduced(model, 20)
     t_build = time.perf_counter() - t0
-    om = rpm[0] * math.pi / 30
+    om = float(rpm_to_rad_s(rpm)[0])
     for dt in (2e-6, 5e-4 / om, 5e-7, 2.5e-7):
-        if dt > reduced.time_step_limit(red, rpm):
+        if dt > reduced.time_step_limit(red, rpm_to_rad_s(rpm)):
             continue
-        kw = dict(speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths, dt=dt)
+        kw = dict(speeds=rpm_to_rad_s(rpm), torque=paper.TORQUE, theta_2=th2, theta_s=ths, dt=dt)
         reduced.simulate_reduced(red, span=20 * om * dt, **kw)  # compile / cache load
         o = reduced.simulate_reduced(red, span=span, **kw)
         f = o.records["force"]

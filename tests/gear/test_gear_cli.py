@@ -79,8 +79,6 @@ def test_bad_mesh_preset_is_one_clear_line(tmp_path):
     "extra, field",
     [
         ('[model]\nteeth_per_gear = 2\n[solver]\nmethod = "reduced_hht"\n', "solver.method"),
-        ('[model]\nteeth_per_gear = 3\n[solver]\nmultipliers = "direct"\n', "solver.multipliers"),
-        ('[model]\nteeth_per_gear = 2\n[operation]\ndriver = "B"\n', "operation.driver"),
         ('[solver]\nmethod = "reduced_hht"\nrestitution = 0.5\n', "solver.restitution"),
     ],
 )

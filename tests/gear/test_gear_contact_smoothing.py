@@ -50,11 +50,11 @@ def test_smoothing_weights_reproduce_the_undeformed_flank():
     from rotaflex.core.config import from_mapping
     from rotaflex.gear.case import GearCaseConfig, build
     from rotaflex.gear.dynamics import smoothing_tables
-    from rotaflex.gear.kernels import sample_flank, sample_smooth
+    from rotaflex.gear.kernels.contact import sample_flank, sample_smooth
 
     cfg = from_mapping(GearCaseConfig, {"mesh": {"preset": "default"}}, "t")
     _, _, model = build(cfg)
-    tab, mloc = smoothing_tables(model, 12)
+    tab, mloc = (t[0] for t in smoothing_tables(model, 12))  # the one pair
     np.testing.assert_allclose(tab.sum(axis=2), 1.0, atol=1e-12)
     x = model.reference_positions()
     for g in range(2):

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from rotaflex.gear import dynamics
+from rotaflex.gear.config import rpm_to_rad_s
 from rotaflex.gear.geometry import GearGeometry, contact_angles
-from rotaflex.gear.kernels_direct import direct_pass, factor_tie_blocks
+from rotaflex.gear.kernels.passes import direct_pass, factor_tie_blocks
 from rotaflex.gear.mesh import COARSE, build_tooth_mesh
 
 DT = 3e-8
@@ -90,7 +91,7 @@ def test_direct_equals_iterative_on_a_short_span(model):
     for mode in ("iterative", "direct"):
         outs[mode] = dynamics.simulate(
             mod,
-            speeds_rpm=(4000, 4000),
+            speeds=rpm_to_rad_s((4000, 4000)),
             torque=22.25,
             theta_2=th2,
             theta_s=ths,

@@ -7,6 +7,7 @@ import pytest
 
 from rotaflex.core.errors import InputError
 from rotaflex.gear import dynamics
+from rotaflex.gear.config import rpm_to_rad_s
 from rotaflex.gear.geometry import GearGeometry, contact_angles
 from rotaflex.gear.mesh import COARSE, build_tooth_mesh
 
@@ -32,7 +33,7 @@ def sim(model, speeds, torque=TAU0, span_deg=1.0, every=10, **kw):
     ths, th2 = contact_angles(g, g)
     return dynamics.simulate(
         mod,
-        speeds_rpm=speeds,
+        speeds=rpm_to_rad_s(speeds),
         torque=torque,
         theta_2=th2,
         theta_s=ths,
@@ -74,7 +75,13 @@ def test_dt_above_stability_limit_is_refused(model):
     g, mod = model
     with pytest.raises(InputError, match="stability limit"):
         dynamics.simulate(
-            mod, speeds_rpm=(4000, 4000), torque=TAU0, theta_2=0.14, theta_s=0.37, span=0.01, dt=2 * mod.dt_limit
+            mod,
+            speeds=rpm_to_rad_s((4000, 4000)),
+            torque=TAU0,
+            theta_2=0.14,
+            theta_s=0.37,
+            span=0.01,
+            dt=2 * mod.dt_limit,
         )
 
 

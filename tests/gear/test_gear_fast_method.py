@@ -7,6 +7,7 @@ import pytest
 
 from rotaflex.core.errors import InputError
 from rotaflex.gear import dynamics, reduced
+from rotaflex.gear.config import rpm_to_rad_s
 from rotaflex.gear.geometry import GearGeometry, contact_angles
 from rotaflex.gear.mesh import COARSE, build_tooth_mesh
 
@@ -29,7 +30,7 @@ def run(setup, speeds, span_deg, dt, **kw):
     g, mod, red, ths, th2 = setup
     return reduced.simulate_reduced(
         red,
-        speeds_rpm=speeds,
+        speeds=rpm_to_rad_s(speeds),
         torque=kw.pop("torque", TAU0),
         theta_2=th2,
         theta_s=ths,
@@ -70,7 +71,7 @@ def test_force_matches_paper_rk4_on_a_coarse_short_case(setup):
     g, mod, red, ths, th2 = setup
     ref = dynamics.simulate(
         mod,
-        speeds_rpm=(4000, 4000),
+        speeds=rpm_to_rad_s((4000, 4000)),
         torque=TAU0,
         theta_2=th2,
         theta_s=ths,
@@ -123,7 +124,7 @@ def test_time_step_refinement_order(setup):
 
 def test_time_step_check_refuses_too_large_steps(setup):
     g, mod, red, ths, th2 = setup
-    lim = reduced.time_step_limit(red, (4000.0, 4000.0))
+    lim = reduced.time_step_limit(red, rpm_to_rad_s((4000.0, 4000.0)))
     assert 1e-6 < lim < 1e-4
     with pytest.raises(InputError, match="reduced implicit"):
         run(setup, (4000.0, 4000.0), 1.0, 2 * lim)

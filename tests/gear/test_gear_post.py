@@ -2,14 +2,16 @@
 
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
 from rotaflex.gear import dynamics, post
+from rotaflex.gear.config import rpm_to_rad_s
 from rotaflex.gear.geometry import GearGeometry, contact_angles
-from rotaflex.gear.kernels import flank_weights
+from rotaflex.gear.kernels.contact import flank_weights
 from rotaflex.gear.mesh import COARSE, build_tooth_mesh
 from rotaflex.gear.static import flank_contact_point
 
@@ -39,7 +41,7 @@ def test_quasi_static_dte_and_root_stress_match_static_fe(gear):
     probe = post.root_stress_probe(mod, E, NU)
     out = dynamics.simulate(
         mod,
-        speeds_rpm=(4000.0, 4000.0),
+        speeds=rpm_to_rad_s((4000.0, 4000.0)),
         torque=22.25,
         theta_2=th2,
         theta_s=ths,
@@ -81,10 +83,11 @@ def _impact(gear, e, dt=1e-8):
     """Gears 0.05 um apart approaching at ~0.06 m/s (no torque): one impact."""
     g, _ = gear
     mod = _model(gear)
-    mod.theta0[1] -= 0.05e-6 / g.base_radius  # open the initial contact
+    # open the initial contact
+    mod = replace(mod, theta0=mod.theta0 - np.array([0.0, 0.05e-6 / g.base_radius]))
     out = dynamics.simulate(
         mod,
-        speeds_rpm=(4000.0, 3990.0),
+        speeds=rpm_to_rad_s((4000.0, 3990.0)),
         torque=0.0,
         theta_2=0.14,
         theta_s=0.37,
@@ -176,7 +179,7 @@ def test_summary_has_dte_and_root_stress(gear):
 def test_sweep_gear_figure_draws_dte_panel():
     import xarray as xr
 
-    from rotaflex.sweep.figures import gear_figures
+    from rotaflex.gear.sweep_figures import sweep_figures
 
     speed = np.array([2000.0, 4000.0, 8000.0])
     ds = xr.Dataset(
@@ -188,7 +191,7 @@ def test_sweep_gear_figure_draws_dte_panel():
         coords={"operation.speed_rpm": ("operation.speed_rpm", speed, {"units": "rpm"})},
         attrs={"base_config": json.dumps({}), "swept": "[]"},
     )
-    fig = gear_figures(ds)["gear_speed_sweep"]
+    fig = sweep_figures(ds)["gear_speed_sweep"]
     axes = [ax for ax in fig.axes if ax.get_ylabel()]
     labels = [ax.get_ylabel() for ax in axes]
     assert any("dte_peak_to_peak" in lb for lb in labels)
@@ -206,7 +209,7 @@ def test_recording_fillet_nodes_does_not_change_the_trajectory(gear):
     for nodes in (None, [0, 1]):
         out = dynamics.simulate(
             _model(gear),
-            speeds_rpm=(4000.0, 4040.0),
+            speeds=rpm_to_rad_s((4000.0, 4040.0)),
             torque=22.25,
             theta_2=th2,
             theta_s=ths,

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rotaflex.sweep.figures import floating_figures, gear_figures, gear_mesh_estimate
+from rotaflex.gear.sweep_figures import gear_mesh_estimate, sweep_figures
+from rotaflex.sweep.figures import floating_figures
 
 
 def _gear_ds(natural_frequency=None, teeth=20):
@@ -24,7 +25,7 @@ def _gear_ds(natural_frequency=None, teeth=20):
 
 
 def test_gear_harmonic_marks_where_k_times_mesh_frequency_meets_fn():
-    fig = gear_figures(_gear_ds(natural_frequency=3000.0, teeth=20))["gear_speed_sweep"]
+    fig = sweep_figures(_gear_ds(natural_frequency=3000.0, teeth=20))["gear_speed_sweep"]
     ax = fig.axes[0]
     marks = sorted(ln.get_xdata()[0] for ln in ax.get_lines() if ln.get_linestyle() == ":")
     # k z n / 60 = f_n  ->  n = 60 f_n / (k z) = 9000, 4500, 3000, 2250 rpm

@@ -15,7 +15,7 @@ normal distance:
 The signed normal separation ``h`` (> 0 open) gives the paper's penetration ``s = -h``. Its rate
 is the relative normal velocity of the two material points, ``s_dot = n . (v_A - v_B)``
 (eq. 9-13), and its second rate adds the sliding terms of appendix A (the contact point runs
-along both curved surfaces; see :func:`rotaflex.gear.kernels.sliding_terms`).
+along both curved surfaces; see :func:`rotaflex.gear.kernels.contact.sliding_terms`).
 
 This module is a thin NumPy front end over the compiled kernels, used by tests and tools.
 """
@@ -59,7 +59,7 @@ _CASES = ("interior", "tip_B", "tip_A")
 
 def spline(points: np.ndarray) -> np.ndarray:
     """Second derivatives (M, 2) of the natural cubic spline through ``points`` (M, 2)."""
-    from rotaflex.gear.kernels import spline_second
+    from rotaflex.gear.kernels.contact import spline_second
 
     p = np.ascontiguousarray(points, dtype=float)
     m = np.empty_like(p)
@@ -69,7 +69,7 @@ def spline(points: np.ndarray) -> np.ndarray:
 
 def spline_point(points: np.ndarray, s: float, m: np.ndarray | None = None) -> np.ndarray:
     """(3, 2) array: value, first and second derivative of the spline at parameter ``s``."""
-    from rotaflex.gear.kernels import spline_eval
+    from rotaflex.gear.kernels.contact import spline_eval
 
     p = np.ascontiguousarray(points, dtype=float)
     m = spline(p) if m is None else m
@@ -96,7 +96,7 @@ def search(
     start : (float, float)
         Initial guess of the parameters (a, b).
     """
-    from rotaflex.gear.kernels import contact_search
+    from rotaflex.gear.kernels.contact import contact_search
 
     pa = np.ascontiguousarray(points_a, dtype=float)
     pb = np.ascontiguousarray(points_b, dtype=float)
@@ -132,7 +132,7 @@ def normal_rates(
     contact points (positive = approaching), ``sliding`` = h_s such that
     ``s_ddot = n . (acc_A - acc_B) + h_s``, and the parameter rates ``a_dot``, ``b_dot``.
     """
-    from rotaflex.gear.kernels import contact_search, sliding_terms
+    from rotaflex.gear.kernels.contact import contact_search, sliding_terms
 
     pa = np.ascontiguousarray(points_a, dtype=float)
     pb = np.ascontiguousarray(points_b, dtype=float)

@@ -16,55 +16,18 @@ Placement: gear A (driver, counter-clockwise) at the origin, gear B (driven, clo
 ``(0, a)`` with ``a`` the standard centre distance; at t = 0 the teeth touch at the start of
 the path of contact (B's tip corner on A's flank) with zero gap, found by the contact search.
 
-Time integration (section 3): see :func:`rotaflex.gear.kernels.run_steps`.
+Time integration (section 3): :func:`integrate`, kernel :func:`rotaflex.gear.kernels.rk4.run_steps`.
 """
 
 from __future__ import annotations
 
 import math
-import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
 
-from rotaflex.core.errors import ConvergenceError, InputError
-
-#: columns of the per-record output array written by the kernel
-RECORD_COLUMNS = (
-    "time",
-    "phi_A",
-    "phi_B",
-    "omega_A",
-    "omega_B",
-    "force",
-    "force_disp",
-    "force_vel",
-    "gap",
-    "cpA_x",
-    "cpA_y",
-    "cpB_x",
-    "cpB_y",
-    "param_a",
-    "param_b",
-    "kinetic_energy",
-    "strain_energy",
-    "external_work",
-    "velocity_pass_loss",
-    "res_disp",
-    "res_vel",
-    "res_acc",
-    "iter_disp",
-    "iter_vel",
-    "iter_acc",
-    "force_peak",
-    "torque_A",
-    "torque_B",
-    "contact_case",
-    "normal_velocity",
-    "tie_residual",
-    "impacts",
-)
+from rotaflex.core.errors import InputError
 
 
 def torque_ramp(theta: np.ndarray | float, tau0: float, theta_2: float, theta_s: float):
@@ -79,9 +42,13 @@ def torque_ramp(theta: np.ndarray | float, tau0: float, theta_2: float, theta_s:
     return tau0 * f
 
 
-@dataclass
+@dataclass(frozen=True)
 class GearPairModel:
-    """Assembled arrays of the two-gear model (gear A nodes first, then gear B)."""
+    """Assembled arrays of the two-gear model (gear A nodes first, then gear B).
+
+    Frozen: a changed model is a new one (``dataclasses.replace``); the arrays are not
+    written after construction.
+    """
 
     geometry: tuple
     meshes: tuple
@@ -109,6 +76,23 @@ class GearPairModel:
     @property
     def n_nodes(self) -> int:
         return int(self.xloc.shape[0])
+
+    #: torque of the disks: the Fig. 7 ramps (one tooth per gear) or the constant tau_0
+    constant_torque = False
+
+    def pair_layout(self):
+        """Contact pairs: flank ids (npair, 2, nfl), edges (npair, 2), nominal contact angles at
+        t = 0 (npair,), initial contact parameters (npair, 2) and start positions (2N,).
+        One tooth per gear is one pair starting at the start of contact, unloaded."""
+        return (self.flank[None], self.nedge[None], np.zeros(1), np.array([[0.3, 0.99]]), self.reference_positions())
+
+    def warm_start_table(self, theta_s: float):
+        """Involute contact parameters for pairs entering the mesh window (none for one pair)."""
+        return None
+
+    def start_strain_energy(self, x: np.ndarray) -> float:
+        """Strain energy of the start state [J] (0: the single pair starts unloaded)."""
+        return 0.0
 
     def reference_positions(self) -> np.ndarray:
         """Global node positions at t = 0, flattened (2N,)."""
@@ -244,58 +228,65 @@ def build_model(
         if abs(pair.gap) < 1e-14:
             break
         # a counter-clockwise turn of B by d moves its flank towards A by about r_b * d
-        model.theta0[1] += pair.gap / rb[1]
+        theta0 = model.theta0.copy()
+        theta0[1] += pair.gap / rb[1]
+        model = replace(model, theta0=theta0)
     if abs(pair.gap) > 1e-10 or pair.case == "tip_A":
         raise InputError("geometry", "gear pair", "teeth that meet at the start of contact")
     return model
 
 
-def smoothing_tables(model: GearPairModel, n_intervals: int, per_interval: int = 40):
-    """Tables of the smoothed contact surfaces (:func:`rotaflex.gear.kernels.sample_smooth`).
+def smoothing_tables(model: GearPairModel, n_intervals: int, flank=None, nedge=None, per_interval: int = 40):
+    """Tables of the smoothed contact surfaces (:func:`rotaflex.gear.kernels.contact.sample_smooth`).
 
     The flank displacement is replaced by its least-squares fit with a clamped cubic B-spline of
     ``n_intervals`` uniform intervals of the flank parameter (L2 projection on a fine grid of
-    ``(n_points - 1) * per_interval + 1`` parameters). Returns ``tab`` (2, NT, n_flank): the
-    weights T_n(s) of the flank nodes on that grid, and ``mloc`` (2, n_points, 2): the misfit
-    ``X(s) - sum_n T_n(s) X_n`` of the undeformed flank (tooth frame) at the spline points, so
-    that the undeformed surface is the FE edge exactly. ``n_intervals = 0``: dummy arrays (the
-    paper's surfaces and 3-node contact force).
+    ``(n_points - 1) * per_interval + 1`` parameters). ``flank`` (npair, 2, nfl) and ``nedge``
+    (npair, 2) are the flanks of the contact pairs (default: the model's one pair). Returns
+    ``tab`` (npair, 2, NT, nfl): the weights T_n(s) of the flank nodes on that grid, and ``mloc``
+    (npair, 2, n_points, 2): the misfit ``X(s) - sum_n T_n(s) X_n`` of the undeformed flank (disk
+    frame) at the spline points, so that the undeformed surface is the FE edge exactly.
+    ``n_intervals = 0``: dummy arrays (the paper's surfaces and 3-node contact force).
     """
+    if flank is None:
+        flank, nedge = model.flank[None], model.nedge[None]
+    npair = flank.shape[0]
     if n_intervals <= 0:
-        return np.zeros((2, 2, 1)), np.zeros((2, 1, 2))
+        return np.zeros((npair, 2, 2, 1)), np.zeros((npair, 2, 1, 2))
     mpts = model.n_points
     if n_intervals + 3 > mpts:
         raise InputError("mesh.contact_smoothing", n_intervals, f"0 or 1..{mpts - 3} (n_points - 3)")
     from scipy.interpolate import BSpline
 
-    from rotaflex.gear.kernels import flank_weights
+    from rotaflex.gear.kernels.contact import flank_weights
 
     nt = (mpts - 1) * per_interval + 1
     grid = np.linspace(0.0, 1.0, nt)
     knots = np.concatenate([[0.0] * 3, np.linspace(0.0, 1.0, n_intervals + 1), [1.0] * 3])
     b = BSpline.design_matrix(grid, knots, 3).toarray()
-    nf = model.flank.shape[1]
-    tab = np.empty((2, nt, nf))
-    mloc = np.empty((2, mpts, 2))
+    nf = flank.shape[2]
+    tab = np.zeros((npair, 2, nt, nf))
+    mloc = np.empty((npair, 2, mpts, 2))
     nodes = np.empty(3, dtype=np.int64)
     w = np.empty(3)
-    for g in range(2):
-        fl = model.flank[g]
-        col = {int(i): j for j, i in enumerate(fl)}
-        q = np.zeros((nt, nf))
-        for r, s in enumerate(grid):
-            flank_weights(fl, int(model.nedge[g]), s, nodes, w)
-            for j in range(3):
-                q[r, col[int(nodes[j])]] += w[j]
-        tab[g] = b @ np.linalg.solve(b.T @ b, b.T @ q)
-        xl = model.xloc[fl]
-        rows = np.arange(mpts) * per_interval
-        mloc[g] = q[rows] @ xl - tab[g][rows] @ xl
+    for jp in range(npair):
+        for g in range(2):
+            fl = flank[jp, g]
+            col = {int(i): j for j, i in enumerate(fl)}
+            q = np.zeros((nt, nf))
+            for r, s in enumerate(grid):
+                flank_weights(fl, int(nedge[jp, g]), s, nodes, w)
+                for j in range(3):
+                    q[r, col[int(nodes[j])]] += w[j]
+            tab[jp, g] = b @ np.linalg.solve(b.T @ b, b.T @ q)
+            xl = model.xloc[fl]
+            rows = np.arange(mpts) * per_interval
+            mloc[jp, g] = q[rows] @ xl - tab[jp, g][rows] @ xl
     return np.ascontiguousarray(tab), mloc
 
 
 def _flank_points(model: GearPairModel, x: np.ndarray) -> list[np.ndarray]:
-    from rotaflex.gear.kernels import sample_flank
+    from rotaflex.gear.kernels.contact import sample_flank
 
     out = []
     for g in range(2):
@@ -337,21 +328,6 @@ def tie_eigen_bounds(model: GearPairModel, dt: float) -> np.ndarray:
     return np.array(out)
 
 
-@dataclass
-class SimulationOutput:
-    """Raw histories returned by :func:`simulate`."""
-
-    records: dict  # name -> (n_rec,) array, see RECORD_COLUMNS
-    tie_multipliers: np.ndarray  # (n_rec, n_tie_rows)
-    steps: int
-    wall_time: float
-    initial_energy: float
-    snapshots: list  # (time, positions (N, 2)) pairs
-    dt: float
-    node_positions: np.ndarray | None = None  # (n_rec, len(record_nodes), 2) or None
-    record_nodes: np.ndarray | None = None
-
-
 def rigid_velocities(model, x: np.ndarray, om: np.ndarray) -> np.ndarray:
     """Nodal velocities [m/s] (flat, 2 per node) of both gears turning rigidly at ``om``
     [rad/s] (counter-clockwise positive) about their centres, at positions ``x``."""
@@ -364,10 +340,10 @@ def rigid_velocities(model, x: np.ndarray, om: np.ndarray) -> np.ndarray:
     return v
 
 
-def simulate(
+def integrate(
     model: GearPairModel,
     *,
-    speeds_rpm,
+    speeds,
     torque,
     theta_2,
     theta_s,
@@ -384,16 +360,21 @@ def simulate(
     record_nodes=None,
     multipliers="iterative",
     smoothing=0,
-) -> SimulationOutput:
+    torque_mode=None,
+    window=None,
+    warm_start=None,
+):
     """Integrate the pair over a rotation ``span`` of gear A [rad] with the paper's scheme.
 
     Parameters
     ----------
-    model : GearPairModel
-    speeds_rpm : (float, float)
-        Initial speeds of A (counter-clockwise) and B (clockwise) [rpm].
+    model : GearPairModel or MultiToothModel
+        One contact pair per tooth (see :meth:`GearPairModel.pair_layout`).
+    speeds : (float, float)
+        Initial speeds of A (counter-clockwise) and B (clockwise) [rad/s]
+        (:func:`rotaflex.gear.config.rpm_to_rad_s`).
     torque : float
-        tau_0 [N m]; drive torque on A and load torque on B, both ramped as in Fig. 7.
+        tau_0 [N m]; drive torque on A and load torque on B.
     theta_2, theta_s : float
         Two-pair zone and single-tooth contact angles of Fig. 7 [rad].
     span : float
@@ -418,11 +399,29 @@ def simulate(
         the support of the root-stress operator. The kernel is then called once per record.
     multipliers : {"iterative", "direct"}
         ``"iterative"``: the accelerated iteration of eq. 19-24 (the paper's scheme);
-        ``"direct"``: exact solve of each pass (:mod:`rotaflex.gear.kernels_direct`).
-    """
-    from rotaflex.gear.kernels import run_steps
+        ``"direct"``: exact solve of each pass (:func:`rotaflex.gear.kernels.passes.direct_solve`).
+    smoothing : int
+        Intervals of the smoothed contact surfaces (0 = the paper's surfaces).
+    torque_mode : int or None
+        0: the Fig. 7 ramps on both disks; 1: constant ``torque``. Default: 0 for one tooth per
+        gear, 1 for several.
+    window : float or None
+        A pair is searched only while its nominal contact angle is within
+        ``[-window, theta_s + window]`` [rad], with tip-corner contact outside [0, theta_s]
+        (None: always searched, as the single-tooth model).
+    warm_start : (nw, 3) array or None
+        Involute contact parameters (a, b, contact angle) for pairs entering the window
+        (default: none for one tooth per gear, the involute table of the model for several).
 
-    tab, mloc = smoothing_tables(model, smoothing)
+    Returns
+    -------
+    rotaflex.gear.solvers.SolverOutput
+        For one pair, ``records`` also holds the pair columns of that pair (shorthand).
+    """
+    from rotaflex.gear.driver import SolverOutput, drive
+    from rotaflex.gear.kernels.arrays import ModelArrays, Records, State, StepParams
+    from rotaflex.gear.kernels.rk4 import GLOBAL_COLUMNS, PAIR_COLUMNS, kinetic_energy, run_steps
+
     if dt > model.dt_limit:
         raise InputError(
             "solver.dt",
@@ -430,138 +429,143 @@ def simulate(
             f"a step <= the RK4 stability limit of the mesh, "
             f"{model.dt_limit:.4g} s (refine dt or coarsen the smallest elements)",
         )
-    omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
-    n_steps = max(1, int(round(span / (omega[0] * dt))))
     if multipliers not in ("iterative", "direct"):
         raise InputError("solver.multipliers", multipliers, "'iterative' or 'direct'")
+    if not 0.0 <= restitution <= 1.0:
+        raise InputError("solver.restitution", restitution, "in [0, 1]")
+    flank, nedge, psi, start, x = model.pair_layout()
+    if torque_mode is None:
+        torque_mode = 1 if model.constant_torque else 0
+    if warm_start is None:
+        warm_start = model.warm_start_table(theta_s)
+    npair = flank.shape[0]
+    tab, mloc = smoothing_tables(model, smoothing, flank, nedge)
+    omega = np.asarray(speeds, dtype=float)
+    n_steps = max(1, int(round(span / (omega[0] * dt))))
     eps = tie_eigen_bounds(model, dt)
     if multipliers == "direct":
-        from rotaflex.gear.kernels_direct import factor_tie_blocks
+        from rotaflex.gear.kernels.passes import factor_tie_blocks
 
         dfac, dperm, _ = factor_tie_blocks(model, dt)
     else:
         dfac, dperm = np.ones((3, 1, 1)), np.zeros(1, dtype=np.int64)
     k = model.stiffness
-    x = model.reference_positions()
     nn = model.n_nodes
-    phi = np.zeros(2)
     om = np.array([omega[0], -omega[1]])
     v = rigid_velocities(model, x, om)
-    a = np.zeros(2 * nn)
-    alp = np.zeros(2)
-    nc = 2 * len(model.tie_node) + 1
-    mu = np.zeros(nc)
-    cres = np.zeros(8)
-    cres[0], cres[1] = 0.3, 0.99
-    nw = 3 if smoothing <= 0 else model.flank.shape[1]
-    cnod = np.zeros((2, nw), dtype=np.int64)
-    cw = np.zeros((2, nw))
-    sc = np.zeros(24)
+    nc = 2 * len(model.tie_node) + npair
+    cres = np.zeros((npair, 8))
+    cres[:, :2] = start
+    nw = 3 if smoothing <= 0 else flank.shape[2]
     n_rec = n_steps // record_every + 1
-    out = np.zeros((n_rec, len(RECORD_COLUMNS)))
-    out_mu = np.zeros((n_rec, nc - 1))
-    info = np.zeros(4)
-    if not 0.0 <= restitution <= 1.0:
-        raise InputError("solver.restitution", restitution, "in [0, 1]")
-    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps, float(restitution)])
+    lo, hi = (-1e9, 1e9) if window is None else (-window, theta_s + window)
+    arrays = ModelArrays(
+        gid=model.gid,
+        indptr=k.indptr.astype(np.int64),
+        indices=k.indices.astype(np.int64),
+        data=k.data.astype(float),
+        xloc=model.xloc,
+        minv=model.minv,
+        centres=model.centres,
+        theta0=np.asarray(model.theta0, dtype=float),
+        inertia=np.asarray(model.inertia, float),
+        rsgn=model.rsgn,
+        sig=model.sig,
+        tie_node=model.tie_node,
+        tie_gear=model.tie_gear,
+        tb_i=model.tb_i,
+        tb_j=model.tb_j,
+        tb_b=model.tb_b,
+        flank=np.ascontiguousarray(flank),
+        nedge=np.ascontiguousarray(nedge),
+        psi=psi,
+        wtab=np.zeros((1, 3)) if warm_start is None else np.asarray(warm_start, float),
+        tab=tab,
+        mloc=mloc,
+    )
+    params = StepParams(
+        dt=float(dt),
+        tau0=float(torque),
+        theta_2=float(theta_2),
+        theta_s=float(theta_s),
+        tol_disp=float(tol),
+        tol_vel=tol / dt,
+        tol_acc=tol / dt**2,
+        eps_disp=float(eps[0]),
+        eps_vel=float(eps[1]),
+        eps_acc=float(eps[2]),
+        restitution=float(restitution),
+        window_lo=float(lo),
+        window_hi=float(hi),
+        corners=window is not None,
+        n_accel=int(n_accel),
+        max_iter=int(max_iter),
+        n_points=int(model.n_points),
+        torque_mode=int(torque_mode),
+        direct=multipliers == "direct",
+        dfac=dfac,
+        dperm=dperm,
+    )
+    state = State(
+        x=x,
+        v=v,
+        a=np.zeros(2 * nn),
+        phi=np.zeros(2),
+        om=om,
+        alp=np.zeros(2),
+        mu=np.zeros(nc),
+        cres=cres,
+        cnod=np.zeros((npair, 2, nw), dtype=np.int64),
+        cw=np.zeros((npair, 2, nw)),
+        sc=np.zeros(24),
+        spair=np.zeros((npair, 6)),
+        rates=np.zeros((npair, 4)),
+    )
+    rec = Records(
+        out=np.zeros((n_rec, len(GLOBAL_COLUMNS))),
+        outp=np.zeros((n_rec, npair, len(PAIR_COLUMNS))),
+        out_mu=np.zeros((n_rec, nc - npair)),
+        info=np.zeros(4),
+    )
+    e0 = kinetic_energy(v, om, model.minv, model.inertia) + model.start_strain_energy(x)
     rec_nodes = None if record_nodes is None else np.asarray(record_nodes, dtype=np.int64)
     rec_x = None if rec_nodes is None else np.zeros((n_rec, len(rec_nodes), 2))
-    args_model = (
-        model.gid,
-        k.indptr.astype(np.int64),
-        k.indices.astype(np.int64),
-        model.tie_node,
-        model.tie_gear,
-        model.flank,
-        model.nedge,
-        model.tb_i,
-        model.tb_j,
-        model.xloc,
-        model.minv,
-        k.data.astype(float),
-        model.centres,
-        model.theta0,
-        model.inertia,
-        model.sig,
-        model.tb_b,
-        model.rsgn,
-    )
-    from rotaflex.gear.kernels import kinetic_energy
+    row = [0]
 
-    e0 = kinetic_energy(v, om, model.minv, model.inertia)
-    snaps = []
-    snap_every = max(1, n_steps // snapshots) if snapshots else 0
-    chunk = max(record_every, (progress_every // record_every) * record_every)
-    if snap_every:
-        chunk = min(chunk, max(record_every, (snap_every // record_every) * record_every))
-    if rec_nodes is not None:
-        chunk = record_every  # one record per call: x is the recorded state on return
-    t0 = time.perf_counter()
-    done = 0
-    row = 0
-    names = {
-        1: "displacement pass (eq. 19)",
-        2: "velocity pass (eq. 20)",
-        3: "acceleration pass (eq. 21)",
-    }
-    first = True
-    next_progress = progress_every
-    while done < n_steps:
-        n = min(chunk, n_steps - done)
-        row_before = row
-        ipar = np.array(
-            [n_accel, max_iter, model.n_points, row, 1 if first else 0, 1 if multipliers == "direct" else 0],
-            dtype=np.int64,
-        )
-        status, row = run_steps(
-            n,
-            record_every,
-            *args_model,
-            par,
-            ipar,
-            x,
-            v,
-            a,
-            phi,
-            om,
-            alp,
-            mu,
-            cres,
-            cnod,
-            cw,
-            sc,
-            out,
-            out_mu,
-            info,
-            dfac,
-            dperm,
-            tab,
-            mloc,
-        )
-        first = False
-        if rec_x is not None and row > row_before:
-            rec_x[row - 1] = x.reshape(-1, 2)[rec_nodes]
-        if status in names:
-            raise ConvergenceError(names[status], info[0], info[1], info[2])
-        if status == 4:
-            raise ConvergenceError("contact search", info[0], float("nan"), 0.0)
-        done += n
-        if snap_every and (done % snap_every < chunk or done == n_steps):
-            snaps.append((float(sc[0]), x.reshape(-1, 2).copy()))
-        if progress is not None and (done >= next_progress or done == n_steps):
-            progress(done, n_steps)
-            next_progress = done + progress_every
-    wall = time.perf_counter() - t0
-    out = out[:row]
-    records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
-    return SimulationOutput(
+    def step(n, first):
+        status, row[0] = run_steps(n, record_every, row[0], first, arrays, params, state, rec)
+        return status, row[0]
+
+    nrow, snaps, wall = drive(
+        step,
+        n_steps=n_steps,
+        record_every=record_every,
+        time_of=lambda: state.sc[0],
+        positions=lambda: x.reshape(-1, 2),
+        info=rec.info,
+        snapshots=snapshots,
+        record_nodes=rec_nodes,
+        rec_x=rec_x,
+        progress=progress,
+        progress_every=progress_every,
+    )
+    records = {name: rec.out[:nrow, i].copy() for i, name in enumerate(GLOBAL_COLUMNS)}
+    pair_records = {name: rec.outp[:nrow, :, i].copy() for i, name in enumerate(PAIR_COLUMNS)}
+    if npair == 1:
+        records.update({name: val[:, 0].copy() for name, val in pair_records.items()})
+    return SolverOutput(
         records=records,
-        tie_multipliers=out_mu[:row].copy(),
+        pair_records=pair_records,
+        tie_multipliers=rec.out_mu[:nrow].copy(),
         steps=n_steps,
         wall_time=wall,
         initial_energy=float(e0),
-        snapshots=snaps,
         dt=dt,
-        node_positions=None if rec_x is None else rec_x[:row].copy(),
+        snapshots=snaps,
+        node_positions=None if rec_x is None else rec_x[:nrow].copy(),
         record_nodes=rec_nodes,
     )
+
+
+#: the single-tooth entry point (same parameters as :func:`integrate`)
+simulate = integrate

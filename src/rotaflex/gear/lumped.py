@@ -173,7 +173,7 @@ def lumped_pair(
 def simulate_lumped(
     pair: LumpedPair,
     *,
-    speeds_rpm,
+    speeds,
     torque: float,
     theta_2: float,
     theta_s: float,
@@ -211,7 +211,7 @@ def simulate_lumped(
             (rb * p - torque_ramp(y[1], torque, theta_2, theta_s)) / jb,
         ]
 
-    w = np.asarray(speeds_rpm, dtype=float) * math.pi / 30.0
+    w = np.asarray(speeds, dtype=float)
     t_end = span / w[0]
     # the mesh spring period is ~0.1 ms; max_step keeps the contact switch resolved
     sol = solve_ivp(

@@ -8,7 +8,7 @@ whose root nodes (inner arc and side cuts) are tied to the disk, exactly as the 
 :mod:`rotaflex.gear.dynamics`. Tooth ``j`` of A can touch tooth ``j`` of B only: ``n`` contact
 pairs, each unilateral with its own contact search (minimum normal distance between the spline
 surfaces), sliding terms and multiplier row in the paper's three-pass iteration
-(:func:`rotaflex.gear.kernels_multi.run_steps_m`). Both disks carry the constant torque
+(:func:`rotaflex.gear.kernels.rk4.run_steps`). Both disks carry the constant torque
 ``tau_0`` (drive on A, load on B): no Fig. 7 ramps.
 
 Pair ``j`` has the contact angle ``psi_j + phi_A`` (rotation of A since that pair's geometric
@@ -26,8 +26,7 @@ point, unilateral), so the run starts close to equilibrium instead of with a sud
 from __future__ import annotations
 
 import math
-import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -35,16 +34,13 @@ import scipy.sparse as sp
 from rotaflex.core.errors import ConvergenceError, InputError
 from rotaflex.gear.dynamics import (
     GearPairModel,
-    rigid_velocities,
-    tie_eigen_bounds,
-    torque_ramp,
 )
 
 #: default mesh window: pairs are searched from 1 deg before to 1 deg after their contact [rad]
 WINDOW = math.radians(1.0)
 
 
-@dataclass
+@dataclass(frozen=True)
 class MultiToothModel(GearPairModel):
     """:class:`GearPairModel` with ``n_teeth`` teeth per gear and one contact pair per tooth."""
 
@@ -56,6 +52,28 @@ class MultiToothModel(GearPairModel):
     tooth_node0: np.ndarray | None = None  # (2, n) first global node of each tooth
     initial_positions: np.ndarray | None = None  # (2N,) preloaded start state
     preload: dict | None = None
+
+    #: constant tau_0 on both disks (no Fig. 7 ramps)
+    constant_torque = True
+
+    def pair_layout(self):
+        """Pairs of adjacent teeth, warm-started at the involute point, preloaded start."""
+        start = np.array([involute_start(self, p) for p in self.pair_psi])
+        return (
+            self.pair_flank,
+            self.pair_nedge,
+            np.asarray(self.pair_psi, float),
+            start,
+            self.initial_positions.copy(),
+        )
+
+    def warm_start_table(self, theta_s: float, n: int = 61) -> np.ndarray:
+        """(n, 3): involute contact parameters (a, b) on a uniform grid of the contact angle."""
+        ang = np.linspace(0.0, theta_s, n)
+        return np.array([[*involute_start(self, t), t] for t in ang])
+
+    def start_strain_energy(self, x: np.ndarray) -> float:
+        return strain_energy(self, x)
 
 
 def _rot(t):
@@ -90,7 +108,6 @@ def build_multi_model(
     m_enter = min(1, n_teeth - 1)
     tooth_turn = np.array([(m_enter - j) * pitch for j in range(n_teeth)])
     psi = tooth_turn + start_angle
-    base.theta0 = base.theta0 + np.array([start_angle, -start_angle])
     k0 = fe.stiffness_matrix(mesh, youngs_modulus, poisson_ratio).tocsr()
     m0 = fe.lumped_mass(mesh, density)[::2]
     nn = mesh.n_nodes
@@ -134,7 +151,7 @@ def build_multi_model(
         geometry=base.geometry,
         meshes=base.meshes,
         centre_distance=base.centre_distance,
-        theta0=base.theta0.copy(),
+        theta0=base.theta0 + np.array([start_angle, -start_angle]),
         centres=base.centres,
         xloc=np.ascontiguousarray(np.vstack(xl)),
         gid=np.concatenate(gid).astype(np.int64),
@@ -159,8 +176,7 @@ def build_multi_model(
         tooth_offset=offsets,
         tooth_node0=node0,
     )
-    model.initial_positions = model.reference_positions()
-    return model
+    return replace(model, initial_positions=model.reference_positions())
 
 
 def involute_start(model: MultiToothModel, psi: float) -> tuple[float, float]:
@@ -169,7 +185,7 @@ def involute_start(model: MultiToothModel, psi: float) -> tuple[float, float]:
     Used as the warm start of each pair's contact search; ``psi`` is clamped to the path of
     contact (a pair out of mesh starts from its nearest end of contact).
     """
-    from rotaflex.gear.kernels import sample_flank
+    from rotaflex.gear.kernels.contact import sample_flank
 
     g = model.geometry[0]
     rb = g.base_radius
@@ -198,7 +214,7 @@ def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: floa
     gear A's rotation ``phi_a`` (:func:`involute_start`). With ``theta_s`` given, pairs before
     the start / after the end of contact use the tip-corner projection, as in the solver.
     """
-    from rotaflex.gear.kernels_multi import pair_contact
+    from rotaflex.gear.kernels.contact import pair_contact
 
     npair = model.n_teeth
     m = model.n_points
@@ -214,7 +230,20 @@ def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: floa
         psi = model.pair_psi[j] + phi_a
         mode = 0 if theta_s is None else (1 if psi < 0 else (2 if psi > theta_s else 0))
         if not pair_contact(
-            x, model.pair_flank[j], model.pair_nedge[j], model.sig, m, *buf, cres[j], cnod[j], cw[j], mode
+            x,
+            np.zeros(2),
+            model.pair_flank[j],
+            model.pair_nedge[j],
+            model.sig,
+            m,
+            *buf,
+            cres[j],
+            cnod[j],
+            cw[j],
+            mode,
+            model.theta0,
+            np.zeros((2, 2, 1)),
+            np.zeros((2, 1, 2)),
         ):
             raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
     return cres, cnod, cw
@@ -249,8 +278,8 @@ def static_preload(
     ``P_j = max(0, (beta d_j - h_j) / c_j)`` (h_j rigid gap, d_j moment arm about B's centre,
     c_j pair compliance) balance ``torque`` on B; pairs outside the mesh window
     ``[-window, theta_s + window]`` of contact angles are ignored. Repeated ``n_iter`` times with the gaps of the
-    deformed state. Sets ``model.theta0`` (B) and ``model.initial_positions``; returns the pair
-    forces, compliances and the final gaps.
+    deformed state. Returns the preloaded model (a new one: ``theta0`` of B turned,
+    ``initial_positions`` deflected, ``preload`` = pair forces, compliances, arms, final gaps).
     """
     from rotaflex.gear.static import solve_static
 
@@ -312,10 +341,12 @@ def static_preload(
         c2[~inmesh, 2] = 1.0
         pred = np.where(pj > 0, 0.0, h_eff - beta * arm)
         h_eff = h_eff + (c2[:, 2] - pred)
-    model.theta0 = th
-    model.initial_positions = x
-    model.preload = {"force": pj, "compliance": comp, "arm": arm, "gap": c2[:, 2], "beta": beta}
-    return model.preload
+    return replace(
+        model,
+        theta0=th,
+        initial_positions=x,
+        preload={"force": pj, "compliance": comp, "arm": arm, "gap": c2[:, 2], "beta": beta},
+    )
 
 
 def strain_energy(model: GearPairModel, x: np.ndarray) -> float:
@@ -330,417 +361,28 @@ def strain_energy(model: GearPairModel, x: np.ndarray) -> float:
     return float(0.5 * w @ (model.stiffness @ w))
 
 
-@dataclass
-class MultiOutput:
-    """Raw histories returned by :func:`simulate_multi`."""
-
-    records: dict  # global name -> (n_rec,)
-    pair_records: dict  # per-pair name -> (n_rec, npair)
-    tie_multipliers: np.ndarray
-    steps: int
-    wall_time: float
-    initial_energy: float
-    dt: float
-
-
-def warm_start_table(model: MultiToothModel, theta_s: float, n: int = 61) -> np.ndarray:
-    """(n, 3): involute contact parameters (a, b) on a uniform grid of the contact angle."""
-    ang = np.linspace(0.0, theta_s, n)
-    return np.array([[*involute_start(model, t), t] for t in ang])
-
-
 def simulate_multi(
-    model: MultiToothModel,
-    *,
-    speeds_rpm,
-    torque,
-    theta_2,
-    theta_s,
-    span,
-    dt,
-    torque_mode=1,
-    window=WINDOW,
-    tol=1e-12,
-    n_accel=4,
-    max_iter=500,
-    record_every=10,
-    progress=None,
-    progress_every=2000,
-) -> MultiOutput:
+    model: MultiToothModel, *, speeds, torque, theta_2, theta_s, span, dt, torque_mode=1, window=WINDOW, n_accel=4, **kw
+):
     """Integrate the multi-tooth pair over a rotation ``span`` of gear A [rad].
 
-    Same scheme and parameters as :func:`rotaflex.gear.dynamics.simulate`; ``torque_mode`` 1
-    applies the constant ``torque`` to both disks, 0 the Fig. 7 ramps (for the comparison with
-    the single-tooth kernel). A pair is searched only while its nominal contact angle is within
-    ``[-window, theta_s + window]`` (``window=None``: always, as the single-tooth model).
-    Starts from ``model.initial_positions`` rotating rigidly.
+    :func:`rotaflex.gear.dynamics.integrate` with ``torque_mode`` 1 (the constant ``torque`` on
+    both disks; 0: the Fig. 7 ramps, for the comparison with the single-tooth model), the mesh
+    ``window`` and the warm-start table of this model; starts from ``model.initial_positions``
+    rotating rigidly. Other keywords as :func:`~rotaflex.gear.dynamics.integrate`.
     """
-    from rotaflex.gear.kernels import kinetic_energy
-    from rotaflex.gear.kernels_multi import GLOBAL_COLUMNS, PAIR_COLUMNS, run_steps_m
+    from rotaflex.gear.dynamics import integrate
 
-    if dt > model.dt_limit:
-        raise InputError(
-            "solver.dt",
-            dt,
-            f"a step <= the RK4 stability limit of the mesh, {model.dt_limit:.4g} s"
-            " (refine dt or coarsen the smallest elements)",
-        )
-    omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
-    n_steps = max(1, int(round(span / (omega[0] * dt))))
-    eps = tie_eigen_bounds(model, dt)
-    k = model.stiffness
-    x = model.initial_positions.copy()
-    nn = model.n_nodes
-    npair = model.n_teeth
-    om = np.array([omega[0], -omega[1]])
-    v = rigid_velocities(model, x, om)
-    a = np.zeros(2 * nn)
-    alp = np.zeros(2)
-    phi = np.zeros(2)
-    nc = 2 * len(model.tie_node) + npair
-    mu = np.zeros(nc)
-    cres = np.zeros((npair, 8))
-    for j in range(npair):
-        cres[j, 0], cres[j, 1] = involute_start(model, model.pair_psi[j])
-    cnod = np.zeros((npair, 2, 3), dtype=np.int64)
-    cw = np.zeros((npair, 2, 3))
-    sc = np.zeros(24)
-    spair = np.zeros((npair, 6))
-    n_rec = n_steps // record_every + 1
-    out = np.zeros((n_rec, len(GLOBAL_COLUMNS)))
-    outp = np.zeros((n_rec, npair, len(PAIR_COLUMNS)))
-    out_mu = np.zeros((n_rec, nc - npair))
-    info = np.zeros(4)
-    lo, hi = (-1e9, 1e9) if window is None else (-window, theta_s + window)
-    par = np.array(
-        [dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps, lo, hi, 0.0 if window is None else 1.0]
-    )
-    wtab = warm_start_table(model, theta_s)
-    args_model = (
-        model.gid,
-        k.indptr.astype(np.int64),
-        k.indices.astype(np.int64),
-        model.tie_node,
-        model.tie_gear,
-        model.pair_flank,
-        model.pair_nedge,
-        model.tb_i,
-        model.tb_j,
-        model.xloc,
-        model.minv,
-        k.data.astype(float),
-        model.centres,
-        model.theta0,
-        model.inertia,
-        model.sig,
-        model.tb_b,
-        model.rsgn,
-        model.pair_psi,
-        wtab,
-    )
-    e0 = kinetic_energy(v, om, model.minv, model.inertia) + strain_energy(model, x)
-    chunk = max(record_every, (progress_every // record_every) * record_every)
-    rates = np.zeros((len(model.pair_psi), 4))  # contact-parameter rates, carried across calls
-    names = {1: "displacement pass (eq. 19)", 2: "velocity pass (eq. 20)", 3: "acceleration pass (eq. 21)"}
-    t0 = time.perf_counter()
-    done = 0
-    row = 0
-    first = True
-    while done < n_steps:
-        n = min(chunk, n_steps - done)
-        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0, torque_mode], dtype=np.int64)
-        status, row = run_steps_m(
-            n,
-            record_every,
-            *args_model,
-            par,
-            ipar,
-            x,
-            v,
-            a,
-            phi,
-            om,
-            alp,
-            mu,
-            cres,
-            cnod,
-            cw,
-            sc,
-            spair,
-            rates,
-            out,
-            outp,
-            out_mu,
-            info,
-        )
-        first = False
-        if status in names:
-            raise ConvergenceError(names[status], info[0], info[1], info[2])
-        if status == 4:
-            raise ConvergenceError("contact search", info[0], float("nan"), 0.0)
-        done += n
-        if progress is not None:
-            progress(done, n_steps)
-    wall = time.perf_counter() - t0
-    return MultiOutput(
-        records={name: out[:row, i].copy() for i, name in enumerate(GLOBAL_COLUMNS)},
-        pair_records={name: outp[:row, :, i].copy() for i, name in enumerate(PAIR_COLUMNS)},
-        tie_multipliers=out_mu[:row].copy(),
-        steps=n_steps,
-        wall_time=wall,
-        initial_energy=float(e0),
+    return integrate(
+        model,
+        speeds=speeds,
+        torque=torque,
+        theta_2=theta_2,
+        theta_s=theta_s,
+        span=span,
         dt=dt,
+        torque_mode=torque_mode,
+        window=window,
+        n_accel=n_accel,
+        **kw,
     )
-
-
-# ----------------------------------------------------------------------------- case / output
-def default_span(n_teeth: int, pitch: float, theta_s: float, start_angle: float) -> float:
-    """Rotation of A simulated by default: pair 1 from its start angle up to the entry of the
-    next pair (two teeth) or over its whole contact theta_s (three teeth) [rad]."""
-    return (pitch if n_teeth == 2 else theta_s) - start_angle
-
-
-def run_multi_case(cfg, *, progress: bool = False):
-    """``run_case`` for ``[model] teeth_per_gear`` = 2 or 3 (validated ``GearCaseConfig``)."""
-    import json
-    from dataclasses import asdict
-
-    from rotaflex.gear.case import DEFAULT_DT, GearResult, build, run_message
-    from rotaflex.gear.geometry import contact_angles
-
-    t_wall = time.perf_counter()
-    sol = cfg.solver
-    # the multi-pair kernel implements the paper's scheme only (one pass type per pair row)
-    for key, value, allowed in (
-        ("solver.method", sol.method, "paper_rk4"),
-        ("solver.multipliers", sol.multipliers, "iterative"),
-        ("solver.restitution", sol.restitution, 0.0),
-        ("operation.driver", cfg.operation.driver, "A"),
-    ):
-        if value != allowed:
-            raise InputError(key, value, f"{allowed!r} with [model] teeth_per_gear > 1")
-    geo, mesh, _ = build(cfg)
-    n = cfg.model.teeth_per_gear
-    start = math.radians(cfg.model.start_angle_deg)
-    window = math.radians(cfg.model.mesh_window_deg)
-    if start < -window:
-        raise InputError(
-            "model.start_angle_deg", cfg.model.start_angle_deg, f">= -mesh_window_deg = {-cfg.model.mesh_window_deg:g}"
-        )
-    ths, th2 = contact_angles(geo, geo)
-    op = cfg.operation
-    if op.theta_s_deg is not None:
-        ths = math.radians(op.theta_s_deg)
-    if op.theta_2_deg is not None:
-        th2 = math.radians(op.theta_2_deg)
-    pitch = 2 * math.pi / geo.teeth
-    limit = (n - 1) * pitch - start
-    span = math.radians(op.span_deg) if op.span_deg is not None else default_span(n, pitch, ths, start)
-    if span > limit * (1 + 1e-9):
-        raise InputError(
-            "operation.span_deg",
-            math.degrees(span),
-            f"<= {math.degrees(limit):.4g} deg with {n} teeth per gear (beyond it "
-            "a pair of teeth that is not modelled would be in contact)",
-        )
-    mat = cfg.material
-    model = build_multi_model(
-        geo,
-        mesh,
-        n,
-        youngs_modulus=mat.youngs_modulus,
-        poisson_ratio=mat.poisson_ratio,
-        density=mat.density,
-        inertia=(cfg.disk_inertia, cfg.disk_inertia),
-        n_points=cfg.mesh.n_points,
-        start_angle=start,
-    )
-    static_preload(model, op.torque, mat.youngs_modulus, mat.poisson_ratio, ths, window)
-    bar = None
-    cb = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=1, unit="step", desc=f"gear {n} teeth")
-
-        def cb(done, total):
-            bar.total = total
-            bar.n = done
-            bar.refresh()
-
-    try:
-        out = simulate_multi(
-            model,
-            speeds_rpm=op.speed_rpm,
-            torque=op.torque,
-            theta_2=th2,
-            theta_s=ths,
-            span=span,
-            dt=sol.dt or DEFAULT_DT["paper_rk4"],
-            window=window,
-            tol=cfg.solver.tolerance,
-            n_accel=cfg.solver.accel_n,
-            max_iter=cfg.solver.max_iter,
-            record_every=cfg.output.every or 10,
-            progress=cb,
-        )
-    finally:
-        if bar is not None:
-            bar.close()
-    ds = to_dataset_multi(out, model, geo, op.torque, th2, ths)
-    ds.attrs.update(
-        status="success",
-        message=run_message(ds),
-        wall_time=time.perf_counter() - t_wall,
-        config=json.dumps(asdict(cfg)),
-    )
-    return GearResult(ds)
-
-
-def zone_pairs(pair_angle: np.ndarray, theta_s: float) -> np.ndarray:
-    """Number of pairs nominally in contact (contact angle in [0, theta_s]) per record."""
-    return np.sum((pair_angle >= 0.0) & (pair_angle <= theta_s), axis=1)
-
-
-def to_dataset_multi(out: MultiOutput, model: MultiToothModel, geo, tau0, th2, ths):
-    """Histories of :func:`simulate_multi` as an xarray Dataset with a ``pair`` dimension."""
-    import xarray as xr
-
-    from rotaflex.gear.case import add_constraint_histories, run_scalars
-
-    r = out.records
-    pr = out.pair_records
-    rb = geo.base_radius
-    nominal = tau0 / rb
-    npair = model.n_teeth
-    rot = np.column_stack([r["phi_A"], -r["phi_B"]])
-    pair_angle = model.pair_psi[None, :] + rot[:, :1]
-    force = pr["force"]
-    total = force.sum(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        share = np.where(total[:, None] > 0, force / total[:, None], np.nan)
-    insearch = pr["contact_case"] >= 0
-    gap = np.where(insearch, pr["gap"], np.nan)
-    balance = (
-        r["kinetic_energy"] + r["strain_energy"] - r["external_work"] + r["velocity_pass_loss"] - out.initial_energy
-    )
-    ds = xr.Dataset(
-        coords={
-            "time": ("time", r["time"], {"units": "s"}),
-            "gear": ["A", "B"],
-            "xy": ["x", "y"],
-            "pair": np.arange(npair),
-        }
-    )
-
-    def add(name, dims, val, units, long):
-        ds[name] = (dims, np.asarray(val), {"units": units, "long_name": long})
-
-    add("contact_force", ("time", "pair"), force, "N", "contact force of each pair (acceleration pass)")
-    add(
-        "contact_force_displacement_pass",
-        ("time", "pair"),
-        pr["force_disp"],
-        "N",
-        "contact force of the displacement pass",
-    )
-    add(
-        "contact_force_velocity_pass",
-        ("time", "pair"),
-        pr["force_vel"],
-        "N",
-        "contact force of the velocity pass (impulse / dt at impacts)",
-    )
-    add(
-        "peak_force_interval",
-        ("time", "pair"),
-        pr["force_peak"],
-        "N",
-        "largest contact force since the previous record",
-    )
-    add("total_contact_force", ("time",), total, "N", "sum of the pair forces")
-    add("load_share", ("time", "pair"), share, "1", "pair force / sum of pair forces")
-    add(
-        "pair_angle",
-        ("time", "pair"),
-        pair_angle,
-        "rad",
-        "contact angle of each pair (rotation of A since its geometric start of contact)",
-    )
-    add(
-        "fig7_ramp_force",
-        ("time", "pair"),
-        torque_ramp(pair_angle, tau0, th2, ths) / rb,
-        "N",
-        "force of the pair implied by the Fig. 7 torque ramps, tau(angle)/r_b",
-    )
-    add("nominal_force_ramp", ("time",), np.full(len(total), nominal), "N", "tau_0 / r_b (constant torques)")
-    add("rotation_angle", ("time", "gear"), rot, "rad", "rotation angle (running direction)")
-    add(
-        "angular_velocity",
-        ("time", "gear"),
-        np.column_stack([r["omega_A"], -r["omega_B"]]),
-        "rad/s",
-        "angular velocity",
-    )
-    add(
-        "torque",
-        ("time", "gear"),
-        np.column_stack([r["torque_A"], r["torque_B"]]),
-        "N m",
-        "external torque (drive on A, load on B)",
-    )
-    add("gap", ("time", "pair"), gap, "m", "normal gap (> 0 open; NaN: pair out of mesh)")
-    add("normal_velocity", ("time", "pair"), pr["normal_velocity"], "m/s", "relative normal velocity (> 0 approaching)")
-    cp = np.stack(
-        [np.stack([pr["cpA_x"], pr["cpA_y"]], axis=-1), np.stack([pr["cpB_x"], pr["cpB_y"]], axis=-1)], axis=2
-    )
-    add("contact_point", ("time", "pair", "gear", "xy"), cp, "m", "contact point")
-    add(
-        "contact_case",
-        ("time", "pair"),
-        pr["contact_case"],
-        "1",
-        "0 flank-flank, 1 tip of B on A, 2 tip of A on B, -1 out of mesh (not searched)",
-    )
-    add_constraint_histories(add, r, out.tie_multipliers, balance)
-    nz = zone_pairs(pair_angle, ths)
-    single = nz == 1
-    mean_single = float(np.mean(total[single])) if np.any(single) else float("nan")
-    peak = float(np.max(pr["force_peak"])) if len(total) else 0.0
-    scalars = run_scalars(out, r, balance, peak=peak, mean_single=mean_single, nominal=nominal, rb=rb, th2=th2, ths=ths)
-    scalars.update(
-        {
-            "mean_total_force": (float(np.mean(total)) if len(total) else float("nan"), "N"),
-            "teeth_per_gear": (npair, "1"),
-            "preload_beta": (float(model.preload["beta"]) if model.preload else 0.0, "rad"),
-        }
-    )
-    for name, (val, unit) in scalars.items():
-        ds[name] = ((), val, {"units": unit})
-    if model.preload:
-        ds["preload_force"] = (("pair",), model.preload["force"], {"units": "N"})
-    return ds
-
-
-def plot_multi(ds) -> dict:
-    """Figures of a multi-tooth result: pair forces vs the Fig. 7 ramps, load share, energy."""
-    from rotaflex.core.plotting import new_figure
-    from rotaflex.gear.case import ANGLE_LABEL, history_figures, line_figure
-
-    figs = {}
-    ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
-    fig, ax = new_figure()
-    for j in ds["pair"].values:
-        (line,) = ax.plot(ang, ds["contact_force"].sel(pair=j).values, lw=0.8, label=f"pair {j}")
-        ax.plot(ang, ds["fig7_ramp_force"].sel(pair=j).values, "--", lw=0.7, color=line.get_color())
-    ax.plot(ang, ds["total_contact_force"].values, "k", lw=0.6, label="sum")
-    ax.axhline(float(ds["nominal_force"]), color="grey", lw=0.5)
-    ax.set_xlabel("rotation angle of gear A [deg]")
-    ax.set_ylabel("contact force [N] (dashed: Fig. 7 ramps)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    figs["contact_force"] = fig
-    figs["load_share"] = line_figure(ang, ds["load_share"].values, ANGLE_LABEL, "load share of each pair [-]")
-    figs.update(history_figures(ds, "normal gap of each pair [um]"))
-    return figs

@@ -175,7 +175,7 @@ def kinematic_transmission_error(model, theta_a) -> np.ndarray:
 
 
 def _edge_load(mesh, flank_nodes_local, nedge, s, force_vec):
-    from rotaflex.gear.kernels import flank_weights
+    from rotaflex.gear.kernels.contact import flank_weights
 
     nodes = np.empty(3, np.int64)
     w = np.empty(3)

@@ -37,14 +37,12 @@ the rotation per step must stay small (``omega dt <= 0.01 rad``).
 from __future__ import annotations
 
 import math
-import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg as sla
 
 from rotaflex.core.errors import ConvergenceError, InputError
-from rotaflex.gear.dynamics import RECORD_COLUMNS, SimulationOutput
 
 #: points per mesh-contact period required by :func:`time_step_limit`
 STEPS_PER_CONTACT_PERIOD = 20
@@ -52,7 +50,7 @@ STEPS_PER_CONTACT_PERIOD = 20
 MAX_ROTATION_PER_STEP = 0.01
 
 
-@dataclass
+@dataclass(frozen=True)
 class ReducedPairModel:
     """Craig-Bampton data of both gears, padded to a common size ``n``."""
 
@@ -178,8 +176,7 @@ def build_reduced(model, n_modes: int = 20) -> ReducedPairModel:
         modes=np.array(oms) if n_modes else np.zeros((2, 0)),
         contact_period=0.0,
     )
-    red.contact_period = _contact_period(red)
-    return red
+    return replace(red, contact_period=_contact_period(red))
 
 
 def _contact_period(red: ReducedPairModel) -> float:
@@ -207,16 +204,16 @@ def _contact_period(red: ReducedPairModel) -> float:
     return 2 * math.pi * math.sqrt(meq * comp)
 
 
-def time_step_limit(red: ReducedPairModel, speeds_rpm) -> float:
+def time_step_limit(red: ReducedPairModel, speeds) -> float:
     """Largest dt accepted by the large-step method [s] (see module docstring)."""
-    om = max(abs(float(s)) for s in speeds_rpm) * 2 * math.pi / 60
+    om = max(abs(float(s)) for s in speeds)
     return min(red.contact_period / STEPS_PER_CONTACT_PERIOD, MAX_ROTATION_PER_STEP / om)
 
 
 def simulate_reduced(
     red: ReducedPairModel,
     *,
-    speeds_rpm,
+    speeds,
     torque,
     theta_2,
     theta_s,
@@ -229,18 +226,20 @@ def simulate_reduced(
     snapshots=0,
     progress=None,
     progress_every=2000,
-) -> SimulationOutput:
+):
     """Integrate the reduced pair with HHT-alpha over a rotation ``span`` of gear A [rad].
 
     Parameters as :func:`rotaflex.gear.dynamics.simulate`, plus ``alpha`` (HHT parameter in
     [-1/3, 0]; 0 = trapezoidal rule). ``tol`` [m] bounds the Newton displacement increment and
     the penetration of active contacts.
     """
-    from rotaflex.gear.kernels_reduced import chol_solve, evaluate, kinetic, run_hht
+    from rotaflex.gear.driver import SolverOutput, drive
+    from rotaflex.gear.kernels.arrays import HHTModel, HHTParams, HHTRecords, HHTState
+    from rotaflex.gear.kernels.hht import RECORD_COLUMNS, chol_solve, evaluate, kinetic, run_hht
 
     if not -1.0 / 3.0 <= alpha <= 0.0:
         raise InputError("solver.hht_alpha", alpha, "[-1/3, 0]")
-    lim = time_step_limit(red, speeds_rpm)
+    lim = time_step_limit(red, speeds)
     if dt > lim:
         raise InputError(
             "solver.dt",
@@ -250,7 +249,7 @@ def simulate_reduced(
             f"{red.contact_period:.3g} s and <= {MAX_ROTATION_PER_STEP} rad per step)",
         )
     base = red.base
-    omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
+    omega = np.asarray(speeds, dtype=float)
     n_steps = max(1, int(round(span / (omega[0] * dt))))
     n = red.mr.shape[1]
     beta = 0.25 * (1 - alpha) ** 2
@@ -336,86 +335,80 @@ def simulate_reduced(
         phia[g] = sol[m]
     e0 = float(kinetic(z, zd, phid, red.nr, red.mr, red.gr, red.hx, red.cx, red.ix, base.inertia)) + e_strain
     rref = float(max(g.tip_radius_ for g in base.geometry))
-    par = np.array([dt, alpha, *tpar, tol, rref])
     sc = np.zeros(8)
     n_rec = n_steps // record_every + 1
     out = np.zeros((n_rec, len(RECORD_COLUMNS)))
     out_p = np.zeros((n_rec, npair))
     info = np.zeros(4)
-    snaps = []
-    snap_every = max(1, n_steps // snapshots) if snapshots else 0
-    chunk = max(record_every, (progress_every // record_every) * record_every)
-    if snap_every:
-        chunk = min(chunk, max(record_every, (snap_every // record_every) * record_every))
-    t0 = time.perf_counter()
-    done = 0
-    row = 0
-    while done < n_steps:
-        nstep = min(chunk, n_steps - done)
-        ipar = np.array([max_iter, base.n_points, row], dtype=np.int64)
-        status, row = run_hht(
-            nstep,
-            record_every,
-            red.nr,
-            red.fl_map,
-            red.mr,
-            red.kr,
-            red.gr,
-            red.hx,
-            red.cx,
-            red.ix,
-            np.asarray(base.inertia, float),
-            sfac,
-            m0fac,
-            red.fl_gear,
-            red.fl_start,
-            red.fl_len,
-            red.fl_xref,
-            base.centres,
-            base.theta0,
-            base.sig,
-            red.pairs,
-            base.rsgn,
-            par,
-            ipar,
-            z,
-            zd,
-            za,
-            phi,
-            phid,
-            phia,
-            p,
-            cres,
-            cnod,
-            cw,
-            fz,
-            fphi,
-            sc,
-            out,
-            out_p,
-            info,
-        )
-        if status == 1:
-            raise ConvergenceError("HHT Newton iteration (reduced method)", info[0], info[1], info[2])
-        if status == 4:
-            raise ConvergenceError("contact search", info[0], float("nan"), 0.0)
-        done += nstep
-        if snap_every and (done % snap_every < chunk or done == n_steps):
-            snaps.append((float(sc[0]), positions(red, z, phi)))
-        if progress is not None:
-            progress(done, n_steps)
-    wall = time.perf_counter() - t0
+    m = HHTModel(
+        nr=red.nr,
+        fl_map=red.fl_map,
+        mr=red.mr,
+        kr=red.kr,
+        gr=red.gr,
+        hx=red.hx,
+        cx=red.cx,
+        ix=red.ix,
+        inertia=np.asarray(base.inertia, float),
+        sfac=sfac,
+        m0fac=m0fac,
+        fl_gear=red.fl_gear,
+        fl_start=red.fl_start,
+        fl_len=red.fl_len,
+        fl_xref=red.fl_xref,
+        centres=base.centres,
+        theta0=np.asarray(base.theta0, float),
+        sig=base.sig,
+        pairs=red.pairs,
+        rsgn=base.rsgn,
+    )
+    prm = HHTParams(
+        dt=float(dt),
+        alpha=float(alpha),
+        tau0=float(tpar[0]),
+        theta_2=float(tpar[1]),
+        theta_s=float(tpar[2]),
+        tol=float(tol),
+        r_ref=rref,
+        max_iter=int(max_iter),
+        n_points=int(base.n_points),
+    )
+    state = HHTState(
+        z=z, zd=zd, za=za, phi=phi, phid=phid, phia=phia, p=p, cres=cres, cnod=cnod, cw=cw, fz=fz, fphi=fphi, sc=sc
+    )
+    rec = HHTRecords(out=out, outp=out_p, info=info)
+    row = [0]
+
+    def step(nstep, first):
+        status, row[0] = run_hht(nstep, record_every, row[0], m, prm, state, rec)
+        return (5 if status == 1 else status), row[0]
+
+    row, snaps, wall = drive(
+        step,
+        n_steps=n_steps,
+        record_every=record_every,
+        time_of=lambda: sc[0],
+        positions=lambda: positions(red, z, phi),
+        info=info,
+        snapshots=snapshots,
+        progress=progress,
+        progress_every=progress_every,
+    )
     out = out[:row]
     records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
-    records["pair_forces"] = out_p[:row].copy()
-    return SimulationOutput(
+    from rotaflex.gear.kernels.rk4 import PAIR_COLUMNS
+
+    # one contact pair: its columns of the record are the per-pair histories
+    pair_records = {name: records[name][:, None].copy() for name in PAIR_COLUMNS}
+    return SolverOutput(
         records=records,
+        pair_records=pair_records,
         tie_multipliers=np.zeros((row, 0)),
         steps=n_steps,
         wall_time=wall,
         initial_energy=e0,
-        snapshots=snaps,
         dt=dt,
+        snapshots=snaps,
     )
 
 

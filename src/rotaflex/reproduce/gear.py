@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry, Section
+from rotaflex.gear.config import rpm_to_rad_s
 
 CASES = (
     ("fig8", "Fig. 8", "Variations of the contact force (4,000 rpm)", (4000.0, 4000.0)),
@@ -188,7 +189,9 @@ def _lumped_checks(ds, lumped, rattling: bool) -> tuple[list[Check], dict, str]:
     w0 = ds["angular_velocity"].isel(time=0) * 30.0 / math.pi
     speeds = (float(w0.sel(gear=drv)), float(w0.sel(gear=other)))
     # identical gears: "B drives" is the lumped pair with the driver as its first inertia
-    lr = simulate_lumped(pair, speeds_rpm=speeds, torque=torque, theta_2=th2, theta_s=ths, span=ths, n_output=20001)
+    lr = simulate_lumped(
+        pair, speeds=rpm_to_rad_s(speeds), torque=torque, theta_2=th2, theta_s=ths, span=ths, n_output=20001
+    )
     nominal = float(ds["nominal_force"])
     ang = ds["rotation_angle"].sel(gear=drv).values
     f = ds["contact_force"].values
@@ -400,7 +403,7 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
     from rotaflex.reproduce.gear_methods import methods_entry
 
     figures.append(methods_entry(references, dom, preset))
-    from rotaflex.gear.compare_teeth import comparison
+    from rotaflex.reproduce.gear_teeth import comparison
 
     figures.append(comparison(dom, fast=fast))
     intro = (

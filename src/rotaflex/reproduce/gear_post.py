@@ -12,8 +12,9 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry
+from rotaflex.gear import paper
 
-E_DEFAULT, NU_DEFAULT = 210e9, 0.3
+E_DEFAULT, NU_DEFAULT = paper.YOUNGS_MODULUS, paper.POISSON_RATIO
 
 
 def contact_changes(force: np.ndarray, threshold: float) -> tuple[int, int]:

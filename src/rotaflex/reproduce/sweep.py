@@ -39,8 +39,10 @@ def _rotor_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]:
 
 
 def _gear_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]:
+    from rotaflex.gear import paper
+
     config = {
-        "operation": {"speed_rpm": [4000.0, 4000.0], "torque": 22.25},
+        "operation": {"speed_rpm": [paper.SPEED_RPM] * 2, "torque": paper.TORQUE},
         "mesh": {"preset": "coarse"},
         "output": {"every": 50},
     }

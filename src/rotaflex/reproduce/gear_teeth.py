@@ -20,17 +20,13 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry
+from rotaflex.gear import paper
 
-E, NU, RHO, J = 210e9, 0.3, 7800.0, 2.965e-4
-
-
-def _gear():
-    from rotaflex.gear.geometry import GearGeometry
-
-    return GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
+E, NU, RHO, J = paper.YOUNGS_MODULUS, paper.POISSON_RATIO, paper.DENSITY, paper.DISK_INERTIA
+_gear = paper.geometry
 
 
-def static_share(mesh, angles, torque=22.25) -> np.ndarray:
+def static_share(mesh, angles, torque=paper.TORQUE) -> np.ndarray:
     """Load share of the entering pair at contact angles ``angles`` [rad] from the static FE
     preload of the three-tooth model (pairs 0 and 1 in mesh)."""
     from rotaflex.gear.geometry import contact_angles
@@ -51,7 +47,7 @@ def static_share(mesh, angles, torque=22.25) -> np.ndarray:
             st, _, _ = pair_geometry(mod, mod.reference_positions(), start=st[:, :2], theta_s=ths)
         done = float(ang)
         mod = build_multi_model(g, mesh, 3, start_angle=float(ang), **kw)
-        pre = static_preload(mod, torque, E, NU, ths, start=st[:, :2])
+        pre = static_preload(mod, torque, E, NU, ths, start=st[:, :2]).preload
         f = pre["force"]
         out.append(f[1] / f.sum())
     return np.array(out)

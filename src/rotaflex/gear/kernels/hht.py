@@ -15,7 +15,44 @@ import math
 import numpy as np
 from numba import njit
 
-from rotaflex.gear.kernels import contact_geometry, ramp_torque
+from rotaflex.gear.kernels.contact import contact_geometry
+from rotaflex.gear.kernels.rk4 import ramp_torque
+
+#: columns of the per-record output array written by :func:`run_hht`
+RECORD_COLUMNS = (
+    "time",
+    "phi_A",
+    "phi_B",
+    "omega_A",
+    "omega_B",
+    "force",
+    "force_disp",
+    "force_vel",
+    "gap",
+    "cpA_x",
+    "cpA_y",
+    "cpB_x",
+    "cpB_y",
+    "param_a",
+    "param_b",
+    "kinetic_energy",
+    "strain_energy",
+    "external_work",
+    "velocity_pass_loss",
+    "res_disp",
+    "res_vel",
+    "res_acc",
+    "iter_disp",
+    "iter_vel",
+    "iter_acc",
+    "force_peak",
+    "torque_A",
+    "torque_B",
+    "contact_case",
+    "normal_velocity",
+    "tie_residual",
+    "impacts",
+)
 
 
 @njit(cache=True)
@@ -234,52 +271,14 @@ def small_solve(a, b, n):
 
 
 @njit(cache=True)
-def run_hht(
-    n_steps,
-    rec_every,
-    nr,
-    fl_map,
-    mr,
-    kr,
-    gr,
-    hx,
-    cx,
-    ix,
-    jd,
-    sfac,
-    m0fac,
-    fl_gear,
-    fl_start,
-    fl_len,
-    fl_xref,
-    cen,
-    theta0,
-    sig,
-    pairs,
-    rsgn,
-    par,
-    ipar,
-    z,
-    zd,
-    za,
-    phi,
-    phid,
-    phia,
-    p,
-    cres,
-    cnod,
-    cw,
-    fzn,
-    fphin,
-    sc,
-    out,
-    out_p,
-    info,
-):
+def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
     """Advance ``n_steps`` HHT-alpha steps (Negrut et al. 2007 form for index-3 constraints).
 
-    ``par`` = (dt, alpha, tau0, theta_2, theta_s, tol, r_ref); ``ipar`` = (max_iter, n_points,
-    rec_row). ``fzn, fphin`` hold F at the current state (updated). ``sc`` running scalars:
+    ``hm`` :class:`~rotaflex.gear.kernels.arrays.HHTModel`, ``hp``
+    :class:`~rotaflex.gear.kernels.arrays.HHTParams`, ``hs``
+    :class:`~rotaflex.gear.kernels.arrays.HHTState` (advanced in place), ``hr``
+    :class:`~rotaflex.gear.kernels.arrays.HHTRecords`; ``row`` the next free record row.
+    ``hs.fz, hs.fphi`` hold F at the current state (updated). ``hs.sc`` running scalars:
     (t, W_ext, peak force since record, max |s| since record, max iterations since record,
     impacts, previous contact flag, kinetic energy removed by the impact projection).
 
@@ -289,17 +288,23 @@ def run_hht(
     Returns (status, next row); status 1 = Newton iteration did not converge (``info`` =
     time, residual, tolerance), 4 = contact search failed.
     """
-    h = par[0]
-    alpha = par[1]
-    tpar = par[2:5]
-    tol = par[5]
-    rref = par[6]
+    nr, fl_map, mr, kr, gr, hx, cx, ix = hm.nr, hm.fl_map, hm.mr, hm.kr, hm.gr, hm.hx, hm.cx, hm.ix
+    jd, sfac, m0fac, fl_gear, fl_start = hm.inertia, hm.sfac, hm.m0fac, hm.fl_gear, hm.fl_start
+    fl_len, fl_xref, cen, theta0, sig = hm.fl_len, hm.fl_xref, hm.centres, hm.theta0, hm.sig
+    pairs, rsgn = hm.pairs, hm.rsgn
+    z, zd, za, phi, phid, phia, p = hs.z, hs.zd, hs.za, hs.phi, hs.phid, hs.phia, hs.p
+    cres, cnod, cw, fzn, fphin, sc = hs.cres, hs.cnod, hs.cw, hs.fz, hs.fphi, hs.sc
+    out, out_p, info = hr.out, hr.outp, hr.info
+    h = hp.dt
+    alpha = hp.alpha
+    tpar = np.array([hp.tau0, hp.theta_2, hp.theta_s])
+    tol = hp.tol
+    rref = hp.r_ref
     gam = 0.5 - alpha
     beta = 0.25 * (1.0 - alpha) ** 2
     bh2 = beta * h * h
-    max_iter = ipar[0]
-    mpts = ipar[1]
-    row = ipar[2]
+    max_iter = hp.max_iter
+    mpts = hp.n_points
     ng = z.shape[0]
     n = z.shape[1]
     npair = pairs.shape[0]
