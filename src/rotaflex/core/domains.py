@@ -17,6 +17,12 @@ CASES: dict[str, str] = {
     "floating": "rotaflex.floating.case",
 }
 
+#: per-domain verbs besides ``simulate``: domain -> verb -> "module:function", the function being
+#: ``fn(config: dict, *, progress: bool = False) -> Result`` (config without the ``domain`` key)
+COMMANDS: dict[str, dict[str, str]] = {
+    "gear": {"static": "rotaflex.gear.static_case:run_static"},
+}
+
 #: reproduce target -> module with ``run``; "all" runs every entry in this order
 REPRODUCE: dict[str, str] = {
     "rotor": "rotaflex.reproduce.rotor",
