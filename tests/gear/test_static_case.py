@@ -170,3 +170,14 @@ def test_cli_gear_static_writes_result_and_rejects_bad_input(tmp_path):
     r = CliRunner().invoke(app, ["gear", "static", str(bad), "--out", str(out)])
     assert r.exit_code == 2
     assert "wheel.module_mm" in r.output and len(r.output.strip().splitlines()) == 1
+
+
+def test_wheel_driving_runs_the_same_contact_in_reverse():
+    base = _coarse(_example())
+    wheel = copy.deepcopy(base)
+    wheel["driver"] = "wheel"
+    a, b = run_static(base).dataset, run_static(wheel).dataset
+    assert np.array_equal(a["ste_engagement"].values, b["ste_engagement"].values[::-1])
+    assert np.array_equal(a["load_share"].values, b["load_share"].values[::-1])
+    # roll angle of the driving wheel = pinion roll / ratio
+    assert b["engagement"].values[-1] == pytest.approx(a["engagement"].values[-1] / 2, rel=1e-12)
