@@ -163,7 +163,8 @@ def static_command():
         wall = time.perf_counter() - t
         print(f"{preset:8s} {str(refine):11s} {wall:7.2f}  {ds['ste_mean'].item() * 1e6:12.3f}"
               f"  {ds['ste_ptp'].item() * 1e6:7.3f}  {ds['ste_ptp_unrelieved'].item() * 1e6:17.3f}"
-              f"  {ds['mesh_stiffness_mean'].item() * 1e-6:12.1f}  {ds['iso_c_prime'].item():.2f}")
+              f"  {ds['mesh_stiffness_mean'].item() * 1e-6:12.1f}  {ds['iso_c_prime'].item():.2f}"
+              f" (C_R {ds['iso_C_R'].item():.3f})")
         if refine == [1, 2]:
             for gname in ("pinion", "wheel"):
                 print(f"    refinement change {gname}: " + ", ".join(

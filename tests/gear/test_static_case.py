@@ -144,10 +144,14 @@ def test_iso6336_inputs_use_the_reference_circle_load():
          - 0.00193 * x2 - 0.24188 * x2 / z2 + 0.00529 * x1**2 + 0.00182 * x2**2)
     assert ds["iso_c_th"].item() == pytest.approx(1 / q, rel=1e-12)
     cb = 1 + 0.5 * (1.2 - 1.25)  # h_fP / m = 1.25, alpha = 20 deg
-    assert ds["iso_c_prime"].item() == pytest.approx(0.8 * cb / q, rel=1e-12)
+    # C_R: solid pinion 1; rimmed wheel (web 8 mm of b = 20 mm, rim 6 mm = 3 m):
+    # 1 + ln(0.4) / (5 exp(3 / 5)); the pair uses the mean of both
+    c_r = 0.5 * (1.0 + 1.0 + math.log(0.4) / (5 * math.exp(0.6)))
+    assert ds["iso_C_R"].item() == pytest.approx(c_r, rel=1e-12)
+    assert ds["iso_c_prime"].item() == pytest.approx(0.8 * cb * c_r / q, rel=1e-12)
     eps = json.loads(ds.attrs["pair_geometry"])["contact_ratio"]
-    assert ds["iso_c_gamma_alpha"].item() == pytest.approx(0.8 * cb / q * (0.75 * eps + 0.25),
-                                                           rel=1e-12)
+    assert ds["iso_c_gamma_alpha"].item() == pytest.approx(
+        0.8 * cb * c_r / q * (0.75 * eps + 0.25), rel=1e-12)
 
 
 def test_cli_gear_static_writes_result_and_rejects_bad_input(tmp_path):
@@ -181,3 +185,12 @@ def test_wheel_driving_runs_the_same_contact_in_reverse():
     assert np.array_equal(a["load_share"].values, b["load_share"].values[::-1])
     # roll angle of the driving wheel = pinion roll / ratio
     assert b["engagement"].values[-1] == pytest.approx(a["engagement"].values[-1] / 2, rel=1e-12)
+
+
+def test_compliance_diameters_outside_the_flank_name_the_field():
+    from rotaflex.core.errors import InputError
+
+    cfg = _coarse(_example())
+    cfg["analysis"]["compliance_diameters_wheel"] = [0.04, 0.081]
+    with pytest.raises(InputError, match="analysis.compliance_diameters_wheel"):
+        run_static(cfg)

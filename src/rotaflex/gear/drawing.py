@@ -44,6 +44,7 @@ __all__ = [
     "MATERIALS",
     "MIN_TIP_THICKNESS_COEF",
     "pair_from_mapping",
+    "pair_meshes",
 ]
 
 #: smallest allowed tip thickness / module (pointed-tip check; common design practice 0.2-0.4)
@@ -231,6 +232,17 @@ class GearSpec:
         return (_annulus(rho, w, r_rim, rf) + _annulus(rho, b.web_thickness, r_hub, r_rim)
                 + _annulus(rho, w, r_bore, r_hub) + j_teeth)
 
+    def blank_factor(self) -> float:
+        """ISO 6336-1 gear-blank factor C_R: 1 for solid blanks; rimmed (web) blanks
+        ``1 + ln(b_s / b) / (5 exp(s_R / (5 m)))`` with web width b_s and rim thickness s_R,
+        b_s/b clipped to [0.2, 1.2] and s_R/m to >= 1 (the standard's range)."""
+        b = self.blank
+        if b.kind == "solid" or b.web_thickness is None or b.rim_thickness is None:
+            return 1.0
+        bs = min(max(b.web_thickness / self.face_width, 0.2), 1.2)
+        sr = max(b.rim_thickness / self.module, 1.0)
+        return 1.0 + math.log(bs) / (5.0 * math.exp(sr / 5.0))
+
     def mesh_options(self) -> dict:
         """Keyword options of :func:`rotaflex.gear.mesh.build_tooth_mesh` for the support."""
         if self.support == "root_clamp":
@@ -396,6 +408,30 @@ class PairSpec:
             raise InputError("center_distance", a, f"a pair with contact ratio >= 1 "
                              f"(got {eps:.4f})")
         return self
+
+
+def pair_meshes(pair: PairSpec, mesh_kw: dict, *, relief: bool = True):
+    """Tooth meshes (pinion, wheel), each on its own geometry, reliefs and tooth support.
+
+    The one way to build per-gear meshes of an unequal pair (static and dynamic analyses).
+
+    Parameters
+    ----------
+    pair : PairSpec
+    mesh_kw : dict
+        Element counts of :func:`rotaflex.gear.mesh.build_tooth_mesh` (n_flank, n_through,
+        n_fillet, n_rim, e.g. ``mesh.DEFAULT``).
+    relief : bool
+        False: the same gears without their profile reliefs.
+    """
+    from rotaflex.gear.mesh import build_tooth_mesh
+
+    out = []
+    for g, spec in zip(pair.gears, (pair.pinion, pair.wheel), strict=True):
+        if not relief:
+            g = dataclasses.replace(g, tip_relief=None, root_relief=None)
+        out.append(build_tooth_mesh(g, **mesh_kw, **spec.mesh_options()))
+    return tuple(out)
 
 
 def pair_from_mapping(data: dict, where: str = "") -> PairSpec:

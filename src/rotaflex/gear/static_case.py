@@ -17,8 +17,9 @@ from typing import Literal
 import numpy as np
 
 from rotaflex.core.config import from_mapping, param
+from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result, register_result
-from rotaflex.gear.drawing import GearSpec, PairSpec
+from rotaflex.gear.drawing import GearSpec, PairSpec, pair_meshes
 from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
 from rotaflex.gear.static import iso6336_stiffness, weber_contact_compliance
 from rotaflex.gear.static_pair import loaded_te, pair_line
@@ -81,28 +82,10 @@ SCHEMA = StaticConfig
 
 def gear_meshes(pair: PairSpec, preset: str | dict = "default", refine: int = 1, *,
                 relief: bool = True):
-    """Tooth meshes (pinion, wheel) of a pair, each on its own geometry and tooth support.
-
-    This is the one way to build per-gear meshes for unequal gears (static and dynamic).
-
-    Parameters
-    ----------
-    pair : PairSpec
-    preset : str or dict
-        Key of ``MESH_PRESETS`` or a build_tooth_mesh keyword set (n_flank, n_through, ...).
-    refine : int
-        Multiplier of every element count.
-    relief : bool
-        False: the same gears without their profile reliefs.
-    """
+    """Tooth meshes (pinion, wheel) for a ``MESH_PRESETS`` key or keyword set, refined ``refine``
+    times (see :func:`rotaflex.gear.drawing.pair_meshes`)."""
     kw = MESH_PRESETS[preset] if isinstance(preset, str) else dict(preset)
-    kw = {k: refine * v for k, v in kw.items()}
-    out = []
-    for g, spec in zip(pair.gears, (pair.pinion, pair.wheel), strict=True):
-        if not relief:
-            g = dataclasses.replace(g, tip_relief=None, root_relief=None)
-        out.append(build_tooth_mesh(g, **kw, **spec.mesh_options()))
-    return tuple(out)
+    return pair_meshes(pair, {k: refine * v for k, v in kw.items()}, relief=relief)
 
 
 def _compliance_study(cfg: StaticConfig, pair: PairSpec, force: float) -> dict:
@@ -117,6 +100,11 @@ def _compliance_study(cfg: StaticConfig, pair: PairSpec, force: float) -> dict:
     ):
         if diam:
             radii = 0.5 * np.asarray(diam)
+            bad = (radii < g.form_radius) | (radii > g.tip_radius_)
+            if np.any(bad):
+                raise InputError(f"analysis.compliance_diameters_{name}", list(diam),
+                                 f"diameters between the form diameter {2 * g.form_radius:.6g} "
+                                 f"and the tip diameter {2 * g.tip_radius_:.6g} m")
         else:
             radii = np.linspace(g.form_radius + 0.15 * (g.tip_radius_ - g.form_radius),
                                 g.tip_radius_ - 0.05 * (g.tip_radius_ - g.form_radius), 5)
@@ -233,7 +221,9 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     # ISO 6336-1: F_t at the reference circle, K_A = 1, per face width (N/mm)
     b = min(g1.face_width, g2.face_width)
     ft_b = cfg.load.torque / g1.pitch_radius / (b * 1e3)
-    iso = iso6336_stiffness(g1, g2, load_per_width=ft_b, eps_alpha=pair.contact_ratio)
+    # C_R: mean of the two blanks' factors (one value per pair enters c')
+    c_r = 0.5 * (pair.pinion.blank_factor() + pair.wheel.blank_factor())
+    iso = iso6336_stiffness(g1, g2, load_per_width=ft_b, eps_alpha=pair.contact_ratio, c_r=c_r)
     study = _compliance_study(cfg, pair, force)
 
     def v(dims, data, units, long_name):
@@ -288,6 +278,7 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
         "iso_c_prime": (iso["c_single"], "N/(mm um)", "ISO 6336-1 c'"),
         "iso_c_gamma_alpha": (iso["c_gamma"], "N/(mm um)", "ISO 6336-1 c_gamma_alpha"),
         "iso_c_th": (iso["c_th"], "N/(mm um)", "ISO 6336-1 c'_th"),
+        "iso_C_R": (iso["C_R"], "1", "ISO 6336-1 gear blank factor (mean of both gears)"),
         "iso_load_per_width": (ft_b, "N/mm", "F_t / b at the reference circle"),
         "iso_load_factor": (iso["load_factor"], "1", "(F_t b^-1 / 100)^0.25 if < 100 N/mm"),
         "fe_mesh_stiffness_mean_per_width": (float(np.mean(cyc0["stiffness"])) / (b * 1e3) / 1e6,
