@@ -194,3 +194,26 @@ def test_compliance_diameters_outside_the_flank_name_the_field():
     cfg["analysis"]["compliance_diameters_wheel"] = [0.04, 0.081]
     with pytest.raises(InputError, match="analysis.compliance_diameters_wheel"):
         run_static(cfg)
+
+
+def test_unequal_materials_reduce_to_the_identical_formulas_and_scale_with_e():
+    from rotaflex.gear.static import hertz_half_width, weber_contact_compliance
+    from rotaflex.gear.static_pair import contact_compliance, contact_half_width
+
+    e, nu, b = 210e9, 0.3, 0.02
+    e2 = e * (1 + 1e-12)  # forces the general (unequal-material) branch
+    assert contact_half_width(4e3, b, e, nu, e2, nu, 0.01, 0.02) == pytest.approx(
+        hertz_half_width(4e3, b, e, nu, 0.01, 0.02), rel=1e-9)
+    assert contact_compliance(4e3, b, e, nu, e2, nu, 1e-3, 2e-3, 1e-4) == pytest.approx(
+        weber_contact_compliance(4e3, b, e, nu, 1e-3, 2e-3, 1e-4), rel=1e-9)
+    steel = _coarse(_example(no_relief=("pinion", "wheel")))
+    alu = copy.deepcopy(steel)
+    alu["wheel"]["material"] = {"name": "aluminium", "poisson_ratio": 0.3}
+    a, b_ = run_static(steel).dataset, run_static(alu).dataset
+    # linear plane-stress FE at fixed nu: tooth compliance ~ 1/E (the Hertz patch width, which
+    # changes with E*, moves it slightly)
+    ratio = b_["tooth_compliance"].values[1] / a["tooth_compliance"].values[1]
+    assert ratio == pytest.approx(np.full(ratio.size, 3.0), rel=0.01)
+    assert np.allclose(b_["tooth_compliance"].values[0], a["tooth_compliance"].values[0],
+                       rtol=0.01)
+    assert b_["ste_mean"].item() > 1.5 * a["ste_mean"].item()

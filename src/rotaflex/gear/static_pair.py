@@ -98,7 +98,6 @@ class ToothData:
 def tooth_data(mesh: ToothMesh, radii, e, nu, force, mate: GearGeometry, e_mate=None,
                nu_mate=None) -> ToothData:
     """Compliance and fillet stress of ``mesh``'s tooth under a flank load at ``radii``."""
-    g = mesh.geometry
     radii = np.asarray(radii, dtype=float)
     c = tooth_compliance(mesh, radii, e, nu, force=force, mate=mate) if (
         e_mate is None or (e_mate == e and nu_mate == nu)
@@ -107,7 +106,6 @@ def tooth_data(mesh: ToothMesh, radii, e, nu, force, mate: GearGeometry, e_mate=
                       zip(radii, c.half_width, strict=True)], axis=1)
     u = solve_static(mesh, loads, e, nu)
     s = root_stress_operator(mesh, e, nu) @ u / force  # (2, n)
-    del g
     return ToothData(radii, c.structural, c.load_point, c.arm, s.T)
 
 
