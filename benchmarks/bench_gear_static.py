@@ -30,9 +30,7 @@ from rotaflex.gear.static import (
 from rotaflex.gear.static_pair import loaded_te, pair_line
 
 E, NU, RHO = 210e9, 0.3, 7800.0
-G = GearGeometry(
-    module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048
-)
+G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
 F = 22.25 / G.base_radius
 
 
@@ -52,9 +50,7 @@ def main():
         f"eps={contact_ratio(G, G):.4f}  theta_s={math.degrees(th_s):.3f} deg  "
         f"theta_2={math.degrees(th_2):.3f} deg  form radius={G.form_radius:.6f} m"
     )
-    print(
-        "\nmesh                 elements nodes  min_edge[mm] aspect  dt_RK4[s]  build[ms] K[ms] dt[ms]"
-    )
+    print("\nmesh                 elements nodes  min_edge[mm] aspect  dt_RK4[s]  build[ms] K[ms] dt[ms]")
     for name, kw in (
         ("COARSE", COARSE),
         ("DEFAULT", DEFAULT),
@@ -70,14 +66,10 @@ def main():
             f"{q['max_aspect_ratio']:7.2f}  {dt:.3e}  {tb * 1e3:8.1f} {tk * 1e3:5.1f} {td * 1e3:6.1f}"
         )
     m = build_tooth_mesh(G, **DEFAULT)
-    print(
-        f"  HRZ mass total {lumped_mass(m, RHO).sum() / 2:.6e} kg, min nodal {lumped_mass(m, RHO).min():.3e} kg"
-    )
+    print(f"  HRZ mass total {lumped_mass(m, RHO).sum() / 2:.6e} kg, min nodal {lumped_mass(m, RHO).min():.3e} kg")
 
     radii = np.array([G.form_radius * 1.001, 0.0430, G.pitch_radius, 0.0460, 0.0472])
-    print(
-        "\ntooth compliance along the line of action [um/kN]: structural (centreline point) | load-point"
-    )
+    print("\ntooth compliance along the line of action [um/kN]: structural (centreline point) | load-point")
     print("refine  elements  " + "  ".join(f"r={r * 1e3:.2f}mm" for r in radii))
     for k in (1, 2, 3, 4, 6):
         mk = build_tooth_mesh(G, **{key: k * v for key, v in DEFAULT.items()})
@@ -92,9 +84,7 @@ def main():
 
     print("\nrim depth (modules) vs structural compliance at the pitch radius [um/kN] (sides tied)")
     for rd in (1.0, 2.0, 3.0, 4.0):
-        mk = build_tooth_mesh(
-            G, n_flank=20, n_through=10, n_fillet=4, n_rim=int(4 * rd), rim_depth_coef=rd
-        )
+        mk = build_tooth_mesh(G, n_flank=20, n_through=10, n_fillet=4, n_rim=int(4 * rd), rim_depth_coef=rd)
         c = tooth_compliance(mk, np.array([G.pitch_radius]), E, NU, force=F)
         print(f"  {rd:.0f}: {c.structural[0] * 1e9:.5f}")
 
@@ -118,9 +108,7 @@ def main():
         f"  mesh stiffness one-cycle mean {k_cycle_mean:.4e} N/m = {k_cycle_mean / b / 1e6:.2f} N/(mm um)"
         f"  (mean over one pair's whole engagement, not a cycle mean: {ms.mesh_stiffness.mean():.4e})"
     )
-    print(
-        f"  STE one-cycle mean {cyc['te'].mean() * 1e6:.3f} um, peak-to-peak {np.ptp(cyc['te']) * 1e6:.3f} um"
-    )
+    print(f"  STE one-cycle mean {cyc['te'].mean() * 1e6:.3f} um, peak-to-peak {np.ptp(cyc['te']) * 1e6:.3f} um")
     print(
         f"  static TE along LOA: {ms.transmission_error.min() * 1e6:.3f} .. {ms.transmission_error.max() * 1e6:.3f} um"
         f" (peak-to-peak {np.ptp(ms.transmission_error) * 1e6:.3f} um) at F = {ms.force:.1f} N"
@@ -136,9 +124,7 @@ def main():
         f"{k_cycle_mean / iso['k_th_gamma']:.3f}, / c_gamma = {k_cycle_mean / iso['k_gamma']:.3f}"
     )
 
-    print(
-        "\nroot stress at the 30-deg tangent points, load F at r = 47.2 mm on the right flank [MPa] (left, right)"
-    )
+    print("\nroot stress at the 30-deg tangent points, load F at r = 47.2 mm on the right flank [MPa] (left, right)")
     for k in (1, 2, 3, 4):
         mk = build_tooth_mesh(G, **{key: k * v for key, v in DEFAULT.items()})
         u = solve_static(mk, surface_load(mk, 0.0472, F, 8e-5), E, NU)
@@ -156,34 +142,44 @@ def static_command():
     print("\ngear static, examples/gear/static/unequal_shifted_relief.toml (20/40, x 0.25/0.1, tip relief)")
     print("preset   refinement  wall[s]  STE mean[um]  p-p[um]  p-p no relief[um]  k mean[N/um]  c'[N/(mm um)]")
     for preset, refine in (("coarse", [1]), ("default", [1]), ("default", [1, 2]), ("fine", [1])):
-        c = dict(cfg, mesh={"preset": preset, "n_radii": 9},
-                 analysis={"n_angles": 240, "refinement": refine})
+        c = dict(cfg, mesh={"preset": preset, "n_radii": 9}, analysis={"n_angles": 240, "refinement": refine})
         t = time.perf_counter()
         ds = run_static(c).dataset
         wall = time.perf_counter() - t
-        print(f"{preset:8s} {str(refine):11s} {wall:7.2f}  {ds['ste_mean'].item() * 1e6:12.3f}"
-              f"  {ds['ste_ptp'].item() * 1e6:7.3f}  {ds['ste_ptp_unrelieved'].item() * 1e6:17.3f}"
-              f"  {ds['mesh_stiffness_mean'].item() * 1e-6:12.1f}  {ds['iso_c_prime'].item():.2f}"
-              f" (C_R {ds['iso_C_R'].item():.3f})")
+        print(
+            f"{preset:8s} {str(refine):11s} {wall:7.2f}  {ds['ste_mean'].item() * 1e6:12.3f}"
+            f"  {ds['ste_ptp'].item() * 1e6:7.3f}  {ds['ste_ptp_unrelieved'].item() * 1e6:17.3f}"
+            f"  {ds['mesh_stiffness_mean'].item() * 1e-6:12.1f}  {ds['iso_c_prime'].item():.2f}"
+            f" (C_R {ds['iso_C_R'].item():.3f})"
+        )
         if refine == [1, 2]:
             for gname in ("pinion", "wheel"):
-                print(f"    refinement change {gname}: " + ", ".join(
-                    f"{mname} {ds[f'refinement_change_{gname}_{mname}'].item() * 100:.2f} %"
-                    for mname in ("structural", "load_point", "with_contact")))
-            print(f"    fillet stress max: pinion {ds['fillet_stress_max_pinion'].item() / 1e6:.1f} MPa,"
-                  f" wheel {ds['fillet_stress_max_wheel'].item() / 1e6:.1f} MPa;"
-                  f" FE mean/width (no relief) {ds['fe_mesh_stiffness_mean_per_width'].item():.2f},"
-                  f" ISO c_gamma_alpha {ds['iso_c_gamma_alpha'].item():.2f} N/(mm um)")
-    print("\ntooth support: structural compliance [um/kN] of the paper's tooth, rim (2 m, sides tied) vs"
-          " root clamp (all nodes inside the root circle tied)")
+                print(
+                    f"    refinement change {gname}: "
+                    + ", ".join(
+                        f"{mname} {ds[f'refinement_change_{gname}_{mname}'].item() * 100:.2f} %"
+                        for mname in ("structural", "load_point", "with_contact")
+                    )
+                )
+            print(
+                f"    fillet stress max: pinion {ds['fillet_stress_max_pinion'].item() / 1e6:.1f} MPa,"
+                f" wheel {ds['fillet_stress_max_wheel'].item() / 1e6:.1f} MPa;"
+                f" FE mean/width (no relief) {ds['fe_mesh_stiffness_mean_per_width'].item():.2f},"
+                f" ISO c_gamma_alpha {ds['iso_c_gamma_alpha'].item():.2f} N/(mm um)"
+            )
+    print(
+        "\ntooth support: structural compliance [um/kN] of the paper's tooth, rim (2 m, sides tied) vs"
+        " root clamp (all nodes inside the root circle tied)"
+    )
     radii = np.array([0.0425, G.pitch_radius, 0.0470])
     for k in (1, 2):
         kw = {key: k * v for key, v in DEFAULT.items()}
         rim = tooth_compliance(build_tooth_mesh(G, **kw), radii, E, NU, force=F).structural
-        clamp = tooth_compliance(build_tooth_mesh(G, **kw, support="root_circle"), radii, E, NU,
-                                 force=F).structural
-        print(f"  {k}x  rim {np.round(rim * 1e9, 4)}  clamp {np.round(clamp * 1e9, 4)}  "
-              f"rim/clamp {np.round(rim / clamp, 3)}")
+        clamp = tooth_compliance(build_tooth_mesh(G, **kw, support="root_circle"), radii, E, NU, force=F).structural
+        print(
+            f"  {k}x  rim {np.round(rim * 1e9, 4)}  clamp {np.round(clamp * 1e9, 4)}  "
+            f"rim/clamp {np.round(rim / clamp, 3)}"
+        )
 
 
 if __name__ == "__main__":

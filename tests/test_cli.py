@@ -11,8 +11,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def rotaflex(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "rotaflex", *map(str, args)], capture_output=True,
-                          text=True, cwd=cwd, timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "rotaflex", *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=600
+    )
 
 
 @pytest.mark.parametrize("example", sorted((ROOT / "examples" / "rotor").glob("*.toml")), ids=lambda p: p.stem)

@@ -47,16 +47,16 @@ def test_pair_geometry_matches_iso21771_formulas_computed_here():
     # tip / base radii and contact ratio
     ra1, ra2 = 0.5 * m * z1 + (1 + x1) * m, 0.5 * m * z2 + (1 + x2) * m
     rb1, rb2 = 0.5 * m * z1 * math.cos(a0), 0.5 * m * z2 * math.cos(a0)
-    eps = (math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2)
-           - aw_dist * math.sin(aw)) / (math.pi * m * math.cos(a0))
+    eps = (math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2) - aw_dist * math.sin(aw)) / (
+        math.pi * m * math.cos(a0)
+    )
     assert p.contact_ratio == pytest.approx(eps, rel=1e-12)
     # tip thickness s_a = d_a (s/d + inv(a) - inv(a_a))
     g1, g2 = p.gears
     for g, z, x, ra in ((g1, z1, x1, ra1), (g2, z2, x2, ra2)):
         s = m * (math.pi / 2 + 2 * x * math.tan(a0))
         aa = math.acos(0.5 * m * z * math.cos(a0) / ra)
-        assert g.tip_thickness == pytest.approx(2 * ra * (s / (m * z) + _inv(a0) - _inv(aa)),
-                                                rel=1e-12)
+        assert g.tip_thickness == pytest.approx(2 * ra * (s / (m * z) + _inv(a0) - _inv(aa)), rel=1e-12)
     # backlash at a larger centre distance: thickness sum on the operating pitch circles
     a1 = aw_dist + 0.1e-3
     aw1 = math.acos((rb1 + rb2) / a1)
@@ -71,8 +71,7 @@ def test_pair_geometry_matches_iso21771_formulas_computed_here():
     # first-order check of that number: j_bn ~ 2 (a' - a_w) sin(a_w)
     assert jbn == pytest.approx(2 * 0.1e-3 * math.sin(aw), rel=0.01)
     # a backlash given instead of the centre distance gives that centre distance back
-    assert pair_from_mapping(_with("backlash", jbn)).working_center_distance == pytest.approx(
-        a1, rel=1e-12)
+    assert pair_from_mapping(_with("backlash", jbn)).working_center_distance == pytest.approx(a1, rel=1e-12)
 
 
 def test_published_example_khk_profile_shifted_pair():
@@ -81,10 +80,10 @@ def test_published_example_khk_profile_shifted_pair():
     # z = 12 / 24, x = 0.6 / 0.36, outside diameters 44.84 / 79.40 mm ->
     # inv(alpha_w) = 0.034317, alpha_w = 26.0888 deg (KHK: 26.0886), a = 56.4999 mm,
     # root diameters 32.10 / 66.66 mm, contact ratio 1.202.
-    d = {"pinion": {"teeth": 12, "module": 3e-3, "face_width": 0.02, "profile_shift": 0.6,
-                    "tip_radius": 44.84e-3 / 2},
-         "wheel": {"teeth": 24, "module": 3e-3, "face_width": 0.02, "profile_shift": 0.36,
-                   "tip_radius": 79.40e-3 / 2}}
+    d = {
+        "pinion": {"teeth": 12, "module": 3e-3, "face_width": 0.02, "profile_shift": 0.6, "tip_radius": 44.84e-3 / 2},
+        "wheel": {"teeth": 24, "module": 3e-3, "face_width": 0.02, "profile_shift": 0.36, "tip_radius": 79.40e-3 / 2},
+    }
     p = pair_from_mapping(d)
     assert _inv(p.operating_pressure_angle) == pytest.approx(0.034317, abs=1e-6)
     assert math.degrees(p.operating_pressure_angle) == pytest.approx(26.0887, abs=3e-4)
@@ -99,8 +98,7 @@ def test_swapping_pinion_and_wheel_swaps_the_geometry():
     p = pair_from_mapping(PAIR)
     q = pair_from_mapping({"pinion": PAIR["wheel"], "wheel": PAIR["pinion"]})
     a, b = p.summary(), q.summary()
-    for key in ("center_distance", "operating_pressure_angle_deg", "contact_ratio",
-                "path_of_contact"):
+    for key in ("center_distance", "operating_pressure_angle_deg", "contact_ratio", "path_of_contact"):
         assert a[key] == pytest.approx(b[key], rel=1e-12)
     assert a["pinion_tip_thickness"] == b["wheel_tip_thickness"]
     assert a["wheel_inertia"] == b["pinion_inertia"]
@@ -118,12 +116,9 @@ def test_swapping_pinion_and_wheel_swaps_the_geometry():
         ("center_distance", 0.08, "center_distance"),  # contact ratio < 1
         ("center_distance", 0.0824, "center_distance"),  # negative backlash
         ("wheel.tip_radius", 0.0615, "wheel.tip_radius"),  # below the pinion's form circle
-        ("pinion.tip_relief", {"amount": 6e-4, "start_diameter": 0.0525},
-         "pinion.tip_relief.amount"),
-        ("wheel.root_relief", {"amount": 5e-4, "start_diameter": 0.1155},
-         "wheel.root_relief.amount"),
-        ("pinion.tip_relief", {"amount": 1e-5, "start_diameter": 0.06},
-         "pinion.tip_relief.start_diameter"),
+        ("pinion.tip_relief", {"amount": 6e-4, "start_diameter": 0.0525}, "pinion.tip_relief.amount"),
+        ("wheel.root_relief", {"amount": 5e-4, "start_diameter": 0.1155}, "wheel.root_relief.amount"),
+        ("pinion.tip_relief", {"amount": 1e-5, "start_diameter": 0.06}, "pinion.tip_relief.start_diameter"),
         ("pinion.teeth", 19.5, "pinion.teeth"),
     ],
 )
@@ -155,12 +150,19 @@ def test_limits_stated_in_the_messages():
 def test_relief_is_in_the_mesh_flank_nodes():
     spec = GearSpec(teeth=20, module=2e-3, face_width=0.02, profile_shift=0.25)
     plain = spec.geometry()
-    rel = pair_from_mapping({
-        "pinion": {"teeth": 20, "module": 2e-3, "face_width": 0.02, "profile_shift": 0.25,
-                   "tip_relief": {"amount": 12e-6, "start_diameter": 0.0418},
-                   "root_relief": {"amount": 6e-6, "start_diameter": 0.0392,
-                                   "shape": "parabolic"}},
-        "wheel": {"teeth": 40, "module": 2e-3, "face_width": 0.02}}).gears[0]
+    rel = pair_from_mapping(
+        {
+            "pinion": {
+                "teeth": 20,
+                "module": 2e-3,
+                "face_width": 0.02,
+                "profile_shift": 0.25,
+                "tip_relief": {"amount": 12e-6, "start_diameter": 0.0418},
+                "root_relief": {"amount": 6e-6, "start_diameter": 0.0392, "shape": "parabolic"},
+            },
+            "wheel": {"teeth": 40, "module": 2e-3, "face_width": 0.02},
+        }
+    ).gears[0]
     m0 = build_tooth_mesh(plain, **DEFAULT)
     m1 = build_tooth_mesh(rel, **DEFAULT)
     assert m0.nodes.shape == m1.nodes.shape
@@ -194,9 +196,14 @@ def test_paper_gear_through_the_drawing_spec_is_bit_identical():
     from rotaflex.gear.case import GearConfig  # the paper's data, defined once there
 
     paper = GearConfig()
-    spec = GearSpec(teeth=paper.teeth, module=paper.module, face_width=paper.face_width,
-                    pressure_angle_deg=paper.pressure_angle_deg, tip_radius=paper.tip_radius,
-                    root_radius=paper.root_radius)
+    spec = GearSpec(
+        teeth=paper.teeth,
+        module=paper.module,
+        face_width=paper.face_width,
+        pressure_angle_deg=paper.pressure_angle_deg,
+        tip_radius=paper.tip_radius,
+        root_radius=paper.root_radius,
+    )
     g = spec.geometry()
     assert g == paper.geometry()
     a = build_tooth_mesh(g, **COARSE, **spec.mesh_options())
@@ -207,12 +214,10 @@ def test_paper_gear_through_the_drawing_spec_is_bit_identical():
 def test_root_clamp_is_stiffer_than_the_default_rim():
     from rotaflex.gear.static import tooth_compliance
 
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                     root_radius=0.04048)
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
     r = np.array([0.04445, 0.0470])
     rim = tooth_compliance(build_tooth_mesh(g, **DEFAULT), r, 210e9, 0.3).structural
-    clamp = tooth_compliance(build_tooth_mesh(g, **DEFAULT, support="root_circle"), r,
-                             210e9, 0.3).structural
+    clamp = tooth_compliance(build_tooth_mesh(g, **DEFAULT, support="root_circle"), r, 210e9, 0.3).structural
     # measured (docs/gear-static.md): rim / clamp = 1.47 at the pitch, 1.32 near the tip
     assert rim / clamp == pytest.approx([1.467, 1.317], abs=0.01)
 
@@ -224,11 +229,22 @@ def test_blank_inertia_solid_and_rimmed():
     teeth = 0.5 * 0.5 * math.pi * rho * b * (ra**4 - rf**4)
     assert spec.inertia() == pytest.approx(0.5 * math.pi * rho * b * rf**4 + teeth, rel=1e-12)
     base = {"teeth": 40, "module": 2e-3, "face_width": b}
-    rimmed = from_mapping(GearSpec, {**base, "blank": {
-        "kind": "rimmed", "rim_thickness": 5e-3, "web_thickness": 6e-3, "hub_diameter": 0.03,
-        "bore_diameter": 0.02}})
+    rimmed = from_mapping(
+        GearSpec,
+        {
+            **base,
+            "blank": {
+                "kind": "rimmed",
+                "rim_thickness": 5e-3,
+                "web_thickness": 6e-3,
+                "hub_diameter": 0.03,
+                "bore_diameter": 0.02,
+            },
+        },
+    )
     assert rimmed.inertia() < spec.inertia()
     with pytest.raises(InputError, match="gear.blank.hub_diameter"):
-        from_mapping(GearSpec, {**base, "blank": {
-            "kind": "rimmed", "rim_thickness": 5e-3, "web_thickness": 6e-3,
-            "hub_diameter": 0.09}}).inertia()
+        from_mapping(
+            GearSpec,
+            {**base, "blank": {"kind": "rimmed", "rim_thickness": 5e-3, "web_thickness": 6e-3, "hub_diameter": 0.09}},
+        ).inertia()

@@ -17,12 +17,16 @@ from rotaflex.gear.mesh import COARSE, build_tooth_mesh
 from rotaflex.gear.static import mesh_stiffness
 from rotaflex.gear.static_case import run_static
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "gear" / "static" / \
-    "unequal_shifted_relief.toml"
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "gear" / "static" / "unequal_shifted_relief.toml"
 PAPER = GearConfig()  # the paper's gear data, defined once in gear/case.py
-PAPER_GEAR = {"teeth": PAPER.teeth, "module": PAPER.module, "face_width": PAPER.face_width,
-              "pressure_angle_deg": PAPER.pressure_angle_deg, "tip_radius": PAPER.tip_radius,
-              "root_radius": PAPER.root_radius}
+PAPER_GEAR = {
+    "teeth": PAPER.teeth,
+    "module": PAPER.module,
+    "face_width": PAPER.face_width,
+    "pressure_angle_deg": PAPER.pressure_angle_deg,
+    "tip_radius": PAPER.tip_radius,
+    "root_radius": PAPER.root_radius,
+}
 
 
 def _coarse(cfg, n_angles=240, refinement=(1,)):
@@ -40,8 +44,7 @@ def _example(**drop):
 
 
 def test_identical_paper_gears_reproduce_static_mesh_stiffness_exactly():
-    cfg = _coarse({"pinion": PAPER_GEAR, "wheel": PAPER_GEAR, "load": {"torque": 22.25}},
-                  n_angles=200)
+    cfg = _coarse({"pinion": PAPER_GEAR, "wheel": PAPER_GEAR, "load": {"torque": 22.25}}, n_angles=200)
     ds = run_static(cfg).dataset
     g = PAPER.geometry()
     m = build_tooth_mesh(g, **COARSE)
@@ -67,10 +70,8 @@ def test_swapping_pinion_and_wheel_swaps_the_results():
     # one-cycle statistics: same function, cycle grids offset by a fraction of a sample
     for key in ("ste_mean", "mesh_stiffness_mean"):
         assert a[key].item() == pytest.approx(b[key].item(), rel=5e-3), key
-    assert a["fillet_stress_max_pinion"].item() == pytest.approx(
-        b["fillet_stress_max_wheel"].item(), rel=1e-9)
-    assert np.allclose(a["tooth_compliance"].values, b["tooth_compliance"].values[::-1],
-                       rtol=1e-12)
+    assert a["fillet_stress_max_pinion"].item() == pytest.approx(b["fillet_stress_max_wheel"].item(), rel=1e-9)
+    assert np.allclose(a["tooth_compliance"].values, b["tooth_compliance"].values[::-1], rtol=1e-12)
 
 
 def test_load_sharing_sums_to_the_load_and_one_cycle_mean_is_the_integral():
@@ -84,8 +85,7 @@ def test_load_sharing_sums_to_the_load_and_one_cycle_mean_is_the_integral():
     k = ds["pair_stiffness"].values
     roll_cycle = ds["cycle"].values[1] * ds.sizes["cycle"]  # p_b / r_b1
     integral = np.sum(0.5 * (k[1:] + k[:-1]) * np.diff(x))
-    assert ds["mesh_stiffness_mean_unrelieved"].item() == pytest.approx(
-        integral / roll_cycle, rel=5e-4)
+    assert ds["mesh_stiffness_mean_unrelieved"].item() == pytest.approx(integral / roll_cycle, rel=5e-4)
 
 
 def test_tip_relief_cancelling_the_loaded_ste_lowers_its_peak_to_peak_as_predicted():
@@ -100,8 +100,7 @@ def test_tip_relief_cancelling_the_loaded_ste_lowers_its_peak_to_peak_as_predict
     geo = json.loads(ds0.attrs["pair_geometry"])
     force = ds0["force"].item()
     m = 2e-3
-    rb1, rb2 = 0.5 * m * 20 * math.cos(math.radians(20)), 0.5 * m * 40 * math.cos(
-        math.radians(20))
+    rb1, rb2 = 0.5 * m * 20 * math.cos(math.radians(20)), 0.5 * m * 40 * math.cos(math.radians(20))
     pb = math.pi * m * math.cos(math.radians(20))
     length = geo["center_distance"] * math.sin(math.radians(geo["operating_pressure_angle_deg"]))
     ra1, ra2 = 0.5 * m * 20 + 1.25 * m, 0.5 * m * 40 + 1.1 * m
@@ -140,8 +139,17 @@ def test_iso6336_inputs_use_the_reference_circle_load():
     assert ds["iso_load_factor"].item() == 1.0
     # c'_th = 1/q' with the shift terms of ISO 6336-1 method B (x1 = 0.25, x2 = 0.1, z 20/40)
     z1, z2, x1, x2 = 20, 40, 0.25, 0.1
-    q = (0.04723 + 0.15551 / z1 + 0.25791 / z2 - 0.00635 * x1 - 0.11654 * x1 / z1
-         - 0.00193 * x2 - 0.24188 * x2 / z2 + 0.00529 * x1**2 + 0.00182 * x2**2)
+    q = (
+        0.04723
+        + 0.15551 / z1
+        + 0.25791 / z2
+        - 0.00635 * x1
+        - 0.11654 * x1 / z1
+        - 0.00193 * x2
+        - 0.24188 * x2 / z2
+        + 0.00529 * x1**2
+        + 0.00182 * x2**2
+    )
     assert ds["iso_c_th"].item() == pytest.approx(1 / q, rel=1e-12)
     cb = 1 + 0.5 * (1.2 - 1.25)  # h_fP / m = 1.25, alpha = 20 deg
     # C_R: solid pinion 1; rimmed wheel (web 8 mm of b = 20 mm, rim 6 mm = 3 m):
@@ -150,8 +158,7 @@ def test_iso6336_inputs_use_the_reference_circle_load():
     assert ds["iso_C_R"].item() == pytest.approx(c_r, rel=1e-12)
     assert ds["iso_c_prime"].item() == pytest.approx(0.8 * cb * c_r / q, rel=1e-12)
     eps = json.loads(ds.attrs["pair_geometry"])["contact_ratio"]
-    assert ds["iso_c_gamma_alpha"].item() == pytest.approx(
-        0.8 * cb * c_r / q * (0.75 * eps + 0.25), rel=1e-12)
+    assert ds["iso_c_gamma_alpha"].item() == pytest.approx(0.8 * cb * c_r / q * (0.75 * eps + 0.25), rel=1e-12)
 
 
 def test_cli_gear_static_writes_result_and_rejects_bad_input(tmp_path):
@@ -203,9 +210,11 @@ def test_unequal_materials_reduce_to_the_identical_formulas_and_scale_with_e():
     e, nu, b = 210e9, 0.3, 0.02
     e2 = e * (1 + 1e-12)  # forces the general (unequal-material) branch
     assert contact_half_width(4e3, b, e, nu, e2, nu, 0.01, 0.02) == pytest.approx(
-        hertz_half_width(4e3, b, e, nu, 0.01, 0.02), rel=1e-9)
+        hertz_half_width(4e3, b, e, nu, 0.01, 0.02), rel=1e-9
+    )
     assert contact_compliance(4e3, b, e, nu, e2, nu, 1e-3, 2e-3, 1e-4) == pytest.approx(
-        weber_contact_compliance(4e3, b, e, nu, 1e-3, 2e-3, 1e-4), rel=1e-9)
+        weber_contact_compliance(4e3, b, e, nu, 1e-3, 2e-3, 1e-4), rel=1e-9
+    )
     steel = _coarse(_example(no_relief=("pinion", "wheel")))
     alu = copy.deepcopy(steel)
     alu["wheel"]["material"] = {"name": "aluminium", "poisson_ratio": 0.3}
@@ -214,6 +223,5 @@ def test_unequal_materials_reduce_to_the_identical_formulas_and_scale_with_e():
     # changes with E*, moves it slightly)
     ratio = b_["tooth_compliance"].values[1] / a["tooth_compliance"].values[1]
     assert ratio == pytest.approx(np.full(ratio.size, 3.0), rel=0.01)
-    assert np.allclose(b_["tooth_compliance"].values[0], a["tooth_compliance"].values[0],
-                       rtol=0.01)
+    assert np.allclose(b_["tooth_compliance"].values[0], a["tooth_compliance"].values[0], rtol=0.01)
     assert b_["ste_mean"].item() > 1.5 * a["ste_mean"].item()

@@ -160,17 +160,21 @@ class GearSpec:
         if rel is None:
             return None
         if (rel.start_diameter is None) == (rel.start_roll_deg is None):
-            raise InputError(f"{where}.start_diameter", rel.start_diameter,
-                             "exactly one of start_diameter and start_roll_deg")
+            raise InputError(
+                f"{where}.start_diameter", rel.start_diameter, "exactly one of start_diameter and start_roll_deg"
+            )
         if rel.start_diameter is not None:
             r0 = 0.5 * rel.start_diameter
         else:  # roll angle xi_y = tan(alpha_y): r_y = r_b sqrt(1 + xi^2)
             r0 = g.base_radius * math.sqrt(1.0 + math.radians(rel.start_roll_deg) ** 2)
         if not g.form_radius < r0 < g.tip_radius_:
             key = "start_diameter" if rel.start_diameter is not None else "start_roll_deg"
-            raise InputError(f"{where}.{key}", getattr(rel, key),
-                             f"a start radius between the form radius {g.form_radius:.6g} m "
-                             f"and the tip radius {g.tip_radius_:.6g} m (got {r0:.6g} m)")
+            raise InputError(
+                f"{where}.{key}",
+                getattr(rel, key),
+                f"a start radius between the form radius {g.form_radius:.6g} m "
+                f"and the tip radius {g.tip_radius_:.6g} m (got {r0:.6g} m)",
+            )
         return ProfileRelief(amount=rel.amount, start_radius=r0, shape=rel.shape)
 
     def geometry(self, where: str = "gear") -> GearGeometry:
@@ -185,16 +189,22 @@ class GearSpec:
             s_a = relieved_tip_thickness(g)
             lim = MIN_TIP_THICKNESS_COEF * g.module
             if s_a < lim:
-                raise InputError(f"{where}.tip_relief.amount", tip.amount,
-                                 f"a relief leaving a tip thickness >= {lim:.4g} m "
-                                 f"({MIN_TIP_THICKNESS_COEF} m); it leaves {s_a:.4g} m")
+                raise InputError(
+                    f"{where}.tip_relief.amount",
+                    tip.amount,
+                    f"a relief leaving a tip thickness >= {lim:.4g} m "
+                    f"({MIN_TIP_THICKNESS_COEF} m); it leaves {s_a:.4g} m",
+                )
         if root is not None:
             s_f = thickness_at(g, g.form_radius)
             if root.amount > MAX_ROOT_RELIEF_FRACTION * s_f:
-                raise InputError(f"{where}.root_relief.amount", root.amount,
-                                 f"<= {MAX_ROOT_RELIEF_FRACTION * s_f:.4g} m "
-                                 f"({MAX_ROOT_RELIEF_FRACTION} x the tooth thickness at the "
-                                 "form circle)")
+                raise InputError(
+                    f"{where}.root_relief.amount",
+                    root.amount,
+                    f"<= {MAX_ROOT_RELIEF_FRACTION * s_f:.4g} m "
+                    f"({MAX_ROOT_RELIEF_FRACTION} x the tooth thickness at the "
+                    "form circle)",
+                )
         return g
 
     @property
@@ -214,8 +224,7 @@ class GearSpec:
         r_bore = 0.5 * b.bore_diameter
         j_teeth = 0.5 * _annulus(rho, w, rf, ra)
         if r_bore >= rf:
-            raise InputError(f"{where}.blank.bore_diameter", b.bore_diameter,
-                             f"< root diameter {2 * rf:.6g} m")
+            raise InputError(f"{where}.blank.bore_diameter", b.bore_diameter, f"< root diameter {2 * rf:.6g} m")
         if b.kind == "solid":
             return _annulus(rho, w, r_bore, rf) + j_teeth
         for key in ("rim_thickness", "web_thickness", "hub_diameter"):
@@ -223,14 +232,19 @@ class GearSpec:
                 raise InputError(f"{where}.blank.{key}", None, "a value for kind = 'rimmed'")
         r_rim, r_hub = rf - b.rim_thickness, 0.5 * b.hub_diameter
         if not r_bore < r_hub < r_rim:
-            raise InputError(f"{where}.blank.hub_diameter", b.hub_diameter,
-                             f"between the bore {2 * r_bore:.6g} and the rim's inner diameter "
-                             f"{2 * r_rim:.6g} m")
+            raise InputError(
+                f"{where}.blank.hub_diameter",
+                b.hub_diameter,
+                f"between the bore {2 * r_bore:.6g} and the rim's inner diameter {2 * r_rim:.6g} m",
+            )
         if b.web_thickness > w:
-            raise InputError(f"{where}.blank.web_thickness", b.web_thickness,
-                             f"<= face width {w:.6g} m")
-        return (_annulus(rho, w, r_rim, rf) + _annulus(rho, b.web_thickness, r_hub, r_rim)
-                + _annulus(rho, w, r_bore, r_hub) + j_teeth)
+            raise InputError(f"{where}.blank.web_thickness", b.web_thickness, f"<= face width {w:.6g} m")
+        return (
+            _annulus(rho, w, r_rim, rf)
+            + _annulus(rho, b.web_thickness, r_hub, r_rim)
+            + _annulus(rho, w, r_bore, r_hub)
+            + j_teeth
+        )
 
     def blank_factor(self) -> float:
         """ISO 6336-1 gear-blank factor C_R: 1 for solid blanks; rimmed (web) blanks
@@ -267,10 +281,8 @@ class PairSpec:
 
     pinion: GearSpec = param(doc="gear 1")
     wheel: GearSpec = param(doc="gear 2")
-    center_distance: float | None = param(None, unit="m", gt=0.0,
-                                          doc="working centre distance (default: no backlash)")
-    backlash: float | None = param(None, unit="m", ge=0.0,
-                                   doc="normal backlash j_bn (alternative to center_distance)")
+    center_distance: float | None = param(None, unit="m", gt=0.0, doc="working centre distance (default: no backlash)")
+    backlash: float | None = param(None, unit="m", ge=0.0, doc="normal backlash j_bn (alternative to center_distance)")
     driver: Literal["pinion", "wheel"] = param("pinion", doc="gear that drives")
 
     # ---------------------------------------------------------------- derived
@@ -288,18 +300,16 @@ class PairSpec:
     def operating_pressure_angle_no_backlash(self) -> float:
         """alpha_w from inv(alpha_w) = inv(alpha) + 2 tan(alpha) (x1 + x2)/(z1 + z2) [rad]."""
         a = math.radians(self.pinion.pressure_angle_deg)
-        inv_w = float(involute(a)) + 2.0 * (
-            self.pinion.profile_shift + self.wheel.profile_shift
-        ) * math.tan(a) / (self.pinion.teeth + self.wheel.teeth)
+        inv_w = float(involute(a)) + 2.0 * (self.pinion.profile_shift + self.wheel.profile_shift) * math.tan(a) / (
+            self.pinion.teeth + self.wheel.teeth
+        )
         return _inv_inverse(inv_w)
 
     @property
     def center_distance_no_backlash(self) -> float:
         """a_w = (r_b1 + r_b2) / cos(alpha_w) [m]."""
         g1, g2 = self.pinion._plain("pinion"), self.wheel._plain("wheel")
-        return (g1.base_radius + g2.base_radius) / math.cos(
-            self.operating_pressure_angle_no_backlash
-        )
+        return (g1.base_radius + g2.base_radius) / math.cos(self.operating_pressure_angle_no_backlash)
 
     def normal_backlash_at(self, a: float) -> float:
         """Normal backlash j_bn at centre distance ``a`` [m] (ISO 21771, unrelieved teeth)."""
@@ -321,8 +331,7 @@ class PairSpec:
             return a0
         from scipy.optimize import brentq
 
-        return float(brentq(lambda a: self.normal_backlash_at(a) - self.backlash,
-                            a0, a0 * 1.2, xtol=1e-15))
+        return float(brentq(lambda a: self.normal_backlash_at(a) - self.backlash, a0, a0 * 1.2, xtol=1e-15))
 
     @property
     def operating_pressure_angle(self) -> float:
@@ -339,9 +348,11 @@ class PairSpec:
     def path_of_contact(self) -> float:
         """g_alpha along the line of action [m]."""
         g1, g2 = self.pinion._plain("pinion"), self.wheel._plain("wheel")
-        return (math.sqrt(g1.tip_radius_**2 - g1.base_radius**2)
-                + math.sqrt(g2.tip_radius_**2 - g2.base_radius**2)
-                - self.line_of_action_length)
+        return (
+            math.sqrt(g1.tip_radius_**2 - g1.base_radius**2)
+            + math.sqrt(g2.tip_radius_**2 - g2.base_radius**2)
+            - self.line_of_action_length
+        )
 
     @property
     def contact_ratio(self) -> float:
@@ -372,41 +383,54 @@ class PairSpec:
         if not math.isclose(p.module, w.module, rel_tol=1e-9):
             raise InputError("wheel.module", w.module, f"equal to pinion.module = {p.module}")
         if not math.isclose(p.pressure_angle_deg, w.pressure_angle_deg, rel_tol=1e-9):
-            raise InputError("wheel.pressure_angle_deg", w.pressure_angle_deg,
-                             f"equal to pinion.pressure_angle_deg = {p.pressure_angle_deg}")
+            raise InputError(
+                "wheel.pressure_angle_deg",
+                w.pressure_angle_deg,
+                f"equal to pinion.pressure_angle_deg = {p.pressure_angle_deg}",
+            )
         g1, g2 = self.gears  # undercut, relief limits (GearGeometry / geometry())
         for g, name in ((g1, "pinion"), (g2, "wheel")):
             lim = MIN_TIP_THICKNESS_COEF * g.module
             if g.tip_thickness < lim:
                 key = "profile_shift" if getattr(self, name).tip_radius is None else "tip_radius"
-                raise InputError(f"{name}.{key}", getattr(getattr(self, name), key),
-                                 f"a tooth whose tip thickness is >= {lim:.4g} m "
-                                 f"({MIN_TIP_THICKNESS_COEF} m; pointed tip: "
-                                 f"{g.tip_thickness:.4g} m)")
+                raise InputError(
+                    f"{name}.{key}",
+                    getattr(getattr(self, name), key),
+                    f"a tooth whose tip thickness is >= {lim:.4g} m "
+                    f"({MIN_TIP_THICKNESS_COEF} m; pointed tip: "
+                    f"{g.tip_thickness:.4g} m)",
+                )
         a0 = self.center_distance_no_backlash
         a = self.working_center_distance
         if a < a0 * (1.0 - 1e-12):
-            raise InputError("center_distance", a,
-                             f">= {a0:.6g} m (the no-backlash centre distance; smaller gives "
-                             "negative backlash)")
+            raise InputError(
+                "center_distance",
+                a,
+                f">= {a0:.6g} m (the no-backlash centre distance; smaller gives negative backlash)",
+            )
         length = self.line_of_action_length
         for gi, go, name, mate in ((g1, g2, "pinion", "wheel"), (g2, g1, "wheel", "pinion")):
             reach = math.sqrt(gi.tip_radius_**2 - gi.base_radius**2)
             if reach > length:
-                raise InputError(f"{name}.tip_radius", gi.tip_radius_,
-                                 f"a tip radius whose contact ends before the {mate}'s base-circle "
-                                 f"tangency point (tip interference: reach {reach:.6g} m > "
-                                 f"{length:.6g} m)")
+                raise InputError(
+                    f"{name}.tip_radius",
+                    gi.tip_radius_,
+                    f"a tip radius whose contact ends before the {mate}'s base-circle "
+                    f"tangency point (tip interference: reach {reach:.6g} m > "
+                    f"{length:.6g} m)",
+                )
             lowest = math.hypot(go.base_radius, length - reach)
             if lowest < go.form_radius * (1.0 - 1e-9):
-                raise InputError(f"{name}.tip_radius", gi.tip_radius_,
-                                 f"a tip whose contact stays above the {mate}'s form radius "
-                                 f"{go.form_radius:.6g} m (reaches {lowest:.6g} m: fillet "
-                                 "interference)")
+                raise InputError(
+                    f"{name}.tip_radius",
+                    gi.tip_radius_,
+                    f"a tip whose contact stays above the {mate}'s form radius "
+                    f"{go.form_radius:.6g} m (reaches {lowest:.6g} m: fillet "
+                    "interference)",
+                )
         eps = self.contact_ratio
         if eps < 1.0:
-            raise InputError("center_distance", a, f"a pair with contact ratio >= 1 "
-                             f"(got {eps:.4f})")
+            raise InputError("center_distance", a, f"a pair with contact ratio >= 1 (got {eps:.4f})")
         return self
 
 

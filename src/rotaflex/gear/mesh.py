@@ -154,12 +154,7 @@ def _tfi(bottom, top, left, right):
         + v * top[:, None, :]
         + (1 - u) * left[None, :, :]
         + u * right[None, :, :]
-        - (
-            (1 - u) * (1 - v) * bottom[0]
-            + u * (1 - v) * bottom[-1]
-            + (1 - u) * v * top[0]
-            + u * v * top[-1]
-        )
+        - ((1 - u) * (1 - v) * bottom[0] + u * (1 - v) * bottom[-1] + (1 - u) * v * top[0] + u * v * top[-1])
     )
     p[:, 0], p[:, -1], p[0, :], p[-1, :] = bottom, top, left, right
     return p  # (ni, nj, 2)
@@ -273,9 +268,7 @@ def build_tooth_mesh(
     if not 20.0 <= split_angle_deg <= 75.0:
         raise InputError("mesh.split_angle_deg", split_angle_deg, "between 20 and 75 deg")
     if support not in ("bottom", "bottom_and_sides", "root_circle"):
-        raise InputError(
-            "mesh.support", support, "'bottom', 'bottom_and_sides' or 'root_circle'"
-        )
+        raise InputError("mesh.support", support, "'bottom', 'bottom_and_sides' or 'root_circle'")
     g = geometry
     rf, ra, z = g.root_radius_, g.tip_radius_, g.teeth
     r_rim = rf - rim_depth_coef * g.module
@@ -303,9 +296,7 @@ def build_tooth_mesh(
     # right lower curve from the side cut corner: root land (arc) then fillet (pa -> ps)
     land = (lambda th: polar(np.full_like(th, rf), th), half, pa)
     lower = (
-        _Curve([land, (g.fillet_points, pa, ps)])
-        if half - pa > 1e-12 * half
-        else _Curve([(g.fillet_points, pa, ps)])
+        _Curve([land, (g.fillet_points, pa, ps)]) if half - pa > 1e-12 * half else _Curve([(g.fillet_points, pa, ps)])
     )
 
     # --- tooth block (i across left->right, j along root->tip)
@@ -378,9 +369,7 @@ def build_tooth_mesh(
     if check:
         q = mesh_quality(mesh)
         if q["min_jacobian_ratio"] <= 0.0:
-            raise InputError(
-                "mesh", "parameters", "a mesh with positive Jacobians (refine or change grading)"
-            )
+            raise InputError("mesh", "parameters", "a mesh with positive Jacobians (refine or change grading)")
     return mesh
 
 

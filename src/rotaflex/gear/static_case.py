@@ -49,11 +49,15 @@ class StaticMeshConfig:
 class AnalysisConfig:
     n_angles: int = param(240, ge=20, le=5000, doc="roll-angle samples per mesh cycle")
     compliance_diameters_pinion: tuple[float, ...] = param(
-        (), unit="m", gt=0.0, doc="diameters for the single-tooth compliance table (default: "
-        "5 points over the active profile)")
+        (),
+        unit="m",
+        gt=0.0,
+        doc="diameters for the single-tooth compliance table (default: 5 points over the active profile)",
+    )
     compliance_diameters_wheel: tuple[float, ...] = param((), unit="m", gt=0.0)
     refinement: tuple[int, ...] = param(
-        (1, 2), ge=1, le=4, doc="mesh refinement factors of the compliance study (x preset)")
+        (1, 2), ge=1, le=4, doc="mesh refinement factors of the compliance study (x preset)"
+    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -72,16 +76,19 @@ class StaticConfig:
     @property
     def pair(self) -> PairSpec:
         """The checked :class:`PairSpec`."""
-        return PairSpec(pinion=self.pinion, wheel=self.wheel,
-                        center_distance=self.center_distance, backlash=self.backlash,
-                        driver=self.driver).check()
+        return PairSpec(
+            pinion=self.pinion,
+            wheel=self.wheel,
+            center_distance=self.center_distance,
+            backlash=self.backlash,
+            driver=self.driver,
+        ).check()
 
 
 SCHEMA = StaticConfig
 
 
-def gear_meshes(pair: PairSpec, preset: str | dict = "default", refine: int = 1, *,
-                relief: bool = True):
+def gear_meshes(pair: PairSpec, preset: str | dict = "default", refine: int = 1, *, relief: bool = True):
     """Tooth meshes (pinion, wheel) for a ``MESH_PRESETS`` key or keyword set, refined ``refine``
     times (see :func:`rotaflex.gear.drawing.pair_meshes`)."""
     kw = MESH_PRESETS[preset] if isinstance(preset, str) else dict(preset)
@@ -102,12 +109,18 @@ def _compliance_study(cfg: StaticConfig, pair: PairSpec, force: float) -> dict:
             radii = 0.5 * np.asarray(diam)
             bad = (radii < g.form_radius) | (radii > g.tip_radius_)
             if np.any(bad):
-                raise InputError(f"analysis.compliance_diameters_{name}", list(diam),
-                                 f"diameters between the form diameter {2 * g.form_radius:.6g} "
-                                 f"and the tip diameter {2 * g.tip_radius_:.6g} m")
+                raise InputError(
+                    f"analysis.compliance_diameters_{name}",
+                    list(diam),
+                    f"diameters between the form diameter {2 * g.form_radius:.6g} "
+                    f"and the tip diameter {2 * g.tip_radius_:.6g} m",
+                )
         else:
-            radii = np.linspace(g.form_radius + 0.15 * (g.tip_radius_ - g.form_radius),
-                                g.tip_radius_ - 0.05 * (g.tip_radius_ - g.form_radius), 5)
+            radii = np.linspace(
+                g.form_radius + 0.15 * (g.tip_radius_ - g.form_radius),
+                g.tip_radius_ - 0.05 * (g.tip_radius_ - g.form_radius),
+                5,
+            )
         e, nu = spec.elastic
         rows = []
         for k in cfg.analysis.refinement:
@@ -115,8 +128,7 @@ def _compliance_study(cfg: StaticConfig, pair: PairSpec, force: float) -> dict:
             m = build_tooth_mesh(g, **kw, **spec.mesh_options())
             c = tooth_compliance(m, radii, e, nu, force=force, mate=mate)
             # local contact term of this tooth: half of Weber's formula with equal depths
-            local = weber_contact_compliance(force, g.face_width, e, nu, c.arm, c.arm,
-                                             c.half_width) / 2.0
+            local = weber_contact_compliance(force, g.face_width, e, nu, c.arm, c.arm, c.half_width) / 2.0
             rows.append((c.structural, c.load_point, c.structural + local))
         out[name] = (radii, np.array(rows))  # (level, 3, n)
     return out
@@ -233,45 +245,50 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
         "ste": v("cycle", cyc["te"][flip], "m", "loaded static transmission error (LoA)"),
         "ste_unrelieved": v("cycle", cyc0["te"][flip], "m", "loaded STE without relief"),
         "mesh_stiffness": v("cycle", cyc["stiffness"][flip], "N/m", "mesh stiffness"),
-        "mesh_stiffness_unrelieved": v("cycle", cyc0["stiffness"][flip], "N/m",
-                                       "mesh stiffness without relief"),
+        "mesh_stiffness_unrelieved": v("cycle", cyc0["stiffness"][flip], "N/m", "mesh stiffness without relief"),
         "ste_engagement": v("engagement", eng["te"][flip], "m", "loaded STE"),
         "load_share": v("engagement", share[flip], "1", "load share of the reference pair"),
-        "load_share_unrelieved": v("engagement", share0[flip], "1",
-                                   "load share without relief"),
-        "total_share": v("engagement", eng["share"].sum(axis=1)[flip], "1",
-                         "sum of all pairs' load shares"),
-        "pair_stiffness": v("engagement", 1.0 / line.compliance(s_eng)[flip], "N/m",
-                            "stiffness of one tooth pair"),
+        "load_share_unrelieved": v("engagement", share0[flip], "1", "load share without relief"),
+        "total_share": v("engagement", eng["share"].sum(axis=1)[flip], "1", "sum of all pairs' load shares"),
+        "pair_stiffness": v("engagement", 1.0 / line.compliance(s_eng)[flip], "N/m", "stiffness of one tooth pair"),
         "relief_gap": v("engagement", line.gap(s_eng)[flip], "m", "unloaded relief gap"),
-        "fillet_stress": v(("engagement", "gear"), stress[flip], "Pa",
-                           "tension-side fillet stress (30-deg tangent point)"),
-        "tooth_radius": v(("gear", "fe_case"), [line.tooth1.radius, line.tooth2.radius], "m",
-                          "contact radius of the FE load cases"),
-        "tooth_compliance": v(("gear", "fe_case"), [line.tooth1.compliance,
-                                                    line.tooth2.compliance], "m/N",
-                              "structural single-tooth compliance"),
+        "fillet_stress": v(
+            ("engagement", "gear"), stress[flip], "Pa", "tension-side fillet stress (30-deg tangent point)"
+        ),
+        "tooth_radius": v(
+            ("gear", "fe_case"), [line.tooth1.radius, line.tooth2.radius], "m", "contact radius of the FE load cases"
+        ),
+        "tooth_compliance": v(
+            ("gear", "fe_case"),
+            [line.tooth1.compliance, line.tooth2.compliance],
+            "m/N",
+            "structural single-tooth compliance",
+        ),
     }
     for gname, (radii, rows) in study.items():
-        data[f"compliance_radius_{gname}"] = v(f"radius_{gname}", radii, "m",
-                                               f"{gname} compliance radii")
-        data[f"compliance_{gname}"] = v(("level", "measure", f"radius_{gname}"), rows, "m/N",
-                                        f"{gname} single-tooth compliance")
+        data[f"compliance_radius_{gname}"] = v(f"radius_{gname}", radii, "m", f"{gname} compliance radii")
+        data[f"compliance_{gname}"] = v(
+            ("level", "measure", f"radius_{gname}"), rows, "m/N", f"{gname} single-tooth compliance"
+        )
     scal = {
         "force": (force, "N", "design normal load T / r_b1"),
         "ste_mean": (float(np.mean(cyc["te"])), "m", "one-cycle mean STE"),
         "ste_ptp": (_ptp(cyc["te"]), "m", "STE peak-to-peak"),
         "ste_mean_unrelieved": (float(np.mean(cyc0["te"])), "m", "one-cycle mean STE, no relief"),
         "ste_ptp_unrelieved": (_ptp(cyc0["te"]), "m", "STE peak-to-peak, no relief"),
-        "mesh_stiffness_mean": (float(np.mean(cyc["stiffness"])), "N/m",
-                                "one-cycle mean mesh stiffness"),
+        "mesh_stiffness_mean": (float(np.mean(cyc["stiffness"])), "N/m", "one-cycle mean mesh stiffness"),
         "mesh_stiffness_ptp": (_ptp(cyc["stiffness"]), "N/m", "mesh stiffness peak-to-peak"),
-        "mesh_stiffness_mean_unrelieved": (float(np.mean(cyc0["stiffness"])), "N/m",
-                                           "one-cycle mean mesh stiffness, no relief"),
-        "mesh_stiffness_ptp_unrelieved": (_ptp(cyc0["stiffness"]), "N/m",
-                                          "mesh stiffness peak-to-peak, no relief"),
-        "single_pair_stiffness_max": (float(np.max(1.0 / line0.compliance(s_eng))), "N/m",
-                                      "max stiffness of one tooth pair"),
+        "mesh_stiffness_mean_unrelieved": (
+            float(np.mean(cyc0["stiffness"])),
+            "N/m",
+            "one-cycle mean mesh stiffness, no relief",
+        ),
+        "mesh_stiffness_ptp_unrelieved": (_ptp(cyc0["stiffness"]), "N/m", "mesh stiffness peak-to-peak, no relief"),
+        "single_pair_stiffness_max": (
+            float(np.max(1.0 / line0.compliance(s_eng))),
+            "N/m",
+            "max stiffness of one tooth pair",
+        ),
         "fillet_stress_max_pinion": (float(stress[:, 0].max()), "Pa", "max pinion fillet stress"),
         "fillet_stress_max_wheel": (float(stress[:, 1].max()), "Pa", "max wheel fillet stress"),
         "load_share_max": (float(share.max()), "1", "max load share of one pair"),
@@ -281,11 +298,16 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
         "iso_C_R": (iso["C_R"], "1", "ISO 6336-1 gear blank factor (mean of both gears)"),
         "iso_load_per_width": (ft_b, "N/mm", "F_t / b at the reference circle"),
         "iso_load_factor": (iso["load_factor"], "1", "(F_t b^-1 / 100)^0.25 if < 100 N/mm"),
-        "fe_mesh_stiffness_mean_per_width": (float(np.mean(cyc0["stiffness"])) / (b * 1e3) / 1e6,
-                                             "N/(mm um)", "FE one-cycle mean, no relief, per b"),
-        "fe_single_pair_max_per_width": (float(np.max(1.0 / line0.compliance(s_eng)))
-                                         / (b * 1e3) / 1e6, "N/(mm um)",
-                                         "FE single-pair max, no relief, per b"),
+        "fe_mesh_stiffness_mean_per_width": (
+            float(np.mean(cyc0["stiffness"])) / (b * 1e3) / 1e6,
+            "N/(mm um)",
+            "FE one-cycle mean, no relief, per b",
+        ),
+        "fe_single_pair_max_per_width": (
+            float(np.max(1.0 / line0.compliance(s_eng))) / (b * 1e3) / 1e6,
+            "N/(mm um)",
+            "FE single-pair max, no relief, per b",
+        ),
     }
     for key, (val, unit, name) in scal.items():
         data[key] = ((), float(val), {"units": unit, "long_name": name})
@@ -295,9 +317,14 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
             ch = np.abs(rows[-1] - rows[-2]) / np.abs(rows[-1])  # (measure, n)
             for i, mname in enumerate(("structural", "load_point", "with_contact")):
                 data[f"refinement_change_{gname}_{mname}"] = (
-                    (), float(ch[i].max()),
-                    {"units": "1", "long_name": f"max relative change of the {mname} compliance "
-                     f"between the last two refinement levels ({gname})"})
+                    (),
+                    float(ch[i].max()),
+                    {
+                        "units": "1",
+                        "long_name": f"max relative change of the {mname} compliance "
+                        f"between the last two refinement levels ({gname})",
+                    },
+                )
     ds = xr.Dataset(
         data,
         coords={
@@ -309,13 +336,14 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
         },
     )
     geo = pair.summary()
-    geo["iso"] = {k: iso[k] for k in ("q", "C_M", "C_R", "C_B", "eps_alpha", "k_single",
-                                      "k_gamma")}
+    geo["iso"] = {k: iso[k] for k in ("q", "C_M", "C_R", "C_B", "eps_alpha", "k_single", "k_gamma")}
     ds.attrs.update(
         status="success",
-        message=(f"STE mean {np.mean(cyc['te']) * 1e6:.3f} um, p-p {_ptp(cyc['te']) * 1e6:.3f} um"
-                 f" (no relief {_ptp(cyc0['te']) * 1e6:.3f} um); mesh stiffness mean "
-                 f"{np.mean(cyc['stiffness']):.4g} N/m; eps_alpha {pair.contact_ratio:.4f}"),
+        message=(
+            f"STE mean {np.mean(cyc['te']) * 1e6:.3f} um, p-p {_ptp(cyc['te']) * 1e6:.3f} um"
+            f" (no relief {_ptp(cyc0['te']) * 1e6:.3f} um); mesh stiffness mean "
+            f"{np.mean(cyc['stiffness']):.4g} N/m; eps_alpha {pair.contact_ratio:.4f}"
+        ),
         wall_time=time.perf_counter() - t0,
         config=json.dumps(config, default=str),
         pair_geometry=json.dumps(geo, default=float),

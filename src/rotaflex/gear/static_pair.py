@@ -38,8 +38,7 @@ from rotaflex.gear.static import (
     weber_contact_compliance,
 )
 
-__all__ = ["ToothData", "tooth_data", "PairLine", "pair_line", "loaded_te", "contact_half_width",
-           "contact_compliance"]
+__all__ = ["ToothData", "tooth_data", "PairLine", "pair_line", "loaded_te", "contact_half_width", "contact_compliance"]
 
 
 def contact_half_width(force, b, e1, nu1, e2, nu2, rho1, rho2) -> float:
@@ -64,9 +63,7 @@ def contact_compliance(force, b, e1, nu1, e2, nu2, h1, h2, half_width):
     if e1 == e2 and nu1 == nu2:
         return weber_contact_compliance(force, b, e1, nu1, h1, h2, half_width)
     h1, h2, a = np.asarray(h1), np.asarray(h2), np.asarray(half_width)
-    return 2.0 / (math.pi * b) * (
-        (np.log(2.0 * h1 / a) - 0.5 * nu1) / e1 + (np.log(2.0 * h2 / a) - 0.5 * nu2) / e2
-    )
+    return 2.0 / (math.pi * b) * ((np.log(2.0 * h1 / a) - 0.5 * nu1) / e1 + (np.log(2.0 * h2 / a) - 0.5 * nu2) / e2)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -95,15 +92,15 @@ class ToothData:
     fillet_stress: np.ndarray
 
 
-def tooth_data(mesh: ToothMesh, radii, e, nu, force, mate: GearGeometry, e_mate=None,
-               nu_mate=None) -> ToothData:
+def tooth_data(mesh: ToothMesh, radii, e, nu, force, mate: GearGeometry, e_mate=None, nu_mate=None) -> ToothData:
     """Compliance and fillet stress of ``mesh``'s tooth under a flank load at ``radii``."""
     radii = np.asarray(radii, dtype=float)
-    c = tooth_compliance(mesh, radii, e, nu, force=force, mate=mate) if (
-        e_mate is None or (e_mate == e and nu_mate == nu)
-    ) else _tooth_compliance_mixed(mesh, radii, e, nu, force, mate, e_mate, nu_mate)
-    loads = np.stack([surface_load(mesh, r, force, a) for r, a in
-                      zip(radii, c.half_width, strict=True)], axis=1)
+    c = (
+        tooth_compliance(mesh, radii, e, nu, force=force, mate=mate)
+        if (e_mate is None or (e_mate == e and nu_mate == nu))
+        else _tooth_compliance_mixed(mesh, radii, e, nu, force, mate, e_mate, nu_mate)
+    )
+    loads = np.stack([surface_load(mesh, r, force, a) for r, a in zip(radii, c.half_width, strict=True)], axis=1)
     u = solve_static(mesh, loads, e, nu)
     s = root_stress_operator(mesh, e, nu) @ u / force  # (2, n)
     return ToothData(radii, c.structural, c.load_point, c.arm, s.T)
@@ -113,16 +110,25 @@ def _tooth_compliance_mixed(mesh, radii, e, nu, force, mate, e_mate, nu_mate):
     from rotaflex.gear.static import _mate_curvatures
 
     rho1, rho2 = _mate_curvatures(mesh.geometry, radii, mate)
-    hw = np.array([contact_half_width(force, mesh.geometry.face_width, e, nu, e_mate, nu_mate,
-                                      a, b) for a, b in zip(rho1, rho2, strict=True)])
+    hw = np.array(
+        [
+            contact_half_width(force, mesh.geometry.face_width, e, nu, e_mate, nu_mate, a, b)
+            for a, b in zip(rho1, rho2, strict=True)
+        ]
+    )
     # one patch width per radius: call per radius (tooth_compliance takes a scalar width)
-    parts = [tooth_compliance(mesh, np.array([r]), e, nu, force=force, half_width=w)
-             for r, w in zip(radii, hw, strict=True)]
+    parts = [
+        tooth_compliance(mesh, np.array([r]), e, nu, force=force, half_width=w) for r, w in zip(radii, hw, strict=True)
+    ]
     from rotaflex.gear.static import ToothCompliance
 
-    return ToothCompliance(radii, np.concatenate([p.structural for p in parts]),
-                           np.concatenate([p.load_point for p in parts]),
-                           np.concatenate([p.arm for p in parts]), hw)
+    return ToothCompliance(
+        radii,
+        np.concatenate([p.structural for p in parts]),
+        np.concatenate([p.load_point for p in parts]),
+        np.concatenate([p.arm for p in parts]),
+        hw,
+    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -144,8 +150,7 @@ class PairLine:
     def radii(self, s):
         """Contact radii (r1, r2) at LoA positions ``s`` [m]."""
         s = np.asarray(s, dtype=float)
-        return (np.sqrt(self.g1.base_radius**2 + s**2),
-                np.sqrt(self.g2.base_radius**2 + (self.length - s) ** 2))
+        return (np.sqrt(self.g1.base_radius**2 + s**2), np.sqrt(self.g2.base_radius**2 + (self.length - s) ** 2))
 
     def compliance(self, s) -> np.ndarray:
         """Pair compliance q1 + q2 + q_H [m/N] at ``s``."""
@@ -156,10 +161,13 @@ class PairLine:
         q2 = CubicSpline(self.tooth2.radius, self.tooth2.compliance)
         h1 = CubicSpline(self.tooth1.radius, self.tooth1.arm)
         h2 = CubicSpline(self.tooth2.radius, self.tooth2.arm)
-        hw = np.array([contact_half_width(self.force, self.g1.face_width, e1, nu1, e2, nu2, x, y)
-                       for x, y in zip(s, self.length - s, strict=True)])
-        qh = contact_compliance(self.force, self.g1.face_width, e1, nu1, e2, nu2,
-                                h1(r1), h2(r2), hw)
+        hw = np.array(
+            [
+                contact_half_width(self.force, self.g1.face_width, e1, nu1, e2, nu2, x, y)
+                for x, y in zip(s, self.length - s, strict=True)
+            ]
+        )
+        qh = contact_compliance(self.force, self.g1.face_width, e1, nu1, e2, nu2, h1(r1), h2(r2), hw)
         return q1(r1) + q2(r2) + qh
 
     def gap(self, s) -> np.ndarray:
@@ -204,8 +212,7 @@ def pair_line(g1, g2, mesh1, mesh2, center_distance, force, elastic, n_radii=9) 
     rr2 = np.sqrt(g2.base_radius**2 + np.linspace(length - s_end, length - s_start, n_radii) ** 2)
     t1 = tooth_data(mesh1, rr1, e1, nu1, force, g2, e2, nu2)
     t2 = tooth_data(mesh2, rr2, e2, nu2, force, g1, e1, nu1)
-    return PairLine(g1, g2, center_distance, length, s_start, s_end, g1.base_pitch, force,
-                    t1, t2, tuple(elastic))
+    return PairLine(g1, g2, center_distance, length, s_start, s_end, g1.base_pitch, force, t1, t2, tuple(elastic))
 
 
 def loaded_te(line: PairLine, s_ref: np.ndarray, force: float | None = None) -> dict:
@@ -249,5 +256,11 @@ def loaded_te(line: PairLine, s_ref: np.ndarray, force: float | None = None) -> 
         load = np.where(inside, np.maximum(te[:, None] - gap, 0.0) * kk, 0.0)
         stiff = np.where(load > 0.0, kk, 0.0).sum(axis=1)
         share = load / force
-    return {"te": te, "stiffness": stiff, "share": share, "pair_load": load,
-            "n_loaded": (load > 0.0).sum(axis=1), "s": s}
+    return {
+        "te": te,
+        "stiffness": stiff,
+        "share": share,
+        "pair_load": load,
+        "n_loaded": (load > 0.0).sum(axis=1),
+        "s": s,
+    }
