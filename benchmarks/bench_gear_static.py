@@ -10,8 +10,14 @@ import time
 
 import numpy as np
 
+from rotaflex.gear import paper
 from rotaflex.gear.fe import lumped_mass, stable_time_step, stiffness_matrix
-from rotaflex.gear.geometry import GearGeometry, contact_angles, contact_ratio, path_of_contact
+from rotaflex.gear.geometry import (
+    center_distance_no_backlash,
+    contact_angles,
+    contact_ratio,
+    path_of_contact,
+)
 from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh, mesh_quality
 from rotaflex.gear.static import (
     iso6336_stiffness,
@@ -21,10 +27,11 @@ from rotaflex.gear.static import (
     surface_load,
     tooth_compliance,
 )
+from rotaflex.gear.static_pair import loaded_te, pair_line
 
-E, NU, RHO = 210e9, 0.3, 7800.0
-G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
-F = 22.25 / G.base_radius
+E, NU, RHO = paper.YOUNGS_MODULUS, paper.POISSON_RATIO, paper.DENSITY
+G = paper.geometry()
+F = paper.TORQUE / G.base_radius
 
 
 def timed(fn, *a, repeat=3, **kw):
@@ -83,7 +90,13 @@ def main():
 
     ms, t = timed(mesh_stiffness, G, G, E, NU, torque=22.25, mesh1=m, mesh2=m, repeat=1)
     b = G.face_width * 1e3
-    iso = iso6336_stiffness(G, G, load_per_width=F / b)
+    # ISO 6336-1: F_t at the reference circle (T / r), K_A = 1, per face width in N/mm
+    iso = iso6336_stiffness(G, G, load_per_width=22.25 / G.pitch_radius / b)
+    # one-cycle mean: mesh stiffness over one base pitch (uniform samples, endpoint excluded)
+    line = pair_line(G, G, m, m, center_distance_no_backlash(G, G), F, (E, NU, E, NU))
+    n_cyc = 4000
+    cyc = loaded_te(line, line.s_start + G.base_pitch * np.arange(n_cyc) / n_cyc)
+    k_cycle_mean = float(cyc["stiffness"].mean())
     single = ms.pair_stiffness[(ms.angle > ms.theta_2) & (ms.angle < ms.theta_s - ms.theta_2)]
     print(f"\npair/mesh stiffness (DEFAULT mesh, {t:.2f} s):")
     print(
@@ -92,8 +105,10 @@ def main():
     )
     print(f"  single-pair zone k: {single.min():.4e} .. {single.max():.4e} N/m")
     print(
-        f"  mesh stiffness mean {ms.mesh_stiffness.mean():.4e} N/m = {ms.mesh_stiffness.mean() / b / 1e6:.2f} N/(mm um)"
+        f"  mesh stiffness one-cycle mean {k_cycle_mean:.4e} N/m = {k_cycle_mean / b / 1e6:.2f} N/(mm um)"
+        f"  (mean over one pair's whole engagement, not a cycle mean: {ms.mesh_stiffness.mean():.4e})"
     )
+    print(f"  STE one-cycle mean {cyc['te'].mean() * 1e6:.3f} um, peak-to-peak {np.ptp(cyc['te']) * 1e6:.3f} um")
     print(
         f"  static TE along LOA: {ms.transmission_error.min() * 1e6:.3f} .. {ms.transmission_error.max() * 1e6:.3f} um"
         f" (peak-to-peak {np.ptp(ms.transmission_error) * 1e6:.3f} um) at F = {ms.force:.1f} N"
@@ -105,8 +120,8 @@ def main():
     )
     print(
         f"  FE/ISO: single max / c'_th = {ms.pair_stiffness.max() / iso['k_th']:.3f}, / c' = "
-        f"{ms.pair_stiffness.max() / iso['k_single']:.3f}; mean mesh / c_gamma(c'_th) = "
-        f"{ms.mesh_stiffness.mean() / iso['k_th_gamma']:.3f}, / c_gamma = {ms.mesh_stiffness.mean() / iso['k_gamma']:.3f}"
+        f"{ms.pair_stiffness.max() / iso['k_single']:.3f}; one-cycle mean / c_gamma(c'_th) = "
+        f"{k_cycle_mean / iso['k_th_gamma']:.3f}, / c_gamma = {k_cycle_mean / iso['k_gamma']:.3f}"
     )
 
     print("\nroot stress at the 30-deg tangent points, load F at r = 47.2 mm on the right flank [MPa] (left, right)")
@@ -116,5 +131,57 @@ def main():
         print(f"  {k}x: {np.round(root_stress(mk, u, E, NU) / 1e6, 2)}")
 
 
+def static_command():
+    """`gear static` on the 20/40 example: timings per mesh preset, root clamp vs rim."""
+    from pathlib import Path
+
+    from rotaflex.core.config import load_toml
+    from rotaflex.gear.static_case import run_static
+
+    cfg = load_toml(Path(__file__).resolve().parents[1] / "examples/gear/static/unequal_shifted_relief.toml")
+    print("\ngear static, examples/gear/static/unequal_shifted_relief.toml (20/40, x 0.25/0.1, tip relief)")
+    print("preset   refinement  wall[s]  STE mean[um]  p-p[um]  p-p no relief[um]  k mean[N/um]  c'[N/(mm um)]")
+    for preset, refine in (("coarse", [1]), ("default", [1]), ("default", [1, 2]), ("fine", [1])):
+        c = dict(cfg, mesh={"preset": preset, "n_radii": 9}, analysis={"n_angles": 240, "refinement": refine})
+        t = time.perf_counter()
+        ds = run_static(c).dataset
+        wall = time.perf_counter() - t
+        print(
+            f"{preset:8s} {str(refine):11s} {wall:7.2f}  {ds['ste_mean'].item() * 1e6:12.3f}"
+            f"  {ds['ste_ptp'].item() * 1e6:7.3f}  {ds['ste_ptp_unrelieved'].item() * 1e6:17.3f}"
+            f"  {ds['mesh_stiffness_mean'].item() * 1e-6:12.1f}  {ds['iso_c_prime'].item():.2f}"
+            f" (C_R {ds['iso_C_R'].item():.3f})"
+        )
+        if refine == [1, 2]:
+            for gname in ("pinion", "wheel"):
+                print(
+                    f"    refinement change {gname}: "
+                    + ", ".join(
+                        f"{mname} {ds[f'refinement_change_{gname}_{mname}'].item() * 100:.2f} %"
+                        for mname in ("structural", "load_point", "with_contact")
+                    )
+                )
+            print(
+                f"    fillet stress max: pinion {ds['fillet_stress_max_pinion'].item() / 1e6:.1f} MPa,"
+                f" wheel {ds['fillet_stress_max_wheel'].item() / 1e6:.1f} MPa;"
+                f" FE mean/width (no relief) {ds['fe_mesh_stiffness_mean_per_width'].item():.2f},"
+                f" ISO c_gamma_alpha {ds['iso_c_gamma_alpha'].item():.2f} N/(mm um)"
+            )
+    print(
+        "\ntooth support: structural compliance [um/kN] of the paper's tooth, rim (2 m, sides tied) vs"
+        " root clamp (all nodes inside the root circle tied)"
+    )
+    radii = np.array([0.0425, G.pitch_radius, 0.0470])
+    for k in (1, 2):
+        kw = {key: k * v for key, v in DEFAULT.items()}
+        rim = tooth_compliance(build_tooth_mesh(G, **kw), radii, E, NU, force=F).structural
+        clamp = tooth_compliance(build_tooth_mesh(G, **kw, support="root_circle"), radii, E, NU, force=F).structural
+        print(
+            f"  {k}x  rim {np.round(rim * 1e9, 4)}  clamp {np.round(clamp * 1e9, 4)}  "
+            f"rim/clamp {np.round(rim / clamp, 3)}"
+        )
+
+
 if __name__ == "__main__":
     main()
+    static_command()

@@ -45,7 +45,10 @@ REPRODUCE: dict[str, str] = {
 
 #: extra CLI verbs: domain -> verb -> "module:function" (signature of ``run_case``)
 COMMANDS: dict[str, dict[str, str]] = {
-    "gear": {"steady": "rotaflex.gear.torsional_case:run_torsional"},
+    "gear": {
+        "static": "rotaflex.gear.static_case:run_static",
+        "steady": "rotaflex.gear.torsional_case:run_torsional",
+    },
 }
 
 

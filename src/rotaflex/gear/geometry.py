@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Literal
 
 import numpy as np
 
@@ -36,6 +37,7 @@ from rotaflex.core.errors import InputError
 
 __all__ = [
     "GearGeometry",
+    "ProfileRelief",
     "involute",
     "center_distance_no_backlash",
     "path_of_contact",
@@ -59,6 +61,40 @@ def _inv_inverse(value: float) -> float:
             return a_new
         a = a_new
     return a
+
+
+@dataclasses.dataclass(frozen=True)
+class ProfileRelief:
+    """A tip or root relief of the involute flank (material removed along the involute normal).
+
+    The depth is a function of the roll length ``u = sqrt(r^2 - r_b^2)`` (proportional to the
+    roll angle): ``c = amount * t**p`` with ``t`` running linearly in ``u`` from 0 at
+    ``start_radius`` to 1 at ``end_radius`` (the tip radius for a tip relief, the form radius for
+    a root relief), ``p = 1`` (linear) or 2 (parabolic). Because every involute normal is tangent
+    to the base circle, removing ``c`` along the normal opens a gap of exactly ``c`` along the
+    line of action at that contact position.
+
+    Parameters
+    ----------
+    amount : float
+        Depth at the end of the relief (tip or form radius) [m].
+    start_radius : float
+        Radius where the relief starts (depth 0) [m].
+    shape : {"linear", "parabolic"}
+    """
+
+    amount: float = param(unit="m", ge=0.0, doc="relief depth at the tip (or form) radius")
+    start_radius: float = param(unit="m", gt=0.0, doc="radius where the relief starts")
+    shape: Literal["linear", "parabolic"] = param("linear", doc="depth ~ t or t^2")
+
+    def depth(self, radius: np.ndarray, base_radius: float, end_radius: float) -> np.ndarray:
+        """Relief depth [m] at ``radius`` (0 on the unrelieved side of ``start_radius``)."""
+        r = np.maximum(np.asarray(radius, dtype=float), base_radius)
+        u = np.sqrt(r**2 - base_radius**2)
+        u0 = math.sqrt(max(self.start_radius**2 - base_radius**2, 0.0))
+        u1 = math.sqrt(max(end_radius**2 - base_radius**2, 0.0))
+        t = np.clip((u - u0) / (u1 - u0), 0.0, 1.0)
+        return self.amount * (t if self.shape == "linear" else t**2)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -88,6 +124,9 @@ class GearGeometry:
         Explicit tip (addendum) radius r_a [m], overrides ``addendum_coef``.
     root_radius : float or None
         Explicit root radius r_f [m], overrides ``dedendum_coef``.
+    tip_relief, root_relief : ProfileRelief or None
+        Profile modifications applied to the generated involute points (and hence to the mesh
+        flank nodes); ``None`` leaves the true involute (bit-identical to an unmodified gear).
 
     Examples
     --------
@@ -107,6 +146,8 @@ class GearGeometry:
     rack_tip_radius_coef: float = param(0.38, ge=0.0, le=0.6, doc="rack tip radius / module")
     tip_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit tip radius")
     root_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit root radius")
+    tip_relief: ProfileRelief | None = param(None, doc="tip relief")
+    root_relief: ProfileRelief | None = param(None, doc="root relief")
 
     def __post_init__(self) -> None:
         m, x = self.module, self.profile_shift
@@ -155,6 +196,16 @@ class GearGeometry:
             )
         if self.form_radius >= self.tip_radius_:
             raise InputError("tip_radius", self.tip_radius_, f"> form radius {self.form_radius:.6g} m")
+        for name, rel, lo, hi in (
+            ("tip_relief", self.tip_relief, self.form_radius, self.tip_radius_),
+            ("root_relief", self.root_relief, self.form_radius, self.tip_radius_),
+        ):
+            if rel is not None and not lo < rel.start_radius < hi:
+                raise InputError(
+                    f"{name}.start_radius",
+                    rel.start_radius,
+                    f"between the form radius {lo:.6g} and the tip radius {hi:.6g} m",
+                )
 
     # ------------------------------------------------------------------ radii
     @property
@@ -233,9 +284,24 @@ class GearGeometry:
         r = np.asarray(radius, dtype=float)
         psi = self.flank_half_angle(r)
         pts = np.column_stack([r * np.sin(psi), r * np.cos(psi)])
+        if self.tip_relief is not None or self.root_relief is not None:
+            # remove the relief along the outward involute normal (tangent to the base circle)
+            a_r = np.arccos(np.clip(self.base_radius / r, -1.0, 1.0))
+            c = self.relief_depth(r)
+            pts -= c[:, None] * np.column_stack([np.cos(a_r - psi), np.sin(a_r - psi)])
         if side == "left":
             pts[:, 0] *= -1.0
         return pts
+
+    def relief_depth(self, radius: np.ndarray) -> np.ndarray:
+        """Total profile-relief depth along the involute normal at ``radius`` [m] (0 if none)."""
+        r = np.atleast_1d(np.asarray(radius, dtype=float))
+        c = np.zeros_like(r)
+        if self.tip_relief is not None:
+            c = c + self.tip_relief.depth(r, self.base_radius, self.tip_radius_)
+        if self.root_relief is not None:
+            c = c + self.root_relief.depth(r, self.base_radius, self.form_radius)
+        return c
 
     # ------------------------------------------------------------ rack/fillet
     def _rack_round_centre(self) -> tuple[float, float]:

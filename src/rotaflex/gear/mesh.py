@@ -202,7 +202,7 @@ def build_tooth_mesh(
     flank_grading: float = 1.5,
     rim_grading: float = 3.0,
     split_angle_deg: float = 50.0,
-    support: Literal["bottom", "bottom_and_sides"] = "bottom_and_sides",
+    support: Literal["bottom", "bottom_and_sides", "root_circle"] = "bottom_and_sides",
     check: bool = True,
 ) -> ToothMesh:
     """Mesh one tooth of ``geometry`` and the rim sector beneath it with 8-node quadrilaterals.
@@ -228,8 +228,10 @@ def build_tooth_mesh(
         Deepest rim layer thickness / thickness of the layer at the root.
     split_angle_deg : float
         Fillet tangent angle from the tooth centreline [deg] at the split point F between blocks.
-    support : {"bottom", "bottom_and_sides"}
-        Which cut boundaries are tied to the rigid disk (``root_nodes``).
+    support : {"bottom", "bottom_and_sides", "root_circle"}
+        Which nodes are tied to the rigid disk (``root_nodes``): the rim's inner arc, the arc and
+        the radial side cuts, or (``"root_circle"``, the paper's root clamp) every node on or
+        inside the root circle, which leaves only the tooth above the root circle elastic.
     check : bool
         Check Jacobians at all Gauss points (raises InputError if any is not positive).
 
@@ -265,8 +267,8 @@ def build_tooth_mesh(
         raise InputError("mesh.rim_depth_coef", rim_depth_coef, "> 0")
     if not 20.0 <= split_angle_deg <= 75.0:
         raise InputError("mesh.split_angle_deg", split_angle_deg, "between 20 and 75 deg")
-    if support not in ("bottom", "bottom_and_sides"):
-        raise InputError("mesh.support", support, "'bottom' or 'bottom_and_sides'")
+    if support not in ("bottom", "bottom_and_sides", "root_circle"):
+        raise InputError("mesh.support", support, "'bottom', 'bottom_and_sides' or 'root_circle'")
     g = geometry
     rf, ra, z = g.root_radius_, g.tip_radius_, g.teeth
     r_rim = rf - rim_depth_coef * g.module
@@ -304,8 +306,13 @@ def build_tooth_mesh(
     u_t = np.linspace(0.0, 1.0, 2 * n_through + 1)
     fL, fR = left_T[0], right_T[0]
     bottom_T = fL[None, :] + u_t[:, None] * (fR - fL)[None, :]
-    psi_tip = float(g.flank_half_angle(np.array([ra]))[0])
-    top_T = polar(np.full_like(u_t, ra), -psi_tip + 2 * psi_tip * u_t)
+    if g.tip_relief is None:
+        psi_tip = float(g.flank_half_angle(np.array([ra]))[0])
+        top_T = polar(np.full_like(u_t, ra), -psi_tip + 2 * psi_tip * u_t)
+    else:  # the relieved tip corner lies off the tip circle: the arc joins the two corners
+        r_c = float(np.hypot(*right_T[-1]))
+        psi_tip = math.atan2(right_T[-1][0], right_T[-1][1])
+        top_T = polar(np.full_like(u_t, r_c), -psi_tip + 2 * psi_tip * u_t)
     grid_T = _tfi(bottom_T, top_T, left_T, right_T)
 
     # --- rim block (i across left side cut -> right side cut, j from rim arc up)
@@ -344,6 +351,9 @@ def build_tooth_mesh(
     if support == "bottom_and_sides":
         root += [ids_R[0, :], ids_R[-1, :]]
     root_nodes = np.unique(r(np.concatenate(root)))
+    if support == "root_circle":
+        inside = np.hypot(nodes[:, 0], nodes[:, 1]) <= rf * (1.0 + 1e-9)
+        root_nodes = np.flatnonzero(inside)
     flank_right = np.concatenate([ids_R[::-1, -1][: 2 * n_fillet], ids_T[-1, :]])
     flank_left = np.concatenate([ids_R[:, -1][: 2 * n_fillet], ids_T[0, :]])
     mesh = ToothMesh(
