@@ -87,6 +87,14 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
             raise
         typer.echo("interrupted", err=True)
         raise typer.Exit(130) from None
+    except (typer.Exit, typer.Abort):
+        raise
+    except Exception as exc:  # noqa: BLE001 - a bug: one line, the traceback with --debug
+        if debug:
+            raise
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        typer.echo(f"error: internal error {type(exc).__name__}: {text} (rerun with --debug for details)", err=True)
+        raise typer.Exit(1) from None
 
 
 def _figure_options(fmt: str, dpi: int) -> None:
@@ -133,8 +141,10 @@ def reproduce(
         plotting.configure(fmt=fmt, dpi=dpi)
         names = list(REPRODUCE) if target == "all" else [target]
         t0 = time.perf_counter()
+        tty = sys.stderr.isatty()
+        say = None if quiet else (lambda m: typer.echo(m, err=True))
         with _limit_threads():
-            report = run_reproduce(names, out_dir, fast=fast, progress=not quiet)
+            report = run_reproduce(names, out_dir, fast=fast, progress=say or False, bars=not quiet and tty)
         typer.echo(
             f"{report['passed']}/{report['checks']} checks passed in "
             f"{time.perf_counter() - t0:.1f} s; report: {out_dir / 'report.md'}"
@@ -199,6 +209,15 @@ def sweep(
         cfg = load_toml(config)
         plan(cfg, vary)  # validate every case before starting workers
         plotting.configure(fmt=fmt, dpi=dpi)
+        if quiet:
+            shown: Any = False
+        elif sys.stderr.isatty():
+            shown = True
+        else:  # a log: one line per finished case instead of bar redraws
+
+            def shown(rec, done, total):
+                typer.echo(f"case {done}/{total} {rec.id}: {rec.status}", err=True)
+
         with executor_for(jobs, scheduler) as executor, logging_redirect_tqdm(), _limit_threads():
             try:
                 res = sweep_config(
@@ -206,7 +225,7 @@ def sweep(
                     vary,
                     out_dir,
                     executor,
-                    progress=not quiet,
+                    progress=shown,
                     max_retries=retries,
                     figures=not no_figures,
                     attrs=provenance(config),
@@ -240,6 +259,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
         debug: Debug = False,
     ) -> None:
         def go():
+            from rotaflex.core import plotting
             from rotaflex.core.config import load_toml
             from rotaflex.core.domains import command, split_config, validate
             from rotaflex.core.io import check_out_dir
@@ -249,9 +269,12 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             out_dir = check_out_dir(out, marker=RESULT_MARKERS)
             _, body = split_config(load_toml(config), domain=domain)
             validate(domain, body)
-            with _limit_threads():
-                result = command(domain, verb)(body, progress=not quiet)
-            paths = result.save(out_dir, figures=not no_figures, fig_format=fmt, dpi=dpi, provenance=provenance(config))
+            with _limit_threads():  # bars only on a terminal (a log would get every redraw)
+                result = command(domain, verb)(body, progress=not quiet and sys.stderr.isatty())
+            # through the dataset and configure(): domain results may override save(out, figures=)
+            result.dataset.attrs.update(provenance(config))
+            plotting.configure(fmt=fmt, dpi=dpi)
+            paths = result.save(out_dir, figures=not no_figures)
             typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out_dir}")
             if result.status != "success":
                 raise typer.Exit(1)
@@ -359,7 +382,7 @@ def main(argv: list[str] | None = None) -> int:
     except click.ClickException as exc:
         typer.echo(f"error: {exc.format_message()}", err=True)
         code = exc.exit_code
-    except click.Abort:
+    except typer.Abort:
         typer.echo("interrupted", err=True)
         code = 130
     code = code if isinstance(code, int) else 0

@@ -231,3 +231,19 @@ def test_failed_check_status_exits_1_naming_the_check(capsys, tmp_path, monkeypa
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(pytest.main([__file__, "-q"]))
+
+
+def test_figure_format(capsys, tmp_path):
+    code, out, _ = run(capsys, "rotor", "simulate", GOOD, "--out", tmp_path / "o", "-q", "--format", "svg")
+    assert code == 0, out
+    names = sorted(p.name for p in (tmp_path / "o").iterdir())
+    assert "omega_body.svg" in names and not [n for n in names if n.endswith(".png")]
+    assert (tmp_path / "o" / "omega_body.svg").read_text().lstrip().startswith("<?xml")
+
+
+def test_rerun_replaces_the_set_and_keeps_no_temporaries(capsys, tmp_path):
+    out = tmp_path / "o"
+    assert run(capsys, "rotor", "simulate", GOOD, "--out", out, "-q", "--format", "svg")[0] == 0
+    assert run(capsys, "rotor", "simulate", GOOD, "--out", out, "-q", "--no-figures")[0] == 0
+    assert sorted(p.name for p in out.iterdir()) == ["result.nc", "summary.json"]  # no stale svg mixed in
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]

@@ -43,26 +43,35 @@ class RotorResult(Result):
         return out
 
     def plot(self) -> dict:
-        from rotaflex.core.plotting import label, new_figure
+        from rotaflex.core.plotting import STYLES, label, legend_outside, new_figure
 
         ds = self.dataset
+        titles = {
+            "omega_body": "Angular velocity ω* in body axes",
+            "omega_inertial": "Angular velocity ω in inertial axes",
+            "generalized_coordinate": "Generalized coordinates q",
+        }
         figs = {}
-        for name in ("omega_body", "omega_inertial", "generalized_coordinate"):
+        for name, title in titles.items():
             fig, ax = new_figure()
             other = ds[name].dims[1]
-            for c in ds[other].values:
-                ax.plot(ds["time"], ds[name].sel({other: c}), label=str(c))
-            ax.set_xlabel("time [s]")
+            units = ds["coordinate_units"].values if other == "coordinate" and "coordinate_units" in ds.coords else None
+            for i, c in enumerate(ds[other].values):
+                text = f"{c} [{units[i]}]" if units is not None else str(c)
+                ax.plot(ds["time"], ds[name].sel({other: c}), ls=STYLES[i % len(STYLES)], label=text)
+            ax.set_xlabel("time t [s]")
             ax.set_ylabel(label(ds[name]))
-            ax.legend(fontsize=8)
+            ax.set_title(title)
+            legend_outside(ax)
             ax.grid(alpha=0.3)
             figs[name] = fig
         fig, ax = new_figure()
-        for name in ("kinetic_energy", "rotational_energy_paper"):
-            ax.plot(ds["time"], ds[name], label=ds[name].attrs["long_name"])
-        ax.set_xlabel("time [s]")
+        for i, name in enumerate(("kinetic_energy", "rotational_energy_paper")):
+            ax.plot(ds["time"], ds[name], ls=STYLES[i], label=ds[name].attrs["long_name"])
+        ax.set_xlabel("time t [s]")
         ax.set_ylabel("energy [J]")
-        ax.legend(fontsize=8)
+        ax.set_title("Kinetic energy and the paper's energy expression")
+        legend_outside(ax)
         ax.grid(alpha=0.3)
         figs["energy"] = fig
         return figs

@@ -92,6 +92,22 @@ def _schema_defaults(module):
     return lookup
 
 
+def _schema_units(module_name: str) -> dict[str, str]:
+    """Units of every key of the domain's schema (for the sweep's dimension coordinates)."""
+    import importlib
+
+    from rotaflex.core.schema import entries
+
+    module = importlib.import_module(module_name)
+    roots = [("", getattr(module, "SCHEMA", None)), *getattr(module, "ALTERNATIVES", {}).items()]
+    return {
+        f"{table + '.' if table else ''}{e.key}": e.unit
+        for table, schema in roots
+        if schema is not None
+        for e in entries(schema)
+    }
+
+
 def sweep_config(
     config: Mapping[str, Any], vary, out_dir: str | Path | None, executor: Any = None, **kwargs: Any
 ) -> SweepResult:
@@ -105,6 +121,7 @@ def sweep_config(
     >>> res = sweep_config(load_toml("rotor.toml"), ["spin.omega=0:100:11"], "out/sweep")
     """
     domain, module, cases = plan(config, vary)
+    kwargs.setdefault("units", _schema_units(module))
     attrs = {"base_config": json.dumps(dict(config), sort_keys=True, default=str), **kwargs.pop("attrs", {})}
     return run_sweep(
         functools.partial(run_module_case, module),
