@@ -25,18 +25,24 @@ class RotorResult(Result):
                 "kinetic_energy_initial": {"value": float(K[0]), "unit": "J"},
                 "kinetic_energy_max_relative_change": {
                     "value": float(np.max(np.abs(K - K[0])) / abs(K[0])) if K[0] else float("nan"),
-                    "unit": "",
+                    "unit": "1",
                 },
                 "angular_momentum_norm_max_relative_change": {
                     "value": float(np.max(np.abs(Hn - Hn[0])) / Hn[0]) if Hn[0] else float("nan"),
-                    "unit": "",
-                },
-                "max_abs_coordinate": {
-                    "value": float(np.max(np.abs(ds["generalized_coordinate"].values))),
-                    "unit": ds["generalized_coordinate"].attrs.get("units", "m or rad (largest of both)"),
+                    "unit": "1",
                 },
             }
         )
+        q = np.abs(ds["generalized_coordinate"].values)
+        units = ds["coordinate_units"].values if "coordinate_units" in ds.coords else None
+        if units is None or len(set(units)) == 1:
+            unit = str(units[0]) if units is not None else ds["generalized_coordinate"].attrs.get("units", "")
+            out["max_abs_coordinate"] = {"value": float(np.max(q)), "unit": unit}
+        else:  # translations and angles: one maximum per unit (CF has no mixed units)
+            for u, word in (("m", "translation"), ("rad", "angle")):
+                cols = units == u
+                if cols.any():
+                    out[f"max_abs_{word}_coordinate"] = {"value": float(np.max(q[:, cols])), "unit": u}
         if "tilt_angle" in ds:
             out["max_tilt_angle"] = {"value": float(ds["tilt_angle"].max()), "unit": "rad"}
             out["rms_tilt_angle"] = {"value": float(np.sqrt(np.mean(ds["tilt_angle"].values ** 2))), "unit": "rad"}

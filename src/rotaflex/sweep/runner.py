@@ -463,7 +463,9 @@ def run_sweep(
         bar.close()
 
     ordered = [records.get(c.id) or CaseRecord(c.id, dict(c.params)) for c in cases]
-    meta = {"domain": domain or "", **(attrs or {})}
+    from rotaflex.core.provenance import provenance
+
+    meta = {"domain": domain or "", **provenance(), **(attrs or {})}
     dataset = combine(ordered, attrs=meta, units=dict(units or {}))
     result = SweepResult(ordered, dataset, out, time.perf_counter() - t0)
     if out is not None:
