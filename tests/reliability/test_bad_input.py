@@ -150,7 +150,7 @@ def test_read_only_parent(capsys, tmp_path):
 
 # -- sweeps: every case validated before any runs -----------------------------------------------
 BAD_SWEEPS = [
-    (["disk.mass=-1,-2"], "disk.mass = -1"),
+    (["disk.mass=-1,-2"], "disk.mass = -1 is invalid"),  # as typed, not -1.0
     (["solver.t_end=inf"], "solver.t_end = inf"),
     (["x=0:1:100000000"], "--vary x"),
     (["disk.mass=0:1:1000", "solver.rtol=1e-9:1e-8:1000"], "at most 100000 cases"),

@@ -52,6 +52,7 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
         module = case_module(domain)
     except ImportError as exc:
         raise InputError("domain", domain, f"an installed domain ({exc})") from None
+    typed: dict[str, list[str]] = {}  # the values as written in a list spec, echoed in errors
     if isinstance(vary, Mapping):
         axes = {k: list(v) for k, v in vary.items()}
     else:
@@ -61,6 +62,9 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
             if key in axes:
                 raise InputError(f"--vary {key}", spec, "each key varied once")
             axes[key] = values
+            rhs = spec.split("=", 1)[1]
+            if "," in rhs or ":" not in rhs:
+                typed[key] = [t.strip() for t in rhs.split(",")]
     body = {k: v for k, v in config.items() if k != "domain"}
     cases = grid_cases(body, axes, defaults=_schema_defaults(module))
     validate = getattr(module, "validate_config", None)
@@ -69,8 +73,30 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
             try:
                 validate(case.data)
             except InputError as exc:
-                raise InputError(exc.field, exc.value, f"{exc.allowed} (case {case.params})") from None
+                value = exc.value
+                if exc.field in typed and exc.field in case.params:
+                    i = _index_of(axes[exc.field], case.params[exc.field])
+                    if i is not None and i < len(typed[exc.field]):
+                        value = _Typed(typed[exc.field][i])
+                raise InputError(exc.field, value, f"{exc.allowed} (case {case.params})") from None
     return domain, CASES[domain], cases
+
+
+class _Typed(str):
+    """A value shown exactly as the user typed it (no quotes in the message)."""
+
+    def __repr__(self) -> str:
+        return str(self)
+
+
+def _index_of(values: list, value) -> int | None:
+    for i, v in enumerate(values):
+        try:
+            if v == value:
+                return i
+        except Exception:  # noqa: BLE001 - incomparable values: not this one
+            continue
+    return None
 
 
 def _schema_defaults(module):
