@@ -108,8 +108,8 @@ def _figure_options(fmt: str, dpi: int) -> None:
 
 def _limit_threads():
     """Pin BLAS/OpenMP pools to one thread: our matrices are small, and on a loaded machine
-    extra threads cost far more than they gain (a 600x600 eigh: 13 s with default threads under
-    load, 0.13 s with one). ``ROTAFLEX_BLAS_THREADS`` overrides."""
+    extra threads cost far more than they gain (benchmarks/bench_blas_threads.py: a 600x600
+    eigh 1.36 s with 2 threads under load, 0.23 s with one). ``ROTAFLEX_BLAS_THREADS`` overrides."""
     import os
 
     from threadpoolctl import threadpool_limits
