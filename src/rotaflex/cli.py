@@ -39,6 +39,8 @@ Format = Annotated[str, typer.Option("--format", help="Figure file format: png, 
 Dpi = Annotated[int, typer.Option("--dpi", help="Resolution of PNG figures [dots per inch].")]
 NoFigures = Annotated[bool, typer.Option("--no-figures", help="Skip figures.")]
 
+#: most local worker processes a sweep may start
+MAX_JOBS = 1024
 #: files that mark a directory as an earlier output of a command (never replace anything else)
 RESULT_MARKERS = ("result.nc", "summary.json")
 SWEEP_MARKERS = ("sweep.json", "sweep.nc", "cases")
@@ -203,8 +205,8 @@ def sweep(
         from rotaflex.sweep.backends import executor_for
 
         _figure_options(fmt, dpi)
-        if jobs is not None and jobs < 0:
-            raise InputError("--jobs", jobs, "an integer >= 0 (0 = serial in this process)")
+        if jobs is not None and not 0 <= jobs <= MAX_JOBS:
+            raise InputError("--jobs", jobs, f"an integer from 0 to {MAX_JOBS} (0 = serial in this process)")
         out_dir = check_out_dir(out, marker=SWEEP_MARKERS)
         cfg = load_toml(config)
         plan(cfg, vary)  # validate every case before starting workers

@@ -157,6 +157,8 @@ BAD_SWEEPS = [
     (["nosuch.key=1,2"], "nosuch.key"),
     (["solver.t_end=1e9"], "solver.t_end"),
     (["disk.mass"], "--vary"),
+    (["disk.mass=1" + "0" * 400], "disk.mass = 100000...000 (401 digits)"),
+    (["solver.n_output=1" + "0" * 400], "solver.n_output"),
 ]
 
 
@@ -194,9 +196,10 @@ def test_sweep_may_vary_a_key_not_in_the_base_file(tmp_path):
         ["rotor", "simulate", str(GOOD), "--out", "x", "--bogus"],  # unknown option
         ["sweep", str(GOOD), "--vary", "disk.mass=1,2", "--out", "x", "-j", "abc"],  # bad -j
         ["sweep", str(GOOD), "--vary", "disk.mass=1,2", "--out", "x", "-j", "-3"],
+        ["sweep", str(GOOD), "--vary", "disk.mass=1,2", "--out", "x", "-j", "1" + "0" * 400],
         ["rotor", "simulate", str(GOOD), "--out", "x", "--format", "gif"],
     ],
-    ids=["missing-out", "unknown-option", "bad-j", "negative-j", "bad-format"],
+    ids=["missing-out", "unknown-option", "bad-j", "negative-j", "huge-j", "bad-format"],
 )
 def test_usage_errors_one_line(capsys, tmp_path, monkeypatch, args):
     monkeypatch.chdir(tmp_path)

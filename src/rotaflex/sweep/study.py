@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from rotaflex.core.errors import InputError
+from rotaflex.core.errors import InputError, shown
 from rotaflex.sweep._worker import run_module_case
 from rotaflex.sweep.runner import SweepResult, run_sweep
 from rotaflex.sweep.spec import Case, grid_cases, parse_vary
@@ -78,7 +78,8 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
                     i = _index_of(axes[exc.field], case.params[exc.field])
                     if i is not None and i < len(typed[exc.field]):
                         value = _Typed(typed[exc.field][i])
-                raise InputError(exc.field, value, f"{exc.allowed} (case {case.params})") from None
+                params = ", ".join(f"{k}={shown(v, 24)}" for k, v in case.params.items())
+                raise InputError(exc.field, value, f"{exc.allowed} (case {params})") from None
     return domain, CASES[domain], cases
 
 
