@@ -266,13 +266,18 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             from rotaflex.core.domains import command, split_config, validate
             from rotaflex.core.io import check_out_dir
             from rotaflex.core.provenance import provenance
+            from rotaflex.core.report import CompileTimer
 
             _figure_options(fmt, dpi)
             out_dir = check_out_dir(out, marker=RESULT_MARKERS)
             _, body = split_config(load_toml(config), domain=domain)
             validate(domain, body)
-            with _limit_threads():  # bars only on a terminal (a log would get every redraw)
+            say = None if quiet else (lambda m: typer.echo(m, err=True))
+            with _limit_threads(), CompileTimer(say) as compiling:
+                # bars only on a terminal (a log would get every redraw)
                 result = command(domain, verb)(body, progress=not quiet and sys.stderr.isatty())
+            if say and compiling.seconds >= 0.5:
+                say(f"numba kernels compiled in {compiling.seconds:.1f} s (first run only; cached afterwards)")
             # through the dataset and configure(): domain results may override save(out, figures=)
             result.dataset.attrs.update(provenance(config))
             plotting.configure(fmt=fmt, dpi=dpi)
