@@ -2,10 +2,10 @@
 
 Domains
 -------
-rotation  finite rotations: Euler sequences, quaternions, angular-velocity maps (seed A)
-rotor     rotor-disk equations of motion, derived symbolically and simulated (seed A)
-floating  floating flexible bodies in quasi-coordinates, perturbation method (seed B)
-gear      spur-gear dynamic contact with finite-element teeth (seed C)
+rotation  finite rotations: Euler sequences, quaternions, angular-velocity maps (Yun & Ren 2008)
+rotor     rotor-disk equations of motion, derived symbolically and simulated (Yun & Ren 2008)
+floating  floating flexible bodies in quasi-coordinates, perturbation method (Kwak & Seong 2005)
+gear      spur-gear dynamic contact with finite-element teeth (Lee & Jang)
 
 ``import rotaflex`` loads numpy and scipy only; domains are imported on use.
 """

@@ -39,6 +39,8 @@ Format = Annotated[str, typer.Option("--format", help="Figure file format: png, 
 Dpi = Annotated[int, typer.Option("--dpi", help="Resolution of PNG figures [dots per inch].")]
 NoFigures = Annotated[bool, typer.Option("--no-figures", help="Skip figures.")]
 
+#: most local worker processes a sweep may start
+MAX_JOBS = 1024
 #: files that mark a directory as an earlier output of a command (never replace anything else)
 RESULT_MARKERS = ("result.nc", "summary.json")
 SWEEP_MARKERS = ("sweep.json", "sweep.nc", "cases")
@@ -87,6 +89,14 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
             raise
         typer.echo("interrupted", err=True)
         raise typer.Exit(130) from None
+    except (typer.Exit, typer.Abort):
+        raise
+    except Exception as exc:  # noqa: BLE001 - a bug: one line, the traceback with --debug
+        if debug:
+            raise
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        typer.echo(f"error: internal error {type(exc).__name__}: {text} (rerun with --debug for details)", err=True)
+        raise typer.Exit(1) from None
 
 
 def _figure_options(fmt: str, dpi: int) -> None:
@@ -100,8 +110,8 @@ def _figure_options(fmt: str, dpi: int) -> None:
 
 def _limit_threads():
     """Pin BLAS/OpenMP pools to one thread: our matrices are small, and on a loaded machine
-    extra threads cost far more than they gain (a 600x600 eigh: 13 s with default threads under
-    load, 0.13 s with one). ``ROTAFLEX_BLAS_THREADS`` overrides."""
+    extra threads cost far more than they gain (benchmarks/bench_blas_threads.py: a 600x600
+    eigh 1.36 s with 2 threads under load, 0.23 s with one). ``ROTAFLEX_BLAS_THREADS`` overrides."""
     import os
 
     from threadpoolctl import threadpool_limits
@@ -133,8 +143,10 @@ def reproduce(
         plotting.configure(fmt=fmt, dpi=dpi)
         names = list(REPRODUCE) if target == "all" else [target]
         t0 = time.perf_counter()
+        tty = sys.stderr.isatty()
+        say = None if quiet else (lambda m: typer.echo(m, err=True))
         with _limit_threads():
-            report = run_reproduce(names, out_dir, fast=fast, progress=not quiet)
+            report = run_reproduce(names, out_dir, fast=fast, progress=say or False, bars=not quiet and tty)
         typer.echo(
             f"{report['passed']}/{report['checks']} checks passed in "
             f"{time.perf_counter() - t0:.1f} s; report: {out_dir / 'report.md'}"
@@ -193,12 +205,21 @@ def sweep(
         from rotaflex.sweep.backends import executor_for
 
         _figure_options(fmt, dpi)
-        if jobs is not None and jobs < 0:
-            raise InputError("--jobs", jobs, "an integer >= 0 (0 = serial in this process)")
+        if jobs is not None and not 0 <= jobs <= MAX_JOBS:
+            raise InputError("--jobs", jobs, f"an integer from 0 to {MAX_JOBS} (0 = serial in this process)")
         out_dir = check_out_dir(out, marker=SWEEP_MARKERS)
         cfg = load_toml(config)
         plan(cfg, vary)  # validate every case before starting workers
         plotting.configure(fmt=fmt, dpi=dpi)
+        if quiet:
+            shown: Any = False
+        elif sys.stderr.isatty():
+            shown = True
+        else:  # a log: one line per finished case instead of bar redraws
+
+            def shown(rec, done, total):
+                typer.echo(f"case {done}/{total} {rec.id}: {rec.status}", err=True)
+
         with executor_for(jobs, scheduler) as executor, logging_redirect_tqdm(), _limit_threads():
             try:
                 res = sweep_config(
@@ -206,7 +227,7 @@ def sweep(
                     vary,
                     out_dir,
                     executor,
-                    progress=not quiet,
+                    progress=shown,
                     max_retries=retries,
                     figures=not no_figures,
                     attrs=provenance(config),
@@ -240,19 +261,28 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
         debug: Debug = False,
     ) -> None:
         def go():
+            from rotaflex.core import plotting
             from rotaflex.core.config import load_toml
             from rotaflex.core.domains import command, split_config, validate
             from rotaflex.core.io import check_out_dir
             from rotaflex.core.provenance import provenance
+            from rotaflex.core.report import CompileTimer
 
             _figure_options(fmt, dpi)
             out_dir = check_out_dir(out, marker=RESULT_MARKERS)
             _, body = split_config(load_toml(config), domain=domain)
             if verb == "simulate":  # other verbs validate their own schema first thing
                 validate(domain, body)
-            with _limit_threads():
-                result = command(domain, verb)(body, progress=not quiet)
-            paths = result.save(out_dir, figures=not no_figures, fig_format=fmt, dpi=dpi, provenance=provenance(config))
+            say = None if quiet else (lambda m: typer.echo(m, err=True))
+            with _limit_threads(), CompileTimer(say) as compiling:
+                # bars only on a terminal (a log would get every redraw)
+                result = command(domain, verb)(body, progress=not quiet and sys.stderr.isatty())
+            if say and compiling.seconds >= 0.5:
+                say(f"numba kernels compiled in {compiling.seconds:.1f} s (first run only; cached afterwards)")
+            # through the dataset and configure(): domain results may override save(out, figures=)
+            result.dataset.attrs.update(provenance(config))
+            plotting.configure(fmt=fmt, dpi=dpi)
+            paths = result.save(out_dir, figures=not no_figures)
             typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out_dir}")
             if result.status != "success":
                 raise typer.Exit(1)
@@ -360,7 +390,7 @@ def main(argv: list[str] | None = None) -> int:
     except click.ClickException as exc:
         typer.echo(f"error: {exc.format_message()}", err=True)
         code = exc.exit_code
-    except click.Abort:
+    except typer.Abort:
         typer.echo("interrupted", err=True)
         code = 130
     code = code if isinstance(code, int) else 0

@@ -49,3 +49,48 @@ def test_report_lists_failed_checks(tmp_path):
     md = (tmp_path / "report.md").read_text()
     assert "1 / 2" in md and "FAIL" in md and "1.000e-12" in md
     assert "caption" in (tmp_path / "index.html").read_text()
+
+
+def test_compile_timer_counts_outermost_numba_compilations_once():
+    import numba
+
+    from rotaflex.core.report import CompileTimer
+
+    said = []
+
+    @numba.njit(cache=False)
+    def inner(x):
+        return x + 1.0
+
+    @numba.njit(cache=False)
+    def outer(x):
+        return inner(x) * 2.0
+
+    with CompileTimer(said.append) as timer:
+        assert outer(1.0) == 4.0  # compiles outer, and inner inside it
+        assert outer(2.0) == 6.0  # no new compilation
+    assert timer.count == 1 and timer.seconds > 0
+    assert len(said) == 1 and "compiling numba kernels" in said[0]
+
+
+def test_step_messages_reach_the_installed_reporter_only():
+    from rotaflex.core.report import reporting, step
+
+    got = []
+    step("dropped: no reporter")
+    with reporting(got.append):
+        step("Fig. 3")
+        with reporting(None):
+            step("dropped: inner reporter is None")
+    assert got == ["Fig. 3"]
+
+
+def test_added_figures_are_not_labelled_as_paper_captions():
+    from rotaflex.core.report import FigureEntry, Section, render_markdown
+
+    sec = Section(
+        "s", figures=[FigureEntry("A", "(not in the paper) extra run", "a.png"), FigureEntry("B", "Fig. 2", "b.png")]
+    )
+    md = render_markdown([sec], "t")
+    assert "> Added figure (not in the paper): extra run" in md and "> Paper's caption: Fig. 2" in md
+    assert "Paper's caption: (not in the paper" not in md

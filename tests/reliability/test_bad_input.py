@@ -150,13 +150,15 @@ def test_read_only_parent(capsys, tmp_path):
 
 # -- sweeps: every case validated before any runs -----------------------------------------------
 BAD_SWEEPS = [
-    (["disk.mass=-1,-2"], "disk.mass = -1"),
+    (["disk.mass=-1,-2"], "disk.mass = -1 is invalid"),  # as typed, not -1.0
     (["solver.t_end=inf"], "solver.t_end = inf"),
     (["x=0:1:100000000"], "--vary x"),
     (["disk.mass=0:1:1000", "solver.rtol=1e-9:1e-8:1000"], "at most 100000 cases"),
     (["nosuch.key=1,2"], "nosuch.key"),
     (["solver.t_end=1e9"], "solver.t_end"),
     (["disk.mass"], "--vary"),
+    (["disk.mass=1" + "0" * 400], "disk.mass = 100000...000 (401 digits)"),
+    (["solver.n_output=1" + "0" * 400], "solver.n_output"),
 ]
 
 
@@ -194,9 +196,10 @@ def test_sweep_may_vary_a_key_not_in_the_base_file(tmp_path):
         ["rotor", "simulate", str(GOOD), "--out", "x", "--bogus"],  # unknown option
         ["sweep", str(GOOD), "--vary", "disk.mass=1,2", "--out", "x", "-j", "abc"],  # bad -j
         ["sweep", str(GOOD), "--vary", "disk.mass=1,2", "--out", "x", "-j", "-3"],
+        ["sweep", str(GOOD), "--vary", "disk.mass=1,2", "--out", "x", "-j", "1" + "0" * 400],
         ["rotor", "simulate", str(GOOD), "--out", "x", "--format", "gif"],
     ],
-    ids=["missing-out", "unknown-option", "bad-j", "negative-j", "bad-format"],
+    ids=["missing-out", "unknown-option", "bad-j", "negative-j", "huge-j", "bad-format"],
 )
 def test_usage_errors_one_line(capsys, tmp_path, monkeypatch, args):
     monkeypatch.chdir(tmp_path)
@@ -231,3 +234,19 @@ def test_failed_check_status_exits_1_naming_the_check(capsys, tmp_path, monkeypa
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(pytest.main([__file__, "-q"]))
+
+
+def test_figure_format(capsys, tmp_path):
+    code, out, _ = run(capsys, "rotor", "simulate", GOOD, "--out", tmp_path / "o", "-q", "--format", "svg")
+    assert code == 0, out
+    names = sorted(p.name for p in (tmp_path / "o").iterdir())
+    assert "omega_body.svg" in names and not [n for n in names if n.endswith(".png")]
+    assert (tmp_path / "o" / "omega_body.svg").read_text().lstrip().startswith("<?xml")
+
+
+def test_rerun_replaces_the_set_and_keeps_no_temporaries(capsys, tmp_path):
+    out = tmp_path / "o"
+    assert run(capsys, "rotor", "simulate", GOOD, "--out", out, "-q", "--format", "svg")[0] == 0
+    assert run(capsys, "rotor", "simulate", GOOD, "--out", out, "-q", "--no-figures")[0] == 0
+    assert sorted(p.name for p in out.iterdir()) == ["result.nc", "summary.json"]  # no stale svg mixed in
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]

@@ -75,7 +75,7 @@ def test_gear_speed_sweep_from_the_cli(tmp_path, backend):
     )
     assert res.exit_code == 0, res.output
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
-    assert ds["dynamic_factor"].dims == ("operation.speed_rpm",)
+    assert ds["dynamic_factor"].dims == ("operation_speed_rpm",)
     assert np.isfinite(ds["dynamic_factor"].values).all() and (ds["dynamic_factor"].values > 0).all()
     cfg = json.loads((out / "cases" / ds["case_id"].values[1] / "case.json").read_text())["config"]
     assert cfg["operation"]["speed_rpm"] == [20000.0, 20000.0]
@@ -95,7 +95,8 @@ def test_floating_slew_time_sweep_from_the_cli(tmp_path):
     assert res.exit_code == 0, res.output
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
     peak = ds["full.tip.max_deflection"]
-    assert peak.dims == ("loads[0].duration",) and (peak.values > 0).all()
+    assert peak.dims == ("loads_0_duration",) and (peak.values > 0).all()
+    assert ds["loads_0_duration"].attrs["config_key"] == "loads[0].duration"
     cfg = json.loads((out / "cases" / ds["case_id"].values[1] / "case.json").read_text())["config"]
     assert cfg["loads"][0]["duration"] == 6.0
     assert (out / "figures" / "peak_deflection.png").exists()

@@ -8,7 +8,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from rotaflex.cli import app
-from rotaflex.sweep.figures import rotor_figures, rotor_reference, rotor_whirl
+from rotaflex.rotor.sweep_figures import rotor_figures, rotor_reference, rotor_whirl
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "sweep" / "rotor_spin.toml"
 runner = CliRunner()
@@ -42,14 +42,20 @@ def test_rotor_spin_sweep_cli_matches_closed_form(tmp_path):
     )
     assert res.exit_code == 0, res.output
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
-    assert ds["max_tilt_angle"].dims == ("motion.spin_speed", "solver.t_end")
+    assert ds["max_tilt_angle"].dims == ("motion_spin_speed", "solver_t_end")
+    assert ds["motion_spin_speed"].attrs == {
+        "units": "rad/s",
+        "long_name": "motion.spin_speed",
+        "config_key": "motion.spin_speed",
+    }
+    assert ds["solver_t_end"].attrs["units"] == "s"  # from the schema, not from the key's name
     assert ds.attrs["domain"] == "rotor"
-    ref = rotor_reference(ds.isel({"solver.t_end": 0}, drop=True))
+    ref = rotor_reference(ds.isel({"solver_t_end": 0}, drop=True))
     assert ref is not None and ref["peak_tilt"] is not None
     sim = ds["max_tilt_angle"].values[:, 0]
     np.testing.assert_allclose(sim, ref["peak_tilt"], rtol=1e-2)
     assert (out / "figures" / "campbell.png").exists()
-    fig = rotor_figures(ds.isel({"solver.t_end": 0}, drop=True))["campbell"]
+    fig = rotor_figures(ds.isel({"solver_t_end": 0}, drop=True))["campbell"]
     bottom = fig.axes[1]
     dots = next(ln for ln in bottom.get_lines() if ln.get_label().startswith("peak tilt (sim"))
     np.testing.assert_array_equal(dots.get_ydata(), sim)

@@ -93,7 +93,7 @@ def _convert(value: Any, tp: Any, meta: Mapping[str, Any], where: str) -> Any:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(where, value, f"a number{_range_text(meta)}")
         if isinstance(value, int) and abs(value) > INT_LIMIT:
-            raise InputError(where, value, f"a finite number of magnitude <= {INT_LIMIT:.3g}{_range_text(meta)}")
+            raise InputError(where, value, f"a finite number{_range_text(meta)} (magnitude at most {INT_LIMIT:.3g})")
         if not math.isfinite(value):
             raise InputError(where, value, f"a finite number{_range_text(meta)}")
         _check_range(value, meta, where, "a number")
@@ -102,7 +102,7 @@ def _convert(value: Any, tp: Any, meta: Mapping[str, Any], where: str) -> Any:
         if isinstance(value, bool) or not isinstance(value, int):
             raise InputError(where, value, f"an integer{_range_text(meta)}")
         if abs(value) > INT_LIMIT:
-            raise InputError(where, value, f"an integer of magnitude <= {INT_LIMIT}{_range_text(meta)}")
+            raise InputError(where, value, f"an integer{_range_text(meta)} (magnitude at most {INT_LIMIT})")
         _check_range(value, meta, where, "an integer")
         return value
     if tp is bool:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import functools
 import json
 import os
 import shutil
@@ -25,8 +26,9 @@ from rotaflex.core.errors import InputError
 _TMP_TAG = ".rotaflex-tmp-"
 
 
+@functools.cache
 def _umask() -> int:
-    # os.umask can only be read by setting it; restore at once (process-wide, but instantaneous)
+    # os.umask can only be read by setting it: read once per process and restore at once
     mask = os.umask(0o022)
     os.umask(mask)
     return mask

@@ -59,10 +59,30 @@ def save_figure(fig, path: str | Path, dpi: int | None = None, fmt: str | None =
         plt.close(fig)
 
 
+#: CF unit strings as printed on axes (superscripts, micro sign)
+_PRETTY_UNITS = {
+    "kg m^2": "kg m²",
+    "kg m^2/s": "kg m²/s",
+    "m s-1": "m/s",
+    "rad s-1": "rad/s",
+    "s-1": "1/s",
+    "s-2": "1/s²",
+    "um": "µm",
+    "us": "µs",
+    "m^2": "m²",
+    "1": "",
+}
+
+
+def pretty_unit(units: str) -> str:
+    """A unit string for an axis label: ``kg m^2`` -> ``kg m²``, ``um`` -> ``µm``."""
+    return _PRETTY_UNITS.get(units.strip(), units.strip())
+
+
 def label(var) -> str:
     """Axis label ``long_name [units]`` for an xarray variable."""
     name = var.attrs.get("long_name", var.name)
-    units = var.attrs.get("units", "")
+    units = pretty_unit(str(var.attrs.get("units", "")))
     return f"{name} [{units}]" if units else str(name)
 
 
@@ -77,11 +97,22 @@ def time_series_figures(ds) -> dict[str, Any]:
             ax.plot(ds["time"], var)
         else:
             other = next(d for d in var.dims if d != "time")
-            for v in var[other].values:
-                ax.plot(ds["time"], var.sel({other: v}), label=f"{other}={v}")
-            ax.legend(fontsize=8)
+            for i, v in enumerate(var[other].values):
+                ax.plot(ds["time"], var.sel({other: v}), ls=STYLES[i % len(STYLES)], label=f"{other}={v}")
+            legend_outside(ax)
         ax.set_xlabel(label(ds["time"]))
         ax.set_ylabel(label(var))
+        ax.set_title(str(var.attrs.get("long_name", name)))
         ax.grid(alpha=0.3)
         figs[name] = fig
     return figs
+
+
+def legend_outside(ax, **kw: Any):
+    """A legend right of the axes, never over the data (constrained layout makes room)."""
+    kw.setdefault("fontsize", 8)
+    return ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, **kw)
+
+
+#: line styles that stay distinguishable where curves overlap (also in black and white)
+STYLES = ("-", "--", "-.", ":", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 2)))

@@ -84,7 +84,7 @@ class Result:
         out_dir: str | Path,
         *,
         figures: bool = True,
-        fig_format: str = "png",
+        fig_format: str | None = None,
         dpi: int | None = None,
         provenance: dict[str, Any] | None = None,
     ) -> list[Path]:
@@ -98,7 +98,8 @@ class Result:
         ----------
         figures : bool
             Write the figures of :meth:`plot`.
-        fig_format : {"png", "svg", "pdf"}
+        fig_format : {"png", "svg", "pdf"}, optional
+            Default: the one set with :func:`rotaflex.core.plotting.configure` (png).
         dpi : int, optional
             Resolution of raster figures (default of :func:`rotaflex.core.plotting.save_figure`).
         provenance : dict, optional
@@ -107,17 +108,18 @@ class Result:
         """
         from rotaflex.core.provenance import provenance as _prov
 
-        self.dataset.attrs.update({**_prov(), **(provenance or {})})
+        self.dataset.attrs.update({**_prov(), **(provenance or {})})  # keeps input_file/sha256 set earlier
 
         def write(tmp: Path) -> list[Path]:
             paths = [self.to_netcdf(tmp / "result.nc")]
             paths.append(write_json_atomic(tmp / "summary.json", self.summary()))
             paths += self.write_extra(tmp)
             if figures:
-                from rotaflex.core.plotting import save_figure
+                from rotaflex.core.plotting import chosen_format, save_figure
 
+                fmt = fig_format or chosen_format()
                 for stem, fig in self.plot().items():
-                    paths.append(save_figure(fig, tmp / f"{stem}.{fig_format}", dpi=dpi, fmt=fig_format))
+                    paths.append(save_figure(fig, tmp / f"{stem}.{fmt}", dpi=dpi, fmt=fmt))
             return paths
 
         return replace_dir(out_dir, write)

@@ -274,12 +274,14 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
     dom.mkdir(parents=True, exist_ok=True)
     preset = "coarse" if fast else "default"
     figures = []
+    from rotaflex.core.report import step
     from rotaflex.reproduce import gear_post
 
     fig8 = None
     lumped = _lumped(preset)
     references = {}
     for stem, label, caption, speeds in CASES:
+        step(f"{label}: {speeds[0]:g} / {speeds[1]:g} rpm")
         drv_note = ""
         if speeds[0] != speeds[1]:
             # the paper does not say which gear drives: run both, draw the one that rattles

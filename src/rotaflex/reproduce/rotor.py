@@ -1,4 +1,4 @@
-"""Seed A (Yun & Ren 2008): Fig. 3-13 re-computed from the stated inputs, with checks.
+"""Yun & Ren (2008), rotor rotation: Fig. 3-13 re-computed from the stated inputs, with checks.
 
 Inputs as printed: I = 1 kg m^2, Omega = 10 rad/s; prescribed motions theta = psi = sin(t)/10
 (1-2-3), phi = psi = sin(t)/10 (3-1-3), eps_theta = eps_psi = sin(t)/10 (quaternion); simulations
@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rotaflex.core.report import Check, FigureEntry, Section
+from rotaflex.core.report import Check, FigureEntry, Section, step
 from rotaflex.rotation import (
     body_rate_matrix,
     inertial_rate_matrix,
@@ -97,6 +97,7 @@ def _save(
     title: str,
     styles: dict | None = None,
 ) -> tuple[str, str]:
+    step(f"Fig. {n}")
     import xarray as xr
 
     from rotaflex.core.io import write_atomic
@@ -494,4 +495,4 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
         "the time window is not printed and is taken as 0-10 s. The paper's curves did not survive in the text, "
         "so each figure is judged by its stated claim and by independent checks."
     )
-    return Section("Seed A: rotor rotation (Euler angles vs quaternions)", intro, figs, [], notes)
+    return Section("Rotor rotation: Euler angles vs quaternions (Yun & Ren 2008)", intro, figs, [], notes)

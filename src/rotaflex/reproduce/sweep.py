@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry, Section
+from rotaflex.core.report import step as report_step
 
 log = logging.getLogger("rotaflex.sweep")
 
@@ -84,7 +85,7 @@ _CAPTIONS = {
         "against the slew (torque) duration.",
     ),
     "gear": (
-        "Gear speed sweep (issue 4 flagship; not in the paper)",
+        "Gear speed sweep (not in the paper)",
         "Dynamic factor (peak contact force / static tau / r_b) against the initial speed of "
         "both gears, coarse tooth mesh, single-tooth contact span; mesh-frequency harmonics "
         "meeting the estimated torsional natural frequency marked.",
@@ -136,7 +137,7 @@ def _max_diff(reference, records) -> float:
 
 
 def _rotor_checks(ds) -> list[Check]:
-    from rotaflex.sweep.figures import rotor_reference
+    from rotaflex.rotor.sweep_figures import rotor_reference
 
     ref = rotor_reference(ds)
     if ref is None or ref["peak_tilt"] is None:
@@ -168,7 +169,12 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
     case_fn = functools.partial(run_module_case, module)
     attrs = {"base_config": json.dumps(config, sort_keys=True)}
     root = out_dir / "sweep" / domain
-    kw = dict(domain=domain, attrs=attrs, progress=progress)
+    report_step(f"{domain}: {len(cases)} cases")
+
+    def tick(rec, done, total):
+        report_step(f"{domain} case {done}/{total}: {rec.status}")
+
+    kw = dict(domain=domain, attrs=attrs, progress=progress if progress else tick)
     # serial reference on at most 4 cases spread over the sweep (the pool runs them all)
     step = max(1, len(cases) // 4)
     subset = cases[::step][:4]

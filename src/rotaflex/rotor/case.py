@@ -17,7 +17,7 @@ SCHEMA = RotorModel
 #: alternative root tables: table name -> dataclass (for templates and the config reference)
 ALTERNATIVES = {"free_body": FreeBody}
 
-__all__ = ["ALTERNATIVES", "SCHEMA", "RotorResult", "model_from_config", "run_case", "validate_config"]
+__all__ = ["ALTERNATIVES", "SCHEMA", "RotorResult", "model_from_config", "run_case", "sweep_figures", "validate_config"]
 
 
 def model_from_config(config: dict) -> RotorModel | FreeBody:
@@ -33,6 +33,13 @@ def model_from_config(config: dict) -> RotorModel | FreeBody:
 def validate_config(config: dict) -> None:
     """Check a rotor config without simulating: fields, ranges and the step budget."""
     check_budget(model_from_config(config))
+
+
+def sweep_figures(ds) -> dict:
+    """Domain hook of :mod:`rotaflex.sweep.figures`: the Campbell diagram of a spin sweep."""
+    from rotaflex.rotor.sweep_figures import rotor_figures
+
+    return rotor_figures(ds)
 
 
 def run_case(config: dict, *, progress: bool = False) -> RotorResult:

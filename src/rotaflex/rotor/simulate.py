@@ -192,6 +192,8 @@ def simulate(model: RotorModel | FreeBody, *, progress: bool = False):
         that time and ``message`` says when and how singular) or "failed" (integrator failure).
     """
     check_budget(model)
+    if not (isinstance(model, FreeBody) and model.formulation.parameterisation == "quaternion"):
+        compiled(spec_of(model))  # derive/load the equations first: not counted as solver time
     t0 = _time.perf_counter()
     solver = model.solver
     p = parameter_vector(model)

@@ -13,6 +13,7 @@ import io
 import json
 import logging
 import math
+import re
 from pathlib import Path
 from typing import Any
 
@@ -26,10 +27,30 @@ log = logging.getLogger("rotaflex.sweep")
 _SUFFIX_UNITS = {"_rpm": "rpm", "_deg": "deg", "_hz": "Hz", "_mm": "mm", "_percent": "%"}
 
 
-def param_units(key: str) -> str:
-    """Unit of a swept config key from its naming convention (``""`` when it does not say)."""
+def param_units(key: str, units: dict[str, str] | None = None) -> str:
+    """Unit of a swept config key: from ``units`` (the domain schema) if given there, else from
+    its naming convention (``""`` when neither says)."""
+    if units and units.get(key):
+        return units[key]
     leaf = key.rsplit(".", 1)[-1]
     return next((u for s, u in _SUFFIX_UNITS.items() if leaf.endswith(s)), "")
+
+
+def dim_name(key: str) -> str:
+    """Identifier-safe name of a swept config key (``motion.spin_speed`` -> ``motion_spin_speed``,
+    ``loads[0].duration`` -> ``loads_0_duration``), usable in netCDF tools and as a Python name."""
+    name = re.sub(r"_+", "_", re.sub(r"[^0-9A-Za-z_]", "_", key)).strip("_")
+    return name if name and not name[0].isdigit() else f"p_{name}"
+
+
+def _dim_names(keys: list[str]) -> dict[str, str]:
+    names: dict[str, str] = {}
+    for k in keys:
+        n = dim_name(k)
+        while n in names.values():  # two keys that differ only in punctuation
+            n += "_"
+        names[k] = n
+    return names
 
 
 def _is_number(v: Any) -> bool:
@@ -52,7 +73,7 @@ def _axes(records) -> tuple[list[str], dict[str, list[Any]], bool]:
     return keys, values, is_grid
 
 
-def combine(records, attrs: dict[str, Any] | None = None):
+def combine(records, attrs: dict[str, Any] | None = None, units: dict[str, str] | None = None):
     """An ``xarray.Dataset`` of every case's summary scalars.
 
     Parameters
@@ -60,22 +81,30 @@ def combine(records, attrs: dict[str, Any] | None = None):
     records : list of CaseRecord
     attrs : dict, optional
         Global attributes to add (``domain``, base config, ...).
+    units : dict, optional
+        Units of the swept keys (from the domain schema); default: from the key's name.
 
     Returns
     -------
     xarray.Dataset
-        Dimensions: the swept parameters (grid) or ``case``. Variables: each numeric summary
+        Dimensions: the swept parameters (grid, identifier-safe names from :func:`dim_name`,
+        the config key in each coordinate's ``config_key`` attribute) or ``case``. Variables: each numeric summary
         scalar (``units`` attribute from the summary; NaN where a case failed), ``status``,
         ``error`` (first line), ``case_id``, ``attempts``, ``case_wall_time`` [s].
     """
     import xarray as xr
 
     keys, values, is_grid = _axes(records)
+    safe = _dim_names(keys)
+
+    def cattrs(k: str) -> dict[str, str]:
+        return {"units": param_units(k, units), "long_name": k, "config_key": k}
+
     if is_grid:
-        dims = keys
+        dims = [safe[k] for k in keys]
         shape = tuple(len(values[k]) for k in keys)
         index = [tuple(values[k].index(r.params.get(k)) for k in keys) for r in records]
-        coords = {k: (k, np.asarray(values[k]), {"units": param_units(k)}) for k in keys}
+        coords = {safe[k]: (safe[k], np.asarray(values[k]), cattrs(k)) for k in keys}
     else:
         dims, shape = ["case"], (len(records),)
         index = [(i,) for i in range(len(records))]
@@ -84,7 +113,7 @@ def combine(records, attrs: dict[str, Any] | None = None):
             col = [r.params.get(k, np.nan) for r in records]
             if not all(_is_number(v) for v in col):
                 col = [str(v) for v in col]
-            coords[k] = ("case", np.asarray(col), {"units": param_units(k)})
+            coords[safe[k]] = ("case", np.asarray(col), cattrs(k))
 
     names: list[str] = []
     units: dict[str, str] = {}
@@ -138,7 +167,7 @@ def combine(records, attrs: dict[str, Any] | None = None):
     return xr.Dataset(variables, coords=coords, attrs=meta)
 
 
-def summary_csv(records) -> str:
+def summary_csv(records, units: dict[str, str] | None = None) -> str:
     """CSV text: one row per case (id, parameters, status, summary scalars ``name [unit]``)."""
     keys, _, _ = _axes(records)
     names: list[str] = []
@@ -153,7 +182,7 @@ def summary_csv(records) -> str:
     w.writerow(
         [
             "case_id",
-            *(f"{k} [{param_units(k)}]" if param_units(k) else k for k in keys),
+            *(f"{k} [{param_units(k, units)}]" if param_units(k, units) else k for k in keys),
             "status",
             *(f"{n} [{units[n]}]" if units[n] else n for n in names),
             "attempts",
@@ -182,7 +211,10 @@ def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[P
     out = result.out_dir
     ds = result.dataset
     write_atomic(out / "sweep.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))
-    write_text_atomic(out / "summary.csv", summary_csv(result.records))
+    key_units = {
+        str(c.attrs["config_key"]): str(c.attrs.get("units", "")) for c in ds.coords.values() if "config_key" in c.attrs
+    }
+    write_text_atomic(out / "summary.csv", summary_csv(result.records, key_units))
     manifest = {
         "n_cases": result.n_cases,
         "n_failed": result.n_failed,

@@ -2,12 +2,15 @@
 
 :func:`sweep_figures` returns the domain's own figures and the generic panels:
 
-1. a ``sweep_figures(dataset) -> dict[str, Figure]`` function in the domain's case module, if
-   it defines one (the gear domain does); otherwise the built-in figures for that domain in
-   :data:`DOMAIN_FIGURES` (rotor, floating), written against the summary keys those domains
-   expose;
-2. always, the generic fallback: every numeric summary scalar against the first swept
-   parameter (one line per value of a second swept parameter).
+1. a ``sweep_figures(dataset) -> dict[str, Figure]`` function in the domain's case module (the
+   domain hook; the rotor's Campbell diagram lives in :mod:`rotaflex.rotor.sweep_figures`), if
+   it defines one; otherwise the built-in figures for that domain in :data:`DOMAIN_FIGURES`;
+2. always, the generic panels: every numeric summary scalar against the first swept parameter
+   (one line per value of a second swept parameter), physical results and solver diagnostics
+   (wall time, evaluations, attempts) in separate figures.
+
+Helpers for domain hooks: :func:`lines_of`, :func:`axis_label`, :func:`base_config`,
+:func:`config_value`, :func:`sweep_dim`.
 
 A figure function that fails is logged and skipped: figures never fail a sweep.
 """
@@ -25,7 +28,9 @@ import numpy as np
 
 log = logging.getLogger("rotaflex.sweep")
 
-_BOOKKEEPING = {"status", "error", "case_id", "attempts"}
+_BOOKKEEPING = {"status", "error", "case_id"}
+#: line styles that stay distinct where curves overlap (and in black and white)
+_STYLES = ("o-", "s--", "^-.", "v:", "D-", "x--", "P-.", "*:")
 _PANELS_PER_FIGURE = 9
 
 
@@ -50,9 +55,21 @@ def _x_dim(ds) -> str | None:
 
 
 def _label(var, name: str | None = None) -> str:
-    name = name or str(var.name)
+    """``name [units]`` of a variable; a swept dimension is named by its config key."""
+    name = name or var.attrs.get("config_key") or str(var.name)
+    if name == var.name and var.attrs.get("config_key"):
+        name = var.attrs["config_key"]
     units = var.attrs.get("units", "")
     return f"{name} [{units}]" if units else name
+
+
+def sweep_dim(ds, key: str) -> str | None:
+    """The dimension of ``ds`` that sweeps the config key ``key`` (dimension names are
+    identifier-safe, e.g. ``motion_spin_speed``; the key is in the ``config_key`` attribute)."""
+    for d in ds.dims:
+        if d in ds.coords and (ds[d].attrs.get("config_key") == key or d == key):
+            return str(d)
+    return None
 
 
 def _lines(ds, var: str, x: str):
@@ -82,14 +99,36 @@ def _lines(ds, var: str, x: str):
 
 
 def generic_figures(ds) -> dict[str, Any]:
-    """Every numeric summary scalar against the first swept parameter (panels of 3 x 3)."""
-    from rotaflex.core.plotting import new_figure
-
+    """Every numeric summary scalar against the first swept parameter (panels of 3 x 3):
+    ``summary_vs_<key>`` for results, ``diagnostics_vs_<key>`` for solver diagnostics."""
     x = _x_dim(ds)
     names = _numeric_vars(ds)
     if x is None or not names:
         return {}
-    leaf = x.rsplit(".", 1)[-1]
+    key = ds[x].attrs.get("config_key", x)
+    leaf = key.rsplit(".", 1)[-1]
+    figs = {}
+    physics = [n for n in names if not _is_diagnostic(n)]
+    diagnostics = [n for n in names if _is_diagnostic(n)]
+    for stem, group, title in (
+        (f"summary_vs_{leaf}", physics, "Results"),
+        (f"diagnostics_vs_{leaf}", diagnostics, "Solver diagnostics"),
+    ):
+        figs.update(_panels(ds, x, group, stem, f"{title} vs {key}"))
+    return figs
+
+
+#: summary names that describe the computation rather than the physics
+_DIAGNOSTIC_WORDS = ("wall_time", "evaluations", "nfev", "attempts", "steps", "iterations", "time_per_step", "residual")
+
+
+def _is_diagnostic(name: str) -> bool:
+    return any(w in name for w in _DIAGNOSTIC_WORDS)
+
+
+def _panels(ds, x: str, names: list[str], stem: str, title: str) -> dict[str, Any]:
+    from rotaflex.core.plotting import new_figure
+
     figs = {}
     for start in range(0, len(names), _PANELS_PER_FIGURE):
         chunk = names[start : start + _PANELS_PER_FIGURE]
@@ -99,17 +138,23 @@ def generic_figures(ds) -> dict[str, Any]:
         for ax, name in zip(axes.flat, chunk, strict=False):
             for label, xv, yv in _lines(ds, name, x):
                 ax.plot(xv, yv, "o-", ms=3, label=label or None)
-            ax.set_xlabel(_label(ds[x], x))
+            ax.set_xlabel(_label(ds[x]))
             ax.set_ylabel(_label(ds[name]))
             ax.grid(alpha=0.3)
         for ax in list(axes.flat)[len(chunk) :]:
             ax.set_visible(False)
         handles, labels = axes.flat[0].get_legend_handles_labels()
-        if labels:
-            axes.flat[0].legend(fontsize=7)
+        if labels:  # one legend for all panels, outside the data
+            fig.legend(handles, labels, loc="outside right upper", fontsize=7)
+        fig.suptitle(title)
         suffix = "" if start == 0 else f"_{start // _PANELS_PER_FIGURE + 1}"
-        figs[f"summary_vs_{leaf}{suffix}"] = fig
+        figs[f"{stem}{suffix}"] = fig
     return figs
+
+
+# public names for domain hooks (the private ones stay for the built-in domain figures)
+lines_of = _lines
+axis_label = _label
 
 
 def _first(ds, candidates: tuple[str, ...]) -> str | None:
@@ -144,6 +189,16 @@ def _base_config(ds) -> dict:
         return {}
 
 
+def base_config(ds) -> dict:
+    """The sweep's base config (``base_config`` attribute of ``sweep.nc``)."""
+    return _base_config(ds)
+
+
+def config_value(cfg: dict, dotted: str, default=None):
+    """Value at a dotted key of a plain config dict, or ``default``."""
+    return _get(cfg, dotted, default)
+
+
 def _get(cfg: dict, dotted: str, default=None):
     node = cfg
     for part in dotted.split("."):
@@ -151,129 +206,6 @@ def _get(cfg: dict, dotted: str, default=None):
             return default
         node = node[part]
     return node
-
-
-def rotor_whirl(spin, polar_inertia: float, diametral_inertia: float, tilt_stiffness: float):
-    """Linear whirl of a rigid disk on an isotropic tilt spring, spinning at ``spin`` [rad/s].
-
-    ``Id w^2 -/+ Ip spin w - k = 0`` gives the forward and backward whirl frequencies [rad/s];
-    a free response that starts at zero tilt with tilt rate ``r`` has the peak tilt
-    ``2 Id r / sqrt((Ip spin)^2 + 4 Id k)`` [rad] (returned per unit ``r``).
-
-    Returns
-    -------
-    forward, backward, peak_per_rate : arrays like ``spin``
-    """
-    spin = np.asarray(spin, dtype=float)
-    root = np.sqrt((polar_inertia * spin) ** 2 + 4 * diametral_inertia * tilt_stiffness)
-    forward = (polar_inertia * spin + root) / (2 * diametral_inertia)
-    backward = (-polar_inertia * spin + root) / (2 * diametral_inertia)
-    with np.errstate(divide="ignore"):
-        peak = 2 * diametral_inertia / root
-    return forward, backward, peak
-
-
-def rotor_reference(ds) -> dict[str, Any] | None:
-    """Closed-form whirl over the swept spin of a rotor sweep, and the peak tilt of a free
-    response when it starts at zero tilt.
-
-    Returns None unless the sweep varies ``motion.spin_speed`` of a rotor-disk case whose
-    equations are the 1-2-3 (spin first) body-energy ones, nonlinear or exactly linearised,
-    with the disk's inertia and tilt support fixed. ``peak_tilt`` is None when the initial tilt
-    is not zero.
-    """
-    x = "motion.spin_speed"
-    if x not in ds.dims:
-        return None
-    cfg = _base_config(ds)
-    form = cfg.get("formulation", {})
-    swept = set(json.loads(ds.attrs.get("swept", "[]")))
-    fixed = (
-        "disk.polar_inertia",
-        "disk.diametral_inertia",
-        "support.tilt_stiffness",
-        "disk.inertia",
-        "motion.initial_tilt_rate",
-        "motion.initial_tilt",
-    )
-    if (
-        swept & set(fixed)
-        or "free_body" in cfg
-        or _get(cfg, "disk.inertia") is not None
-        or form.get("parameterisation", "euler") != "euler"
-        or form.get("sequence", "123") != "123"
-        or form.get("spin_angle") not in (None, 0)
-        or form.get("energy", "body") != "body"
-        or form.get("convention", "right-handed") != "right-handed"
-        or form.get("expansion", "nonlinear") not in ("nonlinear", "second_order")
-    ):
-        return None
-    ip, id_ = _get(cfg, "disk.polar_inertia", 2.0), _get(cfg, "disk.diametral_inertia", 1.0)
-    k = _get(cfg, "support.tilt_stiffness", 0.0)
-    spin = np.asarray(ds[x].values, dtype=float)
-    fwd, bwd, peak = rotor_whirl(spin, ip, id_, k)
-    at_rest = not any(_get(cfg, "motion.initial_tilt", (0.0, 0.0)))
-    rate = float(np.hypot(*_get(cfg, "motion.initial_tilt_rate", (1.0, 1.0))))
-    return {
-        "spin": spin,
-        "forward": fwd,
-        "backward": bwd,
-        "peak_tilt": peak * rate if at_rest else None,
-        "peak_per_rate": (ip, id_, k, rate) if at_rest else None,
-        "backward_critical": np.sqrt(k / (ip + id_)),
-        "forward_critical": np.sqrt(k / (id_ - ip)) if id_ > ip else np.nan,
-    }
-
-
-def rotor_figures(ds) -> dict[str, Any]:
-    """Campbell-style picture of a rotor spin sweep (``motion.spin_speed`` swept).
-
-    Top: whirl frequencies of the linear disk-on-tilt-spring model against spin, with the
-    synchronous 1x line; crossings (critical speeds) marked. Bottom: the simulated peak and RMS
-    tilt against spin, with the linear closed-form peak tilt of a free response.
-    """
-    from rotaflex.core.plotting import new_figure
-
-    x = "motion.spin_speed"
-    if x not in ds.dims or "max_tilt_angle" not in ds:
-        return {}
-    ref = rotor_reference(ds)
-    spin = np.asarray(ds[x].values, dtype=float)
-    fig, (top, bottom) = new_figure(2, 1, sharex=True, figsize=(6.4, 6.4))
-    if ref is not None:
-        top.plot(spin, ref["forward"], "-", label="forward whirl (linear model)")
-        top.plot(spin, ref["backward"], "-", label="backward whirl (linear model)")
-        for name in ("backward_critical", "forward_critical"):
-            if np.isfinite(ref[name]) and spin.min() <= ref[name] <= spin.max():
-                top.axvline(ref[name], color="0.5", ls=":", lw=1)
-                top.annotate(
-                    name.replace("_", " "),
-                    (ref[name], 0),
-                    xytext=(3, 3),
-                    textcoords="offset points",
-                    fontsize=7,
-                    rotation=90,
-                )
-    top.plot(spin, np.abs(spin), "k--", lw=1, label="1x spin")
-    top.set_ylabel("whirl frequency [rad/s]")
-    top.legend(fontsize=7)
-    top.grid(alpha=0.3)
-    da = ds["max_tilt_angle"]
-    for label, xv, yv in _lines(ds, "max_tilt_angle", x):
-        bottom.plot(xv, yv, "o", ms=4, label=f"peak tilt (simulated) {label}".strip())
-    if "rms_tilt_angle" in ds:
-        for label, xv, yv in _lines(ds, "rms_tilt_angle", x):
-            bottom.plot(xv, yv, "s", ms=3, mfc="none", label=f"RMS tilt (simulated) {label}".strip())
-    if ref is not None and ref["peak_per_rate"] is not None:
-        ip, id_, k, rate = ref["peak_per_rate"]
-        fine = np.linspace(spin.min(), spin.max(), 400)
-        bottom.plot(fine, rotor_whirl(fine, ip, id_, k)[2] * rate, "-", lw=1, label="peak tilt, linear closed form")
-    bottom.set_xlabel("spin speed [rad/s]")
-    bottom.set_ylabel(_label(da, "tilt"))
-    bottom.legend(fontsize=7)
-    bottom.grid(alpha=0.3)
-    fig.suptitle("Rotor: Campbell-style whirl and response vs spin")
-    return {"campbell": fig}
 
 
 def _find(ds, *needles: tuple[str, ...]) -> str | None:
@@ -321,7 +253,6 @@ def floating_figures(ds) -> dict[str, Any]:
 
 #: domain -> built-in figure function (used when the domain's case module has no hook)
 DOMAIN_FIGURES: dict[str, Callable[[Any], dict[str, Any]]] = {
-    "rotor": rotor_figures,
     "floating": floating_figures,
 }
 

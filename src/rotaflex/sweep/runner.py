@@ -359,6 +359,7 @@ def run_sweep(
     case_figures: bool = False,
     domain: str | None = None,
     attrs: Mapping[str, Any] | None = None,
+    units: Mapping[str, str] | None = None,
 ) -> SweepResult:
     """Run ``case_fn`` on every case, write each case as it finishes, then combine.
 
@@ -392,6 +393,8 @@ def run_sweep(
         Domain name (selects the sweep figures) stored in ``sweep.nc``.
     attrs : dict, optional
         Extra global attributes of ``sweep.nc`` (e.g. the base config as JSON).
+    units : dict, optional
+        Units of the swept keys (default: from their names, e.g. ``speed_rpm``).
 
     Returns
     -------
@@ -460,8 +463,10 @@ def run_sweep(
         bar.close()
 
     ordered = [records.get(c.id) or CaseRecord(c.id, dict(c.params)) for c in cases]
-    meta = {"domain": domain or "", **(attrs or {})}
-    dataset = combine(ordered, attrs=meta)
+    from rotaflex.core.provenance import provenance
+
+    meta = {"domain": domain or "", **provenance(), **(attrs or {})}
+    dataset = combine(ordered, attrs=meta, units=dict(units or {}))
     result = SweepResult(ordered, dataset, out, time.perf_counter() - t0)
     if out is not None:
         result.figures = write_outputs(result, domain=domain, figures=figures)

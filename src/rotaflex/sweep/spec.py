@@ -145,6 +145,8 @@ def coerce_values(key: str, values: Sequence[Any], current: Any) -> list[Any]:
             ok = isinstance(v, int) and not isinstance(v, bool)
         elif isinstance(current, float):
             ok = isinstance(v, (int, float)) and not isinstance(v, bool)
+            if ok and isinstance(v, int) and abs(v) > 2**63 - 1:
+                raise InputError(key, v, "a finite number (magnitude at most 9.22e+18)")
             v = float(v) if ok else v
         elif isinstance(current, str):
             ok = isinstance(v, str)

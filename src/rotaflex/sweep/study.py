@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from rotaflex.core.errors import InputError
+from rotaflex.core.errors import InputError, shown
 from rotaflex.sweep._worker import run_module_case
 from rotaflex.sweep.runner import SweepResult, run_sweep
 from rotaflex.sweep.spec import Case, grid_cases, parse_vary
@@ -52,6 +52,7 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
         module = case_module(domain)
     except ImportError as exc:
         raise InputError("domain", domain, f"an installed domain ({exc})") from None
+    typed: dict[str, list[str]] = {}  # the values as written in a list spec, echoed in errors
     if isinstance(vary, Mapping):
         axes = {k: list(v) for k, v in vary.items()}
     else:
@@ -61,6 +62,9 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
             if key in axes:
                 raise InputError(f"--vary {key}", spec, "each key varied once")
             axes[key] = values
+            rhs = spec.split("=", 1)[1]
+            if "," in rhs or ":" not in rhs:
+                typed[key] = [t.strip() for t in rhs.split(",")]
     body = {k: v for k, v in config.items() if k != "domain"}
     cases = grid_cases(body, axes, defaults=_schema_defaults(module))
     validate = getattr(module, "validate_config", None)
@@ -69,8 +73,31 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
             try:
                 validate(case.data)
             except InputError as exc:
-                raise InputError(exc.field, exc.value, f"{exc.allowed} (case {case.params})") from None
+                value = exc.value
+                if exc.field in typed and exc.field in case.params:
+                    i = _index_of(axes[exc.field], case.params[exc.field])
+                    if i is not None and i < len(typed[exc.field]):
+                        value = _Typed(typed[exc.field][i])
+                params = ", ".join(f"{k}={shown(v, 24)}" for k, v in case.params.items())
+                raise InputError(exc.field, value, f"{exc.allowed} (case {params})") from None
     return domain, CASES[domain], cases
+
+
+class _Typed(str):
+    """A value shown exactly as the user typed it (no quotes in the message)."""
+
+    def __repr__(self) -> str:
+        return str(self)
+
+
+def _index_of(values: list, value) -> int | None:
+    for i, v in enumerate(values):
+        try:
+            if v == value:
+                return i
+        except Exception:  # noqa: BLE001 - incomparable values: not this one
+            continue
+    return None
 
 
 def _schema_defaults(module):
@@ -92,6 +119,22 @@ def _schema_defaults(module):
     return lookup
 
 
+def _schema_units(module_name: str) -> dict[str, str]:
+    """Units of every key of the domain's schema (for the sweep's dimension coordinates)."""
+    import importlib
+
+    from rotaflex.core.schema import entries
+
+    module = importlib.import_module(module_name)
+    roots = [("", getattr(module, "SCHEMA", None)), *getattr(module, "ALTERNATIVES", {}).items()]
+    return {
+        f"{table + '.' if table else ''}{e.key}": e.unit
+        for table, schema in roots
+        if schema is not None
+        for e in entries(schema)
+    }
+
+
 def sweep_config(
     config: Mapping[str, Any], vary, out_dir: str | Path | None, executor: Any = None, **kwargs: Any
 ) -> SweepResult:
@@ -105,6 +148,7 @@ def sweep_config(
     >>> res = sweep_config(load_toml("rotor.toml"), ["spin.omega=0:100:11"], "out/sweep")
     """
     domain, module, cases = plan(config, vary)
+    kwargs.setdefault("units", _schema_units(module))
     attrs = {"base_config": json.dumps(dict(config), sort_keys=True, default=str), **kwargs.pop("attrs", {})}
     return run_sweep(
         functools.partial(run_module_case, module),
