@@ -64,6 +64,13 @@ def _root(
     """Dynamics of rotating and flexible machine elements (rotors, floating bodies, gears)."""
 
 
+def _quiet_shutdown() -> None:
+    """After Ctrl-C, errors of half-stopped process pools during interpreter exit (Python 3.11's
+    concurrent.futures wakes a pool whose pipe is already closed) are noise, not news: the
+    one-line message says what happened."""
+    sys.unraisablehook = lambda _unraisable: None
+
+
 def guarded(fn: Callable[[], Any], debug: bool) -> Any:
     """Run ``fn``; expected failures become one line on stderr and a non-zero exit status.
 
@@ -87,6 +94,7 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
     except KeyboardInterrupt:
         if debug:
             raise
+        _quiet_shutdown()
         typer.echo("interrupted", err=True)
         raise typer.Exit(130) from None
     except (typer.Exit, typer.Abort):
@@ -233,6 +241,7 @@ def sweep(
                     attrs=provenance(config),
                 )
             except KeyboardInterrupt:
+                _quiet_shutdown()
                 typer.echo(
                     f"interrupted: finished cases are in {out_dir / 'cases'}; run the same "
                     "command again to compute only the missing ones",

@@ -277,5 +277,5 @@ def test_domain_validate_hook_rejects_a_bad_case_before_running(tmp_path, selfte
     cfg = _config(tmp_path)
     out = tmp_path / "out"
     res = runner.invoke(app, ["sweep", str(cfg), "--vary", "n=1:5:5", "--out", str(out), "-q"])
-    assert res.exit_code == 2 and "case n=1" in res.output and "n = 1" in res.output
+    assert res.exit_code == 2 and "(case n=1)" in res.output and "n = 1" in res.output
     assert not out.exists()
