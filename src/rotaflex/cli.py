@@ -11,7 +11,7 @@ from typing import Annotated, Any
 
 import typer
 
-from rotaflex.core.domains import CASES, REPRODUCE
+from rotaflex.core.domains import CASES, COMMANDS, REPRODUCE
 from rotaflex.core.errors import ConvergenceError, InputError, SingularityError
 
 app = typer.Typer(
@@ -148,10 +148,45 @@ def _simulate_command(domain: str) -> Callable[..., None]:
     return simulate
 
 
+def _verb_command(domain: str, verb: str, target: str) -> Callable[..., None]:
+    def command(
+        config: Annotated[Path, typer.Argument(help="TOML case file.")],
+        out: Out,
+        no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip PNG figures.")] = False,
+        quiet: Quiet = False,
+        debug: Debug = False,
+    ) -> None:
+        import importlib
+
+        from rotaflex.core.config import load_toml
+
+        def go():
+            module, func = target.split(":")
+            cfg = {k: v for k, v in load_toml(config).items() if k != "domain"}
+            result = getattr(importlib.import_module(module), func)(cfg, progress=not quiet)
+            paths = result.save(out, figures=not no_figures)
+            typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out}")
+            if result.status != "success":
+                raise typer.Exit(1)
+
+        guarded(go, debug)
+
+    command.__doc__ = f"{domain.capitalize()} {verb} from CONFIG; write result.nc, summary.json, figures."
+    return command
+
+
+_subs: dict[str, typer.Typer] = {}
 for _domain in CASES:
     _sub = typer.Typer(no_args_is_help=True, help=f"{_domain.capitalize()} cases.")
     _sub.command("simulate")(_simulate_command(_domain))
     app.add_typer(_sub, name=_domain)
+    _subs[_domain] = _sub
+for _domain, _verbs in COMMANDS.items():
+    if _domain not in _subs:
+        _subs[_domain] = typer.Typer(no_args_is_help=True, help=f"{_domain.capitalize()} cases.")
+        app.add_typer(_subs[_domain], name=_domain)
+    for _verb, _target in _verbs.items():
+        _subs[_domain].command(_verb)(_verb_command(_domain, _verb, _target))
 
 
 def main() -> None:

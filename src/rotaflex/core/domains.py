@@ -15,6 +15,19 @@ CASES: dict[str, str] = {
     "rotor": "rotaflex.rotor.case",
     "gear": "rotaflex.gear.case",
     "floating": "rotaflex.floating.case",
+    "rotor_fe": "rotaflex.rotor.fe.case",  # finite-element rotor analyses; `analysis` key selects one
+}
+
+#: domain -> verb -> "module:function" with ``fn(config: dict, *, progress=False) -> Result``;
+#: the CLI adds ``rotaflex <domain> <verb> CONFIG --out DIR`` for each
+COMMANDS: dict[str, dict[str, str]] = {
+    "rotor": {
+        "modal": "rotaflex.rotor.fe.case:run_modal",
+        "campbell": "rotaflex.rotor.fe.case:run_campbell",
+        "ucs": "rotaflex.rotor.fe.case:run_ucs",
+        "unbalance": "rotaflex.rotor.fe.case:run_unbalance",
+        "transient": "rotaflex.rotor.fe.case:run_transient",
+    },
 }
 
 #: reproduce target -> module with ``run``; "all" runs every entry in this order
