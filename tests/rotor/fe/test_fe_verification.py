@@ -17,7 +17,8 @@ def friswell_591(c=0.0, n=6, ky=1e6):
     return Rotor(shaft=(Shaft(outer_diameter=0.05, length=1.5, elements=n),),
                  disk=(Disk(position=0.5, width=0.07, outer_diameter=0.28, inner_diameter=0.05),
                        Disk(position=1.0, width=0.07, outer_diameter=0.35, inner_diameter=0.05)),
-                 bearing=(Bearing(node=0, kxx=1e6, kyy=ky, cxx=c, cyy=c), Bearing(node=n, kxx=1e6, kyy=ky, cxx=c, cyy=c)))
+                 bearing=(Bearing(node=0, kxx=1e6, kyy=ky, cxx=c, cyy=c),
+                          Bearing(node=n, kxx=1e6, kyy=ky, cxx=c, cyy=c)))
 
 
 def test_timoshenko_element_matches_closed_form():

@@ -1,0 +1,38 @@
+"""Every FE rotor verb runs on the example file and writes result.nc + summary.json."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from rotaflex.cli import app
+from rotaflex.core.config import load_toml
+from rotaflex.core.result import load_result
+
+EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "rotor" / "fe_friswell_5_9_1.toml"
+
+
+@pytest.mark.parametrize("verb", ["modal", "campbell", "ucs", "unbalance"])
+def test_verbs_write_results(verb, tmp_path: Path):
+    res = CliRunner().invoke(app, ["rotor", verb, str(EXAMPLE), "--out", str(tmp_path), "-q", "--no-figures"])
+    assert res.exit_code == 0, res.output
+    r = load_result(tmp_path / "result.nc")
+    assert r.kind == f"rotor_fe_{verb}" and r.status == "success"
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["status"]["value"] == "success"
+    if verb == "modal":
+        # 4000 rpm, bearings damped (3 kN s/m): still the two lowest modes near 13.6/14.0 Hz
+        assert 13.0 < summary["mode_0_frequency_hz"]["value"] < 14.5
+
+
+def test_sweep_hook_runs_named_analysis(tmp_path: Path):
+    from rotaflex.rotor.fe.case import run_case, validate_config
+
+    cfg = load_toml(EXAMPLE)
+    cfg["analysis"] = "modal"
+    cfg["bearing"]["left"]["kxx"] = 2e6  # a dotted sweep key: bearing.left.kxx
+    validate_config(cfg)
+    r = run_case(cfg)
+    assert r.kind == "rotor_fe_modal" and np.all(np.diff(r.dataset["damped_frequency"].values) >= 0)
