@@ -270,4 +270,15 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
              "(I = 1 kg m^2, Omega = 10 rad/s, prescribed sin(t)/10 motions, zero initial angles and 1 rad/s rates); "
              "the time window is not printed and is taken as 0-10 s. The paper's curves did not survive in the text, "
              "so each figure is judged by its stated claim and by independent checks.")
-    return Section("Seed A: rotor rotation (Euler angles vs quaternions)", intro, figs, [], notes)
+    section = Section("Seed A: rotor rotation (Euler angles vs quaternions)", intro, figs, [], notes)
+    return _with_fe_section(section, out, fast)
+
+
+def _with_fe_section(section: Section, out: Path, fast: bool) -> Section:
+    """Append the finite-element rotor figures and checks (issue 12) to the rotor section."""
+    from rotaflex.reproduce.rotor_fe import fe_section
+
+    fe = fe_section(out, fast=fast)
+    section.figures += fe.figures
+    section.notes.append(f"{fe.title}: {fe.intro}")
+    return section

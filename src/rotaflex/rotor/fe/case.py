@@ -48,6 +48,7 @@ class CampbellSpec:
     n_speeds: int = param(50, ge=2)
     n_modes: int = param(8, ge=1)
     harmonics: tuple[float, ...] = param((1.0,), gt=0, doc="excitation orders drawn and crossed (1 = 1X)")
+    reduce: int | None = param(None, ge=2, doc="solve in a basis of this many undamped modes (faster)")
 
 
 @dataclass(frozen=True)
@@ -167,7 +168,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     t0 = time.perf_counter()
     rotor, spec = parse(config, "campbell")
     speeds = _speeds(spec.speed_rpm, spec.n_speeds, "campbell")
-    c = campbell(rotor, speeds, spec.n_modes, spec.harmonics)
+    c = campbell(rotor, speeds, spec.n_modes, spec.harmonics, reduce=spec.reduce)
     m = c.modes
     ds = xr.Dataset(
         {"damped_frequency": (("speed", "mode"), m.wd, {"units": "rad/s"}),
