@@ -76,6 +76,7 @@ class TransientSpec:
     n_modes: int = param(20, ge=1, doc="modes kept by the modal method")
     steps_per_output: int = param(4, ge=1, doc="Newmark steps per output interval (direct method)")
     probes: tuple[int, ...] = param((), ge=0)
+    large_rotation: tuple[int, ...] = param((), ge=0, doc="disk nodes with exact large-tilt kinematics")
     mass: tuple[UnbalanceMass, ...] = param(())
 
 
@@ -266,7 +267,7 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
             raise InputError("transient.probes", p, f"existing nodes 0..{rotor.n_nodes - 1}")
     tr = transient(rotor, spec.duration, speed_start=spec.speed_rpm[0] * RPM, speed_end=spec.speed_rpm[1] * RPM,
                    unbalance=ub, n_output=spec.n_output, method=spec.method, n_modes=spec.n_modes,
-                   steps_per_output=spec.steps_per_output)
+                   steps_per_output=spec.steps_per_output, large_rotation=spec.large_rotation)
     disp = np.stack([tr.q[:, 4 * p: 4 * p + 2] for p in probes], 1)
     ds = xr.Dataset(
         {"displacement": (("time", "probe", "axis"), disp, {"units": "m"}),

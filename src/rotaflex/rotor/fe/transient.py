@@ -28,6 +28,7 @@ import scipy.linalg as sla
 from scipy.integrate import solve_ivp
 
 from rotaflex.core.errors import ConvergenceError, InputError
+from rotaflex.rotor.fe.elements.large_disk import LargeRotationDisk
 from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
 
 log = logging.getLogger(__name__)
@@ -69,7 +70,7 @@ def _speed_grid(rotor: Rotor, lo: float, hi: float) -> np.ndarray:
 def transient(rotor: Rotor, t_end: float, *, speed_start: float, speed_end: float | None = None,
               unbalance=(), force: Force | None = None, q0=None, v0=None, n_output: int = 2001,
               method: str = "modal", n_modes: int = 20, rtol: float = 1e-7, atol: float = 1e-12,
-              steps_per_output: int = 4) -> TransientData:
+              steps_per_output: int = 4, large_rotation=()) -> TransientData:
     """Integrate the rotor's motion from 0 to ``t_end`` [s].
 
     Parameters
@@ -82,6 +83,9 @@ def transient(rotor: Rotor, t_end: float, *, speed_start: float, speed_end: floa
     method : ``"modal"`` or ``"direct"``
     n_modes : int
         Undamped modes kept by ``"modal"``.
+    large_rotation : sequence of int
+        Disk nodes whose tilt is integrated with exact (large-rotation) kinematics
+        (:class:`~rotaflex.rotor.fe.elements.large_disk.LargeRotationDisk`).
     """
     t0 = time.perf_counter()
     speed_end = speed_start if speed_end is None else speed_end
@@ -114,6 +118,13 @@ def transient(rotor: Rotor, t_end: float, *, speed_start: float, speed_end: floa
     Kr = np.einsum("ia,sij,jb->sab", T, Kg, T)
     Cr = np.einsum("ia,sij,jb->sab", T, Cg, T)
     Fr = T.T @ F[:, 0]
+    disks = dict(rotor.disks)
+    large = []
+    for node in large_rotation:
+        if node not in disks:
+            raise InputError("transient.large_rotation", node, "nodes that carry a disk: " + str(sorted(disks)))
+        el = LargeRotationDisk(node, disks[node].Id, disks[node].Ip)
+        large.append((el, T[NDOF_NODE * node: NDOF_NODE * node + 4]))
 
     def mats(t):
         w = speed_start + alpha * t
@@ -133,14 +144,21 @@ def transient(rotor: Rotor, t_end: float, *, speed_start: float, speed_end: floa
         f = (Fr * (w * w - 1j * alpha) * e).real if unbalance else np.zeros(m)
         if force is not None:
             f = f + T.T @ force(t, T @ x, T @ v)
-        return np.concatenate([v, Mi @ (f - D @ v - K @ x)])
+        if not large:
+            return np.concatenate([v, Mi @ (f - D @ v - K @ x)])
+        Mq = Mr.copy()
+        for el, Tn in large:
+            qn, vn = Tn @ x, Tn @ v
+            Mq += el.mass_increment(qn) * np.outer(Tn[2], Tn[2])
+            f = f - Tn.T @ el.force(qn, vn, w, alpha)
+        return np.concatenate([v, np.linalg.solve(Mq, f - D @ v - K @ x)])
 
     q0 = np.zeros(n) if q0 is None else np.asarray(q0, float)
     v0 = np.zeros(n) if v0 is None else np.asarray(v0, float)
     z0 = np.concatenate([sla.solve(Mr, T.T @ M @ q0), sla.solve(Mr, T.T @ M @ v0)])
     t_eval = np.linspace(0.0, t_end, n_output)
     if method == "direct":
-        return _newmark(mats, rhs, M, Mi, z0, t_eval, steps_per_output, force is not None, rtol, t0)
+        return _newmark(mats, rhs, M, Mi, z0, t_eval, steps_per_output, force is not None or bool(large), rtol, t0)
     sol = solve_ivp(rhs, (0.0, t_end), z0, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
     if not sol.success:
         tt = float(sol.t[-1]) if sol.t.size else 0.0
