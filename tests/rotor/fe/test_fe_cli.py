@@ -36,3 +36,16 @@ def test_sweep_hook_runs_named_analysis(tmp_path: Path):
     validate_config(cfg)
     r = run_case(cfg)
     assert r.kind == "rotor_fe_modal" and np.all(np.diff(r.dataset["damped_frequency"].values) >= 0)
+
+
+def test_transient_verb_short_runup(tmp_path: Path):
+    text = (EXAMPLE.read_text().replace("duration = 4.0", "duration = 0.3").replace("n_output = 4001", "n_output = 301")
+            .replace("n_modes = 12", "n_modes = 6"))
+    cfg = tmp_path / "short.toml"
+    cfg.write_text(text)
+    res = CliRunner().invoke(app, ["rotor", "transient", str(cfg), "--out", str(tmp_path / "o"), "-q"])
+    assert res.exit_code == 0, res.output
+    r = load_result(tmp_path / "o" / "result.nc")
+    assert r.kind == "rotor_fe_transient"
+    assert abs(r.dataset["speed"].values[-1] - 2000 * np.pi / 30) < 1e-9
+    assert (tmp_path / "o" / "time_response.png").exists() and (tmp_path / "o" / "model.png").exists()
