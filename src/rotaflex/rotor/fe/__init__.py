@@ -4,6 +4,10 @@ Model: :class:`Rotor` (frozen data, SI). Analyses are functions: :func:`modal`,
 :func:`campbell`, :func:`ucs_map`, :func:`unbalance_response`, :func:`transient`.
 """
 
+from rotaflex.rotor.fe.modal import campbell, modal, ucs_map
 from rotaflex.rotor.fe.model import Bearing, Disk, PointMass, Rotor, Shaft
+from rotaflex.rotor.fe.response import peaks, unbalance_response
+from rotaflex.rotor.fe.transient import transient
 
-__all__ = ["Bearing", "Disk", "PointMass", "Rotor", "Shaft"]
+__all__ = ["Bearing", "Disk", "PointMass", "Rotor", "Shaft", "campbell", "modal", "peaks", "transient", "ucs_map",
+           "unbalance_response"]

@@ -338,6 +338,11 @@ class Rotor:
         return self._base["M"]
 
     @property
+    def K_shaft(self) -> np.ndarray:
+        """Global stiffness of the shaft alone (no bearings) (n_dof, n_dof)."""
+        return self._base["K"]
+
+    @property
     def G(self) -> np.ndarray:
         """Global gyroscopic matrix per unit spin speed (skew-symmetric); force -Omega G q'."""
         return self._base["G"]
