@@ -220,3 +220,12 @@ def test_nonlinear_force_plugin_equals_linear_spring():
     a = transient(r0, 0.05, speed_start=200.0, q0=q0, force=spring, method="direct", n_output=101)
     b = transient(r1, 0.05, speed_start=200.0, q0=q0, method="direct", n_output=101)
     assert np.max(np.abs(a.q - b.q)) < 1e-6 * np.max(np.abs(b.q))
+
+
+def test_campbell_reduced_basis_converges_to_full():
+    """The reduced basis (undamped modes) approaches the full solution as it grows."""
+    r = friswell_591(c=3e3, ky=1.3e6, n=12)
+    sp = np.linspace(0, 4000 * RPM, 12)
+    wf = np.sort(campbell(r, sp, 6).modes.wd, 1)  # sorted: labels may differ at the degenerate 0 rpm
+    errs = [np.max(np.abs(np.sort(campbell(r, sp, 6, reduce=m).modes.wd, 1) - wf) / wf) for m in (16, 24, 36)]
+    assert errs[0] > errs[1] > errs[2] and errs[2] < 2e-3, errs
