@@ -154,7 +154,15 @@ def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
          "z": ("node", rotor.nodes, {"units": "m"}),
          "speed": ((), spec.speed_rpm * RPM, {"units": "rad/s"})},
         coords={"mode": np.arange(nm), "node": np.arange(rotor.n_nodes), "dof": DOFS})
+    from rotaflex.rotor.fe.torsion_axial import axial_modes, torsional_modes
+
+    wt, wa = torsional_modes(rotor, spec.n_modes)[0], axial_modes(rotor, spec.n_modes)[0]
+    ds["torsional_frequency"] = ("uncoupled_mode", wt, {"units": "rad/s", "long_name": "torsional (0: rigid)"})
+    ds["axial_frequency"] = ("uncoupled_mode", wa, {"units": "rad/s", "long_name": "axial (0: rigid)"})
     extra = {f"mode_{k}_frequency_hz": {"value": float(m.wn[0, k] / (2 * np.pi)), "unit": "Hz"} for k in range(nm)}
+    if wt.size > 1:
+        extra["first_torsional_frequency_hz"] = {"value": float(wt[1] / (2 * np.pi)), "unit": "Hz"}
+        extra["first_axial_frequency_hz"] = {"value": float(wa[1] / (2 * np.pi)), "unit": "Hz"}
     extra.update({f"mode_{k}_whirl": {"value": str(m.whirl[0, k]), "unit": ""} for k in range(nm)})
     unstable = int(np.sum(m.log_dec[0] < 0))
     msg = f"{nm} modes at {spec.speed_rpm:g} rpm; lowest {m.wn[0, 0] / (2 * np.pi):.4g} Hz; {unstable} unstable"
