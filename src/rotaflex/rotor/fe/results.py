@@ -49,6 +49,25 @@ class ModalResult(_FEResult):
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
         figs["mode_shapes"] = fig
+        # orbits: each mode's whirl at every node (x + i y over one period), scaled to 1
+        nm = ds.sizes["mode"]
+        ncol = min(nm, 4)
+        fig2, axes = new_figure((nm + ncol - 1) // ncol, ncol, squeeze=False)
+        th = np.linspace(0, 2 * np.pi, 121)
+        for k in range(nm):
+            ax = axes.flat[k]
+            sh = ds["shape_real"].isel(mode=k).values + 1j * ds["shape_imag"].isel(mode=k).values
+            for j in range(sh.shape[0]):
+                x = (sh[j, 0] * np.exp(1j * th)).real
+                y = (sh[j, 1] * np.exp(1j * th)).real
+                ax.plot(x, y, lw=0.6)
+                ax.plot(x[0], y[0], "k.", ms=3)  # start: the orbit runs from here in time
+            ax.set_aspect("equal")
+            ax.set_title(f"{k}: {ds['whirl'].values[k]}", fontsize=8)
+            ax.tick_params(labelsize=6)
+        for ax in list(axes.flat)[nm:]:
+            ax.set_visible(False)
+        figs["mode_orbits"] = fig2
         return figs
 
 
