@@ -32,28 +32,34 @@ def main() -> None:
     ap.add_argument("--span", type=float, default=None, help="rotation span [deg]")
     ap.add_argument("--rpm", type=float, default=4000.0)
     args = ap.parse_args()
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                     root_radius=0.04048)
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
     mesh = build_tooth_mesh(g, **(COARSE if args.coarse else DEFAULT))
-    model = dynamics.build_model(g, g, mesh, mesh, youngs_modulus=210e9, poisson_ratio=0.3,
-                                 density=7800.0, inertia=(2.965e-4, 2.965e-4))
+    model = dynamics.build_model(
+        g, g, mesh, mesh, youngs_modulus=210e9, poisson_ratio=0.3, density=7800.0, inertia=(2.965e-4, 2.965e-4)
+    )
     ths, th2 = contact_angles(g, g)
     span = math.radians(args.span) if args.span else ths
     # warm-up (numba compile / cache load)
-    dynamics.simulate(model, speeds_rpm=(4000, 4000), torque=22.25, theta_2=th2, theta_s=ths,
-                      span=1e-4, dt=3e-8)
+    dynamics.simulate(model, speeds_rpm=(4000, 4000), torque=22.25, theta_2=th2, theta_s=ths, span=1e-4, dt=3e-8)
     rpm = (args.rpm, args.rpm)
-    out = dynamics.simulate(model, speeds_rpm=rpm, torque=22.25, theta_2=th2,
-                            theta_s=ths, span=span, dt=3e-8, record_every=1)
+    out = dynamics.simulate(
+        model, speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths, span=span, dt=3e-8, record_every=1
+    )
     per = out.wall_time / out.steps
     k = model.stiffness
-    print(f"mesh: {mesh.n_nodes} nodes/tooth, {mesh.n_elements} elements, K nnz {k.nnz} (both), "
-          f"{len(model.tie_node)} tie nodes, RK4 limit {model.dt_limit:.3e} s")
-    print(f"{args.rpm:g} rpm over {math.degrees(span):.2f} deg: {out.steps} steps in {out.wall_time:.2f} s"
-          f" = {per * 1e6:.1f} us/step")
+    print(
+        f"mesh: {mesh.n_nodes} nodes/tooth, {mesh.n_elements} elements, K nnz {k.nnz} (both), "
+        f"{len(model.tie_node)} tie nodes, RK4 limit {model.dt_limit:.3e} s"
+    )
+    print(
+        f"{args.rpm:g} rpm over {math.degrees(span):.2f} deg: {out.steps} steps in {out.wall_time:.2f} s"
+        f" = {per * 1e6:.1f} us/step"
+    )
     r = out.records
-    print(f"  mean iterations per pass (disp/vel/acc, max per record): {r['iter_disp'].mean():.2f}"
-          f" / {r['iter_vel'].mean():.2f} / {r['iter_acc'].mean():.2f}")
+    print(
+        f"  mean iterations per pass (disp/vel/acc, max per record): {r['iter_disp'].mean():.2f}"
+        f" / {r['iter_vel'].mean():.2f} / {r['iter_acc'].mean():.2f}"
+    )
     # --- pieces in isolation, on the final state of the run
     x = model.reference_positions()
     n = 2000
@@ -65,12 +71,10 @@ def main() -> None:
     cres[:2] = 0.3, 0.99
     cnod = np.zeros((2, 3), np.int64)
     cw = np.zeros((2, 3))
-    kernels.contact_geometry(x, model.flank, model.nedge, model.sig, model.n_points, pa, ma, pb,
-                             mb, cres, cnod, cw)
+    kernels.contact_geometry(x, model.flank, model.nedge, model.sig, model.n_points, pa, ma, pb, mb, cres, cnod, cw)
     t0 = time.perf_counter()
     for _ in range(n):
-        kernels.contact_geometry(x, model.flank, model.nedge, model.sig, model.n_points, pa, ma,
-                                 pb, mb, cres, cnod, cw)
+        kernels.contact_geometry(x, model.flank, model.nedge, model.sig, model.n_points, pa, ma, pb, mb, cres, cnod, cw)
     t_search = (time.perf_counter() - t0) / n
     # elastic force (one of four per step)
     nd = 2 * model.n_nodes
@@ -83,13 +87,19 @@ def main() -> None:
     for _ in range(n):
         kernels.elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
     t_force = (time.perf_counter() - t0) / n
-    print(f"  contact search (sampling + 2 splines + search), Python-called: "
-          f"{t_search * 1e6:.1f} us ({t_search / per:.1%} of a step)")
-    print(f"  elastic force (CSR matvec), Python-called: {t_force * 1e6:.1f} us; 4 per step = "
-          f"{4 * t_force / per:.1%} of a step")
+    print(
+        f"  contact search (sampling + 2 splines + search), Python-called: "
+        f"{t_search * 1e6:.1f} us ({t_search / per:.1%} of a step)"
+    )
+    print(
+        f"  elastic force (CSR matvec), Python-called: {t_force * 1e6:.1f} us; 4 per step = "
+        f"{4 * t_force / per:.1%} of a step"
+    )
     rest = 1.0 - (t_search + 4 * t_force) / per
-    print(f"  remainder (multiplier iterations of the three passes, RK4 vector updates, "
-          f"sliding terms, bookkeeping): {rest:.1%}")
+    print(
+        f"  remainder (multiplier iterations of the three passes, RK4 vector updates, "
+        f"sliding terms, bookkeeping): {rest:.1%}"
+    )
     print(f"  peak contact force {r['force_peak'].max():.1f} N")
     # the multiplier passes run inside the compiled step and are not timed separately: their
     # share is at most the remainder above; the direct-solve row below shows what replacing the
@@ -103,13 +113,32 @@ def compare(model, ref, rpm, th2, ths, span):
 
     tr, fr = ref.records["time"], ref.records["force"]
     rows = [("paper_rk4 iterative", 3e-8, ref.steps, ref.wall_time, 0.0, 0.0, fr.max())]
-    dynamics.simulate(model, speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths,
-                      span=1e-4, dt=3e-8, multipliers="direct")
-    d = dynamics.simulate(model, speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths,
-                          span=span, dt=3e-8, record_every=1, multipliers="direct")
+    dynamics.simulate(
+        model, speeds_rpm=rpm, torque=22.25, theta_2=th2, theta_s=ths, span=1e-4, dt=3e-8, multipliers="direct"
+    )
+    d = dynamics.simulate(
+        model,
+        speeds_rpm=rpm,
+        torque=22.25,
+        theta_2=th2,
+        theta_s=ths,
+        span=span,
+        dt=3e-8,
+        record_every=1,
+        multipliers="direct",
+    )
     df = d.records["force"] - fr
-    rows.append(("paper_rk4 direct", 3e-8, d.steps, d.wall_time, np.abs(df).max(),
-                 np.sqrt(np.mean(df**2)), d.records["force"].max()))
+    rows.append(
+        (
+            "paper_rk4 direct",
+            3e-8,
+            d.steps,
+            d.wall_time,
+            np.abs(df).max(),
+            np.sqrt(np.mean(df**2)),
+            d.records["force"].max(),
+        )
+    )
     t0 = time.perf_counter()
     red = reduced.build_reduced(model, 20)
     t_build = time.perf_counter() - t0
@@ -122,15 +151,19 @@ def compare(model, ref, rpm, th2, ths, span):
         o = reduced.simulate_reduced(red, span=span, **kw)
         f = o.records["force"]
         dd = f - np.interp(o.records["time"], tr, fr)
-        rows.append((f"reduced_hht dt={dt:.3g}", dt, o.steps, o.wall_time, np.abs(dd).max(),
-                     np.sqrt(np.mean(dd**2)), f.max()))
-    print(f"\nmethod comparison ({rpm[0]:g} rpm; reduced model build {t_build:.3f} s, "
-          f"not included):")
-    print(f"{'method':28s} {'dt [s]':>9s} {'steps':>7s} {'wall [s]':>9s} {'us/step':>8s} "
-          f"{'speed-up':>8s} {'max|dF| N':>10s} {'RMS dF N':>9s} {'peak N':>8s}")
+        rows.append(
+            (f"reduced_hht dt={dt:.3g}", dt, o.steps, o.wall_time, np.abs(dd).max(), np.sqrt(np.mean(dd**2)), f.max())
+        )
+    print(f"\nmethod comparison ({rpm[0]:g} rpm; reduced model build {t_build:.3f} s, not included):")
+    print(
+        f"{'method':28s} {'dt [s]':>9s} {'steps':>7s} {'wall [s]':>9s} {'us/step':>8s} "
+        f"{'speed-up':>8s} {'max|dF| N':>10s} {'RMS dF N':>9s} {'peak N':>8s}"
+    )
     for name, dt, n, w, dmax, drms, pk in rows:
-        print(f"{name:28s} {dt:9.3g} {n:7d} {w:9.3f} {w / n * 1e6:8.1f} "
-              f"{ref.wall_time / w:8.1f} {dmax:10.3f} {drms:9.3f} {pk:8.1f}")
+        print(
+            f"{name:28s} {dt:9.3g} {n:7d} {w:9.3f} {w / n * 1e6:8.1f} "
+            f"{ref.wall_time / w:8.1f} {dmax:10.3f} {drms:9.3f} {pk:8.1f}"
+        )
 
 
 if __name__ == "__main__":

@@ -41,9 +41,12 @@ def sizes() -> None:
             p = res.to_netcdf(Path(d) / "result.nc")
             size = p.stat().st_size
         mem = sum(v.nbytes for v in res.dataset.variables.values())
-        print(f"4000 rpm, default mesh, every = {every}: {res.dataset.sizes['time']} records, "
-              f"result.nc {size / 1e6:.1f} MB, in memory {mem / 1e6:.1f} MB "
-              f"({time.perf_counter() - t:.1f} s)", flush=True)
+        print(
+            f"4000 rpm, default mesh, every = {every}: {res.dataset.sizes['time']} records, "
+            f"result.nc {size / 1e6:.1f} MB, in memory {mem / 1e6:.1f} MB "
+            f"({time.perf_counter() - t:.1f} s)",
+            flush=True,
+        )
 
 
 def mesh() -> None:
@@ -52,12 +55,15 @@ def mesh() -> None:
         res = run_case({"mesh": {"preset": preset}, "solver": {"dt": dt}})
         ds = res.dataset
         s = {k: v["value"] for k, v in res.summary().items()}
-        print(f"{preset:8s} dt {dt:.1e}: steps {s['steps']}, peak {s['peak_contact_force']:.1f} N, "
-              f"mean single-pair {s['mean_single_pair_force']:.1f} N, DTE p2p "
-              f"{s['dte_peak_to_peak'] * 1e6:.3f} um, mean DTE (single-pair) "
-              f"{_single_mean(ds, 'transmission_error') * 1e6:.3f} um, root stress peak "
-              f"{s['root_stress_peak'] / 1e6:.1f} MPa, energy {s['energy_balance_error']:.4f}, "
-              f"{time.perf_counter() - t:.1f} s", flush=True)
+        print(
+            f"{preset:8s} dt {dt:.1e}: steps {s['steps']}, peak {s['peak_contact_force']:.1f} N, "
+            f"mean single-pair {s['mean_single_pair_force']:.1f} N, DTE p2p "
+            f"{s['dte_peak_to_peak'] * 1e6:.3f} um, mean DTE (single-pair) "
+            f"{_single_mean(ds, 'transmission_error') * 1e6:.3f} um, root stress peak "
+            f"{s['root_stress_peak'] / 1e6:.1f} MPa, energy {s['energy_balance_error']:.4f}, "
+            f"{time.perf_counter() - t:.1f} s",
+            flush=True,
+        )
 
 
 def _single_mean(ds, name):
@@ -74,12 +80,15 @@ def driver() -> None:
             ds = res.dataset
             lost, regained = _losses(ds)
             s = {k: v["value"] for k, v in res.summary().items()}
-            print(f"{speeds[0]:g}/{speeds[1]:g} rpm, driver {drv}: contact lost {lost}, regained "
-                  f"{regained}, impacts {s['impacts']:g}, peak {s['peak_contact_force']:.1f} N "
-                  f"(K_v {s['dynamic_factor']:.3f}), energy balance {s['energy_balance_error']:.4f}"
-                  f", D {float(ds['velocity_pass_loss'][-1]):.3e} J, DTE p2p "
-                  f"{s['dte_peak_to_peak'] * 1e6:.2f} um, root stress peak "
-                  f"{s['root_stress_peak'] / 1e6:.1f} MPa", flush=True)
+            print(
+                f"{speeds[0]:g}/{speeds[1]:g} rpm, driver {drv}: contact lost {lost}, regained "
+                f"{regained}, impacts {s['impacts']:g}, peak {s['peak_contact_force']:.1f} N "
+                f"(K_v {s['dynamic_factor']:.3f}), energy balance {s['energy_balance_error']:.4f}"
+                f", D {float(ds['velocity_pass_loss'][-1]):.3e} J, DTE p2p "
+                f"{s['dte_peak_to_peak'] * 1e6:.2f} um, root stress peak "
+                f"{s['root_stress_peak'] / 1e6:.1f} MPa",
+                flush=True,
+            )
 
 
 def quasi_static() -> None:
@@ -87,8 +96,13 @@ def quasi_static() -> None:
     from rotaflex.reproduce.gear_post import quasi_static_entry
 
     for preset in ("coarse", "default"):
-        res = run_case({"operation": {"speed_rpm": [1000.0, 1000.0], "span_deg": 10.53},
-                        "mesh": {"preset": preset}, "output": {"every": 20}})
+        res = run_case(
+            {
+                "operation": {"speed_rpm": [1000.0, 1000.0], "span_deg": 10.53},
+                "mesh": {"preset": preset},
+                "output": {"every": 20},
+            }
+        )
         with tempfile.TemporaryDirectory() as d:
             entry = quasi_static_entry(res, Path(d), preset)
         for c in entry.checks:

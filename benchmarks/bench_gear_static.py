@@ -23,9 +23,7 @@ from rotaflex.gear.static import (
 )
 
 E, NU, RHO = 210e9, 0.3, 7800.0
-G = GearGeometry(
-    module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048
-)
+G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
 F = 22.25 / G.base_radius
 
 
@@ -45,9 +43,7 @@ def main():
         f"eps={contact_ratio(G, G):.4f}  theta_s={math.degrees(th_s):.3f} deg  "
         f"theta_2={math.degrees(th_2):.3f} deg  form radius={G.form_radius:.6f} m"
     )
-    print(
-        "\nmesh                 elements nodes  min_edge[mm] aspect  dt_RK4[s]  build[ms] K[ms] dt[ms]"
-    )
+    print("\nmesh                 elements nodes  min_edge[mm] aspect  dt_RK4[s]  build[ms] K[ms] dt[ms]")
     for name, kw in (
         ("COARSE", COARSE),
         ("DEFAULT", DEFAULT),
@@ -63,14 +59,10 @@ def main():
             f"{q['max_aspect_ratio']:7.2f}  {dt:.3e}  {tb * 1e3:8.1f} {tk * 1e3:5.1f} {td * 1e3:6.1f}"
         )
     m = build_tooth_mesh(G, **DEFAULT)
-    print(
-        f"  HRZ mass total {lumped_mass(m, RHO).sum() / 2:.6e} kg, min nodal {lumped_mass(m, RHO).min():.3e} kg"
-    )
+    print(f"  HRZ mass total {lumped_mass(m, RHO).sum() / 2:.6e} kg, min nodal {lumped_mass(m, RHO).min():.3e} kg")
 
     radii = np.array([G.form_radius * 1.001, 0.0430, G.pitch_radius, 0.0460, 0.0472])
-    print(
-        "\ntooth compliance along the line of action [um/kN]: structural (centreline point) | load-point"
-    )
+    print("\ntooth compliance along the line of action [um/kN]: structural (centreline point) | load-point")
     print("refine  elements  " + "  ".join(f"r={r * 1e3:.2f}mm" for r in radii))
     for k in (1, 2, 3, 4, 6):
         mk = build_tooth_mesh(G, **{key: k * v for key, v in DEFAULT.items()})
@@ -85,9 +77,7 @@ def main():
 
     print("\nrim depth (modules) vs structural compliance at the pitch radius [um/kN] (sides tied)")
     for rd in (1.0, 2.0, 3.0, 4.0):
-        mk = build_tooth_mesh(
-            G, n_flank=20, n_through=10, n_fillet=4, n_rim=int(4 * rd), rim_depth_coef=rd
-        )
+        mk = build_tooth_mesh(G, n_flank=20, n_through=10, n_fillet=4, n_rim=int(4 * rd), rim_depth_coef=rd)
         c = tooth_compliance(mk, np.array([G.pitch_radius]), E, NU, force=F)
         print(f"  {rd:.0f}: {c.structural[0] * 1e9:.5f}")
 
@@ -119,9 +109,7 @@ def main():
         f"{ms.mesh_stiffness.mean() / iso['k_th_gamma']:.3f}, / c_gamma = {ms.mesh_stiffness.mean() / iso['k_gamma']:.3f}"
     )
 
-    print(
-        "\nroot stress at the 30-deg tangent points, load F at r = 47.2 mm on the right flank [MPa] (left, right)"
-    )
+    print("\nroot stress at the 30-deg tangent points, load F at r = 47.2 mm on the right flank [MPa] (left, right)")
     for k in (1, 2, 3, 4):
         mk = build_tooth_mesh(G, **{key: k * v for key, v in DEFAULT.items()})
         u = solve_static(mk, surface_load(mk, 0.0472, F, 8e-5), E, NU)

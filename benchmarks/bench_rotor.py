@@ -44,10 +44,14 @@ def main() -> None:
             print(f"  {name:34s} {best:6.3f} s")
         with tempfile.TemporaryDirectory() as out:
             t0 = time.perf_counter()
-            subprocess.run([sys.executable, "-m", "rotaflex", "reproduce", "rotor", "--out", out, "-q"],
-                           check=True, capture_output=True)
-            print(f"rotaflex reproduce rotor (cold cache, new process; target <= 30 s): "
-                  f"{time.perf_counter() - t0:.2f} s")
+            subprocess.run(
+                [sys.executable, "-m", "rotaflex", "reproduce", "rotor", "--out", out, "-q"],
+                check=True,
+                capture_output=True,
+            )
+            print(
+                f"rotaflex reproduce rotor (cold cache, new process; target <= 30 s): {time.perf_counter() - t0:.2f} s"
+            )
 
 
 def _timed(fn, *args) -> float:

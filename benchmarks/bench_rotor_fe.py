@@ -20,10 +20,14 @@ RPM = np.pi / 30
 
 def bench_rotor() -> Rotor:
     brg = {"kxx": 1e7, "kyy": 1.5e7, "kxy": 2e5, "kyx": -2e5, "cxx": 2e3, "cyy": 3e3}
-    return Rotor(shaft=(Shaft(outer_diameter=0.06, length=1.2, elements=20),),
-                 disk=(Disk(node=6, width=0.05, outer_diameter=0.3, inner_diameter=0.06),
-                       Disk(node=14, width=0.05, outer_diameter=0.35, inner_diameter=0.06)),
-                 bearing=(Bearing(node=0, **brg), Bearing(node=20, **brg)))
+    return Rotor(
+        shaft=(Shaft(outer_diameter=0.06, length=1.2, elements=20),),
+        disk=(
+            Disk(node=6, width=0.05, outer_diameter=0.3, inner_diameter=0.06),
+            Disk(node=14, width=0.05, outer_diameter=0.35, inner_diameter=0.06),
+        ),
+        bearing=(Bearing(node=0, **brg), Bearing(node=20, **brg)),
+    )
 
 
 def best(fn, repeat=5):
@@ -51,8 +55,10 @@ def main() -> None:
     print(f"build + assemble       best {t_asm[0] * 1e3:7.2f} ms  median {t_asm[1] * 1e3:7.2f} ms")
     print(f"modal at one speed     best {t_modal[0] * 1e3:7.2f} ms  median {t_modal[1] * 1e3:7.2f} ms  (target 20 ms)")
     print(f"Campbell, 50 speeds    best {t_camp[0]:7.3f} s   median {t_camp[1]:7.3f} s   (target 0.5 s)")
-    print(f"Campbell, 50 speeds, 40-mode basis  best {t_camp_r[0]:7.3f} s   median {t_camp_r[1]:7.3f} s   "
-          f"(max relative frequency difference to full: {dr:.1e})")
+    print(
+        f"Campbell, 50 speeds, 40-mode basis  best {t_camp_r[0]:7.3f} s   median {t_camp_r[1]:7.3f} s   "
+        f"(max relative frequency difference to full: {dr:.1e})"
+    )
     print(f"unbalance, 500 speeds  best {t_unb[0]:7.3f} s   median {t_unb[1]:7.3f} s   (target 0.5 s)")
     try:
         import ross  # noqa: F401

@@ -25,8 +25,7 @@ from pathlib import Path
 def _cases(work: int, count: int, **extra):
     from rotaflex.sweep import grid_cases
 
-    return grid_cases({"x": 1.0, "y": 0.5, "work": work, **extra},
-                      {"x": [float(i + 1) for i in range(count)]})
+    return grid_cases({"x": 1.0, "y": 0.5, "work": work, **extra}, {"x": [float(i + 1) for i in range(count)]})
 
 
 def _timed(executor, cases, root: Path, tag: str) -> float:
@@ -48,8 +47,7 @@ def _explain(tag: str, total: float, workers: int) -> str:
     """Mean case time on the worker, and the time not spent in cases (machinery overhead)."""
     times = _timed.case_times[tag]
     busy = sum(times) / workers
-    return (f"[mean case {sum(times) / len(times):.2f} s on its worker; "
-            f"not in cases {total - busy:+.2f} s]")
+    return f"[mean case {sum(times) / len(times):.2f} s on its worker; not in cases {total - busy:+.2f} s]"
 
 
 def _calibrate(seconds: float) -> int:
@@ -96,14 +94,16 @@ def main() -> None:
         pool.shutdown()
     t_pool_cold = _timed(2, _cases(work, 8, n=17), root, "pool2cold")
     print(f"8 equal cases, in this process        : {t_inproc:7.2f} s  (multi-threaded BLAS)")
-    print(f"8 equal cases, 1 worker process       : {t_serial:7.2f} s  (reference) "
-          + _explain("pool1", t_serial, 1))
-    print(f"8 equal cases, 2 processes (warm pool): {t_pool:7.2f} s  efficiency "
-          f"{t_serial / (2 * t_pool):6.1%} " + _explain("pool2", t_pool, 2))
-    print(f"8 equal cases, 2 processes, pool started inside (warm pool start {t_start:.2f} s): "
-          f"{t_pool_cold:7.2f} s  "
-          f"efficiency {t_serial / (2 * t_pool_cold):6.1%} "
-          + _explain("pool2cold", t_pool_cold, 2))
+    print(f"8 equal cases, 1 worker process       : {t_serial:7.2f} s  (reference) " + _explain("pool1", t_serial, 1))
+    print(
+        f"8 equal cases, 2 processes (warm pool): {t_pool:7.2f} s  efficiency "
+        f"{t_serial / (2 * t_pool):6.1%} " + _explain("pool2", t_pool, 2)
+    )
+    print(
+        f"8 equal cases, 2 processes, pool started inside (warm pool start {t_start:.2f} s): "
+        f"{t_pool_cold:7.2f} s  "
+        f"efficiency {t_serial / (2 * t_pool_cold):6.1%} " + _explain("pool2cold", t_pool_cold, 2)
+    )
 
     trivial = _cases(0, 40)
     t_triv_serial = _timed("serial", trivial, root, "triv_serial")
@@ -129,14 +129,17 @@ def main() -> None:
                 t_start = time.perf_counter() - t0
                 t_triv_dask = _timed(ex, _cases(0, 40, n=18), root, "triv_dask")  # warms up
                 t_dask = _timed(ex, _cases(work, 8, n=18), root, "dask")
-            print(f"8 equal cases, Dask LocalCluster 2 workers (start {t_start:.2f} s excluded): "
-                  f"{t_dask:7.2f} s  efficiency {t_serial / (2 * t_dask):6.1%} "
-                  + _explain("dask", t_dask, 2))
+            print(
+                f"8 equal cases, Dask LocalCluster 2 workers (start {t_start:.2f} s excluded): "
+                f"{t_dask:7.2f} s  efficiency {t_serial / (2 * t_dask):6.1%} " + _explain("dask", t_dask, 2)
+            )
             print(f"overhead per case, Dask 2 workers     : {1e3 * t_triv_dask / 40:7.1f} ms")
     print(f"load average after: {os.getloadavg()}")
-    print("A mean case time above the 1-process reference means the workers did not get a full "
-          "core each (CPU shared with other jobs): efficiency is then bounded by the free CPU, "
-          "and 'not in cases' is the sweep machinery's own share.")
+    print(
+        "A mean case time above the 1-process reference means the workers did not get a full "
+        "core each (CPU shared with other jobs): efficiency is then bounded by the free CPU, "
+        "and 'not in cases' is the sweep machinery's own share."
+    )
 
 
 if __name__ == "__main__":

@@ -11,13 +11,18 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def rotaflex(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "rotaflex", *map(str, args)], capture_output=True,
-                          text=True, cwd=cwd, timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "rotaflex", *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=600
+    )
 
 
-@pytest.mark.parametrize("example", sorted(p for p in (ROOT / "examples" / "rotor").glob("*.toml")
-                                            if not p.stem.startswith("fe_")),  # FE verbs: tests/rotor/fe
-                         ids=lambda p: p.stem)
+@pytest.mark.parametrize(
+    "example",
+    sorted(
+        p for p in (ROOT / "examples" / "rotor").glob("*.toml") if not p.stem.startswith("fe_")
+    ),  # FE verbs: tests/rotor/fe
+    ids=lambda p: p.stem,
+)
 def test_rotor_examples_run(example, tmp_path):
     proc = rotaflex("rotor", "simulate", example, "--out", tmp_path, "--quiet")
     expected = 1 if "spherical" in example.stem else 0  # that one stops at its singularity by design

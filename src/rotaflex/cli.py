@@ -63,8 +63,10 @@ def reproduce(
         names = list(REPRODUCE) if target == "all" else [target]
         t0 = time.perf_counter()
         report = run_reproduce(names, out, fast=fast, progress=not quiet)
-        typer.echo(f"{report['passed']}/{report['checks']} checks passed in "
-                   f"{time.perf_counter() - t0:.1f} s; report: {out / 'report.md'}")
+        typer.echo(
+            f"{report['passed']}/{report['checks']} checks passed in "
+            f"{time.perf_counter() - t0:.1f} s; report: {out / 'report.md'}"
+        )
         if report["passed"] < report["checks"]:
             typer.echo("some checks did not pass: see the report", err=True)
 
@@ -75,17 +77,22 @@ def reproduce(
 def sweep(
     config: Annotated[Path, typer.Argument(help="TOML case file with a top-level domain key.")],
     out: Out,
-    vary: Annotated[list[str], typer.Option(
-        "--vary", "--param", "-p",
-        help="KEY=START:STOP:N or KEY=v1,v2,...; KEY is a dotted config path. Repeat for a grid.",
-    )],
-    jobs: Annotated[int | None, typer.Option(
-        "--jobs", "-j", help="Local worker processes (default: one per core; 0: serial here)."
-    )] = None,
-    scheduler: Annotated[str | None, typer.Option(
-        "--scheduler", help="Dask scheduler address tcp://host:port, or dask-local.")] = None,
-    retries: Annotated[int, typer.Option(
-        "--retries", help="Re-runs of a case whose worker died.", min=0)] = 2,
+    vary: Annotated[
+        list[str],
+        typer.Option(
+            "--vary",
+            "--param",
+            "-p",
+            help="KEY=START:STOP:N or KEY=v1,v2,...; KEY is a dotted config path. Repeat for a grid.",
+        ),
+    ],
+    jobs: Annotated[
+        int | None, typer.Option("--jobs", "-j", help="Local worker processes (default: one per core; 0: serial here).")
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", help="Dask scheduler address tcp://host:port, or dask-local.")
+    ] = None,
+    retries: Annotated[int, typer.Option("--retries", help="Re-runs of a case whose worker died.", min=0)] = 2,
     no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip PNG figures.")] = False,
     quiet: Quiet = False,
     debug: Debug = False,
@@ -106,19 +113,22 @@ def sweep(
         plan(cfg, vary)  # validate everything before starting workers
         with executor_for(jobs, scheduler) as executor, logging_redirect_tqdm():
             try:
-                res = sweep_config(cfg, vary, out, executor, progress=not quiet,
-                                   max_retries=retries, figures=not no_figures)
+                res = sweep_config(
+                    cfg, vary, out, executor, progress=not quiet, max_retries=retries, figures=not no_figures
+                )
             except KeyboardInterrupt:
-                typer.echo(f"interrupted: finished cases are in {out / 'cases'}; run the same "
-                           "command again to compute only the missing ones", err=True)
+                typer.echo(
+                    f"interrupted: finished cases are in {out / 'cases'}; run the same "
+                    "command again to compute only the missing ones",
+                    err=True,
+                )
                 raise typer.Exit(130) from None
         typer.echo(f"{res.summary_text()} -> {out / 'sweep.nc'}")
         for rec in res.failed[:10]:
             line = f"  failed {rec.id} {rec.params}: {rec.status} {rec.error}"
             typer.echo(line.rstrip(), err=True)
         if res.n_failed:
-            typer.echo(f"{res.n_failed} of {res.n_cases} cases failed: see {out / 'summary.csv'}",
-                       err=True)
+            typer.echo(f"{res.n_failed} of {res.n_cases} cases failed: see {out / 'summary.csv'}", err=True)
             raise typer.Exit(1)
 
     guarded(go, debug)

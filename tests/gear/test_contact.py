@@ -23,7 +23,7 @@ def test_two_circles_distance_and_normal():
     # A: circle radius 1 centred at origin, arc around +x; B: radius 0.5 centred at (1.6, 0.1)
     ca, ra = np.array([0.0, 0.0]), 1.0
     cb, rb = np.array([1.6, 0.1]), 0.5
-    pa = arc(ca, ra, -0.6, 0.6)            # counter-clockwise: outward normal = tangent turned -90
+    pa = arc(ca, ra, -0.6, 0.6)  # counter-clockwise: outward normal = tangent turned -90
     pb = arc(cb, rb, np.pi + 0.7, np.pi - 0.7)  # clockwise around B: outward = tangent turned +90
     pair = search(pa, pb, sig_a=-1.0, sig_b=1.0)
     d = np.linalg.norm(cb - ca)
@@ -67,8 +67,8 @@ def test_sliding_terms_against_finite_differences(case):
         pb = lb @ qb.T + cb
         va = wa * np.column_stack([-(pa - ca)[:, 1], (pa - ca)[:, 0]])
         vb = wb * np.column_stack([-(pb - cb)[:, 1], (pb - cb)[:, 0]])
-        aa = -wa**2 * (pa - ca)
-        ab = -wb**2 * (pb - cb)
+        aa = -(wa**2) * (pa - ca)
+        ab = -(wb**2) * (pb - cb)
         return pa, pb, va, vb, aa, ab
 
     def s_of(t):

@@ -69,12 +69,8 @@ def test_shape_functions_partition_of_unity_and_kronecker():
     # derivatives against finite differences
     h = 1e-6
     d = shape_derivatives(p[:, 0], p[:, 1])
-    fd_xi = (shape_functions(p[:, 0] + h, p[:, 1]) - shape_functions(p[:, 0] - h, p[:, 1])) / (
-        2 * h
-    )
-    fd_eta = (shape_functions(p[:, 0], p[:, 1] + h) - shape_functions(p[:, 0], p[:, 1] - h)) / (
-        2 * h
-    )
+    fd_xi = (shape_functions(p[:, 0] + h, p[:, 1]) - shape_functions(p[:, 0] - h, p[:, 1])) / (2 * h)
+    fd_eta = (shape_functions(p[:, 0], p[:, 1] + h) - shape_functions(p[:, 0], p[:, 1] - h)) / (2 * h)
     assert np.allclose(d[..., 0], fd_xi, atol=1e-8) and np.allclose(d[..., 1], fd_eta, atol=1e-8)
 
 
@@ -112,9 +108,7 @@ def test_patch_test_linear_field_exact():
 
 def cantilever_tip_deflection(n):
     length, h, t, load = 1.0, 0.1, 0.01, 1000.0
-    mesh, gx, gy, ids = grid_mesh(
-        np.linspace(0, length, 10 * n + 1), np.linspace(-h / 2, h / 2, n + 1), t
-    )
+    mesh, gx, gy, ids = grid_mesh(np.linspace(0, length, 10 * n + 1), np.linspace(-h / 2, h / 2, n + 1), t)
     k = stiffness_matrix(mesh, E, NU).tocsc()
     x, y = mesh.nodes[:, 0], mesh.nodes[:, 1]
     clamp = np.flatnonzero(np.isclose(x, 0))

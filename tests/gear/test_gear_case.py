@@ -36,6 +36,5 @@ def test_run_case_result_and_save(tmp_path):
     assert (tmp_path / "contact_force.png").exists()
     back = load_result(tmp_path / "result.nc")
     assert back.kind == "gear"
-    assert float(back.dataset["peak_contact_force"]) == pytest.approx(
-        float(ds["peak_contact_force"]))
+    assert float(back.dataset["peak_contact_force"]) == pytest.approx(float(ds["peak_contact_force"]))
     assert len(paths) >= 3

@@ -19,8 +19,7 @@ PAPER_CASES = ("4000rpm", "20000rpm", "4000_4040rpm", "20000_20200rpm")
 
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.stem)
 def test_every_gear_example_is_a_valid_config(path):
-    cfg = from_mapping(GearCaseConfig, {k: v for k, v in tomllib.loads(path.read_text()).items()
-                                        if k != "domain"})
+    cfg = from_mapping(GearCaseConfig, {k: v for k, v in tomllib.loads(path.read_text()).items() if k != "domain"})
     assert cfg.operation.torque == pytest.approx(22.25)
 
 
@@ -45,13 +44,21 @@ def test_paper_case_runs_from_the_cli(name, tmp_path):
     assert res.exit_code == 0, res.output
     assert "peak contact force" in res.output and "energy balance" in res.output
     ds = xr.open_dataset(out / "result.nc")
-    for name_ in ("contact_force", "rotation_angle", "gap", "contact_point", "tie_multiplier",
-                  "strain_energy", "kinetic_energy", "external_work", "transmission_error"):
+    for name_ in (
+        "contact_force",
+        "rotation_angle",
+        "gap",
+        "contact_point",
+        "tie_multiplier",
+        "strain_energy",
+        "kinetic_energy",
+        "external_work",
+        "transmission_error",
+    ):
         assert name_ in ds, name_
     assert ds["rotation_angle"].sizes["gear"] == 2
     # the run covered the requested 2 deg of gear A's rotation
-    assert np.degrees(float(ds["rotation_angle"].sel(gear="A")[-1])) == pytest.approx(2.0,
-                                                                                     abs=0.05)
+    assert np.degrees(float(ds["rotation_angle"].sel(gear="A")[-1])) == pytest.approx(2.0, abs=0.05)
     assert np.all(np.isfinite(ds["contact_force"].values))
     snaps = sorted(out.glob("snapshot_*.vtu"))
     assert len(snaps) == 2
@@ -68,12 +75,15 @@ def test_bad_mesh_preset_is_one_clear_line(tmp_path):
     assert not (tmp_path / "o" / "result.nc").exists()
 
 
-@pytest.mark.parametrize("extra, field", [
-    ('[model]\nteeth_per_gear = 2\n[solver]\nmethod = "reduced_hht"\n', "solver.method"),
-    ('[model]\nteeth_per_gear = 3\n[solver]\nmultipliers = "direct"\n', "solver.multipliers"),
-    ('[model]\nteeth_per_gear = 2\n[operation]\ndriver = "B"\n', "operation.driver"),
-    ('[solver]\nmethod = "reduced_hht"\nrestitution = 0.5\n', "solver.restitution"),
-])
+@pytest.mark.parametrize(
+    "extra, field",
+    [
+        ('[model]\nteeth_per_gear = 2\n[solver]\nmethod = "reduced_hht"\n', "solver.method"),
+        ('[model]\nteeth_per_gear = 3\n[solver]\nmultipliers = "direct"\n', "solver.multipliers"),
+        ('[model]\nteeth_per_gear = 2\n[operation]\ndriver = "B"\n', "operation.driver"),
+        ('[solver]\nmethod = "reduced_hht"\nrestitution = 0.5\n', "solver.restitution"),
+    ],
+)
 def test_unsupported_option_combinations_are_one_clear_line(extra, field, tmp_path):
     cfg = tmp_path / "case.toml"
     cfg.write_text('domain = "gear"\n[mesh]\npreset = "coarse"\n' + extra)

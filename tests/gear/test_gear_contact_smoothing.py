@@ -9,8 +9,11 @@ from rotaflex.gear.case import run_case
 
 #: Fig. 11 with the faster gear driving, up to just past the window (7.55-7.75 deg of the
 #: driver) where the paper's point contact alternates between two common-normal roots
-CFG = {"operation": {"speed_rpm": [20000.0, 20200.0], "driver": "B", "span_deg": 8.0},
-       "mesh": {"preset": "default"}, "output": {"every": 1}}
+CFG = {
+    "operation": {"speed_rpm": [20000.0, 20200.0], "driver": "B", "span_deg": 8.0},
+    "mesh": {"preset": "default"},
+    "output": {"every": 1},
+}
 
 
 def _run(smoothing):
@@ -75,7 +78,6 @@ def test_smoothing_weights_reproduce_the_undeformed_flank():
 
 def test_smoothing_resolution_is_validated():
     with pytest.raises(InputError, match="contact_smoothing"):
-        run_case({"mesh": {"preset": "coarse", "n_points": 10, "contact_smoothing": 9},
-                  "operation": {"span_deg": 0.1}})
+        run_case({"mesh": {"preset": "coarse", "n_points": 10, "contact_smoothing": 9}, "operation": {"span_deg": 0.1}})
     with pytest.raises(InputError, match="contact_smoothing"):
         run_case({"mesh": {"contact_smoothing": 12}, "solver": {"method": "reduced_hht"}})

@@ -15,11 +15,11 @@ DT = 3e-8
 
 @pytest.fixture(scope="module")
 def model():
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                     root_radius=0.04048)
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
     m = build_tooth_mesh(g, **COARSE)
-    mod = dynamics.build_model(g, g, m, m, youngs_modulus=210e9, poisson_ratio=0.3,
-                               density=7800.0, inertia=(2.965e-4, 2.965e-4))
+    mod = dynamics.build_model(
+        g, g, m, m, youngs_modulus=210e9, poisson_ratio=0.3, density=7800.0, inertia=(2.965e-4, 2.965e-4)
+    )
     return g, mod
 
 
@@ -63,8 +63,9 @@ def test_direct_pass_solves_the_complementarity_problem(model, pas):
         e0[-1] = s_sign * 1e-8
         mu = np.zeros(2 * nt + 1)
         dmu = np.zeros_like(mu)
-        direct_pass(pas + 1, e0, mu, -1.0, packed[pas], perm, mod.tie_gear, bvec, ccol, 1e-14,
-                    dmu, np.zeros((6, 2 * nt + 1)))
+        direct_pass(
+            pas + 1, e0, mu, -1.0, packed[pas], perm, mod.tie_gear, bvec, ccol, 1e-14, dmu, np.zeros((6, 2 * nt + 1))
+        )
         e = e0 + c @ dmu
         # ties exact; contact either closed with p < 0 or open with p = 0 and s <= 0
         assert np.max(np.abs(e[:-1])) < 1e-12 * np.max(np.abs(e0))
@@ -87,9 +88,17 @@ def test_direct_equals_iterative_on_a_short_span(model):
     ths, th2 = contact_angles(g, g)
     outs = {}
     for mode in ("iterative", "direct"):
-        outs[mode] = dynamics.simulate(mod, speeds_rpm=(4000, 4000), torque=22.25, theta_2=th2,
-                                       theta_s=ths, span=math.radians(1.5), dt=DT,
-                                       record_every=5, multipliers=mode)
+        outs[mode] = dynamics.simulate(
+            mod,
+            speeds_rpm=(4000, 4000),
+            torque=22.25,
+            theta_2=th2,
+            theta_s=ths,
+            span=math.radians(1.5),
+            dt=DT,
+            record_every=5,
+            multipliers=mode,
+        )
     a, b = outs["iterative"].records, outs["direct"].records
     assert np.max(a["force"]) > 50.0  # contact is loaded
     # 1e-12 m of constraint tolerance x contact stiffness ~1e8 N/m x amplification: 0.1 N bound

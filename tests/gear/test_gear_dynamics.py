@@ -19,25 +19,33 @@ def cross(a, b):
 
 @pytest.fixture(scope="module")
 def model():
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                     root_radius=0.04048)
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
     m = build_tooth_mesh(g, **COARSE)
-    mod = dynamics.build_model(g, g, m, m, youngs_modulus=210e9, poisson_ratio=0.3,
-                               density=7800.0, inertia=(2.965e-4, 2.965e-4))
+    mod = dynamics.build_model(
+        g, g, m, m, youngs_modulus=210e9, poisson_ratio=0.3, density=7800.0, inertia=(2.965e-4, 2.965e-4)
+    )
     return g, mod
 
 
 def sim(model, speeds, torque=TAU0, span_deg=1.0, every=10, **kw):
     g, mod = model
     ths, th2 = contact_angles(g, g)
-    return dynamics.simulate(mod, speeds_rpm=speeds, torque=torque, theta_2=th2, theta_s=ths,
-                             span=math.radians(span_deg), dt=3e-8, record_every=every, **kw)
+    return dynamics.simulate(
+        mod,
+        speeds_rpm=speeds,
+        torque=torque,
+        theta_2=th2,
+        theta_s=ths,
+        span=math.radians(span_deg),
+        dt=3e-8,
+        record_every=every,
+        **kw,
+    )
 
 
 def balance(out):
     r = out.records
-    return (r["kinetic_energy"] + r["strain_energy"] - r["external_work"]
-            + r["velocity_pass_loss"] - out.initial_energy)
+    return r["kinetic_energy"] + r["strain_energy"] - r["external_work"] + r["velocity_pass_loss"] - out.initial_energy
 
 
 def test_initial_placement_touches_at_start_of_contact(model):
@@ -65,8 +73,9 @@ def test_initial_placement_touches_at_start_of_contact(model):
 def test_dt_above_stability_limit_is_refused(model):
     g, mod = model
     with pytest.raises(InputError, match="stability limit"):
-        dynamics.simulate(mod, speeds_rpm=(4000, 4000), torque=TAU0, theta_2=0.14, theta_s=0.37,
-                          span=0.01, dt=2 * mod.dt_limit)
+        dynamics.simulate(
+            mod, speeds_rpm=(4000, 4000), torque=TAU0, theta_2=0.14, theta_s=0.37, span=0.01, dt=2 * mod.dt_limit
+        )
 
 
 def test_quasi_static_limit_and_torque_ramp(model):
@@ -116,7 +125,7 @@ def test_separated_gears_conserve_energy_and_open_gap(model):
     # gap opens at the relative base-circle speed
     dw = (4100.0 - 4000.0) * 2 * math.pi / 60
     t = r["time"]
-    slope = np.polyfit(t[len(t) // 2:], r["gap"][len(t) // 2:], 1)[0]
+    slope = np.polyfit(t[len(t) // 2 :], r["gap"][len(t) // 2 :], 1)[0]
     assert abs(slope / (dw * g.base_radius) - 1.0) < 0.05
 
 

@@ -15,11 +15,11 @@ TAU0 = 22.25
 
 @pytest.fixture(scope="module")
 def setup():
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                     root_radius=0.04048)
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
     m = build_tooth_mesh(g, **COARSE)
-    mod = dynamics.build_model(g, g, m, m, youngs_modulus=210e9, poisson_ratio=0.3,
-                               density=7800.0, inertia=(2.965e-4, 2.965e-4))
+    mod = dynamics.build_model(
+        g, g, m, m, youngs_modulus=210e9, poisson_ratio=0.3, density=7800.0, inertia=(2.965e-4, 2.965e-4)
+    )
     red = reduced.build_reduced(mod, 20)
     ths, th2 = contact_angles(g, g)
     return g, mod, red, ths, th2
@@ -27,15 +27,21 @@ def setup():
 
 def run(setup, speeds, span_deg, dt, **kw):
     g, mod, red, ths, th2 = setup
-    return reduced.simulate_reduced(red, speeds_rpm=speeds, torque=kw.pop("torque", TAU0),
-                                    theta_2=th2, theta_s=ths, span=math.radians(span_deg), dt=dt,
-                                    **kw)
+    return reduced.simulate_reduced(
+        red,
+        speeds_rpm=speeds,
+        torque=kw.pop("torque", TAU0),
+        theta_2=th2,
+        theta_s=ths,
+        span=math.radians(span_deg),
+        dt=dt,
+        **kw,
+    )
 
 
 def balance(out):
     r = out.records
-    return (r["kinetic_energy"] + r["strain_energy"] - r["external_work"]
-            + r["velocity_pass_loss"] - out.initial_energy)
+    return r["kinetic_energy"] + r["strain_energy"] - r["external_work"] + r["velocity_pass_loss"] - out.initial_energy
 
 
 def test_reduction_is_exact_in_statics(setup):
@@ -62,8 +68,16 @@ def test_reduction_is_exact_in_statics(setup):
 
 def test_force_matches_paper_rk4_on_a_coarse_short_case(setup):
     g, mod, red, ths, th2 = setup
-    ref = dynamics.simulate(mod, speeds_rpm=(4000, 4000), torque=TAU0, theta_2=th2, theta_s=ths,
-                            span=math.radians(3.0), dt=3e-8, record_every=1)
+    ref = dynamics.simulate(
+        mod,
+        speeds_rpm=(4000, 4000),
+        torque=TAU0,
+        theta_2=th2,
+        theta_s=ths,
+        span=math.radians(3.0),
+        dt=3e-8,
+        record_every=1,
+    )
     out = run(setup, (4000, 4000), 3.0, 2e-6)
     assert out.steps < ref.steps / 50
     fi = np.interp(out.records["time"], ref.records["time"], ref.records["force"])

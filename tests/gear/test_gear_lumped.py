@@ -23,8 +23,7 @@ def coarse_pair():
 
 def test_lumped_quasi_static_single_pair_force_is_tau_over_rb(coarse_pair):
     _, pair, ths, th2 = coarse_pair
-    out = simulate_lumped(pair, speeds_rpm=[100.0, 100.0], torque=22.25, theta_2=th2, theta_s=ths,
-                          span=ths)
+    out = simulate_lumped(pair, speeds_rpm=[100.0, 100.0], torque=22.25, theta_2=th2, theta_s=ths, span=ths)
     single = (out["angle_A"] > th2 + 0.2 * (ths - 2 * th2)) & (out["angle_A"] < ths - th2 - 0.2 * (ths - 2 * th2))
     assert abs(out["contact_force"][single].mean() / NOMINAL - 1) < 2e-3
     # the mesh spring is 1e8 N/m order: a tooth pair of this size (ISO 6336 c' ~ 14 N/(mm um) x b)
@@ -34,13 +33,11 @@ def test_lumped_quasi_static_single_pair_force_is_tau_over_rb(coarse_pair):
 
 def test_fe_contact_force_matches_lumped_model_at_4000rpm(coarse_pair):
     _, pair, ths, th2 = coarse_pair
-    res = run_case({"mesh": {"preset": "coarse"}, "operation": {"speed_rpm": [4000.0, 4000.0]},
-                    "output": {"every": 5}})
+    res = run_case({"mesh": {"preset": "coarse"}, "operation": {"speed_rpm": [4000.0, 4000.0]}, "output": {"every": 5}})
     ds = res.dataset
     th = ds["rotation_angle"].sel(gear="A").values
     force = ds["contact_force"].values
-    lump = simulate_lumped(pair, speeds_rpm=[4000.0, 4000.0], torque=22.25, theta_2=th2, theta_s=ths,
-                           span=ths)
+    lump = simulate_lumped(pair, speeds_rpm=[4000.0, 4000.0], torque=22.25, theta_2=th2, theta_s=ths, span=ths)
     ref = np.interp(th, lump["angle_A"], lump["contact_force"])
     # measured: peak 624.4 N (FE) vs 622.1 N (lumped), RMS difference 5.1 N over the span
     assert abs(force.max() / lump["contact_force"].max() - 1) < 0.02

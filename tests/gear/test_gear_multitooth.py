@@ -17,8 +17,7 @@ KW = dict(youngs_modulus=210e9, poisson_ratio=0.3, density=7800.0, inertia=(2.96
 
 @pytest.fixture(scope="module")
 def gear():
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                     root_radius=0.04048)
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
     return g, build_tooth_mesh(g, **COARSE)
 
 
@@ -26,8 +25,16 @@ def test_one_pair_kernel_reproduces_single_tooth_solver_bitwise(gear):
     """The multi-pair kernel with one pair and the Fig. 7 ramps is the single-pair solver."""
     g, m = gear
     ths, th2 = contact_angles(g, g)
-    kw = dict(speeds_rpm=(4000, 4000), torque=TAU0, theta_2=th2, theta_s=ths,
-              span=math.radians(1.0), dt=3e-8, record_every=10, n_accel=3)
+    kw = dict(
+        speeds_rpm=(4000, 4000),
+        torque=TAU0,
+        theta_2=th2,
+        theta_s=ths,
+        span=math.radians(1.0),
+        dt=3e-8,
+        record_every=10,
+        n_accel=3,
+    )
     o1 = dynamics.simulate(dynamics.build_model(g, g, m, m, **KW), **kw)
     mm = multitooth.build_multi_model(g, m, 1, **KW)
     o2 = multitooth.simulate_multi(mm, torque_mode=0, window=None, **kw)
@@ -70,9 +77,16 @@ def test_two_teeth_entry_forces_energy_and_constraints(gear):
     ths, th2 = contact_angles(g, g)
     mm = multitooth.build_multi_model(g, m, 2, start_angle=math.radians(-0.5), **KW)
     multitooth.static_preload(mm, TAU0, 210e9, 0.3, ths)
-    out = multitooth.simulate_multi(mm, speeds_rpm=(4000, 4000), torque=TAU0, theta_2=th2,
-                                    theta_s=ths, span=math.radians(2.3), dt=3e-8,
-                                    record_every=10)
+    out = multitooth.simulate_multi(
+        mm,
+        speeds_rpm=(4000, 4000),
+        torque=TAU0,
+        theta_2=th2,
+        theta_s=ths,
+        span=math.radians(2.3),
+        dt=3e-8,
+        record_every=10,
+    )
     r, pr = out.records, out.pair_records
     nominal = TAU0 / g.base_radius
     f = pr["force"]
@@ -80,8 +94,7 @@ def test_two_teeth_entry_forces_energy_and_constraints(gear):
     assert np.max(f[:, 1]) > 0.2 * nominal  # the entering pair takes its share
     assert f[-1, 1] > 0.1 * nominal and f[-1, 0] > 0.1 * nominal  # two-pair zone
     assert abs(np.mean(f.sum(axis=1)) / nominal - 1) < 0.1
-    bal = (r["kinetic_energy"] + r["strain_energy"] - r["external_work"]
-           + r["velocity_pass_loss"] - out.initial_energy)
+    bal = r["kinetic_energy"] + r["strain_energy"] - r["external_work"] + r["velocity_pass_loss"] - out.initial_energy
     assert np.max(np.abs(bal)) < 0.02 * np.max(r["strain_energy"])
     dt = 3e-8
     assert np.max(r["tie_residual"]) <= 1e-12 * (1 + 1e-9)
@@ -92,8 +105,12 @@ def test_two_teeth_entry_forces_energy_and_constraints(gear):
 
 
 def test_run_case_three_teeth_and_bad_inputs(tmp_path):
-    cfg = {"model": {"teeth_per_gear": 3}, "mesh": {"preset": "coarse"},
-           "operation": {"span_deg": 0.3}, "output": {"every": 10}}
+    cfg = {
+        "model": {"teeth_per_gear": 3},
+        "mesh": {"preset": "coarse"},
+        "operation": {"span_deg": 0.3},
+        "output": {"every": 10},
+    }
     res = run_case(cfg)
     ds = res.dataset
     assert ds["contact_force"].dims == ("time", "pair") and ds.sizes["pair"] == 3

@@ -18,15 +18,15 @@ E, NU = 210e9, 0.3
 
 @pytest.fixture(scope="module")
 def gear():
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                     root_radius=0.04048)
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
     return g, build_tooth_mesh(g, **COARSE)
 
 
 def _model(gear):
     g, m = gear
-    return dynamics.build_model(g, g, m, m, youngs_modulus=E, poisson_ratio=NU, density=7800.0,
-                                inertia=(2.965e-4, 2.965e-4))
+    return dynamics.build_model(
+        g, g, m, m, youngs_modulus=E, poisson_ratio=NU, density=7800.0, inertia=(2.965e-4, 2.965e-4)
+    )
 
 
 def test_quasi_static_dte_and_root_stress_match_static_fe(gear):
@@ -37,12 +37,19 @@ def test_quasi_static_dte_and_root_stress_match_static_fe(gear):
     mod = _model(gear)
     ths, th2 = contact_angles(g, g)
     probe = post.root_stress_probe(mod, E, NU)
-    out = dynamics.simulate(mod, speeds_rpm=(4000.0, 4000.0), torque=22.25, theta_2=th2,
-                            theta_s=ths, span=math.radians(9.6), dt=3e-8, record_every=20,
-                            record_nodes=probe.nodes)
+    out = dynamics.simulate(
+        mod,
+        speeds_rpm=(4000.0, 4000.0),
+        torque=22.25,
+        theta_2=th2,
+        theta_s=ths,
+        span=math.radians(9.6),
+        dt=3e-8,
+        record_every=20,
+        record_nodes=probe.nodes,
+    )
     r = out.records
-    sig = post.root_stress_history(mod, probe, out.node_positions,
-                                   np.column_stack([r["phi_A"], r["phi_B"]]))
+    sig = post.root_stress_history(mod, probe, out.node_positions, np.column_stack([r["phi_A"], r["phi_B"]]))
     rb = g.base_radius
     dte = post.transmission_error(r["phi_A"], -r["phi_B"], rb, rb)
     picks = np.nonzero(r["phi_A"] > th2 + math.radians(0.5))[0][::8]
@@ -75,9 +82,17 @@ def _impact(gear, e, dt=1e-8):
     g, _ = gear
     mod = _model(gear)
     mod.theta0[1] -= 0.05e-6 / g.base_radius  # open the initial contact
-    out = dynamics.simulate(mod, speeds_rpm=(4000.0, 3990.0), torque=0.0, theta_2=0.14,
-                            theta_s=0.37, span=math.radians(0.05), dt=dt, record_every=1,
-                            restitution=e)
+    out = dynamics.simulate(
+        mod,
+        speeds_rpm=(4000.0, 3990.0),
+        torque=0.0,
+        theta_2=0.14,
+        theta_s=0.37,
+        span=math.radians(0.05),
+        dt=dt,
+        record_every=1,
+        restitution=e,
+    )
     r = out.records
     k = int(np.argmax(r["force_disp"] > 0.0))  # first step with a contact force
     assert k > 5 and np.all(r["force_disp"][:k] == 0.0)
@@ -89,8 +104,9 @@ def _impact(gear, e, dt=1e-8):
         nodes, w = np.empty(3, np.int64), np.empty(3)
         flank_weights(mod.flank[gi], int(mod.nedge[gi]), float(s), nodes, w)
         inv_m += np.sum(w**2 * mod.minv[nodes])
-    balance = (r["kinetic_energy"] + r["strain_energy"] - r["external_work"]
-               + r["velocity_pass_loss"] - out.initial_energy)
+    balance = (
+        r["kinetic_energy"] + r["strain_energy"] - r["external_work"] + r["velocity_pass_loss"] - out.initial_energy
+    )
     return v0, v1, loss, 0.5 * v0**2 / inv_m, balance[k - 1 : k + 1], r
 
 
@@ -117,21 +133,24 @@ def test_driver_sign_logic_and_mirror(gear):
     driver B is the mirror image of driver A with the speeds swapped."""
     from rotaflex.gear.case import run_case
 
-    base = {"operation": {"span_deg": 3.0, "speed_rpm": [4000.0, 4000.0]},
-            "mesh": {"preset": "coarse"}, "output": {"every": 10}}
+    base = {
+        "operation": {"span_deg": 3.0, "speed_rpm": [4000.0, 4000.0]},
+        "mesh": {"preset": "coarse"},
+        "output": {"every": 10},
+    }
     a = run_case(base).dataset
     b = run_case({**base, "operation": {**base["operation"], "driver": "B"}}).dataset
     late = slice(-20, None)
     assert np.all(a["transmission_error"].values[late] > 0.5e-6)
     assert np.all(b["transmission_error"].values[late] < -0.5e-6)
     np.testing.assert_allclose(b["transmission_error"], -a["transmission_error"], atol=1e-12)
-    np.testing.assert_allclose(b["rotation_angle"].sel(gear="B"),
-                               a["rotation_angle"].sel(gear="A"), atol=1e-14)
+    np.testing.assert_allclose(b["rotation_angle"].sel(gear="B"), a["rotation_angle"].sel(gear="A"), atol=1e-14)
     np.testing.assert_allclose(b["root_stress"].sel(gear="A"), a["root_stress"].sel(gear="B"))
     # contact point: mirrored about y = a/2, on A's side of the pitch point at the start
     cen = float(np.linalg.norm(_model(gear).centres[1]))
-    np.testing.assert_allclose(b["contact_point"].values[..., 1],
-                               cen - a["contact_point"].values[..., ::-1, 1], atol=1e-12)
+    np.testing.assert_allclose(
+        b["contact_point"].values[..., 1], cen - a["contact_point"].values[..., ::-1, 1], atol=1e-12
+    )
     assert b["torque"].attrs["long_name"].endswith("drive on B)")
     speeds = {"operation": {**base["operation"], "speed_rpm": [4000.0, 4040.0]}}
     c = run_case({**base, **speeds, "operation": {**speeds["operation"], "driver": "B"}})
@@ -142,8 +161,7 @@ def test_driver_sign_logic_and_mirror(gear):
 def test_summary_has_dte_and_root_stress(gear):
     from rotaflex.gear.case import run_case
 
-    res = run_case({"operation": {"span_deg": 0.5}, "mesh": {"preset": "coarse"},
-                    "output": {"every": 5}})
+    res = run_case({"operation": {"span_deg": 0.5}, "mesh": {"preset": "coarse"}, "output": {"every": 5}})
     s = res.summary()
     ds = res.dataset
     assert s["dte_peak_to_peak"]["unit"] == "m"
@@ -151,8 +169,7 @@ def test_summary_has_dte_and_root_stress(gear):
     assert s["root_stress_peak"]["value"] == pytest.approx(float(ds["root_stress"].max()))
     assert ds["root_stress"].dims == ("time", "gear")
     assert "transmission_error" in res.plot() and "root_stress" in res.plot()
-    off = run_case({"operation": {"span_deg": 0.2}, "mesh": {"preset": "coarse"},
-                    "output": {"root_stress": False}})
+    off = run_case({"operation": {"span_deg": 0.2}, "mesh": {"preset": "coarse"}, "output": {"root_stress": False}})
     assert "root_stress" not in off.dataset
 
 
@@ -163,11 +180,14 @@ def test_sweep_gear_figure_draws_dte_panel():
 
     speed = np.array([2000.0, 4000.0, 8000.0])
     ds = xr.Dataset(
-        {"dynamic_factor": ("operation.speed_rpm", [1.1, 1.2, 1.5], {"units": "1"}),
-         "dte_peak_to_peak": ("operation.speed_rpm", [2e-6, 3e-6, 5e-6], {"units": "m"}),
-         "root_stress_peak": ("operation.speed_rpm", [7e7, 8e7, 9e7], {"units": "Pa"})},
+        {
+            "dynamic_factor": ("operation.speed_rpm", [1.1, 1.2, 1.5], {"units": "1"}),
+            "dte_peak_to_peak": ("operation.speed_rpm", [2e-6, 3e-6, 5e-6], {"units": "m"}),
+            "root_stress_peak": ("operation.speed_rpm", [7e7, 8e7, 9e7], {"units": "Pa"}),
+        },
         coords={"operation.speed_rpm": ("operation.speed_rpm", speed, {"units": "rpm"})},
-        attrs={"base_config": json.dumps({}), "swept": "[]"})
+        attrs={"base_config": json.dumps({}), "swept": "[]"},
+    )
     fig = gear_figures(ds)["gear_speed_sweep"]
     axes = [ax for ax in fig.axes if ax.get_ylabel()]
     labels = [ax.get_ylabel() for ax in axes]
@@ -184,9 +204,17 @@ def test_recording_fillet_nodes_does_not_change_the_trajectory(gear):
     ths, th2 = contact_angles(g, g)
     runs = []
     for nodes in (None, [0, 1]):
-        out = dynamics.simulate(_model(gear), speeds_rpm=(4000.0, 4040.0), torque=22.25,
-                                theta_2=th2, theta_s=ths, span=math.radians(2.0), dt=3e-8,
-                                record_every=10, record_nodes=nodes)
+        out = dynamics.simulate(
+            _model(gear),
+            speeds_rpm=(4000.0, 4040.0),
+            torque=22.25,
+            theta_2=th2,
+            theta_s=ths,
+            span=math.radians(2.0),
+            dt=3e-8,
+            record_every=10,
+            record_nodes=nodes,
+        )
         runs.append(out)
     for name in ("force", "phi_A", "phi_B", "gap", "velocity_pass_loss"):
         np.testing.assert_array_equal(runs[0].records[name], runs[1].records[name])

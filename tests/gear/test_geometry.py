@@ -16,9 +16,7 @@ from rotaflex.gear.geometry import (
 
 
 def paper_gear(**kw):
-    base = dict(
-        module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048
-    )
+    base = dict(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
     base.update(kw)
     return GearGeometry(**base)
 
@@ -80,9 +78,7 @@ def _cutter_distance(g, p, phi):
     return np.where(y >= y_t, d_line, d_round)
 
 
-@pytest.mark.parametrize(
-    "kw", [{}, {"profile_shift": 0.4, "tip_radius": None, "root_radius": None}]
-)
+@pytest.mark.parametrize("kw", [{}, {"profile_shift": 0.4, "tip_radius": None, "root_radius": None}])
 def test_profile_is_envelope_of_generating_rack(kw):
     g = paper_gear(**kw)
     p = g.profile(n_fillet=25, n_involute=25)

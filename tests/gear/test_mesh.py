@@ -10,9 +10,7 @@ from rotaflex.gear.fe import jacobian_determinants, stable_time_step
 from rotaflex.gear.geometry import GearGeometry
 from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh, mesh_quality
 
-G = GearGeometry(
-    module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048
-)
+G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
 
 
 def _distance_to_profile(g, pts):
@@ -40,15 +38,11 @@ def test_topology_and_quality(kw):
     rel = m.nodes[m.elements[:, 4:]] - c
     t = np.einsum("eik,eik->ei", rel, chord) / np.einsum("eik,eik->ei", chord, chord)
     assert np.all(np.abs(t - 0.5) < 0.05)  # well-centred mid-side nodes
-    perp = np.abs(rel[..., 0] * chord[..., 1] - rel[..., 1] * chord[..., 0]) / np.einsum(
-        "eik,eik->ei", chord, chord
-    )
+    perp = np.abs(rel[..., 0] * chord[..., 1] - rel[..., 1] * chord[..., 0]) / np.einsum("eik,eik->ei", chord, chord)
     assert perp.max() < 0.15  # curved edges only as curved as the boundary
     # every element edge is shared by at most two elements, boundary edges form one closed loop
     e = m.elements
-    edges = np.sort(
-        np.stack([e[:, [0, 1, 2, 3]], e[:, [1, 2, 3, 0]]], axis=-1).reshape(-1, 2), axis=1
-    )
+    edges = np.sort(np.stack([e[:, [0, 1, 2, 3]], e[:, [1, 2, 3, 0]]], axis=-1).reshape(-1, 2), axis=1)
     _, counts = np.unique(edges, axis=0, return_counts=True)
     assert counts.max() == 2
     n_boundary = int((counts == 1).sum())
@@ -101,17 +95,13 @@ def test_boundary_node_sets_follow_contract():
         assert _distance_to_profile(G, p[~on_land]).max() < 1e-8
     # left/right mirror symmetry of the whole mesh
     mirrored = m.nodes * [-1, 1]
-    d = np.hypot(
-        mirrored[:, None, 0] - m.nodes[None, :, 0], mirrored[:, None, 1] - m.nodes[None, :, 1]
-    )
+    d = np.hypot(mirrored[:, None, 0] - m.nodes[None, :, 0], mirrored[:, None, 1] - m.nodes[None, :, 1])
     assert d.min(axis=1).max() < 1e-12
     # tip nodes on the tip circle, root nodes on the rim arc or the side cuts
     assert np.allclose(r[m.tip_nodes], G.tip_radius_, rtol=1e-12)
     rn = m.nodes[m.root_nodes]
     ang = np.abs(np.arctan2(rn[:, 0], rn[:, 1]))
-    on_cut = np.isclose(ang, math.pi / G.teeth, rtol=1e-9) | np.isclose(
-        r[m.root_nodes], m.rim_radius
-    )
+    on_cut = np.isclose(ang, math.pi / G.teeth, rtol=1e-9) | np.isclose(r[m.root_nodes], m.rim_radius)
     assert on_cut.all()
     n_bottom = 2 * (DEFAULT["n_through"] + 2 * DEFAULT["n_fillet"]) + 1
     assert m.root_nodes.size == n_bottom + 2 * (2 * DEFAULT["n_rim"] + 1) - 2
@@ -141,9 +131,7 @@ def test_write_vtu_round_trip(tmp_path):
 
     m = build_tooth_mesh(G, **COARSE)
     u = np.arange(2 * m.n_nodes, dtype=float) * 1e-9
-    path = write_vtu(
-        tmp_path / "tooth.vtu", m, displacement=u, cell_data={"id": np.arange(m.n_elements)}
-    )
+    path = write_vtu(tmp_path / "tooth.vtu", m, displacement=u, cell_data={"id": np.arange(m.n_elements)})
     back = meshio.read(path)
     assert back.cells[0].type == "quad8"
     assert np.array_equal(back.cells[0].data, m.elements)

@@ -20,9 +20,7 @@ from rotaflex.gear.static import (
 )
 
 E, NU = 210e9, 0.3
-G = GearGeometry(
-    module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048
-)
+G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
 F = 22.25 / G.base_radius  # paper's nominal normal load, 532.7 N
 
 

@@ -48,9 +48,11 @@ def test_euler_and_quaternion_free_body_agree_for_asymmetric_body():
     kw = {"inertia": [1.0, 2.0, 3.0], "initial_body_rate": [0.05, 3.0, 0.1]}  # near the unstable axis
     a123 = [0.1, 0.4, 0.2]
     a313 = euler_from_matrix("313", rotation_matrix("123", a123)).tolist()  # same attitude
-    runs = [free_body("euler", "123", t_end=10.0, **kw),
-            free_body("euler", "313", t_end=10.0, **kw, initial_angles=a313),
-            free_body("quaternion", "123", t_end=10.0, **kw)]
+    runs = [
+        free_body("euler", "123", t_end=10.0, **kw),
+        free_body("euler", "313", t_end=10.0, **kw, initial_angles=a313),
+        free_body("quaternion", "123", t_end=10.0, **kw),
+    ]
     ref = runs[2].dataset
     for r in runs[:2]:
         assert r.status == "success"
@@ -76,8 +78,7 @@ def test_symbolic_body_rates_match_sympy_mechanics_orientation():
     sub = {p[1]: 1, p[2]: 1, p[3]: 1}
     vals = {q[0]: 0.3, q[1]: 0.7, q[2]: -0.4}
     M_num = np.array(M.subs(sub).subs(vals), dtype=float)
-    E = np.array(w_ref.jacobian([q1.diff(t), q2.diff(t), q3.diff(t)]).subs(
-        {q1: 0.3, q2: 0.7, q3: -0.4}), dtype=float)
+    E = np.array(w_ref.jacobian([q1.diff(t), q2.diff(t), q3.diff(t)]).subs({q1: 0.3, q2: 0.7, q3: -0.4}), dtype=float)
     np.testing.assert_allclose(M_num, E.T @ E, atol=1e-12)
 
 
@@ -86,8 +87,10 @@ def test_linear_whirl_frequencies_match_closed_form():
     Ip, Id, k, Om = 2.0, 1.0, 50.0, 10.0
     wf = (Ip * Om + np.sqrt((Ip * Om) ** 2 + 4 * Id * k)) / (2 * Id)
     wb = (-Ip * Om + np.sqrt((Ip * Om) ** 2 + 4 * Id * k)) / (2 * Id)
-    for seq, expansion, expect in [("123", "second_order", {abs(wf - Om), wb + Om}),
-                                   ("quaternion", "second_order", None)]:
+    for seq, expansion, expect in [
+        ("123", "second_order", {abs(wf - Om), wb + Om}),
+        ("quaternion", "second_order", None),
+    ]:
         if seq == "quaternion":
             continue  # time-varying coefficients: no constant-coefficient eigenproblem
         spec = EOMSpec(sequence=seq, expansion=expansion, spin_index=0)
@@ -105,7 +108,8 @@ def test_linear_whirl_frequencies_match_closed_form():
 def test_paper_truncated_123_reproduces_eq34():
     """The paper's 1-2-3 body-frame linear EOM: I q'' - Omega G q' = 0 with G = [[0,-2I],[2I,0]]."""
     tt, q, qd, p, M, f, e, e_dot = derive(
-        EOMSpec(sequence="123", convention="paper", expansion="paper_truncated", spin_index=0))
+        EOMSpec(sequence="123", convention="paper", expansion="paper_truncated", spin_index=0)
+    )
     I, Om = 1.0, 10.0
     vals = dict(zip(p, [1.0, 2 * I, I, I, 0.0, 0.0, Om, 0.0, 0, 0, 0], strict=False))
     Mn = np.array(M.subs(vals), dtype=float)
@@ -116,8 +120,13 @@ def test_paper_truncated_123_reproduces_eq34():
 
 
 def test_spherical_quaternion_singularity_is_reported_not_integrated():
-    res = run_case({"formulation": {"parameterisation": "quaternion_spherical"},
-                    "motion": {"initial_spin_angle": 1.0}, "solver": {"t_end": 2.0}})
+    res = run_case(
+        {
+            "formulation": {"parameterisation": "quaternion_spherical"},
+            "motion": {"initial_spin_angle": 1.0},
+            "solver": {"t_end": 2.0},
+        }
+    )
     assert res.status == "singular"
     t_stop = float(res.dataset["time"][-1])
     assert t_stop < (2 * np.pi - 1.0) / 10.0 + 1e-3  # phi = 2 pi at t = 0.528 s

@@ -15,11 +15,12 @@ def _gear_ds(natural_frequency=None, teeth=20):
     speed = np.linspace(1000.0, 20000.0, 5)
     data = {"dynamic_factor": ("operation.speed_rpm", 1 + speed / 2e4, {"units": "1"})}
     if natural_frequency:
-        data["natural_frequency"] = ("operation.speed_rpm", np.full(5, natural_frequency),
-                                     {"units": "Hz"})
+        data["natural_frequency"] = ("operation.speed_rpm", np.full(5, natural_frequency), {"units": "Hz"})
     return xr.Dataset(
-        data, coords={"operation.speed_rpm": ("operation.speed_rpm", speed, {"units": "rpm"})},
-        attrs={"base_config": json.dumps({"gear": {"teeth": teeth}}), "swept": "[]"})
+        data,
+        coords={"operation.speed_rpm": ("operation.speed_rpm", speed, {"units": "rpm"})},
+        attrs={"base_config": json.dumps({"gear": {"teeth": teeth}}), "swept": "[]"},
+    )
 
 
 def test_gear_harmonic_marks_where_k_times_mesh_frequency_meets_fn():
@@ -44,10 +45,13 @@ def test_gear_natural_frequency_estimate_by_hand():
 def test_floating_figure_plots_the_deflection():
     dims = "loads[0].duration"
     ds = xr.Dataset(
-        {"full.tip.max_deflection": (dims, [3e-3, 2e-3, 1e-3], {"units": "m"}),
-         "perturbation.tip.max_deflection": (dims, [3.1e-3, 2e-3, 1e-3], {"units": "m"}),
-         "full.energy_change": (dims, [1.0, 2.0, 3.0], {"units": "J"})},
-        coords={dims: (dims, [1.0, 2.0, 4.0], {"units": ""})})
+        {
+            "full.tip.max_deflection": (dims, [3e-3, 2e-3, 1e-3], {"units": "m"}),
+            "perturbation.tip.max_deflection": (dims, [3.1e-3, 2e-3, 1e-3], {"units": "m"}),
+            "full.energy_change": (dims, [1.0, 2.0, 3.0], {"units": "J"}),
+        },
+        coords={dims: (dims, [1.0, 2.0, 4.0], {"units": ""})},
+    )
     ax = floating_figures(ds)["peak_deflection"].axes[0]
     lines = ax.get_lines()
     assert len(lines) == 2  # the two deflection scalars, not the energy
@@ -55,8 +59,9 @@ def test_floating_figure_plots_the_deflection():
     np.testing.assert_array_equal(lines[1].get_xdata(), [1.0, 2.0, 4.0])
 
 
-@pytest.mark.parametrize("backend", [["-j", "2"], ["--scheduler", "dask-local", "-j", "2"]],
-                         ids=["process-pool", "dask-local"])
+@pytest.mark.parametrize(
+    "backend", [["-j", "2"], ["--scheduler", "dask-local", "-j", "2"]], ids=["process-pool", "dask-local"]
+)
 def test_gear_speed_sweep_from_the_cli(tmp_path, backend):
     from typer.testing import CliRunner
 
@@ -64,8 +69,9 @@ def test_gear_speed_sweep_from_the_cli(tmp_path, backend):
 
     example = Path(__file__).resolve().parents[2] / "examples" / "sweep" / "gear_speed.toml"
     out = tmp_path / "out"
-    res = CliRunner().invoke(app, ["sweep", str(example), "--vary", "operation.speed_rpm=15000,20000",
-                                   "--out", str(out), *backend, "-q"])
+    res = CliRunner().invoke(
+        app, ["sweep", str(example), "--vary", "operation.speed_rpm=15000,20000", "--out", str(out), *backend, "-q"]
+    )
     assert res.exit_code == 0, res.output
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
     assert ds["dynamic_factor"].dims == ("operation.speed_rpm",)
@@ -79,10 +85,12 @@ def test_floating_slew_time_sweep_from_the_cli(tmp_path):
     from typer.testing import CliRunner
 
     from rotaflex.cli import app
+
     example = Path(__file__).resolve().parents[2] / "examples" / "sweep" / "floating_slew.toml"
     out = tmp_path / "out"
-    res = CliRunner().invoke(app, ["sweep", str(example), "--vary", "loads[0].duration=2,6",
-                                   "--out", str(out), "-j", "2", "-q"])
+    res = CliRunner().invoke(
+        app, ["sweep", str(example), "--vary", "loads[0].duration=2,6", "--out", str(out), "-j", "2", "-q"]
+    )
     assert res.exit_code == 0, res.output
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
     peak = ds["full.tip.max_deflection"]

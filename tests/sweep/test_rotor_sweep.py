@@ -68,8 +68,6 @@ def test_reproduce_sweep_section_passes(tmp_path):
 
     section = run(tmp_path, fast=True, progress=False)
     checks = section.all_checks()
-    assert len(checks) >= 4 and all(c.passed for c in checks), [
-        (c.name, c.measured) for c in checks
-    ]
+    assert len(checks) >= 4 and all(c.passed for c in checks), [(c.name, c.measured) for c in checks]
     assert (tmp_path / section.figures[0].image).exists()
     assert section.figures[0].image.startswith("sweep/rotor/")

@@ -84,10 +84,7 @@ def test_failing_cases_are_recorded_and_the_sweep_goes_on(tmp_path):
         assert "RuntimeError" in text and "Traceback" in text
         assert not (tmp_path / "cases" / rec.id / "result.nc").exists()
     ds = res.dataset
-    assert (
-        math.isnan(float(ds["a"].sel(fail=True, x=1.0)))
-        and float(ds["a"].sel(fail=False, x=2.0)) == 4.0
-    )
+    assert math.isnan(float(ds["a"].sel(fail=True, x=1.0))) and float(ds["a"].sel(fail=False, x=2.0)) == 4.0
     assert json.loads((tmp_path / "sweep.json").read_text())["n_failed"] == 2
     # a re-run reuses the successes and tries the failed cases again
     again = run_sweep(run_case, cases, "serial", out_dir=tmp_path)
@@ -116,19 +113,13 @@ def test_rerun_computes_only_missing_cases(tmp_path):
     assert sorted(seen) == sorted([cases[1].id, cases[4].id, cases[5].id])
     assert res.n_computed == 3 and res.n_reused == 3 and res.n_failed == 0
     for i in (0, 2, 3):
-        assert (tmp_path / "cases" / cases[i].id / "result.nc").stat().st_mtime_ns == stamps[
-            cases[i].id
-        ]
-    np.testing.assert_allclose(
-        res.dataset["a"].values.ravel(), [c.params["x"] ** 2 + c.params["y"] for c in cases]
-    )
+        assert (tmp_path / "cases" / cases[i].id / "result.nc").stat().st_mtime_ns == stamps[cases[i].id]
+    np.testing.assert_allclose(res.dataset["a"].values.ravel(), [c.params["x"] ** 2 + c.params["y"] for c in cases])
 
 
 def test_killed_worker_case_is_retried_and_nothing_is_lost(tmp_path):
     marker = tmp_path / "killed-once"
-    cases = grid_cases(
-        {**BASE, "sleep": 0.2, "kill_once": ""}, {"x": [0.5, 1.0, 1.5, 2.0, 2.5, 3.0]}
-    )
+    cases = grid_cases({**BASE, "sleep": 0.2, "kill_once": ""}, {"x": [0.5, 1.0, 1.5, 2.0, 2.5, 3.0]})
     # the fourth case kills its worker the first time it runs
     data = dict(cases[3].data, kill_once=str(marker))
     cases[3] = type(cases[3])(cases[3].id, cases[3].params, data)
@@ -138,15 +129,11 @@ def test_killed_worker_case_is_retried_and_nothing_is_lost(tmp_path):
     assert res.records[3].attempts >= 2
     for c in cases:
         assert (tmp_path / "out" / "cases" / c.id / "result.nc").exists()
-    np.testing.assert_allclose(
-        res.dataset["a"].values, np.array([0.5, 1.0, 1.5, 2.0, 2.5, 3.0]) ** 2
-    )
+    np.testing.assert_allclose(res.dataset["a"].values, np.array([0.5, 1.0, 1.5, 2.0, 2.5, 3.0]) ** 2)
 
 
 def test_case_that_always_kills_its_worker_fails_alone(tmp_path):
-    cases = grid_cases(
-        {**BASE, "kill_always": False}, {"x": [1.0, 2.0, 3.0], "kill_always": [False]}
-    )
+    cases = grid_cases({**BASE, "kill_always": False}, {"x": [1.0, 2.0, 3.0], "kill_always": [False]})
     bad = dict(cases[1].data, kill_always=True)
     cases[1] = type(cases[1])(cases[1].id, cases[1].params, bad)
     res = run_sweep(run_case, cases, 2, out_dir=tmp_path, max_retries=1, figures=False)

@@ -47,9 +47,7 @@ def test_grid_is_cartesian_first_key_slowest_and_typed():
     ]
     assert len(cases) == 6
     c = cases[4]
-    assert c.data["drive"]["speed_rpm"] == 2000.0 and isinstance(
-        c.data["drive"]["speed_rpm"], float
-    )
+    assert c.data["drive"]["speed_rpm"] == 2000.0 and isinstance(c.data["drive"]["speed_rpm"], float)
     assert c.data["drive"]["teeth"] == 30 and isinstance(c.data["drive"]["teeth"], int)
     assert c.data["drive"]["label"] == "a" and c.data["x"] == 1.0
     assert BASE["drive"]["speed_rpm"] == 1000.0  # base not mutated

@@ -75,9 +75,7 @@ def test_local_sweep_then_rerun_reuses_everything(tmp_path, selftest_domain):
     assert _counts(res.output) == (6, 0, 0)
     ds = xr.open_dataset(tmp_path / "out" / "sweep.nc", engine="h5netcdf").load()
     assert ds["a"].dims == ("x", "y") and ds.attrs["domain"] == "selftest"
-    np.testing.assert_allclose(
-        ds["a"].values, ds["x"].values[:, None] ** 2 + ds["y"].values[None, :]
-    )
+    np.testing.assert_allclose(ds["a"].values, ds["x"].values[:, None] ** 2 + ds["y"].values[None, :])
     res = runner.invoke(app, args)
     assert res.exit_code == 0 and _counts(res.output) == (0, 6, 0)
 
@@ -119,9 +117,7 @@ def test_interrupted_sweep_resumes_with_only_the_missing_cases(tmp_path):
     cfg = _config(tmp_path, sleep=0.2)
     out = tmp_path / "out"
     cmd = [PY, HELPER, "sweep", str(cfg), "--vary", "x=0:3:16", "--out", str(out), "-j", "2", "-q"]
-    proc = subprocess.Popen(
-        cmd, env=env_with_src(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
-    )
+    proc = subprocess.Popen(cmd, env=env_with_src(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         deadline = time.monotonic() + 60
         while len(_done(out)) < 2 if out.exists() else True:
@@ -158,9 +154,7 @@ def test_dask_scheduler_results_identical_to_serial(tmp_path, selftest_domain, d
     common = ["sweep", str(cfg), "--vary", "x=0.5:2:4", "--vary", "y=1,3", "-q", "--no-figures"]
     res = runner.invoke(app, [*common, "--out", str(tmp_path / "serial"), "-j", "0"])
     assert res.exit_code == 0, res.output
-    res = runner.invoke(
-        app, [*common, "--out", str(tmp_path / "dask"), "--scheduler", dask_cluster]
-    )
+    res = runner.invoke(app, [*common, "--out", str(tmp_path / "dask"), "--scheduler", dask_cluster])
     assert res.exit_code == 0, res.output
     assert _counts(res.output) == (8, 0, 0)
     a, sa = _sweep_values(tmp_path / "serial")
@@ -170,10 +164,7 @@ def test_dask_scheduler_results_identical_to_serial(tmp_path, selftest_domain, d
     assert sa.keys() == sb.keys()
     for cid in sa:
         np.testing.assert_array_equal(sa[cid], sb[cid])
-    workers = {
-        json.loads(p.read_text())["worker"]
-        for p in (tmp_path / "dask" / "cases").glob("*/case.json")
-    }
+    workers = {json.loads(p.read_text())["worker"] for p in (tmp_path / "dask" / "cases").glob("*/case.json")}
     assert len(workers) >= 1
 
 
@@ -207,8 +198,23 @@ def test_dask_worker_killed_mid_case_sweep_completes(tmp_path, selftest_domain, 
 def test_dask_case_that_always_kills_its_worker_fails_alone(tmp_path, selftest_domain, dask_cluster):
     cfg = _config(tmp_path, kill_always=False)
     out = tmp_path / "out"
-    res = runner.invoke(app, ["sweep", str(cfg), "--vary", "kill_always=false,true", "--out", str(out),
-                              "--scheduler", dask_cluster, "--retries", "1", "-q", "--no-figures"])
+    res = runner.invoke(
+        app,
+        [
+            "sweep",
+            str(cfg),
+            "--vary",
+            "kill_always=false,true",
+            "--out",
+            str(out),
+            "--scheduler",
+            dask_cluster,
+            "--retries",
+            "1",
+            "-q",
+            "--no-figures",
+        ],
+    )
     assert res.exit_code == 1, res.output
     assert "1 of 2 cases failed" in res.output
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
@@ -241,8 +247,23 @@ def test_dask_unreachable_scheduler_is_one_line(tmp_path, selftest_domain, monke
 def test_dask_local_cluster_from_the_cli(tmp_path, selftest_domain):
     cfg = _config(tmp_path)
     out = tmp_path / "out"
-    res = runner.invoke(app, ["sweep", str(cfg), "--vary", "x=1,2,3", "--out", str(out),
-                              "--scheduler", "dask-local", "-j", "1", "-q", "--no-figures"])
+    res = runner.invoke(
+        app,
+        [
+            "sweep",
+            str(cfg),
+            "--vary",
+            "x=1,2,3",
+            "--out",
+            str(out),
+            "--scheduler",
+            "dask-local",
+            "-j",
+            "1",
+            "-q",
+            "--no-figures",
+        ],
+    )
     assert res.exit_code == 0, res.output
     assert _counts(res.output) == (3, 0, 0)
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()

@@ -39,8 +39,7 @@ class ConvergenceError(RuntimeError):
     def __init__(self, what: str, time: float, residual: float, tolerance: float):
         self.what, self.time, self.residual, self.tolerance = what, time, residual, tolerance
         super().__init__(
-            f"{what} did not converge at t = {time:.9g} s: residual {residual:.3e} "
-            f"> tolerance {tolerance:.3e}"
+            f"{what} did not converge at t = {time:.9g} s: residual {residual:.3e} > tolerance {tolerance:.3e}"
         )
 
 

@@ -15,7 +15,7 @@ from rotaflex.core.io import write_atomic  # noqa: E402
 
 def new_figure(nrows: int = 1, ncols: int = 1, **kw: Any):
     """A figure and axes with the project's default size."""
-    kw.setdefault("figsize", (6.4 * ncols ** 0.5 + 1.0, 3.6 * nrows))
+    kw.setdefault("figsize", (6.4 * ncols**0.5 + 1.0, 3.6 * nrows))
     kw.setdefault("layout", "constrained")
     return plt.subplots(nrows, ncols, **kw)
 

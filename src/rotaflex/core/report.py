@@ -100,10 +100,7 @@ def _md_checks(checks: list[Check]) -> list[str]:
         return []
     rows = ["| check | measured | criterion | result | note |", "|---|---|---|---|---|"]
     for c in checks:
-        rows.append(
-            f"| {c.name} | {c.value_text()} | {c.criterion} | {c.outcome} "
-            f"| {c.note} |"
-        )
+        rows.append(f"| {c.name} | {c.value_text()} | {c.criterion} | {c.outcome} | {c.note} |")
     return rows + [""]
 
 
@@ -112,8 +109,11 @@ def render_markdown(sections: list[Section], title: str) -> str:
     n_all = sum(len(s.all_checks()) for s in sections)
     n_ok = sum(c.passed for s in sections for c in s.all_checks())
     claims = [c for s in sections for c in s.claims()]
-    lines += [f"Checks passed: **{n_ok} / {n_all}**. Paper claims examined: {len(claims)} "
-              f"({sum(c.passed for c in claims)} hold).", ""]
+    lines += [
+        f"Checks passed: **{n_ok} / {n_all}**. Paper claims examined: {len(claims)} "
+        f"({sum(c.passed for c in claims)} hold).",
+        "",
+    ]
     for s in sections:
         lines += [f"## {s.title}", ""]
         if not math.isnan(s.wall_time):
@@ -144,8 +144,7 @@ def _html_checks(checks: list[Check]) -> str:
         for c in checks
     )
     return (
-        "<table><tr><th>check</th><th>measured</th><th>criterion</th><th>result</th>"
-        f"<th>note</th></tr>{rows}</table>"
+        f"<table><tr><th>check</th><th>measured</th><th>criterion</th><th>result</th><th>note</th></tr>{rows}</table>"
     )
 
 
@@ -154,8 +153,10 @@ def render_html(sections: list[Section], title: str) -> str:
     n_all = sum(len(s.all_checks()) for s in sections)
     n_ok = sum(c.passed for s in sections for c in s.all_checks())
     claims = [c for s in sections for c in s.claims()]
-    body = [f"<h1>{e(title)}</h1><p>Checks passed: <b>{n_ok} / {n_all}</b>. Paper claims examined: "
-            f"{len(claims)} ({sum(c.passed for c in claims)} hold).</p>"]
+    body = [
+        f"<h1>{e(title)}</h1><p>Checks passed: <b>{n_ok} / {n_all}</b>. Paper claims examined: "
+        f"{len(claims)} ({sum(c.passed for c in claims)} hold).</p>"
+    ]
     for s in sections:
         body.append(f"<h2>{e(s.title)}</h2>")
         if not math.isnan(s.wall_time):

@@ -111,9 +111,7 @@ def validate_body(b: Body) -> None:
     """Section 5 checks: positive masses/stiffness, modes present, mass-orthonormal."""
     m = np.asarray(b.masses, dtype=float)
     if m.ndim != 1 or m.size == 0 or not np.all(np.isfinite(m)):
-        raise InputError(
-            "body.masses", f"shape {m.shape}", "a non-empty list of finite masses [kg]"
-        )
+        raise InputError("body.masses", f"shape {m.shape}", "a non-empty list of finite masses [kg]")
     if np.any(m <= 0.0):
         k = int(np.argmin(m))
         raise InputError(f"body.masses[{k}]", float(m[k]), "a mass > 0 [kg]")
@@ -329,9 +327,7 @@ def uniform_beam(
     masses = rho_a * length * 0.5 * gw
     points = np.zeros((nq, 3))
     points[:, 0] = x0 + s * length
-    norm = np.array(
-        [np.sqrt(rho_a * length * np.sum(0.5 * gw * beam_mode(support, b, s) ** 2)) for b in bl]
-    )
+    norm = np.array([np.sqrt(rho_a * length * np.sum(0.5 * gw * beam_mode(support, b, s) ** 2)) for b in bl])
     xq, wq = points[:, 0], length * 0.5 * gw
     x_end = x0 + length
 
@@ -348,11 +344,7 @@ def uniform_beam(
             )
         return np.clip(pts[:, 0], x0, x_end)
 
-    att = (
-        check_points(attachment_points, "body.attachment_points")
-        if len(attachment_points)
-        else np.zeros(0)
-    )
+    att = check_points(attachment_points, "body.attachment_points") if len(attachment_points) else np.zeros(0)
 
     def attach(a, x, deriv):
         """Static deflection x EI under a unit transverse force at ``a`` (free-free: with inertia
@@ -364,8 +356,7 @@ def uniform_beam(
         q = P([-1.0 / length, -12.0 * a / length**3])  # rho_a (a0 + alpha x) per unit force
         mom = q.integ(lbnd=x0).integ(lbnd=x0)  # bending moment of the distributed relief load
         t = np.clip(x - a, 0.0, None)
-        return [mom.integ(2, lbnd=x0)(x) + t**3 / 6.0, mom.integ(lbnd=x0)(x) + t * t / 2.0,
-                mom(x) + t][deriv]
+        return [mom.integ(2, lbnd=x0)(x) + t**3 / 6.0, mom.integ(lbnd=x0)(x) + t * t / 2.0, mom(x) + t][deriv]
 
     # rigid-body part of each attachment shape (free-free: mass-orthogonal projection on 1, x)
     rig = np.zeros((len(att), 2))
@@ -583,9 +574,7 @@ def point_body(
             raise InputError(f"body.frequencies[{k}]", float(f[k]), "a frequency > 0 [rad/s]")
         K = np.diag(f**2)
     else:
-        raise InputError(
-            "body.frequencies", "<missing>", "frequencies [rad/s] or a stiffness matrix"
-        )
+        raise InputError("body.frequencies", "<missing>", "frequencies [rad/s] or a stiffness matrix")
     Psi_nodes = None
     if rotation_shapes is not None:
         R = np.asarray(rotation_shapes, dtype=float)
@@ -602,9 +591,7 @@ def point_body(
         bad = d[np.arange(len(pts)), idx] > 1e-9 * size
         if np.any(bad):
             k = int(np.argmax(bad))
-            raise InputError(
-                "point", pts[k].tolist(), "the position of one of the body's nodes [m]"
-            )
+            raise InputError("point", pts[k].tolist(), "the position of one of the body's nodes [m]")
         Psi = Psi_nodes[idx] if Psi_nodes is not None else np.full((len(pts), 3, n), np.nan)
         return Phi[idx], Psi
 

@@ -118,8 +118,9 @@ def build_body(cfg: BodyConfig, loads=()):
         att += [tuple(ld.point) for ld in loads if ld.kind == "force" and ld.point not in att]
     if att and cfg.type == "points":
         raise InputError(
-            "body.attachment_points", [list(p) for p in att], "none for a points body "
-            "(supply the attachment shapes as extra modes from the FE program)"
+            "body.attachment_points",
+            [list(p) for p in att],
+            "none for a points body (supply the attachment shapes as extra modes from the FE program)",
         )
 
     if cfg.type == "beam":
@@ -145,9 +146,7 @@ def build_body(cfg: BodyConfig, loads=()):
             raise InputError("body.frame.nodes", len(key), "at least 2 key points")
         k = f.elements_per_segment
         nodes = [key[0]] + [
-            key[i] + (key[i + 1] - key[i]) * s / k
-            for i in range(len(key) - 1)
-            for s in range(1, k + 1)
+            key[i] + (key[i + 1] - key[i]) * s / k for i in range(len(key) - 1) for s in range(1, k + 1)
         ]
         return frame_body(
             np.array(nodes),
@@ -198,8 +197,6 @@ def run_case(config: dict, *, progress: bool = False):
     methods = ["full", "perturbation"] if case.solver.method == "both" else [case.solver.method]
     if case.prescribed is not None:
         methods = ["full"]
-    sols = [
-        simulate(body, case.loads, case.initial, case.solver, m, case.prescribed) for m in methods
-    ]
+    sols = [simulate(body, case.loads, case.initial, case.solver, m, case.prescribed) for m in methods]
     resolved = json.loads(json.dumps(dataclasses.asdict(case)))
     return build_result(body, sols, dict(case.outputs), resolved, time.perf_counter() - t0)

@@ -97,9 +97,7 @@ def quat_rate(e, w, out):
 
 @njit(cache=True)
 def cross(a, b):
-    return np.array(
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    )
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
 @njit(cache=True)
@@ -605,9 +603,7 @@ _E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525,
 
 
 @njit(cache=True)
-def integrate(
-    mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres
-):
+def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres):
     """Integrate ``rhs(mode, ...)`` from ``t_out[0]``; return states at ``t_out``.
 
     Returns ``(Y, status, t_stop, nfev, nstep)``; status 0 ok, 1 step budget exhausted,

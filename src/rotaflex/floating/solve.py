@@ -246,11 +246,7 @@ def simulate(
     )
     wall = time.perf_counter() - t0
     if st in (1, 2):
-        what = (
-            "time integration (step budget exhausted)"
-            if st == 1
-            else "time integration (step size underflow)"
-        )
+        what = "time integration (step budget exhausted)" if st == 1 else "time integration (step size underflow)"
         raise ConvergenceError(what, float(t_stop), float(nstep), float(settings.max_steps))
     sol = _unpack(mode, method, t_out, Y, n, prescribed, pres)
     sol.nfev, sol.nstep, sol.wall_time, sol.geometric = int(nfev), int(nstep), wall, geo
@@ -268,8 +264,7 @@ def simulate(
         sol.status = "diverged"
         notes.insert(
             0,
-            f"response diverged at t = {t_stop:.4g} s (|q| > {q_limit:.3g}, i.e. "
-            f"deflections > 10 x body size)",
+            f"response diverged at t = {t_stop:.4g} s (|q| > {q_limit:.3g}, i.e. deflections > 10 x body size)",
         )
         log.warning("floating %s: %s", method, notes[0])
     sol.message = "; ".join(notes) if notes else f"{nstep} steps, {nfev} evaluations"
@@ -293,9 +288,7 @@ def _unpack(mode, method, t, Y, n, prescribed, pres) -> Solution:
 
         prof = np.array([spin_profile(pres[3], pres[4], tt) for tt in t])
         ang, om = prof[:, 0], prof[:, 1]
-        quat = np.concatenate(
-            [np.cos(0.5 * ang)[:, None], np.sin(0.5 * ang)[:, None] * ax[None]], 1
-        )
+        quat = np.concatenate([np.cos(0.5 * ang)[:, None], np.sin(0.5 * ang)[:, None] * ax[None]], 1)
         return Solution(
             "prescribed",
             t,
@@ -308,9 +301,7 @@ def _unpack(mode, method, t, Y, n, prescribed, pres) -> Solution:
         )
     if mode == 0:
         e = Y[:, 3:7] / np.linalg.norm(Y[:, 3:7], axis=1, keepdims=True)
-        return Solution(
-            "full", t, Y[:, 0:3], e, Y[:, 7:10], Y[:, 10:13], Y[:, 13 : 13 + n], Y[:, 13 + n :]
-        )
+        return Solution("full", t, Y[:, 0:3], e, Y[:, 7:10], Y[:, 10:13], Y[:, 13 : 13 + n], Y[:, 13 + n :])
     e0 = Y[:, 3:7] / np.linalg.norm(Y[:, 3:7], axis=1, keepdims=True)
     th1 = Y[:, 16:19]
     e = quaternion_product(e0, _quat_from_rotvec(th1))

@@ -27,8 +27,7 @@ E, NU, RHO, J = 210e9, 0.3, 7800.0, 2.965e-4
 def _gear():
     from rotaflex.gear.geometry import GearGeometry
 
-    return GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625,
-                        root_radius=0.04048)
+    return GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
 
 
 def static_share(mesh, angles, torque=22.25) -> np.ndarray:
@@ -49,8 +48,7 @@ def static_share(mesh, angles, torque=22.25) -> np.ndarray:
     for ang in angles:
         for d in np.linspace(done, float(ang), max(2, int(abs(ang - done) / 2e-3) + 1))[1:]:
             mod = build_multi_model(g, mesh, 3, start_angle=float(d), **kw)
-            st, _, _ = pair_geometry(mod, mod.reference_positions(), start=st[:, :2],
-                                     theta_s=ths)
+            st, _, _ = pair_geometry(mod, mod.reference_positions(), start=st[:, :2], theta_s=ths)
         done = float(ang)
         mod = build_multi_model(g, mesh, 3, start_angle=float(ang), **kw)
         pre = static_preload(mod, torque, E, NU, ths, start=st[:, :2])
@@ -61,8 +59,9 @@ def static_share(mesh, angles, torque=22.25) -> np.ndarray:
 
 def zone_means(angle, values, edges):
     """Mean of ``values`` over each interval of ``edges`` (angles in the same unit)."""
-    return np.array([np.nanmean(values[(angle >= a) & (angle < b)])
-                     for a, b in zip(edges[:-1], edges[1:], strict=True)])
+    return np.array(
+        [np.nanmean(values[(angle >= a) & (angle < b)]) for a, b in zip(edges[:-1], edges[1:], strict=True)]
+    )
 
 
 def two_pair_length(pair_angle, force, threshold):
@@ -82,10 +81,15 @@ def comparison(dom: Path, *, fast: bool) -> FigureEntry:
     from rotaflex.gear.static import mesh_stiffness
 
     rpm = 4000.0 if fast else 1000.0
-    multi = run_case({"model": {"teeth_per_gear": 3}, "mesh": {"preset": "coarse"},
-                      "operation": {"speed_rpm": [rpm, rpm]}, "output": {"every": 20}})
-    single = run_case({"mesh": {"preset": "coarse"}, "operation": {"speed_rpm": [rpm, rpm]},
-                       "output": {"every": 20}})
+    multi = run_case(
+        {
+            "model": {"teeth_per_gear": 3},
+            "mesh": {"preset": "coarse"},
+            "operation": {"speed_rpm": [rpm, rpm]},
+            "output": {"every": 20},
+        }
+    )
+    single = run_case({"mesh": {"preset": "coarse"}, "operation": {"speed_rpm": [rpm, rpm]}, "output": {"every": 20}})
     ds, d1 = multi.dataset, single.dataset
     multi.to_netcdf(dom / "three_teeth.nc")
     nominal = float(ds["nominal_force"])
@@ -101,11 +105,16 @@ def comparison(dom: Path, *, fast: bool) -> FigureEntry:
     mesh = build_tooth_mesh(_gear(), **COARSE)
     fine = np.linspace(edges[0], edges[-1], 9)
     st_fe = static_share(mesh, fine)
-    fe_zone = np.array([np.mean(np.interp(np.linspace(a, b, 20), fine, st_fe))
-                        for a, b in zip(edges[:-1], edges[1:], strict=True)])
+    fe_zone = np.array(
+        [np.mean(np.interp(np.linspace(a, b, 20), fine, st_fe)) for a, b in zip(edges[:-1], edges[1:], strict=True)]
+    )
     ms = mesh_stiffness(_gear(), _gear(), E, NU, mesh1=mesh, mesh2=mesh)
-    iso_zone = np.array([np.mean(np.interp(np.linspace(a, b, 20), ms.angle, ms.load_share))
-                         for a, b in zip(edges[:-1], edges[1:], strict=True)])
+    iso_zone = np.array(
+        [
+            np.mean(np.interp(np.linspace(a, b, 20), ms.angle, ms.load_share))
+            for a, b in zip(edges[:-1], edges[1:], strict=True)
+        ]
+    )
     dev_fe = float(np.max(np.abs(dyn - fe_zone)))
     tol_fe = 0.12 if fast else 0.08  # 4000 rpm: the entry impact disturbs the first zone
     dev_ms = float(np.max(np.abs(dyn - iso_zone)))
@@ -132,8 +141,12 @@ def comparison(dom: Path, *, fast: bool) -> FigureEntry:
     ax.plot(np.degrees(pa[:, 1]), share, lw=0.6, label="3 teeth, dynamic: pair 1")
     ax.plot(np.degrees(fine), st_fe, "o-", ms=3, label="static FE (same model)")
     ax.plot(np.degrees(ms.angle), ms.load_share, "--", label="rotaflex.gear.static")
-    ax.plot(np.degrees(ms.angle), np.clip(ms.angle / th2, 0, 1) * (ms.angle <= th2)
-            + (ms.angle > th2), ":", label="Fig. 7 ramp share")
+    ax.plot(
+        np.degrees(ms.angle),
+        np.clip(ms.angle / th2, 0, 1) * (ms.angle <= th2) + (ms.angle > th2),
+        ":",
+        label="Fig. 7 ramp share",
+    )
     ax.set_xlim(0.0, math.degrees(th2) + 1.0)
     ax.set_ylim(0.0, 1.05)
     ax.set_xlabel("contact angle of the entering pair [deg]")
@@ -142,35 +155,69 @@ def comparison(dom: Path, *, fast: bool) -> FigureEntry:
     ax.grid(alpha=0.3)
     save_figure(fig, dom / "three_teeth.png")
     checks = [
-        Check("time mean of the sum of pair forces / (tau_0/r_b) - 1", mean_total / nominal - 1,
-              "", "|.| < 0.03", abs(mean_total / nominal - 1) < 0.03,
-              f"{mean_total:.1f} N vs {nominal:.1f} N; the sum oscillates at the torsional mesh "
-              "mode excited by the entry impacts"),
-        Check("load share of the entering pair: max |dynamic - static FE| over 4 zones",
-              dev_fe, "", f"< {tol_fe:g}", dev_fe < tol_fe,
-              "zone means over 0.5-2-4-6-8 deg; dynamic " + ", ".join(f"{v:.3f}" for v in dyn)
-              + "; static FE " + ", ".join(f"{v:.3f}" for v in fe_zone)),
-        Check("load share: max |dynamic - rotaflex.gear.static (structural + Weber)|", dev_ms,
-              "", "reported (< 0.25)", dev_ms < 0.25,
-              "static.mesh_stiffness: " + ", ".join(f"{v:.3f}" for v in iso_zone)
-              + "; the FE point force and the FE edges' deviation from the involute make the "
-              "share vary more than in the smooth compliance model"),
-        Check("two-pair zone length (both pairs > 1 % of tau_0/r_b)", math.degrees(l2), "deg",
-              f"theta_2 = {math.degrees(th2):.2f} deg +- 1.5 deg", abs(l2 - th2) < math.radians(1.5),
-              "longer than theta_2 by premature / prolonged contact of the deflected teeth"),
+        Check(
+            "time mean of the sum of pair forces / (tau_0/r_b) - 1",
+            mean_total / nominal - 1,
+            "",
+            "|.| < 0.03",
+            abs(mean_total / nominal - 1) < 0.03,
+            f"{mean_total:.1f} N vs {nominal:.1f} N; the sum oscillates at the torsional mesh "
+            "mode excited by the entry impacts",
+        ),
+        Check(
+            "load share of the entering pair: max |dynamic - static FE| over 4 zones",
+            dev_fe,
+            "",
+            f"< {tol_fe:g}",
+            dev_fe < tol_fe,
+            "zone means over 0.5-2-4-6-8 deg; dynamic "
+            + ", ".join(f"{v:.3f}" for v in dyn)
+            + "; static FE "
+            + ", ".join(f"{v:.3f}" for v in fe_zone),
+        ),
+        Check(
+            "load share: max |dynamic - rotaflex.gear.static (structural + Weber)|",
+            dev_ms,
+            "",
+            "reported (< 0.25)",
+            dev_ms < 0.25,
+            "static.mesh_stiffness: "
+            + ", ".join(f"{v:.3f}" for v in iso_zone)
+            + "; the FE point force and the FE edges' deviation from the involute make the "
+            "share vary more than in the smooth compliance model",
+        ),
+        Check(
+            "two-pair zone length (both pairs > 1 % of tau_0/r_b)",
+            math.degrees(l2),
+            "deg",
+            f"theta_2 = {math.degrees(th2):.2f} deg +- 1.5 deg",
+            abs(l2 - th2) < math.radians(1.5),
+            "longer than theta_2 by premature / prolonged contact of the deflected teeth",
+        ),
         Check("energy balance / max E_strain (3 teeth)", bal, "", "< 0.02", bal < 0.02),
-        Check("single-pair zone length (pair 1 alone > 1 % of tau_0/r_b)", math.degrees(l1),
-              "deg", f"theta_s - 2 theta_2 = {math.degrees(ths - 2 * th2):.2f} deg +- 1.5 deg "
-              f"(contact ratio {ths / (2 * math.pi / 28):.4f})",
-              abs(l1 - (ths - 2 * th2)) < math.radians(1.5)),
+        Check(
+            "single-pair zone length (pair 1 alone > 1 % of tau_0/r_b)",
+            math.degrees(l1),
+            "deg",
+            f"theta_s - 2 theta_2 = {math.degrees(ths - 2 * th2):.2f} deg +- 1.5 deg "
+            f"(contact ratio {ths / (2 * math.pi / 28):.4f})",
+            abs(l1 - (ths - 2 * th2)) < math.radians(1.5),
+        ),
     ]
-    desc = (f"Three elastic teeth per gear, constant torque tau_0, {int(ds['steps'])} steps "
-            f"({float(ds['time_per_step']) * 1e6:.0f} us/step); entering pair starts 0.5 deg "
-            f"before its contact. Mean sum of pair forces {mean_total:.1f} N; dynamic factor "
-            f"{float(ds['dynamic_factor']):.2f} (single tooth + ramps: "
-            f"{float(d1['dynamic_factor']):.2f}).")
-    return FigureEntry(label="Two-pair zones modelled directly",
-                       caption="(not in the paper) pair forces of the three-tooth model vs the "
-                       "Fig. 7 torque ramps of the single-tooth model, and the load share of the "
-                       "entering pair", image="gear/three_teeth.png",
-                       data="gear/three_teeth.nc", description=desc, checks=checks)
+    desc = (
+        f"Three elastic teeth per gear, constant torque tau_0, {int(ds['steps'])} steps "
+        f"({float(ds['time_per_step']) * 1e6:.0f} us/step); entering pair starts 0.5 deg "
+        f"before its contact. Mean sum of pair forces {mean_total:.1f} N; dynamic factor "
+        f"{float(ds['dynamic_factor']):.2f} (single tooth + ramps: "
+        f"{float(d1['dynamic_factor']):.2f})."
+    )
+    return FigureEntry(
+        label="Two-pair zones modelled directly",
+        caption="(not in the paper) pair forces of the three-tooth model vs the "
+        "Fig. 7 torque ramps of the single-tooth model, and the load share of the "
+        "entering pair",
+        image="gear/three_teeth.png",
+        data="gear/three_teeth.nc",
+        description=desc,
+        checks=checks,
+    )

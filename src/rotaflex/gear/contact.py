@@ -101,9 +101,7 @@ def search(
     pa = np.ascontiguousarray(points_a, dtype=float)
     pb = np.ascontiguousarray(points_b, dtype=float)
     res = np.zeros(8)
-    contact_search(
-        pa, spline(pa), pb, spline(pb), float(sig_a), float(sig_b), start[0], start[1], res
-    )
+    contact_search(pa, spline(pa), pb, spline(pb), float(sig_a), float(sig_b), start[0], start[1], res)
     if res[7] == 0.0:
         raise RuntimeError("contact search failed: no common normal between the surfaces")
     ea = spline_point(pa, res[0])
@@ -147,7 +145,12 @@ def normal_rates(
     n = res[3:5]
     sdot = float(n @ (spline_point(va, res[0], mva)[0] - spline_point(vb, res[1], mvb)[0]))
     rates = np.zeros(4)
-    hs, _, _ = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, float(sig_a), float(sig_b), res,
-                             rates)
-    return {"pair": pair, "s_dot": sdot, "sliding": float(hs), "a_dot": float(rates[0]),
-            "b_dot": float(rates[1]), "n_dot": rates[2:4].copy()}
+    hs, _, _ = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, float(sig_a), float(sig_b), res, rates)
+    return {
+        "pair": pair,
+        "s_dot": sdot,
+        "sliding": float(hs),
+        "a_dot": float(rates[0]),
+        "b_dot": float(rates[1]),
+        "n_dot": rates[2:4].copy(),
+    }

@@ -265,8 +265,7 @@ def smoothing_tables(model: GearPairModel, n_intervals: int, per_interval: int =
         return np.zeros((2, 2, 1)), np.zeros((2, 1, 2))
     mpts = model.n_points
     if n_intervals + 3 > mpts:
-        raise InputError("mesh.contact_smoothing", n_intervals,
-                         f"0 or 1..{mpts - 3} (n_points - 3)")
+        raise InputError("mesh.contact_smoothing", n_intervals, f"0 or 1..{mpts - 3} (n_points - 3)")
     from scipy.interpolate import BSpline
 
     from rotaflex.gear.kernels import flank_weights
@@ -332,8 +331,7 @@ def tie_eigen_bounds(model: GearPairModel, dt: float) -> np.ndarray:
             raise InputError(
                 "solver.dt",
                 dt,
-                "a step for which the constraint matrix is positive"
-                f" definite (dt < {model.dt_limit:.4g} s)",
+                f"a step for which the constraint matrix is positive definite (dt < {model.dt_limit:.4g} s)",
             )
         out.append(lam[0])
     return np.array(out)
@@ -465,8 +463,7 @@ def simulate(
     info = np.zeros(4)
     if not 0.0 <= restitution <= 1.0:
         raise InputError("solver.restitution", restitution, "in [0, 1]")
-    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps,
-                    float(restitution)])
+    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps, float(restitution)])
     rec_nodes = None if record_nodes is None else np.asarray(record_nodes, dtype=np.int64)
     rec_x = None if rec_nodes is None else np.zeros((n_rec, len(rec_nodes), 2))
     args_model = (
@@ -512,8 +509,10 @@ def simulate(
     while done < n_steps:
         n = min(chunk, n_steps - done)
         row_before = row
-        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0,
-                         1 if multipliers == "direct" else 0], dtype=np.int64)
+        ipar = np.array(
+            [n_accel, max_iter, model.n_points, row, 1 if first else 0, 1 if multipliers == "direct" else 0],
+            dtype=np.int64,
+        )
         status, row = run_steps(
             n,
             record_every,

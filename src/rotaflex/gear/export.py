@@ -63,7 +63,5 @@ def write_vtu(
         if v.shape[0] != ne:
             raise InputError(f"cell_data.{k}", v.shape, f"first dimension {ne}")
         cdata[k] = [v]
-    out = meshio.Mesh(
-        pts, [("quad8", np.asarray(mesh.elements))], point_data=pdata, cell_data=cdata
-    )
+    out = meshio.Mesh(pts, [("quad8", np.asarray(mesh.elements))], point_data=pdata, cell_data=cdata)
     return write_atomic(path, lambda p: meshio.write(p, out, file_format="vtu"))

@@ -47,9 +47,7 @@ def shape_functions(xi: np.ndarray, eta: np.ndarray) -> np.ndarray:
     c = 0.25 * (1 + xi * _XI[:4]) * (1 + eta * _ETA[:4]) * (xi * _XI[:4] + eta * _ETA[:4] - 1)
     m_xi = 0.5 * (1 - xi**2) * (1 + eta * _ETA[[4, 6]])  # nodes 4, 6 (xi_i = 0)
     m_eta = 0.5 * (1 + xi * _XI[[5, 7]]) * (1 - eta**2)  # nodes 5, 7 (eta_i = 0)
-    return np.concatenate(
-        [c, m_xi[..., :1], m_eta[..., :1], m_xi[..., 1:], m_eta[..., 1:]], axis=-1
-    )
+    return np.concatenate([c, m_xi[..., :1], m_eta[..., :1], m_xi[..., 1:], m_eta[..., 1:]], axis=-1)
 
 
 def shape_derivatives(xi: np.ndarray, eta: np.ndarray) -> np.ndarray:
@@ -64,9 +62,7 @@ def shape_derivatives(xi: np.ndarray, eta: np.ndarray) -> np.ndarray:
     d46_deta = 0.5 * (1 - xi**2) * e46
     d57_dxi = 0.5 * x57 * (1 - eta**2)
     d57_deta = -eta * (1 + xi * x57)
-    dxi = np.concatenate(
-        [dc_dxi, d46_dxi[..., :1], d57_dxi[..., :1], d46_dxi[..., 1:], d57_dxi[..., 1:]], axis=-1
-    )
+    dxi = np.concatenate([dc_dxi, d46_dxi[..., :1], d57_dxi[..., :1], d46_dxi[..., 1:], d57_dxi[..., 1:]], axis=-1)
     deta = np.concatenate(
         [dc_deta, d46_deta[..., :1], d57_deta[..., :1], d46_deta[..., 1:], d57_deta[..., 1:]],
         axis=-1,
@@ -233,9 +229,7 @@ def stable_time_step(
         ke = element_stiffness(mesh, youngs_modulus, poisson_ratio)
         me, mass = _element_mass_scalar(mesh, density)
         diag = np.einsum("eaa->ea", me)
-        ml = np.repeat(
-            diag * (mass / diag.sum(axis=1))[:, None], 2, axis=1
-        )  # [m0, m0, m1, m1, ...]
+        ml = np.repeat(diag * (mass / diag.sum(axis=1))[:, None], 2, axis=1)  # [m0, m0, m1, m1, ...]
         s = 1.0 / np.sqrt(ml)
         a = ke * s[:, :, None] * s[:, None, :]
         lam = float(np.linalg.eigvalsh(a)[:, -1].max())

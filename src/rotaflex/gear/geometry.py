@@ -111,9 +111,7 @@ class GearGeometry:
     def __post_init__(self) -> None:
         m, x = self.module, self.profile_shift
         if self.tip_radius is not None and self.tip_radius <= self.pitch_radius:
-            raise InputError(
-                "tip_radius", self.tip_radius, f"> pitch radius {self.pitch_radius:.6g} m"
-            )
+            raise InputError("tip_radius", self.tip_radius, f"> pitch radius {self.pitch_radius:.6g} m")
         if self.root_radius is not None and not (
             0.5 * self.pitch_radius < self.root_radius < self.pitch_radius + x * m
         ):
@@ -123,9 +121,7 @@ class GearGeometry:
                 f"between {0.5 * self.pitch_radius:.6g} and {self.pitch_radius + x * m:.6g} m",
             )
         if self.tip_radius_ <= self.base_radius:
-            raise InputError(
-                "tip_radius", self.tip_radius_, f"> base radius {self.base_radius:.6g} m"
-            )
+            raise InputError("tip_radius", self.tip_radius_, f"> base radius {self.base_radius:.6g} m")
         rho_max = self._rack_tip_radius_max()
         if self.rack_tip_radius_coef * m > rho_max + 1e-15:
             raise InputError(
@@ -158,9 +154,7 @@ class GearGeometry:
                 f"a non-pointed tooth (tip thickness {self.tip_thickness:.3e} m)",
             )
         if self.form_radius >= self.tip_radius_:
-            raise InputError(
-                "tip_radius", self.tip_radius_, f"> form radius {self.form_radius:.6g} m"
-            )
+            raise InputError("tip_radius", self.tip_radius_, f"> form radius {self.form_radius:.6g} m")
 
     # ------------------------------------------------------------------ radii
     @property
@@ -205,9 +199,7 @@ class GearGeometry:
     @property
     def pitch_thickness(self) -> float:
         """Tooth thickness on the reference circle s = m (pi/2 + 2 x tan alpha) [m] (arc)."""
-        return self.module * (
-            0.5 * math.pi + 2.0 * self.profile_shift * math.tan(self.pressure_angle)
-        )
+        return self.module * (0.5 * math.pi + 2.0 * self.profile_shift * math.tan(self.pressure_angle))
 
     @property
     def tip_thickness(self) -> float:
@@ -226,11 +218,7 @@ class GearGeometry:
         """
         r = np.asarray(radius, dtype=float)
         a_r = np.arccos(np.clip(self.base_radius / r, -1.0, 1.0))
-        return (
-            self.pitch_thickness / (2.0 * self.pitch_radius)
-            + involute(self.pressure_angle)
-            - involute(a_r)
-        )
+        return self.pitch_thickness / (2.0 * self.pitch_radius) + involute(self.pressure_angle) - involute(a_r)
 
     def involute_points(self, radius: np.ndarray, side: str = "right") -> np.ndarray:
         """Involute flank points at the given radii, shape (n, 2) [m].
@@ -260,9 +248,7 @@ class GearGeometry:
     def _rack_tip_radius_max(self) -> float:
         a, m = self.pressure_angle, self.module
         h = self.pitch_radius - self.root_radius_
-        return (0.5 * math.pi * m - 0.5 * self.pitch_thickness - h * math.tan(a)) / (
-            1.0 / math.cos(a) - math.tan(a)
-        )
+        return (0.5 * math.pi * m - 0.5 * self.pitch_thickness - h * math.tan(a)) / (1.0 / math.cos(a) - math.tan(a))
 
     def _rack_flank_lowest_y(self) -> float:
         """y of the tangency between cutter flank and tip round (rack frame) [m]."""
@@ -335,9 +321,7 @@ def center_distance_no_backlash(g1: GearGeometry, g2: GearGeometry) -> float:
     """
     _check_pair(g1, g2)
     a = g1.pressure_angle
-    inv_w = float(involute(a)) + 2.0 * (g1.profile_shift + g2.profile_shift) * math.tan(a) / (
-        g1.teeth + g2.teeth
-    )
+    inv_w = float(involute(a)) + 2.0 * (g1.profile_shift + g2.profile_shift) * math.tan(a) / (g1.teeth + g2.teeth)
     a_w = _inv_inverse(inv_w)
     return (g1.base_radius + g2.base_radius) / math.cos(a_w)
 
@@ -364,9 +348,7 @@ def _working_pressure_angle(g1: GearGeometry, g2: GearGeometry, center_distance:
     return math.acos(rb / center_distance)
 
 
-def path_of_contact(
-    g1: GearGeometry, g2: GearGeometry, center_distance: float | None = None
-) -> float:
+def path_of_contact(g1: GearGeometry, g2: GearGeometry, center_distance: float | None = None) -> float:
     """Length of the path of contact g_alpha along the line of action [m].
 
     ``g = sqrt(ra1^2 - rb1^2) + sqrt(ra2^2 - rb2^2) - a sin(alpha_w)``.
@@ -382,9 +364,7 @@ def path_of_contact(
     for gi, go in ((g1, g2), (g2, g1)):
         reach = math.sqrt(gi.tip_radius_**2 - gi.base_radius**2)
         if reach > a * math.sin(aw):
-            raise InputError(
-                "tip_radius", gi.tip_radius_, "a tip radius free of tip-to-base interference"
-            )
+            raise InputError("tip_radius", gi.tip_radius_, "a tip radius free of tip-to-base interference")
         # active contact must stay on the involute of the mating gear (above its form circle)
         lowest = math.hypot(go.base_radius, a * math.sin(aw) - reach)
         if lowest < go.form_radius * (1 - 1e-9):
@@ -396,21 +376,15 @@ def path_of_contact(
     return g
 
 
-def contact_ratio(
-    g1: GearGeometry, g2: GearGeometry, center_distance: float | None = None
-) -> float:
+def contact_ratio(g1: GearGeometry, g2: GearGeometry, center_distance: float | None = None) -> float:
     """Transverse contact ratio eps_alpha = g_alpha / p_b; raises InputError when < 1."""
     eps = path_of_contact(g1, g2, center_distance) / g1.base_pitch
     if eps < 1.0:
-        raise InputError(
-            "tip_radius", g1.tip_radius_, f"radii giving contact ratio >= 1 (got {eps:.4f})"
-        )
+        raise InputError("tip_radius", g1.tip_radius_, f"radii giving contact ratio >= 1 (got {eps:.4f})")
     return eps
 
 
-def contact_angles(
-    g1: GearGeometry, g2: GearGeometry, center_distance: float | None = None
-) -> tuple[float, float]:
+def contact_angles(g1: GearGeometry, g2: GearGeometry, center_distance: float | None = None) -> tuple[float, float]:
     """Rotation angles of gear 1 over one tooth pair's contact and over each two-pair zone [rad].
 
     Returns

@@ -422,9 +422,7 @@ def sample_flank(x, flank, nedge, out):
     for k in range(mpts):
         flank_weights(flank, nedge, k / (mpts - 1), nodes, w)
         for d in range(2):
-            out[k, d] = (
-                w[0] * x[2 * nodes[0] + d] + w[1] * x[2 * nodes[1] + d] + w[2] * x[2 * nodes[2] + d]
-            )
+            out[k, d] = w[0] * x[2 * nodes[0] + d] + w[1] * x[2 * nodes[1] + d] + w[2] * x[2 * nodes[2] + d]
 
 
 @njit(cache=True)
@@ -584,8 +582,7 @@ def sample_smooth(x, flank, tab, mloc, theta, omega, vel, out):
 
 
 @njit(cache=True)
-def contact_geometry_smooth(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw,
-                            theta0, tab, mloc):
+def contact_geometry_smooth(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw, theta0, tab, mloc):
     """:func:`contact_geometry` on the smoothed flank surfaces.
 
     The surface of tooth g is ``P(s) = X_ref(s) + sum_n T_n(s) (x_n - X_ref,n)``: the FE
@@ -686,9 +683,7 @@ def respond(g, gth, c1, c2, minv, gid, rot, jd, indptr, indices, data, zk, tx, t
 
 
 @njit(cache=True)
-def contact_column(
-    c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cnod, cw, cn, g, zk, ccol
-):
+def contact_column(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cnod, cw, cn, g, zk, ccol):
     """Column of C = G W G^T belonging to the contact row (W = c1 M^-1 - c2 M^-1 K_g M^-1)."""
     nt = tie_node.shape[0]
     for side in range(2):
@@ -734,9 +729,7 @@ def contact_column(
 
 
 @njit(cache=True)
-def c_matvec(
-    z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, ccol, yl, kz
-):
+def c_matvec(z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, ccol, yl, kz):
     """out = C' z with the structured C = G W G^T (ties: diagonal + disk rank-1 + local
     stiffness coupling of the tie nodes; contact: explicit column). ``act`` masks the contact."""
     nt = tie_node.shape[0]
@@ -1004,8 +997,30 @@ def iterate_pass(
 
 
 @njit(cache=True)
-def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, minv, tie_node, tie_gear,
-                 jd, bvec, rot, tb_i, tb_j, tb_b, ccol, work, stats):
+def direct_solve(
+    mode,
+    e0,
+    mu,
+    pbar,
+    c1,
+    c2,
+    tol,
+    max_ref,
+    lb,
+    perm,
+    minv,
+    tie_node,
+    tie_gear,
+    jd,
+    bvec,
+    rot,
+    tb_i,
+    tb_j,
+    tb_b,
+    ccol,
+    work,
+    stats,
+):
     """Direct multiplier solve of one pass (:mod:`rotaflex.gear.kernels_direct`), checked.
 
     After the exact solve the error ``e0 + C dmu`` is re-evaluated with the structured
@@ -1027,8 +1042,9 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, minv, tie_n
         direct_pass(mode, e, mu, pbar, lb, perm, tie_gear, bvec, ccol, tol, dmu, buf)
         for r in range(nc):
             mu[r] += dmu[r]
-        c_matvec(dmu, t1, True, c1, c2, minv, tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j,
-                 tb_b, ccol, work[5], work[6])
+        c_matvec(
+            dmu, t1, True, c1, c2, minv, tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, ccol, work[5], work[6]
+        )
         for r in range(nc):
             y[r] += t1[r]
         res = 0.0
@@ -1052,23 +1068,127 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, minv, tie_n
 
 
 @njit(cache=True)
-def solve_pass(direct, lb, perm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter,
-               minv, tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, ccol, work, stats):
+def solve_pass(
+    direct,
+    lb,
+    perm,
+    mode,
+    e0,
+    mu,
+    pbar,
+    c1,
+    c2,
+    eps_tie,
+    tol,
+    n_acc,
+    max_iter,
+    minv,
+    tie_node,
+    tie_gear,
+    jd,
+    bvec,
+    rot,
+    tb_i,
+    tb_j,
+    tb_b,
+    ccol,
+    work,
+    stats,
+):
     """Dispatch one pass to the iteration of eq. 19-24 or to the direct solve."""
     if direct:
-        return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, lb, perm, minv, tie_node,
-                            tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, ccol, work, stats)
-    return iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, minv,
-                        tie_node, tie_gear, jd, bvec, rot, tb_i, tb_j, tb_b, ccol, work, stats)
+        return direct_solve(
+            mode,
+            e0,
+            mu,
+            pbar,
+            c1,
+            c2,
+            tol,
+            3,
+            lb,
+            perm,
+            minv,
+            tie_node,
+            tie_gear,
+            jd,
+            bvec,
+            rot,
+            tb_i,
+            tb_j,
+            tb_b,
+            ccol,
+            work,
+            stats,
+        )
+    return iterate_pass(
+        mode,
+        e0,
+        mu,
+        pbar,
+        c1,
+        c2,
+        eps_tie,
+        tol,
+        n_acc,
+        max_iter,
+        minv,
+        tie_node,
+        tie_gear,
+        jd,
+        bvec,
+        rot,
+        tb_i,
+        tb_j,
+        tb_b,
+        ccol,
+        work,
+        stats,
+    )
 
 
 # ----------------------------------------------------------------------------- time stepping
 
 
 @njit(cache=True)
-def accelerations(x, phi, mu, tau_off, ct, rates, flank, nedge, cnod, cw, xloc, gid, cen, theta0,
-                  jd, minv, indptr, indices, data, tie_node, tie_gear, rsgn, tpar, rot, bvec, rx,
-                  wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp, tab):
+def accelerations(
+    x,
+    phi,
+    mu,
+    tau_off,
+    ct,
+    rates,
+    flank,
+    nedge,
+    cnod,
+    cw,
+    xloc,
+    gid,
+    cen,
+    theta0,
+    jd,
+    minv,
+    indptr,
+    indices,
+    data,
+    tie_node,
+    tie_gear,
+    rsgn,
+    tpar,
+    rot,
+    bvec,
+    rx,
+    wbuf,
+    floc,
+    fglob,
+    tel,
+    fc,
+    fth,
+    cn_s,
+    a,
+    alp,
+    tab,
+):
     """Accelerations at a (stage) state for given multipliers ``mu``; returns strain energy.
 
     The constraint force is ``G(q)^T mu`` with the Jacobian at the stage state: tie forces
@@ -1125,11 +1245,48 @@ def kinetic_energy(v, om, minv, jd):
 
 
 @njit(cache=True)
-def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi_tie_gear,
-              mi_flank, mi_nedge, mi_tb_i, mi_tb_j, mf_xloc, mf_minv, mf_data, mf_cen,
-              mf_theta0, mf_jd, mf_sig, mf_tb_b, mf_rsgn, par, ipar,
-              x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, out, out_mu, info,
-              dfac, dperm, tab, mloc):
+def run_steps(
+    n_steps,
+    rec_every,
+    mi_gid,
+    mi_indptr,
+    mi_indices,
+    mi_tie_node,
+    mi_tie_gear,
+    mi_flank,
+    mi_nedge,
+    mi_tb_i,
+    mi_tb_j,
+    mf_xloc,
+    mf_minv,
+    mf_data,
+    mf_cen,
+    mf_theta0,
+    mf_jd,
+    mf_sig,
+    mf_tb_b,
+    mf_rsgn,
+    par,
+    ipar,
+    x,
+    v,
+    a,
+    phi,
+    om,
+    alp,
+    mu,
+    cres,
+    cnod,
+    cw,
+    sc,
+    out,
+    out_mu,
+    info,
+    dfac,
+    dperm,
+    tab,
+    mloc,
+):
     """Advance ``n_steps`` RK4 steps with the three constraint passes per step.
 
     ``par`` = (dt, tau0, theta_2, theta_s, tol1, tol2, tol3, eps_tie1, eps_tie2, eps_tie3
@@ -1211,8 +1368,9 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
     init = ipar[4] == 1
     direct = ipar[5] == 1
     if init:
-        if not contact_geometry_smooth(x, phi, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb,
-                                       mb, cres, cnod, cw, mf_theta0, tab, mloc):
+        if not contact_geometry_smooth(
+            x, phi, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb, mb, cres, cnod, cw, mf_theta0, tab, mloc
+        ):
             info[0] = sc[0]
             return 4, row
         cn[0] = cres[3]
@@ -1254,10 +1412,44 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                     for g in range(2):
                         ps[g] = phi[g] + hh * os_[g]
                         os_[g] = om[g] + hh * alk[g]
-                accelerations(xs, ps, mu, hh, ct, rates, mi_flank, mi_nedge, cnod_t, cw_t,
-                              mf_xloc, mi_gid, mf_cen, mf_theta0, mf_jd, mf_minv, mi_indptr,
-                              mi_indices, mf_data, mi_tie_node, mi_tie_gear, mf_rsgn, tpar, rot,
-                              bvec, rx, wbuf, floc, fglob, tel, fc, fth, cn_s, ak, alk, tab)
+                accelerations(
+                    xs,
+                    ps,
+                    mu,
+                    hh,
+                    ct,
+                    rates,
+                    mi_flank,
+                    mi_nedge,
+                    cnod_t,
+                    cw_t,
+                    mf_xloc,
+                    mi_gid,
+                    mf_cen,
+                    mf_theta0,
+                    mf_jd,
+                    mf_minv,
+                    mi_indptr,
+                    mi_indices,
+                    mf_data,
+                    mi_tie_node,
+                    mi_tie_gear,
+                    mf_rsgn,
+                    tpar,
+                    rot,
+                    bvec,
+                    rx,
+                    wbuf,
+                    floc,
+                    fglob,
+                    tel,
+                    fc,
+                    fth,
+                    cn_s,
+                    ak,
+                    alk,
+                    tab,
+                )
                 for r in range(nd):
                     xsum[r] += wgt * vs[r]
                     asum[r] += wgt * ak[r]
@@ -1272,8 +1464,9 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 om[g] += dt / 6.0 * osum[g]
             t = t + dt
             # ---- contact search at the predicted state
-            if not contact_geometry_smooth(x, phi, mi_flank, mi_nedge, mf_sig, mpts, pa, ma,
-                                           pb, mb, cres, cnod, cw, mf_theta0, tab, mloc):
+            if not contact_geometry_smooth(
+                x, phi, mi_flank, mi_nedge, mf_sig, mpts, pa, ma, pb, mb, cres, cnod, cw, mf_theta0, tab, mloc
+            ):
                 info[0] = t
                 return 4, row
             cn[0] = cres[3]
@@ -1298,14 +1491,37 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 e0[2 * k] = -(rx[k, 0] - mf_xloc[i, 0])
                 e0[2 * k + 1] = -(rx[k, 1] - mf_xloc[i, 1])
             e0[ic] = -cres[2]
-            contact_column(c11, c12, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
-                           mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
+            contact_column(
+                c11, c12, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data, mi_tie_node, cnod, cw, cn, gsc, zk, ccol
+            )
             mu0[:] = mu
             res, its, ok, yc = solve_pass(
-                direct, dfac[0], dperm, 1, e0, mu, 0.0, c11, c12, par[7], tol1, n_acc,
-                                            max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd,
-                                            bvec, rot, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work,
-                                            stats)
+                direct,
+                dfac[0],
+                dperm,
+                1,
+                e0,
+                mu,
+                0.0,
+                c11,
+                c12,
+                par[7],
+                tol1,
+                n_acc,
+                max_iter,
+                mf_minv,
+                mi_tie_node,
+                mi_tie_gear,
+                mf_jd,
+                bvec,
+                rot,
+                mi_tb_i,
+                mi_tb_j,
+                mf_tb_b,
+                ccol,
+                work,
+                stats,
+            )
             if not ok:
                 info[0] = t
                 info[1] = res
@@ -1348,8 +1564,9 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 # held over the step, i.e. it takes part in the impact; its change of kinetic
                 # + strain energy is counted in D (strain part added after pass 3)
                 set_rotation(psum, mf_theta0, rot)
-                se_pred = elastic_force(xsum, mf_xloc, mi_gid, mf_cen, rot, mi_indptr,
-                                        mi_indices, mf_data, wbuf, floc, fglob, tel)
+                se_pred = elastic_force(
+                    xsum, mf_xloc, mi_gid, mf_cen, rot, mi_indptr, mi_indices, mf_data, wbuf, floc, fglob, tel
+                )
                 set_rotation(phi, mf_theta0, rot)
                 sc[2] += ke_pred + se_pred - ke0
             for k in range(nt):
@@ -1373,14 +1590,37 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
                 # pass, which already removes part of it) instead of 0
                 vtgt = -rest * sh_pred
             e0[ic] = sh - vtgt
-            contact_column(c21, c22, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
-                           mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
+            contact_column(
+                c21, c22, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data, mi_tie_node, cnod, cw, cn, gsc, zk, ccol
+            )
             mu0[:] = mu
             res, its, ok, yc = solve_pass(
-                direct, dfac[1], dperm, 2, e0, mu, pbar, c21, c22, par[8], tol2, n_acc,
-                                            max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd,
-                                            bvec, rot, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work,
-                                            stats)
+                direct,
+                dfac[1],
+                dperm,
+                2,
+                e0,
+                mu,
+                pbar,
+                c21,
+                c22,
+                par[8],
+                tol2,
+                n_acc,
+                max_iter,
+                mf_minv,
+                mi_tie_node,
+                mi_tie_gear,
+                mf_jd,
+                bvec,
+                rot,
+                mi_tb_i,
+                mi_tb_j,
+                mf_tb_b,
+                ccol,
+                work,
+                stats,
+            )
             if not ok:
                 info[0] = t
                 info[1] = res
@@ -1395,8 +1635,7 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             gsc[:] = 0.0
             gth[:] = 0.0
             gt_apply(e0, mi_tie_node, mi_tie_gear, bvec, rot, cnod, cw, cn, gsc, gth)
-            respond(gsc, gth, c21, c22, mf_minv, mi_gid, rot, mf_jd, mi_indptr, mi_indices,
-                    mf_data, zk, v, om, 1.0)
+            respond(gsc, gth, c21, c22, mf_minv, mi_gid, rot, mf_jd, mi_indptr, mi_indices, mf_data, zk, v, om, 1.0)
             zk[:] = 0.0
             gsc[:] = 0.0
             sc[2] += ke0 - kinetic_energy(v, om, mf_minv, mf_jd)
@@ -1415,10 +1654,44 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
         ct[1] = cres[1]
         ct[2] = cn[0]
         ct[3] = cn[1]
-        eel = accelerations(x, phi, mu, 0.0, ct, zero4, mi_flank, mi_nedge, cnod, cw, mf_xloc,
-                            mi_gid, mf_cen, mf_theta0, mf_jd, mf_minv, mi_indptr, mi_indices,
-                            mf_data, mi_tie_node, mi_tie_gear, mf_rsgn, tpar, rot, bvec, rx,
-                            wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp, tab)
+        eel = accelerations(
+            x,
+            phi,
+            mu,
+            0.0,
+            ct,
+            zero4,
+            mi_flank,
+            mi_nedge,
+            cnod,
+            cw,
+            mf_xloc,
+            mi_gid,
+            mf_cen,
+            mf_theta0,
+            mf_jd,
+            mf_minv,
+            mi_indptr,
+            mi_indices,
+            mf_data,
+            mi_tie_node,
+            mi_tie_gear,
+            mf_rsgn,
+            tpar,
+            rot,
+            bvec,
+            rx,
+            wbuf,
+            floc,
+            fglob,
+            tel,
+            fc,
+            fth,
+            cn_s,
+            a,
+            alp,
+            tab,
+        )
         for k in range(nt):
             i = mi_tie_node[k]
             g = mi_tie_gear[k]
@@ -1436,14 +1709,11 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             sample_flank(v, mi_flank[0], mi_nedge[0], va)
             sample_flank(v, mi_flank[1], mi_nedge[1], vb)
         else:
-            sample_smooth(v, mi_flank[0], tab[0], mloc[0], mf_theta0[0] + phi[0], om[0], True,
-                              va)
-            sample_smooth(v, mi_flank[1], tab[1], mloc[1], mf_theta0[1] + phi[1], om[1], True,
-                              vb)
+            sample_smooth(v, mi_flank[0], tab[0], mloc[0], mf_theta0[0] + phi[0], om[0], True, va)
+            sample_smooth(v, mi_flank[1], tab[1], mloc[1], mf_theta0[1] + phi[1], om[1], True, vb)
         spline_second(va, mva)
         spline_second(vb, mvb)
-        hs, _ad, _bd = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, mf_sig[0], mf_sig[1],
-                                     cres, rates)
+        hs, _ad, _bd = sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, mf_sig[0], mf_sig[1], cres, rates)
         for j in range(4):
             sc[20 + j] = rates[j]
         sa = hs
@@ -1453,13 +1723,37 @@ def run_steps(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi
             i = cnod[1, j]
             sa -= cw[1, j] * (cn[0] * a[2 * i] + cn[1] * a[2 * i + 1])
         e0[ic] = sa
-        contact_column(1.0, 0.0, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
-                       mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
+        contact_column(
+            1.0, 0.0, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data, mi_tie_node, cnod, cw, cn, gsc, zk, ccol
+        )
         mu0[:] = mu
         res, its, ok, yc = solve_pass(
-                direct, dfac[2], dperm, 3, e0, mu, pbar, 1.0, 0.0, par[9], tol3, n_acc,
-                                        max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd, bvec,
-                                        rot, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work, stats)
+            direct,
+            dfac[2],
+            dperm,
+            3,
+            e0,
+            mu,
+            pbar,
+            1.0,
+            0.0,
+            par[9],
+            tol3,
+            n_acc,
+            max_iter,
+            mf_minv,
+            mi_tie_node,
+            mi_tie_gear,
+            mf_jd,
+            bvec,
+            rot,
+            mi_tb_i,
+            mi_tb_j,
+            mf_tb_b,
+            ccol,
+            work,
+            stats,
+        )
         if not ok:
             info[0] = t
             info[1] = res

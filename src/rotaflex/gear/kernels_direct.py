@@ -68,8 +68,7 @@ def factor_tie_blocks(model, dt: float):
     for p, c1 in enumerate((dt * dt / 2, dt, 1.0)):
         y = np.empty((2, n))
         s2 = np.empty((2, 2))
-        prepare_woodbury(np.ascontiguousarray(lband[p]), perm, bmat,
-                         c1 / np.asarray(model.inertia, dtype=float), y, s2)
+        prepare_woodbury(np.ascontiguousarray(lband[p]), perm, bmat, c1 / np.asarray(model.inertia, dtype=float), y, s2)
         packed[p, :n, nb] = y[0]
         packed[p, :n, nb + 1] = y[1]
         packed[p, n, :4] = s2.ravel()

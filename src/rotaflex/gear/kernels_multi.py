@@ -46,14 +46,41 @@ from rotaflex.gear.kernels import (
 
 #: global columns of the per-record output
 GLOBAL_COLUMNS = (
-    "time", "phi_A", "phi_B", "omega_A", "omega_B", "kinetic_energy", "strain_energy",
-    "external_work", "velocity_pass_loss", "res_disp", "res_vel", "res_acc", "iter_disp",
-    "iter_vel", "iter_acc", "torque_A", "torque_B", "tie_residual", "impacts",
+    "time",
+    "phi_A",
+    "phi_B",
+    "omega_A",
+    "omega_B",
+    "kinetic_energy",
+    "strain_energy",
+    "external_work",
+    "velocity_pass_loss",
+    "res_disp",
+    "res_vel",
+    "res_acc",
+    "iter_disp",
+    "iter_vel",
+    "iter_acc",
+    "torque_A",
+    "torque_B",
+    "tie_residual",
+    "impacts",
 )
 #: per-pair columns of the per-record output
 PAIR_COLUMNS = (
-    "force", "force_disp", "force_vel", "gap", "cpA_x", "cpA_y", "cpB_x", "cpB_y", "param_a",
-    "param_b", "force_peak", "contact_case", "normal_velocity",
+    "force",
+    "force_disp",
+    "force_vel",
+    "gap",
+    "cpA_x",
+    "cpA_y",
+    "cpB_x",
+    "cpB_y",
+    "param_a",
+    "param_b",
+    "force_peak",
+    "contact_case",
+    "normal_velocity",
 )
 
 
@@ -93,8 +120,7 @@ def gt_apply_m(dmu, tie_node, tie_gear, bvec, rot, cnod, cw, cn, g, gth):
 
 
 @njit(cache=True)
-def contact_columns_m(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cnod, cw, cn,
-                      g, zk, ccol):
+def contact_columns_m(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cnod, cw, cn, g, zk, ccol):
     """Columns of C = G W G^T of every contact row (W = c1 M^-1 - c2 M^-1 K_g M^-1)."""
     nt = tie_node.shape[0]
     npair = cnod.shape[0]
@@ -141,8 +167,7 @@ def contact_columns_m(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, c
 
 
 @njit(cache=True)
-def c_matvec_m(z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b,
-               ccol, yl, kz):
+def c_matvec_m(z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, yl, kz):
     """out = C' z: tie block (structured) + the active contact rows/columns (``act`` mask)."""
     nt = tie_node.shape[0]
     ic = 2 * nt
@@ -194,8 +219,29 @@ def c_matvec_m(z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb
 
 
 @njit(cache=True)
-def iterate_pass_m(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, minv, tie_node,
-                   tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, work, stats):
+def iterate_pass_m(
+    mode,
+    e0,
+    mu,
+    pbar,
+    c1,
+    c2,
+    eps_tie,
+    tol,
+    n_acc,
+    max_iter,
+    minv,
+    tie_node,
+    tie_gear,
+    jd,
+    bvec,
+    tb_i,
+    tb_j,
+    tb_b,
+    ccol,
+    work,
+    stats,
+):
     """Multiplier / contact-force iteration of eq. 19-21 with ``npair`` unilateral rows.
 
     Each contact row is active when (mode 1) its force is compressive or it penetrates, or
@@ -219,8 +265,7 @@ def iterate_pass_m(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, mi
     coef = np.zeros(33)
     act = np.zeros(npair, np.bool_)
     allact = np.ones(npair, np.bool_)
-    tie_row_sums(c1, c2, minv, tie_node, tie_gear, jd, bvec, np.zeros((2, 2)), tb_i, tb_j,
-                 tb_b, rs)
+    tie_row_sums(c1, c2, minv, tie_node, tie_gear, jd, bvec, np.zeros((2, 2)), tb_i, tb_j, tb_b, rs)
     last_mask = -1
     nrm = 1.0
     bbar = 1.0
@@ -292,8 +337,7 @@ def iterate_pass_m(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, mi
         for r in range(nc):
             d[r] = coef[deg] * e[r]
         for j in range(deg - 1, -1, -1):
-            c_matvec_m(d, t1, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j,
-                       tb_b, ccol, yl, kz)
+            c_matvec_m(d, t1, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, yl, kz)
             for r in range(nc):
                 d[r] = t1[r] / nrm + coef[j] * e[r]
         for r in range(nc):
@@ -304,8 +348,7 @@ def iterate_pass_m(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, mi
             d[ic + jp] = newp - p
         for r in range(nc):
             mu[r] += d[r]
-        c_matvec_m(d, t1, allact, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b,
-                   ccol, yl, kz)
+        c_matvec_m(d, t1, allact, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, yl, kz)
         for r in range(nc):
             y[r] += t1[r]
     stats[0] = res
@@ -314,9 +357,44 @@ def iterate_pass_m(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, mi
 
 
 @njit(cache=True)
-def accelerations_m(x, phi, mu, tau_off, ct, rates, flank, nedge, cnod, cw, xloc, gid, cen,
-                    theta0, jd, minv, indptr, indices, data, tie_node, tie_gear, rsgn, tpar,
-                    tmode, rot, bvec, rx, wbuf, floc, fglob, tel, fc, fth, cn_s, a, alp):
+def accelerations_m(
+    x,
+    phi,
+    mu,
+    tau_off,
+    ct,
+    rates,
+    flank,
+    nedge,
+    cnod,
+    cw,
+    xloc,
+    gid,
+    cen,
+    theta0,
+    jd,
+    minv,
+    indptr,
+    indices,
+    data,
+    tie_node,
+    tie_gear,
+    rsgn,
+    tpar,
+    tmode,
+    rot,
+    bvec,
+    rx,
+    wbuf,
+    floc,
+    fglob,
+    tel,
+    fc,
+    fth,
+    cn_s,
+    a,
+    alp,
+):
     """Accelerations at a (stage) state for multipliers ``mu``; returns the strain energy.
 
     As :func:`rotaflex.gear.kernels.accelerations`, with every contact point and normal
@@ -333,8 +411,7 @@ def accelerations_m(x, phi, mu, tau_off, ct, rates, flank, nedge, cnod, cw, xloc
         cn_s[jp, 0] = n0 / ln
         cn_s[jp, 1] = n1 / ln
         for side in range(2):
-            flank_weights(flank[jp, side], nedge[jp, side],
-                          ct[jp, side] + rates[jp, side] * tau_off, nodes, w)
+            flank_weights(flank[jp, side], nedge[jp, side], ct[jp, side] + rates[jp, side] * tau_off, nodes, w)
             for j in range(3):
                 cnod[jp, side, j] = nodes[j]
                 cw[jp, side, j] = w[j]
@@ -447,8 +524,28 @@ def pair_contact(x, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw, mod
 
 
 @njit(cache=True)
-def search_pairs(x, phi0, rsgn0, mi_flank, mi_nedge, mf_sig, mpts, mf_psi, mf_wtab, lo, hi,
-                 corners, pa, ma, pb, mb, cres, cnod, cw, spair):
+def search_pairs(
+    x,
+    phi0,
+    rsgn0,
+    mi_flank,
+    mi_nedge,
+    mf_sig,
+    mpts,
+    mf_psi,
+    mf_wtab,
+    lo,
+    hi,
+    corners,
+    pa,
+    ma,
+    pb,
+    mb,
+    cres,
+    cnod,
+    cw,
+    spair,
+):
     """Contact search of every pair whose nominal contact angle ``psi_j + rsgn0 phi0`` lies in
     the mesh window [lo, hi]. A pair entering the window is warm-started from ``mf_wtab``
     (involute contact parameters on a uniform grid of the contact angle over [0, theta_s]);
@@ -473,8 +570,21 @@ def search_pairs(x, phi0, rsgn0, mi_flank, mi_nedge, mf_sig, mpts, mf_psi, mf_wt
                 mode = 1
             elif corners and psi > mf_wtab[nw - 1, 2]:
                 mode = 2
-            if not pair_contact(x, mi_flank[jp], mi_nedge[jp], mf_sig, mpts, pa[jp], ma[jp],
-                                pb[jp], mb[jp], cres[jp], cnod[jp], cw[jp], mode):
+            if not pair_contact(
+                x,
+                mi_flank[jp],
+                mi_nedge[jp],
+                mf_sig,
+                mpts,
+                pa[jp],
+                ma[jp],
+                pb[jp],
+                mb[jp],
+                cres[jp],
+                cnod[jp],
+                cw[jp],
+                mode,
+            ):
                 return False
             spair[jp, 5] = 1.0
         else:
@@ -491,11 +601,49 @@ def search_pairs(x, phi0, rsgn0, mi_flank, mi_nedge, mf_sig, mpts, mf_psi, mf_wt
 
 
 @njit(cache=True)
-def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, mi_tie_gear,
-                mi_flank, mi_nedge, mi_tb_i, mi_tb_j, mf_xloc, mf_minv, mf_data, mf_cen,
-                mf_theta0, mf_jd, mf_sig, mf_tb_b, mf_rsgn, mf_psi, mf_wtab, par, ipar,
-                x, v, a, phi, om, alp, mu, cres, cnod, cw, sc, spair, rates, out, outp, out_mu,
-                info):
+def run_steps_m(
+    n_steps,
+    rec_every,
+    mi_gid,
+    mi_indptr,
+    mi_indices,
+    mi_tie_node,
+    mi_tie_gear,
+    mi_flank,
+    mi_nedge,
+    mi_tb_i,
+    mi_tb_j,
+    mf_xloc,
+    mf_minv,
+    mf_data,
+    mf_cen,
+    mf_theta0,
+    mf_jd,
+    mf_sig,
+    mf_tb_b,
+    mf_rsgn,
+    mf_psi,
+    mf_wtab,
+    par,
+    ipar,
+    x,
+    v,
+    a,
+    phi,
+    om,
+    alp,
+    mu,
+    cres,
+    cnod,
+    cw,
+    sc,
+    spair,
+    rates,
+    out,
+    outp,
+    out_mu,
+    info,
+):
     """Advance ``n_steps`` RK4 steps with three constraint passes and ``npair`` contacts.
 
     ``rates`` (npair, 4) holds the contact-parameter rates (da/dt, db/dt, dn/dt) of each pair; it
@@ -581,9 +729,28 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
     corners = par[12] != 0.0
     init = ipar[4] == 1
     if init:
-        if not search_pairs(x, phi[0], mf_rsgn[0], mi_flank, mi_nedge, mf_sig, mpts, mf_psi,
-                            mf_wtab, lo, hi, corners, pa, ma, pb, mb, cres, cnod, cw,
-                            spair):
+        if not search_pairs(
+            x,
+            phi[0],
+            mf_rsgn[0],
+            mi_flank,
+            mi_nedge,
+            mf_sig,
+            mpts,
+            mf_psi,
+            mf_wtab,
+            lo,
+            hi,
+            corners,
+            pa,
+            ma,
+            pb,
+            mb,
+            cres,
+            cnod,
+            cw,
+            spair,
+        ):
             info[0] = sc[0]
             return 4, row
     for jp in range(npair):
@@ -626,11 +793,44 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
                     for g in range(2):
                         ps[g] = phi[g] + hh * os_[g]
                         os_[g] = om[g] + hh * alk[g]
-                accelerations_m(xs, ps, mu, hh, ct, rates, mi_flank, mi_nedge, cnod_t, cw_t,
-                                mf_xloc, mi_gid, mf_cen, mf_theta0, mf_jd, mf_minv, mi_indptr,
-                                mi_indices, mf_data, mi_tie_node, mi_tie_gear, mf_rsgn, tpar,
-                                tmode, rot, bvec, rx, wbuf, floc, fglob, tel, fc, fth, cn_s, ak,
-                                alk)
+                accelerations_m(
+                    xs,
+                    ps,
+                    mu,
+                    hh,
+                    ct,
+                    rates,
+                    mi_flank,
+                    mi_nedge,
+                    cnod_t,
+                    cw_t,
+                    mf_xloc,
+                    mi_gid,
+                    mf_cen,
+                    mf_theta0,
+                    mf_jd,
+                    mf_minv,
+                    mi_indptr,
+                    mi_indices,
+                    mf_data,
+                    mi_tie_node,
+                    mi_tie_gear,
+                    mf_rsgn,
+                    tpar,
+                    tmode,
+                    rot,
+                    bvec,
+                    rx,
+                    wbuf,
+                    floc,
+                    fglob,
+                    tel,
+                    fc,
+                    fth,
+                    cn_s,
+                    ak,
+                    alk,
+                )
                 for r in range(nd):
                     xsum[r] += wgt * vs[r]
                     asum[r] += wgt * ak[r]
@@ -645,9 +845,28 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
                 om[g] += dt / 6.0 * osum[g]
             t = t + dt
             # ---- contact search of every pair at the predicted state
-            if not search_pairs(x, phi[0], mf_rsgn[0], mi_flank, mi_nedge, mf_sig, mpts, mf_psi,
-                                mf_wtab, lo, hi, corners, pa, ma, pb, mb, cres, cnod, cw,
-                            spair):
+            if not search_pairs(
+                x,
+                phi[0],
+                mf_rsgn[0],
+                mi_flank,
+                mi_nedge,
+                mf_sig,
+                mpts,
+                mf_psi,
+                mf_wtab,
+                lo,
+                hi,
+                corners,
+                pa,
+                ma,
+                pb,
+                mb,
+                cres,
+                cnod,
+                cw,
+                spair,
+            ):
                 info[0] = t
                 return 4, row
             for jp in range(npair):
@@ -662,12 +881,33 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
                 e0[2 * k + 1] = -(rx[k, 1] - mf_xloc[i, 1])
             for jp in range(npair):
                 e0[ic + jp] = -cres[jp, 2]
-            contact_columns_m(c11, c12, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
-                              mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
+            contact_columns_m(
+                c11, c12, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data, mi_tie_node, cnod, cw, cn, gsc, zk, ccol
+            )
             mu0[:] = mu
-            res, its, ok = iterate_pass_m(1, e0, mu, pbar, c11, c12, par[7], tol1, n_acc,
-                                          max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd,
-                                          bvec, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work, stats)
+            res, its, ok = iterate_pass_m(
+                1,
+                e0,
+                mu,
+                pbar,
+                c11,
+                c12,
+                par[7],
+                tol1,
+                n_acc,
+                max_iter,
+                mf_minv,
+                mi_tie_node,
+                mi_tie_gear,
+                mf_jd,
+                bvec,
+                mi_tb_i,
+                mi_tb_j,
+                mf_tb_b,
+                ccol,
+                work,
+                stats,
+            )
             if not ok:
                 info[0] = t
                 info[1] = res
@@ -720,12 +960,33 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
                 e0[ic + jp] = sh
                 if pbar[jp] < 0.0 and sh > tol2 and mu0[ic + jp] == 0.0:
                     sc[14] += 1.0
-            contact_columns_m(c21, c22, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
-                              mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
+            contact_columns_m(
+                c21, c22, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data, mi_tie_node, cnod, cw, cn, gsc, zk, ccol
+            )
             mu0[:] = mu
-            res, its, ok = iterate_pass_m(2, e0, mu, pbar, c21, c22, par[8], tol2, n_acc,
-                                          max_iter, mf_minv, mi_tie_node, mi_tie_gear, mf_jd,
-                                          bvec, mi_tb_i, mi_tb_j, mf_tb_b, ccol, work, stats)
+            res, its, ok = iterate_pass_m(
+                2,
+                e0,
+                mu,
+                pbar,
+                c21,
+                c22,
+                par[8],
+                tol2,
+                n_acc,
+                max_iter,
+                mf_minv,
+                mi_tie_node,
+                mi_tie_gear,
+                mf_jd,
+                bvec,
+                mi_tb_i,
+                mi_tb_j,
+                mf_tb_b,
+                ccol,
+                work,
+                stats,
+            )
             if not ok:
                 info[0] = t
                 info[1] = res
@@ -739,8 +1000,7 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
             for r in range(nc):
                 dmu[r] = mu[r] - mu0[r]
             _transfer(dmu, mi_tie_node, mi_tie_gear, bvec, rot, cnod, cw, cn, gsc, gth)
-            respond(gsc, gth, c21, c22, mf_minv, mi_gid, rot, mf_jd, mi_indptr, mi_indices,
-                    mf_data, zk, v, om, 1.0)
+            respond(gsc, gth, c21, c22, mf_minv, mi_gid, rot, mf_jd, mi_indptr, mi_indices, mf_data, zk, v, om, 1.0)
             zk[:] = 0.0
             gsc[:] = 0.0
             sc[2] += ke0 - kinetic_energy(v, om, mf_minv, mf_jd)
@@ -759,11 +1019,44 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
             ct[jp, 1] = cres[jp, 1]
             ct[jp, 2] = cn[jp, 0]
             ct[jp, 3] = cn[jp, 1]
-        eel = accelerations_m(x, phi, mu, 0.0, ct, zero4, mi_flank, mi_nedge, cnod, cw,
-                              mf_xloc, mi_gid, mf_cen, mf_theta0, mf_jd, mf_minv, mi_indptr,
-                              mi_indices, mf_data, mi_tie_node, mi_tie_gear, mf_rsgn, tpar,
-                              tmode, rot, bvec, rx, wbuf, floc, fglob, tel, fc, fth, cn_s, a,
-                              alp)
+        eel = accelerations_m(
+            x,
+            phi,
+            mu,
+            0.0,
+            ct,
+            zero4,
+            mi_flank,
+            mi_nedge,
+            cnod,
+            cw,
+            mf_xloc,
+            mi_gid,
+            mf_cen,
+            mf_theta0,
+            mf_jd,
+            mf_minv,
+            mi_indptr,
+            mi_indices,
+            mf_data,
+            mi_tie_node,
+            mi_tie_gear,
+            mf_rsgn,
+            tpar,
+            tmode,
+            rot,
+            bvec,
+            rx,
+            wbuf,
+            floc,
+            fglob,
+            tel,
+            fc,
+            fth,
+            cn_s,
+            a,
+            alp,
+        )
         for k in range(nt):
             i = mi_tie_node[k]
             g = mi_tie_gear[k]
@@ -785,8 +1078,9 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
             sample_flank(v, mi_flank[jp, 1], mi_nedge[jp, 1], vb)
             spline_second(va, mva)
             spline_second(vb, mvb)
-            hs, _ad, _bd = sliding_terms(pa[jp], ma[jp], va, mva, pb[jp], mb[jp], vb, mvb,
-                                         mf_sig[0], mf_sig[1], cres[jp], rate1)
+            hs, _ad, _bd = sliding_terms(
+                pa[jp], ma[jp], va, mva, pb[jp], mb[jp], vb, mvb, mf_sig[0], mf_sig[1], cres[jp], rate1
+            )
             for q in range(4):
                 rates[jp, q] = rate1[q]
             sa = hs
@@ -796,12 +1090,33 @@ def run_steps_m(n_steps, rec_every, mi_gid, mi_indptr, mi_indices, mi_tie_node, 
                 i = cnod[jp, 1, j]
                 sa -= cw[jp, 1, j] * (cn[jp, 0] * a[2 * i] + cn[jp, 1] * a[2 * i + 1])
             e0[ic + jp] = sa
-        contact_columns_m(1.0, 0.0, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data,
-                          mi_tie_node, cnod, cw, cn, gsc, zk, ccol)
+        contact_columns_m(
+            1.0, 0.0, mf_minv, mi_gid, rot, mi_indptr, mi_indices, mf_data, mi_tie_node, cnod, cw, cn, gsc, zk, ccol
+        )
         mu0[:] = mu
-        res, its, ok = iterate_pass_m(3, e0, mu, pbar, 1.0, 0.0, par[9], tol3, n_acc, max_iter,
-                                      mf_minv, mi_tie_node, mi_tie_gear, mf_jd, bvec, mi_tb_i,
-                                      mi_tb_j, mf_tb_b, ccol, work, stats)
+        res, its, ok = iterate_pass_m(
+            3,
+            e0,
+            mu,
+            pbar,
+            1.0,
+            0.0,
+            par[9],
+            tol3,
+            n_acc,
+            max_iter,
+            mf_minv,
+            mi_tie_node,
+            mi_tie_gear,
+            mf_jd,
+            bvec,
+            mi_tb_i,
+            mi_tb_j,
+            mf_tb_b,
+            ccol,
+            work,
+            stats,
+        )
         if not ok:
             info[0] = t
             info[1] = res

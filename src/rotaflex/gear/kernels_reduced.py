@@ -54,9 +54,46 @@ def flank_positions(z, phi, fl_map, fl_gear, fl_start, fl_len, fl_xref, cen, the
 
 
 @njit(cache=True)
-def evaluate(z, zd, phi, phid, p, nr, fl_map, mr, kr, gr, cx, fl_gear, fl_start, fl_len, fl_xref, cen,
-             theta0, sig, pairs, mpts, rsgn, tpar, xf, flid, nedge2, pa, ma, pb, mb, cres, cnod, cw,
-             grow, sgap, fz, fphi, tau, ok):
+def evaluate(
+    z,
+    zd,
+    phi,
+    phid,
+    p,
+    nr,
+    fl_map,
+    mr,
+    kr,
+    gr,
+    cx,
+    fl_gear,
+    fl_start,
+    fl_len,
+    fl_xref,
+    cen,
+    theta0,
+    sig,
+    pairs,
+    mpts,
+    rsgn,
+    tpar,
+    xf,
+    flid,
+    nedge2,
+    pa,
+    ma,
+    pb,
+    mb,
+    cres,
+    cnod,
+    cw,
+    grow,
+    sgap,
+    fz,
+    fphi,
+    tau,
+    ok,
+):
     """Contact search of every pair, constraint gradients and the force vectors F(q, qd, p).
 
     ``grow`` (npair, 2, n + 1): gradient of the penetration ``s`` of each pair with respect to
@@ -80,8 +117,7 @@ def evaluate(z, zd, phi, phid, p, nr, fl_map, mr, kr, gr, cx, fl_gear, fl_start,
         sg = np.empty(2)
         sg[0] = sig[fa]
         sg[1] = sig[fb]
-        if not contact_geometry(xf, flid, nedge2, sg, mpts, pa, ma, pb, mb, cres[k], cnod[k],
-                                cw[k]):
+        if not contact_geometry(xf, flid, nedge2, sg, mpts, pa, ma, pb, mb, cres[k], cnod[k], cw[k]):
             ok[0] = 0
             return 0.0
         n0 = cres[k, 3]
@@ -198,9 +234,48 @@ def small_solve(a, b, n):
 
 
 @njit(cache=True)
-def run_hht(n_steps, rec_every, nr, fl_map, mr, kr, gr, hx, cx, ix, jd, sfac, m0fac, fl_gear, fl_start, fl_len,
-            fl_xref, cen, theta0, sig, pairs, rsgn, par, ipar, z, zd, za, phi, phid, phia, p, cres,
-            cnod, cw, fzn, fphin, sc, out, out_p, info):
+def run_hht(
+    n_steps,
+    rec_every,
+    nr,
+    fl_map,
+    mr,
+    kr,
+    gr,
+    hx,
+    cx,
+    ix,
+    jd,
+    sfac,
+    m0fac,
+    fl_gear,
+    fl_start,
+    fl_len,
+    fl_xref,
+    cen,
+    theta0,
+    sig,
+    pairs,
+    rsgn,
+    par,
+    ipar,
+    z,
+    zd,
+    za,
+    phi,
+    phid,
+    phia,
+    p,
+    cres,
+    cnod,
+    cw,
+    fzn,
+    fphin,
+    sc,
+    out,
+    out_p,
+    info,
+):
     """Advance ``n_steps`` HHT-alpha steps (Negrut et al. 2007 form for index-3 constraints).
 
     ``par`` = (dt, alpha, tau0, theta_2, theta_s, tol, r_ref); ``ipar`` = (max_iter, n_points,
@@ -287,9 +362,46 @@ def run_hht(n_steps, rec_every, nr, fl_map, mr, kr, gr, hx, cx, ix, jd, sfac, m0
                     zd[g, i] = zdn[g, i] + h * ((1.0 - gam) * zan[g, i] + gam * za[g, i])
                 phi[g] = phin[g] + h * phidn[g] + h * h * ((0.5 - beta) * phian[g] + beta * phia[g])
                 phid[g] = phidn[g] + h * ((1.0 - gam) * phian[g] + gam * phia[g])
-            energy = evaluate(z, zd, phi, phid, p, nr, fl_map, mr, kr, gr, cx, fl_gear, fl_start, fl_len,
-                              fl_xref, cen, theta0, sig, pairs, mpts, rsgn, tpar, xf, flid, nedge2,
-                              pa, ma, pb, mb, cres, cnod, cw, grow, sgap, fz, fphi, tau, ok)
+            energy = evaluate(
+                z,
+                zd,
+                phi,
+                phid,
+                p,
+                nr,
+                fl_map,
+                mr,
+                kr,
+                gr,
+                cx,
+                fl_gear,
+                fl_start,
+                fl_len,
+                fl_xref,
+                cen,
+                theta0,
+                sig,
+                pairs,
+                mpts,
+                rsgn,
+                tpar,
+                xf,
+                flid,
+                nedge2,
+                pa,
+                ma,
+                pb,
+                mb,
+                cres,
+                cnod,
+                cw,
+                grow,
+                sgap,
+                fz,
+                fphi,
+                tau,
+                ok,
+            )
             if ok[0] == 0:
                 info[0] = t + h
                 return 4, row

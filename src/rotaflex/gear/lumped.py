@@ -68,8 +68,7 @@ def _flank_parameter(mesh, nodes, radius: np.ndarray, n_dense: int = 8001) -> np
     k = z.astype(int)
     xi = 2.0 * (z - k) - 1.0
     w = np.stack([0.5 * xi * (xi - 1.0), 1.0 - xi * xi, 0.5 * xi * (xi + 1.0)], axis=1)
-    pts = np.einsum("qa,qak->qk", w, mesh.nodes[np.stack([nodes[2 * k], nodes[2 * k + 1],
-                                                          nodes[2 * k + 2]], axis=1)])
+    pts = np.einsum("qa,qak->qk", w, mesh.nodes[np.stack([nodes[2 * k], nodes[2 * k + 1], nodes[2 * k + 2]], axis=1)])
     r = np.hypot(pts[:, 0], pts[:, 1])
     # the fillet part of the edge may turn back in radius; the involute part near the tip does not
     bad = np.nonzero(np.diff(r) <= 0)[0]
@@ -94,8 +93,8 @@ def _tooth_compliance(mesh, radius: np.ndarray, e: float, nu: float) -> np.ndarr
         k = int(z)
         xi = 2.0 * (z - k) - 1.0
         w = np.array([0.5 * xi * (xi - 1.0), 1.0 - xi * xi, 0.5 * xi * (xi + 1.0)])
-        for node, wi in zip(nodes[2 * k: 2 * k + 3], w, strict=True):
-            loads[2 * node: 2 * node + 2, j] += wi * d
+        for node, wi in zip(nodes[2 * k : 2 * k + 3], w, strict=True):
+            loads[2 * node : 2 * node + 2, j] += wi * d
     u = solve_static(mesh, loads, e, nu)
     return np.einsum("ij,ij->j", loads, u)
 
@@ -136,8 +135,9 @@ def _rotated(model, theta) -> np.ndarray:
     return out.ravel()
 
 
-def lumped_pair(model, *, youngs_modulus: float, poisson_ratio: float, theta_s: float,
-                n_angles: int = 81) -> LumpedPair:
+def lumped_pair(
+    model, *, youngs_modulus: float, poisson_ratio: float, theta_s: float, n_angles: int = 81
+) -> LumpedPair:
     """Tabulate compliance, unloaded transmission error and inertia of a two-gear FE model.
 
     Parameters
@@ -160,8 +160,9 @@ def lumped_pair(model, *, youngs_modulus: float, poisson_ratio: float, theta_s: 
     s_path = l_start + rb * ang  # contact point on the line of action, from A's tangency point
     r_a = np.minimum(np.hypot(rb, s_path), ga.tip_radius_)
     r_b = np.minimum(np.hypot(gb.base_radius, length - s_path), gb.tip_radius_)
-    q = (_tooth_compliance(model.meshes[0], r_a, youngs_modulus, poisson_ratio)
-         + _tooth_compliance(model.meshes[1], r_b, youngs_modulus, poisson_ratio))
+    q = _tooth_compliance(model.meshes[0], r_a, youngs_modulus, poisson_ratio) + _tooth_compliance(
+        model.meshes[1], r_b, youngs_modulus, poisson_ratio
+    )
     inertia = np.empty(2)
     for g in range(2):
         sel = model.gid == g
@@ -169,8 +170,17 @@ def lumped_pair(model, *, youngs_modulus: float, poisson_ratio: float, theta_s: 
     return LumpedPair(ang, q, _unloaded_te(model, ang), inertia, rb)
 
 
-def simulate_lumped(pair: LumpedPair, *, speeds_rpm, torque: float, theta_2: float,
-                    theta_s: float, span: float, n_output: int = 2001, rtol: float = 1e-10):
+def simulate_lumped(
+    pair: LumpedPair,
+    *,
+    speeds_rpm,
+    torque: float,
+    theta_2: float,
+    theta_s: float,
+    span: float,
+    n_output: int = 2001,
+    rtol: float = 1e-10,
+):
     """Integrate the lumped pair over a rotation ``span`` of gear A.
 
     Returns
@@ -194,15 +204,26 @@ def simulate_lumped(pair: LumpedPair, *, speeds_rpm, torque: float, theta_2: flo
 
     def rhs(_, y):
         p, _ = force(y[0], y[1])
-        return [y[2], y[3],
-                (torque_ramp(y[0], torque, theta_2, theta_s) - rb * p) / ja,
-                (rb * p - torque_ramp(y[1], torque, theta_2, theta_s)) / jb]
+        return [
+            y[2],
+            y[3],
+            (torque_ramp(y[0], torque, theta_2, theta_s) - rb * p) / ja,
+            (rb * p - torque_ramp(y[1], torque, theta_2, theta_s)) / jb,
+        ]
 
     w = np.asarray(speeds_rpm, dtype=float) * math.pi / 30.0
     t_end = span / w[0]
     # the mesh spring period is ~0.1 ms; max_step keeps the contact switch resolved
-    sol = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0, w[0], w[1]], method="DOP853", rtol=rtol,
-                    atol=1e-14, max_step=t_end / 4000, dense_output=True)
+    sol = solve_ivp(
+        rhs,
+        (0.0, t_end),
+        [0.0, 0.0, w[0], w[1]],
+        method="DOP853",
+        rtol=rtol,
+        atol=1e-14,
+        max_step=t_end / 4000,
+        dense_output=True,
+    )
     if not sol.success:
         raise RuntimeError(f"lumped model integration failed: {sol.message}")
     t = np.linspace(0.0, t_end, n_output)

@@ -154,12 +154,7 @@ def _tfi(bottom, top, left, right):
         + v * top[:, None, :]
         + (1 - u) * left[None, :, :]
         + u * right[None, :, :]
-        - (
-            (1 - u) * (1 - v) * bottom[0]
-            + u * (1 - v) * bottom[-1]
-            + (1 - u) * v * top[0]
-            + u * v * top[-1]
-        )
+        - ((1 - u) * (1 - v) * bottom[0] + u * (1 - v) * bottom[-1] + (1 - u) * v * top[0] + u * v * top[-1])
     )
     p[:, 0], p[:, -1], p[0, :], p[-1, :] = bottom, top, left, right
     return p  # (ni, nj, 2)
@@ -299,9 +294,7 @@ def build_tooth_mesh(
     # right lower curve from the side cut corner: root land (arc) then fillet (pa -> ps)
     land = (lambda th: polar(np.full_like(th, rf), th), half, pa)
     lower = (
-        _Curve([land, (g.fillet_points, pa, ps)])
-        if half - pa > 1e-12 * half
-        else _Curve([(g.fillet_points, pa, ps)])
+        _Curve([land, (g.fillet_points, pa, ps)]) if half - pa > 1e-12 * half else _Curve([(g.fillet_points, pa, ps)])
     )
 
     # --- tooth block (i across left->right, j along root->tip)
@@ -366,9 +359,7 @@ def build_tooth_mesh(
     if check:
         q = mesh_quality(mesh)
         if q["min_jacobian_ratio"] <= 0.0:
-            raise InputError(
-                "mesh", "parameters", "a mesh with positive Jacobians (refine or change grading)"
-            )
+            raise InputError("mesh", "parameters", "a mesh with positive Jacobians (refine or change grading)")
     return mesh
 
 

@@ -63,8 +63,9 @@ def _rot(t):
     return np.array([[c, -s], [s, c]])
 
 
-def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio, density,
-                      inertia, n_points=61, start_angle=0.0):
+def build_multi_model(
+    geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio, density, inertia, n_points=61, start_angle=0.0
+):
     """Two identical gears with ``n_teeth`` elastic teeth each.
 
     Placed (rigidly, unloaded) so that pair 1 is at the contact angle ``start_angle`` [rad]
@@ -74,9 +75,17 @@ def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio,
 
     if n_teeth not in (1, 2, 3):
         raise InputError("model.teeth_per_gear", n_teeth, "1, 2 or 3")
-    base = dynamics.build_model(geometry, geometry, mesh, mesh, youngs_modulus=youngs_modulus,
-                                poisson_ratio=poisson_ratio, density=density, inertia=inertia,
-                                n_points=n_points)
+    base = dynamics.build_model(
+        geometry,
+        geometry,
+        mesh,
+        mesh,
+        youngs_modulus=youngs_modulus,
+        poisson_ratio=poisson_ratio,
+        density=density,
+        inertia=inertia,
+        n_points=n_points,
+    )
     pitch = 2 * math.pi / geometry.teeth
     m_enter = min(1, n_teeth - 1)
     tooth_turn = np.array([(m_enter - j) * pitch for j in range(n_teeth)])
@@ -122,19 +131,33 @@ def build_multi_model(geometry, mesh, n_teeth, *, youngs_modulus, poisson_ratio,
             pair_flank[j, g] = fl0 + node0[g, j]
     nedge = (len(fl0) - 1) // 2
     model = MultiToothModel(
-        geometry=base.geometry, meshes=base.meshes, centre_distance=base.centre_distance,
-        theta0=base.theta0.copy(), centres=base.centres,
-        xloc=np.ascontiguousarray(np.vstack(xl)), gid=np.concatenate(gid).astype(np.int64),
-        minv=np.concatenate(minv), stiffness=sp.block_diag(ks, format="csr"),
+        geometry=base.geometry,
+        meshes=base.meshes,
+        centre_distance=base.centre_distance,
+        theta0=base.theta0.copy(),
+        centres=base.centres,
+        xloc=np.ascontiguousarray(np.vstack(xl)),
+        gid=np.concatenate(gid).astype(np.int64),
+        minv=np.concatenate(minv),
+        stiffness=sp.block_diag(ks, format="csr"),
         tie_node=np.concatenate(tie_node).astype(np.int64),
         tie_gear=np.concatenate(tie_gear).astype(np.int64),
-        tb_i=np.array(tb_i, dtype=np.int64), tb_j=np.array(tb_j, dtype=np.int64),
+        tb_i=np.array(tb_i, dtype=np.int64),
+        tb_j=np.array(tb_j, dtype=np.int64),
         tb_b=np.ascontiguousarray(np.array(tb_b, dtype=float).reshape(-1, 2, 2)),
-        flank=pair_flank[min(1, n_teeth - 1)].copy(), nedge=np.array([nedge, nedge]),
-        sig=base.sig, inertia=base.inertia, rsgn=base.rsgn, n_points=base.n_points,
-        dt_limit=base.dt_limit, n_teeth=n_teeth, pair_flank=pair_flank,
-        pair_nedge=np.full((n_teeth, 2), nedge, dtype=np.int64), pair_psi=psi,
-        tooth_offset=offsets, tooth_node0=node0,
+        flank=pair_flank[min(1, n_teeth - 1)].copy(),
+        nedge=np.array([nedge, nedge]),
+        sig=base.sig,
+        inertia=base.inertia,
+        rsgn=base.rsgn,
+        n_points=base.n_points,
+        dt_limit=base.dt_limit,
+        n_teeth=n_teeth,
+        pair_flank=pair_flank,
+        pair_nedge=np.full((n_teeth, 2), nedge, dtype=np.int64),
+        pair_psi=psi,
+        tooth_offset=offsets,
+        tooth_node0=node0,
     )
     model.initial_positions = model.reference_positions()
     return model
@@ -168,8 +191,7 @@ def involute_start(model: MultiToothModel, psi: float) -> tuple[float, float]:
     return float(np.interp(r_a, rad, par)), float(np.interp(r_b, rad, par))
 
 
-def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: float = 0.0,
-                  theta_s: float | None = None):
+def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: float = 0.0, theta_s: float | None = None):
     """Contact search of every pair at positions ``x``: (cres (npair, 8), cnod, cw).
 
     ``start`` (npair, 2) warm starts; default: the involute contact point of each pair at
@@ -191,8 +213,9 @@ def pair_geometry(model: MultiToothModel, x: np.ndarray, start=None, phi_a: floa
         buf = [np.empty((m, 2)) for _ in range(4)]
         psi = model.pair_psi[j] + phi_a
         mode = 0 if theta_s is None else (1 if psi < 0 else (2 if psi > theta_s else 0))
-        if not pair_contact(x, model.pair_flank[j], model.pair_nedge[j], model.sig, m, *buf,
-                            cres[j], cnod[j], cw[j], mode):
+        if not pair_contact(
+            x, model.pair_flank[j], model.pair_nedge[j], model.sig, m, *buf, cres[j], cnod[j], cw[j], mode
+        ):
             raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
     return cres, cnod, cw
 
@@ -205,13 +228,20 @@ def _positions(model, theta0, u_local):
         for j in range(model.n_teeth):
             a = model.tooth_node0[g, j]
             r = _rot(theta0[g] + model.tooth_offset[g, j])
-            x[a:a + nn] = model.centres[g] + (model.meshes[0].nodes + u_local[g, j]) @ r.T
+            x[a : a + nn] = model.centres[g] + (model.meshes[0].nodes + u_local[g, j]) @ r.T
     return x.ravel()
 
 
-def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
-                   poisson_ratio: float, theta_s: float, window: float = WINDOW,
-                   n_iter: int = 4, start=None) -> dict:
+def static_preload(
+    model: MultiToothModel,
+    torque: float,
+    youngs_modulus: float,
+    poisson_ratio: float,
+    theta_s: float,
+    window: float = WINDOW,
+    n_iter: int = 4,
+    start=None,
+) -> dict:
     """Quasi-static start: deflect the loaded pairs and turn B so the pairs carry ``torque``.
 
     Linear statics per tooth (root nodes fixed to the disk) with a unit normal point force
@@ -246,15 +276,13 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
             sgn = -1.0 if g == 0 else 1.0
             for q in range(3):
                 i = cnod[j, g, q] - model.tooth_node0[g, j]
-                f[2 * i:2 * i + 2] += sgn * cw[j, g, q] * nl
+                f[2 * i : 2 * i + 2] += sgn * cw[j, g, q] * nl
             ul = solve_static(mesh, f, youngs_modulus, poisson_ratio).reshape(-1, 2)
             unit[g, j] = ul
             ug = ul @ r.T
-            disp.append(sum(cw[j, g, q] * (n @ ug[cnod[j, g, q] - model.tooth_node0[g, j]])
-                            for q in range(3)))
+            disp.append(sum(cw[j, g, q] * (n @ ug[cnod[j, g, q] - model.tooth_node0[g, j]]) for q in range(3)))
         comp[j] = disp[1] - disp[0]
-        xb = np.array([sum(cw[j, 1, q] * x[2 * cnod[j, 1, q] + d] for q in range(3))
-                       for d in range(2)])
+        xb = np.array([sum(cw[j, 1, q] * x[2 * cnod[j, 1, q] + d] for q in range(3)) for d in range(2)])
         rb_vec = xb - model.centres[1]
         arm[j] = -(rb_vec[0] * n[1] - rb_vec[1] * n[0])
     arm[~inmesh] = np.max(arm[inmesh])
@@ -262,6 +290,7 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
     beta = 0.0
     pj = np.zeros(npair)
     for _ in range(n_iter):
+
         def bal(b, h=h_eff):
             return np.sum(np.maximum(0.0, (b * arm - h) / comp) * arm) - torque
 
@@ -285,8 +314,7 @@ def static_preload(model: MultiToothModel, torque: float, youngs_modulus: float,
         h_eff = h_eff + (c2[:, 2] - pred)
     model.theta0 = th
     model.initial_positions = x
-    model.preload = {"force": pj, "compliance": comp, "arm": arm, "gap": c2[:, 2],
-                     "beta": beta}
+    model.preload = {"force": pj, "compliance": comp, "arm": arm, "gap": c2[:, 2], "beta": beta}
     return model.preload
 
 
@@ -321,9 +349,24 @@ def warm_start_table(model: MultiToothModel, theta_s: float, n: int = 61) -> np.
     return np.array([[*involute_start(model, t), t] for t in ang])
 
 
-def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta_s, span, dt,
-                   torque_mode=1, window=WINDOW, tol=1e-12, n_accel=4, max_iter=500,
-                   record_every=10, progress=None, progress_every=2000) -> MultiOutput:
+def simulate_multi(
+    model: MultiToothModel,
+    *,
+    speeds_rpm,
+    torque,
+    theta_2,
+    theta_s,
+    span,
+    dt,
+    torque_mode=1,
+    window=WINDOW,
+    tol=1e-12,
+    n_accel=4,
+    max_iter=500,
+    record_every=10,
+    progress=None,
+    progress_every=2000,
+) -> MultiOutput:
     """Integrate the multi-tooth pair over a rotation ``span`` of gear A [rad].
 
     Same scheme and parameters as :func:`rotaflex.gear.dynamics.simulate`; ``torque_mode`` 1
@@ -336,9 +379,12 @@ def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta
     from rotaflex.gear.kernels_multi import GLOBAL_COLUMNS, PAIR_COLUMNS, run_steps_m
 
     if dt > model.dt_limit:
-        raise InputError("solver.dt", dt,
-                         f"a step <= the RK4 stability limit of the mesh, {model.dt_limit:.4g} s"
-                         " (refine dt or coarsen the smallest elements)")
+        raise InputError(
+            "solver.dt",
+            dt,
+            f"a step <= the RK4 stability limit of the mesh, {model.dt_limit:.4g} s"
+            " (refine dt or coarsen the smallest elements)",
+        )
     omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
     n_steps = max(1, int(round(span / (omega[0] * dt))))
     eps = tie_eigen_bounds(model, dt)
@@ -366,30 +412,67 @@ def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta
     out_mu = np.zeros((n_rec, nc - npair))
     info = np.zeros(4)
     lo, hi = (-1e9, 1e9) if window is None else (-window, theta_s + window)
-    par = np.array([dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps, lo, hi,
-                    0.0 if window is None else 1.0])
+    par = np.array(
+        [dt, torque, theta_2, theta_s, tol, tol / dt, tol / dt**2, *eps, lo, hi, 0.0 if window is None else 1.0]
+    )
     wtab = warm_start_table(model, theta_s)
-    args_model = (model.gid, k.indptr.astype(np.int64), k.indices.astype(np.int64),
-                  model.tie_node, model.tie_gear, model.pair_flank, model.pair_nedge,
-                  model.tb_i, model.tb_j, model.xloc, model.minv, k.data.astype(float),
-                  model.centres, model.theta0, model.inertia, model.sig, model.tb_b, model.rsgn,
-                  model.pair_psi, wtab)
+    args_model = (
+        model.gid,
+        k.indptr.astype(np.int64),
+        k.indices.astype(np.int64),
+        model.tie_node,
+        model.tie_gear,
+        model.pair_flank,
+        model.pair_nedge,
+        model.tb_i,
+        model.tb_j,
+        model.xloc,
+        model.minv,
+        k.data.astype(float),
+        model.centres,
+        model.theta0,
+        model.inertia,
+        model.sig,
+        model.tb_b,
+        model.rsgn,
+        model.pair_psi,
+        wtab,
+    )
     e0 = kinetic_energy(v, om, model.minv, model.inertia) + strain_energy(model, x)
     chunk = max(record_every, (progress_every // record_every) * record_every)
     rates = np.zeros((len(model.pair_psi), 4))  # contact-parameter rates, carried across calls
-    names = {1: "displacement pass (eq. 19)", 2: "velocity pass (eq. 20)",
-             3: "acceleration pass (eq. 21)"}
+    names = {1: "displacement pass (eq. 19)", 2: "velocity pass (eq. 20)", 3: "acceleration pass (eq. 21)"}
     t0 = time.perf_counter()
     done = 0
     row = 0
     first = True
     while done < n_steps:
         n = min(chunk, n_steps - done)
-        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0,
-                         torque_mode], dtype=np.int64)
-        status, row = run_steps_m(n, record_every, *args_model, par, ipar, x, v, a, phi, om,
-                                  alp, mu, cres, cnod, cw, sc, spair, rates, out, outp, out_mu,
-                                  info)
+        ipar = np.array([n_accel, max_iter, model.n_points, row, 1 if first else 0, torque_mode], dtype=np.int64)
+        status, row = run_steps_m(
+            n,
+            record_every,
+            *args_model,
+            par,
+            ipar,
+            x,
+            v,
+            a,
+            phi,
+            om,
+            alp,
+            mu,
+            cres,
+            cnod,
+            cw,
+            sc,
+            spair,
+            rates,
+            out,
+            outp,
+            out_mu,
+            info,
+        )
         first = False
         if status in names:
             raise ConvergenceError(names[status], info[0], info[1], info[2])
@@ -402,8 +485,12 @@ def simulate_multi(model: MultiToothModel, *, speeds_rpm, torque, theta_2, theta
     return MultiOutput(
         records={name: out[:row, i].copy() for i, name in enumerate(GLOBAL_COLUMNS)},
         pair_records={name: outp[:row, :, i].copy() for i, name in enumerate(PAIR_COLUMNS)},
-        tie_multipliers=out_mu[:row].copy(), steps=n_steps, wall_time=wall,
-        initial_energy=float(e0), dt=dt)
+        tie_multipliers=out_mu[:row].copy(),
+        steps=n_steps,
+        wall_time=wall,
+        initial_energy=float(e0),
+        dt=dt,
+    )
 
 
 # ----------------------------------------------------------------------------- case / output
@@ -424,10 +511,12 @@ def run_multi_case(cfg, *, progress: bool = False):
     t_wall = time.perf_counter()
     sol = cfg.solver
     # the multi-pair kernel implements the paper's scheme only (one pass type per pair row)
-    for key, value, allowed in (("solver.method", sol.method, "paper_rk4"),
-                                ("solver.multipliers", sol.multipliers, "iterative"),
-                                ("solver.restitution", sol.restitution, 0.0),
-                                ("operation.driver", cfg.operation.driver, "A")):
+    for key, value, allowed in (
+        ("solver.method", sol.method, "paper_rk4"),
+        ("solver.multipliers", sol.multipliers, "iterative"),
+        ("solver.restitution", sol.restitution, 0.0),
+        ("operation.driver", cfg.operation.driver, "A"),
+    ):
         if value != allowed:
             raise InputError(key, value, f"{allowed!r} with [model] teeth_per_gear > 1")
     geo, mesh, _ = build(cfg)
@@ -435,8 +524,9 @@ def run_multi_case(cfg, *, progress: bool = False):
     start = math.radians(cfg.model.start_angle_deg)
     window = math.radians(cfg.model.mesh_window_deg)
     if start < -window:
-        raise InputError("model.start_angle_deg", cfg.model.start_angle_deg,
-                         f">= -mesh_window_deg = {-cfg.model.mesh_window_deg:g}")
+        raise InputError(
+            "model.start_angle_deg", cfg.model.start_angle_deg, f">= -mesh_window_deg = {-cfg.model.mesh_window_deg:g}"
+        )
     ths, th2 = contact_angles(geo, geo)
     op = cfg.operation
     if op.theta_s_deg is not None:
@@ -445,17 +535,26 @@ def run_multi_case(cfg, *, progress: bool = False):
         th2 = math.radians(op.theta_2_deg)
     pitch = 2 * math.pi / geo.teeth
     limit = (n - 1) * pitch - start
-    span = math.radians(op.span_deg) if op.span_deg is not None else default_span(
-        n, pitch, ths, start)
+    span = math.radians(op.span_deg) if op.span_deg is not None else default_span(n, pitch, ths, start)
     if span > limit * (1 + 1e-9):
-        raise InputError("operation.span_deg", math.degrees(span),
-                         f"<= {math.degrees(limit):.4g} deg with {n} teeth per gear (beyond it "
-                         "a pair of teeth that is not modelled would be in contact)")
+        raise InputError(
+            "operation.span_deg",
+            math.degrees(span),
+            f"<= {math.degrees(limit):.4g} deg with {n} teeth per gear (beyond it "
+            "a pair of teeth that is not modelled would be in contact)",
+        )
     mat = cfg.material
-    model = build_multi_model(geo, mesh, n, youngs_modulus=mat.youngs_modulus,
-                              poisson_ratio=mat.poisson_ratio, density=mat.density,
-                              inertia=(cfg.disk_inertia, cfg.disk_inertia),
-                              n_points=cfg.mesh.n_points, start_angle=start)
+    model = build_multi_model(
+        geo,
+        mesh,
+        n,
+        youngs_modulus=mat.youngs_modulus,
+        poisson_ratio=mat.poisson_ratio,
+        density=mat.density,
+        inertia=(cfg.disk_inertia, cfg.disk_inertia),
+        n_points=cfg.mesh.n_points,
+        start_angle=start,
+    )
     static_preload(model, op.torque, mat.youngs_modulus, mat.poisson_ratio, ths, window)
     bar = None
     cb = None
@@ -470,18 +569,31 @@ def run_multi_case(cfg, *, progress: bool = False):
             bar.refresh()
 
     try:
-        out = simulate_multi(model, speeds_rpm=op.speed_rpm, torque=op.torque, theta_2=th2,
-                             theta_s=ths, span=span, dt=sol.dt or DEFAULT_DT["paper_rk4"],
-                             window=window,
-                             tol=cfg.solver.tolerance, n_accel=cfg.solver.accel_n,
-                             max_iter=cfg.solver.max_iter, record_every=cfg.output.every or 10,
-                             progress=cb)
+        out = simulate_multi(
+            model,
+            speeds_rpm=op.speed_rpm,
+            torque=op.torque,
+            theta_2=th2,
+            theta_s=ths,
+            span=span,
+            dt=sol.dt or DEFAULT_DT["paper_rk4"],
+            window=window,
+            tol=cfg.solver.tolerance,
+            n_accel=cfg.solver.accel_n,
+            max_iter=cfg.solver.max_iter,
+            record_every=cfg.output.every or 10,
+            progress=cb,
+        )
     finally:
         if bar is not None:
             bar.close()
     ds = to_dataset_multi(out, model, geo, op.torque, th2, ths)
-    ds.attrs.update(status="success", message=run_message(ds),
-                    wall_time=time.perf_counter() - t_wall, config=json.dumps(asdict(cfg)))
+    ds.attrs.update(
+        status="success",
+        message=run_message(ds),
+        wall_time=time.perf_counter() - t_wall,
+        config=json.dumps(asdict(cfg)),
+    )
     return GearResult(ds)
 
 
@@ -509,56 +621,101 @@ def to_dataset_multi(out: MultiOutput, model: MultiToothModel, geo, tau0, th2, t
         share = np.where(total[:, None] > 0, force / total[:, None], np.nan)
     insearch = pr["contact_case"] >= 0
     gap = np.where(insearch, pr["gap"], np.nan)
-    balance = (r["kinetic_energy"] + r["strain_energy"] - r["external_work"]
-               + r["velocity_pass_loss"] - out.initial_energy)
-    ds = xr.Dataset(coords={"time": ("time", r["time"], {"units": "s"}), "gear": ["A", "B"],
-                            "xy": ["x", "y"], "pair": np.arange(npair)})
+    balance = (
+        r["kinetic_energy"] + r["strain_energy"] - r["external_work"] + r["velocity_pass_loss"] - out.initial_energy
+    )
+    ds = xr.Dataset(
+        coords={
+            "time": ("time", r["time"], {"units": "s"}),
+            "gear": ["A", "B"],
+            "xy": ["x", "y"],
+            "pair": np.arange(npair),
+        }
+    )
 
     def add(name, dims, val, units, long):
         ds[name] = (dims, np.asarray(val), {"units": units, "long_name": long})
 
-    add("contact_force", ("time", "pair"), force, "N", "contact force of each pair "
-        "(acceleration pass)")
-    add("contact_force_displacement_pass", ("time", "pair"), pr["force_disp"], "N",
-        "contact force of the displacement pass")
-    add("contact_force_velocity_pass", ("time", "pair"), pr["force_vel"], "N",
-        "contact force of the velocity pass (impulse / dt at impacts)")
-    add("peak_force_interval", ("time", "pair"), pr["force_peak"], "N",
-        "largest contact force since the previous record")
+    add("contact_force", ("time", "pair"), force, "N", "contact force of each pair (acceleration pass)")
+    add(
+        "contact_force_displacement_pass",
+        ("time", "pair"),
+        pr["force_disp"],
+        "N",
+        "contact force of the displacement pass",
+    )
+    add(
+        "contact_force_velocity_pass",
+        ("time", "pair"),
+        pr["force_vel"],
+        "N",
+        "contact force of the velocity pass (impulse / dt at impacts)",
+    )
+    add(
+        "peak_force_interval",
+        ("time", "pair"),
+        pr["force_peak"],
+        "N",
+        "largest contact force since the previous record",
+    )
     add("total_contact_force", ("time",), total, "N", "sum of the pair forces")
     add("load_share", ("time", "pair"), share, "1", "pair force / sum of pair forces")
-    add("pair_angle", ("time", "pair"), pair_angle, "rad",
-        "contact angle of each pair (rotation of A since its geometric start of contact)")
-    add("fig7_ramp_force", ("time", "pair"),
-        torque_ramp(pair_angle, tau0, th2, ths) / rb, "N",
-        "force of the pair implied by the Fig. 7 torque ramps, tau(angle)/r_b")
-    add("nominal_force_ramp", ("time",), np.full(len(total), nominal), "N",
-        "tau_0 / r_b (constant torques)")
+    add(
+        "pair_angle",
+        ("time", "pair"),
+        pair_angle,
+        "rad",
+        "contact angle of each pair (rotation of A since its geometric start of contact)",
+    )
+    add(
+        "fig7_ramp_force",
+        ("time", "pair"),
+        torque_ramp(pair_angle, tau0, th2, ths) / rb,
+        "N",
+        "force of the pair implied by the Fig. 7 torque ramps, tau(angle)/r_b",
+    )
+    add("nominal_force_ramp", ("time",), np.full(len(total), nominal), "N", "tau_0 / r_b (constant torques)")
     add("rotation_angle", ("time", "gear"), rot, "rad", "rotation angle (running direction)")
-    add("angular_velocity", ("time", "gear"), np.column_stack([r["omega_A"], -r["omega_B"]]),
-        "rad/s", "angular velocity")
-    add("torque", ("time", "gear"), np.column_stack([r["torque_A"], r["torque_B"]]), "N m",
-        "external torque (drive on A, load on B)")
+    add(
+        "angular_velocity",
+        ("time", "gear"),
+        np.column_stack([r["omega_A"], -r["omega_B"]]),
+        "rad/s",
+        "angular velocity",
+    )
+    add(
+        "torque",
+        ("time", "gear"),
+        np.column_stack([r["torque_A"], r["torque_B"]]),
+        "N m",
+        "external torque (drive on A, load on B)",
+    )
     add("gap", ("time", "pair"), gap, "m", "normal gap (> 0 open; NaN: pair out of mesh)")
-    add("normal_velocity", ("time", "pair"), pr["normal_velocity"], "m/s",
-        "relative normal velocity (> 0 approaching)")
-    cp = np.stack([np.stack([pr["cpA_x"], pr["cpA_y"]], axis=-1),
-                   np.stack([pr["cpB_x"], pr["cpB_y"]], axis=-1)], axis=2)
+    add("normal_velocity", ("time", "pair"), pr["normal_velocity"], "m/s", "relative normal velocity (> 0 approaching)")
+    cp = np.stack(
+        [np.stack([pr["cpA_x"], pr["cpA_y"]], axis=-1), np.stack([pr["cpB_x"], pr["cpB_y"]], axis=-1)], axis=2
+    )
     add("contact_point", ("time", "pair", "gear", "xy"), cp, "m", "contact point")
-    add("contact_case", ("time", "pair"), pr["contact_case"], "1",
-        "0 flank-flank, 1 tip of B on A, 2 tip of A on B, -1 out of mesh (not searched)")
+    add(
+        "contact_case",
+        ("time", "pair"),
+        pr["contact_case"],
+        "1",
+        "0 flank-flank, 1 tip of B on A, 2 tip of A on B, -1 out of mesh (not searched)",
+    )
     add_constraint_histories(add, r, out.tie_multipliers, balance)
     nz = zone_pairs(pair_angle, ths)
     single = nz == 1
     mean_single = float(np.mean(total[single])) if np.any(single) else float("nan")
     peak = float(np.max(pr["force_peak"])) if len(total) else 0.0
-    scalars = run_scalars(out, r, balance, peak=peak, mean_single=mean_single, nominal=nominal,
-                          rb=rb, th2=th2, ths=ths)
-    scalars.update({
-        "mean_total_force": (float(np.mean(total)) if len(total) else float("nan"), "N"),
-        "teeth_per_gear": (npair, "1"),
-        "preload_beta": (float(model.preload["beta"]) if model.preload else 0.0, "rad"),
-    })
+    scalars = run_scalars(out, r, balance, peak=peak, mean_single=mean_single, nominal=nominal, rb=rb, th2=th2, ths=ths)
+    scalars.update(
+        {
+            "mean_total_force": (float(np.mean(total)) if len(total) else float("nan"), "N"),
+            "teeth_per_gear": (npair, "1"),
+            "preload_beta": (float(model.preload["beta"]) if model.preload else 0.0, "rad"),
+        }
+    )
     for name, (val, unit) in scalars.items():
         ds[name] = ((), val, {"units": unit})
     if model.preload:
@@ -575,9 +732,8 @@ def plot_multi(ds) -> dict:
     ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
     fig, ax = new_figure()
     for j in ds["pair"].values:
-        line, = ax.plot(ang, ds["contact_force"].sel(pair=j).values, lw=0.8, label=f"pair {j}")
-        ax.plot(ang, ds["fig7_ramp_force"].sel(pair=j).values, "--", lw=0.7,
-                color=line.get_color())
+        (line,) = ax.plot(ang, ds["contact_force"].sel(pair=j).values, lw=0.8, label=f"pair {j}")
+        ax.plot(ang, ds["fig7_ramp_force"].sel(pair=j).values, "--", lw=0.7, color=line.get_color())
     ax.plot(ang, ds["total_contact_force"].values, "k", lw=0.6, label="sum")
     ax.axhline(float(ds["nominal_force"]), color="grey", lw=0.5)
     ax.set_xlabel("rotation angle of gear A [deg]")
@@ -585,7 +741,6 @@ def plot_multi(ds) -> dict:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     figs["contact_force"] = fig
-    figs["load_share"] = line_figure(ang, ds["load_share"].values, ANGLE_LABEL,
-                                     "load share of each pair [-]")
+    figs["load_share"] = line_figure(ang, ds["load_share"].values, ANGLE_LABEL, "load share of each pair [-]")
     figs.update(history_figures(ds, "normal gap of each pair [um]"))
     return figs

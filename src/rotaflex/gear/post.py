@@ -65,8 +65,7 @@ class RootStressProbe:
     angle_deg: float
 
 
-def root_stress_probe(model, youngs_modulus: float, poisson_ratio: float,
-                      angle_deg: float = 30.0) -> RootStressProbe:
+def root_stress_probe(model, youngs_modulus: float, poisson_ratio: float, angle_deg: float = 30.0) -> RootStressProbe:
     """Build the fillet-stress operators of both teeth of a :class:`GearPairModel`.
 
     The fillet under the model's working flank (``model.sig`` > 0: left) is the loaded
@@ -91,16 +90,19 @@ def root_stress_probe(model, youngs_modulus: float, poisson_ratio: float,
     start = 0
     for g in range(2):
         n2 = 2 * nodes[g].size
-        op[g, :, start:start + n2] = ops[g]
+        op[g, :, start : start + n2] = ops[g]
         start += n2
     nodes_all = np.concatenate(nodes).astype(np.int64)
-    return RootStressProbe(nodes=nodes_all, gear=np.concatenate(gear).astype(np.int64),
-                           xloc=model.xloc[nodes_all].copy(), operator=op,
-                           angle_deg=float(angle_deg))
+    return RootStressProbe(
+        nodes=nodes_all,
+        gear=np.concatenate(gear).astype(np.int64),
+        xloc=model.xloc[nodes_all].copy(),
+        operator=op,
+        angle_deg=float(angle_deg),
+    )
 
 
-def root_stress_history(model, probe: RootStressProbe, positions: np.ndarray,
-                        phi: np.ndarray) -> np.ndarray:
+def root_stress_history(model, probe: RootStressProbe, positions: np.ndarray, phi: np.ndarray) -> np.ndarray:
     """Fillet stress histories [Pa], shape (nt, 2 gears, 2 sides (loaded, opposite)).
 
     Parameters
@@ -152,8 +154,7 @@ def kinematic_transmission_error(model, theta_a) -> np.ndarray:
                 sel = model.gid == g
                 c, s = math.cos(ang), math.sin(ang)
                 d = x0[sel] - model.centres[g]
-                x[sel] = model.centres[g] + np.column_stack([c * d[:, 0] - s * d[:, 1],
-                                                             s * d[:, 0] + c * d[:, 1]])
+                x[sel] = model.centres[g] + np.column_stack([c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1]])
             pts = _flank_points(model, x.ravel())
             pair = search(pts[0], pts[1], model.sig[0], model.sig[1], start=start)
             start = (pair.a, pair.b)
@@ -191,8 +192,7 @@ def _local_flank(model, g):
     return model.flank[g, :n] - off
 
 
-def static_point_load_te(model, youngs_modulus, poisson_ratio, force, param_a, param_b,
-                         normal_local) -> float:
+def static_point_load_te(model, youngs_modulus, poisson_ratio, force, param_a, param_b, normal_local) -> float:
     """Static deflection TE [m] of the dynamic model's own contact load (point force on the
     quadratic flank edges, root nodes fixed) under a normal ``force`` [N].
 
@@ -212,16 +212,18 @@ def static_point_load_te(model, youngs_modulus, poisson_ratio, force, param_a, p
     return te
 
 
-def static_root_stress(model, youngs_modulus, poisson_ratio, force, param, normal_local,
-                       gear: int = 0, angle_deg: float = 30.0) -> np.ndarray:
+def static_root_stress(
+    model, youngs_modulus, poisson_ratio, force, param, normal_local, gear: int = 0, angle_deg: float = 30.0
+) -> np.ndarray:
     """Static fillet stress [Pa] (loaded, opposite) of tooth ``gear`` under the dynamic model's
     point load of ``force`` [N] along ``normal_local`` (tooth frame) at flank parameter ``param``.
     """
     from rotaflex.gear.static import root_stress_operator, solve_static
 
     mesh = model.meshes[gear]
-    f, _, _ = _edge_load(mesh, _local_flank(model, gear), model.nedge[gear], param,
-                         force * np.asarray(normal_local, dtype=float))
+    f, _, _ = _edge_load(
+        mesh, _local_flank(model, gear), model.nedge[gear], param, force * np.asarray(normal_local, dtype=float)
+    )
     u = solve_static(mesh, f, youngs_modulus, poisson_ratio)
     s = root_stress_operator(mesh, youngs_modulus, poisson_ratio, angle_deg) @ u
     return s if model.sig[gear] > 0 else s[::-1]

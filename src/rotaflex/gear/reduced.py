@@ -242,9 +242,13 @@ def simulate_reduced(
         raise InputError("solver.hht_alpha", alpha, "[-1/3, 0]")
     lim = time_step_limit(red, speeds_rpm)
     if dt > lim:
-        raise InputError("solver.dt", dt, f"<= {lim:.4g} s for the reduced implicit method "
-                         f"({STEPS_PER_CONTACT_PERIOD} steps per contact period "
-                         f"{red.contact_period:.3g} s and <= {MAX_ROTATION_PER_STEP} rad per step)")
+        raise InputError(
+            "solver.dt",
+            dt,
+            f"<= {lim:.4g} s for the reduced implicit method "
+            f"({STEPS_PER_CONTACT_PERIOD} steps per contact period "
+            f"{red.contact_period:.3g} s and <= {MAX_ROTATION_PER_STEP} rad per step)",
+        )
     base = red.base
     omega = np.array(speeds_rpm, dtype=float) * 2 * math.pi / 60
     n_steps = max(1, int(round(span / (omega[0] * dt))))
@@ -284,12 +288,43 @@ def simulate_reduced(
     fz = np.zeros((2, n))
     fphi = np.zeros(2)
     ok = np.zeros(1, dtype=np.int64)
-    e_strain = evaluate(z, zd, phi, phid, p, red.nr, red.fl_map, red.mr, red.kr, red.gr, red.cx, red.fl_gear,
-                        red.fl_start, red.fl_len, red.fl_xref, base.centres, base.theta0,
-                        base.sig, red.pairs, base.n_points, base.rsgn, tpar, np.empty(2 * nf),
-                        np.zeros((2, maxfl), dtype=np.int64), np.zeros(2, dtype=np.int64),
-                        *[np.empty((base.n_points, 2)) for _ in range(4)], cres, cnod, cw,
-                        np.zeros((npair, 2, n + 1)), np.zeros(npair), fz, fphi, np.zeros(2), ok)
+    e_strain = evaluate(
+        z,
+        zd,
+        phi,
+        phid,
+        p,
+        red.nr,
+        red.fl_map,
+        red.mr,
+        red.kr,
+        red.gr,
+        red.cx,
+        red.fl_gear,
+        red.fl_start,
+        red.fl_len,
+        red.fl_xref,
+        base.centres,
+        base.theta0,
+        base.sig,
+        red.pairs,
+        base.n_points,
+        base.rsgn,
+        tpar,
+        np.empty(2 * nf),
+        np.zeros((2, maxfl), dtype=np.int64),
+        np.zeros(2, dtype=np.int64),
+        *[np.empty((base.n_points, 2)) for _ in range(4)],
+        cres,
+        cnod,
+        cw,
+        np.zeros((npair, 2, n + 1)),
+        np.zeros(npair),
+        fz,
+        fphi,
+        np.zeros(2),
+        ok,
+    )
     if not ok[0]:
         raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
     for g in range(2):
@@ -299,8 +334,7 @@ def simulate_reduced(
         chol_solve(m0[g], rhs, sol)
         za[g, :m] = sol[:m]
         phia[g] = sol[m]
-    e0 = float(kinetic(z, zd, phid, red.nr, red.mr, red.gr, red.hx, red.cx, red.ix,
-                       base.inertia)) + e_strain
+    e0 = float(kinetic(z, zd, phid, red.nr, red.mr, red.gr, red.hx, red.cx, red.ix, base.inertia)) + e_strain
     rref = float(max(g.tip_radius_ for g in base.geometry))
     par = np.array([dt, alpha, *tpar, tol, rref])
     sc = np.zeros(8)
@@ -319,14 +353,50 @@ def simulate_reduced(
     while done < n_steps:
         nstep = min(chunk, n_steps - done)
         ipar = np.array([max_iter, base.n_points, row], dtype=np.int64)
-        status, row = run_hht(nstep, record_every, red.nr, red.fl_map, red.mr, red.kr, red.gr, red.hx, red.cx,
-                              red.ix, np.asarray(base.inertia, float), sfac, m0fac, red.fl_gear,
-                              red.fl_start, red.fl_len, red.fl_xref, base.centres, base.theta0,
-                              base.sig, red.pairs, base.rsgn, par, ipar, z, zd, za, phi, phid,
-                              phia, p, cres, cnod, cw, fz, fphi, sc, out, out_p, info)
+        status, row = run_hht(
+            nstep,
+            record_every,
+            red.nr,
+            red.fl_map,
+            red.mr,
+            red.kr,
+            red.gr,
+            red.hx,
+            red.cx,
+            red.ix,
+            np.asarray(base.inertia, float),
+            sfac,
+            m0fac,
+            red.fl_gear,
+            red.fl_start,
+            red.fl_len,
+            red.fl_xref,
+            base.centres,
+            base.theta0,
+            base.sig,
+            red.pairs,
+            base.rsgn,
+            par,
+            ipar,
+            z,
+            zd,
+            za,
+            phi,
+            phid,
+            phia,
+            p,
+            cres,
+            cnod,
+            cw,
+            fz,
+            fphi,
+            sc,
+            out,
+            out_p,
+            info,
+        )
         if status == 1:
-            raise ConvergenceError("HHT Newton iteration (reduced method)", info[0], info[1],
-                                   info[2])
+            raise ConvergenceError("HHT Newton iteration (reduced method)", info[0], info[1], info[2])
         if status == 4:
             raise ConvergenceError("contact search", info[0], float("nan"), 0.0)
         done += nstep
@@ -338,8 +408,15 @@ def simulate_reduced(
     out = out[:row]
     records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
     records["pair_forces"] = out_p[:row].copy()
-    return SimulationOutput(records=records, tie_multipliers=np.zeros((row, 0)), steps=n_steps,
-                            wall_time=wall, initial_energy=e0, snapshots=snaps, dt=dt)
+    return SimulationOutput(
+        records=records,
+        tie_multipliers=np.zeros((row, 0)),
+        steps=n_steps,
+        wall_time=wall,
+        initial_energy=e0,
+        snapshots=snaps,
+        dt=dt,
+    )
 
 
 def positions(red: ReducedPairModel, z: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -351,6 +428,9 @@ def positions(red: ReducedPairModel, z: np.ndarray, phi: np.ndarray) -> np.ndarr
         w = (red.transform[g] @ z[g, : red.nr[g]]).reshape(-1, 2)
         u = base.xloc[sel] + w
         c, s = math.cos(base.theta0[g] + phi[g]), math.sin(base.theta0[g] + phi[g])
-        out.append(np.column_stack([base.centres[g, 0] + c * u[:, 0] - s * u[:, 1],
-                                    base.centres[g, 1] + s * u[:, 0] + c * u[:, 1]]))
+        out.append(
+            np.column_stack(
+                [base.centres[g, 0] + c * u[:, 0] - s * u[:, 1], base.centres[g, 1] + s * u[:, 0] + c * u[:, 1]]
+            )
+        )
     return np.vstack(out)

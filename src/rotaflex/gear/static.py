@@ -91,9 +91,7 @@ def flank_contact_point(g: GearGeometry, radius: float, side: str = "right"):
     return p, -n_out
 
 
-def hertz_half_width(
-    force: float, b: float, e: float, nu: float, rho1: float, rho2: float
-) -> float:
+def hertz_half_width(force: float, b: float, e: float, nu: float, rho1: float, rho2: float) -> float:
     """Hertzian half-width of two parallel cylinders, plane-stress constants [m].
 
     ``a = sqrt(4 F R / (pi b E'))``, ``1/R = 1/rho1 + 1/rho2``, ``E' = E / 2`` (identical
@@ -139,18 +137,14 @@ def surface_load(
     gp = np.array([-math.sqrt(0.6), 0.0, math.sqrt(0.6)])
     gw = np.array([5.0, 8.0, 5.0]) / 9.0
     edges = np.linspace(-1.0, 1.0, nsub + 1)
-    xi = (
-        0.5 * (edges[:-1] + edges[1:])[:, None] + 0.5 * (edges[1] - edges[0]) * gp[None, :]
-    ).ravel()
+    xi = (0.5 * (edges[:-1] + edges[1:])[:, None] + 0.5 * (edges[1] - edges[0]) * gp[None, :]).ravel()
     w = np.tile(gw, nsub) * 0.5 * (edges[1] - edges[0])
     n3 = np.stack([0.5 * xi * (xi - 1.0), 1.0 - xi**2, 0.5 * xi * (xi + 1.0)], axis=1)  # (q, 3)
     dn3 = np.stack([xi - 0.5, -2.0 * xi, xi + 0.5], axis=1)
     pos = np.einsum("qa,eak->eqk", n3, x)
     jac = np.linalg.norm(np.einsum("qa,eak->eqk", dn3, x), axis=2)
     s = (pos - pc) @ t
-    p = np.where(
-        np.abs(s) < half_width, np.sqrt(np.clip(1.0 - (s / half_width) ** 2, 0, None)), 0.0
-    )
+    p = np.where(np.abs(s) < half_width, np.sqrt(np.clip(1.0 - (s / half_width) ** 2, 0, None)), 0.0)
     p *= 2.0 * force / (math.pi * half_width)  # int p ds = force
     fn = np.einsum("eq,q,qa->ea", p * jac, w, n3)  # (ne, 3) nodal magnitudes
     if fn.sum() <= 0.5 * force:
@@ -202,9 +196,7 @@ def _interp_operator(mesh: ToothMesh, pts: np.ndarray) -> sp.csr_matrix:
     el, z = _locate(mesh, pts)
     n = shape_functions(z[:, 0], z[:, 1])  # (npts, 8)
     nodes = mesh.elements[el]
-    rows = np.concatenate(
-        [np.repeat(2 * np.arange(len(pts)), 8), np.repeat(2 * np.arange(len(pts)) + 1, 8)]
-    )
+    rows = np.concatenate([np.repeat(2 * np.arange(len(pts)), 8), np.repeat(2 * np.arange(len(pts)) + 1, 8)])
     cols = np.concatenate([2 * nodes.ravel(), 2 * nodes.ravel() + 1])
     return sp.csr_matrix(
         (np.concatenate([n.ravel(), n.ravel()]), (rows, cols)),
@@ -277,12 +269,7 @@ def tooth_compliance(
     radii = np.atleast_1d(np.asarray(radii, dtype=float))
     rho1, rho2 = _mate_curvatures(g, radii, mate)
     if half_width is None:
-        hw = np.array(
-            [
-                hertz_half_width(force, g.face_width, e, nu, a, b)
-                for a, b in zip(rho1, rho2, strict=True)
-            ]
-        )
+        hw = np.array([hertz_half_width(force, g.face_width, e, nu, a, b) for a, b in zip(rho1, rho2, strict=True)])
     else:
         hw = np.full(radii.size, float(half_width))
     loads, ref, dirs, arms = [], [], [], []
@@ -386,12 +373,7 @@ def mesh_stiffness(
         r1 = np.sqrt(g1.base_radius**2 + s**2)
         r2 = np.sqrt(g2.base_radius**2 + (length - s) ** 2)
         rho1, rho2 = s, length - s
-        hw = np.array(
-            [
-                hertz_half_width(force, g1.face_width, e, nu, x, y)
-                for x, y in zip(rho1, rho2, strict=True)
-            ]
-        )
+        hw = np.array([hertz_half_width(force, g1.face_width, e, nu, x, y) for x, y in zip(rho1, rho2, strict=True)])
         qh = weber_contact_compliance(force, g1.face_width, e, nu, h1(r1), h2(r2), hw)
         return 1.0 / (q1(r1) + q2(r2) + qh)
 
@@ -416,9 +398,7 @@ def mesh_stiffness(
     )
 
 
-def iso6336_stiffness(
-    g1: GearGeometry, g2: GearGeometry, load_per_width: float | None = None
-) -> dict:
+def iso6336_stiffness(g1: GearGeometry, g2: GearGeometry, load_per_width: float | None = None) -> dict:
     """ISO 6336-1 (method B) single stiffness c' and mesh stiffness c_gamma_alpha.
 
     ``q' = C1 + C2/zn1 + C3/zn2 + C4 x1 + C5 x1/zn1 + C6 x2 + C7 x2/zn2 + C8 x1^2 + C9 x2^2``
@@ -492,9 +472,7 @@ def root_stress_points(g: GearGeometry, angle_deg: float = 30.0) -> dict:
     return {"right": (p[1], t), "left": (p[1] * [-1.0, 1.0], t * [-1.0, 1.0])}
 
 
-def root_stress_operator(
-    mesh: ToothMesh, e: float, nu: float, angle_deg: float = 30.0
-) -> np.ndarray:
+def root_stress_operator(mesh: ToothMesh, e: float, nu: float, angle_deg: float = 30.0) -> np.ndarray:
     """Matrix S (2, 2n): ``S @ u`` = surface tangential stress [Pa] at the (left, right) fillet
     points of ``angle_deg`` tangent (ISO 6336-3 critical section for 30 deg).
 
@@ -511,9 +489,7 @@ def root_stress_operator(
     return np.array(rows)
 
 
-def root_stress(
-    mesh: ToothMesh, u: np.ndarray, e: float, nu: float, angle_deg: float = 30.0
-) -> np.ndarray:
+def root_stress(mesh: ToothMesh, u: np.ndarray, e: float, nu: float, angle_deg: float = 30.0) -> np.ndarray:
     """Tangential fillet stress [Pa] at the 30-degree tangent points, shape (..., 2) (left, right).
 
     ``u`` holds elastic nodal displacements in the gear frame, shape (2n,) or (nt, 2n) (a

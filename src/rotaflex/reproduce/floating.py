@@ -28,21 +28,31 @@ def _eq44_check(body) -> Check:
     rng = np.random.default_rng(44)
     n = body.n_modes
     zero = dict(th=0.7, thd=1.3, thdd=-0.9, Rd=np.array([0.5, -0.4]), Rdd=np.array([0.3, 0.2]))
-    first = dict(th=0.05, thd=-0.1, thdd=0.2, Rd=np.array([0.02, -0.03]),
-                 Rdd=np.array([0.1, 0.05]), q=1e-2 * rng.normal(size=n),
-                 qd=1e-2 * rng.normal(size=n), qdd=1e-2 * rng.normal(size=n))
+    first = dict(
+        th=0.05,
+        thd=-0.1,
+        thdd=0.2,
+        Rd=np.array([0.02, -0.03]),
+        Rdd=np.array([0.1, 0.05]),
+        q=1e-2 * rng.normal(size=n),
+        qd=1e-2 * rng.normal(size=n),
+        qdd=1e-2 * rng.normal(size=n),
+    )
     bf = planar_inertial_to_body(zero, first)
-    k = first_order_matrices(body, bf["V0"], [0, 0, zero["thd"]], bf["Vd0"],
-                             [0, 0, zero["thdd"]])
-    row = (k["M0"][6:] @ bf["x1d"] + k["G"][6:] @ bf["x1"] + k["K"][6:] @ first["q"]
-           - k["d"][6:])
+    k = first_order_matrices(body, bf["V0"], [0, 0, zero["thd"]], bf["Vd0"], [0, 0, zero["thdd"]])
+    row = k["M0"][6:] @ bf["x1d"] + k["G"][6:] @ bf["x1"] + k["K"][6:] @ first["q"] - k["d"][6:]
     ref = planar_eq44_residual(body, zero, first)
     rel = np.abs(row - ref).max() / np.abs(ref).max()
-    return _chk("eq. 44: 3-D first-order elastic row with eq. 43 substituted (inertial "
-                "velocities) = eq. 44", rel, "", "< 1e-10", rel < 1e-10,
-                "theta_0 0.7 rad, R'_0 (0.5, -0.4) m/s, R''_0 (0.3, 0.2) m/s^2, random "
-                "first-order state; eq. 44 read with the lost dots restored and the theta_1 "
-                "term -phibar (c R''_x0 + s R''_y0) theta_1 (see the note below)")
+    return _chk(
+        "eq. 44: 3-D first-order elastic row with eq. 43 substituted (inertial velocities) = eq. 44",
+        rel,
+        "",
+        "< 1e-10",
+        rel < 1e-10,
+        "theta_0 0.7 rad, R'_0 (0.5, -0.4) m/s, R''_0 (0.3, 0.2) m/s^2, random "
+        "first-order state; eq. 44 read with the lost dots restored and the theta_1 "
+        "term -phibar (c R''_x0 + s R''_y0) theta_1 (see the note below)",
+    )
 
 
 def _reduction_checks() -> list[Check]:
@@ -158,13 +168,9 @@ def _planar(out: Path, fast: bool):
     t = f.time
     fig, ax = new_figure(2, 1, figsize=(7, 6))
     th0 = ds["zero_order_euler_123"].values[:, 2]
-    ax[0].plot(
-        t, ds["euler_123"].sel(solution="full").values[:, 2], "k", lw=2, label="full nonlinear"
-    )
+    ax[0].plot(t, ds["euler_123"].sel(solution="full").values[:, 2], "k", lw=2, label="full nonlinear")
     ax[0].plot(t, th0, "C0--", label="zero order")
-    ax[0].plot(
-        t, th0 + ds["first_order_rotation"].values[:, 2], "C1:", label="total (zero + first)"
-    )
+    ax[0].plot(t, th0 + ds["first_order_rotation"].values[:, 2], "C1:", label="total (zero + first)")
     ax[0].set_ylabel("rigid angle theta [rad]")
     ax[0].legend(fontsize=8)
     a2 = ax[0].twinx()
@@ -259,9 +265,7 @@ def _slew3d(out: Path, fast: bool):
 
     k = 4 if fast else 8
     key = np.array([[0, 0, 0], [1.5, 0, 0], [1.5, 1.0, 0.0]], float)
-    nodes = [key[0]] + [
-        key[i] + (key[i + 1] - key[i]) * s / k for i in range(2) for s in range(1, k + 1)
-    ]
+    nodes = [key[0]] + [key[i] + (key[i + 1] - key[i]) * s / k for i in range(2) for s in range(1, k + 1)]
     r = 0.01
     A, I2 = np.pi * r**2, np.pi * r**4 / 4
     b = frame_body(
@@ -302,9 +306,7 @@ def _slew3d(out: Path, fast: bool):
             f"C{a}",
             label=f"full {'xyz'[a]}",
         )
-        ax[0].plot(
-            p.time, res.dataset["euler_123"].sel(solution="perturbation").values[:, a], f"C{a}:"
-        )
+        ax[0].plot(p.time, res.dataset["euler_123"].sel(solution="perturbation").values[:, a], f"C{a}:")
         ax[1].plot(f.time, uf[:, a], f"C{a}", label=f"full u_{'xyz'[a]}")
         ax[1].plot(p.time, up[:, a], f"C{a}:", label=f"perturbation u_{'xyz'[a]}")
     del ds_e
@@ -386,9 +388,7 @@ def _spinup(out: Path, fast: bool):
         )
         runs[geo] = (s, point_motion(b, s, tip)[1][:, 0, 1])
     (out / "floating").mkdir(parents=True, exist_ok=True)
-    build_result(b, [runs[True][0]], {"tip": (10.0, 0.0, 0.0)}).to_netcdf(
-        out / "floating" / "spinup.nc"
-    )
+    build_result(b, [runs[True][0]], {"tip": (10.0, 0.0, 0.0)}).to_netcdf(out / "floating" / "spinup.nc")
     fig, ax = new_figure()
     t = runs[True][0].time
     ax.plot(t, runs[True][1], "k", label="with geometric stiffness (default)")

@@ -23,8 +23,7 @@ def _rerun(reference, preset: str, **solver):
     from rotaflex.gear.case import run_case
 
     rpm = reference.dataset["angular_velocity"].isel(time=0).values * 30.0 / np.pi
-    return run_case({"operation": {"speed_rpm": [float(v) for v in rpm]},
-                     "mesh": {"preset": preset}, "solver": solver})
+    return run_case({"operation": {"speed_rpm": [float(v) for v in rpm]}, "mesh": {"preset": preset}, "solver": solver})
 
 
 def _difference(ref_ds, ds):
@@ -51,30 +50,49 @@ def methods_entry(references: dict, dom: Path, preset: str) -> FigureEntry:
         rms, mx = _difference(rds, ds)
         limit = REDUCED_RMS_LIMIT[rpm]
         speedup = t_ref / max(float(ds["solver_wall_time"]), 1e-9)
-        checks.append(Check(
-            f"reduced_hht vs paper_rk4 at {rpm:g} rpm: RMS force difference / (tau_0/r_b)",
-            rms / nominal, "", f"< {limit:g}", rms / nominal < limit,
-            f"max |dF| {mx:.1f} N; peak {float(ds['peak_contact_force']):.1f} vs "
-            f"{float(rds['peak_contact_force']):.1f} N; {int(ds['steps'])} steps of "
-            f"{float(ds['dt']):.3g} s vs {int(rds['steps'])} of {float(rds['dt']):.3g} s; "
-            f"solver {speedup:.0f}x faster in this run"))
+        checks.append(
+            Check(
+                f"reduced_hht vs paper_rk4 at {rpm:g} rpm: RMS force difference / (tau_0/r_b)",
+                rms / nominal,
+                "",
+                f"< {limit:g}",
+                rms / nominal < limit,
+                f"max |dF| {mx:.1f} N; peak {float(ds['peak_contact_force']):.1f} vs "
+                f"{float(rds['peak_contact_force']):.1f} N; {int(ds['steps'])} steps of "
+                f"{float(ds['dt']):.3g} s vs {int(rds['steps'])} of {float(rds['dt']):.3g} s; "
+                f"solver {speedup:.0f}x faster in this run",
+            )
+        )
         ang = np.degrees(rds["rotation_angle"].sel(gear="A").values)
         ax.plot(ang, rds["contact_force"].values, lw=0.8, label="paper_rk4 (dt 3e-8 s)")
-        ax.plot(np.degrees(ds["rotation_angle"].sel(gear="A").values),
-                ds["contact_force"].values, "--", lw=0.9,
-                label=f"reduced_hht (dt {float(ds['dt']):.2g} s)")
+        ax.plot(
+            np.degrees(ds["rotation_angle"].sel(gear="A").values),
+            ds["contact_force"].values,
+            "--",
+            lw=0.9,
+            label=f"reduced_hht (dt {float(ds['dt']):.2g} s)",
+        )
         if rpm == 4000.0:
             dire = _rerun(ref, preset, multipliers="direct").dataset
             rms_d, mx_d = _difference(rds, dire)
-            checks.append(Check(
-                "direct multiplier solve vs iterative at 4000 rpm: max |dF|", mx_d, "N",
-                "< 0.5 N (iteration tolerance level)", mx_d < 0.5,
-                f"RMS {rms_d:.3g} N; solver {float(dire['solver_wall_time']):.1f} s vs "
-                f"{t_ref:.1f} s iterative"))
-            ax.plot(np.degrees(dire["rotation_angle"].sel(gear="A").values),
-                    dire["contact_force"].values, ":", lw=1.2, label="paper_rk4, direct solve")
-        notes.append(f"{rpm:g} rpm: reduced_hht RMS difference {rms:.1f} N, speed-up "
-                     f"{speedup:.0f}x")
+            checks.append(
+                Check(
+                    "direct multiplier solve vs iterative at 4000 rpm: max |dF|",
+                    mx_d,
+                    "N",
+                    "< 0.5 N (iteration tolerance level)",
+                    mx_d < 0.5,
+                    f"RMS {rms_d:.3g} N; solver {float(dire['solver_wall_time']):.1f} s vs {t_ref:.1f} s iterative",
+                )
+            )
+            ax.plot(
+                np.degrees(dire["rotation_angle"].sel(gear="A").values),
+                dire["contact_force"].values,
+                ":",
+                lw=1.2,
+                label="paper_rk4, direct solve",
+            )
+        notes.append(f"{rpm:g} rpm: reduced_hht RMS difference {rms:.1f} N, speed-up {speedup:.0f}x")
         ax.set_title(f"{rpm:g} rpm, {preset} mesh", fontsize=9)
         ax.set_xlabel("rotation angle of gear A [deg]")
         ax.set_ylabel("contact force [N]")
@@ -82,9 +100,13 @@ def methods_entry(references: dict, dom: Path, preset: str) -> FigureEntry:
         ax.legend(fontsize=7)
     save_figure(fig, dom / "methods.png")
     return FigureEntry(
-        label="Faster methods", caption="(not in the paper) direct multiplier solve and the "
+        label="Faster methods",
+        caption="(not in the paper) direct multiplier solve and the "
         "large-step reduced_hht method (Craig-Bampton teeth + HHT-alpha) against the paper's "
-        "scheme", image="gear/methods.png",
-        description="Reference: the Fig. 8 / Fig. 9 runs above. " + "; ".join(notes)
+        "scheme",
+        image="gear/methods.png",
+        description="Reference: the Fig. 8 / Fig. 9 runs above. "
+        + "; ".join(notes)
         + ". Wall times on a shared machine are indicative.",
-        checks=checks)
+        checks=checks,
+    )

@@ -32,8 +32,13 @@ def run_both_drivers(speeds, preset: str, every: int = 10) -> dict:
 
     out = {}
     for drv in ("A", "B"):
-        res = run_case({"operation": {"speed_rpm": list(speeds), "driver": drv},
-                        "mesh": {"preset": preset}, "output": {"every": every}})
+        res = run_case(
+            {
+                "operation": {"speed_rpm": list(speeds), "driver": drv},
+                "mesh": {"preset": preset},
+                "output": {"every": every},
+            }
+        )
         ds = res.dataset
         lost, back = contact_changes(ds["contact_force"].values, 0.01 * float(ds["nominal_force"]))
         out[drv] = (res, lost, back)
@@ -54,7 +59,8 @@ def driver_summary(runs: dict) -> str:
             f"driver {d}: contact lost {lost}x, regained {back}x, peak "
             f"{float(ds['peak_contact_force']):.0f} N, energy balance "
             f"{float(ds['energy_balance_error']) * 100:.2f} %, D "
-            f"{float(ds['velocity_pass_loss'][-1]):.2e} J")
+            f"{float(ds['velocity_pass_loss'][-1]):.2e} J"
+        )
     return "; ".join(parts)
 
 
@@ -103,8 +109,9 @@ def quasi_static_entry(res, dom: Path, preset: str) -> FigureEntry:
         nrm = _normals(model, g, ds, i)
         pa, pb = float(ds["contact_parameter"].values[i, 0]), float(ds["contact_parameter"].values[i, 1])
         pt.append(post.static_point_load_te(model, e, nu, f[i], pa, pb, nrm))
-        sig_ref.append([post.static_root_stress(model, e, nu, f[i], p, nrm[k], gear=k)[0]
-                        for k, p in ((0, pa), (1, pb))])
+        sig_ref.append(
+            [post.static_root_stress(model, e, nu, f[i], p, nrm[k], gear=k)[0] for k, p in ((0, pa), (1, pb))]
+        )
     kin = post.kinematic_transmission_error(model, ang[picks])
     pt, sig_ref = np.array(pt), np.array(sig_ref)
     err_te = float(np.max(np.abs(dte[picks] / (pt + kin) - 1.0)))
@@ -118,46 +125,69 @@ def quasi_static_entry(res, dom: Path, preset: str) -> FigureEntry:
     fig, (ax1, ax2) = new_figure(2, 1, sharex=True, figsize=(6.4, 6.4))
     deg = np.degrees(ang)
     ax1.plot(deg, dte * 1e6, lw=0.8, label="DTE (dynamic run)")
-    ax1.plot(deg, te_static * 1e6, "k--", lw=0.8,
-             label="F / k_pair, static (structural + Weber contact)")
-    ax1.plot(np.degrees(ang[picks]), (pt + kin) * 1e6, "o", ms=4,
-             label="static FE, same point load + kinematic error")
+    ax1.plot(deg, te_static * 1e6, "k--", lw=0.8, label="F / k_pair, static (structural + Weber contact)")
+    ax1.plot(np.degrees(ang[picks]), (pt + kin) * 1e6, "o", ms=4, label="static FE, same point load + kinematic error")
     ax1.set_ylabel("transmission error [um]")
     ax1.legend(fontsize=7)
     ax1.grid(alpha=0.3)
     for k, gname in enumerate("AB"):
         ax2.plot(deg, ds["root_stress"].values[:, k] / 1e6, lw=0.8, label=f"gear {gname} (dynamic)")
-        ax2.plot(np.degrees(ang[picks]), sig_ref[:, k] / 1e6, "o", ms=4, mfc="none",
-                 label=f"gear {gname}, static FE of the same load")
+        ax2.plot(
+            np.degrees(ang[picks]),
+            sig_ref[:, k] / 1e6,
+            "o",
+            ms=4,
+            mfc="none",
+            label=f"gear {gname}, static FE of the same load",
+        )
     ax2.set_xlabel("rotation angle of gear A [deg]")
     ax2.set_ylabel("fillet stress, 30-deg point [MPa]")
     ax2.legend(fontsize=7)
     ax2.grid(alpha=0.3)
     save_figure(fig, dom / "quasi_static_dte_root_stress.png")
     checks = [
-        Check("DTE / (static FE deflection of the same point load + kinematic error) - 1, max",
-              err_te, "", "< 0.02", err_te < 0.02,
-              f"{picks.size} records in the single-pair zone; kinematic (unloaded) error of the "
-              f"discretised profiles {kin.min() * 1e9:.0f} to {kin.max() * 1e9:.0f} nm"),
-        Check("mean (DTE - kinematic) / (F / k_pair of rotaflex.gear.static)", ratio, "",
-              "0.65 - 1.35", 0.65 < ratio < 1.35,
-              "static TE = structural compliance + Weber 2-D contact compliance (Hertzian "
-              "patch); the dynamic model carries a point force on the quadratic edge, whose "
-              "local indentation is mesh dependent (docs/gear-fe.md), hence the difference"),
-        Check("fillet stress / static FE fillet stress of the same load - 1, max", err_sig, "",
-              "< 0.04", err_sig < 0.04,
-              "30-deg tangent point (ISO 6336-3), both gears; the residual is the tooth's own "
-              "vibration at the mesh frequency"),
+        Check(
+            "DTE / (static FE deflection of the same point load + kinematic error) - 1, max",
+            err_te,
+            "",
+            "< 0.02",
+            err_te < 0.02,
+            f"{picks.size} records in the single-pair zone; kinematic (unloaded) error of the "
+            f"discretised profiles {kin.min() * 1e9:.0f} to {kin.max() * 1e9:.0f} nm",
+        ),
+        Check(
+            "mean (DTE - kinematic) / (F / k_pair of rotaflex.gear.static)",
+            ratio,
+            "",
+            "0.65 - 1.35",
+            0.65 < ratio < 1.35,
+            "static TE = structural compliance + Weber 2-D contact compliance (Hertzian "
+            "patch); the dynamic model carries a point force on the quadratic edge, whose "
+            "local indentation is mesh dependent (docs/gear-fe.md), hence the difference",
+        ),
+        Check(
+            "fillet stress / static FE fillet stress of the same load - 1, max",
+            err_sig,
+            "",
+            "< 0.04",
+            err_sig < 0.04,
+            "30-deg tangent point (ISO 6336-3), both gears; the residual is the tooth's own "
+            "vibration at the mesh frequency",
+        ),
     ]
     return FigureEntry(
         label="Quasi-static DTE and fillet stress",
         caption="(not in the paper) transmission error and tooth-root stress of the low-speed "
-                "run against static FE solutions",
-        image="gear/quasi_static_dte_root_stress.png", data="gear/quasi_static.nc",
-        description=(f"{preset} mesh. DTE = r_b (theta_A - theta_B) since the touching start "
-                     "(> 0: B lags). Fillet stress: surface tangential stress at the 30-degree "
-                     "tangent point from the co-rotational FE displacements."),
-        checks=checks)
+        "run against static FE solutions",
+        image="gear/quasi_static_dte_root_stress.png",
+        data="gear/quasi_static.nc",
+        description=(
+            f"{preset} mesh. DTE = r_b (theta_A - theta_B) since the touching start "
+            "(> 0: B lags). Fillet stress: surface tangential stress at the 30-degree "
+            "tangent point from the co-rotational FE displacements."
+        ),
+        checks=checks,
+    )
 
 
 def root_stress_entry(res, dom: Path, label: str) -> FigureEntry:
@@ -168,10 +198,10 @@ def root_stress_entry(res, dom: Path, label: str) -> FigureEntry:
     deg = np.degrees(ds["rotation_angle"].sel(gear="A").values)
     fig, (ax1, ax2) = new_figure(2, 1, sharex=True, figsize=(6.4, 6.4))
     for k, gname in enumerate("AB"):
-        ax1.plot(deg, ds["root_stress"].values[:, k] / 1e6, lw=0.8,
-                 label=f"gear {gname}, loaded fillet")
-        ax1.plot(deg, ds["root_stress_opposite"].values[:, k] / 1e6, lw=0.8, ls="--",
-                 label=f"gear {gname}, opposite fillet")
+        ax1.plot(deg, ds["root_stress"].values[:, k] / 1e6, lw=0.8, label=f"gear {gname}, loaded fillet")
+        ax1.plot(
+            deg, ds["root_stress_opposite"].values[:, k] / 1e6, lw=0.8, ls="--", label=f"gear {gname}, opposite fillet"
+        )
     ax1.set_ylabel("fillet stress, 30-deg point [MPa]")
     ax1.legend(fontsize=7)
     ax1.grid(alpha=0.3)
@@ -186,7 +216,9 @@ def root_stress_entry(res, dom: Path, label: str) -> FigureEntry:
     return FigureEntry(
         label=f"{label}: fillet stress and DTE",
         caption="(not in the paper) tooth-root stress history at the 30-degree fillet point "
-                "and dynamic transmission error",
-        image=f"gear/{stem}_root_stress.png", data="gear/fig8.nc",
+        "and dynamic transmission error",
+        image=f"gear/{stem}_root_stress.png",
+        data="gear/fig8.nc",
         description=f"peak loaded-fillet stress {peak / 1e6:.1f} MPa, DTE peak-to-peak "
-                    f"{p2p * 1e6:.2f} um (includes the ramp-up of the load from zero)")
+        f"{p2p * 1e6:.2f} um (includes the ramp-up of the load from zero)",
+    )

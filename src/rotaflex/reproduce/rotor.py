@@ -53,16 +53,30 @@ def prescribed_kinematics(t: np.ndarray) -> dict[str, np.ndarray]:
         out[name + "_inertial"] = (inertial_rate_matrix(seq, ang, conv) @ rate)[..., 0]
     # eq. 21-22 with theta = pi/2 + eps, psi = pi + eps, phi = Omega t
     phi, th, ps = OMEGA * t, np.pi / 2 + s, np.pi + s
-    e = np.stack([np.cos(phi / 2), np.sin(phi / 2) * np.sin(th) * np.cos(ps),
-                  np.sin(phi / 2) * np.sin(th) * np.sin(ps), np.sin(phi / 2) * np.cos(th)], -1)
+    e = np.stack(
+        [
+            np.cos(phi / 2),
+            np.sin(phi / 2) * np.sin(th) * np.cos(ps),
+            np.sin(phi / 2) * np.sin(th) * np.sin(ps),
+            np.sin(phi / 2) * np.cos(th),
+        ],
+        -1,
+    )
     h = 1e-6  # e(t) is explicit: central difference is accurate to ~1e-12 here
     tp, tm = t + h, t - h
 
     def e_of(tt):
         ss = np.sin(tt) / 10
         ph, th_, ps_ = OMEGA * tt, np.pi / 2 + ss, np.pi + ss
-        return np.stack([np.cos(ph / 2), np.sin(ph / 2) * np.sin(th_) * np.cos(ps_),
-                         np.sin(ph / 2) * np.sin(th_) * np.sin(ps_), np.sin(ph / 2) * np.cos(th_)], -1)
+        return np.stack(
+            [
+                np.cos(ph / 2),
+                np.sin(ph / 2) * np.sin(th_) * np.cos(ps_),
+                np.sin(ph / 2) * np.sin(th_) * np.sin(ps_),
+                np.sin(ph / 2) * np.cos(th_),
+            ],
+            -1,
+        )
 
     e_dot = (e_of(tp) - e_of(tm)) / (2 * h)
     out["q_body"], out["q_inertial"] = rates_from_quaternion(e, e_dot)
@@ -73,8 +87,16 @@ def _energy(J, w):
     return 0.5 * np.einsum("ti,ij,tj->t", w, J, w)
 
 
-def _save(out: Path, n: int, curves: dict[str, np.ndarray], t: np.ndarray, ylabel: str, unit: str,
-          title: str, styles: dict | None = None) -> tuple[str, str]:
+def _save(
+    out: Path,
+    n: int,
+    curves: dict[str, np.ndarray],
+    t: np.ndarray,
+    ylabel: str,
+    unit: str,
+    title: str,
+    styles: dict | None = None,
+) -> tuple[str, str]:
     import xarray as xr
 
     from rotaflex.core.io import write_atomic
@@ -91,9 +113,17 @@ def _save(out: Path, n: int, curves: dict[str, np.ndarray], t: np.ndarray, ylabe
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     save_figure(fig, d / f"fig{n:02d}.png")
-    ds = xr.Dataset({k.replace(" ", "_").replace("*", "star").replace("/", "_"):
-                     ("time", np.pad(v, (0, t.size - v.size), constant_values=np.nan), {"units": unit, "long_name": k})
-                     for k, v in curves.items()}, coords={"time": ("time", t, {"units": "s"})})
+    ds = xr.Dataset(
+        {
+            k.replace(" ", "_").replace("*", "star").replace("/", "_"): (
+                "time",
+                np.pad(v, (0, t.size - v.size), constant_values=np.nan),
+                {"units": unit, "long_name": k},
+            )
+            for k, v in curves.items()
+        },
+        coords={"time": ("time", t, {"units": "s"})},
+    )
     write_atomic(d / f"fig{n:02d}.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))
     return f"rotor/fig{n:02d}.png", f"rotor/fig{n:02d}.nc"
 
@@ -104,10 +134,17 @@ def _simulate(formulation: dict, inertia=None, t_end=10.0, n_output=2001, spin0=
     disk = {"mass": 1.0, "polar_inertia": 2 * I, "diametral_inertia": I}
     if inertia is not None:
         disk["inertia"] = list(inertia)
-    cfg = {"disk": disk, "formulation": formulation,
-           "motion": {"spin_speed": OMEGA, "initial_tilt": [0.0, 0.0], "initial_tilt_rate": [1.0, 1.0],
-                      "initial_spin_angle": spin0},
-           "solver": {"t_end": t_end, "n_output": n_output, "rtol": 1e-9, "atol": 1e-12}}
+    cfg = {
+        "disk": disk,
+        "formulation": formulation,
+        "motion": {
+            "spin_speed": OMEGA,
+            "initial_tilt": [0.0, 0.0],
+            "initial_tilt_rate": [1.0, 1.0],
+            "initial_spin_angle": spin0,
+        },
+        "solver": {"t_end": t_end, "n_output": n_output, "rtol": 1e-9, "atol": 1e-12},
+    }
     return run_case(cfg)
 
 
@@ -125,59 +162,141 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     K123s_trunc = 0.5 * I * (2 * OMEGA**2 + c**2 + c**2 + 2 * OMEGA * (s * c - s * c))
     Kq_s = _energy(JQ, w["q_body"])
     Kq = _energy(JQ, w["q_inertial"])
-    img, data = _save(out, 3, {"K*_123 truncated (eq. 27a)": K123s_trunc, "K*_123 full": K123s,
-                               "K*_q quaternion": Kq_s}, t, "kinetic energy", "J", "Fig. 3")
+    img, data = _save(
+        out,
+        3,
+        {"K*_123 truncated (eq. 27a)": K123s_trunc, "K*_123 full": K123s, "K*_q quaternion": Kq_s},
+        t,
+        "kinetic energy",
+        "J",
+        "Fig. 3",
+    )
     d3 = float(np.max(np.abs(K123s - Kq_s)) / np.max(Kq_s))
-    figs.append(FigureEntry("Fig. 3", CAPTIONS[3], img, data,
-        "Energies of the prescribed motions (I = 1 kg m^2, Omega = 10 rad/s). Full = 1/2 w*^T J w* "
-        "with the paper's eq. 6 map; truncated = eq. 27a.",
-        [Check("paper: K*_123 full and K*_q almost equal but not identical", d3, "",
-               "0 < max |K*_123 - K*_q| / max K*_q < 0.05", 0 < d3 < 0.05, "relative difference", claim=True),
-         Check("max |K*_123 truncated - full| / max full", float(np.max(np.abs(K123s_trunc - K123s)) / np.max(K123s)),
-               "", "< 0.01 (second-order truncation of an O(0.1 rad) motion)",
-               float(np.max(np.abs(K123s_trunc - K123s)) / np.max(K123s)) < 0.01)]))
+    figs.append(
+        FigureEntry(
+            "Fig. 3",
+            CAPTIONS[3],
+            img,
+            data,
+            "Energies of the prescribed motions (I = 1 kg m^2, Omega = 10 rad/s). Full = 1/2 w*^T J w* "
+            "with the paper's eq. 6 map; truncated = eq. 27a.",
+            [
+                Check(
+                    "paper: K*_123 full and K*_q almost equal but not identical",
+                    d3,
+                    "",
+                    "0 < max |K*_123 - K*_q| / max K*_q < 0.05",
+                    0 < d3 < 0.05,
+                    "relative difference",
+                    claim=True,
+                ),
+                Check(
+                    "max |K*_123 truncated - full| / max full",
+                    float(np.max(np.abs(K123s_trunc - K123s)) / np.max(K123s)),
+                    "",
+                    "< 0.01 (second-order truncation of an O(0.1 rad) motion)",
+                    float(np.max(np.abs(K123s_trunc - K123s)) / np.max(K123s)) < 0.01,
+                ),
+            ],
+        )
+    )
 
     # ---- Fig. 4: inertial-frame energy, 3-1-3 truncated (eq. 27d) vs full vs quaternion
     K313 = _energy(J313_PAPER, w["313_inertial"])
     K313_trunc = 0.5 * I * (c**2 + OMEGA**2 + c**2)
     K313_consistent = _energy(J313, w["313_body"])
-    img, data = _save(out, 4, {"K_313 truncated (eq. 27d)": K313_trunc, "K_313 full (J as printed)": K313,
-                               "K_q quaternion": Kq, "K 3-1-3 with polar J on z (physical)": K313_consistent},
-                      t, "kinetic energy", "J", "Fig. 4")
+    img, data = _save(
+        out,
+        4,
+        {
+            "K_313 truncated (eq. 27d)": K313_trunc,
+            "K_313 full (J as printed)": K313,
+            "K_q quaternion": Kq,
+            "K 3-1-3 with polar J on z (physical)": K313_consistent,
+        },
+        t,
+        "kinetic energy",
+        "J",
+        "Fig. 4",
+    )
     ratio = float(np.mean(K313) / np.mean(Kq))
-    figs.append(FigureEntry("Fig. 4", CAPTIONS[4], img, data,
-        "Paper's inertial-frame energies 1/2 w^T J w. The 3-1-3 curves use J_313 = I diag(1, 2, 1) as "
-        "printed, which puts the polar moment on body y although the spin theta is about body z.",
-        [Check("paper: 3-1-3 underestimates the energy (mean K_313 / mean K_q)", ratio, "", "< 1",
-               ratio < 1, claim=True,
-               note="holds, but only because J_313 as printed puts the polar moment on the wrong "
-               "axis: with the polar moment on z the ratio is "
-
-               f"{float(np.mean(K313_consistent) / np.mean(Kq)):.4f}")]))
+    figs.append(
+        FigureEntry(
+            "Fig. 4",
+            CAPTIONS[4],
+            img,
+            data,
+            "Paper's inertial-frame energies 1/2 w^T J w. The 3-1-3 curves use J_313 = I diag(1, 2, 1) as "
+            "printed, which puts the polar moment on body y although the spin theta is about body z.",
+            [
+                Check(
+                    "paper: 3-1-3 underestimates the energy (mean K_313 / mean K_q)",
+                    ratio,
+                    "",
+                    "< 1",
+                    ratio < 1,
+                    claim=True,
+                    note="holds, but only because J_313 as printed puts the polar moment on the wrong "
+                    "axis: with the polar moment on z the ratio is "
+                    f"{float(np.mean(K313_consistent) / np.mean(Kq)):.4f}",
+                )
+            ],
+        )
+    )
 
     # ---- Fig. 5-8: angular velocities
     for n, comp, frame in ((5, 1, "body"), (6, 1, "inertial"), (7, 2, "body"), (8, 2, "inertial")):
-        curves = {"1-2-3 (paper eq. 6/10)": w[f"123_{frame}"][:, comp],
-                  "3-1-3 (eq. 11)": w[f"313_{frame}"][:, comp],
-                  "quaternion (eq. 15/16)": w[f"q_{frame}"][:, comp]}
+        curves = {
+            "1-2-3 (paper eq. 6/10)": w[f"123_{frame}"][:, comp],
+            "3-1-3 (eq. 11)": w[f"313_{frame}"][:, comp],
+            "quaternion (eq. 15/16)": w[f"q_{frame}"][:, comp],
+        }
         img, data = _save(out, n, curves, t, f"omega_{comp + 1} ({frame})", "rad/s", f"Fig. {n}")
         checks = []
         if n == 5:
             diff = float(np.max(np.abs(w["123_body"] - w["q_body"])[:, 1:]))
-            checks.append(Check("paper: 1-2-3 body rates similar to quaternion (max transverse difference)",
-                                diff, "rad/s", "< 0.5 rad/s (similar, not equal)", diff < 0.5,
-                                "similar magnitude; not equal (different motions are prescribed)", claim=True))
-        figs.append(FigureEntry(f"Fig. {n}", CAPTIONS[n], img, data,
-            "Components of the prescribed motions' angular velocities.", checks))
+            checks.append(
+                Check(
+                    "paper: 1-2-3 body rates similar to quaternion (max transverse difference)",
+                    diff,
+                    "rad/s",
+                    "< 0.5 rad/s (similar, not equal)",
+                    diff < 0.5,
+                    "similar magnitude; not equal (different motions are prescribed)",
+                    claim=True,
+                )
+            )
+        figs.append(
+            FigureEntry(
+                f"Fig. {n}", CAPTIONS[n], img, data, "Components of the prescribed motions' angular velocities.", checks
+            )
+        )
     dq = float(np.max(np.abs(np.linalg.norm(w["q_body"], axis=1) - np.linalg.norm(w["q_inertial"], axis=1))))
     kq_rel = float(np.max(np.abs(Kq_s - Kq)) / np.max(Kq))
-    figs[0].checks.append(Check("paper: K_q* = K_q (max |K_q* - K_q| / max K_q)", kq_rel, "",
-        "< 1e-9", kq_rel < 1e-9, claim=True, note=
-        "close but not exact with body J and inertial components: equality would need R J R^T = J. "
-        f"|w*| = |w| holds to {dq:.1e} rad/s; the physical energy (R J R^T) is frame-invariant by construction"))
+    figs[0].checks.append(
+        Check(
+            "paper: K_q* = K_q (max |K_q* - K_q| / max K_q)",
+            kq_rel,
+            "",
+            "< 1e-9",
+            kq_rel < 1e-9,
+            claim=True,
+            note="close but not exact with body J and inertial components: equality would need R J R^T = J. "
+            f"|w*| = |w| holds to {dq:.1e} rad/s; the physical energy (R J R^T) is frame-invariant by construction",
+        )
+    )
     k123 = float(np.max(np.abs(K123s - _energy(J123, w["123_inertial"]))) / np.max(K123s))
-    figs[0].checks.append(Check("paper: K*_123 != K_123 (max relative difference)", k123, "", "> 1e-6",
-                                k123 > 1e-6, "the paper's inertial energy is not frame-invariant", claim=True))
+    figs[0].checks.append(
+        Check(
+            "paper: K*_123 != K_123 (max relative difference)",
+            k123,
+            "",
+            "> 1e-6",
+            k123 > 1e-6,
+            "the paper's inertial energy is not frame-invariant",
+            claim=True,
+        )
+    )
 
     # ---- Fig. 9: linear 1-2-3 EOM (paper truncation, paper convention), body frame
     n_out = 1001 if fast else 2001
@@ -188,25 +307,57 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     q9 = r9.dataset["generalized_coordinate"].values[:, 2:]
     z = (1 + 1j) * (np.exp(2j * OMEGA * tt) - 1) / (2j * OMEGA)  # closed form of the linear EOM
     err9 = float(np.max(np.abs(q9[:, 0] + 1j * q9[:, 1] - z)))
-    img, data = _save(out, 9, {"theta (eq. 34, linear)": q9[:, 0], "psi (eq. 34, linear)": q9[:, 1],
-                               "theta exact 2nd order (right-handed)":
-                                   r9x.dataset["generalized_coordinate"].values[:, 2],
-                               "theta nonlinear (right-handed)": r9n.dataset["generalized_coordinate"].values[:, 2]},
-                      tt, "angle", "rad", "Fig. 9", {"theta nonlinear (right-handed)": "--"})
-    figs.append(FigureEntry("Fig. 9", CAPTIONS[9], img, data,
-        "Linear 1-2-3 EOM in the body frame (eq. 33-34: theta'' = -2 Omega psi', psi'' = 2 Omega theta'), "
-        "initial angles 0, rates 1 rad/s; with the exact second-order and the nonlinear equations for comparison.",
-        [Check("linear 1-2-3 vs closed form (theta + i psi)", err9, "rad", "< 1e-7", err9 < 1e-7,
-               "z = z'(0) (exp(2 i Omega t) - 1) / (2 i Omega): periodic, amplitude sqrt(2)/Omega"),
-         Check("max |angle| (periodic, bounded)", float(np.max(np.abs(q9))), "rad", "<= sqrt(2)/Omega + 1e-9",
-               float(np.max(np.abs(q9))) <= np.sqrt(2) / OMEGA + 1e-9)]))
+    img, data = _save(
+        out,
+        9,
+        {
+            "theta (eq. 34, linear)": q9[:, 0],
+            "psi (eq. 34, linear)": q9[:, 1],
+            "theta exact 2nd order (right-handed)": r9x.dataset["generalized_coordinate"].values[:, 2],
+            "theta nonlinear (right-handed)": r9n.dataset["generalized_coordinate"].values[:, 2],
+        },
+        tt,
+        "angle",
+        "rad",
+        "Fig. 9",
+        {"theta nonlinear (right-handed)": "--"},
+    )
+    figs.append(
+        FigureEntry(
+            "Fig. 9",
+            CAPTIONS[9],
+            img,
+            data,
+            "Linear 1-2-3 EOM in the body frame (eq. 33-34: theta'' = -2 Omega psi', psi'' = 2 Omega theta'), "
+            "initial angles 0, rates 1 rad/s; with the exact second-order and the nonlinear equations for comparison.",
+            [
+                Check(
+                    "linear 1-2-3 vs closed form (theta + i psi)",
+                    err9,
+                    "rad",
+                    "< 1e-7",
+                    err9 < 1e-7,
+                    "z = z'(0) (exp(2 i Omega t) - 1) / (2 i Omega): periodic, amplitude sqrt(2)/Omega",
+                ),
+                Check(
+                    "max |angle| (periodic, bounded)",
+                    float(np.max(np.abs(q9))),
+                    "rad",
+                    "<= sqrt(2)/Omega + 1e-9",
+                    float(np.max(np.abs(q9))) <= np.sqrt(2) / OMEGA + 1e-9,
+                ),
+            ],
+        )
+    )
 
     # ---- Fig. 10-12: 3-1-3
     runs313 = {
         10: ({"sequence": "313", "expansion": "nonlinear"}, "nonlinear, body frame"),
         11: ({"sequence": "313", "expansion": "paper_truncated"}, "linear (paper truncation), body frame"),
-        12: ({"sequence": "313", "energy": "inertial_paper", "expansion": "nonlinear"},
-             "nonlinear, inertial frame (paper energy)"),
+        12: (
+            {"sequence": "313", "energy": "inertial_paper", "expansion": "nonlinear"},
+            "nonlinear, inertial frame (paper energy)",
+        ),
     }
     for n, (form, what) in runs313.items():
         rp = _simulate(form, inertia=np.diag(J313_PAPER), n_output=n_out)
@@ -214,62 +365,135 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
         tt = rp.dataset["time"].values
         qp = rp.dataset["generalized_coordinate"].values[:, 2:]
         qc = rc.dataset["generalized_coordinate"].values[:, 2:]
-        curves = {"psi (J as printed)": qp[:, 0], "phi (J as printed)": qp[:, 1],
-                  "psi (polar J on z)": qc[:, 0], "phi (polar J on z)": qc[:, 1]}
-        img, data = _save(out, n, curves, tt, "angle", "rad", f"Fig. {n}",
-                          {"psi (polar J on z)": "--", "phi (polar J on z)": "--"})
+        curves = {
+            "psi (J as printed)": qp[:, 0],
+            "phi (J as printed)": qp[:, 1],
+            "psi (polar J on z)": qc[:, 0],
+            "phi (polar J on z)": qc[:, 1],
+        }
+        img, data = _save(
+            out, n, curves, tt, "angle", "rad", f"Fig. {n}", {"psi (polar J on z)": "--", "phi (polar J on z)": "--"}
+        )
         tilt_p = float(rp.dataset["tilt_angle"].max()) if rp.status != "failed" else np.nan
         tilt_c = float(rc.dataset["tilt_angle"].max()) if rc.status != "failed" else np.nan
         grow = float(np.max(np.abs(qp)))
-        figs.append(FigureEntry(f"Fig. {n}", CAPTIONS[n], img, data,
-            f"3-1-3 EOM, {what}; q = [psi (precession), phi (nutation)], spin theta = Omega t; "
-            f"with J as printed (diag(1,2,1)) and with the polar moment on the spin axis z (diag(1,1,2)). "
-            f"Status: {rp.status} / {rc.status}.",
-            [Check("paper: 3-1-3 angles grow without bound (max |angle|, J as printed)", grow, "rad", "> 1 rad",
-                   grow > 1.0, f"max polar-axis tilt (parameterisation-free) {tilt_p:.3g} rad", claim=True)]
-            + ([Check("max polar-axis tilt, polar J on z (nonlinear)", tilt_c, "rad",
-                      "bounded (< 0.5 rad) for a gyroscopic disk", tilt_c < 0.5,
-                      "the disk stays near its nominal axis; psi is a precession angle that winds up as the "
-                      "disk whirls, so the angle growth is a coordinate effect, not instability")]
-               if n != 11 else
-               [Check("linear 3-1-3 tilt (polar J on z) departs from the nonlinear one", tilt_c, "rad",
-                      "> 0.5 rad while the nonlinear tilt stays < 0.5 rad", tilt_c > 0.5,
-                      "expanding about phi = 0 (where 3-1-3 angles are polar coordinates of the tilt) is "
-                      "invalid: the linear 3-1-3 equations are not a small-motion model")])))
-    notes.append("3-1-3: the unbounded angles of Fig. 10-12 come from (i) J_313 = diag(1,2,1) as printed, "
-                 "which makes the spin axis a minimum-inertia axis, and (ii) psi being a precession angle "
-                 "that winds up. The linearised 3-1-3 equations expand about phi = 0, where 3-1-3 angles "
-                 "are polar coordinates of the tilt and the expansion is not valid.")
+        figs.append(
+            FigureEntry(
+                f"Fig. {n}",
+                CAPTIONS[n],
+                img,
+                data,
+                f"3-1-3 EOM, {what}; q = [psi (precession), phi (nutation)], spin theta = Omega t; "
+                f"with J as printed (diag(1,2,1)) and with the polar moment on the spin axis z (diag(1,1,2)). "
+                f"Status: {rp.status} / {rc.status}.",
+                [
+                    Check(
+                        "paper: 3-1-3 angles grow without bound (max |angle|, J as printed)",
+                        grow,
+                        "rad",
+                        "> 1 rad",
+                        grow > 1.0,
+                        f"max polar-axis tilt (parameterisation-free) {tilt_p:.3g} rad",
+                        claim=True,
+                    )
+                ]
+                + (
+                    [
+                        Check(
+                            "max polar-axis tilt, polar J on z (nonlinear)",
+                            tilt_c,
+                            "rad",
+                            "bounded (< 0.5 rad) for a gyroscopic disk",
+                            tilt_c < 0.5,
+                            "the disk stays near its nominal axis; psi is a precession angle that winds up as the "
+                            "disk whirls, so the angle growth is a coordinate effect, not instability",
+                        )
+                    ]
+                    if n != 11
+                    else [
+                        Check(
+                            "linear 3-1-3 tilt (polar J on z) departs from the nonlinear one",
+                            tilt_c,
+                            "rad",
+                            "> 0.5 rad while the nonlinear tilt stays < 0.5 rad",
+                            tilt_c > 0.5,
+                            "expanding about phi = 0 (where 3-1-3 angles are polar coordinates of the tilt) is "
+                            "invalid: the linear 3-1-3 equations are not a small-motion model",
+                        )
+                    ]
+                ),
+            )
+        )
+    notes.append(
+        "3-1-3: the unbounded angles of Fig. 10-12 come from (i) J_313 = diag(1,2,1) as printed, "
+        "which makes the spin axis a minimum-inertia axis, and (ii) psi being a precession angle "
+        "that winds up. The linearised 3-1-3 equations expand about phi = 0, where 3-1-3 angles "
+        "are polar coordinates of the tilt and the expansion is not valid."
+    )
 
     # ---- Fig. 13: quaternion EOM (M_q singular whenever phi = 2 k pi)
     spin0 = np.pi / 2
     rb = _simulate({"parameterisation": "quaternion_spherical", "energy": "body"}, n_output=n_out, spin0=spin0)
-    ri = _simulate({"parameterisation": "quaternion_spherical", "energy": "inertial_paper"},
-                   n_output=n_out, spin0=spin0)
+    ri = _simulate(
+        {"parameterisation": "quaternion_spherical", "energy": "inertial_paper"}, n_output=n_out, spin0=spin0
+    )
     r0 = _simulate({"parameterisation": "quaternion_spherical"}, n_output=n_out)
     qb, qi = rb.dataset["generalized_coordinate"].values[:, 2:], ri.dataset["generalized_coordinate"].values[:, 2:]
     tb, ti = rb.dataset["time"].values, ri.dataset["time"].values
     import matplotlib
 
     matplotlib.use("Agg")
-    img, data = _save(out, 13, {"eps_theta (body)": qb[:, 0], "eps_psi (body)": qb[:, 1],
-                                "eps_theta (inertial)": qi[:, 0], "eps_psi (inertial)": qi[:, 1]},
-                      tb if tb.size >= ti.size else ti, "angle", "rad", "Fig. 13")
+    img, data = _save(
+        out,
+        13,
+        {
+            "eps_theta (body)": qb[:, 0],
+            "eps_psi (body)": qb[:, 1],
+            "eps_theta (inertial)": qi[:, 0],
+            "eps_psi (inertial)": qi[:, 1],
+        },
+        tb if tb.size >= ti.size else ti,
+        "angle",
+        "rad",
+        "Fig. 13",
+    )
     t_sing = (2 * np.pi - spin0) / OMEGA
-    figs.append(FigureEntry("Fig. 13", CAPTIONS[13], img, data,
-        "Spherical-coordinate quaternion EOM (eq. 38). M_q = 4 sin^2(phi/2) (...) vanishes at phi = 2 k pi, "
-        "so the paper's start (phi = 0) is singular: we start at phi = pi/2 and integration stops at the "
-        f"first singular instant phi = 2 pi (t = {t_sing:.4f} s). {rb.message}",
-        [Check("start at phi = 0 refused as singular", float(r0.status == "singular"), "",
-               "status 'singular' at t = 0", r0.status == "singular", r0.message),
-         Check("integration stops at the singular time (body energy)", float(tb[-1]), "s",
-               f"within 0.01 s before {t_sing:.4f} s", t_sing - 0.01 < tb[-1] <= t_sing + 1e-9,
-               "the singular mass matrix is detected by an event, not integrated through")]))
+    figs.append(
+        FigureEntry(
+            "Fig. 13",
+            CAPTIONS[13],
+            img,
+            data,
+            "Spherical-coordinate quaternion EOM (eq. 38). M_q = 4 sin^2(phi/2) (...) vanishes at phi = 2 k pi, "
+            "so the paper's start (phi = 0) is singular: we start at phi = pi/2 and integration stops at the "
+            f"first singular instant phi = 2 pi (t = {t_sing:.4f} s). {rb.message}",
+            [
+                Check(
+                    "start at phi = 0 refused as singular",
+                    float(r0.status == "singular"),
+                    "",
+                    "status 'singular' at t = 0",
+                    r0.status == "singular",
+                    r0.message,
+                ),
+                Check(
+                    "integration stops at the singular time (body energy)",
+                    float(tb[-1]),
+                    "s",
+                    f"within 0.01 s before {t_sing:.4f} s",
+                    t_sing - 0.01 < tb[-1] <= t_sing + 1e-9,
+                    "the singular mass matrix is detected by an event, not integrated through",
+                ),
+            ],
+        )
+    )
 
-    intro = ("Yun & Ren (2008), 'Formulation and analysis of rotor-system rotational motion'. Inputs as printed "
-             "(I = 1 kg m^2, Omega = 10 rad/s, prescribed sin(t)/10 motions, zero initial angles and 1 rad/s rates); "
-             "the time window is not printed and is taken as 0-10 s. The paper's curves did not survive in the text, "
-             "so each figure is judged by its stated claim and by independent checks.")
+    intro = (
+        "Yun & Ren (2008), 'Formulation and analysis of rotor-system rotational motion'. Inputs as printed "
+        "(I = 1 kg m^2, Omega = 10 rad/s, prescribed sin(t)/10 motions, zero initial angles and 1 rad/s rates); "
+        "the time window is not printed and is taken as 0-10 s. The paper's curves did not survive in the text, "
+        "so each figure is judged by its stated claim and by independent checks."
+    )
     section = Section("Seed A: rotor rotation (Euler angles vs quaternions)", intro, figs, [], notes)
     return _with_fe_section(section, out, fast)
 

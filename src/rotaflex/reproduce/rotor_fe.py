@@ -18,11 +18,14 @@ ROSS_4000RPM = [85.389467, 87.7958637, 251.78460413, 294.71333087, 600.17936195,
 def _rotor(c: float = 0.0):
     from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
 
-    return Rotor(shaft=(Shaft(outer_diameter=0.05, length=1.5, elements=6),),
-                 disk=(Disk(position=0.5, width=0.07, outer_diameter=0.28, inner_diameter=0.05),
-                       Disk(position=1.0, width=0.07, outer_diameter=0.35, inner_diameter=0.05)),
-                 bearing=(Bearing(node=0, kxx=1e6, kyy=1e6, cxx=c, cyy=c),
-                          Bearing(node=6, kxx=1e6, kyy=1e6, cxx=c, cyy=c)))
+    return Rotor(
+        shaft=(Shaft(outer_diameter=0.05, length=1.5, elements=6),),
+        disk=(
+            Disk(position=0.5, width=0.07, outer_diameter=0.28, inner_diameter=0.05),
+            Disk(position=1.0, width=0.07, outer_diameter=0.35, inner_diameter=0.05),
+        ),
+        bearing=(Bearing(node=0, kxx=1e6, kyy=1e6, cxx=c, cyy=c), Bearing(node=6, kxx=1e6, kyy=1e6, cxx=c, cyy=c)),
+    )
 
 
 def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
@@ -45,39 +48,72 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     rows = ["| mode | whirl (ours) | ours at 4000 rpm [rad/s] | ROSS docs [rad/s] |", "|---|---|---|---|"]
     rows += [f"| {k} | {m4.whirl[0, k]} | {m4.wn[0, k]:.4f} | {ROSS_4000RPM[k]:.4f} |" for k in range(6)]
     save_figure(model_figure(r), out / "model.png")
-    figs.append(FigureEntry(
-        "Example 5.9.1 model", "Friswell, Penny, Garvey & Lees (2010), Dynamics of Rotating Machines, Example 5.9.1: "
-        "1.5 m shaft, 50 mm, disks at 0.5 m and 1 m, 1 MN/m isotropic bearings; 6 Timoshenko elements.",
-        str(rel / "model.png"), "",
-        "Natural frequencies compared with the ROSS documentation's output for the same model (an independent "
-        "Timoshenko FE code). The book's own tabulated values are not compared here: we could not verify "
-        "them from a source at hand.\n\n" + "\n".join(rows),
-        [Check("0 rpm natural frequencies vs ROSS docs (max relative difference)", d0, "", "< 1e-6", d0 < 1e-6),
-         Check("4000 rpm natural frequencies vs ROSS docs (max relative difference)", d4, "", "< 1e-6", d4 < 1e-6),
-         Check("whirl from orbit sense: backward/forward alternate at 4000 rpm",
-               float(list(m4.whirl[0]) == ["backward", "forward"] * 3), "", "= 1",
-               list(m4.whirl[0]) == ["backward", "forward"] * 3)]))
+    figs.append(
+        FigureEntry(
+            "Example 5.9.1 model",
+            "Friswell, Penny, Garvey & Lees (2010), Dynamics of Rotating Machines, Example 5.9.1: "
+            "1.5 m shaft, 50 mm, disks at 0.5 m and 1 m, 1 MN/m isotropic bearings; 6 Timoshenko elements.",
+            str(rel / "model.png"),
+            "",
+            "Natural frequencies compared with the ROSS documentation's output for the same model (an independent "
+            "Timoshenko FE code). The book's own tabulated values are not compared here: we could not verify "
+            "them from a source at hand.\n\n" + "\n".join(rows),
+            [
+                Check("0 rpm natural frequencies vs ROSS docs (max relative difference)", d0, "", "< 1e-6", d0 < 1e-6),
+                Check(
+                    "4000 rpm natural frequencies vs ROSS docs (max relative difference)", d4, "", "< 1e-6", d4 < 1e-6
+                ),
+                Check(
+                    "whirl from orbit sense: backward/forward alternate at 4000 rpm",
+                    float(list(m4.whirl[0]) == ["backward", "forward"] * 3),
+                    "",
+                    "= 1",
+                    list(m4.whirl[0]) == ["backward", "forward"] * 3,
+                ),
+            ],
+        )
+    )
 
     rd = _rotor(3e3)  # Example 5.9.5 damping, so that the response is bounded
     speeds = np.linspace(0, 4000 * RPM, 30 if fast else 80)
     c = campbell(rd, speeds, 6, (1,))
-    save_figure(campbell_figure(speeds, c.modes.wd, c.modes.forward_fraction, c.modes.log_dec, (1,), c.critical),
-                out / "campbell.png")
+    save_figure(
+        campbell_figure(speeds, c.modes.wd, c.modes.forward_fraction, c.modes.log_dec, (1,), c.critical),
+        out / "campbell.png",
+    )
     fw = [x["speed"] for x in c.critical if x["whirl"] == "forward"]
     ucs = ucs_map(_rotor(), [1e6], 2)[0]
     cu = campbell(_rotor(), speeds, 6, (1,))
     fw_u = [x["speed"] for x in cu.critical if x["whirl"] == "forward"]
     du = float(np.max(np.abs(np.array(fw_u[:2]) - ucs) / ucs))
-    figs.append(FigureEntry(
-        "Campbell diagram", "Damped natural frequencies vs speed, bearings with 3 kN s/m damping (Example 5.9.5 "
-        "values); modes tracked by MAC, 1X line, critical speeds circled.", str(rel / "campbell.png"), "",
-        "Forward 1X critical speeds: " + ", ".join(f"{s / RPM:.0f} rpm" for s in fw) + ".",
-        [Check("undamped Campbell forward 1X crossings vs synchronous UCS eigenproblem", du, "",
-               "< 5e-3 (linear interpolation between speeds)", du < 5e-3),
-         Check("smallest MAC between consecutive tracked modes, after the first step", float(c.mac_min[2:].min()),
-               "", "> 0.9", float(c.mac_min[2:].min()) > 0.9,
-               "at 0 rpm each forward/backward pair is degenerate (any combination is a mode), so the first "
-               f"step's MAC is {c.mac_min[1]:.2f}, as expected for planar vs circular shapes")]))
+    figs.append(
+        FigureEntry(
+            "Campbell diagram",
+            "Damped natural frequencies vs speed, bearings with 3 kN s/m damping (Example 5.9.5 "
+            "values); modes tracked by MAC, 1X line, critical speeds circled.",
+            str(rel / "campbell.png"),
+            "",
+            "Forward 1X critical speeds: " + ", ".join(f"{s / RPM:.0f} rpm" for s in fw) + ".",
+            [
+                Check(
+                    "undamped Campbell forward 1X crossings vs synchronous UCS eigenproblem",
+                    du,
+                    "",
+                    "< 5e-3 (linear interpolation between speeds)",
+                    du < 5e-3,
+                ),
+                Check(
+                    "smallest MAC between consecutive tracked modes, after the first step",
+                    float(c.mac_min[2:].min()),
+                    "",
+                    "> 0.9",
+                    float(c.mac_min[2:].min()) > 0.9,
+                    "at 0 rpm each forward/backward pair is degenerate (any combination is a mode), so the first "
+                    f"step's MAC is {c.mac_min[1]:.2f}, as expected for planar vs circular shapes",
+                ),
+            ],
+        )
+    )
 
     sp = np.linspace(100 * RPM, 4000 * RPM, 400 if fast else 1000)
     ub = unbalance_response(rd, sp, [(4, 1e-4, 0.0)])
@@ -87,18 +123,39 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     save_figure(bode_figure(sp, amp, ph, pk), out / "bode.png")
     first = pk[0] if pk else {"speed": np.nan, "af": np.nan, "sm_percent": np.nan}
     dpk = abs(first["speed"] - fw[0]) / fw[0] if fw else np.nan
-    figs.append(FigureEntry(
-        "Unbalance response", "Bode plot at the disk nodes for 1e-4 kg m at the right disk; peaks with the "
-        "half-power amplification factor AF = N_c / (N_2 - N_1) and separation margin SM = |N_op - N_c| / N_op "
-        "from N_op = 3000 rpm.", str(rel / "bode.png"), "",
-        "; ".join(f"peak {p['speed'] / RPM:.0f} rpm: AF {p['af']:.2f}, SM {p['sm_percent']:.1f} %" for p in pk),
-        [Check("first response peak vs first forward critical speed (relative)", float(dpk), "", "< 0.02",
-               bool(dpk < 0.02))]))
+    figs.append(
+        FigureEntry(
+            "Unbalance response",
+            "Bode plot at the disk nodes for 1e-4 kg m at the right disk; peaks with the "
+            "half-power amplification factor AF = N_c / (N_2 - N_1) and separation margin SM = |N_op - N_c| / N_op "
+            "from N_op = 3000 rpm.",
+            str(rel / "bode.png"),
+            "",
+            "; ".join(f"peak {p['speed'] / RPM:.0f} rpm: AF {p['af']:.2f}, SM {p['sm_percent']:.1f} %" for p in pk),
+            [
+                Check(
+                    "first response peak vs first forward critical speed (relative)",
+                    float(dpk),
+                    "",
+                    "< 0.02",
+                    bool(dpk < 0.02),
+                )
+            ],
+        )
+    )
 
     crit = fw[0]
     t_end = 2.0 if fast else 4.0
-    tr = transient(rd, t_end, speed_start=0.3 * crit, speed_end=2.0 * crit, unbalance=[(4, 1e-4, 0.0)],
-                   method="modal", n_modes=12, n_output=2001 if fast else 4001)
+    tr = transient(
+        rd,
+        t_end,
+        speed_start=0.3 * crit,
+        speed_end=2.0 * crit,
+        unbalance=[(4, 1e-4, 0.0)],
+        method="modal",
+        n_modes=12,
+        n_output=2001 if fast else 4001,
+    )
     from rotaflex.core.plotting import new_figure
 
     fig, ax = new_figure()
@@ -112,11 +169,27 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     ax.legend(fontsize=8)
     save_figure(fig, out / "runup.png")
     w_peak = float(tr.speed[np.argmax(radial)])
-    figs.append(FigureEntry(
-        "Run-up through the first critical", f"Linear run-up from {0.3 * crit / RPM:.0f} to {2 * crit / RPM:.0f} "
-        f"rpm in {t_end:g} s (modal method, 12 modes), with the steady response for comparison.",
-        str(rel / "runup.png"), "", tr.message,
-        [Check("run-up peak speed / steady critical speed", w_peak / crit, "",
-               "in (1, 1.2): an accelerating rotor peaks after the critical", 1 < w_peak / crit < 1.2)]))
-    return Section("FE rotor-bearing model (Timoshenko shaft, disks, bearings)",
-                   "Finite-element rotor of issue 12 on the Example 5.9.1 rotor of Friswell et al. (2010).", figs)
+    figs.append(
+        FigureEntry(
+            "Run-up through the first critical",
+            f"Linear run-up from {0.3 * crit / RPM:.0f} to {2 * crit / RPM:.0f} "
+            f"rpm in {t_end:g} s (modal method, 12 modes), with the steady response for comparison.",
+            str(rel / "runup.png"),
+            "",
+            tr.message,
+            [
+                Check(
+                    "run-up peak speed / steady critical speed",
+                    w_peak / crit,
+                    "",
+                    "in (1, 1.2): an accelerating rotor peaks after the critical",
+                    1 < w_peak / crit < 1.2,
+                )
+            ],
+        )
+    )
+    return Section(
+        "FE rotor-bearing model (Timoshenko shaft, disks, bearings)",
+        "Finite-element rotor of issue 12 on the Example 5.9.1 rotor of Friswell et al. (2010).",
+        figs,
+    )

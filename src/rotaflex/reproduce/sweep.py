@@ -44,17 +44,27 @@ def _gear_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]:
         "mesh": {"preset": "coarse"},
         "output": {"every": 50},
     }
-    speeds = [5000.0, 10000.0, 15000.0, 20000.0] if fast else [float(v) for v in
-                                                             np.linspace(1000.0, 20000.0, 20)]
+    speeds = [5000.0, 10000.0, 15000.0, 20000.0] if fast else [float(v) for v in np.linspace(1000.0, 20000.0, 20)]
     return config, {"operation.speed_rpm": speeds}
 
 
 def _floating_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]:
     config = {
-        "body": {"type": "beam", "beam": {"length": 4.0, "rho_a": 2.0, "ei": 40.0,
-                                          "n_modes": 4, "support": "free-free"}},
-        "loads": [{"kind": "torque", "vector": [0.0, 0.0, 5.0], "point": [0.0, 0.0, 0.0],
-                   "frame": "body", "profile": "bang-bang", "start": 0.0, "duration": 4.0}],
+        "body": {
+            "type": "beam",
+            "beam": {"length": 4.0, "rho_a": 2.0, "ei": 40.0, "n_modes": 4, "support": "free-free"},
+        },
+        "loads": [
+            {
+                "kind": "torque",
+                "vector": [0.0, 0.0, 5.0],
+                "point": [0.0, 0.0, 0.0],
+                "frame": "body",
+                "profile": "bang-bang",
+                "start": 0.0,
+                "duration": 4.0,
+            }
+        ],
         "solver": {"method": "full", "t_end": 10.0, "dt_out": 0.02},
         "outputs": {"tip": [2.0, 0.0, 0.0]},
     }
@@ -66,13 +76,17 @@ def _floating_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]
 EXAMPLES = {"rotor": _rotor_example, "gear": _gear_example, "floating": _floating_example}
 
 _CAPTIONS = {
-    "floating": ("Floating beam slew-time sweep (not in the paper)",
-                 "Peak elastic tip deflection of a free-free beam slewed by a bang-bang torque "
-                 "against the slew (torque) duration."),
-    "gear": ("Gear speed sweep (issue 4 flagship; not in the paper)",
-             "Dynamic factor (peak contact force / static tau / r_b) against the initial speed of "
-             "both gears, coarse tooth mesh, single-tooth contact span; mesh-frequency harmonics "
-             "meeting the estimated torsional natural frequency marked."),
+    "floating": (
+        "Floating beam slew-time sweep (not in the paper)",
+        "Peak elastic tip deflection of a free-free beam slewed by a bang-bang torque "
+        "against the slew (torque) duration.",
+    ),
+    "gear": (
+        "Gear speed sweep (issue 4 flagship; not in the paper)",
+        "Dynamic factor (peak contact force / static tau / r_b) against the initial speed of "
+        "both gears, coarse tooth mesh, single-tooth contact span; mesh-frequency harmonics "
+        "meeting the estimated torsional natural frequency marked.",
+    ),
     "rotor": (
         "Rotor spin sweep (not in the paper)",
         "Whirl frequencies of the disk on a tilt spring and the peak tilt of a free response "
@@ -175,8 +189,7 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
             f"{pool.n_cases} cases on {workers} local processes",
         ),
         Check(
-            f"{domain}: process pool vs serial ({len(subset)} cases), max abs difference of "
-            "summary scalars",
+            f"{domain}: process pool vs serial ({len(subset)} cases), max abs difference of summary scalars",
             diff,
             "",
             "== 0",
@@ -196,9 +209,7 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
     if domain == "rotor":
         checks += _rotor_checks(pool.dataset)
     rel = lambda p: str(Path(p).relative_to(out_dir))  # noqa: E731
-    label, caption = _CAPTIONS.get(
-        domain, (f"{domain} sweep", "Summary scalars vs the swept parameter.")
-    )
+    label, caption = _CAPTIONS.get(domain, (f"{domain} sweep", "Summary scalars vs the swept parameter."))
     first = next((p for p in pool.figures if "summary_vs" not in p.name), None) or (
         pool.figures[0] if pool.figures else None
     )
@@ -210,9 +221,7 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
     )
     figures = []
     if first is not None:
-        figures.append(
-            FigureEntry(label, caption, rel(first), rel(root / "pool" / "sweep.nc"), desc, checks)
-        )
+        figures.append(FigureEntry(label, caption, rel(first), rel(root / "pool" / "sweep.nc"), desc, checks))
         for p in pool.figures:
             if p != first:
                 figures.append(

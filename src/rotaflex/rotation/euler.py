@@ -88,9 +88,7 @@ def rotation_matrix(sequence: str, angles, convention: str = "right-handed") -> 
     a, b, c = check_sequence(sequence)
     ang = _paper_angles(sequence, _angles(angles), convention)
     return (
-        elementary_rotation(a, ang[..., 0])
-        @ elementary_rotation(b, ang[..., 1])
-        @ elementary_rotation(c, ang[..., 2])
+        elementary_rotation(a, ang[..., 0]) @ elementary_rotation(b, ang[..., 1]) @ elementary_rotation(c, ang[..., 2])
     )
 
 
@@ -148,8 +146,9 @@ def _rates(E: np.ndarray, omega, sequence: str, angles, tol: float) -> np.ndarra
     return np.linalg.solve(E, np.asarray(omega, dtype=float)[..., None])[..., 0]
 
 
-def euler_rates_from_body(sequence: str, angles, omega_body, tol: float = 1e-10,
-                          convention: str = "right-handed") -> np.ndarray:
+def euler_rates_from_body(
+    sequence: str, angles, omega_body, tol: float = 1e-10, convention: str = "right-handed"
+) -> np.ndarray:
     """Angle rates from body-frame angular velocity (inverse of :func:`body_rate_matrix`).
 
     Raises
@@ -160,8 +159,9 @@ def euler_rates_from_body(sequence: str, angles, omega_body, tol: float = 1e-10,
     return _rates(body_rate_matrix(sequence, angles, convention), omega_body, sequence, angles, tol)
 
 
-def euler_rates_from_inertial(sequence: str, angles, omega_inertial, tol: float = 1e-10,
-                              convention: str = "right-handed") -> np.ndarray:
+def euler_rates_from_inertial(
+    sequence: str, angles, omega_inertial, tol: float = 1e-10, convention: str = "right-handed"
+) -> np.ndarray:
     """Angle rates from inertial-frame angular velocity (inverse of :func:`inertial_rate_matrix`)."""
     E = inertial_rate_matrix(sequence, angles, convention)
     return _rates(E, omega_inertial, sequence, angles, tol)

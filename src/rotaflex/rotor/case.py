@@ -39,16 +39,25 @@ class RotorResult(Result):
         out = super().summary()
         K, H = ds["kinetic_energy"].values, ds["angular_momentum"].values
         Hn = np.linalg.norm(H, axis=1)
-        out.update({
-            "end_time": {"value": float(ds["time"][-1]), "unit": "s"},
-            "function_evaluations": {"value": int(ds.attrs.get("nfev", 0)), "unit": ""},
-            "kinetic_energy_initial": {"value": float(K[0]), "unit": "J"},
-            "kinetic_energy_max_relative_change": {
-                "value": float(np.max(np.abs(K - K[0])) / abs(K[0])) if K[0] else float("nan"), "unit": ""},
-            "angular_momentum_norm_max_relative_change": {
-                "value": float(np.max(np.abs(Hn - Hn[0])) / Hn[0]) if Hn[0] else float("nan"), "unit": ""},
-            "max_abs_coordinate": {"value": float(np.max(np.abs(ds["generalized_coordinate"].values))), "unit": "SI"},
-        })
+        out.update(
+            {
+                "end_time": {"value": float(ds["time"][-1]), "unit": "s"},
+                "function_evaluations": {"value": int(ds.attrs.get("nfev", 0)), "unit": ""},
+                "kinetic_energy_initial": {"value": float(K[0]), "unit": "J"},
+                "kinetic_energy_max_relative_change": {
+                    "value": float(np.max(np.abs(K - K[0])) / abs(K[0])) if K[0] else float("nan"),
+                    "unit": "",
+                },
+                "angular_momentum_norm_max_relative_change": {
+                    "value": float(np.max(np.abs(Hn - Hn[0])) / Hn[0]) if Hn[0] else float("nan"),
+                    "unit": "",
+                },
+                "max_abs_coordinate": {
+                    "value": float(np.max(np.abs(ds["generalized_coordinate"].values))),
+                    "unit": "SI",
+                },
+            }
+        )
         if "tilt_angle" in ds:
             out["max_tilt_angle"] = {"value": float(ds["tilt_angle"].max()), "unit": "rad"}
             out["rms_tilt_angle"] = {"value": float(np.sqrt(np.mean(ds["tilt_angle"].values ** 2))), "unit": "rad"}

@@ -84,8 +84,11 @@ class Formulation:
         if self.sequence not in SEQUENCES:
             raise InputError("formulation.sequence", self.sequence, "one of " + ", ".join(SEQUENCES))
         if self.convention == "paper" and self.sequence != "123":
-            raise InputError("formulation.convention", "paper",
-                             "'right-handed' for sequences other than 123 (the paper prints only 1-2-3 differently)")
+            raise InputError(
+                "formulation.convention",
+                "paper",
+                "'right-handed' for sequences other than 123 (the paper prints only 1-2-3 differently)",
+            )
 
     @property
     def spin_index(self) -> int:
@@ -120,8 +123,9 @@ class Solver:
     rtol: float = param(1e-9, gt=0, lt=1)
     atol: float = param(1e-12, gt=0)
     n_output: int = param(1001, ge=2)
-    singular_tolerance: float = param(1e-8, gt=0, lt=1,
-                                      doc="relative det(M) below which the mass matrix counts as singular")
+    singular_tolerance: float = param(
+        1e-8, gt=0, lt=1, doc="relative det(M) below which the mass matrix counts as singular"
+    )
 
 
 @dataclass(frozen=True)
@@ -136,9 +140,12 @@ class RotorModel:
 
     def __post_init__(self):
         if self.formulation.parameterisation == "quaternion":
-            raise InputError("formulation.parameterisation", "quaternion",
-                             "'euler' or 'quaternion_spherical' for a rotor disk with prescribed spin "
-                             "('quaternion' is for [free_body] cases)")
+            raise InputError(
+                "formulation.parameterisation",
+                "quaternion",
+                "'euler' or 'quaternion_spherical' for a rotor disk with prescribed spin "
+                "('quaternion' is for [free_body] cases)",
+            )
 
 
 @dataclass(frozen=True)
@@ -164,8 +171,14 @@ class FreeBody:
     def __post_init__(self):
         f = self.formulation
         if f.parameterisation == "quaternion_spherical":
-            raise InputError("free_body.formulation.parameterisation", f.parameterisation,
-                             "'euler' or 'quaternion' (the spherical quaternion needs a prescribed spin)")
+            raise InputError(
+                "free_body.formulation.parameterisation",
+                f.parameterisation,
+                "'euler' or 'quaternion' (the spherical quaternion needs a prescribed spin)",
+            )
         if f.energy != "body" or f.expansion != "nonlinear" or f.convention != "right-handed":
-            raise InputError("free_body.formulation", f"{f.energy}/{f.expansion}/{f.convention}",
-                             "energy='body', expansion='nonlinear', convention='right-handed' for a free body")
+            raise InputError(
+                "free_body.formulation",
+                f"{f.energy}/{f.expansion}/{f.convention}",
+                "energy='body', expansion='nonlinear', convention='right-handed' for a free body",
+            )

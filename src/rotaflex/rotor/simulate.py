@@ -50,11 +50,25 @@ def body_inertia(model: RotorModel | FreeBody) -> np.ndarray:
 
 def parameter_vector(model: RotorModel | FreeBody) -> np.ndarray:
     J = body_inertia(model)
-    values = dict(zip(("J1", "J2", "J3"), J, strict=False), m=1.0, k=0.0, k_tilt=0.0, Omega=0.0, phi0=0.0,
-                  tau1=0.0, tau2=0.0, tau3=0.0)
+    values = dict(
+        zip(("J1", "J2", "J3"), J, strict=False),
+        m=1.0,
+        k=0.0,
+        k_tilt=0.0,
+        Omega=0.0,
+        phi0=0.0,
+        tau1=0.0,
+        tau2=0.0,
+        tau3=0.0,
+    )
     if isinstance(model, RotorModel):
-        values.update(m=model.disk.mass, k=model.support.stiffness, k_tilt=model.support.tilt_stiffness,
-                      Omega=model.motion.spin_speed, phi0=model.motion.initial_spin_angle)
+        values.update(
+            m=model.disk.mass,
+            k=model.support.stiffness,
+            k_tilt=model.support.tilt_stiffness,
+            Omega=model.motion.spin_speed,
+            phi0=model.motion.initial_spin_angle,
+        )
     else:
         values.update(tau1=model.torque[0], tau2=model.torque[1], tau3=model.torque[2])
     return np.array([values[name] for name in PARAMETERS])
@@ -112,11 +126,13 @@ def simulate(model: RotorModel | FreeBody, *, progress: bool = False):
         bar.close()
     ds = outputs
     ds.attrs.update(
-        status=sol["status"], message=sol["message"], nfev=int(sol["nfev"]),
+        status=sol["status"],
+        message=sol["message"],
+        nfev=int(sol["nfev"]),
         wall_time=_time.perf_counter() - t0,
         config=json.dumps({"kind": type(model).__name__, **asdict(model)}),
-        formulation=repr(spec_of(model)) if not (isinstance(model, FreeBody) and
-                                                  model.formulation.parameterisation == "quaternion")
+        formulation=repr(spec_of(model))
+        if not (isinstance(model, FreeBody) and model.formulation.parameterisation == "quaternion")
         else "unit quaternion, Newton-Euler",
     )
     return RotorResult(ds)
@@ -163,18 +179,32 @@ def _integrate_lagrange(model, p, t_eval, bar):
 
     measure0 = singular(0.0, y0) + tol
     if measure0 < tol:
-        status, message = "singular", (f"mass matrix singular at t = 0: relative det {measure0:.3e} "
-                                       f"< {tol:g}; choose another initial attitude/spin angle")
+        status, message = (
+            "singular",
+            (
+                f"mass matrix singular at t = 0: relative det {measure0:.3e} "
+                f"< {tol:g}; choose another initial attitude/spin angle"
+            ),
+        )
         sol_t, sol_y, nfev = np.array([0.0]), y0[:, None], 0
     else:
-        sol = solve_ivp(rhs, (0.0, t_eval[-1]), y0, method=model.solver.method, t_eval=t_eval,
-                        rtol=model.solver.rtol, atol=model.solver.atol, events=singular)
+        sol = solve_ivp(
+            rhs,
+            (0.0, t_eval[-1]),
+            y0,
+            method=model.solver.method,
+            t_eval=t_eval,
+            rtol=model.solver.rtol,
+            atol=model.solver.atol,
+            events=singular,
+        )
         sol_t, sol_y, nfev = sol.t, sol.y, sol.nfev
         if sol.status == 1:
             t_s = float(sol.t_events[0][0])
             status = "singular"
-            message = (f"mass matrix became singular at t = {t_s:.6g} s (relative det < {tol:g}); "
-                       "integration stopped there")
+            message = (
+                f"mass matrix became singular at t = {t_s:.6g} s (relative det < {tol:g}); integration stopped there"
+            )
             # keep the exact event state as the last sample
             sol_t = np.append(sol_t, t_s)
             sol_y = np.hstack([sol_y, sol.y_events[0][0][:, None]])
@@ -215,8 +245,15 @@ def _integrate_newton_euler(model: FreeBody, p, t_eval, bar):
         return np.concatenate([e_dot, w_dot])
 
     s = model.solver
-    sol = solve_ivp(rhs, (0.0, t_eval[-1]), np.concatenate([e0, model.initial_body_rate]),
-                    method=s.method, t_eval=t_eval, rtol=s.rtol, atol=s.atol)
+    sol = solve_ivp(
+        rhs,
+        (0.0, t_eval[-1]),
+        np.concatenate([e0, model.initial_body_rate]),
+        method=s.method,
+        t_eval=t_eval,
+        rtol=s.rtol,
+        atol=s.atol,
+    )
     e = sol.y[:4].T / np.linalg.norm(sol.y[:4].T, axis=1, keepdims=True)
     w = sol.y[4:].T
     e_dot = quaternion_rates_from_body(e, w)
@@ -241,14 +278,26 @@ def _dataset(model, t, q, qd, e, e_dot, coordinates, p):
         "generalized_velocity": (("time", "coordinate"), qd, {"units": "SI (m/s or rad/s)", "long_name": "q'"}),
         "quaternion": (("time", "component"), e, {"units": "1", "long_name": "Euler parameters"}),
         "omega_body": (("time", "axis"), w_body, {"units": "rad/s", "long_name": "body-frame angular velocity"}),
-        "omega_inertial": (("time", "axis"), w_inertial,
-            {"units": "rad/s", "long_name": "inertial-frame angular velocity"}),
-        "rotational_kinetic_energy": ("time", K_rot,
-            {"units": "J", "long_name": "rotational kinetic energy 1/2 w*^T J w*"}),
-        "rotational_energy_paper": ("time", K_paper,
-            {"units": "J", "long_name": "paper's 1/2 w^T J w (body J, inertial w)"}),
-        "angular_momentum": (("time", "axis"), H,
-            {"units": "kg m^2/s", "long_name": "angular momentum (inertial frame)"}),
+        "omega_inertial": (
+            ("time", "axis"),
+            w_inertial,
+            {"units": "rad/s", "long_name": "inertial-frame angular velocity"},
+        ),
+        "rotational_kinetic_energy": (
+            "time",
+            K_rot,
+            {"units": "J", "long_name": "rotational kinetic energy 1/2 w*^T J w*"},
+        ),
+        "rotational_energy_paper": (
+            "time",
+            K_paper,
+            {"units": "J", "long_name": "paper's 1/2 w^T J w (body J, inertial w)"},
+        ),
+        "angular_momentum": (
+            ("time", "axis"),
+            H,
+            {"units": "kg m^2/s", "long_name": "angular momentum (inertial frame)"},
+        ),
     }
     K = K_rot.copy()
     if isinstance(model, RotorModel):

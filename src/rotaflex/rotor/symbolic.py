@@ -129,8 +129,14 @@ def derive(spec: EOMSpec):
         # eq. 21-22 with the + signs: theta = pi/2 + eps_theta, psi = pi + eps_psi
         th, ps = sp.pi / 2 + rot_q[0], sp.pi + rot_q[1]
         half = spin / 2
-        e = sp.Matrix([sp.cos(half), sp.sin(half) * sp.sin(th) * sp.cos(ps),
-                       sp.sin(half) * sp.sin(th) * sp.sin(ps), sp.sin(half) * sp.cos(th)])
+        e = sp.Matrix(
+            [
+                sp.cos(half),
+                sp.sin(half) * sp.sin(th) * sp.cos(ps),
+                sp.sin(half) * sp.sin(th) * sp.sin(ps),
+                sp.sin(half) * sp.cos(th),
+            ]
+        )
         e_dot = e.diff(t) + sum((e.diff(qi) * qdi for qi, qdi in zip(rot_q, rot_qd, strict=False)), sp.zeros(4, 1))
         w_body, w_inertial = _quaternion_rates(e, e_dot)
         S = _skew(e[1:, 0])
@@ -181,7 +187,7 @@ def _expand(expansion: str, K, V, q, qd):
     def taylor2(expr):
         s = expr.subs(small, simultaneous=True)
         d1 = s.diff(eps)
-        return (s.subs(eps, 0) + d1.subs(eps, 0) + d1.diff(eps).subs(eps, 0) / 2)
+        return s.subs(eps, 0) + d1.subs(eps, 0) + d1.diff(eps).subs(eps, 0) / 2
 
     K2, V2 = taylor2(K), taylor2(V)
     if expansion == "paper_truncated":

@@ -34,9 +34,7 @@ class SelftestConfig:
     fail: bool = param(False, doc="raise a RuntimeError")
     sleep: float = param(0.0, ge=0.0, unit="s", doc="sleep this long before returning")
     work: int = param(0, ge=0, doc="CPU work: number of 150x150 matrix products")
-    kill_once: str = param(
-        "", doc="if set and this file does not exist: create it, then SIGKILL self"
-    )
+    kill_once: str = param("", doc="if set and this file does not exist: create it, then SIGKILL self")
     kill_always: bool = param(False, doc="SIGKILL the worker process every time")
     started_dir: str = param("", doc="if set, touch a file named after the pid here when starting")
 

@@ -30,9 +30,7 @@ def _distributed():
 
 
 @contextmanager
-def dask_executor(
-    address: str, *, n_workers: int | None = None, timeout: float | None = None
-) -> Iterator[Any]:
+def dask_executor(address: str, *, n_workers: int | None = None, timeout: float | None = None) -> Iterator[Any]:
     """A ``concurrent.futures`` executor on a Dask cluster.
 
     Parameters
@@ -71,8 +69,7 @@ def dask_executor(
                 raise InputError(
                     "scheduler",
                     address,
-                    f"the address of a reachable Dask scheduler, "
-                    f"tcp://host:port, or 'dask-local' ({exc})",
+                    f"the address of a reachable Dask scheduler, tcp://host:port, or 'dask-local' ({exc})",
                 ) from None
         try:
             client.wait_for_workers(1, timeout=timeout)

@@ -189,10 +189,7 @@ def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[P
         "n_computed": result.n_computed,
         "domain": domain or "",
         "swept": json.loads(ds.attrs["swept"]),
-        "failed": [
-            {"id": r.id, "params": r.params, "status": r.status, "error": r.error}
-            for r in result.failed
-        ],
+        "failed": [{"id": r.id, "params": r.params, "status": r.status, "error": r.error} for r in result.failed],
     }
     write_json_atomic(out / "sweep.json", manifest)
     paths: list[Path] = []

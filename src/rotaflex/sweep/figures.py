@@ -187,8 +187,14 @@ def rotor_reference(ds) -> dict[str, Any] | None:
     cfg = _base_config(ds)
     form = cfg.get("formulation", {})
     swept = set(json.loads(ds.attrs.get("swept", "[]")))
-    fixed = ("disk.polar_inertia", "disk.diametral_inertia", "support.tilt_stiffness",
-             "disk.inertia", "motion.initial_tilt_rate", "motion.initial_tilt")
+    fixed = (
+        "disk.polar_inertia",
+        "disk.diametral_inertia",
+        "support.tilt_stiffness",
+        "disk.inertia",
+        "motion.initial_tilt_rate",
+        "motion.initial_tilt",
+    )
     if (
         swept & set(fixed)
         or "free_body" in cfg
@@ -256,14 +262,11 @@ def rotor_figures(ds) -> dict[str, Any]:
         bottom.plot(xv, yv, "o", ms=4, label=f"peak tilt (simulated) {label}".strip())
     if "rms_tilt_angle" in ds:
         for label, xv, yv in _lines(ds, "rms_tilt_angle", x):
-            bottom.plot(
-                xv, yv, "s", ms=3, mfc="none", label=f"RMS tilt (simulated) {label}".strip()
-            )
+            bottom.plot(xv, yv, "s", ms=3, mfc="none", label=f"RMS tilt (simulated) {label}".strip())
     if ref is not None and ref["peak_per_rate"] is not None:
         ip, id_, k, rate = ref["peak_per_rate"]
         fine = np.linspace(spin.min(), spin.max(), 400)
-        bottom.plot(fine, rotor_whirl(fine, ip, id_, k)[2] * rate, "-", lw=1,
-                    label="peak tilt, linear closed form")
+        bottom.plot(fine, rotor_whirl(fine, ip, id_, k)[2] * rate, "-", lw=1, label="peak tilt, linear closed form")
     bottom.set_xlabel("spin speed [rad/s]")
     bottom.set_ylabel(_label(da, "tilt"))
     bottom.legend(fontsize=7)
@@ -289,8 +292,13 @@ def _first_int(value) -> int | None:
 
 
 #: gear-domain defaults (the paper's pair, rotaflex.gear.case) used when the config omits them
-GEAR_DEFAULTS = {"gear.module": 3.175e-3, "gear.teeth": 28, "gear.pressure_angle_deg": 20.0,
-                 "gear.face_width": 6.35e-3, "disk_inertia": 2.965e-4}
+GEAR_DEFAULTS = {
+    "gear.module": 3.175e-3,
+    "gear.teeth": 28,
+    "gear.pressure_angle_deg": 20.0,
+    "gear.face_width": 6.35e-3,
+    "disk_inertia": 2.965e-4,
+}
 #: ISO 6336-1 mean mesh stiffness c_gamma of solid steel spur gears [N/(mm um)] = [1e9 N/m^2]
 ISO_C_GAMMA = 20.0e9
 
@@ -339,9 +347,7 @@ def gear_figures(ds) -> dict[str, Any]:
     else:
         fn, fn_label = est["natural_frequency"], "f_n (ISO estimate)"
     panels = [n for n in (kv, dte) if n is not None]
-    fig, axes = new_figure(
-        len(panels), 1, squeeze=False, sharex=True, figsize=(6.8, 3.3 * len(panels) + 0.6)
-    )
+    fig, axes = new_figure(len(panels), 1, squeeze=False, sharex=True, figsize=(6.8, 3.3 * len(panels) + 0.6))
     xs = np.asarray(ds[x].values, dtype=float)
     for ax, name in zip(axes[:, 0], panels, strict=True):
         for label, xv, yv in _lines(ds, name, x):
@@ -354,10 +360,17 @@ def gear_figures(ds) -> dict[str, Any]:
             speed_k = 60 * fn / (k * z) / to_rpm  # k z n / 60 = f_n
             if xs.min() <= speed_k <= xs.max():
                 ax.axvline(speed_k, color="C3", ls=":", lw=1)
-                ax.annotate(f"{k} f_mesh = {fn_label}", (speed_k, 1),
-                            xycoords=("data", "axes fraction"), xytext=(2, -10),
-                            textcoords="offset points", fontsize=7, color="C3", rotation=90,
-                            va="top")
+                ax.annotate(
+                    f"{k} f_mesh = {fn_label}",
+                    (speed_k, 1),
+                    xycoords=("data", "axes fraction"),
+                    xytext=(2, -10),
+                    textcoords="offset points",
+                    fontsize=7,
+                    color="C3",
+                    rotation=90,
+                    va="top",
+                )
     if to_rpm is not None:
         top = axes[0, 0].secondary_xaxis(
             "top", functions=(lambda v: v * to_rpm * z / 60, lambda f: f * 60 / (z * to_rpm))
@@ -420,7 +433,5 @@ def sweep_figures(ds, domain: str | None = None) -> dict[str, Any]:
         try:
             figs.update(source(ds))
         except Exception:  # noqa: BLE001 - a figure never fails the sweep
-            log.warning(
-                "sweep figures %s failed", getattr(source, "__name__", source), exc_info=True
-            )
+            log.warning("sweep figures %s failed", getattr(source, "__name__", source), exc_info=True)
     return figs

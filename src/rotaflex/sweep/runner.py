@@ -134,8 +134,14 @@ class SerialExecutor(Executor):
 
 #: thread-count variables set to 1 for local workers unless the user set them (as Dask's nanny
 #: does): N processes x M BLAS threads on N cores oversubscribe the CPU and run much slower
-THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
-               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS", "NUMBA_NUM_THREADS")
+THREAD_VARS = (
+    "OMP_NUM_THREADS",
+    "OPENBLAS_NUM_THREADS",
+    "MKL_NUM_THREADS",
+    "VECLIB_MAXIMUM_THREADS",
+    "NUMEXPR_NUM_THREADS",
+    "NUMBA_NUM_THREADS",
+)
 
 
 def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
@@ -189,10 +195,7 @@ class _Backend:
         elif callable(executor):
             self.factory, self.owned = executor, True
         else:
-            raise TypeError(
-                f"executor must be None, 'serial', an int, an Executor or a factory, "
-                f"not {executor!r}"
-            )
+            raise TypeError(f"executor must be None, 'serial', an int, an Executor or a factory, not {executor!r}")
         if self.factory is not None:
             self.executor = self._start()
         self.window = 2 * _n_workers(self.executor)
@@ -281,9 +284,7 @@ def _jsonable(data: Any) -> Any:
         return repr(data)
 
 
-def _store(
-    case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, case_figures: bool
-) -> CaseRecord:
+def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, case_figures: bool) -> CaseRecord:
     """Record a finished case; write its files at once when ``out_dir`` is given."""
     rec = CaseRecord(
         case.id,
@@ -296,9 +297,7 @@ def _store(
     trace = outcome.traceback
     result = outcome.result
     if not outcome.error and not (hasattr(result, "save") and hasattr(result, "summary")):
-        outcome.error = (
-            f"TypeError: the case function returned {type(result).__name__}, not a Result"
-        )
+        outcome.error = f"TypeError: the case function returned {type(result).__name__}, not a Result"
     if not outcome.error:
         try:
             rec.summary = result.summary()
@@ -339,8 +338,7 @@ def _store(
 
 def _crash_error(exc: BaseException, n: int) -> str:
     return (
-        f"WorkerDied: the worker process died while running this case {n} time(s) "
-        f"(last: {type(exc).__name__}: {exc})"
+        f"WorkerDied: the worker process died while running this case {n} time(s) (last: {type(exc).__name__}: {exc})"
     )
 
 

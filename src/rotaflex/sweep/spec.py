@@ -141,9 +141,7 @@ def coerce_values(key: str, values: Sequence[Any], current: Any) -> list[Any]:
         elif isinstance(current, str):
             ok = isinstance(v, str)
         else:
-            raise InputError(
-                key, current, "a scalar config value (number, boolean or string) to sweep"
-            )
+            raise InputError(key, current, "a scalar config value (number, boolean or string) to sweep")
         if not ok:
             raise InputError(
                 f"--vary {key}",
@@ -242,9 +240,7 @@ def grid_cases(base: Mapping[str, Any], vary: Mapping[str, Sequence[Any]]) -> li
     fills: dict[str, int] = {}
     for key, values in vary.items():
         if _split_key(key) == ["domain"]:
-            raise InputError(
-                "--vary domain", values, "a key inside the domain's config, not 'domain'"
-            )
+            raise InputError("--vary domain", values, "a key inside the domain's config, not 'domain'")
         current, fills[key] = _current(base, key)
         if not values:
             raise InputError(f"--vary {key}", values, "at least one value")

@@ -14,9 +14,7 @@ from rotaflex.sweep.runner import SweepResult, run_sweep
 from rotaflex.sweep.spec import Case, grid_cases, parse_vary
 
 
-def plan(
-    config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[Any]]
-) -> tuple[str, str, list[Case]]:
+def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[Any]]) -> tuple[str, str, list[Case]]:
     """Validate a config sweep before anything runs.
 
     Parameters

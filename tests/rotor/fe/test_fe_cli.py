@@ -39,8 +39,12 @@ def test_sweep_hook_runs_named_analysis(tmp_path: Path):
 
 
 def test_transient_verb_short_runup(tmp_path: Path):
-    text = (EXAMPLE.read_text().replace("duration = 4.0", "duration = 0.3").replace("n_output = 4001", "n_output = 301")
-            .replace("n_modes = 12", "n_modes = 6"))
+    text = (
+        EXAMPLE.read_text()
+        .replace("duration = 4.0", "duration = 0.3")
+        .replace("n_output = 4001", "n_output = 301")
+        .replace("n_modes = 12", "n_modes = 6")
+    )
     cfg = tmp_path / "short.toml"
     cfg.write_text(text)
     res = CliRunner().invoke(app, ["rotor", "transient", str(cfg), "--out", str(tmp_path / "o"), "-q"])
@@ -55,11 +59,17 @@ def test_from_toml_equals_python_construction():
     from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
 
     a = Rotor.from_toml(EXAMPLE)
-    b = Rotor(shaft=(Shaft(outer_diameter=0.05, length=1.5, elements=6),),
-              disk=(Disk(node=2, width=0.07, outer_diameter=0.28, inner_diameter=0.05),
-                    Disk(node=4, width=0.07, outer_diameter=0.35, inner_diameter=0.05)),
-              bearing=(Bearing(node=0, kxx=1e6, kyy=1e6, cxx=3e3, cyy=3e3),
-                       Bearing(node=6, kxx=1e6, kyy=1e6, cxx=3e3, cyy=3e3)))
+    b = Rotor(
+        shaft=(Shaft(outer_diameter=0.05, length=1.5, elements=6),),
+        disk=(
+            Disk(node=2, width=0.07, outer_diameter=0.28, inner_diameter=0.05),
+            Disk(node=4, width=0.07, outer_diameter=0.35, inner_diameter=0.05),
+        ),
+        bearing=(
+            Bearing(node=0, kxx=1e6, kyy=1e6, cxx=3e3, cyy=3e3),
+            Bearing(node=6, kxx=1e6, kyy=1e6, cxx=3e3, cyy=3e3),
+        ),
+    )
     for x, y in ((a.M, b.M), (a.G, b.G), (a.KC(100.0)[0], b.KC(100.0)[0]), (a.KC(100.0)[1], b.KC(100.0)[1])):
         assert np.array_equal(x, y)
     assert [bb.name for bb in a.bearing] == ["left", "right"]

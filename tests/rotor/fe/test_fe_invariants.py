@@ -6,19 +6,34 @@ from hypothesis import strategies as st
 
 from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft, modal
 
-sections = st.lists(st.tuples(st.floats(0.02, 0.12), st.floats(0.0, 0.8), st.floats(0.6, 1.4),
-                              st.floats(0.05, 0.6), st.integers(1, 3)), min_size=1, max_size=3)
+sections = st.lists(
+    st.tuples(st.floats(0.02, 0.12), st.floats(0.0, 0.8), st.floats(0.6, 1.4), st.floats(0.05, 0.6), st.integers(1, 3)),
+    min_size=1,
+    max_size=3,
+)
 
 
 def _rotor(secs, free=False, k=0.0):
-    shafts = tuple(Shaft(outer_diameter=d, inner_diameter=d * r * 0.9, outer_diameter_right=d * t,
-                         inner_diameter_right=d * t * r * 0.9, length=L, elements=n) for d, r, t, L, n in secs)
+    shafts = tuple(
+        Shaft(
+            outer_diameter=d,
+            inner_diameter=d * r * 0.9,
+            outer_diameter_right=d * t,
+            inner_diameter_right=d * t * r * 0.9,
+            length=L,
+            elements=n,
+        )
+        for d, r, t, L, n in secs
+    )
     rotor = Rotor(shaft=shafts, free=True)
     if free:
         return rotor
     n = rotor.n_nodes - 1
-    return Rotor(shaft=shafts, disk=(Disk(node=n // 2, mass=3.0, Id=0.02, Ip=0.035),),
-                 bearing=(Bearing(node=0, kxx=k, kyy=1.3 * k), Bearing(node=n, kxx=k, kyy=k)))
+    return Rotor(
+        shaft=shafts,
+        disk=(Disk(node=n // 2, mass=3.0, Id=0.02, Ip=0.035),),
+        bearing=(Bearing(node=0, kxx=k, kyy=1.3 * k), Bearing(node=n, kxx=k, kyy=k)),
+    )
 
 
 @settings(max_examples=15, deadline=None)

@@ -39,9 +39,11 @@ def test_remainder_matches_sympy_lagrange():
 
 
 def _overhung():
-    return Rotor(shaft=(Shaft(outer_diameter=0.04, length=0.6, elements=6),),
-                 disk=(Disk(node=6, mass=5.0, Id=0.05, Ip=0.09),),
-                 bearing=(Bearing(node=0, kxx=1e7, kyy=1e7), Bearing(node=3, kxx=1e7, kyy=1e7)))
+    return Rotor(
+        shaft=(Shaft(outer_diameter=0.04, length=0.6, elements=6),),
+        disk=(Disk(node=6, mass=5.0, Id=0.05, Ip=0.09),),
+        bearing=(Bearing(node=0, kxx=1e7, kyy=1e7), Bearing(node=3, kxx=1e7, kyy=1e7)),
+    )
 
 
 def test_jacobi_integral_conserved_at_large_tilt():
@@ -49,12 +51,16 @@ def test_jacobi_integral_conserved_at_large_tilt():
     K = r.KC(300.0)[0][0]
     q0 = np.zeros(r.n_dof)
     q0[6 * 4 + 3] = 0.4  # 0.4 rad disk tilt: far from linear
-    tr = transient(r, 0.05, speed_start=300.0, q0=q0, method="modal", n_modes=6, n_output=101, rtol=1e-10,
-                   large_rotation=[6])
+    tr = transient(
+        r, 0.05, speed_start=300.0, q0=q0, method="modal", n_modes=6, n_output=101, rtol=1e-10, large_rotation=[6]
+    )
     el = LargeRotationDisk(6, 0.05, 0.09)
     dM = np.array([el.mass_increment(q[24:28]) for q in tr.q])
-    E = (0.5 * np.einsum("ti,ij,tj->t", tr.v, r.M, tr.v) + 0.5 * dM * tr.v[:, 26] ** 2
-         + 0.5 * np.einsum("ti,ij,tj->t", tr.q, K, tr.q))
+    E = (
+        0.5 * np.einsum("ti,ij,tj->t", tr.v, r.M, tr.v)
+        + 0.5 * dM * tr.v[:, 26] ** 2
+        + 0.5 * np.einsum("ti,ij,tj->t", tr.q, K, tr.q)
+    )
     assert np.max(np.abs(E - E[0])) / E[0] < 1e-6
     lin = transient(r, 0.05, speed_start=300.0, q0=q0, method="modal", n_modes=6, n_output=101, rtol=1e-10)
     assert np.max(np.abs(lin.q[:, 27] - tr.q[:, 27])) > 1e-3  # the large-rotation terms matter here
@@ -64,8 +70,19 @@ def test_small_tilt_matches_linear_model():
     r = _overhung()
     q0 = np.zeros(r.n_dof)
     q0[27] = 1e-4
-    a = transient(r, 0.02, speed_start=300.0, speed_end=400.0, q0=q0, method="modal", n_modes=6, n_output=101,
-                  rtol=1e-10, large_rotation=[6])
-    b = transient(r, 0.02, speed_start=300.0, speed_end=400.0, q0=q0, method="modal", n_modes=6, n_output=101,
-                  rtol=1e-10)
+    a = transient(
+        r,
+        0.02,
+        speed_start=300.0,
+        speed_end=400.0,
+        q0=q0,
+        method="modal",
+        n_modes=6,
+        n_output=101,
+        rtol=1e-10,
+        large_rotation=[6],
+    )
+    b = transient(
+        r, 0.02, speed_start=300.0, speed_end=400.0, q0=q0, method="modal", n_modes=6, n_output=101, rtol=1e-10
+    )
     assert np.max(np.abs(a.q - b.q)) < 1e-6 * np.max(np.abs(b.q))  # differences are O(tilt^2) ~ 1e-8

@@ -17,8 +17,7 @@ def _freqs(r, n):
 
 
 def _pinned(shafts):
-    return Rotor(shaft=shafts, bearing=(Bearing(node=0, kxx=1e9, kyy=1e9),
-                                        Bearing(position=1.0, kxx=1e9, kyy=1e9)))
+    return Rotor(shaft=shafts, bearing=(Bearing(node=0, kxx=1e9, kyy=1e9), Bearing(position=1.0, kxx=1e9, kyy=1e9)))
 
 
 def test_tapered_element_converges_to_fine_stepped_shaft():
@@ -50,8 +49,13 @@ def test_hollow_section_mass_and_cowper():
 
 def test_tabulated_bearing_interpolates_and_rejects_outside():
     base = dict(shaft=(Shaft(outer_diameter=0.05, length=1.0, elements=4),))
-    tab = Rotor(**base, bearing=(Bearing(node=0, kxx=(1e6, 3e6), kyy=(1e6, 3e6), speed_rpm=(0.0, 2000.0)),
-                                 Bearing(node=4, kxx=2e6, kyy=2e6)))
+    tab = Rotor(
+        **base,
+        bearing=(
+            Bearing(node=0, kxx=(1e6, 3e6), kyy=(1e6, 3e6), speed_rpm=(0.0, 2000.0)),
+            Bearing(node=4, kxx=2e6, kyy=2e6),
+        ),
+    )
     const = Rotor(**base, bearing=(Bearing(node=0, kxx=2e6, kyy=2e6), Bearing(node=4, kxx=2e6, kyy=2e6)))
     w = 1000 * np.pi / 30  # the middle of the table: k = 2e6
     assert np.allclose(tab.KC(w)[0], const.KC(w)[0])
@@ -63,12 +67,20 @@ def test_tabulated_bearing_interpolates_and_rejects_outside():
 def test_bearing_between_nodes_and_point_mass():
     """Two identical masses joined by a node-to-node spring: out-of-phase mode at sqrt(2 k / m)."""
     m, k = 2.0, 5e5
-    r = Rotor(shaft=(Shaft(outer_diameter=0.01, length=0.1, elements=1, rho=1e-6),
-                     Shaft(outer_diameter=0.01, length=0.1, elements=1, rho=1e-6, E=1e3, G=4e2)),
-              point_mass=(PointMass(node=0, mass=m), PointMass(node=2, mass=m)),
-              disk=(Disk(node=1, mass=1e-9, Id=1e-9, Ip=0.0), Disk(node=0, mass=0, Id=1e-6, Ip=0),
-                    Disk(node=2, mass=0, Id=1e-6, Ip=0)),
-              bearing=(Bearing(node=0, to_node=2, kxx=k, kyy=k),), free=True)
+    r = Rotor(
+        shaft=(
+            Shaft(outer_diameter=0.01, length=0.1, elements=1, rho=1e-6),
+            Shaft(outer_diameter=0.01, length=0.1, elements=1, rho=1e-6, E=1e3, G=4e2),
+        ),
+        point_mass=(PointMass(node=0, mass=m), PointMass(node=2, mass=m)),
+        disk=(
+            Disk(node=1, mass=1e-9, Id=1e-9, Ip=0.0),
+            Disk(node=0, mass=0, Id=1e-6, Ip=0),
+            Disk(node=2, mass=0, Id=1e-6, Ip=0),
+        ),
+        bearing=(Bearing(node=0, to_node=2, kxx=k, kyy=k),),
+        free=True,
+    )
     w = modal(r, 0.0).wn[0]
     assert np.min(np.abs(w - np.sqrt(2 * k / m))) / np.sqrt(2 * k / m) < 1e-3
 
@@ -81,9 +93,11 @@ def test_cross_coupling_instability_closed_form():
 
     def rotor(q):
         b = dict(kxx=k / 2, kyy=k / 2, kxy=q / 2, kyx=-q / 2, cxx=c / 2, cyy=c / 2)
-        return Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.2, E=2e15, G=8e14, rho=1e-6),),
-                     disk=(Disk(node=0, mass=m / 2, Id=1.0, Ip=0.5), Disk(node=1, mass=m / 2, Id=1.0, Ip=0.5)),
-                     bearing=(Bearing(node=0, **b), Bearing(node=1, **b)))
+        return Rotor(
+            shaft=(Shaft(outer_diameter=0.05, length=0.2, E=2e15, G=8e14, rho=1e-6),),
+            disk=(Disk(node=0, mass=m / 2, Id=1.0, Ip=0.5), Disk(node=1, mass=m / 2, Id=1.0, Ip=0.5)),
+            bearing=(Bearing(node=0, **b), Bearing(node=1, **b)),
+        )
 
     for q, stable in ((0.5 * thr, True), (2.0 * thr, False)):
         md = modal(rotor(q), 0.0)

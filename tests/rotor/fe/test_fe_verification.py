@@ -14,11 +14,14 @@ RPM = np.pi / 30
 
 
 def friswell_591(c=0.0, n=6, ky=1e6):
-    return Rotor(shaft=(Shaft(outer_diameter=0.05, length=1.5, elements=n),),
-                 disk=(Disk(position=0.5, width=0.07, outer_diameter=0.28, inner_diameter=0.05),
-                       Disk(position=1.0, width=0.07, outer_diameter=0.35, inner_diameter=0.05)),
-                 bearing=(Bearing(node=0, kxx=1e6, kyy=ky, cxx=c, cyy=c),
-                          Bearing(node=n, kxx=1e6, kyy=ky, cxx=c, cyy=c)))
+    return Rotor(
+        shaft=(Shaft(outer_diameter=0.05, length=1.5, elements=n),),
+        disk=(
+            Disk(position=0.5, width=0.07, outer_diameter=0.28, inner_diameter=0.05),
+            Disk(position=1.0, width=0.07, outer_diameter=0.35, inner_diameter=0.05),
+        ),
+        bearing=(Bearing(node=0, kxx=1e6, kyy=ky, cxx=c, cyy=c), Bearing(node=n, kxx=1e6, kyy=ky, cxx=c, cyy=c)),
+    )
 
 
 def test_timoshenko_element_matches_closed_form():
@@ -27,16 +30,35 @@ def test_timoshenko_element_matches_closed_form():
     A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
     phi = 12 * E * I / (kap * G * A * L**2)
     Mt, Mr, K = (x[0] for x in plane_matrices(L, d, 0, d, 0, E, G, rho, kap))
-    Kc = E * I / (L**3 * (1 + phi)) * np.array([
-        [12, 6 * L, -12, 6 * L], [6 * L, (4 + phi) * L**2, -6 * L, (2 - phi) * L**2],
-        [-12, -6 * L, 12, -6 * L], [6 * L, (2 - phi) * L**2, -6 * L, (4 + phi) * L**2]])
+    Kc = (
+        E
+        * I
+        / (L**3 * (1 + phi))
+        * np.array(
+            [
+                [12, 6 * L, -12, 6 * L],
+                [6 * L, (4 + phi) * L**2, -6 * L, (2 - phi) * L**2],
+                [-12, -6 * L, 12, -6 * L],
+                [6 * L, (2 - phi) * L**2, -6 * L, (4 + phi) * L**2],
+            ]
+        )
+    )
     a, b, c_ = 312 + 588 * phi + 280 * phi**2, (44 + 77 * phi + 35 * phi**2) * L, 108 + 252 * phi + 140 * phi**2
     e, f, g = (26 + 63 * phi + 35 * phi**2) * L, (8 + 14 * phi + 7 * phi**2) * L**2, (6 + 14 * phi + 7 * phi**2) * L**2
-    Mtc = rho * A * L / (840 * (1 + phi) ** 2) * np.array([[a, b, c_, -e], [b, f, e, -g], [c_, e, a, -b],
-                                                            [-e, -g, -b, f]])
+    Mtc = (
+        rho
+        * A
+        * L
+        / (840 * (1 + phi) ** 2)
+        * np.array([[a, b, c_, -e], [b, f, e, -g], [c_, e, a, -b], [-e, -g, -b, f]])
+    )
     h, p, q = (3 - 15 * phi) * L, (4 + 5 * phi + 10 * phi**2) * L**2, (-1 - 5 * phi + 5 * phi**2) * L**2
-    Mrc = rho * I / (30 * (1 + phi) ** 2 * L) * np.array([[36, h, -36, h], [h, p, -h, q], [-36, -h, 36, -h],
-                                                          [h, q, -h, p]])
+    Mrc = (
+        rho
+        * I
+        / (30 * (1 + phi) ** 2 * L)
+        * np.array([[36, h, -36, h], [h, p, -h, q], [-36, -h, 36, -h], [h, q, -h, p]])
+    )
     for mine, ref in ((K, Kc), (Mt, Mtc), (Mr, Mrc)):
         assert np.max(np.abs(mine - ref)) < 1e-11 * np.max(np.abs(ref))
 
@@ -46,8 +68,9 @@ def test_global_matrices_structure():
     assert np.allclose(r.M, r.M.T, atol=1e-14) and np.allclose(r.G, -r.G.T, atol=1e-14)
     K = r.KC(0.0)[0][0]
     assert np.allclose(K, K.T)
-    assert r.mass == pytest.approx(7810 * np.pi / 4 * (0.05**2 * 1.5 + (0.28**2 + 0.35**2 - 2 * 0.05**2) * 0.07),
-                                   rel=1e-12)
+    assert r.mass == pytest.approx(
+        7810 * np.pi / 4 * (0.05**2 * 1.5 + (0.28**2 + 0.35**2 - 2 * 0.05**2) * 0.07), rel=1e-12
+    )
 
 
 def test_friswell_example_5_9_1_vs_ross_documentation():
@@ -59,18 +82,23 @@ def test_friswell_example_5_9_1_vs_ross_documentation():
     w0 = modal(r, 0.0, 6).wn[0]
     assert np.allclose(w0[::2], [86.65811435, 274.31285391, 716.78631221], rtol=1e-6)
     w4 = modal(r, 4000 * RPM, 6)
-    assert np.allclose(w4.wn[0], [85.389467, 87.7958637, 251.78460413, 294.71333087, 600.17936195, 827.07536193],
-                       rtol=1e-6)
+    assert np.allclose(
+        w4.wn[0], [85.389467, 87.7958637, 251.78460413, 294.71333087, 600.17936195, 827.07536193], rtol=1e-6
+    )
     # the lower of each pair is the backward whirl, from the orbit sense
     assert list(w4.whirl[0]) == ["backward", "forward"] * 3
 
 
 def jeffcott(m=10.0, k=1e6, c=200.0):
     # pure translation mode of a symmetric rigid rotor: mass at the two bearings, a stiff light shaft
-    return Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.2, elements=1, E=2e15, G=8e14, rho=1e-6),),
-                 disk=(Disk(node=0, mass=m / 2, Id=1.0, Ip=0.5), Disk(node=1, mass=m / 2, Id=1.0, Ip=0.5)),
-                 bearing=(Bearing(node=0, kxx=k / 2, kyy=k / 2, cxx=c / 2, cyy=c / 2),
-                          Bearing(node=1, kxx=k / 2, kyy=k / 2, cxx=c / 2, cyy=c / 2)))
+    return Rotor(
+        shaft=(Shaft(outer_diameter=0.05, length=0.2, elements=1, E=2e15, G=8e14, rho=1e-6),),
+        disk=(Disk(node=0, mass=m / 2, Id=1.0, Ip=0.5), Disk(node=1, mass=m / 2, Id=1.0, Ip=0.5)),
+        bearing=(
+            Bearing(node=0, kxx=k / 2, kyy=k / 2, cxx=c / 2, cyy=c / 2),
+            Bearing(node=1, kxx=k / 2, kyy=k / 2, cxx=c / 2, cyy=c / 2),
+        ),
+    )
 
 
 def test_jeffcott_critical_speed_and_unbalance_closed_form():
@@ -99,8 +127,9 @@ def test_jeffcott_critical_speed_and_unbalance_closed_form():
 
 
 def _ss_beam_frequencies(n_el, L=1.0, d=0.1, E=2.1e11, G=8.1e10, rho=7800.0, kap=0.9):
-    r = Rotor(shaft=(Shaft(outer_diameter=d, length=L, elements=n_el, E=E, G=G, rho=rho, shear_coefficient=kap),),
-              free=True)
+    r = Rotor(
+        shaft=(Shaft(outer_diameter=d, length=L, elements=n_el, E=E, G=G, rho=rho, shear_coefficient=kap),), free=True
+    )
     K = r.KC(0.0)[0][0]
     # pinned ends: remove x, y at both end nodes (constraint elimination, no penalty)
     fixed = {0, 1, r.n_dof - 4, r.n_dof - 3}
@@ -138,11 +167,18 @@ def test_rigid_rotor_gyroscopic_quartic():
     frequencies are the positive roots of the quartic
     (k1 + k2 - m w^2)(k1 a^2 + k2 b^2 - Id w^2 +/- Ip Omega w) - (k2 b - k1 a)^2 = 0."""
     m, Id, Ip, k1, k2, a, b = 20.0, 0.5, 0.6, 1e6, 2e6, 0.3, 0.2
-    r = Rotor(shaft=(Shaft(outer_diameter=0.1, start=-a, end=0.0, E=1e16, G=4e15, rho=1e-6),
-                     Shaft(outer_diameter=0.1, length=b, E=1e16, G=4e15, rho=1e-6)),
-              disk=(Disk(node=1, mass=m, Id=Id, Ip=Ip), Disk(node=0, mass=1e-6, Id=1e-6, Ip=0.0),
-                    Disk(node=2, mass=1e-6, Id=1e-6, Ip=0.0)),
-              bearing=(Bearing(node=0, kxx=k1, kyy=k1), Bearing(node=2, kxx=k2, kyy=k2)))
+    r = Rotor(
+        shaft=(
+            Shaft(outer_diameter=0.1, start=-a, end=0.0, E=1e16, G=4e15, rho=1e-6),
+            Shaft(outer_diameter=0.1, length=b, E=1e16, G=4e15, rho=1e-6),
+        ),
+        disk=(
+            Disk(node=1, mass=m, Id=Id, Ip=Ip),
+            Disk(node=0, mass=1e-6, Id=1e-6, Ip=0.0),
+            Disk(node=2, mass=1e-6, Id=1e-6, Ip=0.0),
+        ),
+        bearing=(Bearing(node=0, kxx=k1, kyy=k1), Bearing(node=2, kxx=k2, kyy=k2)),
+    )
     W = 300.0
     md = modal(r, W, 4)
     got = {"forward": [], "backward": []}
@@ -179,8 +215,18 @@ def test_transient_matches_steady_unbalance_both_methods():
     W = 200.0
     Q = unbalance_response(r, [W], [(2, 1e-4, 0.3)]).Q[0]
     for method, tol in (("modal", 1e-6), ("direct", 1e-3)):
-        tr = transient(r, 0.2, speed_start=W, unbalance=[(2, 1e-4, 0.3)], method=method, n_output=401,
-                       q0=Q.real, v0=(1j * W * Q).real, n_modes=28, steps_per_output=8)
+        tr = transient(
+            r,
+            0.2,
+            speed_start=W,
+            unbalance=[(2, 1e-4, 0.3)],
+            method=method,
+            n_output=401,
+            q0=Q.real,
+            v0=(1j * W * Q).real,
+            n_modes=28,
+            steps_per_output=8,
+        )
         ex = (Q[None, :] * np.exp(1j * W * tr.time[:, None])).real
         assert np.max(np.abs(tr.q[:, 8] - ex[:, 8])) / abs(Q[8]) < tol, method
 
@@ -198,8 +244,16 @@ def test_energy_conserved_undamped_gyroscopic_free_vibration():
 def test_runup_peak_lags_the_critical_speed():
     r = friswell_591(c=3e3)
     crit = ucs_map(r, [1e6], 1)[0, 0]
-    tr = transient(r, 2.0, speed_start=0.5 * crit, speed_end=1.5 * crit, unbalance=[(4, 1e-4, 0.0)],
-                   method="modal", n_modes=12, n_output=4001)
+    tr = transient(
+        r,
+        2.0,
+        speed_start=0.5 * crit,
+        speed_end=1.5 * crit,
+        unbalance=[(4, 1e-4, 0.0)],
+        method="modal",
+        n_modes=12,
+        n_output=4001,
+    )
     amp = np.hypot(tr.q[:, 16], tr.q[:, 17])
     w_peak = tr.speed[np.argmax(amp)]
     assert crit < w_peak < 1.2 * crit  # an accelerating rotor peaks after the steady critical

@@ -10,5 +10,18 @@ from rotaflex.rotor.fe.response import peaks, unbalance_response
 from rotaflex.rotor.fe.torsion_axial import axial_modes, torsional_modes
 from rotaflex.rotor.fe.transient import transient
 
-__all__ = ["Bearing", "Disk", "PointMass", "Rotor", "Shaft", "axial_modes", "campbell", "modal", "peaks",
-           "torsional_modes", "transient", "ucs_map", "unbalance_response"]
+__all__ = [
+    "Bearing",
+    "Disk",
+    "PointMass",
+    "Rotor",
+    "Shaft",
+    "axial_modes",
+    "campbell",
+    "modal",
+    "peaks",
+    "torsional_modes",
+    "transient",
+    "ucs_map",
+    "unbalance_response",
+]

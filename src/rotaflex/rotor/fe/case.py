@@ -80,8 +80,13 @@ class TransientSpec:
     mass: tuple[UnbalanceMass, ...] = param(())
 
 
-ANALYSES = {"modal": ModalSpec, "campbell": CampbellSpec, "ucs": UCSSpec, "unbalance": UnbalanceSpec,
-            "transient": TransientSpec}
+ANALYSES = {
+    "modal": ModalSpec,
+    "campbell": CampbellSpec,
+    "ucs": UCSSpec,
+    "unbalance": UnbalanceSpec,
+    "transient": TransientSpec,
+}
 
 
 @dataclass(frozen=True)
@@ -123,14 +128,20 @@ def _speeds(rng, n, where):
 
 
 def _unbalances(rotor, masses, where):
-    return [(rotor.station(m.node, m.position, f"{where}.mass[{i}]"), m.magnitude, np.radians(m.phase_deg))
-            for i, m in enumerate(masses)]
+    return [
+        (rotor.station(m.node, m.position, f"{where}.mass[{i}]"), m.magnitude, np.radians(m.phase_deg))
+        for i, m in enumerate(masses)
+    ]
 
 
 def _attrs(config, t0, extra, message):
-    return {"status": "success", "message": message, "wall_time": time.perf_counter() - t0,
-            "config": json.dumps(config, default=str),
-            "summary_extra": json.dumps(extra, default=float)}
+    return {
+        "status": "success",
+        "message": message,
+        "wall_time": time.perf_counter() - t0,
+        "config": json.dumps(config, default=str),
+        "summary_extra": json.dumps(extra, default=float),
+    }
 
 
 def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
@@ -143,17 +154,24 @@ def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
     nm = m.eigenvalue.shape[1]
     shape = m.shape[0].reshape(nm, rotor.n_nodes, 4)
     ds = xr.Dataset(
-        {"natural_frequency": ("mode", m.wn[0], {"units": "rad/s", "long_name": "undamped natural frequency |lambda|"}),
-         "damped_frequency": ("mode", m.wd[0], {"units": "rad/s"}),
-         "damping_ratio": ("mode", m.damping_ratio[0], {"units": "1"}),
-         "log_dec": ("mode", m.log_dec[0], {"units": "1", "long_name": "logarithmic decrement"}),
-         "forward_fraction": ("mode", m.forward_fraction[0], {"units": "1"}),
-         "whirl": ("mode", m.whirl[0].astype(str)),
-         "shape_real": (("mode", "node", "dof"), shape.real, {"units": "1"}),
-         "shape_imag": (("mode", "node", "dof"), shape.imag, {"units": "1"}),
-         "z": ("node", rotor.nodes, {"units": "m"}),
-         "speed": ((), spec.speed_rpm * RPM, {"units": "rad/s"})},
-        coords={"mode": np.arange(nm), "node": np.arange(rotor.n_nodes), "dof": DOFS})
+        {
+            "natural_frequency": (
+                "mode",
+                m.wn[0],
+                {"units": "rad/s", "long_name": "undamped natural frequency |lambda|"},
+            ),
+            "damped_frequency": ("mode", m.wd[0], {"units": "rad/s"}),
+            "damping_ratio": ("mode", m.damping_ratio[0], {"units": "1"}),
+            "log_dec": ("mode", m.log_dec[0], {"units": "1", "long_name": "logarithmic decrement"}),
+            "forward_fraction": ("mode", m.forward_fraction[0], {"units": "1"}),
+            "whirl": ("mode", m.whirl[0].astype(str)),
+            "shape_real": (("mode", "node", "dof"), shape.real, {"units": "1"}),
+            "shape_imag": (("mode", "node", "dof"), shape.imag, {"units": "1"}),
+            "z": ("node", rotor.nodes, {"units": "m"}),
+            "speed": ((), spec.speed_rpm * RPM, {"units": "rad/s"}),
+        },
+        coords={"mode": np.arange(nm), "node": np.arange(rotor.n_nodes), "dof": DOFS},
+    )
     from rotaflex.rotor.fe.torsion_axial import axial_modes, torsional_modes
 
     wt, wa = torsional_modes(rotor, spec.n_modes)[0], axial_modes(rotor, spec.n_modes)[0]
@@ -180,24 +198,36 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     c = campbell(rotor, speeds, spec.n_modes, spec.harmonics, reduce=spec.reduce)
     m = c.modes
     ds = xr.Dataset(
-        {"damped_frequency": (("speed", "mode"), m.wd, {"units": "rad/s"}),
-         "natural_frequency": (("speed", "mode"), m.wn, {"units": "rad/s"}),
-         "log_dec": (("speed", "mode"), m.log_dec, {"units": "1"}),
-         "damping_ratio": (("speed", "mode"), m.damping_ratio, {"units": "1"}),
-         "forward_fraction": (("speed", "mode"), m.forward_fraction, {"units": "1"}),
-         "mac_min": ("speed", c.mac_min, {"units": "1", "long_name": "smallest MAC of the tracking step"}),
-         "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"})},
-        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(spec.n_modes)})
-    extra = {f"critical_{i}_rpm": {"value": cr["speed"] / RPM, "unit": "rpm",
-                                   "whirl": cr["whirl"], "harmonic": cr["harmonic"]}
-             for i, cr in enumerate(c.critical)}
+        {
+            "damped_frequency": (("speed", "mode"), m.wd, {"units": "rad/s"}),
+            "natural_frequency": (("speed", "mode"), m.wn, {"units": "rad/s"}),
+            "log_dec": (("speed", "mode"), m.log_dec, {"units": "1"}),
+            "damping_ratio": (("speed", "mode"), m.damping_ratio, {"units": "1"}),
+            "forward_fraction": (("speed", "mode"), m.forward_fraction, {"units": "1"}),
+            "mac_min": ("speed", c.mac_min, {"units": "1", "long_name": "smallest MAC of the tracking step"}),
+            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+        },
+        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(spec.n_modes)},
+    )
+    extra = {
+        f"critical_{i}_rpm": {
+            "value": cr["speed"] / RPM,
+            "unit": "rpm",
+            "whirl": cr["whirl"],
+            "harmonic": cr["harmonic"],
+        }
+        for i, cr in enumerate(c.critical)
+    }
     extra["unstable_modes"] = {"value": len(c.unstable), "unit": ""}
-    extra.update({f"unstable_mode_{u['mode']}_onset_rpm": {"value": u["speed"] / RPM, "unit": "rpm"}
-                  for u in c.unstable})
+    extra.update(
+        {f"unstable_mode_{u['mode']}_onset_rpm": {"value": u["speed"] / RPM, "unit": "rpm"} for u in c.unstable}
+    )
     fw = [cr for cr in c.critical if cr["whirl"] == "forward" and cr["harmonic"] == 1]
-    msg = (f"{spec.n_modes} modes over {spec.n_speeds} speeds; forward 1X critical speeds [rpm]: "
-           + (", ".join(f"{cr['speed'] / RPM:.0f}" for cr in fw) or "none")
-           + (f"; {len(c.unstable)} unstable mode(s)" if c.unstable else ""))
+    msg = (
+        f"{spec.n_modes} modes over {spec.n_speeds} speeds; forward 1X critical speeds [rpm]: "
+        + (", ".join(f"{cr['speed'] / RPM:.0f}" for cr in fw) or "none")
+        + (f"; {len(c.unstable)} unstable mode(s)" if c.unstable else "")
+    )
     ds.attrs.update(_attrs(config, t0, extra, msg))
     ds.attrs["critical_speeds"] = json.dumps(c.critical)
     ds.attrs["unstable"] = json.dumps(c.unstable)
@@ -215,8 +245,10 @@ def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
         raise InputError("ucs.stiffness", list(spec.stiffness), "[low, high] with high > low")
     k = np.geomspace(spec.stiffness[0], spec.stiffness[1], spec.n_points)
     w = ucs_map(rotor, k, spec.n_modes)
-    ds = xr.Dataset({"critical_speed": (("stiffness", "mode"), w, {"units": "rad/s"})},
-                    coords={"stiffness": ("stiffness", k, {"units": "N/m"}), "mode": np.arange(spec.n_modes)})
+    ds = xr.Dataset(
+        {"critical_speed": (("stiffness", "mode"), w, {"units": "rad/s"})},
+        coords={"stiffness": ("stiffness", k, {"units": "N/m"}), "mode": np.arange(spec.n_modes)},
+    )
     ds.attrs.update(_attrs(config, t0, {}, f"{spec.n_points} stiffness values, {spec.n_modes} critical speeds each"))
     return UCSResult(ds)
 
@@ -243,20 +275,26 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
     pk = peaks(speeds, major[:, 0], op)
     u = {"units": "m"}
     ds = xr.Dataset(
-        {"x_real": (("speed", "probe"), X.real, u), "x_imag": (("speed", "probe"), X.imag, u),
-         "y_real": (("speed", "probe"), Y.real, u), "y_imag": (("speed", "probe"), Y.imag, u),
-         "x_amplitude": (("speed", "probe"), np.abs(X), u),
-         "x_phase": (("speed", "probe"), np.angle(X), {"units": "rad", "long_name": "phase of x (lag < 0)"}),
-         "major_axis": (("speed", "probe"), major, {**u, "long_name": "orbit semi-major axis"}),
-         "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"})},
-        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "probe": probes})
+        {
+            "x_real": (("speed", "probe"), X.real, u),
+            "x_imag": (("speed", "probe"), X.imag, u),
+            "y_real": (("speed", "probe"), Y.real, u),
+            "y_imag": (("speed", "probe"), Y.imag, u),
+            "x_amplitude": (("speed", "probe"), np.abs(X), u),
+            "x_phase": (("speed", "probe"), np.angle(X), {"units": "rad", "long_name": "phase of x (lag < 0)"}),
+            "major_axis": (("speed", "probe"), major, {**u, "long_name": "orbit semi-major axis"}),
+            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+        },
+        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "probe": probes},
+    )
     extra = {}
     for i, p in enumerate(pk):
         extra[f"peak_{i}_speed_rpm"] = {"value": p["speed"] / RPM, "unit": "rpm"}
         extra[f"peak_{i}_amplification_factor"] = {"value": p["af"], "unit": ""}
         extra[f"peak_{i}_separation_margin"] = {"value": p["sm_percent"], "unit": "%"}
     msg = f"{spec.n_speeds} speeds, {len(probes)} probes; peaks [rpm]: " + (
-        ", ".join(f"{p['speed'] / RPM:.0f} (AF {p['af']:.1f})" for p in pk) or "none")
+        ", ".join(f"{p['speed'] / RPM:.0f} (AF {p['af']:.1f})" for p in pk) or "none"
+    )
     ds.attrs.update(_attrs(config, t0, extra, msg))
     ds.attrs["peaks"] = json.dumps(pk)
     return UnbalanceResult(ds)
@@ -273,26 +311,45 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
     for p in probes:
         if p >= rotor.n_nodes:
             raise InputError("transient.probes", p, f"existing nodes 0..{rotor.n_nodes - 1}")
-    tr = transient(rotor, spec.duration, speed_start=spec.speed_rpm[0] * RPM, speed_end=spec.speed_rpm[1] * RPM,
-                   unbalance=ub, n_output=spec.n_output, method=spec.method, n_modes=spec.n_modes,
-                   steps_per_output=spec.steps_per_output, large_rotation=spec.large_rotation)
-    disp = np.stack([tr.q[:, 4 * p: 4 * p + 2] for p in probes], 1)
+    tr = transient(
+        rotor,
+        spec.duration,
+        speed_start=spec.speed_rpm[0] * RPM,
+        speed_end=spec.speed_rpm[1] * RPM,
+        unbalance=ub,
+        n_output=spec.n_output,
+        method=spec.method,
+        n_modes=spec.n_modes,
+        steps_per_output=spec.steps_per_output,
+        large_rotation=spec.large_rotation,
+    )
+    disp = np.stack([tr.q[:, 4 * p : 4 * p + 2] for p in probes], 1)
     ds = xr.Dataset(
-        {"displacement": (("time", "probe", "axis"), disp, {"units": "m"}),
-         "speed": ("time", tr.speed, {"units": "rad/s"})},
-        coords={"time": ("time", tr.time, {"units": "s"}), "probe": probes, "axis": ["x", "y"]})
+        {
+            "displacement": (("time", "probe", "axis"), disp, {"units": "m"}),
+            "speed": ("time", tr.speed, {"units": "rad/s"}),
+        },
+        coords={"time": ("time", tr.time, {"units": "s"}), "probe": probes, "axis": ["x", "y"]},
+    )
     amax = np.max(np.hypot(disp[..., 0], disp[..., 1]), 0)
     i = int(np.argmax(np.hypot(disp[:, 0, 0], disp[:, 0, 1])))
-    extra = {"max_radial_displacement": {"value": float(amax.max()), "unit": "m"},
-             "speed_at_max_rpm": {"value": float(tr.speed[i] / RPM), "unit": "rpm"},
-             "function_evaluations": {"value": tr.nfev, "unit": ""}}
+    extra = {
+        "max_radial_displacement": {"value": float(amax.max()), "unit": "m"},
+        "speed_at_max_rpm": {"value": float(tr.speed[i] / RPM), "unit": "rpm"},
+        "function_evaluations": {"value": tr.nfev, "unit": ""},
+    }
     ds.attrs.update(_attrs(config, t0, extra, tr.message))
     ds.attrs["nfev"] = tr.nfev
     return TransientResult(ds)
 
 
-RUNNERS = {"modal": run_modal, "campbell": run_campbell, "ucs": run_ucs, "unbalance": run_unbalance,
-           "transient": run_transient}
+RUNNERS = {
+    "modal": run_modal,
+    "campbell": run_campbell,
+    "ucs": run_ucs,
+    "unbalance": run_unbalance,
+    "transient": run_transient,
+}
 
 
 def run_case(config: dict, *, progress: bool = False):

@@ -21,8 +21,15 @@ def model_figure(rotor: Rotor):
     for i in range(e["L"].size):
         for sign in (1, -1):
             ro_l, ro_r, ri_l, ri_r = e["do_l"][i] / 2, e["do_r"][i] / 2, e["di_l"][i] / 2, e["di_r"][i] / 2
-            ax.add_patch(Polygon([[z[i], sign * ri_l], [z[i + 1], sign * ri_r], [z[i + 1], sign * ro_r],
-                                  [z[i], sign * ro_l]], closed=True, fc="0.75", ec="0.3", lw=0.6))
+            ax.add_patch(
+                Polygon(
+                    [[z[i], sign * ri_l], [z[i + 1], sign * ri_r], [z[i + 1], sign * ro_r], [z[i], sign * ro_l]],
+                    closed=True,
+                    fc="0.75",
+                    ec="0.3",
+                    lw=0.6,
+                )
+            )
     rmax = float(e["do_l"].max()) / 2
     span = z[-1] - z[0]
     for node, d in rotor.disks:
@@ -36,8 +43,15 @@ def model_figure(rotor: Rotor):
     for node, other, _ in rotor.bearings:
         h = 0.6 * rmax
         y0 = -float(e["do_l"][min(node, e["L"].size - 1)]) / 2
-        ax.add_patch(Polygon([[z[node], y0], [z[node] - 0.02 * span, y0 - h], [z[node] + 0.02 * span, y0 - h]],
-                             closed=True, fc="tab:orange" if other is None else "tab:green", ec="k", lw=0.6))
+        ax.add_patch(
+            Polygon(
+                [[z[node], y0], [z[node] - 0.02 * span, y0 - h], [z[node] + 0.02 * span, y0 - h]],
+                closed=True,
+                fc="tab:orange" if other is None else "tab:green",
+                ec="k",
+                lw=0.6,
+            )
+        )
     for j, zz in enumerate(z):
         ax.annotate(str(j), (zz, 1.15 * rmax), ha="center", fontsize=7)
     ax.set_xlim(z[0] - 0.05 * span, z[-1] + 0.05 * span)

@@ -88,8 +88,7 @@ def _minv(rotor: Rotor) -> np.ndarray:
     try:
         return sla.inv(rotor.M)
     except np.linalg.LinAlgError:
-        raise InputError("disk", "<rotary inertia>", "a non-singular mass matrix (every node needs inertia)") \
-            from None
+        raise InputError("disk", "<rotary inertia>", "a non-singular mass matrix (every node needs inertia)") from None
 
 
 def _select(lam: np.ndarray, vec: np.ndarray, n: int, n_keep: int) -> tuple[np.ndarray, np.ndarray]:
@@ -155,8 +154,9 @@ def _reduced_state_matrices(rotor: Rotor, speeds: np.ndarray, n_basis: int) -> t
     return A, T
 
 
-def campbell(rotor: Rotor, speeds, n_modes: int = 8, harmonics=(1,), extra: int = 6,
-             reduce: int | None = None) -> CampbellData:
+def campbell(
+    rotor: Rotor, speeds, n_modes: int = 8, harmonics=(1,), extra: int = 6, reduce: int | None = None
+) -> CampbellData:
     """Campbell diagram: modes at each speed [rad/s], tracked by MAC through crossings.
 
     At each speed the ``n_modes + extra`` lowest modes are candidates; the tracked modes of
@@ -205,8 +205,15 @@ def campbell(rotor: Rotor, speeds, n_modes: int = 8, harmonics=(1,), extra: int 
                 t = d[s] / (d[s] - d[s + 1])
                 sp = speeds[s] + t * (speeds[s + 1] - speeds[s])
                 frac = fw[s, k] + t * (fw[s + 1, k] - fw[s, k])
-                critical.append({"mode": k, "harmonic": int(h), "speed": float(sp), "frequency": float(h * sp),
-                                 "whirl": "forward" if frac >= 0.5 else "backward"})
+                critical.append(
+                    {
+                        "mode": k,
+                        "harmonic": int(h),
+                        "speed": float(sp),
+                        "frequency": float(h * sp),
+                        "whirl": "forward" if frac >= 0.5 else "backward",
+                    }
+                )
     critical.sort(key=lambda c: c["speed"])
     ld = modes.log_dec
     unstable = []
@@ -214,8 +221,11 @@ def campbell(rotor: Rotor, speeds, n_modes: int = 8, harmonics=(1,), extra: int 
         bad = np.flatnonzero(ld[:, k] < 0)
         if bad.size:
             s = bad[0]
-            sp = speeds[s] if s == 0 else speeds[s - 1] + ld[s - 1, k] / (ld[s - 1, k] - ld[s, k]) * (
-                speeds[s] - speeds[s - 1])
+            sp = (
+                speeds[s]
+                if s == 0
+                else speeds[s - 1] + ld[s - 1, k] / (ld[s - 1, k] - ld[s, k]) * (speeds[s] - speeds[s - 1])
+            )
             unstable.append({"mode": k, "speed": float(sp)})
     return CampbellData(modes, mac_min, critical, unstable)
 

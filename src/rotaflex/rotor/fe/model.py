@@ -143,8 +143,12 @@ class Rotor:
             if isinstance(v, Mapping):  # [bearing.left] named tables: sweepable by dotted key
                 data[key] = [{**({"name": k} if key == "bearing" else {}), **t} for k, t in v.items()]
         if isinstance(data.get("bearing"), list):
-            data["bearing"] = [{k: ([v] if k in COEFFICIENTS and isinstance(v, (int, float)) else v)
-                                for k, v in b.items()} if isinstance(b, Mapping) else b for b in data["bearing"]]
+            data["bearing"] = [
+                {k: ([v] if k in COEFFICIENTS and isinstance(v, (int, float)) else v) for k, v in b.items()}
+                if isinstance(b, Mapping)
+                else b
+                for b in data["bearing"]
+            ]
         return from_mapping(cls, data, where)
 
     @classmethod
@@ -173,8 +177,11 @@ class Rotor:
             start = s.start if s.start is not None else (prev if prev is not None else 0.0)
             if prev is not None and abs(start - prev) > 1e-9 * max(1.0, abs(prev)):
                 what = "overlaps" if start < prev else "leaves a gap after"
-                raise InputError(f"{where}.start", start, f"{prev:g} m: the section {what} the previous one "
-                                 "(sections must be contiguous, left to right)")
+                raise InputError(
+                    f"{where}.start",
+                    start,
+                    f"{prev:g} m: the section {what} the previous one (sections must be contiguous, left to right)",
+                )
             if s.end is not None and s.length is not None and abs(s.end - start - s.length) > 1e-9:
                 raise InputError(f"{where}.length", s.length, f"end - start = {s.end - start:g} m")
             if s.end is None and s.length is None:
@@ -230,8 +237,14 @@ class Rotor:
     def n_dof(self) -> int:
         return NDOF_NODE * self.n_nodes
 
-    def station(self, node: int | None, position: float | None, where: str, required: bool = True,
-                keys: tuple[str, str] = ("node", "position")) -> int | None:
+    def station(
+        self,
+        node: int | None,
+        position: float | None,
+        where: str,
+        required: bool = True,
+        keys: tuple[str, str] = ("node", "position"),
+    ) -> int | None:
         """Node number of a station given by ``node`` or ``position`` (InputError if it is no node)."""
         kn, kp = keys
         if node is not None and position is not None:
@@ -259,13 +272,17 @@ class Rotor:
             n = self.station(d.node, d.position, where)
             if d.mass is not None:
                 if d.Id is None or d.Ip is None:
-                    raise InputError(f"{where}.{'Id' if d.Id is None else 'Ip'}", "<missing>",
-                                     "a moment of inertia [kg m^2] >= 0 (with mass)")
+                    raise InputError(
+                        f"{where}.{'Id' if d.Id is None else 'Ip'}",
+                        "<missing>",
+                        "a moment of inertia [kg m^2] >= 0 (with mass)",
+                    )
                 el = DiskElement(d.mass, d.Id, d.Ip)
             else:
                 if d.width is None or d.outer_diameter is None:
-                    raise InputError(f"{where}.mass", "<missing>",
-                                     "mass, Id and Ip, or width and outer_diameter (geometry)")
+                    raise InputError(
+                        f"{where}.mass", "<missing>", "mass, Id and Ip, or width and outer_diameter (geometry)"
+                    )
                 if d.inner_diameter >= d.outer_diameter:
                     raise InputError(f"{where}.inner_diameter", d.inner_diameter, f"< {d.outer_diameter:g} m")
                 rho = d.rho or self._mat(d.material, f"{where}.material").rho
@@ -275,8 +292,10 @@ class Rotor:
 
     @functools.cached_property
     def point_masses(self) -> list[tuple[int, PointMassElement]]:
-        return [(self.station(p.node, p.position, f"point_mass[{i}]"), PointMassElement(p.mass))
-                for i, p in enumerate(self.point_mass)]
+        return [
+            (self.station(p.node, p.position, f"point_mass[{i}]"), PointMassElement(p.mass))
+            for i, p in enumerate(self.point_mass)
+        ]
 
     @functools.cached_property
     def bearings(self) -> list[tuple[int, int | None, BearingElement]]:
@@ -313,8 +332,7 @@ class Rotor:
     def _base(self) -> dict[str, np.ndarray]:
         """Speed-independent global matrices: M, K (shaft), G (per rad/s), Kst (per rad/s^2)."""
         e = self.elements
-        mats = shaft_matrices(e["L"], e["do_l"], e["di_l"], e["do_r"], e["di_r"], e["E"], e["G"], e["rho"],
-                              e["kappa"])
+        mats = shaft_matrices(e["L"], e["do_l"], e["di_l"], e["do_r"], e["di_r"], e["E"], e["G"], e["rho"], e["kappa"])
         n = self.n_dof
         idx = NDOF_NODE * np.arange(e["L"].size)[:, None] + np.arange(8)[None, :]
         out = {}
@@ -378,8 +396,12 @@ class Rotor:
         s = np.linalg.svd(K, compute_uv=False)
         if s[-1] <= 1e-10 * s[0]:
             grounded = sum(other is None for _, other, _ in self.bearings)
-            raise InputError("free", False, "true for a model with rigid-body modes: the stiffness matrix is "
-                             f"singular ({grounded} bearing(s) to ground restrain too few DOFs)")
+            raise InputError(
+                "free",
+                False,
+                "true for a model with rigid-body modes: the stiffness matrix is "
+                f"singular ({grounded} bearing(s) to ground restrain too few DOFs)",
+            )
 
     @property
     def mass(self) -> float:

@@ -128,6 +128,14 @@ def peaks(speed: np.ndarray, amplitude: np.ndarray, operating_speed: float | Non
         if np.isnan(n1) or np.isnan(n2):
             continue  # a peak whose half-power band is not resolved is not a resonance we can rate
         sm = abs(operating_speed - nc) / operating_speed * 100 if operating_speed else np.nan
-        out.append({"speed": float(nc), "amplitude": float(peak), "n1": float(n1), "n2": float(n2),
-                    "af": float(nc / (n2 - n1)), "sm_percent": float(sm)})
+        out.append(
+            {
+                "speed": float(nc),
+                "amplitude": float(peak),
+                "n1": float(n1),
+                "n2": float(n2),
+                "af": float(nc / (n2 - n1)),
+                "sm_percent": float(sm),
+            }
+        )
     return out

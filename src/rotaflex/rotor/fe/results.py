@@ -83,9 +83,14 @@ class CampbellResult(_FEResult):
         ds = self.dataset
         crit = json.loads(ds.attrs.get("critical_speeds", "[]"))
         figs = _model_fig(self)
-        figs["campbell"] = campbell_figure(ds["speed"].values, ds["damped_frequency"].values,
-                                           ds["forward_fraction"].values, ds["log_dec"].values,
-                                           json.loads(ds.attrs.get("harmonics", "[1]")), crit)
+        figs["campbell"] = campbell_figure(
+            ds["speed"].values,
+            ds["damped_frequency"].values,
+            ds["forward_fraction"].values,
+            ds["log_dec"].values,
+            json.loads(ds.attrs.get("harmonics", "[1]")),
+            crit,
+        )
         return figs
 
 
@@ -162,8 +167,12 @@ class TransientResult(_FEResult):
         a2.set_xlabel("time [s]")
         fig2, ax = new_figure()
         for p in ds["probe"].values:
-            ax.plot(ds["displacement"].sel(probe=p, axis="x"), ds["displacement"].sel(probe=p, axis="y"), lw=0.5,
-                    label=f"node {p}")
+            ax.plot(
+                ds["displacement"].sel(probe=p, axis="x"),
+                ds["displacement"].sel(probe=p, axis="y"),
+                lw=0.5,
+                label=f"node {p}",
+            )
         ax.set_aspect("equal")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")

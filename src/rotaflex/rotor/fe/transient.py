@@ -67,10 +67,24 @@ def _speed_grid(rotor: Rotor, lo: float, hi: float) -> np.ndarray:
     return np.unique(pts)
 
 
-def transient(rotor: Rotor, t_end: float, *, speed_start: float, speed_end: float | None = None,
-              unbalance=(), force: Force | None = None, q0=None, v0=None, n_output: int = 2001,
-              method: str = "modal", n_modes: int = 20, rtol: float = 1e-7, atol: float = 1e-12,
-              steps_per_output: int = 4, large_rotation=()) -> TransientData:
+def transient(
+    rotor: Rotor,
+    t_end: float,
+    *,
+    speed_start: float,
+    speed_end: float | None = None,
+    unbalance=(),
+    force: Force | None = None,
+    q0=None,
+    v0=None,
+    n_output: int = 2001,
+    method: str = "modal",
+    n_modes: int = 20,
+    rtol: float = 1e-7,
+    atol: float = 1e-12,
+    steps_per_output: int = 4,
+    large_rotation=(),
+) -> TransientData:
     """Integrate the rotor's motion from 0 to ``t_end`` [s].
 
     Parameters
@@ -124,7 +138,7 @@ def transient(rotor: Rotor, t_end: float, *, speed_start: float, speed_end: floa
         if node not in disks:
             raise InputError("transient.large_rotation", node, "nodes that carry a disk: " + str(sorted(disks)))
         el = LargeRotationDisk(node, disks[node].Id, disks[node].Ip)
-        large.append((el, T[NDOF_NODE * node: NDOF_NODE * node + 4]))
+        large.append((el, T[NDOF_NODE * node : NDOF_NODE * node + 4]))
 
     def mats(t):
         w = speed_start + alpha * t
@@ -166,8 +180,9 @@ def transient(rotor: Rotor, t_end: float, *, speed_start: float, speed_end: floa
     q = (T @ sol.y[:m]).T
     v = (T @ sol.y[m:]).T
     log.info("transient %s: %d rhs evaluations", method, sol.nfev)
-    return TransientData(sol.t, q, v, speed_start + alpha * sol.t, int(sol.nfev), time.perf_counter() - t0,
-                         f"{method}: {sol.message}")
+    return TransientData(
+        sol.t, q, v, speed_start + alpha * sol.t, int(sol.nfev), time.perf_counter() - t0, f"{method}: {sol.message}"
+    )
 
 
 def _newmark(mats, rhs, M, Mi, z0, t_eval, sub, nonlinear, tol, t_start) -> TransientData:
@@ -203,5 +218,12 @@ def _newmark(mats, rhs, M, Mi, z0, t_eval, sub, nonlinear, tol, t_start) -> Tran
                 raise ConvergenceError("Newmark step (nonlinear force)", t1, float(change), tol)
             q, v, a, t = q1, v1, a1, t1
         Q[k], V[k], S[k] = q, v, mats(t)[0]
-    return TransientData(t_eval, Q, V, S, nfev, time.perf_counter() - t_start,
-                         f"direct: Newmark, {sub * (t_eval.size - 1)} steps of {h:.3g} s")
+    return TransientData(
+        t_eval,
+        Q,
+        V,
+        S,
+        nfev,
+        time.perf_counter() - t_start,
+        f"direct: Newmark, {sub * (t_eval.size - 1)} steps of {h:.3g} s",
+    )

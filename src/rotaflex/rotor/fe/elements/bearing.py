@@ -37,25 +37,29 @@ class BearingElement:
     name: str = "bearing"
 
     @classmethod
-    def constant(cls, kxx=0.0, kyy=0.0, kxy=0.0, kyx=0.0, cxx=0.0, cyy=0.0, cxy=0.0, cyx=0.0,
-                 name: str = "bearing") -> BearingElement:
+    def constant(
+        cls, kxx=0.0, kyy=0.0, kxy=0.0, kyx=0.0, cxx=0.0, cyy=0.0, cxy=0.0, cyx=0.0, name: str = "bearing"
+    ) -> BearingElement:
         """Speed-independent coefficients [N/m, N s/m]."""
-        return cls(np.array([[[kxx, kxy], [kyx, kyy]]], float), np.array([[[cxx, cxy], [cyx, cyy]]], float),
-                   None, name)
+        return cls(np.array([[[kxx, kxy], [kyx, kyy]]], float), np.array([[[cxx, cxy], [cyx, cyy]]], float), None, name)
 
     def coefficients(self, speed) -> tuple[np.ndarray, np.ndarray]:
         """Stiffness and damping (n_speed, 2, 2) at the spin speeds ``speed`` [rad/s]."""
         speed = np.atleast_1d(np.asarray(speed, float))
         if self.speeds is None:
-            return (np.broadcast_to(self.k[0], (speed.size, 2, 2)).copy(),
-                    np.broadcast_to(self.c[0], (speed.size, 2, 2)).copy())
+            return (
+                np.broadcast_to(self.k[0], (speed.size, 2, 2)).copy(),
+                np.broadcast_to(self.c[0], (speed.size, 2, 2)).copy(),
+            )
         lo, hi = self.speeds[0], self.speeds[-1]
         bad = (speed < lo * (1 - 1e-12) - 1e-12) | (speed > hi * (1 + 1e-12) + 1e-12)
         if np.any(bad):
             s = float(speed[bad][0])
-            raise InputError(f"{self.name}.speed_rpm", round(s * 30 / np.pi, 6),
-                             f"requested speeds within the coefficient table [{lo * 30 / np.pi:g}, "
-                             f"{hi * 30 / np.pi:g}] rpm")
+            raise InputError(
+                f"{self.name}.speed_rpm",
+                round(s * 30 / np.pi, 6),
+                f"requested speeds within the coefficient table [{lo * 30 / np.pi:g}, {hi * 30 / np.pi:g}] rpm",
+            )
         flat_k = self.k.reshape(len(self.speeds), 4)
         flat_c = self.c.reshape(len(self.speeds), 4)
         k = np.stack([np.interp(speed, self.speeds, flat_k[:, j]) for j in range(4)], -1).reshape(-1, 2, 2)

@@ -52,18 +52,28 @@ def _shape(xi, phi, L):
     p = phi[:, None]
     ll = L[:, None]
     c = 1.0 / (1.0 + p)
-    nw = np.stack([c * (2 * x**3 - 3 * x**2 - p * x + 1 + p),
-                   c * ll * (x**3 - (2 + p / 2) * x**2 + (1 + p / 2) * x),
-                   c * (-2 * x**3 + 3 * x**2 + p * x),
-                   c * ll * (x**3 - (1 - p / 2) * x**2 - p / 2 * x)], -1)
-    nr = np.stack([6 * c / ll * (x**2 - x),
-                   c * (3 * x**2 - (4 + p) * x + 1 + p),
-                   -6 * c / ll * (x**2 - x),
-                   c * (3 * x**2 - (2 - p) * x)], -1)
-    dnr = np.stack([6 * c / ll**2 * (2 * x - 1),
-                    c / ll * (6 * x - 4 - p),
-                    -6 * c / ll**2 * (2 * x - 1),
-                    c / ll * (6 * x - 2 + p)], -1)
+    nw = np.stack(
+        [
+            c * (2 * x**3 - 3 * x**2 - p * x + 1 + p),
+            c * ll * (x**3 - (2 + p / 2) * x**2 + (1 + p / 2) * x),
+            c * (-2 * x**3 + 3 * x**2 + p * x),
+            c * ll * (x**3 - (1 - p / 2) * x**2 - p / 2 * x),
+        ],
+        -1,
+    )
+    nr = np.stack(
+        [
+            6 * c / ll * (x**2 - x),
+            c * (3 * x**2 - (4 + p) * x + 1 + p),
+            -6 * c / ll * (x**2 - x),
+            c * (3 * x**2 - (2 - p) * x),
+        ],
+        -1,
+    )
+    dnr = np.stack(
+        [6 * c / ll**2 * (2 * x - 1), c / ll * (6 * x - 4 - p), -6 * c / ll**2 * (2 * x - 1), c / ll * (6 * x - 2 + p)],
+        -1,
+    )
     one = np.ones_like(x)
     gamma = np.stack([-p * c / ll * one, -p * c / 2 * one, p * c / ll * one, -p * c / 2 * one], -1)
     return nw, nr, dnr, gamma
@@ -79,7 +89,8 @@ def plane_matrices(L, do_l, di_l, do_r, di_r, E, G, rho, kappa=None):
         The gyroscopic matrix per unit speed is built from ``2 Mr``.
     """
     L, do_l, di_l, do_r, di_r, E, G, rho = np.broadcast_arrays(
-        *(np.atleast_1d(np.asarray(v, float)) for v in (L, do_l, di_l, do_r, di_r, E, G, rho)))
+        *(np.atleast_1d(np.asarray(v, float)) for v in (L, do_l, di_l, do_r, di_r, E, G, rho))
+    )
     do = do_l[:, None] + (do_r - do_l)[:, None] * XI[None, :]
     di = di_l[:, None] + (di_r - di_l)[:, None] * XI[None, :]
     A, I = _section(do, di)  # (n, g)
@@ -93,8 +104,9 @@ def plane_matrices(L, do_l, di_l, do_r, di_r, E, G, rho, kappa=None):
     wl = WEIGHT[None, :] * L[:, None]  # (n, g) quadrature weights in z
     Mt = np.einsum("ng,ngi,ngj->nij", wl * rho[:, None] * A, nw, nw)
     Mr = np.einsum("ng,ngi,ngj->nij", wl * rho[:, None] * I, nr, nr)
-    K = (np.einsum("ng,ngi,ngj->nij", wl * E[:, None] * I, dnr, dnr)
-         + np.einsum("ng,ngi,ngj->nij", wl * (kappa * G)[:, None] * A, gam, gam))
+    K = np.einsum("ng,ngi,ngj->nij", wl * E[:, None] * I, dnr, dnr) + np.einsum(
+        "ng,ngi,ngj->nij", wl * (kappa * G)[:, None] * A, gam, gam
+    )
     return Mt, Mr, K
 
 
@@ -123,8 +135,12 @@ def to_node_dofs(P, kind: str = "sym"):
 def shaft_matrices(L, do_l, di_l, do_r, di_r, E, G, rho, kappa=None) -> dict[str, np.ndarray]:
     """Node-DOF matrices (n, 8, 8) of ``n`` shaft elements: ``M``, ``K``, ``G`` (per rad/s), ``Kst``."""
     Mt, Mr, K = plane_matrices(L, do_l, di_l, do_r, di_r, E, G, rho, kappa)
-    return {"M": to_node_dofs(Mt + Mr), "K": to_node_dofs(K), "G": to_node_dofs(2 * Mr, "gyro"),
-            "Kst": to_node_dofs(2 * Mr, "accel")}
+    return {
+        "M": to_node_dofs(Mt + Mr),
+        "K": to_node_dofs(K),
+        "G": to_node_dofs(2 * Mr, "gyro"),
+        "Kst": to_node_dofs(2 * Mr, "accel"),
+    }
 
 
 @dataclass(frozen=True)
@@ -162,8 +178,17 @@ class ShaftElement:
 
     def _mats(self) -> dict[str, np.ndarray]:
         m = self.material
-        out = shaft_matrices(self.length, self.outer_diameter, self.inner_diameter, self.outer_diameter_right,
-                             self.inner_diameter_right, m.E, m.G, m.rho, self.shear_coefficient)
+        out = shaft_matrices(
+            self.length,
+            self.outer_diameter,
+            self.inner_diameter,
+            self.outer_diameter_right,
+            self.inner_diameter_right,
+            m.E,
+            m.G,
+            m.rho,
+            self.shear_coefficient,
+        )
         return {k: v[0] for k, v in out.items()}
 
     def M(self) -> np.ndarray:
