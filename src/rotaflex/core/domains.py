@@ -33,6 +33,23 @@ CASES: dict[str, str] = {
     "rotor": "rotaflex.rotor.case",
     "gear": "rotaflex.gear.case",
     "floating": "rotaflex.floating.case",
+    "rotor_fe": "rotaflex.rotor.fe.case",  # finite-element rotor analyses; `analysis` key selects one
+}
+
+#: domain -> verb -> "module:function" with ``fn(config: dict, *, progress=False) -> Result``;
+#: the CLI adds ``rotaflex <domain> <verb> CONFIG --out DIR`` for each
+COMMANDS: dict[str, dict[str, str]] = {
+    "rotor": {
+        "modal": "rotaflex.rotor.fe.case:run_modal",
+        "campbell": "rotaflex.rotor.fe.case:run_campbell",
+        "ucs": "rotaflex.rotor.fe.case:run_ucs",
+        "unbalance": "rotaflex.rotor.fe.case:run_unbalance",
+        "transient": "rotaflex.rotor.fe.case:run_transient",
+    },
+    "gear": {
+        "static": "rotaflex.gear.static_case:run_static",
+        "steady": "rotaflex.gear.torsional_case:run_torsional",
+    },
 }
 
 #: reproduce target -> module with ``run``; "all" runs every entry in this order
@@ -41,14 +58,6 @@ REPRODUCE: dict[str, str] = {
     "gear": "rotaflex.reproduce.gear",
     "floating": "rotaflex.reproduce.floating",
     "sweep": "rotaflex.reproduce.sweep",  # keep last: sweeps every domain above
-}
-
-#: extra CLI verbs: domain -> verb -> "module:function" (signature of ``run_case``)
-COMMANDS: dict[str, dict[str, str]] = {
-    "gear": {
-        "static": "rotaflex.gear.static_case:run_static",
-        "steady": "rotaflex.gear.torsional_case:run_torsional",
-    },
 }
 
 

@@ -1,4 +1,4 @@
-"""Two or three elastic teeth per gear: the two-pair zones modelled directly (issue 3, part 3).
+"""Two or three elastic teeth per gear: the two-pair zones modelled directly.
 
 Model
 -----

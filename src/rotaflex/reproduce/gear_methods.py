@@ -1,4 +1,4 @@
-"""Report entry: the faster gear methods against the paper's scheme (issue 3, part 3).
+"""Report entry: the faster gear methods against the paper's scheme.
 
 The Fig. 8 and Fig. 9 runs of the paper's RK4 + iterative multipliers are the reference; the
 same cases are rerun with the direct multiplier solve (Fig. 8) and with the large-step method

@@ -495,4 +495,15 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
         "the time window is not printed and is taken as 0-10 s. The paper's curves did not survive in the text, "
         "so each figure is judged by its stated claim and by independent checks."
     )
-    return Section("Rotor rotation: Euler angles vs quaternions (Yun & Ren 2008)", intro, figs, [], notes)
+    section = Section("Rotor rotation: Euler angles vs quaternions (Yun & Ren 2008)", intro, figs, [], notes)
+    return _with_fe_section(section, out, fast)
+
+
+def _with_fe_section(section: Section, out: Path, fast: bool) -> Section:
+    """Append the finite-element rotor-bearing figures and checks to the rotor section."""
+    from rotaflex.reproduce.rotor_fe import fe_section
+
+    fe = fe_section(out, fast=fast)
+    section.figures += fe.figures
+    section.notes.append(f"{fe.title}: {fe.intro}")
+    return section

@@ -1,0 +1,70 @@
+"""FE rotor timings: 20 shaft elements, 2 disks, 2 anisotropic damped bearings (prints numbers).
+
+Run: PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/bench_rotor_fe.py
+Targets (issue 12): modal at one speed <= 20 ms; Campbell over 50 speeds with tracking <= 0.5 s;
+unbalance response at 500 speeds <= 0.5 s. ROSS is compared only if it is importable.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+from rotaflex.rotor.fe.modal import campbell, modal
+from rotaflex.rotor.fe.response import unbalance_response
+
+RPM = np.pi / 30
+
+
+def bench_rotor() -> Rotor:
+    brg = {"kxx": 1e7, "kyy": 1.5e7, "kxy": 2e5, "kyx": -2e5, "cxx": 2e3, "cyy": 3e3}
+    return Rotor(
+        shaft=(Shaft(outer_diameter=0.06, length=1.2, elements=20),),
+        disk=(
+            Disk(node=6, width=0.05, outer_diameter=0.3, inner_diameter=0.06),
+            Disk(node=14, width=0.05, outer_diameter=0.35, inner_diameter=0.06),
+        ),
+        bearing=(Bearing(node=0, **brg), Bearing(node=20, **brg)),
+    )
+
+
+def best(fn, repeat=5):
+    ts = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        ts.append(time.perf_counter() - t0)
+    return min(ts), float(np.median(ts))
+
+
+def main() -> None:
+    r = bench_rotor()
+    _ = r.M  # assembly once (cached)
+    t_asm = best(lambda: bench_rotor().M)
+    t_modal = best(lambda: modal(r, 5000 * RPM, 12))
+    speeds = np.linspace(0, 10000 * RPM, 50)
+    t_camp = best(lambda: campbell(r, speeds, 8), 3)
+    t_camp_r = best(lambda: campbell(r, speeds, 8, reduce=40), 3)
+    full, red = campbell(r, speeds, 8), campbell(r, speeds, 8, reduce=40)
+    dr = float(np.nanmax(np.abs(red.modes.wd - full.modes.wd) / full.modes.wd))
+    sp500 = np.linspace(10, 10000 * RPM, 500)
+    t_unb = best(lambda: unbalance_response(r, sp500, [(6, 1e-4, 0.0)]), 3)
+    print(f"model: {r.n_nodes} nodes, {r.n_dof} DOF")
+    print(f"build + assemble       best {t_asm[0] * 1e3:7.2f} ms  median {t_asm[1] * 1e3:7.2f} ms")
+    print(f"modal at one speed     best {t_modal[0] * 1e3:7.2f} ms  median {t_modal[1] * 1e3:7.2f} ms  (target 20 ms)")
+    print(f"Campbell, 50 speeds    best {t_camp[0]:7.3f} s   median {t_camp[1]:7.3f} s   (target 0.5 s)")
+    print(
+        f"Campbell, 50 speeds, 40-mode basis  best {t_camp_r[0]:7.3f} s   median {t_camp_r[1]:7.3f} s   "
+        f"(max relative frequency difference to full: {dr:.1e})"
+    )
+    print(f"unbalance, 500 speeds  best {t_unb[0]:7.3f} s   median {t_unb[1]:7.3f} s   (target 0.5 s)")
+    try:
+        import ross  # noqa: F401
+    except ImportError:
+        print("ROSS not importable: no comparison")
+
+
+if __name__ == "__main__":
+    main()

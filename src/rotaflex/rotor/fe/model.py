@@ -1,0 +1,416 @@
+"""FE rotor model: frozen data built from ``[[shaft]]``, ``[[disk]]``, ``[[bearing]]`` tables.
+
+Shaft sections are laid end to end along z (each from ``start`` or the previous section's end,
+to ``end`` or ``start + length``) and split into ``elements`` equal Timoshenko elements. Nodes
+sit at the element ends and are numbered 0, 1, ... from the left. Disks, point masses and
+bearings sit at a station given by ``node`` or by ``position`` (an axial coordinate that must
+coincide with a node). All values are SI; bearing tables are keyed by ``speed_rpm`` and
+converted to rad/s once, here.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rotaflex.core.config import from_mapping, load_toml, param
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
+from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS
+from rotaflex.rotor.fe.materials import Material, material
+
+NDOF_NODE = 4  #: [x, y, theta_x, theta_y]
+RPM = np.pi / 30.0  #: rad/s per rpm
+
+
+@dataclass(frozen=True)
+class Shaft:
+    """A shaft section of constant or linearly tapered, solid or hollow, circular section."""
+
+    outer_diameter: float = param(unit="m", gt=0, doc="outer diameter at the left end")
+    inner_diameter: float = param(0.0, unit="m", ge=0, doc="inner diameter at the left end (0: solid)")
+    outer_diameter_right: float | None = param(None, unit="m", gt=0, doc="outer diameter at the right end (taper)")
+    inner_diameter_right: float | None = param(None, unit="m", ge=0, doc="inner diameter at the right end")
+    length: float | None = param(None, unit="m", gt=0, doc="section length (or give end)")
+    start: float | None = param(None, unit="m", doc="axial start (default: previous section's end, or 0)")
+    end: float | None = param(None, unit="m", doc="axial end (or give length)")
+    elements: int = param(1, ge=1, doc="number of equal elements the section is split into")
+    material: str = param("steel", doc="material name (steel, aluminium, titanium or a [material.<name>])")
+    E: float | None = param(None, unit="Pa", gt=0, doc="Young's modulus (overrides the material)")
+    G: float | None = param(None, unit="Pa", gt=0, doc="shear modulus (overrides the material)")
+    rho: float | None = param(None, unit="kg/m^3", gt=0, doc="density (overrides the material)")
+    shear_coefficient: float | None = param(None, gt=0, doc="Timoshenko kappa (default: Cowper's value)")
+
+
+@dataclass(frozen=True)
+class Disk:
+    """Rigid disk given by inertias (mass, Id, Ip) or by geometry (width, diameters, material)."""
+
+    node: int | None = param(None, ge=0, doc="node number (or give position)")
+    position: float | None = param(None, unit="m", doc="axial position of a node")
+    mass: float | None = param(None, unit="kg", ge=0)
+    Id: float | None = param(None, unit="kg m^2", ge=0, doc="diametral moment of inertia")
+    Ip: float | None = param(None, unit="kg m^2", ge=0, doc="polar moment of inertia")
+    width: float | None = param(None, unit="m", gt=0)
+    outer_diameter: float | None = param(None, unit="m", gt=0)
+    inner_diameter: float = param(0.0, unit="m", ge=0)
+    material: str = param("steel")
+    rho: float | None = param(None, unit="kg/m^3", gt=0, doc="density (overrides the material)")
+
+
+@dataclass(frozen=True)
+class PointMass:
+    """Lumped translational mass at a node."""
+
+    mass: float = param(unit="kg", gt=0)
+    node: int | None = param(None, ge=0)
+    position: float | None = param(None, unit="m")
+
+
+@dataclass(frozen=True)
+class Bearing:
+    """Linear bearing or seal; each coefficient a number or a list over ``speed_rpm``."""
+
+    node: int | None = param(None, ge=0, doc="node number (or give position)")
+    position: float | None = param(None, unit="m")
+    to_node: int | None = param(None, ge=0, doc="second node for a support between two nodes (default: ground)")
+    to_position: float | None = param(None, unit="m")
+    kxx: tuple[float, ...] = param((0.0,), unit="N/m")
+    kxy: tuple[float, ...] = param((0.0,), unit="N/m")
+    kyx: tuple[float, ...] = param((0.0,), unit="N/m")
+    kyy: tuple[float, ...] = param((0.0,), unit="N/m")
+    cxx: tuple[float, ...] = param((0.0,), unit="N s/m")
+    cxy: tuple[float, ...] = param((0.0,), unit="N s/m")
+    cyx: tuple[float, ...] = param((0.0,), unit="N s/m")
+    cyy: tuple[float, ...] = param((0.0,), unit="N s/m")
+    speed_rpm: tuple[float, ...] | None = param(None, unit="rpm", ge=0, doc="speeds of tabulated coefficients")
+    name: str = param("", doc="label")
+
+    def __post_init__(self):
+        for key in COEFFICIENTS:  # Python callers may pass plain numbers
+            v = getattr(self, key)
+            if np.isscalar(v):
+                object.__setattr__(self, key, (float(v),))
+        if self.speed_rpm is not None and np.isscalar(self.speed_rpm):
+            object.__setattr__(self, "speed_rpm", (float(self.speed_rpm),))
+
+
+@dataclass(frozen=True)
+class Rotor:
+    """Rotor-bearing FE model (frozen). Build from TOML with :meth:`from_toml` or directly.
+
+    Parameters
+    ----------
+    shaft : tuple of Shaft
+        Sections end to end along z, left to right.
+    disk, point_mass, bearing : tuples of Disk, PointMass, Bearing
+    material : dict of Material
+        User materials by name (``[material.<name>]`` with E, G, rho).
+    free : bool
+        Allow rigid-body modes (a free-free rotor). Without it a singular stiffness is an error.
+
+    Examples
+    --------
+    >>> rotor = Rotor(shaft=(Shaft(outer_diameter=0.05, length=1.5, elements=6),),
+    ...               disk=(Disk(position=0.5, mass=32.6, Id=0.178, Ip=0.329),),
+    ...               bearing=(Bearing(node=0, kxx=1e6, kyy=1e6), Bearing(node=6, kxx=1e6, kyy=1e6)))
+    >>> rotor.n_dof
+    28
+    """
+
+    shaft: tuple[Shaft, ...] = param()
+    disk: tuple[Disk, ...] = param(())
+    point_mass: tuple[PointMass, ...] = param(())
+    bearing: tuple[Bearing, ...] = param(())
+    material: dict[str, Material] = param({})
+    free: bool = param(False, doc="allow rigid-body modes (free-free rotor)")
+
+    # -- construction ----------------------------------------------------------------------
+    @classmethod
+    def from_mapping(cls, data: Mapping[str, Any], where: str = "") -> Rotor:
+        """Build from a parsed TOML mapping (keys ``shaft``, ``disk``, ``bearing``, ...)."""
+        if not isinstance(data, Mapping):
+            raise InputError(where or "config", data, "a table")
+        data = dict(data)
+        for key in ("shaft", "disk", "point_mass", "bearing"):
+            v = data.get(key)
+            if isinstance(v, Mapping):  # [bearing.left] named tables: sweepable by dotted key
+                data[key] = [{**({"name": k} if key == "bearing" else {}), **t} for k, t in v.items()]
+        if isinstance(data.get("bearing"), list):
+            data["bearing"] = [
+                {k: ([v] if k in COEFFICIENTS and isinstance(v, (int, float)) else v) for k, v in b.items()}
+                if isinstance(b, Mapping)
+                else b
+                for b in data["bearing"]
+            ]
+        return from_mapping(cls, data, where)
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Rotor:
+        """Read the rotor tables of a TOML file (other top-level tables are ignored)."""
+        cfg = load_toml(path)
+        return cls.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS})
+
+    def __post_init__(self):
+        if not self.shaft:
+            raise InputError("shaft", "<missing>", "at least one [[shaft]] section")
+        _ = self.nodes, self.elements, self.disks, self.point_masses, self.bearings  # validate now
+        if not self.free:
+            self._check_supported()
+
+    # -- geometry ----------------------------------------------------------------------------
+    def _mat(self, name: str, where: str) -> Material:
+        return material(name, where, self.material)
+
+    @functools.cached_property
+    def sections(self) -> list[tuple[float, float]]:
+        """(start, end) [m] of each shaft section, validated to be contiguous."""
+        out, prev = [], None
+        for i, s in enumerate(self.shaft):
+            where = f"shaft[{i}]"
+            start = s.start if s.start is not None else (prev if prev is not None else 0.0)
+            if prev is not None and abs(start - prev) > 1e-9 * max(1.0, abs(prev)):
+                what = "overlaps" if start < prev else "leaves a gap after"
+                raise InputError(
+                    f"{where}.start",
+                    start,
+                    f"{prev:g} m: the section {what} the previous one (sections must be contiguous, left to right)",
+                )
+            if s.end is not None and s.length is not None and abs(s.end - start - s.length) > 1e-9:
+                raise InputError(f"{where}.length", s.length, f"end - start = {s.end - start:g} m")
+            if s.end is None and s.length is None:
+                raise InputError(f"{where}.length", "<missing>", "a length [m] > 0 or an end position")
+            end = s.end if s.end is not None else start + s.length
+            if end <= start:
+                raise InputError(f"{where}.end", end, f"> start = {start:g} m")
+            for side in ("", "_right"):
+                do, di = getattr(s, "outer_diameter" + side), getattr(s, "inner_diameter" + side)
+                do = s.outer_diameter if do is None else do
+                di = s.inner_diameter if di is None else di
+                if di >= do:
+                    raise InputError(f"{where}.inner_diameter{side}", di, f"< outer diameter {do:g} m")
+            out.append((float(start), float(end)))
+            prev = end
+        return out
+
+    @functools.cached_property
+    def elements(self) -> dict[str, np.ndarray]:
+        """Per-element arrays: length, diameters (left/right), E, G, rho, kappa (nan: Cowper's value)."""
+        cols: dict[str, list] = {k: [] for k in ("L", "do_l", "di_l", "do_r", "di_r", "E", "G", "rho", "kappa")}
+        for i, (s, (a, b)) in enumerate(zip(self.shaft, self.sections, strict=True)):
+            m = self._mat(s.material, f"shaft[{i}].material")
+            E, G, rho = s.E or m.E, s.G or m.G, s.rho or m.rho
+            do_r = s.outer_diameter if s.outer_diameter_right is None else s.outer_diameter_right
+            di_r = s.inner_diameter if s.inner_diameter_right is None else s.inner_diameter_right
+            t = np.arange(s.elements + 1) / s.elements
+            do = s.outer_diameter + (do_r - s.outer_diameter) * t
+            di = s.inner_diameter + (di_r - s.inner_diameter) * t
+            n = s.elements
+            cols["L"] += [(b - a) / n] * n
+            cols["do_l"] += list(do[:-1])
+            cols["do_r"] += list(do[1:])
+            cols["di_l"] += list(di[:-1])
+            cols["di_r"] += list(di[1:])
+            cols["E"] += [E] * n
+            cols["G"] += [G] * n
+            cols["rho"] += [rho] * n
+            cols["kappa"] += [s.shear_coefficient if s.shear_coefficient else np.nan] * n
+        return {k: np.asarray(v, float) for k, v in cols.items()}
+
+    @functools.cached_property
+    def nodes(self) -> np.ndarray:
+        """Axial node positions z [m], shape (n_nodes,)."""
+        L = self.elements["L"]
+        return self.sections[0][0] + np.concatenate([[0.0], np.cumsum(L)])
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.nodes.size)
+
+    @property
+    def n_dof(self) -> int:
+        return NDOF_NODE * self.n_nodes
+
+    def station(
+        self,
+        node: int | None,
+        position: float | None,
+        where: str,
+        required: bool = True,
+        keys: tuple[str, str] = ("node", "position"),
+    ) -> int | None:
+        """Node number of a station given by ``node`` or ``position`` (InputError if it is no node)."""
+        kn, kp = keys
+        if node is not None and position is not None:
+            raise InputError(f"{where}.{kp}", position, f"either {kn} or {kp}, not both")
+        if node is not None:
+            if node >= self.n_nodes:
+                raise InputError(f"{where}.{kn}", node, f"an existing node 0..{self.n_nodes - 1}")
+            return int(node)
+        if position is not None:
+            j = int(np.argmin(np.abs(self.nodes - position)))
+            tol = 1e-6 * (self.nodes[-1] - self.nodes[0])
+            if abs(self.nodes[j] - position) > tol:
+                shown = ", ".join(f"{z:g}" for z in self.nodes[:12]) + (" ..." if self.n_nodes > 12 else "")
+                raise InputError(f"{where}.{kp}", position, f"the position of a node [m]: {shown}")
+            return j
+        if required:
+            raise InputError(f"{where}.{kn}", "<missing>", f"a node number or a {kp} [m]")
+        return None
+
+    @functools.cached_property
+    def disks(self) -> list[tuple[int, DiskElement]]:
+        out = []
+        for i, d in enumerate(self.disk):
+            where = f"disk[{i}]"
+            n = self.station(d.node, d.position, where)
+            if d.mass is not None:
+                if d.Id is None or d.Ip is None:
+                    raise InputError(
+                        f"{where}.{'Id' if d.Id is None else 'Ip'}",
+                        "<missing>",
+                        "a moment of inertia [kg m^2] >= 0 (with mass)",
+                    )
+                el = DiskElement(d.mass, d.Id, d.Ip)
+            else:
+                if d.width is None or d.outer_diameter is None:
+                    raise InputError(
+                        f"{where}.mass", "<missing>", "mass, Id and Ip, or width and outer_diameter (geometry)"
+                    )
+                if d.inner_diameter >= d.outer_diameter:
+                    raise InputError(f"{where}.inner_diameter", d.inner_diameter, f"< {d.outer_diameter:g} m")
+                rho = d.rho or self._mat(d.material, f"{where}.material").rho
+                el = DiskElement.from_geometry(d.width, d.outer_diameter, d.inner_diameter, rho)
+            out.append((n, el))
+        return out
+
+    @functools.cached_property
+    def point_masses(self) -> list[tuple[int, PointMassElement]]:
+        return [
+            (self.station(p.node, p.position, f"point_mass[{i}]"), PointMassElement(p.mass))
+            for i, p in enumerate(self.point_mass)
+        ]
+
+    @functools.cached_property
+    def bearings(self) -> list[tuple[int, int | None, BearingElement]]:
+        """(node, other node or None for ground, element) per bearing."""
+        out = []
+        for i, b in enumerate(self.bearing):
+            where = f"bearing[{i}]"
+            n = self.station(b.node, b.position, where)
+            m = self.station(b.to_node, b.to_position, where, False, ("to_node", "to_position"))
+            if m == n:
+                raise InputError(f"{where}.to_node", m, "a node other than the bearing's own node")
+            lengths = {len(getattr(b, k)) for k in COEFFICIENTS}
+            ns = 1 if b.speed_rpm is None else len(b.speed_rpm)
+            for k in COEFFICIENTS:
+                v = getattr(b, k)
+                if len(v) not in (1, ns):
+                    raise InputError(f"{where}.{k}", list(v), f"a number or {ns} values (one per speed_rpm)")
+            if b.speed_rpm is None and lengths != {1}:
+                raise InputError(f"{where}.speed_rpm", "<missing>", "a list of speeds for tabulated coefficients")
+            if b.speed_rpm is not None and np.any(np.diff(b.speed_rpm) <= 0):
+                raise InputError(f"{where}.speed_rpm", list(b.speed_rpm), "strictly increasing speeds")
+            for k in ("kxx", "kyy", "cxx", "cyy"):
+                if min(getattr(b, k)) < 0:
+                    raise InputError(f"{where}.{k}", list(getattr(b, k)), "direct coefficients >= 0")
+            tab = {k: np.broadcast_to(np.asarray(getattr(b, k), float), (ns,)) for k in COEFFICIENTS}
+            kk = np.stack([np.stack([tab["kxx"], tab["kxy"]], -1), np.stack([tab["kyx"], tab["kyy"]], -1)], -2)
+            cc = np.stack([np.stack([tab["cxx"], tab["cxy"]], -1), np.stack([tab["cyx"], tab["cyy"]], -1)], -2)
+            speeds = None if b.speed_rpm is None else np.asarray(b.speed_rpm, float) * RPM
+            out.append((n, m, BearingElement(kk, cc, speeds, where)))
+        return out
+
+    # -- assembly -------------------------------------------------------------------------
+    @functools.cached_property
+    def _base(self) -> dict[str, np.ndarray]:
+        """Speed-independent global matrices: M, K (shaft), G (per rad/s), Kst (per rad/s^2)."""
+        e = self.elements
+        mats = shaft_matrices(e["L"], e["do_l"], e["di_l"], e["do_r"], e["di_r"], e["E"], e["G"], e["rho"], e["kappa"])
+        n = self.n_dof
+        idx = NDOF_NODE * np.arange(e["L"].size)[:, None] + np.arange(8)[None, :]
+        out = {}
+        for key, local in mats.items():
+            glob = np.zeros((n, n))
+            np.add.at(glob, (idx[:, :, None], idx[:, None, :]), local)
+            out[key] = glob
+        for node, el in self.disks:
+            s = slice(NDOF_NODE * node, NDOF_NODE * node + 4)
+            out["M"][s, s] += el.M()
+            out["G"][s, s] += el.G()
+            out["Kst"][s, s] += el.Kst()
+        for node, el in self.point_masses:
+            s = slice(NDOF_NODE * node, NDOF_NODE * node + 4)
+            out["M"][s, s] += el.M()
+        return out
+
+    @property
+    def M(self) -> np.ndarray:
+        """Global mass matrix (n_dof, n_dof)."""
+        return self._base["M"]
+
+    @property
+    def K_shaft(self) -> np.ndarray:
+        """Global stiffness of the shaft alone (no bearings) (n_dof, n_dof)."""
+        return self._base["K"]
+
+    @property
+    def G(self) -> np.ndarray:
+        """Global gyroscopic matrix per unit spin speed (skew-symmetric); force -Omega G q'."""
+        return self._base["G"]
+
+    @property
+    def Kst(self) -> np.ndarray:
+        """Global matrix multiplying the spin acceleration (run-up); force -Omega' Kst q."""
+        return self._base["Kst"]
+
+    def KC(self, speeds) -> tuple[np.ndarray, np.ndarray]:
+        """Stiffness and damping (n_speed, n_dof, n_dof) at spin speeds [rad/s] (bearings interpolated)."""
+        speeds = np.atleast_1d(np.asarray(speeds, float))
+        K = np.broadcast_to(self._base["K"], (speeds.size, self.n_dof, self.n_dof)).copy()
+        C = np.zeros_like(K)
+        for node, other, el in self.bearings:
+            kb, cb = el.coefficients(speeds)
+            i = NDOF_NODE * node + np.arange(2)
+            K[:, i[:, None], i] += kb
+            C[:, i[:, None], i] += cb
+            if other is not None:
+                j = NDOF_NODE * other + np.arange(2)
+                K[:, j[:, None], j] += kb
+                C[:, j[:, None], j] += cb
+                K[:, i[:, None], j] -= kb
+                C[:, i[:, None], j] -= cb
+                K[:, j[:, None], i] -= kb
+                C[:, j[:, None], i] -= cb
+        return K, C
+
+    def _check_supported(self) -> None:
+        speeds = [el.speeds[0] for _, _, el in self.bearings if el.speeds is not None]
+        K = self.KC(max(speeds) if speeds else 0.0)[0][0]
+        s = np.linalg.svd(K, compute_uv=False)
+        if s[-1] <= 1e-10 * s[0]:
+            grounded = sum(other is None for _, other, _ in self.bearings)
+            raise InputError(
+                "free",
+                False,
+                "true for a model with rigid-body modes: the stiffness matrix is "
+                f"singular ({grounded} bearing(s) to ground restrain too few DOFs)",
+            )
+
+    @property
+    def mass(self) -> float:
+        """Total mass [kg] (sum of translational inertia in x)."""
+        return float(self.M[0::NDOF_NODE, 0::NDOF_NODE].sum())
+
+    def to_mapping(self) -> dict[str, Any]:
+        """Plain data (for provenance)."""
+        return dataclasses.asdict(self)
+
+
+ROTOR_KEYS = ("shaft", "disk", "point_mass", "bearing", "material", "free")

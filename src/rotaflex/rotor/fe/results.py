@@ -1,0 +1,180 @@
+"""Result objects of the FE rotor analyses (xarray datasets with units; registered for loading)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from rotaflex.core.result import Result, register_result
+
+
+def _model_fig(result):
+    from rotaflex.rotor.fe.figures import model_figure
+    from rotaflex.rotor.fe.model import ROTOR_KEYS, Rotor
+
+    cfg = result.config
+    if "shaft" not in cfg:
+        return {}
+    return {"model": model_figure(Rotor.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS}))}
+
+
+class _FEResult(Result):
+    def summary(self) -> dict:
+        out = super().summary()
+        extra = json.loads(self.dataset.attrs.get("summary_extra", "{}"))
+        out.update(extra)
+        return out
+
+
+@register_result
+class ModalResult(_FEResult):
+    """Modes at one speed: frequencies, damping, whirl, mode shapes (see :func:`modal`)."""
+
+    kind = "rotor_fe_modal"
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        figs = _model_fig(self)
+        fig, ax = new_figure()
+        z = ds["z"].values
+        for k in range(ds.sizes["mode"]):
+            sx = ds["shape_real"].isel(mode=k).sel(dof="x").values
+            f = float(ds["damped_frequency"][k]) / (2 * np.pi)
+            ax.plot(z, sx, label=f"{k}: {f:.2f} Hz {ds['whirl'].values[k]}")
+        ax.set_xlabel("z [m]")
+        ax.set_ylabel("mode shape x (real part)")
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+        figs["mode_shapes"] = fig
+        # orbits: each mode's whirl at every node (x + i y over one period), scaled to 1
+        nm = ds.sizes["mode"]
+        ncol = min(nm, 4)
+        fig2, axes = new_figure((nm + ncol - 1) // ncol, ncol, squeeze=False)
+        th = np.linspace(0, 2 * np.pi, 121)
+        for k in range(nm):
+            ax = axes.flat[k]
+            sh = ds["shape_real"].isel(mode=k).values + 1j * ds["shape_imag"].isel(mode=k).values
+            for j in range(sh.shape[0]):
+                x = (sh[j, 0] * np.exp(1j * th)).real
+                y = (sh[j, 1] * np.exp(1j * th)).real
+                ax.plot(x, y, lw=0.6)
+                ax.plot(x[0], y[0], "k.", ms=3)  # start: the orbit runs from here in time
+            ax.set_aspect("equal")
+            ax.set_title(f"{k}: {ds['whirl'].values[k]}", fontsize=8)
+            ax.tick_params(labelsize=6)
+        for ax in list(axes.flat)[nm:]:
+            ax.set_visible(False)
+        figs["mode_orbits"] = fig2
+        return figs
+
+
+@register_result
+class CampbellResult(_FEResult):
+    """Campbell diagram with tracked modes, critical speeds and instability onsets."""
+
+    kind = "rotor_fe_campbell"
+
+    def plot(self) -> dict:
+        from rotaflex.rotor.fe.figures import campbell_figure
+
+        ds = self.dataset
+        crit = json.loads(ds.attrs.get("critical_speeds", "[]"))
+        figs = _model_fig(self)
+        figs["campbell"] = campbell_figure(
+            ds["speed"].values,
+            ds["damped_frequency"].values,
+            ds["forward_fraction"].values,
+            ds["log_dec"].values,
+            json.loads(ds.attrs.get("harmonics", "[1]")),
+            crit,
+        )
+        return figs
+
+
+@register_result
+class UCSResult(_FEResult):
+    """Undamped critical speed map: critical speeds vs bearing stiffness."""
+
+    kind = "rotor_fe_ucs"
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        fig, ax = new_figure()
+        for k in range(ds.sizes["mode"]):
+            ax.loglog(ds["stiffness"], ds["critical_speed"].isel(mode=k) * 30 / np.pi, label=f"mode {k}")
+        ax.set_xlabel("bearing stiffness [N/m]")
+        ax.set_ylabel("critical speed [rpm]")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=8)
+        return {**_model_fig(self), "ucs_map": fig}
+
+
+@register_result
+class UnbalanceResult(_FEResult):
+    """Unbalance response at probe nodes vs speed (Bode), peaks with AF and SM."""
+
+    kind = "rotor_fe_unbalance"
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+        from rotaflex.rotor.fe.figures import bode_figure
+
+        ds = self.dataset
+        amp, ph = {}, {}
+        for p in ds["probe"].values:
+            X = ds["x_real"].sel(probe=p).values + 1j * ds["x_imag"].sel(probe=p).values
+            amp[f"node {p} x"], ph[f"node {p} x"] = np.abs(X), np.angle(X)
+        figs = _model_fig(self)
+        figs["bode"] = bode_figure(ds["speed"].values, amp, ph, json.loads(ds.attrs.get("peaks", "[]")))
+        fig, ax = new_figure()
+        i = int(np.argmax(ds["major_axis"].isel(probe=0).values))
+        th = np.linspace(0, 2 * np.pi, 181)
+        for p in ds["probe"].values:
+            X = complex(ds["x_real"].sel(probe=p)[i] + 1j * ds["x_imag"].sel(probe=p)[i])
+            Y = complex(ds["y_real"].sel(probe=p)[i] + 1j * ds["y_imag"].sel(probe=p)[i])
+            ax.plot((X * np.exp(1j * th)).real, (Y * np.exp(1j * th)).real, label=f"node {p}")
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_title(f"orbits at {float(ds['speed'][i]) * 30 / np.pi:.0f} rpm")
+        ax.legend(fontsize=8)
+        figs["orbit"] = fig
+        return figs
+
+
+@register_result
+class TransientResult(_FEResult):
+    """Time response at probe nodes (constant speed or run-up)."""
+
+    kind = "rotor_fe_transient"
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        fig, (a1, a2) = new_figure(2, 1, sharex=True)
+        for p in ds["probe"].values:
+            a1.plot(ds["time"], ds["displacement"].sel(probe=p, axis="x"), lw=0.6, label=f"node {p} x")
+        a1.set_ylabel("x [m]")
+        a1.legend(fontsize=8)
+        a2.plot(ds["time"], ds["speed"] * 30 / np.pi)
+        a2.set_ylabel("speed [rpm]")
+        a2.set_xlabel("time [s]")
+        fig2, ax = new_figure()
+        for p in ds["probe"].values:
+            ax.plot(
+                ds["displacement"].sel(probe=p, axis="x"),
+                ds["displacement"].sel(probe=p, axis="y"),
+                lw=0.5,
+                label=f"node {p}",
+            )
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.legend(fontsize=8)
+        return {**_model_fig(self), "time_response": fig, "orbit": fig2}

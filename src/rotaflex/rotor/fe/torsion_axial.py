@@ -1,0 +1,63 @@
+"""Torsional and axial natural frequencies of the FE rotor (uncoupled from the lateral motion).
+
+For an axisymmetric shaft on linear lateral bearings the torsional (twist phi_z) and axial (w)
+motions are uncoupled from the lateral DOFs and from each other. Each shaft element is a
+two-node element with linear interpolation: torsion K = G J / L [[1, -1], [-1, 1]],
+M = rho J L / 6 [[2, 1], [1, 2]]; axial the same with E A and rho A. J and A follow the
+(tapered) section at Gauss points, as for the bending element. Disks add Ip (torsion) and m
+(axial); point masses add m (axial). Bearings do not restrain these DOFs, so the rotor is free:
+the first frequency is the rigid-body mode at 0 (reported).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg as sla
+
+from rotaflex.rotor.fe.elements.shaft import WEIGHT, XI
+from rotaflex.rotor.fe.model import Rotor
+
+
+def _assemble(rotor: Rotor, kind: str) -> tuple[np.ndarray, np.ndarray]:
+    e = rotor.elements
+    do = e["do_l"][:, None] + (e["do_r"] - e["do_l"])[:, None] * XI[None, :]
+    di = e["di_l"][:, None] + (e["di_r"] - e["di_l"])[:, None] * XI[None, :]
+    N = np.stack([1 - XI, XI], -1)  # (g, 2) linear shape functions
+    if kind == "torsion":
+        prop = np.pi / 32 * (do**4 - di**4)  # polar moment J [m^4]
+        stiff, dens = e["G"], e["rho"]
+    else:
+        prop = np.pi / 4 * (do**2 - di**2)  # area A [m^2]
+        stiff, dens = e["E"], e["rho"]
+    L = e["L"]
+    ke = (stiff * (prop @ WEIGHT) / L)[:, None, None] * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    me = np.einsum("ng,gi,gj->nij", (dens * L)[:, None] * prop * WEIGHT[None, :], N, N)
+    n = rotor.n_nodes
+    K, M = np.zeros((n, n)), np.zeros((n, n))
+    idx = np.arange(L.size)[:, None] + np.arange(2)[None, :]
+    np.add.at(K, (idx[:, :, None], idx[:, None, :]), ke)
+    np.add.at(M, (idx[:, :, None], idx[:, None, :]), me)
+    for node, d in rotor.disks:
+        M[node, node] += d.Ip if kind == "torsion" else d.mass
+    if kind == "axial":
+        for node, p in rotor.point_masses:
+            M[node, node] += p.mass
+    return K, M
+
+
+def torsional_modes(rotor: Rotor, n_modes: int = 6) -> tuple[np.ndarray, np.ndarray]:
+    """Torsional natural frequencies [rad/s] (first: rigid rotation, 0) and mode shapes (m, n_nodes)."""
+    K, M = _assemble(rotor, "torsion")
+    return _solve(K, M, n_modes)
+
+
+def axial_modes(rotor: Rotor, n_modes: int = 6) -> tuple[np.ndarray, np.ndarray]:
+    """Axial natural frequencies [rad/s] (first: rigid translation, 0) and mode shapes (m, n_nodes)."""
+    K, M = _assemble(rotor, "axial")
+    return _solve(K, M, n_modes)
+
+
+def _solve(K, M, n_modes):
+    k = min(n_modes, K.shape[0])
+    w2, v = sla.eigh(K, M, subset_by_index=(0, k - 1))
+    return np.sqrt(np.clip(w2, 0.0, None)), v.T
