@@ -71,6 +71,10 @@ class Body:
     extra_inertia : ndarray (3, 3)
         Inertia [kg m^2] of rigid (non-elastic) mass about the body origin added to ``J``, e.g. the
         polar inertia of a beam's cross-sections, which a line of points does not carry.
+    planar : bool
+        True for a planar line beam (points on the x axis, deflection along y only): its rotation
+        about its own axis carries no inertia and is decoupled from in-plane motion, so the
+        solvers accept zero inertia about x and require in-plane loads and initial state.
     rigid : bool
         True only for :func:`rigid_body` (no elastic modes, for cross-checks against rigid-body
         solvers); a normal body must have at least one elastic mode.
@@ -88,6 +92,7 @@ class Body:
     mode_labels: tuple = ()
     extra_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
     rigid: bool = False
+    planar: bool = False
 
     def __post_init__(self):
         validate_body(self)
@@ -287,9 +292,12 @@ def uniform_beam(
     n_quad : int, optional
         Number of Gauss points (default: 8 per half-wave of the highest mode, at least 48).
     section_radius : float, optional
-        Radius of a solid circular section [m] (default ``L/100``) used only for the rigid-body
-        section inertia ``rho_a L diag(r^2/2, r^2/4, r^2/4)`` added to ``J`` (the elastic model is
-        Euler-Bernoulli: no rotary inertia in the modes). Without it a line body has ``J_xx = 0``.
+        Radius of a solid circular section [m] (default 0: a line beam, which has no section
+        inertia). If > 0, the rigid-body section inertia ``rho_a L diag(r^2/2, r^2/4, r^2/4)`` is
+        added to ``J`` (the elastic model stays Euler-Bernoulli: no rotary inertia in the modes).
+        A planar line beam (r = 0) has no inertia about its axis; that rotation is decoupled from
+        in-plane motion, so in-plane loads are required. A spatial beam needs r > 0 to be
+        simulated (its spin about its own axis would otherwise have no inertia).
     attachment_points : sequence of (3,) floats
         Load points [m] on the beam axis. For each, the static deflection under a unit
         transverse force (free-free: with inertia relief, made mass-orthogonal to the rigid
@@ -309,18 +317,18 @@ def uniform_beam(
     >>> round(float(b.mass), 6)
     2.0
     """
-    for name, v in (("body.length", length), ("body.rho_a", rho_a), ("body.ei", ei)):
+    for name, v in (("body.beam.length", length), ("body.beam.rho_a", rho_a), ("body.beam.ei", ei)):
         if not (np.isfinite(v) and v > 0):
             raise InputError(name, v, "a number > 0")
     if ei_z is not None and not ei_z > 0:
-        raise InputError("body.ei_z", ei_z, "a number > 0 [N m^2]")
+        raise InputError("body.beam.ei_z", ei_z, "a number > 0 [N m^2]")
     if n_modes < 1:
-        raise InputError("body.n_modes", n_modes, "an integer >= 1 (a body needs elastic modes)")
+        raise InputError("body.beam.n_modes", n_modes, "an integer >= 1 (a body needs elastic modes)")
     if support not in ("free-free", "cantilever"):
-        raise InputError("body.support", support, "'free-free' or 'cantilever'")
-    rg = length / 100.0 if section_radius is None else section_radius
-    if not rg > 0:
-        raise InputError("body.section_radius", rg, "a number > 0 [m]")
+        raise InputError("body.beam.support", support, "'free-free' or 'cantilever'")
+    rg = 0.0 if section_radius is None else float(section_radius)
+    if not (np.isfinite(rg) and rg >= 0):
+        raise InputError("body.beam.section_radius", section_radius, "a radius >= 0 [m]")
     bl = beam_roots(support, n_modes)
     nq = n_quad or max(48, int(8 * (n_modes + 2)))
     g, gw = np.polynomial.legendre.leggauss(nq)
@@ -454,6 +462,7 @@ def uniform_beam(
         length=length,
         mode_labels=labels,
         extra_inertia=rho_a * length * rg**2 * np.diag([0.5, 0.25, 0.25]),
+        planar=not spatial,
     )
 
 

@@ -92,8 +92,7 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
     """Assemble a :class:`FloatingResult` from :class:`~rotaflex.floating.solve.Solution` s."""
     import xarray as xr
 
-    from rotaflex.floating.solve import invariants, point_motion
-    from rotaflex.rotation.quaternion import euler_from_quaternion
+    from rotaflex.floating.solve import invariants, point_motion, rotation_matrices
 
     names = list(points)
     P = np.array([points[k] for k in names], dtype=float).reshape(-1, 3)
@@ -102,10 +101,6 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
 
     def stack(f):
         return np.stack([f(s) for s in solutions])
-
-    def euler(e):
-        ang = euler_from_quaternion("123", e)
-        return np.unwrap(ang, axis=0)
 
     pos_pts, defl = [], []
     for s in solutions:
@@ -125,11 +120,17 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
             "1",
             "attitude",
         ),
+        "rotation_matrix": (
+            ("solution", "time", "row", "col"),
+            stack(lambda s: rotation_matrices(s.quaternion)),
+            "1",
+            "attitude matrix A (body to inertial) from the state at each output time",
+        ),
         "euler_123": (
             ax3,
-            stack(lambda s: euler(s.quaternion)),
+            stack(lambda s: s.euler_123),
             "rad",
-            "Euler 1-2-3 angles (output only)",
+            "Euler 1-2-3 angles, unwrapped after every integrator step (independent of dt_out)",
         ),
         "velocity": (ax3, stack(lambda s: s.velocity), "m/s", "V_o (body axes)"),
         "angular_velocity": (ax3, stack(lambda s: s.angular_velocity), "rad/s", "w (body axes)"),
@@ -174,11 +175,12 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
         data.update(
             {
                 "zero_order_position": (("time", "axis"), pp["R0"], "m", "R_o0"),
+                "zero_order_quaternion": (("time", "quat"), pp["e0"], "1", "zero-order attitude"),
                 "zero_order_euler_123": (
                     ("time", "axis"),
-                    euler(pp["e0"]),
+                    pp["euler0"],
                     "rad",
-                    "zero-order attitude",
+                    "zero-order Euler 1-2-3 angles (unwrapped step by step)",
                 ),
                 "zero_order_velocity": (("time", "axis"), pp["V0"], "m/s", "V_o0 (body axes)"),
                 "zero_order_angular_velocity": (
@@ -203,6 +205,8 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
             "time": ("time", t, {"units": "s", "long_name": "time"}),
             "axis": ["x", "y", "z"],
             "quat": ["e0", "e1", "e2", "e3"],
+            "row": ["x", "y", "z"],
+            "col": ["x", "y", "z"],
             "mode": list(body.mode_labels),
             "point": names,
             "natural_frequency": ("mode", np.sqrt(np.diag(body.stiffness)), {"units": "rad/s"}),

@@ -77,7 +77,9 @@ def _reduction_checks() -> list[Check]:
         for n, a, r in rows
     ]
     out.append(_eq44_check(b))
-    bs = uniform_beam(2.0, 1.5, 30.0, 3, support="cantilever", spatial=True, ei_z=45.0)
+    bs = uniform_beam(
+        2.0, 1.5, 30.0, 3, support="cantilever", spatial=True, ei_z=45.0, section_radius=0.02
+    )
     s3 = ([0.3, -0.2, 0.5], [0.4, -0.7, 1.1], [0.1, 0.2, -0.3], [0.5, 0.3, -0.2])
     k3, p3 = first_order_matrices(bs, *s3), paper_matrices(bs, *s3)
     rel = np.abs(k3["K"] - p3["K"]).max() / np.abs(k3["K"]).max()
