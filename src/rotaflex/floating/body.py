@@ -267,6 +267,7 @@ def uniform_beam(
     n_quad: int | None = None,
     section_radius: float | None = None,
     attachment_points=(),
+    moment_points=(),
 ) -> Body:
     """Uniform Euler-Bernoulli beam along the body x axis with analytic modes.
 
@@ -306,6 +307,11 @@ def uniform_beam(
         ``EI phi'' phi''``), so the modes stay mass-orthonormal with diagonal ``K_b``; the extra
         "pseudo-modes" (labels ``attach_y1`` ...) carry the residual static flexibility of an end
         load that the truncated modal series misses.
+    moment_points : sequence of (3,) floats
+        Points [m] on the beam axis where moments about the transverse axes are applied: the
+        static deflection under a unit concentrated moment (same supports and inertia relief as
+        for forces) is added in each bending plane, like ``attachment_points``. Moments about the
+        beam axis need none (the beam has no torsion modes).
 
     Returns
     -------
@@ -331,16 +337,7 @@ def uniform_beam(
         raise InputError("body.beam.section_radius", section_radius, "a radius >= 0 [m]")
     bl = beam_roots(support, n_modes)
     nq = n_quad or max(48, int(8 * (n_modes + 2)))
-    g, gw = np.polynomial.legendre.leggauss(nq)
-    s = 0.5 * (g + 1.0)  # in [0, 1]
     x0 = -0.5 * length if support == "free-free" else 0.0
-    masses = rho_a * length * 0.5 * gw
-    points = np.zeros((nq, 3))
-    points[:, 0] = x0 + s * length
-    norm = np.array(
-        [np.sqrt(rho_a * length * np.sum(0.5 * gw * beam_mode(support, b, s) ** 2)) for b in bl]
-    )
-    xq, wq = points[:, 0], length * 0.5 * gw
     x_end = x0 + length
 
     def check_points(pts, where):
@@ -356,22 +353,50 @@ def uniform_beam(
             )
         return np.clip(pts[:, 0], x0, x_end)
 
-    att = (
+    att_f = (
         check_points(attachment_points, "body.attachment_points")
         if len(attachment_points)
         else np.zeros(0)
     )
+    att_m = check_points(moment_points, "body.moment_points") if len(moment_points) else np.zeros(0)
+    att = np.concatenate([att_f, att_m])
+    is_moment = np.arange(len(att)) >= len(att_f)
+    # Gauss quadrature, composite with a break at every interior load point: attachment shapes
+    # are piecewise polynomials there (a moment shape's curvature jumps), and the body's mass
+    # integrals must stay exact for them
+    cuts = np.unique(np.concatenate([[x0, x_end], att]))
+    cuts = cuts[np.concatenate([[True], np.diff(cuts) > 1e-9 * length])]
+    cuts[-1] = x_end
+    g, gw = np.polynomial.legendre.leggauss(nq)
+    xq = np.concatenate([a + 0.5 * (g + 1.0) * (b - a) for a, b in zip(cuts[:-1], cuts[1:], strict=True)])
+    wq = np.concatenate([0.5 * gw * (b - a) for a, b in zip(cuts[:-1], cuts[1:], strict=True)])
+    s = (xq - x0) / length  # in [0, 1]
+    masses = rho_a * wq
+    points = np.zeros((len(xq), 3))
+    points[:, 0] = xq
+    norm = np.array(
+        [np.sqrt(rho_a * np.sum(wq * beam_mode(support, b, s) ** 2)) for b in bl]
+    )
 
-    def attach(a, x, deriv):
-        """Static deflection x EI under a unit transverse force at ``a`` (free-free: with inertia
-        relief ``q = -rho_a (a0 + alpha x)``; cantilever: clamped at the root)."""
+    def attach(a, x, deriv, moment=False):
+        """Static deflection x EI under a unit transverse force (or, ``moment``, a unit moment
+        bending the same plane) at ``a``; free-free: with inertia relief ``q = -rho_a (a0 +
+        alpha x)``; cantilever: clamped at the root."""
         if support == "cantilever":
+            if moment:  # EI w'' = H(a - x)
+                xc = np.minimum(x, a)
+                return [xc * xc / 2.0 + a * (x - xc), xc, (x < a).astype(float)][deriv]
             t = np.clip(a - x, 0.0, None)
             return [(a * a * x - (a**3 - t**3) / 3.0) / 2.0, (a * a - t * t) / 2.0, t][deriv]
         P = np.polynomial.Polynomial
-        q = P([-1.0 / length, -12.0 * a / length**3])  # rho_a (a0 + alpha x) per unit force
+        # relief load per unit force: rho_a (a0 + alpha x) = 1/L + 12 a x / L^3; per unit moment
+        # (no resultant force): 12 x / L^3
+        q = P([0.0, -12.0 / length**3]) if moment else P([-1.0 / length, -12.0 * a / length**3])
         mom = q.integ(lbnd=x0).integ(lbnd=x0)  # bending moment of the distributed relief load
         t = np.clip(x - a, 0.0, None)
+        if moment:  # the couple's own moment: -H(x - a)
+            return [mom.integ(2, lbnd=x0)(x) - t * t / 2.0, mom.integ(lbnd=x0)(x) - t,
+                    mom(x) - (x > a).astype(float)][deriv]
         return [mom.integ(2, lbnd=x0)(x) + t**3 / 6.0, mom.integ(lbnd=x0)(x) + t * t / 2.0,
                 mom(x) + t][deriv]
 
@@ -380,7 +405,7 @@ def uniform_beam(
     if support == "free-free":
         Mr2 = np.array([[masses.sum(), masses @ xq], [masses @ xq, masses @ xq**2]])
         for i, a in enumerate(att):
-            w0 = attach(a, xq, 0)
+            w0 = attach(a, xq, 0, is_moment[i])
             rig[i] = np.linalg.solve(Mr2, [masses @ w0, masses @ (xq * w0)])
 
     def raw(x, deriv, e_i):
@@ -388,7 +413,7 @@ def uniform_beam(
         ss = (x - x0) / length
         cols = [beam_mode(support, b, ss, deriv) / nm / length**deriv for b, nm in zip(bl, norm, strict=True)]
         for i, a in enumerate(att):
-            v = attach(a, x, deriv) - [rig[i, 0] + rig[i, 1] * x, rig[i, 1], 0.0][deriv]
+            v = attach(a, x, deriv, is_moment[i]) - [rig[i, 0] + rig[i, 1] * x, rig[i, 1], 0.0][deriv]
             cols.append(v / e_i)
         return np.column_stack(cols)
 
@@ -400,8 +425,9 @@ def uniform_beam(
             # Rayleigh-Ritz on [modes, attachments]: mass-orthonormal, diagonal stiffness
             from scipy.linalg import eigh
 
-            R0, R2 = raw(xq, 0, e_i), raw(xq, 2, e_i)
+            R0 = raw(xq, 0, e_i)
             Mr = np.einsum("k,ki,kj->ij", masses, R0, R0)
+            R2 = raw(xq, 2, e_i)  # exact: the quadrature breaks at every attachment point
             Kr = np.einsum("k,ki,kj->ij", wq * e_i, R2, R2)
             w2, C = eigh(0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T))
             sg = np.sign(C[:n_modes].diagonal())

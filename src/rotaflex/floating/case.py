@@ -92,7 +92,11 @@ class BodyConfig:
     attachment_points: tuple[Vec3, ...] = param(
         (), unit="m", doc="load points for inertia-relief attachment modes (beam and frame)"
     )
-    attach_at_loads: bool = param(False, doc="add attachment modes at every force-load point")
+    attach_at_loads: bool = param(
+        False,
+        doc="add attachment modes at every load point: unit-force shapes for forces, unit-moment "
+        "shapes for torques",
+    )
 
     def __post_init__(self):
         if getattr(self, self.type) is None:
@@ -114,12 +118,18 @@ def build_body(cfg: BodyConfig, loads=()):
     from rotaflex.floating.body import point_body, uniform_beam
 
     att = [tuple(p) for p in cfg.attachment_points]
+    mom = []
     if cfg.attach_at_loads:
         att += [tuple(ld.point) for ld in loads if ld.kind == "force" and ld.point not in att]
-    if att and cfg.type == "points":
+        for ld in loads:
+            if ld.kind == "torque" and tuple(ld.point) not in mom:
+                mom.append(tuple(ld.point))
+    if (att or mom) and cfg.type == "points":
         raise InputError(
-            "body.attachment_points", [list(p) for p in att], "none for a points body "
-            "(supply the attachment shapes as extra modes from the FE program)"
+            "body.attach_at_loads" if cfg.attach_at_loads else "body.attachment_points",
+            True if cfg.attach_at_loads else [list(p) for p in att],
+            "none for a points body (supply the attachment shapes as extra modes from the FE "
+            "program)",
         )
 
     if cfg.type == "beam":
@@ -135,6 +145,7 @@ def build_body(cfg: BodyConfig, loads=()):
             n_quad=b.n_quad,
             section_radius=b.section_radius,
             attachment_points=att,
+            moment_points=mom,
         )
     if cfg.type == "frame":
         from rotaflex.floating.fe import frame_body
@@ -161,6 +172,7 @@ def build_body(cfg: BodyConfig, loads=()):
             n_modes=f.n_modes,
             up=f.up,
             attachment_points=att,
+            moment_points=mom,
         )
     p = cfg.points
     return point_body(
