@@ -525,6 +525,22 @@ def _sym_matrix(mat, n, where):
     return 0.5 * (m + m.T)
 
 
+def check_inertia(J, where: str) -> None:
+    """A physical inertia tensor: symmetric, principal moments > 0 that satisfy the triangle
+    inequality ``J1 + J2 >= J3`` (every mass distribution does; e.g. [10, 1, 1] does not)."""
+    J = np.asarray(J, dtype=float)
+    if J.shape != (3, 3) or not np.all(np.isfinite(J)) or not np.allclose(J, J.T):
+        raise InputError(where, J.tolist(), "a symmetric 3 x 3 tensor or 3 principal moments [kg m^2]")
+    ev = np.linalg.eigvalsh(J)
+    shown = ev.tolist() if not np.allclose(J, np.diag(np.diag(J))) else np.diag(J).tolist()
+    if ev.min() <= 0:
+        raise InputError(where, shown, "principal moments > 0 [kg m^2]")
+    if ev[0] + ev[1] < ev[2] * (1 - 1e-12):
+        raise InputError(
+            where, shown, "principal moments with J1 + J2 >= J3 (triangle inequality) [kg m^2]"
+        )
+
+
 def rigid_body(mass: float, inertia, *, name: str = "rigid body") -> Body:
     """A body without elastic modes (cross-check path only, e.g. against the rotor domain).
 
@@ -538,8 +554,7 @@ def rigid_body(mass: float, inertia, *, name: str = "rigid body") -> Body:
     """
     J = np.asarray(inertia, dtype=float)
     J = np.diag(J) if J.shape == (3,) else J
-    if J.shape != (3, 3) or not np.allclose(J, J.T) or np.linalg.eigvalsh(J).min() <= 0:
-        raise InputError("body.inertia", J.tolist(), "a symmetric positive definite tensor [kg m^2]")
+    check_inertia(J, "body.inertia")
 
     def shape_fn(pts):
         pts = np.atleast_2d(np.asarray(pts, dtype=float))
@@ -570,6 +585,7 @@ def point_body(
     stiffness=None,
     rotation_shapes=None,
     *,
+    rotary_inertias=None,
     geometric=None,
     name: str = "user-supplied point body",
 ) -> Body:
@@ -589,6 +605,10 @@ def point_body(
         Modal stiffness (instead of ``frequencies``).
     rotation_shapes : array (n, N, 3), optional
         Nodal rotation per unit modal coordinate [rad]; needed for torques applied at nodes.
+    rotary_inertias : array (N, 3), optional
+        Principal rotary inertias of the nodes about body x, y, z [kg m^2] (each obeying the
+        triangle inequality). They are added to the rigid-body inertia ``J``; the elastic
+        equations use the translational node masses only (``sum m Phi^T Phi = I`` is checked).
     geometric : dict or array (3, 3, n, n), optional
         Unit centrifugal geometric stiffness (from the user's FE program: the modal projection
         of the geometric stiffness of the axial stress under the centrifugal load of
@@ -627,6 +647,15 @@ def point_body(
         if R.shape != S.shape:
             raise InputError("body.rotation_shapes", f"shape {R.shape}", f"shape {S.shape}")
         Psi_nodes = np.transpose(R, (1, 2, 0))
+    extra = np.zeros((3, 3))
+    if rotary_inertias is not None:
+        Ir = np.asarray(rotary_inertias, dtype=float)
+        if Ir.shape != (m.size, 3):
+            raise InputError("body.rotary_inertias", f"shape {Ir.shape}", f"shape ({m.size}, 3)")
+        for k in range(m.size):
+            if np.any(Ir[k] != 0.0):
+                check_inertia(np.diag(Ir[k]), f"body.rotary_inertias[{k}]")
+        extra = np.diag(Ir.sum(axis=0))
     size = float(np.ptp(P, axis=0).max()) if m.size > 1 else 1.0
     size = size if size > 0 else 1.0
 
@@ -654,4 +683,5 @@ def point_body(
         frame="as supplied (mean axes if the modes are free-free)",
         length=size,
         mode_labels=tuple(f"mode{j + 1}" for j in range(n)),
+        extra_inertia=extra,
     )

@@ -26,6 +26,9 @@ _GP, _GW = 0.5 * (_GP + 1.0), 0.5 * _GW
 def _frames(nodes, elements, up):
     d = nodes[elements[:, 1]] - nodes[elements[:, 0]]
     L = np.linalg.norm(d, axis=1)
+    if np.any(L <= 0.0):
+        k = int(np.argmin(L))
+        raise InputError("body.elements", int(k), "elements of non-zero length (distinct nodes)")
     ex = d / L[:, None]
     ref = np.tile(np.asarray(up, dtype=float), (len(ex), 1))
     par = np.abs(np.einsum("ij,ij->i", ref, ex)) > 0.99

@@ -185,6 +185,27 @@ def _initial_modal(vals, n, name):
     return np.asarray(vals, dtype=float)
 
 
+def check_inputs(body: Body, loads, initial: Initial, settings: Settings, method: str):
+    """Every check :func:`simulate` makes before integrating; returns the packed
+    ``(geometric flag, body tensors, load arrays)``.
+
+    Raises
+    ------
+    InputError
+        Bad input (one line naming field, value and what is allowed).
+    """
+    if method not in METHODS:
+        raise InputError("solver.method", method, "one of " + ", ".join(METHODS))
+    geo = use_geometric(body, settings)
+    B = pack_body(body)
+    Lp = pack_loads(body, list(loads))
+    if body.planar and B[2][0, 0] > body.extra_inertia[0, 0] * (1 + 1e-12):
+        _require_in_plane(loads, initial)
+    _initial_modal(initial.modal_displacement, body.n_modes, "modal_displacement")
+    _initial_modal(initial.modal_velocity, body.n_modes, "modal_velocity")
+    return geo, B, Lp
+
+
 def simulate(
     body: Body,
     loads=(),
@@ -221,16 +242,10 @@ def simulate(
     """
     from rotaflex.floating import kernels
 
-    if method not in METHODS:
-        raise InputError("solver.method", method, "one of " + ", ".join(METHODS))
     initial = initial or Initial()
     settings = settings or Settings()
     n = body.n_modes
-    geo = use_geometric(body, settings)
-    B = pack_body(body)
-    Lp = pack_loads(body, list(loads))
-    if body.planar and B[2][0, 0] > body.extra_inertia[0, 0] * (1 + 1e-12):
-        _require_in_plane(loads, initial)
+    geo, B, Lp = check_inputs(body, loads, initial, settings, method)
     nt = int(round(settings.t_end / settings.dt_out))
     t_out = np.linspace(0.0, nt * settings.dt_out, nt + 1)
     q0 = _initial_modal(initial.modal_displacement, n, "modal_displacement")
