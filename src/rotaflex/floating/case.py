@@ -101,11 +101,23 @@ class PointsConfig:
 
 
 @dataclass(frozen=True)
+class FileConfig:
+    """Nodes, masses and mass-normalised modes from a NumPy ``.npz`` file (layout in
+    :mod:`rotaflex.floating.modes_file` and docs/floating.md)."""
+
+    path: str = param(doc="the .npz file (relative paths: from the working directory)")
+    frame: Literal["mean-axes", "attached"] = param(
+        "mean-axes", doc="free-free modes in mean axes (checked) or modes clamped to the frame"
+    )
+
+
+@dataclass(frozen=True)
 class BodyConfig:
-    type: Literal["beam", "frame", "points"] = param("beam")
+    type: Literal["beam", "frame", "points", "file"] = param("beam")
     beam: BeamConfig | None = param(None)
     frame: FrameConfig | None = param(None)
     points: PointsConfig | None = param(None)
+    file: FileConfig | None = param(None)
     attachment_points: tuple[Vec3, ...] = param(
         (), unit="m", doc="load points for inertia-relief attachment modes (beam and frame)"
     )
@@ -182,7 +194,7 @@ def _build_body(cfg: BodyConfig, loads=()):
         for ld in loads:
             if ld.kind == "torque" and tuple(ld.point) not in mom:
                 mom.append(tuple(ld.point))
-    if (att or mom) and cfg.type == "points":
+    if (att or mom) and cfg.type in ("points", "file"):
         raise InputError(
             "body.attach_at_loads" if cfg.attach_at_loads else "body.attachment_points",
             True if cfg.attach_at_loads else [list(p) for p in att],
@@ -239,6 +251,10 @@ def _build_body(cfg: BodyConfig, loads=()):
             attachment_points=att,
             moment_points=mom,
         )
+    if cfg.type == "file":
+        from rotaflex.floating.modes_file import load_modes
+
+        return load_modes(cfg.file.path, cfg.file.frame)
     p = cfg.points
     return point_body(
         p.masses,

@@ -53,11 +53,19 @@ class FloatingResult(Result):
         t = ds["time"].values
         figs = {}
         fig, ax = new_figure()
+        eul = ds["euler_123"].values
+        big = np.nanmax(np.abs(eul)) if np.isfinite(eul).any() else 0.0
+        # components that stay at round-off level (e.g. the out-of-plane angles of a planar
+        # manoeuvre) are not drawn as signal
+        shown = [a for a in range(3) if np.nanmax(np.abs(eul[..., a]), initial=0.0) > 1e-9 * big]
         for s in ds["solution"].values:
-            for a, name in enumerate("xyz"):
-                ax.plot(t, ds["euler_123"].sel(solution=s).values[:, a], label=f"{s} {name}")
+            for a in shown:
+                ax.plot(t, ds["euler_123"].sel(solution=s).values[:, a], label=f"{s} {'xyz'[a]}")
         if "zero_order_euler_123" in ds:
             ax.plot(t, ds["zero_order_euler_123"].values[:, 2], "k--", lw=1, label="zero order z")
+        hidden = [n for a, n in enumerate("xyz") if a not in shown]
+        if hidden:
+            ax.set_title(f"{', '.join(hidden)} angle(s) zero to round-off (not drawn)", fontsize=8)
         ax.set_xlabel("time [s]")
         ax.set_ylabel("Euler 1-2-3 angles [rad]")
         ax.legend(fontsize=7)
@@ -68,7 +76,7 @@ class FloatingResult(Result):
             for s in ds["solution"].values:
                 for pt in ds["point"].values:
                     u = ds["point_deflection"].sel(solution=s, point=pt).values
-                    k = int(np.nanargmax(np.nanmax(np.abs(u), axis=0)))
+                    k = int(np.argmax(np.nan_to_num(np.abs(u)).max(axis=0)))
                     ax.plot(t, u[:, k], label=f"{s} {pt} {'xyz'[k]}")
             ax.set_xlabel("time [s]")
             ax.set_ylabel("elastic deflection (body axes) [m]")

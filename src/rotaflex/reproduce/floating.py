@@ -169,9 +169,16 @@ def _planar(out: Path, fast: bool):
     )
     ax[0].set_ylabel("rigid angle theta [rad]")
     ax[0].legend(fontsize=8)
-    a2 = ax[0].twinx()
-    a2.plot(t, ds["first_order_rotation"].values[:, 2], "C2", lw=0.8)
-    a2.set_ylabel("first-order theta_1 [rad]", color="C2")
+    th1 = ds["first_order_rotation"].values[:, 2]
+    if np.abs(th1).max() > 1e-9 * max(np.abs(th0).max(), 1e-300):
+        a2 = ax[0].twinx()
+        a2.plot(t, th1, "C2", lw=0.8)
+        a2.set_ylabel("first-order θ₁ [rad]", color="C2")
+    else:  # mean axes: theta_1 vanishes; do not draw round-off as a curve
+        ax[0].text(
+            0.98, 0.05, f"first-order θ₁ ≡ 0 (|θ₁| < {max(np.abs(th1).max(), 1e-300):.0e} rad, "
+            "round-off)", transform=ax[0].transAxes, ha="right", fontsize=8,
+        )
     uf = point_motion(b, f, tip)[1][:, 0, 1]
     up = point_motion(b, p, tip)[1][:, 0, 1]
     ax[1].plot(t, uf, "k", lw=2, label="full nonlinear")
