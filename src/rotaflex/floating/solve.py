@@ -140,11 +140,11 @@ def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
     return kind, frame, prof, par, amp, rP, PhiP, PsiP
 
 
-def _breaks(loads, prescribed, t_end):
+def _breaks(loads, prescribed, t_end, t_start=0.0):
     b = [t for ld in loads for t in ld.breakpoints()]
     if prescribed is not None:
         b.append(prescribed.spin_up_time)
-    return np.array(sorted({t for t in b if 0.0 < t < t_end}), dtype=float)
+    return np.array(sorted({t for t in b if t_start < t < t_end}), dtype=float)
 
 
 def use_geometric(body: Body, settings: Settings) -> bool:
@@ -213,6 +213,8 @@ def simulate(
     settings: Settings | None = None,
     method: str = "full",
     prescribed: Prescribed | None = None,
+    *,
+    t_start: float = 0.0,
 ) -> Solution:
     """Simulate a floating flexible body.
 
@@ -231,6 +233,9 @@ def simulate(
     prescribed : Prescribed, optional
         Prescribed rotation about a body-fixed axis (Kane-Ryan-Banerjee spin-up); then only the
         elastic coordinates are integrated and ``initial`` rigid values are ignored.
+    t_start : float
+        Start time [s] of the run (``initial`` holds at ``t_start``; output every
+        ``settings.dt_out`` up to ``settings.t_end``). Used for sampled-data control loops.
 
     Returns
     -------
@@ -246,8 +251,8 @@ def simulate(
     settings = settings or Settings()
     n = body.n_modes
     geo, B, Lp = check_inputs(body, loads, initial, settings, method)
-    nt = int(round(settings.t_end / settings.dt_out))
-    t_out = np.linspace(0.0, nt * settings.dt_out, nt + 1)
+    nt = max(1, int(round((settings.t_end - t_start) / settings.dt_out)))
+    t_out = t_start + np.linspace(0.0, nt * settings.dt_out, nt + 1)
     q0 = _initial_modal(initial.modal_displacement, n, "modal_displacement")
     p0 = _initial_modal(initial.modal_velocity, n, "modal_velocity")
     e0 = np.asarray(initial.quaternion, float) / np.linalg.norm(initial.quaternion)
@@ -275,7 +280,7 @@ def simulate(
         mode,
         y0,
         t_out,
-        _breaks(loads, prescribed, t_out[-1]),
+        _breaks(loads, prescribed, t_out[-1], t_start),
         settings.rtol,
         settings.atol,
         settings.max_steps,
