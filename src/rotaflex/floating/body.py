@@ -71,6 +71,10 @@ class Body:
     extra_inertia : ndarray (3, 3)
         Inertia [kg m^2] of rigid (non-elastic) mass about the body origin added to ``J``, e.g. the
         polar inertia of a beam's cross-sections, which a line of points does not carry.
+    load_geometric : callable or None
+        ``load_geometric(point) -> (3, n, n)``: geometric stiffness per unit body-frame force
+        along x, y, z applied at ``point`` (axial load state including the inertia relief of the
+        floating body); None if the body cannot provide it (then applied loads do not stiffen).
     planar : bool
         True for a planar line beam (points on the x axis, deflection along y only): its rotation
         about its own axis carries no inertia and is decoupled from in-plane motion, so the
@@ -93,6 +97,7 @@ class Body:
     extra_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
     rigid: bool = False
     planar: bool = False
+    load_geometric: Callable | None = field(default=None, repr=False)
 
     def __post_init__(self):
         validate_body(self)
@@ -471,6 +476,26 @@ def uniform_beam(
     KG = np.einsum("k,ki,kj->ij", wq * tension, dphi, dphi) * same_plane
     G = np.zeros((3, 3, n, n))
     G[1, 1] = G[2, 2] = KG  # axial tension from w_y^2 + w_z^2 only (beam along x)
+
+    def load_geometric(pt, clamped=False):
+        """Geometric stiffness (3, n, n) per unit body-frame force along x, y, z at ``pt``: the
+        axial force of a unit x force with inertia relief (the body floats, so the rigid
+        acceleration F/m loads every section), N(x) = H(a - x) - (x_end - x)/L; ``clamped``
+        (prescribed frame motion: the root carries the load) N(x) = H(a - x)."""
+        relief = 0.0 if clamped else 1.0
+        a = float(check_points([pt], "point")[0])
+        out = np.zeros((3, n, n))
+        for xa, xb, step in ((x0, a, 1.0), (a, x_end, 0.0)):
+            if xb - xa <= 1e-12 * length:
+                continue
+            xs = xa + 0.5 * (g + 1.0) * (xb - xa)
+            ws = 0.5 * gw * (xb - xa)
+            sl_s = plane_values(xs, 1)
+            d_s = np.column_stack([sl_s[p_i][:, c] for (_a, p_i, c) in cols])
+            N = step - relief * (x_end - xs) / length
+            out[0] += np.einsum("k,ki,kj->ij", ws * N, d_s, d_s) * same_plane
+        return out
+
     frame = (
         "mean axes (origin at the centre of mass, x along the beam)"
         if support == "free-free"
@@ -489,6 +514,7 @@ def uniform_beam(
         mode_labels=labels,
         extra_inertia=rho_a * length * rg**2 * np.diag([0.5, 0.25, 0.25]),
         planar=not spatial,
+        load_geometric=load_geometric,
     )
 
 

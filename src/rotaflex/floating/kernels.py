@@ -171,6 +171,17 @@ def sub_phiT(f, off, Ph, v):
 
 
 @njit(cache=True)
+def sub_mat_scaled(f, off, K, c, q):
+    """``f[off:] -= c K q``."""
+    n = q.shape[0]
+    for i in range(n):
+        s = 0.0
+        for j in range(n):
+            s += K[i, j] * q[j]
+        f[off + i] -= c * s
+
+
+@njit(cache=True)
 def sub_mat(f, off, K, q):
     """``f[off:] -= K q``."""
     n = q.shape[0]
@@ -252,7 +263,7 @@ def geometric_terms(G, gnz, w, q, p, f, off, Smat, Sdot):
 @njit(cache=True)
 def loads_full(t, A, q, L):
     """Generalised forces ``H = [F_v, M_w, Q]`` (body frame) of all loads, full model."""
-    kind, frame, prof, par, amp, rP, PhiP, PsiP = L
+    kind, frame, prof, par, amp, rP, PhiP, PsiP, GL, gln = L
     n = q.shape[0]
     H = np.zeros(6 + n)
     for i in range(kind.shape[0]):
@@ -269,6 +280,10 @@ def loads_full(t, A, q, L):
                 H[a] += v[a]
                 H[3 + a] += mo[a]
             sub_phiT(H, 6, PhiP[i], -v)
+            # geometric stiffening from this load's axial load state (zero if switched off)
+            for a in range(3):
+                if v[a] != 0.0 and gln[i, a]:
+                    sub_mat_scaled(H, 6, GL[i, a], v[a], q)
         else:
             for a in range(3):
                 H[3 + a] += v[a]
@@ -279,7 +294,7 @@ def loads_full(t, A, q, L):
 @njit(cache=True)
 def loads_perturbation(t, A0, th1, q1, L):
     """Zero-order rigid loads ``H0`` (6) and first-order loads ``H1`` (6 + n)."""
-    kind, frame, prof, par, amp, rP, PhiP, PsiP = L
+    kind, frame, prof, par, amp, rP, PhiP, PsiP, GL, gln = L
     n = q1.shape[0]
     H0 = np.zeros(6)
     H1 = np.zeros(6 + n)
@@ -301,6 +316,9 @@ def loads_perturbation(t, A0, th1, q1, L):
                 H1[a] += v1[a]
                 H1[3 + a] += m1[a]
             sub_phiT(H1, 6, PhiP[i], -v0)
+            for a in range(3):  # first order: zero-order load state times q1
+                if v0[a] != 0.0 and gln[i, a]:
+                    sub_mat_scaled(H1, 6, GL[i, a], v0[a], q1)
         else:
             for a in range(3):
                 H0[3 + a] += v0[a]

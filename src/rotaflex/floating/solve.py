@@ -108,7 +108,12 @@ def geometric_stiffness(body: Body, w) -> np.ndarray:
     return np.einsum("...a,...b,abij->...ij", w, w, geometric_tensor(body))
 
 
-def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
+def pack_loads(
+    body: Body, loads: tuple[Load, ...] | list[Load], geometric: bool = False,
+    clamped: bool = False,
+):
+    """Load arrays for the kernels; ``geometric``: with the geometric stiffness of each force's
+    axial load state (``clamped``: prescribed frame motion, the root carries the load)."""
     n = body.n_modes
     nl = len(loads)
     kind = np.zeros(nl, dtype=np.int64)
@@ -119,6 +124,7 @@ def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
     rP = np.zeros((nl, 3))
     PhiP = np.zeros((nl, 3, n))
     PsiP = np.zeros((nl, 3, n))
+    GL = np.zeros((nl, 3, n, n))
     for i, ld in enumerate(loads):
         kind[i] = 0 if ld.kind == "force" else 1
         frame[i] = 0 if ld.frame == "body" else 1
@@ -131,13 +137,16 @@ def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
         except InputError as exc:
             raise InputError(f"loads[{i}].point", list(ld.point), exc.allowed) from None
         PhiP[i], PsiP[i] = Phi_i[0], Psi_i[0]
+        if geometric and ld.kind == "force" and body.load_geometric is not None:
+            GL[i] = body.load_geometric(ld.point, clamped)
         if ld.kind == "torque" and not np.all(np.isfinite(PsiP[i])):
             raise InputError(
                 f"loads[{i}].kind",
                 "torque",
                 "a force (this body has no rotation shapes for point torques)",
             )
-    return kind, frame, prof, par, amp, rP, PhiP, PsiP
+    gln = (np.abs(GL).reshape(nl, 3, n * n).max(axis=2, initial=0.0) > 0).astype(np.int64)
+    return kind, frame, prof, par, amp, rP, PhiP, PsiP, GL, gln
 
 
 def _breaks(loads, prescribed, t_end, t_start=0.0):
@@ -185,7 +194,9 @@ def _initial_modal(vals, n, name):
     return np.asarray(vals, dtype=float)
 
 
-def check_inputs(body: Body, loads, initial: Initial, settings: Settings, method: str):
+def check_inputs(
+    body: Body, loads, initial: Initial, settings: Settings, method: str, clamped: bool = False
+):
     """Every check :func:`simulate` makes before integrating; returns the packed
     ``(geometric flag, body tensors, load arrays)``.
 
@@ -198,7 +209,7 @@ def check_inputs(body: Body, loads, initial: Initial, settings: Settings, method
         raise InputError("solver.method", method, "one of " + ", ".join(METHODS))
     geo = use_geometric(body, settings)
     B = pack_body(body)
-    Lp = pack_loads(body, list(loads))
+    Lp = pack_loads(body, list(loads), geo, clamped)
     if body.planar and B[2][0, 0] > body.extra_inertia[0, 0] * (1 + 1e-12):
         _require_in_plane(loads, initial)
     _initial_modal(initial.modal_displacement, body.n_modes, "modal_displacement")
@@ -250,7 +261,7 @@ def simulate(
     initial = initial or Initial()
     settings = settings or Settings()
     n = body.n_modes
-    geo, B, Lp = check_inputs(body, loads, initial, settings, method)
+    geo, B, Lp = check_inputs(body, loads, initial, settings, method, prescribed is not None)
     nt = max(1, int(round((settings.t_end - t_start) / settings.dt_out)))
     t_out = t_start + np.linspace(0.0, nt * settings.dt_out, nt + 1)
     q0 = _initial_modal(initial.modal_displacement, n, "modal_displacement")
