@@ -1,7 +1,6 @@
 """Geometric stiffness from the axial load state of applied forces."""
 
 import numpy as np
-import pytest
 
 from rotaflex.floating import Initial, Load, Prescribed, Settings, uniform_beam
 from rotaflex.floating.solve import simulate
