@@ -1,6 +1,7 @@
 """Geometric stiffness from the axial load state of applied forces."""
 
 import numpy as np
+import pytest
 
 from rotaflex.floating import Initial, Load, Prescribed, Settings, uniform_beam
 from rotaflex.floating.solve import simulate
@@ -59,3 +60,48 @@ def test_compressive_load_lowers_the_simulated_frequency():
                       geometric_stiffness=False)
     off = simulate(b, [ld], Initial(modal_displacement=tuple(q0)), st_off, "full", pres)
     assert np.abs(off.q @ V[:, 0] - proj).max() > 1e-4  # the option matters
+
+
+def _beck_matrices(n, P):
+    b = uniform_beam(L, RA, EI, n, support="cantilever")
+    Phi, Psi = b.shape_fn([[L, 0.0, 0.0]])
+    GL = b.load_geometric([L, 0.0, 0.0], clamped=True)[0]
+    # compressive tangential tip load -P along the deformed axis: axial part -P GL, plus the
+    # transverse component -P theta_tip of the turned force (non-symmetric)
+    return b, b.stiffness - P * GL + P * np.outer(Phi[0, 1], Psi[0, 2])
+
+
+def test_beck_column_flutter_load():
+    # Beck (1952): a cantilever under a tangential (follower) compressive tip load loses
+    # stability by flutter at P = 20.05 EI / L^2 (two frequencies coalesce)
+    def flutter(n):
+        lo, hi = 15.0, 25.0
+        for _ in range(50):
+            mid = 0.5 * (lo + hi)
+            ev = np.linalg.eigvals(_beck_matrices(n, mid * EI / L**2)[1])
+            lo, hi = (mid, hi) if np.abs(ev.imag).max() < 1e-9 * np.abs(ev).max() else (lo, mid)
+        return lo
+
+    assert flutter(6) == pytest.approx(20.05, rel=2e-3)
+
+
+def test_material_follower_load_in_the_kernel():
+    # the same load through the solver (frame = "material"): the small-amplitude response at
+    # P = 10 EI/L^2 follows the linear non-symmetric modal model
+    n, P = 4, 10.0 * EI / L**2
+    b, K = _beck_matrices(n, P)
+    w2, V = np.linalg.eig(K)
+    k = int(np.argmin(w2.real))
+    v = V[:, k].real / np.linalg.norm(V[:, k].real)
+    om = np.sqrt(w2[k].real)
+    pres = Prescribed(axis=(0.0, 0.0, 1.0), rate=0.0, spin_up_time=1.0)
+    ld = Load(kind="force", vector=(-P, 0.0, 0.0), point=(L, 0.0, 0.0), frame="material")
+    T = 2 * np.pi / om
+    st = Settings(t_end=float(3 * T), dt_out=float(T / 100), rtol=1e-10, atol=1e-14)
+    sol = simulate(b, [ld], Initial(modal_displacement=tuple(1e-4 * v)), st, "full", pres)
+    np.testing.assert_allclose(sol.q, 1e-4 * np.outer(np.cos(om * sol.time), v), atol=1e-9)
+    # the same force along the (clamped) floating frame is a dead load: 10 EI/L^2 is beyond
+    # Euler's 2.47 EI/L^2, so that run buckles while the tangential follower stays bounded
+    ld_b = Load(kind="force", vector=(-P, 0.0, 0.0), point=(L, 0.0, 0.0), frame="body")
+    sb = simulate(b, [ld_b], Initial(modal_displacement=tuple(1e-4 * v)), st, "full", pres)
+    assert sb.status == "diverged" and sol.status == "success"

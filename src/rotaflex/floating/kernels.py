@@ -24,7 +24,7 @@ from numba import njit
 
 # load kinds / frames / profiles (keep in step with loads.py)
 FORCE, TORQUE = 0, 1
-BODY, INERTIAL = 0, 1
+BODY, INERTIAL, MATERIAL = 0, 1, 2
 PROFILES = ("constant", "step", "ramp", "bang-bang", "sinusoid", "pulse")
 
 
@@ -273,6 +273,8 @@ def loads_full(t, A, q, L):
         v = s * amp[i]
         if frame[i] == INERTIAL:
             v = mtvec(A, v)
+        elif frame[i] == MATERIAL:  # turned by the small section rotation psi = Psi_P q
+            v = v + cross(phi_dot(PsiP[i], q), v)
         if kind[i] == FORCE:
             c = rP[i] + phi_dot(PhiP[i], q)
             mo = cross(c, v)
@@ -307,6 +309,8 @@ def loads_perturbation(t, A0, th1, q1, L):
         if frame[i] == INERTIAL:
             v0 = mtvec(A0, v0)
             v1 = cross(v0, th1)  # (I - th1~) v0 - v0
+        elif frame[i] == MATERIAL:
+            v1 = cross(phi_dot(PsiP[i], q1), v0)
         if kind[i] == FORCE:
             m0 = cross(rP[i], v0)
             m1 = cross(rP[i], v1) + cross(phi_dot(PhiP[i], q1), v0)

@@ -127,7 +127,7 @@ def pack_loads(
     GL = np.zeros((nl, 3, n, n))
     for i, ld in enumerate(loads):
         kind[i] = 0 if ld.kind == "force" else 1
-        frame[i] = 0 if ld.frame == "body" else 1
+        frame[i] = {"body": 0, "inertial": 1, "material": 2}[ld.frame]
         prof[i] = _PROFILES[ld.profile]
         par[i] = (ld.start, ld.duration, ld.frequency, ld.phase)
         amp[i] = ld.vector
@@ -139,6 +139,11 @@ def pack_loads(
         PhiP[i], PsiP[i] = Phi_i[0], Psi_i[0]
         if geometric and ld.kind == "force" and body.load_geometric is not None:
             GL[i] = body.load_geometric(ld.point, clamped)
+        if ld.frame == "material" and not np.all(np.isfinite(PsiP[i])):
+            raise InputError(
+                f"loads[{i}].frame", "material",
+                "'body' or 'inertial' (this body has no rotation shapes to turn the load with)",
+            )
         if ld.kind == "torque" and not np.all(np.isfinite(PsiP[i])):
             raise InputError(
                 f"loads[{i}].kind",
