@@ -71,3 +71,17 @@ def test_section_radius_default_is_a_line_beam_and_small_values_run():
         assert sol.status == "success" and np.isfinite(sol.euler_123).all()
         # w_x never moves: the spin about the beam's own axis is not excited by a z torque
         assert np.abs(sol.angular_velocity[:, 0]).max() < 1e-9
+
+
+def test_planar_attitude_figure_does_not_draw_round_off():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    b = uniform_beam(4.0, 2.0, 40.0, 3)
+    ld = Load(kind="torque", vector=(0.0, 0.0, 5.0), profile="bang-bang", duration=1.0)
+    sols = [_run(b, [ld], Initial(), 0.05, m, t_end=1.0) for m in ("full", "perturbation")]
+    figs = build_result(b, sols, {"tip": (2.0, 0.0, 0.0)}).plot()
+    ax = figs["attitude"].axes[0]
+    labels = [ln.get_label() for ln in ax.lines]
+    assert labels == ["full z", "perturbation z", "zero order z"]
+    assert "zero to round-off" in ax.get_title()
