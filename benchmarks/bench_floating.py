@@ -17,20 +17,12 @@ tip = np.array([[2.0, 0.0, 0.0]])
 simulate(body, loads, settings=Settings(t_end=0.1), method="full")  # compile / load cache
 simulate(body, loads, settings=Settings(t_end=0.1), method="perturbation")
 ref = simulate(body, loads, settings=Settings(t_end=10.0, rtol=1e-11, atol=1e-14), method="full")
-ref_p = simulate(
-    body, loads, settings=Settings(t_end=10.0, rtol=1e-11, atol=1e-14), method="perturbation"
-)
+ref_p = simulate(body, loads, settings=Settings(t_end=10.0, rtol=1e-11, atol=1e-14), method="perturbation")
 xr = point_motion(body, ref, tip)[0]
 xrp = point_motion(body, ref_p, tip)[0]
 defl = np.abs(point_motion(body, ref, tip)[1]).max()
-print(
-    f"max tip deflection {defl:.4e} m; perturbation model error (refined runs) "
-    f"{np.abs(xrp - xr).max():.3e} m"
-)
-print(
-    f"{'rtol':>8} {'method':>13} {'wall [s]':>9} {'steps':>7} {'err vs own ref [m]':>19} "
-    f"{'err vs full ref [m]':>20}"
-)
+print(f"max tip deflection {defl:.4e} m; perturbation model error (refined runs) {np.abs(xrp - xr).max():.3e} m")
+print(f"{'rtol':>8} {'method':>13} {'wall [s]':>9} {'steps':>7} {'err vs own ref [m]':>19} {'err vs full ref [m]':>20}")
 for rtol, atol in ((1e-6, 1e-8), (1e-7, 1e-9), (1e-8, 1e-10)):
     walls = {}
     for m, own in (("full", xr), ("perturbation", xrp)):
@@ -46,8 +38,9 @@ for rtol, atol in ((1e-6, 1e-8), (1e-7, 1e-9), (1e-8, 1e-10)):
 # cost of the load-dependent geometric stiffness: free-free beam (10 modes + attachment shape)
 # pushed at one end by a 20 N inertial-direction pulse, geometric stiffness on vs off
 pb = uniform_beam(4.0, 2.0, 100.0, 10, attachment_points=[(2.0, 0.0, 0.0)])
-push = [Load(kind="force", vector=(0.0, 20.0, 0.0), point=(2.0, 0.0, 0.0), frame="inertial",
-             profile="pulse", duration=1.0)]
+push = [
+    Load(kind="force", vector=(0.0, 20.0, 0.0), point=(2.0, 0.0, 0.0), frame="inertial", profile="pulse", duration=1.0)
+]
 walls = {}
 for geo in (False, True):
     st = Settings(t_end=5.0, geometric_stiffness=geo)
@@ -58,7 +51,11 @@ for geo in (False, True):
     )
     walls[geo] = best
     u = point_motion(pb, best, tip)[1][:, 0, 1]
-    print(f"pushed beam, geometric stiffness {'on ' if geo else 'off'}: wall {best.wall_time:.3f} s,"
-          f" steps {best.nstep}, max tip deflection {np.abs(u).max():.4e} m")
-print(f"cost of geometric stiffness (centrifugal + applied load): "
-      f"{walls[True].wall_time / walls[False].wall_time:.2f} x wall time")
+    print(
+        f"pushed beam, geometric stiffness {'on ' if geo else 'off'}: wall {best.wall_time:.3f} s,"
+        f" steps {best.nstep}, max tip deflection {np.abs(u).max():.4e} m"
+    )
+print(
+    f"cost of geometric stiffness (centrifugal + applied load): "
+    f"{walls[True].wall_time / walls[False].wall_time:.2f} x wall time"
+)

@@ -14,8 +14,7 @@ KP, KD = 4.0, 6.0  # N m/rad, N m s/rad
 
 def pd(t, state):
     err = state.euler_123[2] - TARGET
-    return [("torque", (0.0, 0.0, -KP * err - KD * state.angular_velocity[2]), (0.0, 0.0, 0.0),
-             "body")]
+    return [("torque", (0.0, 0.0, -KP * err - KD * state.angular_velocity[2]), (0.0, 0.0, 0.0), "body")]
 
 
 if __name__ == "__main__":
@@ -29,5 +28,7 @@ if __name__ == "__main__":
     ds = res.dataset
     th = ds["euler_123"].sel(solution="full").values[:, 2]
     tip = abs(ds["point_deflection"].sel(solution="full", point="tip").values[:, 1]).max()
-    print(f"final angle {th[-1]:.4f} rad (target {TARGET}), max tip deflection {tip:.3e} m, "
-          f"wall time {ds.attrs['wall_time']:.2f} s")
+    print(
+        f"final angle {th[-1]:.4f} rad (target {TARGET}), max tip deflection {tip:.3e} m, "
+        f"wall time {ds.attrs['wall_time']:.2f} s"
+    )

@@ -52,9 +52,7 @@ def test_fe_free_free_frequencies_within_0p1_percent():
     L, r = 10.0, 0.01
     A, I2 = np.pi * r**2, np.pi * r**4 / 4
     E, rho = 2.1e11, 7800.0
-    b = frame_body(
-        straight_beam_nodes(L, 30), e=E, g=8e10, rho=rho, area=A, iy=I2, iz=I2, j=2 * I2, n_modes=6
-    )
+    b = frame_body(straight_beam_nodes(L, 30), e=E, g=8e10, rho=rho, area=A, iy=I2, iz=I2, j=2 * I2, n_modes=6)
     ref = BETA_FF**2 * np.sqrt(E * I2 / (rho * A * L**4))
     got = np.sqrt(np.diag(b.stiffness))[::2]  # equal stiffness: each bending frequency twice
     err = np.abs(got / ref - 1.0)

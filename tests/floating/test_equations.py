@@ -34,9 +34,7 @@ def kane_residual(body, V, w, q, p, Vd, wd, pd):
 @pytest.fixture(scope="module")
 def body3d():
     # cantilever modes in a floating frame: not mean axes, all coupling terms present
-    return uniform_beam(
-        2.0, 1.5, 30.0, 3, support="cantilever", spatial=True, ei_z=45.0, section_radius=0.02
-    )
+    return uniform_beam(2.0, 1.5, 30.0, 3, support="cantilever", spatial=True, ei_z=45.0, section_radius=0.02)
 
 
 def test_full_kernel_satisfies_kane_equations(body3d):
@@ -44,9 +42,7 @@ def test_full_kernel_satisfies_kane_equations(body3d):
     rng = np.random.default_rng(1)
     y = np.concatenate([rng.normal(size=3), [1, 0, 0, 0], rng.normal(size=6 + 2 * n)])
     dy = kernels.rhs_full(0.0, y, pack_body(body3d), pack_loads(body3d, []), False)
-    res = kane_residual(
-        body3d, y[7:10], y[10:13], y[13 : 13 + n], y[13 + n :], dy[7:10], dy[10:13], dy[13 + n :]
-    )
+    res = kane_residual(body3d, y[7:10], y[10:13], y[13 : 13 + n], y[13 + n :], dy[7:10], dy[10:13], dy[13 + n :])
     assert np.abs(res).max() < 1e-10
 
 
@@ -103,11 +99,19 @@ def test_eq44_inertial_form_matches_the_kernel_row(seed):
     b = uniform_beam(2.0, 1.5, 30.0, 4, support="cantilever")
     rng = np.random.default_rng(seed)
     n = b.n_modes
-    zero = dict(th=rng.uniform(-3, 3), thd=rng.normal(), thdd=rng.normal(),
-                Rd=rng.normal(size=2), Rdd=rng.normal(size=2))
-    first = dict(th=rng.normal(), thd=rng.normal(), thdd=rng.normal(), Rd=rng.normal(size=2),
-                 Rdd=rng.normal(size=2), q=1e-2 * rng.normal(size=n),
-                 qd=1e-2 * rng.normal(size=n), qdd=1e-2 * rng.normal(size=n))
+    zero = dict(
+        th=rng.uniform(-3, 3), thd=rng.normal(), thdd=rng.normal(), Rd=rng.normal(size=2), Rdd=rng.normal(size=2)
+    )
+    first = dict(
+        th=rng.normal(),
+        thd=rng.normal(),
+        thdd=rng.normal(),
+        Rd=rng.normal(size=2),
+        Rdd=rng.normal(size=2),
+        q=1e-2 * rng.normal(size=n),
+        qd=1e-2 * rng.normal(size=n),
+        qdd=1e-2 * rng.normal(size=n),
+    )
     bf = planar_inertial_to_body(zero, first)
     k = first_order_matrices(b, bf["V0"], [0, 0, zero["thd"]], bf["Vd0"], [0, 0, zero["thdd"]])
     row = k["M0"][6:] @ bf["x1d"] + k["G"][6:] @ bf["x1"] + k["K"][6:] @ first["q"] - k["d"][6:]

@@ -73,9 +73,9 @@ def test_fe_attachment_mode():
 def _fe_beam(ne, r=0.004):
     A, I2 = np.pi * r**2, np.pi * r**4 / 4
     nodes = straight_beam_nodes(L, ne, start=(-L / 2, 0.0, 0.0))
-    return frame_body(
-        nodes, e=7e10, g=2.6e10, rho=2700.0, area=A, iy=I2, iz=I2, j=2 * I2, n_modes=6
-    ), uniform_beam(L, 2700.0 * A, 7e10 * I2, 3, spatial=True, section_radius=r)
+    return frame_body(nodes, e=7e10, g=2.6e10, rho=2700.0, area=A, iy=I2, iz=I2, j=2 * I2, n_modes=6), uniform_beam(
+        L, 2700.0 * A, 7e10 * I2, 3, spatial=True, section_radius=r
+    )
 
 
 def test_fe_geometric_stiffness_matches_analytic_beam():
@@ -103,8 +103,17 @@ def test_fe_geometric_full_model_conserves_energy_and_momentum():
     # 3-D frame tumbling freely: off-diagonal G[a, b] pairs are non-zero
     nodes = np.array([[0.0, 0, 0], [0.5, 0, 0], [1.0, 0, 0], [1.0, 0.4, 0], [1.0, 0.4, 0.5]])
     r = 0.01
-    b = frame_body(nodes, e=7e10, g=2.6e10, rho=2700.0, area=np.pi * r**2, iy=np.pi * r**4 / 4,
-                   iz=np.pi * r**4 / 4, j=np.pi * r**4 / 2, n_modes=4)
+    b = frame_body(
+        nodes,
+        e=7e10,
+        g=2.6e10,
+        rho=2700.0,
+        area=np.pi * r**2,
+        iy=np.pi * r**4 / 4,
+        iz=np.pi * r**4 / 4,
+        j=np.pi * r**4 / 2,
+        n_modes=4,
+    )
     assert np.abs(b.geometric[0, 1]).max() > 0 and np.abs(b.geometric[1, 2]).max() > 0
     ini = Initial(angular_velocity=(1.5, -2.0, 3.0), modal_displacement=(1e-3, -1e-3, 5e-4, 0.0))
     st = Settings(t_end=1.0, dt_out=0.01, rtol=1e-11, atol=1e-14, geometric_stiffness=True)
@@ -112,8 +121,9 @@ def test_fe_geometric_full_model_conserves_energy_and_momentum():
     P, H, E, _ = invariants(b, s)
     assert np.abs(H - H[0]).max() < 1e-8 * np.abs(H[0]).max()
     assert np.abs(E - E[0]).max() < 1e-8 * E[0]
-    s0 = simulate(b, [], ini, Settings(t_end=1.0, dt_out=0.01, rtol=1e-11, atol=1e-14,
-                                       geometric_stiffness=False), "full")
+    s0 = simulate(
+        b, [], ini, Settings(t_end=1.0, dt_out=0.01, rtol=1e-11, atol=1e-14, geometric_stiffness=False), "full"
+    )
     assert np.abs(s.q - s0.q).max() > 1e-5  # the option changes the response
 
 
@@ -121,8 +131,9 @@ def test_point_body_geometric_input():
     ab = uniform_beam(L, RA, EI, 2, spatial=True)
     shapes = np.transpose(ab.shapes, (2, 0, 1))
     f = np.sqrt(np.diag(ab.stiffness))
-    pb = point_body(ab.masses, ab.points, shapes, frequencies=f,
-                    geometric={"yy": ab.geometric[1, 1], "zz": ab.geometric[2, 2]})
+    pb = point_body(
+        ab.masses, ab.points, shapes, frequencies=f, geometric={"yy": ab.geometric[1, 1], "zz": ab.geometric[2, 2]}
+    )
     w = np.array([0.3, 1.2, -0.7])
     assert np.allclose(geometric_stiffness(pb, w), geometric_stiffness(ab, w), atol=1e-12)
     with pytest.raises(InputError, match="body.geometric.ww"):
@@ -130,5 +141,7 @@ def test_point_body_geometric_input():
     with pytest.raises(InputError, match="symmetric"):
         point_body(ab.masses, ab.points, shapes, frequencies=f, geometric={"xy": np.triu(np.ones((4, 4)))})
     with pytest.raises(InputError, match="geometric_stiffness"):
-        simulate(point_body(ab.masses, ab.points, shapes, frequencies=f),
-                 settings=Settings(t_end=0.1, geometric_stiffness=True))
+        simulate(
+            point_body(ab.masses, ab.points, shapes, frequencies=f),
+            settings=Settings(t_end=0.1, geometric_stiffness=True),
+        )

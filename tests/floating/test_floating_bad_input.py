@@ -67,11 +67,14 @@ dt_out = 0.01
 """
 
 CASES = [
-    (POINTS, "frequencies = [3.0]\n",
-     "frequencies = [3.0]\nrotary_inertias = [[10.0, 1.0, 1.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], "
-     "[0.0, 0.0, 0.0]]\n", ["body.points.rotary_inertias[0]", "triangle"]),
-    (POINTS, "masses = [1.0, 1.0, 1.0, 1.0]", "masses = [1.0, -1.0, 1.0, 1.0]",
-     ["body.points.masses[1]"]),
+    (
+        POINTS,
+        "frequencies = [3.0]\n",
+        "frequencies = [3.0]\nrotary_inertias = [[10.0, 1.0, 1.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], "
+        "[0.0, 0.0, 0.0]]\n",
+        ["body.points.rotary_inertias[0]", "triangle"],
+    ),
+    (POINTS, "masses = [1.0, 1.0, 1.0, 1.0]", "masses = [1.0, -1.0, 1.0, 1.0]", ["body.points.masses[1]"]),
     (BEAM, "duration = 0.05", "duration = 0.0", ["loads[0].duration"]),
     (BEAM, 'profile = "pulse"', 'profile = "sinusoid"', ["loads[0].frequency"]),
     (BEAM, "n_modes = 2", "n_modes = 100000", ["body.beam.n_modes", "<= 100"]),
@@ -79,8 +82,7 @@ CASES = [
     (BEAM, "n_modes = 2", "n_modes = 2\nsection_radius = -0.1", ["body.beam.section_radius"]),
     (BEAM, "n_modes = 2", "n_modes = 2\nspatial = true", ["body.beam.section_radius", "spatial"]),
     (BEAM, "vector = [0.0, 0.0, 1.0]", "vector = [1.0, 0.0, 1.0]", ["loads[0].vector", "in-plane"]),
-    (FRAME, "elements_per_segment = 4", "elements_per_segment = 100000",
-     ["body.frame.elements_per_segment"]),
+    (FRAME, "elements_per_segment = 4", "elements_per_segment = 100000", ["body.frame.elements_per_segment"]),
     (FRAME, "n_modes = 2", "n_modes = 100", ["body.frame.n_modes"]),
     (FRAME, "[1.0, 0.0, 0.0]]", "[0.0, 0.0, 0.0]]", ["body.frame.nodes"]),
 ]
@@ -130,8 +132,7 @@ def test_early_stop_keeps_data_and_says_why(tmp_path):
     path = tmp_path / "case.toml"
     path.write_text(BEAM.replace("dt_out = 0.01", "dt_out = 0.01\nmax_steps = 20"))
     out = tmp_path / "o"
-    res = CliRunner().invoke(app, ["floating", "simulate", str(path), "--out", str(out),
-                                   "--no-figures"])
+    res = CliRunner().invoke(app, ["floating", "simulate", str(path), "--out", str(out), "--no-figures"])
     assert res.exit_code == 1, res.output
     assert "step budget" in res.output and "stopped early at t =" in res.output
     assert "residual" not in res.output

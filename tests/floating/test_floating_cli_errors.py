@@ -49,22 +49,41 @@ def _write(tmp_path, text):
 @pytest.mark.parametrize(
     "base, old, new, words",
     [
-        (POINTS, "masses = [1.0, 1.0, 1.0, 1.0]", "masses = [1.0, -1.0, 1.0, 1.0]",
-         ["body.points.masses[1]", "mass > 0"]),
+        (
+            POINTS,
+            "masses = [1.0, 1.0, 1.0, 1.0]",
+            "masses = [1.0, -1.0, 1.0, 1.0]",
+            ["body.points.masses[1]", "mass > 0"],
+        ),
         (BEAM, "rho_a = 1.0", "rho_a = 0.0", ["body.beam.rho_a"]),
         (BEAM, "ei = 10.0", "ei = -5.0", ["body.beam.ei"]),
         (POINTS, "frequencies = [3.0]", "frequencies = [0.0]", ["body.points.frequencies[0]", "> 0"]),
-        (POINTS, "[0.0, 0.0, -0.5], [0.0, 0.0, -0.5]]]", "[0.0, 0.0, -0.6], [0.0, 0.0, -0.5]]]",
-         ["body.points.shapes", "mass-orthonormal"]),
-        (POINTS, "shapes = [[[0.0, 0.0, 0.5], [0.0, 0.0, 0.5], [0.0, 0.0, -0.5], [0.0, 0.0, -0.5]]]\n"
-         "frequencies = [3.0]", "shapes = []\nfrequencies = []",
-         ["body.points.shapes", "no elastic modes"]),
-        (POINTS, "[0.0, -0.5, 0.0], [0.0, 0.5, 0.0]]", "[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]",
-         ["body", "non-singular inertia"]),
+        (
+            POINTS,
+            "[0.0, 0.0, -0.5], [0.0, 0.0, -0.5]]]",
+            "[0.0, 0.0, -0.6], [0.0, 0.0, -0.5]]]",
+            ["body.points.shapes", "mass-orthonormal"],
+        ),
+        (
+            POINTS,
+            "shapes = [[[0.0, 0.0, 0.5], [0.0, 0.0, 0.5], [0.0, 0.0, -0.5], [0.0, 0.0, -0.5]]]\nfrequencies = [3.0]",
+            "shapes = []\nfrequencies = []",
+            ["body.points.shapes", "no elastic modes"],
+        ),
+        (
+            POINTS,
+            "[0.0, -0.5, 0.0], [0.0, 0.5, 0.0]]",
+            "[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]",
+            ["body", "non-singular inertia"],
+        ),
         (BEAM, "tip = [1.0, 0.0, 0.0]", "tip = [1.5, 0.0, 0.0]", ["outputs.tip", "beam axis"]),
         (BEAM, "tip = [1.0, 0.0, 0.0]", "tip = [0.5, 0.2, 0.0]", ["outputs.tip", "beam axis"]),
-        (POINTS, "frequencies = [3.0]\n", "frequencies = [3.0]\n[outputs]\nfar = [0.2, 0.0, 0.0]\n",
-         ["outputs.far", "node"]),
+        (
+            POINTS,
+            "frequencies = [3.0]\n",
+            "frequencies = [3.0]\n[outputs]\nfar = [0.2, 0.0, 0.0]\n",
+            ["outputs.far", "node"],
+        ),
     ],
 )
 def test_bad_input_one_line(tmp_path, base, old, new, words):

@@ -69,12 +69,7 @@ def test_impulse_invariants_and_pure_torque_keeps_centre_of_mass():
     on = (s.time >= 0.1) & (s.time < 0.15)
     dH = np.cross(rP[on], F).sum(axis=0) * 0.001
     assert np.abs(H[-1] - dH).max() < 2e-3 * np.abs(dH).max()
-    assert (
-        np.abs(
-            cm[after] - cm[after][0] - np.outer(s.time[after] - s.time[after][0], F * 0.05 / 2.0)
-        ).max()
-        < 1e-9
-    )
+    assert np.abs(cm[after] - cm[after][0] - np.outer(s.time[after] - s.time[after][0], F * 0.05 / 2.0)).max() < 1e-9
     # pure torque at the centre: centre of mass stays at rest
     ld = [Load(kind="torque", vector=(0.0, 0.0, 2.0), profile="bang-bang", duration=1.0)]
     s = simulate(b, ld, settings=st, method="full")
@@ -97,9 +92,7 @@ def test_zero_order_is_the_torque_free_rigid_body_closed_form():
     )
     lam = (Jx - Jt) * wx / Jt
     w0 = s.parts["w0"]
-    ref = np.column_stack(
-        [np.full_like(s.time, wx), wp * np.cos(lam * s.time), wp * np.sin(lam * s.time)]
-    )
+    ref = np.column_stack([np.full_like(s.time, wx), wp * np.cos(lam * s.time), wp * np.sin(lam * s.time)])
     assert np.abs(w0 - ref).max() < 1e-8
 
 

@@ -56,8 +56,7 @@ def test_compressive_load_lowers_the_simulated_frequency():
     proj = sol.q @ V[:, 0]
     np.testing.assert_allclose(proj, 1e-3 * np.cos(np.sqrt(w2[0]) * sol.time), atol=1e-8)
     assert np.sqrt(w2[0]) < 0.75 * np.sqrt(b.stiffness[0, 0])  # clearly softened
-    st_off = Settings(t_end=st.t_end, dt_out=st.dt_out, rtol=1e-10, atol=1e-14,
-                      geometric_stiffness=False)
+    st_off = Settings(t_end=st.t_end, dt_out=st.dt_out, rtol=1e-10, atol=1e-14, geometric_stiffness=False)
     off = simulate(b, [ld], Initial(modal_displacement=tuple(q0)), st_off, "full", pres)
     assert np.abs(off.q @ V[:, 0] - proj).max() > 1e-4  # the option matters
 

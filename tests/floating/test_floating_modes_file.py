@@ -23,17 +23,24 @@ def test_round_trip_reproduces_the_body_integrals_and_motion(tmp_path):
     np.testing.assert_allclose(integrals(fb)["M"], integrals(b)["M"], atol=1e-12)
     cfg = {
         "body": {"type": "file", "file": {"path": str(path)}},
-        "loads": [{"kind": "torque", "vector": [0.0, 0.0, 1.0], "point": b.points[40].tolist(),
-                   "profile": "pulse", "duration": 0.5}],
+        "loads": [
+            {
+                "kind": "torque",
+                "vector": [0.0, 0.0, 1.0],
+                "point": b.points[40].tolist(),
+                "profile": "pulse",
+                "duration": 0.5,
+            }
+        ],
         # the file carries no geometric stiffness: compare with it off on both sides
         "solver": {"method": "full", "t_end": 1.0, "dt_out": 0.1, "geometric_stiffness": False},
     }
     r_file = run_case(cfg)
-    cfg["body"] = {"type": "beam", "beam": {"length": 2.0, "rho_a": 1.0, "ei": 10.0, "n_modes": 3,
-                                            "section_radius": r}}
+    cfg["body"] = {"type": "beam", "beam": {"length": 2.0, "rho_a": 1.0, "ei": 10.0, "n_modes": 3, "section_radius": r}}
     r_beam = run_case(cfg)
-    np.testing.assert_allclose(r_file.dataset["modal_displacement"].values,
-                               r_beam.dataset["modal_displacement"].values, atol=1e-12)
+    np.testing.assert_allclose(
+        r_file.dataset["modal_displacement"].values, r_beam.dataset["modal_displacement"].values, atol=1e-12
+    )
 
 
 @pytest.mark.parametrize(

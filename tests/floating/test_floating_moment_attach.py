@@ -27,8 +27,7 @@ def exact_moment_flexibility(a_frac):
     w_right = w_left - (x - a) ** 2 / (2 * ei)
     cond = [
         sp.integrate(w_left, (x, 0, a)) + sp.integrate(w_right, (x, a, Ls)),
-        sp.integrate(w_left * (x - Ls / 2), (x, 0, a))
-        + sp.integrate(w_right * (x - Ls / 2), (x, a, Ls)),
+        sp.integrate(w_left * (x - Ls / 2), (x, 0, a)) + sp.integrate(w_right * (x - Ls / 2), (x, a, Ls)),
     ]
     sol = sp.solve(cond, [c0, c1])
     return float(w_right.subs(sol).subs(x, Ls))
@@ -93,8 +92,7 @@ def _pulse_tip_history(body, a, t, T=1.0, shape="rect"):
         A = 1.0 / (w**2 - om**2)
 
         def on(x):  # q, dq/dt of q'' + w^2 q = sin(om x), q(0) = q'(0) = 0
-            return A * (np.sin(om * x) - om / w * np.sin(w * x)), A * om * (
-                np.cos(om * x) - np.cos(w * x))
+            return A * (np.sin(om * x) - om / w * np.sin(w * x)), A * om * (np.cos(om * x) - np.cos(w * x))
 
         q_in, _ = on(tt)
         qT, vT = on(T)
@@ -115,8 +113,7 @@ def test_ten_modes_with_moment_shape_as_accurate_as_forty_modes():
 
     e10, e40 = err(uniform_beam(L, RA, EI, 10)), err(uniform_beam(L, RA, EI, 40))
     e10a = err(uniform_beam(L, RA, EI, 10, moment_points=[(0.0, 0.0, 0.0)]))
-    print(f"half-sine pulse, tip history: 10 modes {e10:.2e}, 40 modes {e40:.2e}, "
-          f"10 + moment shape {e10a:.2e}")
+    print(f"half-sine pulse, tip history: 10 modes {e10:.2e}, 40 modes {e40:.2e}, 10 + moment shape {e10a:.2e}")
     assert e10 > 10 * e40  # the modal series alone converges slowly for a moment
     # measured 1.2e-4 vs 1.1e-4: what remains is the small oscillation of modes 11+ set off by
     # the slope jumps of the half-sine at 0 and T (amplitude ~ (pi/T)/omega_j), not static
@@ -139,8 +136,9 @@ def test_rectangular_pulse_peak_deflection_improves_tenfold():
 
 
 def test_attach_at_loads_adds_moment_shapes_for_torques():
-    cfg = from_mapping(BodyConfig, {
-        "type": "beam", "attach_at_loads": True,
-        "beam": {"length": L, "rho_a": RA, "ei": EI, "n_modes": 3}})
+    cfg = from_mapping(
+        BodyConfig,
+        {"type": "beam", "attach_at_loads": True, "beam": {"length": L, "rho_a": RA, "ei": EI, "n_modes": 3}},
+    )
     b = build_body(cfg, [Load(kind="torque", vector=(0.0, 0.0, 1.0))])
     assert b.n_modes == 4 and any(lab.startswith("attach") for lab in b.mode_labels)

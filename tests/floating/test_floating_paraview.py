@@ -11,11 +11,13 @@ from rotaflex.floating.paraview import write_paraview
 
 def test_vtu_series_matches_the_point_motion(tmp_path):
     b = uniform_beam(2.0, 1.0, 10.0, 2)
-    res = run(body=b, loads=[Load(kind="torque", vector=(0.0, 0.0, 1.0), profile="pulse",
-                                  duration=0.3)],
-              initial=Initial(velocity=(0.1, 0.0, 0.0)),
-              solver=Settings(method="full", t_end=1.0, dt_out=0.1),
-              outputs={"tip": (1.0, 0.0, 0.0)})
+    res = run(
+        body=b,
+        loads=[Load(kind="torque", vector=(0.0, 0.0, 1.0), profile="pulse", duration=0.3)],
+        initial=Initial(velocity=(0.1, 0.0, 0.0)),
+        solver=Settings(method="full", t_end=1.0, dt_out=0.1),
+        outputs={"tip": (1.0, 0.0, 0.0)},
+    )
     pvd = write_paraview(res, b, tmp_path, every=2)
     files = [d.attrib for d in ET.parse(pvd).getroot().iter("DataSet")]
     assert [float(f["timestep"]) for f in files] == [0.0, 0.2, 0.4, 0.6, 0.8, 1.0]

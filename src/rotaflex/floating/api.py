@@ -120,8 +120,9 @@ def run(
     else:
         if methods != ["full"]:
             raise InputError(
-                "solver.method", solver.method, "'full' with a controller (the perturbation "
-                "split needs loads known in advance)"
+                "solver.method",
+                solver.method,
+                "'full' with a controller (the perturbation split needs loads known in advance)",
             )
         dt = solver.dt_out if control_dt is None else float(control_dt)
         k = dt / solver.dt_out
@@ -131,7 +132,10 @@ def run(
         resolved["controller"] = getattr(controller, "__name__", repr(controller))
         resolved["control_dt"] = dt
     return build_result(
-        body, sols, outputs, json.loads(json.dumps(resolved, default=str)),
+        body,
+        sols,
+        outputs,
+        json.loads(json.dumps(resolved, default=str)),
         time.perf_counter() - t0,
     )
 
@@ -191,8 +195,16 @@ def _closed_loop(body, loads, initial, solver, controller, dt):
         arrs = [getattr(s, name) for s in parts]
         return np.concatenate([arrs[0]] + [a[1:] for a in arrs[1:]])
 
-    sol = Solution("full", cat("time"), cat("position"), cat("quaternion"), cat("velocity"),
-                   cat("angular_velocity"), cat("q"), cat("p"))
+    sol = Solution(
+        "full",
+        cat("time"),
+        cat("position"),
+        cat("quaternion"),
+        cat("velocity"),
+        cat("angular_velocity"),
+        cat("q"),
+        cat("p"),
+    )
     sol.euler_123 = cat("euler_123")
     sol.min_stiffness = cat("min_stiffness")
     sol.geometric = parts[0].geometric

@@ -121,9 +121,7 @@ def validate_body(b: Body) -> None:
     """Section 5 checks: positive masses/stiffness, modes present, mass-orthonormal."""
     m = np.asarray(b.masses, dtype=float)
     if m.ndim != 1 or m.size == 0 or not np.all(np.isfinite(m)):
-        raise InputError(
-            "body.masses", f"shape {m.shape}", "a non-empty list of finite masses [kg]"
-        )
+        raise InputError("body.masses", f"shape {m.shape}", "a non-empty list of finite masses [kg]")
     if np.any(m <= 0.0):
         k = int(np.argmin(m))
         raise InputError(f"body.masses[{k}]", float(m[k]), "a mass > 0 [kg]")
@@ -358,11 +356,7 @@ def uniform_beam(
             )
         return np.clip(pts[:, 0], x0, x_end)
 
-    att_f = (
-        check_points(attachment_points, "body.attachment_points")
-        if len(attachment_points)
-        else np.zeros(0)
-    )
+    att_f = check_points(attachment_points, "body.attachment_points") if len(attachment_points) else np.zeros(0)
     att_m = check_points(moment_points, "body.moment_points") if len(moment_points) else np.zeros(0)
     att = np.concatenate([att_f, att_m])
     is_moment = np.arange(len(att)) >= len(att_f)
@@ -379,9 +373,7 @@ def uniform_beam(
     masses = rho_a * wq
     points = np.zeros((len(xq), 3))
     points[:, 0] = xq
-    norm = np.array(
-        [np.sqrt(rho_a * np.sum(wq * beam_mode(support, b, s) ** 2)) for b in bl]
-    )
+    norm = np.array([np.sqrt(rho_a * np.sum(wq * beam_mode(support, b, s) ** 2)) for b in bl])
 
     def attach(a, x, deriv, moment=False):
         """Static deflection x EI under a unit transverse force (or, ``moment``, a unit moment
@@ -400,10 +392,10 @@ def uniform_beam(
         mom = q.integ(lbnd=x0).integ(lbnd=x0)  # bending moment of the distributed relief load
         t = np.clip(x - a, 0.0, None)
         if moment:  # the couple's own moment: -H(x - a)
-            return [mom.integ(2, lbnd=x0)(x) - t * t / 2.0, mom.integ(lbnd=x0)(x) - t,
-                    mom(x) - (x > a).astype(float)][deriv]
-        return [mom.integ(2, lbnd=x0)(x) + t**3 / 6.0, mom.integ(lbnd=x0)(x) + t * t / 2.0,
-                mom(x) + t][deriv]
+            return [mom.integ(2, lbnd=x0)(x) - t * t / 2.0, mom.integ(lbnd=x0)(x) - t, mom(x) - (x > a).astype(float)][
+                deriv
+            ]
+        return [mom.integ(2, lbnd=x0)(x) + t**3 / 6.0, mom.integ(lbnd=x0)(x) + t * t / 2.0, mom(x) + t][deriv]
 
     # rigid-body part of each attachment shape (free-free: mass-orthogonal projection on 1, x)
     rig = np.zeros((len(att), 2))
@@ -562,9 +554,7 @@ def check_inertia(J, where: str) -> None:
     if ev.min() <= 0:
         raise InputError(where, shown, "principal moments > 0 [kg m^2]")
     if ev[0] + ev[1] < ev[2] * (1 - 1e-12):
-        raise InputError(
-            where, shown, "principal moments with J1 + J2 >= J3 (triangle inequality) [kg m^2]"
-        )
+        raise InputError(where, shown, "principal moments with J1 + J2 >= J3 (triangle inequality) [kg m^2]")
 
 
 def rigid_body(mass: float, inertia, *, name: str = "rigid body") -> Body:
@@ -664,9 +654,7 @@ def point_body(
             raise InputError(f"body.frequencies[{k}]", float(f[k]), "a frequency > 0 [rad/s]")
         K = np.diag(f**2)
     else:
-        raise InputError(
-            "body.frequencies", "<missing>", "frequencies [rad/s] or a stiffness matrix"
-        )
+        raise InputError("body.frequencies", "<missing>", "frequencies [rad/s] or a stiffness matrix")
     Psi_nodes = None
     if rotation_shapes is not None:
         R = np.asarray(rotation_shapes, dtype=float)
@@ -692,9 +680,7 @@ def point_body(
         bad = d[np.arange(len(pts)), idx] > 1e-9 * size
         if np.any(bad):
             k = int(np.argmax(bad))
-            raise InputError(
-                "point", pts[k].tolist(), "the position of one of the body's nodes [m]"
-            )
+            raise InputError("point", pts[k].tolist(), "the position of one of the body's nodes [m]")
         Psi = Psi_nodes[idx] if Psi_nodes is not None else np.full((len(pts), 3, n), np.nan)
         return Phi[idx], Psi
 

@@ -123,8 +123,7 @@ class BodyConfig:
     )
     attach_at_loads: bool = param(
         False,
-        doc="add attachment modes at every load point: unit-force shapes for forces, unit-moment "
-        "shapes for torques",
+        doc="add attachment modes at every load point: unit-force shapes for forces, unit-moment shapes for torques",
     )
 
     def __post_init__(self):
@@ -198,8 +197,7 @@ def _build_body(cfg: BodyConfig, loads=()):
         raise InputError(
             "body.attach_at_loads" if cfg.attach_at_loads else "body.attachment_points",
             True if cfg.attach_at_loads else [list(p) for p in att],
-            "none for a points body (supply the attachment shapes as extra modes from the FE "
-            "program)",
+            "none for a points body (supply the attachment shapes as extra modes from the FE program)",
         )
 
     if cfg.type == "beam":
@@ -233,9 +231,7 @@ def _build_body(cfg: BodyConfig, loads=()):
                 f"(<= {MAX_FE_NODES} FE nodes: the dense eigensolution grows like nodes^3)",
             )
         nodes = [key[0]] + [
-            key[i] + (key[i + 1] - key[i]) * s / k
-            for i in range(len(key) - 1)
-            for s in range(1, k + 1)
+            key[i] + (key[i + 1] - key[i]) * s / k for i in range(len(key) - 1) for s in range(1, k + 1)
         ]
         return frame_body(
             np.array(nodes),
@@ -282,9 +278,7 @@ def _parse(config: dict) -> FloatingCase:
                 from_mapping(Load, ld, f"loads[{i}]")
             except InputError as exc:
                 if exc.field.startswith("loads."):  # raised by Load's own cross-field checks
-                    raise InputError(
-                        f"loads[{i}].{exc.field[len('loads.'):]}", exc.value, exc.allowed
-                    ) from None
+                    raise InputError(f"loads[{i}].{exc.field[len('loads.') :]}", exc.value, exc.allowed) from None
                 raise
     case = from_mapping(FloatingCase, config)
     s = case.solver
@@ -350,8 +344,6 @@ def run_case(config: dict, *, progress: bool = False):
 
     t0 = time.perf_counter()
     case, body, methods = prepare(config)
-    sols = [
-        simulate(body, case.loads, case.initial, case.solver, m, case.prescribed) for m in methods
-    ]
+    sols = [simulate(body, case.loads, case.initial, case.solver, m, case.prescribed) for m in methods]
     resolved = json.loads(json.dumps(dataclasses.asdict(case)))
     return build_result(body, sols, dict(case.outputs), resolved, time.perf_counter() - t0)

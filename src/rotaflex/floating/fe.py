@@ -168,11 +168,7 @@ def frame_body(
     Npt = Nu - np.einsum("pab,pbc->pac", skew(offs[S_]), Nt)  # u + th x s = u - s~ th
     Nglob = np.einsum("pba,pbc,pcd->pad", Lam[E_], Npt, T[E_])  # global 3 x 12 per point
     mass = rho * area * L[E_] * _GW[G_] / 4.0
-    pos = (
-        X[El[E_, 0]]
-        + s[:, None] * (X[El[E_, 1]] - X[El[E_, 0]])
-        + np.einsum("pba,pb->pa", Lam[E_], offs[S_])
-    )
+    pos = X[El[E_, 0]] + s[:, None] * (X[El[E_, 1]] - X[El[E_, 0]]) + np.einsum("pba,pb->pa", Lam[E_], offs[S_])
     Me = np.einsum("p,pai,paj->pij", mass, Nglob, Nglob)
     M = np.zeros((ndof, ndof))
     np.add.at(M, (dofs[E_][:, :, None], dofs[E_][:, None, :]), Me)
@@ -248,9 +244,7 @@ def frame_body(
         labels += [f"attach{k + 1}" for k in range(n_att)]
     G = None
     if geometric:
-        G = centrifugal_geometric(
-            K, M, Rg, modes, mass, pos, Nglob, dofs[E_], L, Lam, T, El, e * area
-        )
+        G = centrifugal_geometric(K, M, Rg, modes, mass, pos, Nglob, dofs[E_], L, Lam, T, El, e * area)
     Phi = np.einsum("pad,pdj->paj", Nglob, modes[dofs[E_]])
 
     def shape_fn(pts):
@@ -336,8 +330,7 @@ def centrifugal_geometric(K, M, Rg, modes, mass, pos, Nglob, pdofs, L, Lam, T, E
     pairs = [(a, b) for a in range(3) for b in range(a, 3)]
     F = np.zeros((ndof, len(pairs)))
     for c, (a, b) in enumerate(pairs):
-        f = -0.5 * mass[:, None] * (np.eye(3)[a][None] * rc[:, b : b + 1] + np.eye(3)[b][None]
-                                    * rc[:, a : a + 1])
+        f = -0.5 * mass[:, None] * (np.eye(3)[a][None] * rc[:, b : b + 1] + np.eye(3)[b][None] * rc[:, a : a + 1])
         if a == b:
             f = f + mass[:, None] * rc
         np.add.at(F[:, c], pdofs, np.einsum("pad,pa->pd", Nglob, f))
@@ -360,9 +353,7 @@ def centrifugal_geometric(K, M, Rg, modes, mass, pos, Nglob, pdofs, L, Lam, T, E
     return G
 
 
-def straight_beam_nodes(
-    length: float, n_elements: int, start=(0.0, 0.0, 0.0), direction=(1.0, 0.0, 0.0)
-):
+def straight_beam_nodes(length: float, n_elements: int, start=(0.0, 0.0, 0.0), direction=(1.0, 0.0, 0.0)):
     """Equally spaced nodes of a straight beam ``(n_elements + 1, 3)`` [m]."""
     d = np.asarray(direction, float)
     d = d / np.linalg.norm(d)

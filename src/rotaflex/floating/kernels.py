@@ -97,9 +97,7 @@ def quat_rate(e, w, out):
 
 @njit(cache=True)
 def cross(a, b):
-    return np.array(
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    )
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
 @njit(cache=True)
@@ -607,7 +605,6 @@ def rhs(mode, t, y, B, L, geo, pres):
     return rhs_prescribed(t, y, B, L, geo, pres[0:3], pres[3], pres[4])
 
 
-
 # ----------------------------------------------------------------------------------------
 # attitude from the state, and Euler 1-2-3 angles unwrapped step by step (never from samples)
 # ----------------------------------------------------------------------------------------
@@ -665,6 +662,7 @@ def step_rotation(ea, eb):
     d = abs(ea[0] * eb[0] + ea[1] * eb[1] + ea[2] * eb[2] + ea[3] * eb[3])
     return 2.0 * np.arccos(min(1.0, d))
 
+
 # ----------------------------------------------------------------------------------------
 # Dormand-Prince 5(4) with step control, landing on output times and load breakpoints
 # ----------------------------------------------------------------------------------------
@@ -685,9 +683,7 @@ _E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525,
 
 
 @njit(cache=True)
-def integrate(
-    mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres
-):
+def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres):
     """Integrate ``rhs(mode, ...)`` from ``t_out[0]``; return states at ``t_out``.
 
     Returns ``(Y, EUL, status, t_stop, nfev, nstep)``; ``EUL`` (nt, 6) are the Euler 1-2-3

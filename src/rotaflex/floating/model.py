@@ -42,9 +42,7 @@ class Load:
 
     def __post_init__(self):
         if self.profile in ("ramp", "bang-bang", "pulse") and self.duration <= 0.0:
-            raise InputError(
-                "loads.duration", self.duration, f"a duration > 0 s for a {self.profile}"
-            )
+            raise InputError("loads.duration", self.duration, f"a duration > 0 s for a {self.profile}")
         if self.profile == "sinusoid" and self.frequency <= 0.0:
             raise InputError("loads.frequency", self.frequency, "a frequency > 0 Hz for a sinusoid")
 
@@ -65,9 +63,7 @@ class Initial:
     """Initial state: inertial position and attitude, body-frame velocities, modal state."""
 
     position: Vec3 = param((0.0, 0.0, 0.0), unit="m")
-    quaternion: tuple[float, float, float, float] = param(
-        (1.0, 0.0, 0.0, 0.0), doc="scalar-first unit quaternion"
-    )
+    quaternion: tuple[float, float, float, float] = param((1.0, 0.0, 0.0, 0.0), doc="scalar-first unit quaternion")
     velocity: Vec3 = param((0.0, 0.0, 0.0), unit="m/s", doc="V_o in body axes")
     angular_velocity: Vec3 = param((0.0, 0.0, 0.0), unit="rad/s", doc="w in body axes")
     modal_displacement: tuple[float, ...] = param((), doc="q(0) (default zeros)")
@@ -76,9 +72,7 @@ class Initial:
     def __post_init__(self):
         nq = float(np.linalg.norm(self.quaternion))
         if abs(nq - 1.0) > 1e-6:
-            raise InputError(
-                "initial.quaternion", list(self.quaternion), "a unit quaternion (norm 1)"
-            )
+            raise InputError("initial.quaternion", list(self.quaternion), "a unit quaternion (norm 1)")
 
 
 @dataclass(frozen=True)
@@ -110,12 +104,8 @@ class Settings:
     rtol: float = param(1e-7, gt=0.0, lt=1.0)
     atol: float = param(1e-9, gt=0.0)
     max_steps: int = param(2_000_000, gt=0)
-    geometric_stiffness: bool | None = param(
-        None, doc="centrifugal stiffening; default: on when the body provides it"
-    )
+    geometric_stiffness: bool | None = param(None, doc="centrifugal stiffening; default: on when the body provides it")
 
     def __post_init__(self):
         if self.dt_out > self.t_end:
-            raise InputError(
-                "solver.dt_out", self.dt_out, f"an interval <= t_end = {self.t_end:g} s"
-            )
+            raise InputError("solver.dt_out", self.dt_out, f"an interval <= t_end = {self.t_end:g} s")

@@ -78,7 +78,8 @@ def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body
     if np.any(f <= 0):
         k = int(np.argmin(f))
         raise InputError(
-            f"{where}.frequencies[{k}]", float(f[k]),
+            f"{where}.frequencies[{k}]",
+            float(f[k]),
             "a frequency > 0 [rad/s] (leave the rigid-body modes out of the file)",
         )
     if frame == "mean-axes" and n:
@@ -91,26 +92,35 @@ def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body
         if rel.max() > RIGID_TOL:
             j = int(np.argmax(rel))
             raise InputError(
-                f"{where}.shapes[{j}]", f"rigid-body content {rel[j]:.3g}",
+                f"{where}.shapes[{j}]",
+                f"rigid-body content {rel[j]:.3g}",
                 f"free-free elastic modes in mean axes (rigid content <= {RIGID_TOL:g}; "
                 "use frame = 'attached' for modes of a clamped structure)",
             )
     try:
         return point_body(
-            m, X, S, frequencies=f,
+            m,
+            X,
+            S,
+            frequencies=f,
             rotation_shapes=data.get("rotation_shapes"),
             rotary_inertias=data.get("rotary_inertias"),
             name=f"modes from {p.name}",
         )
     except InputError as exc:
         fld = exc.field.replace("body.points", "body.positions")
-        for a, b in (("body.masses", "masses"), ("body.positions", "positions"),
-                     ("body.shapes", "shapes"), ("body.n_modes", "shapes"),
-                     ("body.frequencies", "frequencies"), ("body.stiffness", "frequencies"),
-                     ("body.rotation_shapes", "rotation_shapes"),
-                     ("body.rotary_inertias", "rotary_inertias")):
+        for a, b in (
+            ("body.masses", "masses"),
+            ("body.positions", "positions"),
+            ("body.shapes", "shapes"),
+            ("body.n_modes", "shapes"),
+            ("body.frequencies", "frequencies"),
+            ("body.stiffness", "frequencies"),
+            ("body.rotation_shapes", "rotation_shapes"),
+            ("body.rotary_inertias", "rotary_inertias"),
+        ):
             if fld.startswith(a):
-                fld = f"{where}.{b}" + fld[len(a):]
+                fld = f"{where}.{b}" + fld[len(a) :]
                 break
         raise InputError(fld, exc.value, exc.allowed) from None
 

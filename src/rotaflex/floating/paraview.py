@@ -27,8 +27,9 @@ def deformed_points(body: Body, dataset, solution: str):
     return pos, u
 
 
-def write_paraview(result, body: Body, out_dir, *, solution: str | None = None, every: int = 1,
-                   name: str = "floating") -> Path:
+def write_paraview(
+    result, body: Body, out_dir, *, solution: str | None = None, every: int = 1, name: str = "floating"
+) -> Path:
     """Write ``name_0000.vtu ...`` and ``name.pvd`` into ``out_dir``; returns the ``.pvd`` path.
 
     Parameters
@@ -59,11 +60,7 @@ def write_paraview(result, body: Body, out_dir, *, solution: str | None = None, 
     N = body.points.shape[0]
     line = body.name.startswith("uniform") and N > 1
     order = np.argsort(body.points[:, 0]) if line else np.arange(N)
-    cells = (
-        [("line", np.column_stack([order[:-1], order[1:]]))]
-        if line
-        else [("vertex", np.arange(N)[:, None])]
-    )
+    cells = [("line", np.column_stack([order[:-1], order[1:]]))] if line else [("vertex", np.arange(N)[:, None])]
     entries = []
     for i in range(0, len(t), every):
         if not np.all(np.isfinite(pos[i])):

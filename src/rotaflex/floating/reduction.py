@@ -172,8 +172,12 @@ def planar_inertial_to_body(zero: dict, first: dict) -> dict[str, np.ndarray]:
     th1, thd1 = first["th"], first["thd"]
     (ax, ay), (axx, ayy) = first["Rd"], first["Rdd"]
     V1 = np.array([c * ax + s * ay + th1 * V0[1], -s * ax + c * ay - th1 * V0[0]])  # eq. 43
-    Vd1 = np.array([c * axx + s * ayy + w0 * (-s * ax + c * ay) + thd1 * V0[1] + th1 * Vd0[1],
-                    -s * axx + c * ayy - w0 * (c * ax + s * ay) - thd1 * V0[0] - th1 * Vd0[0]])
+    Vd1 = np.array(
+        [
+            c * axx + s * ayy + w0 * (-s * ax + c * ay) + thd1 * V0[1] + th1 * Vd0[1],
+            -s * axx + c * ayy - w0 * (c * ax + s * ay) - thd1 * V0[0] - th1 * Vd0[0],
+        ]
+    )
     x1 = np.concatenate([V1, [0.0, 0.0, 0.0, thd1], first["qd"]])
     x1d = np.concatenate([Vd1, [0.0, 0.0, 0.0, first["thdd"]], first["qdd"]])
     return {"V0": np.append(V0, 0.0), "Vd0": np.append(Vd0, 0.0), "x1": x1, "x1d": x1d}
@@ -192,8 +196,12 @@ def planar_eq44_residual(body: Body, zero: dict, first: dict) -> np.ndarray:
     pb, pbb = m @ phi, (m * x) @ phi
     c, s = np.cos(zero["th"]), np.sin(zero["th"])
     (rxx, ryy), (axx, ayy) = zero["Rdd"], first["Rdd"]
-    lhs = (pb * (-s * axx + c * ayy) + pbb * first["thdd"] + first["qdd"]
-           - pb * (c * rxx + s * ryy) * first["th"]
-           + (body.stiffness - zero["thd"] ** 2 * np.eye(body.n_modes)) @ first["q"])
+    lhs = (
+        pb * (-s * axx + c * ayy)
+        + pbb * first["thdd"]
+        + first["qdd"]
+        - pb * (c * rxx + s * ryy) * first["th"]
+        + (body.stiffness - zero["thd"] ** 2 * np.eye(body.n_modes)) @ first["q"]
+    )
     rhs = -pbb * zero["thdd"] + pb * (s * rxx - c * ryy)
     return lhs - rhs

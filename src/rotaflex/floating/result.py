@@ -37,9 +37,7 @@ class FloatingResult(Result):
                 "unit": "rad",
             }
         if {"full", "perturbation"} <= set(ds["solution"].values) and ds.sizes["point"]:
-            d = ds["point_position"].sel(solution="perturbation") - ds["point_position"].sel(
-                solution="full"
-            )
+            d = ds["point_position"].sel(solution="perturbation") - ds["point_position"].sel(solution="full")
             out["max_point_difference_perturbation_vs_full"] = {
                 "value": float(np.nanmax(np.linalg.norm(d.values, axis=-1))),
                 "unit": "m",
@@ -204,10 +202,7 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
             }
         )
     ds = xr.Dataset(
-        {
-            k: (dims, np.asarray(v, dtype=float), {"units": u, "long_name": ln})
-            for k, (dims, v, u, ln) in data.items()
-        },
+        {k: (dims, np.asarray(v, dtype=float), {"units": u, "long_name": ln}) for k, (dims, v, u, ln) in data.items()},
         coords={
             "solution": [s.method for s in solutions],
             "time": ("time", t, {"units": "s", "long_name": "time"}),

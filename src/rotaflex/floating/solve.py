@@ -109,7 +109,9 @@ def geometric_stiffness(body: Body, w) -> np.ndarray:
 
 
 def pack_loads(
-    body: Body, loads: tuple[Load, ...] | list[Load], geometric: bool = False,
+    body: Body,
+    loads: tuple[Load, ...] | list[Load],
+    geometric: bool = False,
     clamped: bool = False,
 ):
     """Load arrays for the kernels; ``geometric``: with the geometric stiffness of each force's
@@ -141,7 +143,8 @@ def pack_loads(
             GL[i] = body.load_geometric(ld.point, clamped)
         if ld.frame == "material" and not np.all(np.isfinite(PsiP[i])):
             raise InputError(
-                f"loads[{i}].frame", "material",
+                f"loads[{i}].frame",
+                "material",
                 "'body' or 'inertial' (this body has no rotation shapes to turn the load with)",
             )
         if ld.kind == "torque" and not np.all(np.isfinite(PsiP[i])):
@@ -199,9 +202,7 @@ def _initial_modal(vals, n, name):
     return np.asarray(vals, dtype=float)
 
 
-def check_inputs(
-    body: Body, loads, initial: Initial, settings: Settings, method: str, clamped: bool = False
-):
+def check_inputs(body: Body, loads, initial: Initial, settings: Settings, method: str, clamped: bool = False):
     """Every check :func:`simulate` makes before integrating; returns the packed
     ``(geometric flag, body tensors, load arrays)``.
 
@@ -343,8 +344,7 @@ def simulate(
         sol.status = "diverged"
         notes.insert(
             0,
-            f"response diverged at t = {t_stop:.4g} s (|q| > {q_limit:.3g}, i.e. "
-            f"deflections > 10 x body size)",
+            f"response diverged at t = {t_stop:.4g} s (|q| > {q_limit:.3g}, i.e. deflections > 10 x body size)",
         )
         log.warning("floating %s: %s", method, notes[0])
     sol.message = "; ".join(notes) if notes else f"{nstep} steps, {nfev} evaluations"
@@ -368,9 +368,7 @@ def _unpack(mode, method, t, Y, n, prescribed, pres) -> Solution:
 
         prof = np.array([spin_profile(pres[3], pres[4], tt) for tt in t])
         ang, om = prof[:, 0], prof[:, 1]
-        quat = np.concatenate(
-            [np.cos(0.5 * ang)[:, None], np.sin(0.5 * ang)[:, None] * ax[None]], 1
-        )
+        quat = np.concatenate([np.cos(0.5 * ang)[:, None], np.sin(0.5 * ang)[:, None] * ax[None]], 1)
         return Solution(
             "prescribed",
             t,
@@ -383,9 +381,7 @@ def _unpack(mode, method, t, Y, n, prescribed, pres) -> Solution:
         )
     if mode == 0:
         e = Y[:, 3:7] / np.linalg.norm(Y[:, 3:7], axis=1, keepdims=True)
-        return Solution(
-            "full", t, Y[:, 0:3], e, Y[:, 7:10], Y[:, 10:13], Y[:, 13 : 13 + n], Y[:, 13 + n :]
-        )
+        return Solution("full", t, Y[:, 0:3], e, Y[:, 7:10], Y[:, 10:13], Y[:, 13 : 13 + n], Y[:, 13 + n :])
     e0 = Y[:, 3:7] / np.linalg.norm(Y[:, 3:7], axis=1, keepdims=True)
     th1 = Y[:, 16:19]
     e = quaternion_product(e0, _quat_from_rotvec(th1))

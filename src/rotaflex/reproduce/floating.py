@@ -28,21 +28,31 @@ def _eq44_check(body) -> Check:
     rng = np.random.default_rng(44)
     n = body.n_modes
     zero = dict(th=0.7, thd=1.3, thdd=-0.9, Rd=np.array([0.5, -0.4]), Rdd=np.array([0.3, 0.2]))
-    first = dict(th=0.05, thd=-0.1, thdd=0.2, Rd=np.array([0.02, -0.03]),
-                 Rdd=np.array([0.1, 0.05]), q=1e-2 * rng.normal(size=n),
-                 qd=1e-2 * rng.normal(size=n), qdd=1e-2 * rng.normal(size=n))
+    first = dict(
+        th=0.05,
+        thd=-0.1,
+        thdd=0.2,
+        Rd=np.array([0.02, -0.03]),
+        Rdd=np.array([0.1, 0.05]),
+        q=1e-2 * rng.normal(size=n),
+        qd=1e-2 * rng.normal(size=n),
+        qdd=1e-2 * rng.normal(size=n),
+    )
     bf = planar_inertial_to_body(zero, first)
-    k = first_order_matrices(body, bf["V0"], [0, 0, zero["thd"]], bf["Vd0"],
-                             [0, 0, zero["thdd"]])
-    row = (k["M0"][6:] @ bf["x1d"] + k["G"][6:] @ bf["x1"] + k["K"][6:] @ first["q"]
-           - k["d"][6:])
+    k = first_order_matrices(body, bf["V0"], [0, 0, zero["thd"]], bf["Vd0"], [0, 0, zero["thdd"]])
+    row = k["M0"][6:] @ bf["x1d"] + k["G"][6:] @ bf["x1"] + k["K"][6:] @ first["q"] - k["d"][6:]
     ref = planar_eq44_residual(body, zero, first)
     rel = np.abs(row - ref).max() / np.abs(ref).max()
-    return _chk("eq. 44: 3-D first-order elastic row with eq. 43 substituted (inertial "
-                "velocities) = eq. 44", rel, "", "< 1e-10", rel < 1e-10,
-                "theta_0 0.7 rad, R'_0 (0.5, -0.4) m/s, R''_0 (0.3, 0.2) m/s^2, random "
-                "first-order state; eq. 44 read with the lost dots restored and the theta_1 "
-                "term -phibar (c R''_x0 + s R''_y0) theta_1 (see the note below)")
+    return _chk(
+        "eq. 44: 3-D first-order elastic row with eq. 43 substituted (inertial velocities) = eq. 44",
+        rel,
+        "",
+        "< 1e-10",
+        rel < 1e-10,
+        "theta_0 0.7 rad, R'_0 (0.5, -0.4) m/s, R''_0 (0.3, 0.2) m/s^2, random "
+        "first-order state; eq. 44 read with the lost dots restored and the theta_1 "
+        "term -phibar (c R''_x0 + s R''_y0) theta_1 (see the note below)",
+    )
 
 
 def _reduction_checks() -> list[Check]:
@@ -77,9 +87,7 @@ def _reduction_checks() -> list[Check]:
         for n, a, r in rows
     ]
     out.append(_eq44_check(b))
-    bs = uniform_beam(
-        2.0, 1.5, 30.0, 3, support="cantilever", spatial=True, ei_z=45.0, section_radius=0.02
-    )
+    bs = uniform_beam(2.0, 1.5, 30.0, 3, support="cantilever", spatial=True, ei_z=45.0, section_radius=0.02)
     s3 = ([0.3, -0.2, 0.5], [0.4, -0.7, 1.1], [0.1, 0.2, -0.3], [0.5, 0.3, -0.2])
     k3, p3 = first_order_matrices(bs, *s3), paper_matrices(bs, *s3)
     rel = np.abs(k3["K"] - p3["K"]).max() / np.abs(k3["K"]).max()
@@ -160,13 +168,9 @@ def _planar(out: Path, fast: bool):
     t = f.time
     fig, ax = new_figure(2, 1, figsize=(7, 6))
     th0 = ds["zero_order_euler_123"].values[:, 2]
-    ax[0].plot(
-        t, ds["euler_123"].sel(solution="full").values[:, 2], "k", lw=2, label="full nonlinear"
-    )
+    ax[0].plot(t, ds["euler_123"].sel(solution="full").values[:, 2], "k", lw=2, label="full nonlinear")
     ax[0].plot(t, th0, "C0--", label="zero order")
-    ax[0].plot(
-        t, th0 + ds["first_order_rotation"].values[:, 2], "C1:", label="total (zero + first)"
-    )
+    ax[0].plot(t, th0 + ds["first_order_rotation"].values[:, 2], "C1:", label="total (zero + first)")
     ax[0].set_ylabel("rigid angle theta [rad]")
     ax[0].legend(fontsize=8)
     th1 = ds["first_order_rotation"].values[:, 2]
@@ -176,8 +180,12 @@ def _planar(out: Path, fast: bool):
         a2.set_ylabel("first-order θ₁ [rad]", color="C2")
     else:  # mean axes: theta_1 vanishes; do not draw round-off as a curve
         ax[0].text(
-            0.98, 0.05, f"first-order θ₁ ≡ 0 (|θ₁| < {max(np.abs(th1).max(), 1e-300):.0e} rad, "
-            "round-off)", transform=ax[0].transAxes, ha="right", fontsize=8,
+            0.98,
+            0.05,
+            f"first-order θ₁ ≡ 0 (|θ₁| < {max(np.abs(th1).max(), 1e-300):.0e} rad, round-off)",
+            transform=ax[0].transAxes,
+            ha="right",
+            fontsize=8,
         )
     uf = point_motion(b, f, tip)[1][:, 0, 1]
     up = point_motion(b, p, tip)[1][:, 0, 1]
@@ -268,9 +276,7 @@ def _slew3d(out: Path, fast: bool):
 
     k = 4 if fast else 8
     key = np.array([[0, 0, 0], [1.5, 0, 0], [1.5, 1.0, 0.0]], float)
-    nodes = [key[0]] + [
-        key[i] + (key[i + 1] - key[i]) * s / k for i in range(2) for s in range(1, k + 1)
-    ]
+    nodes = [key[0]] + [key[i] + (key[i + 1] - key[i]) * s / k for i in range(2) for s in range(1, k + 1)]
     r = 0.01
     A, I2 = np.pi * r**2, np.pi * r**4 / 4
     b = frame_body(
@@ -311,9 +317,7 @@ def _slew3d(out: Path, fast: bool):
             f"C{a}",
             label=f"full {'xyz'[a]}",
         )
-        ax[0].plot(
-            p.time, res.dataset["euler_123"].sel(solution="perturbation").values[:, a], f"C{a}:"
-        )
+        ax[0].plot(p.time, res.dataset["euler_123"].sel(solution="perturbation").values[:, a], f"C{a}:")
         ax[1].plot(f.time, uf[:, a], f"C{a}", label=f"full u_{'xyz'[a]}")
         ax[1].plot(p.time, up[:, a], f"C{a}:", label=f"perturbation u_{'xyz'[a]}")
     del ds_e
@@ -395,9 +399,7 @@ def _spinup(out: Path, fast: bool):
         )
         runs[geo] = (s, point_motion(b, s, tip)[1][:, 0, 1])
     (out / "floating").mkdir(parents=True, exist_ok=True)
-    build_result(b, [runs[True][0]], {"tip": (10.0, 0.0, 0.0)}).to_netcdf(
-        out / "floating" / "spinup.nc"
-    )
+    build_result(b, [runs[True][0]], {"tip": (10.0, 0.0, 0.0)}).to_netcdf(out / "floating" / "spinup.nc")
     fig, ax = new_figure()
     t = runs[True][0].time
     ax.plot(t, runs[True][1], "k", label="with geometric stiffness (default)")
@@ -466,12 +468,24 @@ def _design_checks() -> list[Check]:
     out = []
     # 1. Euler angles from the integrator's steps: a 10 rad/s spin sampled every 0.5 s
     b = uniform_beam(4.0, 2.0, 40.0, 4)
-    sol = simulate(b, (), Initial(angular_velocity=(0.0, 0.0, 10.0)),
-                   Settings(t_end=3.0, dt_out=0.5, rtol=1e-9, atol=1e-11), "full")
+    sol = simulate(
+        b,
+        (),
+        Initial(angular_velocity=(0.0, 0.0, 10.0)),
+        Settings(t_end=3.0, dt_out=0.5, rtol=1e-9, atol=1e-11),
+        "full",
+    )
     err = float(np.abs(sol.euler_123[:, 2] - 10.0 * sol.time).max())
-    out.append(_chk("spinning beam 10 rad/s, dt_out 0.5 s: z angle vs 10 t (0, 5, 10, ... rad)",
-                    err, "rad", "< 1e-6", err < 1e-6,
-                    "angles unwrapped after every integrator step, never from samples"))
+    out.append(
+        _chk(
+            "spinning beam 10 rad/s, dt_out 0.5 s: z angle vs 10 t (0, 5, 10, ... rad)",
+            err,
+            "rad",
+            "< 1e-6",
+            err < 1e-6,
+            "angles unwrapped after every integrator step, never from samples",
+        )
+    )
     # 2. moment attachment shape: half-sine torque pulse at the centre, tip history
     t = np.linspace(0.0, 4.0, 1001)
 
@@ -483,25 +497,47 @@ def _design_checks() -> list[Check]:
         om, tt = np.pi, t[:, None]
         A = 1.0 / (w**2 - om**2)
         qT, vT = A * (np.sin(om) - om / w * np.sin(w)), A * om * (np.cos(om) - np.cos(w))
-        c = np.where(tt < 1.0, A * (np.sin(om * tt) - om / w * np.sin(w * tt)),
-                     qT * np.cos(w * (tt - 1.0)) + vT / w * np.sin(w * (tt - 1.0)))
+        c = np.where(
+            tt < 1.0,
+            A * (np.sin(om * tt) - om / w * np.sin(w * tt)),
+            qT * np.cos(w * (tt - 1.0)) + vT / w * np.sin(w * (tt - 1.0)),
+        )
         return (c * f * g).sum(axis=1)
 
     ref = tip(uniform_beam(4.0, 2.0, 40.0, 200))
-    e = {k: float(np.abs(tip(bb) - ref).max() / np.abs(ref).max()) for k, bb in (
-        ("10", uniform_beam(4.0, 2.0, 40.0, 10)), ("40", uniform_beam(4.0, 2.0, 40.0, 40)),
-        ("10m", uniform_beam(4.0, 2.0, 40.0, 10, moment_points=[(0.0, 0.0, 0.0)])))}
-    out.append(_chk("torque pulse, tip history: 10 modes + moment attachment shape vs 40 modes",
-                    e["10m"] / e["40"], "", "<= 1.25", e["10m"] <= 1.25 * e["40"],
-                    f"relative errors: 10 modes {e['10']:.1e}, 40 modes {e['40']:.1e}, "
-                    f"10 + moment shape {e['10m']:.1e} (200-mode reference)"))
+    e = {
+        k: float(np.abs(tip(bb) - ref).max() / np.abs(ref).max())
+        for k, bb in (
+            ("10", uniform_beam(4.0, 2.0, 40.0, 10)),
+            ("40", uniform_beam(4.0, 2.0, 40.0, 40)),
+            ("10m", uniform_beam(4.0, 2.0, 40.0, 10, moment_points=[(0.0, 0.0, 0.0)])),
+        )
+    }
+    out.append(
+        _chk(
+            "torque pulse, tip history: 10 modes + moment attachment shape vs 40 modes",
+            e["10m"] / e["40"],
+            "",
+            "<= 1.25",
+            e["10m"] <= 1.25 * e["40"],
+            f"relative errors: 10 modes {e['10']:.1e}, 40 modes {e['40']:.1e}, "
+            f"10 + moment shape {e['10m']:.1e} (200-mode reference)",
+        )
+    )
     # 3. load-dependent geometric stiffness: Euler buckling of a cantilever, 16 modes
     bc = uniform_beam(2.0, 1.0, 10.0, 16, support="cantilever")
     GL = bc.load_geometric([2.0, 0.0, 0.0], clamped=True)[0]
     pcr = eigh(bc.stiffness, GL, eigvals_only=True)[0] / (np.pi**2 * 10.0 / 16.0) - 1
-    out.append(_chk("geometric stiffness of an applied axial load: cantilever buckling load vs "
-                    "Euler pi^2 EI/(4 L^2)", pcr, "", "< 5e-5", 0 < pcr < 5e-5,
-                    "Ritz with 16 unloaded modes (upper bound)"))
+    out.append(
+        _chk(
+            "geometric stiffness of an applied axial load: cantilever buckling load vs Euler pi^2 EI/(4 L^2)",
+            pcr,
+            "",
+            "< 5e-5",
+            0 < pcr < 5e-5,
+            "Ritz with 16 unloaded modes (upper bound)",
+        )
+    )
     # 4. follower load along the deformed axis: Beck's column flutters at 20.05 EI/L^2
     b6 = uniform_beam(2.0, 1.0, 10.0, 6, support="cantilever")
     Phi, Psi = b6.shape_fn([[2.0, 0.0, 0.0]])
@@ -512,9 +548,16 @@ def _design_checks() -> list[Check]:
         P = mid * 10.0 / 4.0
         ev = np.linalg.eigvals(b6.stiffness - P * G6 + P * np.outer(Phi[0, 1], Psi[0, 2]))
         lo, hi = (mid, hi) if np.abs(ev.imag).max() < 1e-9 * np.abs(ev).max() else (lo, mid)
-    out.append(_chk("material follower load: Beck's column flutter load [EI/L^2]", lo, "",
-                    "20.05 +- 0.2 %", abs(lo / 20.05 - 1) < 2e-3,
-                    "Beck (1952): 20.05; 6 cantilever modes"))
+    out.append(
+        _chk(
+            "material follower load: Beck's column flutter load [EI/L^2]",
+            lo,
+            "",
+            "20.05 +- 0.2 %",
+            abs(lo / 20.05 - 1) < 2e-3,
+            "Beck (1952): 20.05; 6 cantilever modes",
+        )
+    )
     return out
 
 
