@@ -82,7 +82,7 @@ def test_point_body_roundtrip_and_bad_input():
         pb.shape_fn([[0.123, 0.0, 0.0]])
     with pytest.raises(InputError, match="beam axis"):
         b.shape_fn([[1.5, 0.0, 0.0]])
-    with pytest.raises(InputError, match="body.ei"):
+    with pytest.raises(InputError, match="body.beam.ei"):
         uniform_beam(2.0, 1.0, 0.0, 3)
-    with pytest.raises(InputError, match="body.n_modes"):
+    with pytest.raises(InputError, match="body.beam.n_modes"):
         uniform_beam(2.0, 1.0, 1.0, 0)

@@ -34,7 +34,7 @@ def kane_residual(body, V, w, q, p, Vd, wd, pd):
 @pytest.fixture(scope="module")
 def body3d():
     # cantilever modes in a floating frame: not mean axes, all coupling terms present
-    return uniform_beam(2.0, 1.5, 30.0, 3, support="cantilever", spatial=True, ei_z=45.0)
+    return uniform_beam(2.0, 1.5, 30.0, 3, support="cantilever", spatial=True, ei_z=45.0, section_radius=0.02)
 
 
 def test_full_kernel_satisfies_kane_equations(body3d):

@@ -49,21 +49,26 @@ def _write(tmp_path, text):
 @pytest.mark.parametrize(
     "base, old, new, words",
     [
-        (POINTS, "masses = [1.0, 1.0, 1.0, 1.0]", "masses = [1.0, -1.0, 1.0, 1.0]", ["body.masses[1]", "mass > 0"]),
+        (
+            POINTS,
+            "masses = [1.0, 1.0, 1.0, 1.0]",
+            "masses = [1.0, -1.0, 1.0, 1.0]",
+            ["body.points.masses[1]", "mass > 0"],
+        ),
         (BEAM, "rho_a = 1.0", "rho_a = 0.0", ["body.beam.rho_a"]),
         (BEAM, "ei = 10.0", "ei = -5.0", ["body.beam.ei"]),
-        (POINTS, "frequencies = [3.0]", "frequencies = [0.0]", ["frequencies[0]", "> 0"]),
+        (POINTS, "frequencies = [3.0]", "frequencies = [0.0]", ["body.points.frequencies[0]", "> 0"]),
         (
             POINTS,
             "[0.0, 0.0, -0.5], [0.0, 0.0, -0.5]]]",
             "[0.0, 0.0, -0.6], [0.0, 0.0, -0.5]]]",
-            ["body.shapes", "mass-orthonormal"],
+            ["body.points.shapes", "mass-orthonormal"],
         ),
         (
             POINTS,
             "shapes = [[[0.0, 0.0, 0.5], [0.0, 0.0, 0.5], [0.0, 0.0, -0.5], [0.0, 0.0, -0.5]]]\nfrequencies = [3.0]",
             "shapes = []\nfrequencies = []",
-            ["body.n_modes", "no elastic modes"],
+            ["body.points.shapes", "no elastic modes"],
         ),
         (
             POINTS,

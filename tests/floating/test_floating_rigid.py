@@ -52,7 +52,14 @@ def test_rigid_flag_only_through_rigid_body():
     # normal bodies still need elastic modes; rigid_body validates its inertia
     with pytest.raises(InputError, match="at least one elastic mode"):
         point_body([1.0], [[0.0, 0.0, 0.0]], np.zeros((0, 1, 3)), frequencies=[])
-    with pytest.raises(InputError, match="positive definite"):
+    with pytest.raises(InputError, match="principal moments > 0"):
         rigid_body(1.0, (1.0, -1.0, 1.0))
     with pytest.raises(InputError, match="mass > 0"):
         rigid_body(0.0, J)
+
+
+def test_rigid_inertia_must_satisfy_the_triangle_inequality():
+    with pytest.raises(InputError, match="triangle inequality") as exc:
+        rigid_body(1.0, [10.0, 1.0, 1.0])
+    assert exc.value.field == "body.inertia"
+    rigid_body(1.0, [2.0, 1.0, 1.0])  # the limiting case (a flat plate) is physical

@@ -7,8 +7,10 @@ zero-order rigid + first-order linear time-varying perturbation equations. Heavy
 kernels, xarray) are imported only when a solver runs.
 """
 
+from rotaflex.floating.api import State, run
 from rotaflex.floating.body import Body, integrals, point_body, uniform_beam
 from rotaflex.floating.model import Initial, Load, Prescribed, Settings
+from rotaflex.floating.modes_file import load_modes
 
 __all__ = [
     "Body",
@@ -16,7 +18,10 @@ __all__ = [
     "Load",
     "Prescribed",
     "Settings",
+    "State",
     "integrals",
+    "load_modes",
     "point_body",
+    "run",
     "uniform_beam",
 ]

@@ -71,6 +71,14 @@ class Body:
     extra_inertia : ndarray (3, 3)
         Inertia [kg m^2] of rigid (non-elastic) mass about the body origin added to ``J``, e.g. the
         polar inertia of a beam's cross-sections, which a line of points does not carry.
+    load_geometric : callable or None
+        ``load_geometric(point) -> (3, n, n)``: geometric stiffness per unit body-frame force
+        along x, y, z applied at ``point`` (axial load state including the inertia relief of the
+        floating body); None if the body cannot provide it (then applied loads do not stiffen).
+    planar : bool
+        True for a planar line beam (points on the x axis, deflection along y only): its rotation
+        about its own axis carries no inertia and is decoupled from in-plane motion, so the
+        solvers accept zero inertia about x and require in-plane loads and initial state.
     rigid : bool
         True only for :func:`rigid_body` (no elastic modes, for cross-checks against rigid-body
         solvers); a normal body must have at least one elastic mode.
@@ -88,6 +96,8 @@ class Body:
     mode_labels: tuple = ()
     extra_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
     rigid: bool = False
+    planar: bool = False
+    load_geometric: Callable | None = field(default=None, repr=False)
 
     def __post_init__(self):
         validate_body(self)
@@ -260,6 +270,7 @@ def uniform_beam(
     n_quad: int | None = None,
     section_radius: float | None = None,
     attachment_points=(),
+    moment_points=(),
 ) -> Body:
     """Uniform Euler-Bernoulli beam along the body x axis with analytic modes.
 
@@ -285,9 +296,12 @@ def uniform_beam(
     n_quad : int, optional
         Number of Gauss points (default: 8 per half-wave of the highest mode, at least 48).
     section_radius : float, optional
-        Radius of a solid circular section [m] (default ``L/100``) used only for the rigid-body
-        section inertia ``rho_a L diag(r^2/2, r^2/4, r^2/4)`` added to ``J`` (the elastic model is
-        Euler-Bernoulli: no rotary inertia in the modes). Without it a line body has ``J_xx = 0``.
+        Radius of a solid circular section [m] (default 0: a line beam, which has no section
+        inertia). If > 0, the rigid-body section inertia ``rho_a L diag(r^2/2, r^2/4, r^2/4)`` is
+        added to ``J`` (the elastic model stays Euler-Bernoulli: no rotary inertia in the modes).
+        A planar line beam (r = 0) has no inertia about its axis; that rotation is decoupled from
+        in-plane motion, so in-plane loads are required. A spatial beam needs r > 0 to be
+        simulated (its spin about its own axis would otherwise have no inertia).
     attachment_points : sequence of (3,) floats
         Load points [m] on the beam axis. For each, the static deflection under a unit
         transverse force (free-free: with inertia relief, made mass-orthogonal to the rigid
@@ -296,6 +310,11 @@ def uniform_beam(
         ``EI phi'' phi''``), so the modes stay mass-orthonormal with diagonal ``K_b``; the extra
         "pseudo-modes" (labels ``attach_y1`` ...) carry the residual static flexibility of an end
         load that the truncated modal series misses.
+    moment_points : sequence of (3,) floats
+        Points [m] on the beam axis where moments about the transverse axes are applied: the
+        static deflection under a unit concentrated moment (same supports and inertia relief as
+        for forces) is added in each bending plane, like ``attachment_points``. Moments about the
+        beam axis need none (the beam has no torsion modes).
 
     Returns
     -------
@@ -307,28 +326,21 @@ def uniform_beam(
     >>> round(float(b.mass), 6)
     2.0
     """
-    for name, v in (("body.length", length), ("body.rho_a", rho_a), ("body.ei", ei)):
+    for name, v in (("body.beam.length", length), ("body.beam.rho_a", rho_a), ("body.beam.ei", ei)):
         if not (np.isfinite(v) and v > 0):
             raise InputError(name, v, "a number > 0")
     if ei_z is not None and not ei_z > 0:
-        raise InputError("body.ei_z", ei_z, "a number > 0 [N m^2]")
+        raise InputError("body.beam.ei_z", ei_z, "a number > 0 [N m^2]")
     if n_modes < 1:
-        raise InputError("body.n_modes", n_modes, "an integer >= 1 (a body needs elastic modes)")
+        raise InputError("body.beam.n_modes", n_modes, "an integer >= 1 (a body needs elastic modes)")
     if support not in ("free-free", "cantilever"):
-        raise InputError("body.support", support, "'free-free' or 'cantilever'")
-    rg = length / 100.0 if section_radius is None else section_radius
-    if not rg > 0:
-        raise InputError("body.section_radius", rg, "a number > 0 [m]")
+        raise InputError("body.beam.support", support, "'free-free' or 'cantilever'")
+    rg = 0.0 if section_radius is None else float(section_radius)
+    if not (np.isfinite(rg) and rg >= 0):
+        raise InputError("body.beam.section_radius", section_radius, "a radius >= 0 [m]")
     bl = beam_roots(support, n_modes)
     nq = n_quad or max(48, int(8 * (n_modes + 2)))
-    g, gw = np.polynomial.legendre.leggauss(nq)
-    s = 0.5 * (g + 1.0)  # in [0, 1]
     x0 = -0.5 * length if support == "free-free" else 0.0
-    masses = rho_a * length * 0.5 * gw
-    points = np.zeros((nq, 3))
-    points[:, 0] = x0 + s * length
-    norm = np.array([np.sqrt(rho_a * length * np.sum(0.5 * gw * beam_mode(support, b, s) ** 2)) for b in bl])
-    xq, wq = points[:, 0], length * 0.5 * gw
     x_end = x0 + length
 
     def check_points(pts, where):
@@ -344,18 +356,45 @@ def uniform_beam(
             )
         return np.clip(pts[:, 0], x0, x_end)
 
-    att = check_points(attachment_points, "body.attachment_points") if len(attachment_points) else np.zeros(0)
+    att_f = check_points(attachment_points, "body.attachment_points") if len(attachment_points) else np.zeros(0)
+    att_m = check_points(moment_points, "body.moment_points") if len(moment_points) else np.zeros(0)
+    att = np.concatenate([att_f, att_m])
+    is_moment = np.arange(len(att)) >= len(att_f)
+    # Gauss quadrature, composite with a break at every interior load point: attachment shapes
+    # are piecewise polynomials there (a moment shape's curvature jumps), and the body's mass
+    # integrals must stay exact for them
+    cuts = np.unique(np.concatenate([[x0, x_end], att]))
+    cuts = cuts[np.concatenate([[True], np.diff(cuts) > 1e-9 * length])]
+    cuts[-1] = x_end
+    g, gw = np.polynomial.legendre.leggauss(nq)
+    xq = np.concatenate([a + 0.5 * (g + 1.0) * (b - a) for a, b in zip(cuts[:-1], cuts[1:], strict=True)])
+    wq = np.concatenate([0.5 * gw * (b - a) for a, b in zip(cuts[:-1], cuts[1:], strict=True)])
+    s = (xq - x0) / length  # in [0, 1]
+    masses = rho_a * wq
+    points = np.zeros((len(xq), 3))
+    points[:, 0] = xq
+    norm = np.array([np.sqrt(rho_a * np.sum(wq * beam_mode(support, b, s) ** 2)) for b in bl])
 
-    def attach(a, x, deriv):
-        """Static deflection x EI under a unit transverse force at ``a`` (free-free: with inertia
-        relief ``q = -rho_a (a0 + alpha x)``; cantilever: clamped at the root)."""
+    def attach(a, x, deriv, moment=False):
+        """Static deflection x EI under a unit transverse force (or, ``moment``, a unit moment
+        bending the same plane) at ``a``; free-free: with inertia relief ``q = -rho_a (a0 +
+        alpha x)``; cantilever: clamped at the root."""
         if support == "cantilever":
+            if moment:  # EI w'' = H(a - x)
+                xc = np.minimum(x, a)
+                return [xc * xc / 2.0 + a * (x - xc), xc, (x < a).astype(float)][deriv]
             t = np.clip(a - x, 0.0, None)
             return [(a * a * x - (a**3 - t**3) / 3.0) / 2.0, (a * a - t * t) / 2.0, t][deriv]
         P = np.polynomial.Polynomial
-        q = P([-1.0 / length, -12.0 * a / length**3])  # rho_a (a0 + alpha x) per unit force
+        # relief load per unit force: rho_a (a0 + alpha x) = 1/L + 12 a x / L^3; per unit moment
+        # (no resultant force): 12 x / L^3
+        q = P([0.0, -12.0 / length**3]) if moment else P([-1.0 / length, -12.0 * a / length**3])
         mom = q.integ(lbnd=x0).integ(lbnd=x0)  # bending moment of the distributed relief load
         t = np.clip(x - a, 0.0, None)
+        if moment:  # the couple's own moment: -H(x - a)
+            return [mom.integ(2, lbnd=x0)(x) - t * t / 2.0, mom.integ(lbnd=x0)(x) - t, mom(x) - (x > a).astype(float)][
+                deriv
+            ]
         return [mom.integ(2, lbnd=x0)(x) + t**3 / 6.0, mom.integ(lbnd=x0)(x) + t * t / 2.0, mom(x) + t][deriv]
 
     # rigid-body part of each attachment shape (free-free: mass-orthogonal projection on 1, x)
@@ -363,7 +402,7 @@ def uniform_beam(
     if support == "free-free":
         Mr2 = np.array([[masses.sum(), masses @ xq], [masses @ xq, masses @ xq**2]])
         for i, a in enumerate(att):
-            w0 = attach(a, xq, 0)
+            w0 = attach(a, xq, 0, is_moment[i])
             rig[i] = np.linalg.solve(Mr2, [masses @ w0, masses @ (xq * w0)])
 
     def raw(x, deriv, e_i):
@@ -371,7 +410,7 @@ def uniform_beam(
         ss = (x - x0) / length
         cols = [beam_mode(support, b, ss, deriv) / nm / length**deriv for b, nm in zip(bl, norm, strict=True)]
         for i, a in enumerate(att):
-            v = attach(a, x, deriv) - [rig[i, 0] + rig[i, 1] * x, rig[i, 1], 0.0][deriv]
+            v = attach(a, x, deriv, is_moment[i]) - [rig[i, 0] + rig[i, 1] * x, rig[i, 1], 0.0][deriv]
             cols.append(v / e_i)
         return np.column_stack(cols)
 
@@ -383,8 +422,9 @@ def uniform_beam(
             # Rayleigh-Ritz on [modes, attachments]: mass-orthonormal, diagonal stiffness
             from scipy.linalg import eigh
 
-            R0, R2 = raw(xq, 0, e_i), raw(xq, 2, e_i)
+            R0 = raw(xq, 0, e_i)
             Mr = np.einsum("k,ki,kj->ij", masses, R0, R0)
+            R2 = raw(xq, 2, e_i)  # exact: the quadrature breaks at every attachment point
             Kr = np.einsum("k,ki,kj->ij", wq * e_i, R2, R2)
             w2, C = eigh(0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T))
             sg = np.sign(C[:n_modes].diagonal())
@@ -428,6 +468,26 @@ def uniform_beam(
     KG = np.einsum("k,ki,kj->ij", wq * tension, dphi, dphi) * same_plane
     G = np.zeros((3, 3, n, n))
     G[1, 1] = G[2, 2] = KG  # axial tension from w_y^2 + w_z^2 only (beam along x)
+
+    def load_geometric(pt, clamped=False):
+        """Geometric stiffness (3, n, n) per unit body-frame force along x, y, z at ``pt``: the
+        axial force of a unit x force with inertia relief (the body floats, so the rigid
+        acceleration F/m loads every section), N(x) = H(a - x) - (x_end - x)/L; ``clamped``
+        (prescribed frame motion: the root carries the load) N(x) = H(a - x)."""
+        relief = 0.0 if clamped else 1.0
+        a = float(check_points([pt], "point")[0])
+        out = np.zeros((3, n, n))
+        for xa, xb, step in ((x0, a, 1.0), (a, x_end, 0.0)):
+            if xb - xa <= 1e-12 * length:
+                continue
+            xs = xa + 0.5 * (g + 1.0) * (xb - xa)
+            ws = 0.5 * gw * (xb - xa)
+            sl_s = plane_values(xs, 1)
+            d_s = np.column_stack([sl_s[p_i][:, c] for (_a, p_i, c) in cols])
+            N = step - relief * (x_end - xs) / length
+            out[0] += np.einsum("k,ki,kj->ij", ws * N, d_s, d_s) * same_plane
+        return out
+
     frame = (
         "mean axes (origin at the centre of mass, x along the beam)"
         if support == "free-free"
@@ -445,6 +505,8 @@ def uniform_beam(
         length=length,
         mode_labels=labels,
         extra_inertia=rho_a * length * rg**2 * np.diag([0.5, 0.25, 0.25]),
+        planar=not spatial,
+        load_geometric=load_geometric,
     )
 
 
@@ -481,6 +543,20 @@ def _sym_matrix(mat, n, where):
     return 0.5 * (m + m.T)
 
 
+def check_inertia(J, where: str) -> None:
+    """A physical inertia tensor: symmetric, principal moments > 0 that satisfy the triangle
+    inequality ``J1 + J2 >= J3`` (every mass distribution does; e.g. [10, 1, 1] does not)."""
+    J = np.asarray(J, dtype=float)
+    if J.shape != (3, 3) or not np.all(np.isfinite(J)) or not np.allclose(J, J.T):
+        raise InputError(where, J.tolist(), "a symmetric 3 x 3 tensor or 3 principal moments [kg m^2]")
+    ev = np.linalg.eigvalsh(J)
+    shown = ev.tolist() if not np.allclose(J, np.diag(np.diag(J))) else np.diag(J).tolist()
+    if ev.min() <= 0:
+        raise InputError(where, shown, "principal moments > 0 [kg m^2]")
+    if ev[0] + ev[1] < ev[2] * (1 - 1e-12):
+        raise InputError(where, shown, "principal moments with J1 + J2 >= J3 (triangle inequality) [kg m^2]")
+
+
 def rigid_body(mass: float, inertia, *, name: str = "rigid body") -> Body:
     """A body without elastic modes (cross-check path only, e.g. against the rotor domain).
 
@@ -494,8 +570,7 @@ def rigid_body(mass: float, inertia, *, name: str = "rigid body") -> Body:
     """
     J = np.asarray(inertia, dtype=float)
     J = np.diag(J) if J.shape == (3,) else J
-    if J.shape != (3, 3) or not np.allclose(J, J.T) or np.linalg.eigvalsh(J).min() <= 0:
-        raise InputError("body.inertia", J.tolist(), "a symmetric positive definite tensor [kg m^2]")
+    check_inertia(J, "body.inertia")
 
     def shape_fn(pts):
         pts = np.atleast_2d(np.asarray(pts, dtype=float))
@@ -526,6 +601,7 @@ def point_body(
     stiffness=None,
     rotation_shapes=None,
     *,
+    rotary_inertias=None,
     geometric=None,
     name: str = "user-supplied point body",
 ) -> Body:
@@ -545,6 +621,10 @@ def point_body(
         Modal stiffness (instead of ``frequencies``).
     rotation_shapes : array (n, N, 3), optional
         Nodal rotation per unit modal coordinate [rad]; needed for torques applied at nodes.
+    rotary_inertias : array (N, 3), optional
+        Principal rotary inertias of the nodes about body x, y, z [kg m^2] (each obeying the
+        triangle inequality). They are added to the rigid-body inertia ``J``; the elastic
+        equations use the translational node masses only (``sum m Phi^T Phi = I`` is checked).
     geometric : dict or array (3, 3, n, n), optional
         Unit centrifugal geometric stiffness (from the user's FE program: the modal projection
         of the geometric stiffness of the axial stress under the centrifugal load of
@@ -581,6 +661,15 @@ def point_body(
         if R.shape != S.shape:
             raise InputError("body.rotation_shapes", f"shape {R.shape}", f"shape {S.shape}")
         Psi_nodes = np.transpose(R, (1, 2, 0))
+    extra = np.zeros((3, 3))
+    if rotary_inertias is not None:
+        Ir = np.asarray(rotary_inertias, dtype=float)
+        if Ir.shape != (m.size, 3):
+            raise InputError("body.rotary_inertias", f"shape {Ir.shape}", f"shape ({m.size}, 3)")
+        for k in range(m.size):
+            if np.any(Ir[k] != 0.0):
+                check_inertia(np.diag(Ir[k]), f"body.rotary_inertias[{k}]")
+        extra = np.diag(Ir.sum(axis=0))
     size = float(np.ptp(P, axis=0).max()) if m.size > 1 else 1.0
     size = size if size > 0 else 1.0
 
@@ -606,4 +695,5 @@ def point_body(
         frame="as supplied (mean axes if the modes are free-free)",
         length=size,
         mode_labels=tuple(f"mode{j + 1}" for j in range(n)),
+        extra_inertia=extra,
     )

@@ -36,6 +36,12 @@ from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
 from rotaflex.floating.model import Initial, Load, Prescribed, Settings, Vec3
 
+#: budgets checked before anything is allocated (memory and run time grow like n^2 and n^4)
+MAX_BEAM_MODES = 100
+MAX_FE_MODES = 200
+MAX_FE_NODES = 2000
+MAX_OUTPUT_SAMPLES = 1_000_000
+
 
 @dataclass(frozen=True)
 class BeamConfig:
@@ -44,12 +50,18 @@ class BeamConfig:
     length: float = param(unit="m", gt=0.0)
     rho_a: float = param(unit="kg/m", gt=0.0)
     ei: float = param(unit="N m^2", gt=0.0, doc="deflection along y")
-    n_modes: int = param(5, ge=1, doc="bending modes per plane")
+    n_modes: int = param(5, ge=1, le=MAX_BEAM_MODES, doc="bending modes per plane")
     ei_z: float | None = param(None, unit="N m^2", gt=0.0, doc="deflection along z (spatial)")
     spatial: bool = param(False)
     support: Literal["free-free", "cantilever"] = param("free-free")
-    section_radius: float | None = param(None, unit="m", gt=0.0)
-    n_quad: int | None = param(None, ge=8)
+    section_radius: float = param(
+        0.0,
+        unit="m",
+        ge=0.0,
+        doc="radius of a solid circular section whose rigid-body inertia is added to J; 0 = a "
+        "line beam (planar only: a spatial beam needs > 0 for its spin about its own axis)",
+    )
+    n_quad: int | None = param(None, ge=8, le=5000, doc="Gauss points per segment")
 
 
 @dataclass(frozen=True)
@@ -64,8 +76,8 @@ class FrameConfig:
     iy: float = param(unit="m^4", gt=0.0)
     iz: float = param(unit="m^4", gt=0.0)
     j: float = param(unit="m^4", gt=0.0)
-    n_modes: int = param(6, ge=1)
-    elements_per_segment: int = param(10, ge=1)
+    n_modes: int = param(6, ge=1, le=MAX_FE_MODES)
+    elements_per_segment: int = param(10, ge=1, le=MAX_FE_NODES)
     up: Vec3 = param((0.0, 0.0, 1.0))
 
 
@@ -78,21 +90,41 @@ class PointsConfig:
     shapes: tuple[tuple[Vec3, ...], ...] = param(doc="shapes[mode][node] = (ux, uy, uz)")
     frequencies: tuple[float, ...] = param(unit="rad/s")
     rotation_shapes: tuple[tuple[Vec3, ...], ...] | None = param(None)
+    rotary_inertias: tuple[Vec3, ...] | None = param(
+        None,
+        unit="kg m^2",
+        doc="principal rotary inertias of each node about body x, y, z (rigid-body inertia only)",
+    )
     geometric: dict[str, tuple[tuple[float, ...], ...]] | None = param(
         None, doc="unit centrifugal geometric stiffness per pair xx, yy, zz, xy, xz, yz (n x n)"
     )
 
 
 @dataclass(frozen=True)
+class FileConfig:
+    """Nodes, masses and mass-normalised modes from a NumPy ``.npz`` file (layout in
+    :mod:`rotaflex.floating.modes_file` and docs/floating.md)."""
+
+    path: str = param(doc="the .npz file (relative paths: from the working directory)")
+    frame: Literal["mean-axes", "attached"] = param(
+        "mean-axes", doc="free-free modes in mean axes (checked) or modes clamped to the frame"
+    )
+
+
+@dataclass(frozen=True)
 class BodyConfig:
-    type: Literal["beam", "frame", "points"] = param("beam")
+    type: Literal["beam", "frame", "points", "file"] = param("beam")
     beam: BeamConfig | None = param(None)
     frame: FrameConfig | None = param(None)
     points: PointsConfig | None = param(None)
+    file: FileConfig | None = param(None)
     attachment_points: tuple[Vec3, ...] = param(
         (), unit="m", doc="load points for inertia-relief attachment modes (beam and frame)"
     )
-    attach_at_loads: bool = param(False, doc="add attachment modes at every force-load point")
+    attach_at_loads: bool = param(
+        False,
+        doc="add attachment modes at every load point: unit-force shapes for forces, unit-moment shapes for torques",
+    )
 
     def __post_init__(self):
         if getattr(self, self.type) is None:
@@ -109,17 +141,62 @@ class FloatingCase:
     outputs: dict[str, Vec3] = param({}, unit="m", doc="named body points (undeformed, body frame)")
 
 
+_POINT_FIELDS = {
+    "body.masses": "body.points.masses",
+    "body.points": "body.points.positions",
+    "body.shapes": "body.points.shapes",
+    "body.n_modes": "body.points.shapes",
+    "body.frequencies": "body.points.frequencies",
+    "body.stiffness": "body.points.frequencies",
+    "body.rotation_shapes": "body.points.rotation_shapes",
+    "body.rotary_inertias": "body.points.rotary_inertias",
+    "body.geometric": "body.points.geometric",
+}
+_FRAME_FIELDS = {"body.elements": "body.frame.nodes", "body.n_modes": "body.frame.n_modes"}
+
+
+def _renamed(exc: InputError, table: dict[str, str], default_prefix: str = "") -> InputError:
+    """The same error with its field named by its path in the config file."""
+    f = exc.field
+    for old, new in table.items():
+        if f == old or f.startswith(old + "[") or f.startswith(old + "."):
+            return InputError(new + f[len(old) :], exc.value, exc.allowed)
+    if default_prefix and f.startswith("body.") and not f.startswith(default_prefix):
+        tail = f[len("body.") :]
+        if tail.split(".")[0].split("[")[0] not in ("attachment_points", "attach_at_loads"):
+            return InputError(default_prefix + tail, exc.value, exc.allowed)
+    return exc
+
+
 def build_body(cfg: BodyConfig, loads=()):
-    """The :class:`~rotaflex.floating.body.Body` of a body config (``loads`` for attach_at_loads)."""
+    """The :class:`~rotaflex.floating.body.Body` of a body config (``loads`` for attach_at_loads).
+
+    Errors name the field by its path in the case file (``body.points.masses[1]``).
+    """
+    try:
+        return _build_body(cfg, loads)
+    except InputError as exc:
+        if cfg.type == "points":
+            raise _renamed(exc, _POINT_FIELDS) from None
+        if cfg.type == "frame":
+            raise _renamed(exc, _FRAME_FIELDS, "body.frame.") from None
+        raise
+
+
+def _build_body(cfg: BodyConfig, loads=()):
     from rotaflex.floating.body import point_body, uniform_beam
 
     att = [tuple(p) for p in cfg.attachment_points]
+    mom = []
     if cfg.attach_at_loads:
         att += [tuple(ld.point) for ld in loads if ld.kind == "force" and ld.point not in att]
-    if att and cfg.type == "points":
+        for ld in loads:
+            if ld.kind == "torque" and tuple(ld.point) not in mom:
+                mom.append(tuple(ld.point))
+    if (att or mom) and cfg.type in ("points", "file"):
         raise InputError(
-            "body.attachment_points",
-            [list(p) for p in att],
+            "body.attach_at_loads" if cfg.attach_at_loads else "body.attachment_points",
+            True if cfg.attach_at_loads else [list(p) for p in att],
             "none for a points body (supply the attachment shapes as extra modes from the FE program)",
         )
 
@@ -136,6 +213,7 @@ def build_body(cfg: BodyConfig, loads=()):
             n_quad=b.n_quad,
             section_radius=b.section_radius,
             attachment_points=att,
+            moment_points=mom,
         )
     if cfg.type == "frame":
         from rotaflex.floating.fe import frame_body
@@ -145,6 +223,13 @@ def build_body(cfg: BodyConfig, loads=()):
         if len(key) < 2:
             raise InputError("body.frame.nodes", len(key), "at least 2 key points")
         k = f.elements_per_segment
+        if (len(key) - 1) * k + 1 > MAX_FE_NODES:
+            raise InputError(
+                "body.frame.elements_per_segment",
+                k,
+                f"at most {(MAX_FE_NODES - 1) // (len(key) - 1)} for {len(key)} key points "
+                f"(<= {MAX_FE_NODES} FE nodes: the dense eigensolution grows like nodes^3)",
+            )
         nodes = [key[0]] + [
             key[i] + (key[i + 1] - key[i]) * s / k for i in range(len(key) - 1) for s in range(1, k + 1)
         ]
@@ -160,7 +245,12 @@ def build_body(cfg: BodyConfig, loads=()):
             n_modes=f.n_modes,
             up=f.up,
             attachment_points=att,
+            moment_points=mom,
         )
+    if cfg.type == "file":
+        from rotaflex.floating.modes_file import load_modes
+
+        return load_modes(cfg.file.path, cfg.file.frame)
     p = cfg.points
     return point_body(
         p.masses,
@@ -168,8 +258,77 @@ def build_body(cfg: BodyConfig, loads=()):
         p.shapes,
         frequencies=p.frequencies,
         rotation_shapes=p.rotation_shapes,
+        rotary_inertias=p.rotary_inertias,
         geometric=p.geometric,
     )
+
+
+#: root schema of a floating case file (for templates and generated config docs)
+SCHEMA = FloatingCase
+
+
+def _parse(config: dict) -> FloatingCase:
+    """Config dataclasses from a parsed TOML table; errors name ``loads[i].field``."""
+    if not isinstance(config, dict):
+        raise InputError("config", type(config).__name__, "a table")
+    loads = config.get("loads", ())
+    if isinstance(loads, (list, tuple)):
+        for i, ld in enumerate(loads):
+            try:
+                from_mapping(Load, ld, f"loads[{i}]")
+            except InputError as exc:
+                if exc.field.startswith("loads."):  # raised by Load's own cross-field checks
+                    raise InputError(f"loads[{i}].{exc.field[len('loads.') :]}", exc.value, exc.allowed) from None
+                raise
+    case = from_mapping(FloatingCase, config)
+    s = case.solver
+    n_out = s.t_end / s.dt_out + 1.0
+    if n_out > MAX_OUTPUT_SAMPLES:
+        raise InputError(
+            "solver.dt_out",
+            s.dt_out,
+            f"an interval >= t_end / {MAX_OUTPUT_SAMPLES - 1} = "
+            f"{s.t_end / (MAX_OUTPUT_SAMPLES - 1):.3g} s (at most {MAX_OUTPUT_SAMPLES} output "
+            "samples)",
+        )
+    return case
+
+
+def prepare(config: dict):
+    """Parse and check a case without integrating: ``(case, body, methods)``.
+
+    Raises
+    ------
+    InputError
+        Bad input (one line naming field, value and what is allowed).
+    """
+    from rotaflex.floating.solve import check_inputs
+
+    case = _parse(config)
+    body = build_body(case.body, case.loads)
+    for name, pt in case.outputs.items():
+        try:
+            body.shape_fn(np.array([pt], dtype=float))
+        except InputError as exc:
+            raise InputError(f"outputs.{name}", list(pt), exc.allowed) from None
+    methods = ["full", "perturbation"] if case.solver.method == "both" else [case.solver.method]
+    if case.prescribed is not None:
+        methods = ["full"]
+    for m in methods:
+        check_inputs(body, case.loads, case.initial, case.solver, m)
+    return case, body, methods
+
+
+def validate_config(config: dict) -> None:
+    """Check a parsed TOML case (without the ``domain`` key) the way ``run_case`` does, without
+    integrating; used by sweeps for every case up front.
+
+    Raises
+    ------
+    InputError
+        Bad input (one line naming field, value and what is allowed).
+    """
+    prepare(config)
 
 
 def run_case(config: dict, *, progress: bool = False):
@@ -184,19 +343,7 @@ def run_case(config: dict, *, progress: bool = False):
     from rotaflex.floating.solve import simulate
 
     t0 = time.perf_counter()
-    case = from_mapping(FloatingCase, config)
-    body = build_body(case.body, case.loads)
-    names = list(case.outputs)
-    if names:
-        pts = np.array([case.outputs[k] for k in names], dtype=float)
-        for i, name in enumerate(names):
-            try:
-                body.shape_fn(pts[i : i + 1])
-            except InputError as exc:
-                raise InputError(f"outputs.{name}", pts[i].tolist(), exc.allowed) from None
-    methods = ["full", "perturbation"] if case.solver.method == "both" else [case.solver.method]
-    if case.prescribed is not None:
-        methods = ["full"]
+    case, body, methods = prepare(config)
     sols = [simulate(body, case.loads, case.initial, case.solver, m, case.prescribed) for m in methods]
     resolved = json.loads(json.dumps(dataclasses.asdict(case)))
     return build_result(body, sols, dict(case.outputs), resolved, time.perf_counter() - t0)

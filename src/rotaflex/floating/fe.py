@@ -26,6 +26,9 @@ _GP, _GW = 0.5 * (_GP + 1.0), 0.5 * _GW
 def _frames(nodes, elements, up):
     d = nodes[elements[:, 1]] - nodes[elements[:, 0]]
     L = np.linalg.norm(d, axis=1)
+    if np.any(L <= 0.0):
+        k = int(np.argmin(L))
+        raise InputError("body.elements", int(k), "elements of non-zero length (distinct nodes)")
     ex = d / L[:, None]
     ref = np.tile(np.asarray(up, dtype=float), (len(ex), 1))
     par = np.abs(np.einsum("ij,ij->i", ref, ex)) > 0.99
@@ -92,6 +95,7 @@ def frame_body(
     up=(0.0, 0.0, 1.0),
     name: str = "FE frame body",
     attachment_points=(),
+    moment_points=(),
     geometric: bool = True,
 ) -> Body:
     """Free-free modes of a 3-D frame model as a :class:`Body` (mean axes).
@@ -217,16 +221,25 @@ def frame_body(
         return Ng, Nr, dofs[ie]
 
     labels = [f"fe{k + 1}" for k in range(n_modes)]
-    if len(attachment_points):
-        Pa = np.asarray(attachment_points, dtype=float).reshape(-1, 3)
-        try:
-            Ng, _, dd = interp(Pa)
-        except InputError as exc:
-            raise InputError("body.attachment_points", exc.value, exc.allowed) from None
-        F = np.zeros((ndof, 3 * len(Pa)))
-        for i in range(len(Pa)):
-            np.add.at(F, (dd[i], slice(3 * i, 3 * i + 3)), Ng[i].T)
-        U = inertia_relief_solve(K, M, Rg, F)
+    if len(attachment_points) or len(moment_points):
+        Fs = []
+        for pts, where, use_rot in (
+            (attachment_points, "body.attachment_points", False),
+            (moment_points, "body.moment_points", True),
+        ):
+            if not len(pts):
+                continue
+            Pa = np.asarray(pts, dtype=float).reshape(-1, 3)
+            try:
+                Ng, Nr, dd = interp(Pa)
+            except InputError as exc:
+                raise InputError(where, exc.value, exc.allowed) from None
+            Nu = Nr if use_rot else Ng  # unit moments act through the rotation interpolation
+            F = np.zeros((ndof, 3 * len(Pa)))
+            for i in range(len(Pa)):
+                np.add.at(F, (dd[i], slice(3 * i, 3 * i + 3)), Nu[i].T)
+            Fs.append(F)
+        U = inertia_relief_solve(K, M, Rg, np.hstack(Fs))
         modes, om2, n_att = augment_ritz(modes, U, M, K)
         labels += [f"attach{k + 1}" for k in range(n_att)]
     G = None

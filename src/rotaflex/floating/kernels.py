@@ -24,7 +24,7 @@ from numba import njit
 
 # load kinds / frames / profiles (keep in step with loads.py)
 FORCE, TORQUE = 0, 1
-BODY, INERTIAL = 0, 1
+BODY, INERTIAL, MATERIAL = 0, 1, 2
 PROFILES = ("constant", "step", "ramp", "bang-bang", "sinusoid", "pulse")
 
 
@@ -169,6 +169,17 @@ def sub_phiT(f, off, Ph, v):
 
 
 @njit(cache=True)
+def sub_mat_scaled(f, off, K, c, q):
+    """``f[off:] -= c K q``."""
+    n = q.shape[0]
+    for i in range(n):
+        s = 0.0
+        for j in range(n):
+            s += K[i, j] * q[j]
+        f[off + i] -= c * s
+
+
+@njit(cache=True)
 def sub_mat(f, off, K, q):
     """``f[off:] -= K q``."""
     n = q.shape[0]
@@ -250,7 +261,7 @@ def geometric_terms(G, gnz, w, q, p, f, off, Smat, Sdot):
 @njit(cache=True)
 def loads_full(t, A, q, L):
     """Generalised forces ``H = [F_v, M_w, Q]`` (body frame) of all loads, full model."""
-    kind, frame, prof, par, amp, rP, PhiP, PsiP = L
+    kind, frame, prof, par, amp, rP, PhiP, PsiP, GL, gln = L
     n = q.shape[0]
     H = np.zeros(6 + n)
     for i in range(kind.shape[0]):
@@ -260,6 +271,8 @@ def loads_full(t, A, q, L):
         v = s * amp[i]
         if frame[i] == INERTIAL:
             v = mtvec(A, v)
+        elif frame[i] == MATERIAL:  # turned by the small section rotation psi = Psi_P q
+            v = v + cross(phi_dot(PsiP[i], q), v)
         if kind[i] == FORCE:
             c = rP[i] + phi_dot(PhiP[i], q)
             mo = cross(c, v)
@@ -267,6 +280,10 @@ def loads_full(t, A, q, L):
                 H[a] += v[a]
                 H[3 + a] += mo[a]
             sub_phiT(H, 6, PhiP[i], -v)
+            # geometric stiffening from this load's axial load state (zero if switched off)
+            for a in range(3):
+                if v[a] != 0.0 and gln[i, a]:
+                    sub_mat_scaled(H, 6, GL[i, a], v[a], q)
         else:
             for a in range(3):
                 H[3 + a] += v[a]
@@ -277,7 +294,7 @@ def loads_full(t, A, q, L):
 @njit(cache=True)
 def loads_perturbation(t, A0, th1, q1, L):
     """Zero-order rigid loads ``H0`` (6) and first-order loads ``H1`` (6 + n)."""
-    kind, frame, prof, par, amp, rP, PhiP, PsiP = L
+    kind, frame, prof, par, amp, rP, PhiP, PsiP, GL, gln = L
     n = q1.shape[0]
     H0 = np.zeros(6)
     H1 = np.zeros(6 + n)
@@ -290,6 +307,8 @@ def loads_perturbation(t, A0, th1, q1, L):
         if frame[i] == INERTIAL:
             v0 = mtvec(A0, v0)
             v1 = cross(v0, th1)  # (I - th1~) v0 - v0
+        elif frame[i] == MATERIAL:
+            v1 = cross(phi_dot(PsiP[i], q1), v0)
         if kind[i] == FORCE:
             m0 = cross(rP[i], v0)
             m1 = cross(rP[i], v1) + cross(phi_dot(PhiP[i], q1), v0)
@@ -299,6 +318,9 @@ def loads_perturbation(t, A0, th1, q1, L):
                 H1[a] += v1[a]
                 H1[3 + a] += m1[a]
             sub_phiT(H1, 6, PhiP[i], -v0)
+            for a in range(3):  # first order: zero-order load state times q1
+                if v0[a] != 0.0 and gln[i, a]:
+                    sub_mat_scaled(H1, 6, GL[i, a], v0[a], q1)
         else:
             for a in range(3):
                 H0[3 + a] += v0[a]
@@ -584,6 +606,64 @@ def rhs(mode, t, y, B, L, geo, pres):
 
 
 # ----------------------------------------------------------------------------------------
+# attitude from the state, and Euler 1-2-3 angles unwrapped step by step (never from samples)
+# ----------------------------------------------------------------------------------------
+#: largest attitude change [rad] accepted in one integrator step, so that the per-step Euler
+#: unwrapping below is unambiguous whatever rtol and dt_out are
+MAX_STEP_ROTATION = 0.5
+
+
+@njit(cache=True)
+def attitude(mode, t, y, pres, zero_order):
+    """Unit attitude quaternion (scalar first) of state ``y`` at time ``t`` (``zero_order``:
+    the zero-order attitude ``e0`` of the perturbation method)."""
+    e = np.empty(4)
+    if mode == 2:
+        ang = spin_profile(pres[3], pres[4], t)[0]
+        e[0] = np.cos(0.5 * ang)
+        for i in range(3):
+            e[i + 1] = np.sin(0.5 * ang) * pres[i]
+        return e
+    n = np.sqrt(y[3] ** 2 + y[4] ** 2 + y[5] ** 2 + y[6] ** 2)
+    a0, a1, a2, a3 = y[3] / n, y[4] / n, y[5] / n, y[6] / n
+    if mode == 0 or zero_order:
+        e[0], e[1], e[2], e[3] = a0, a1, a2, a3
+        return e
+    # perturbation: e0 (x) exp(theta_1)
+    t1, t2, t3 = y[16], y[17], y[18]
+    ang = np.sqrt(t1 * t1 + t2 * t2 + t3 * t3)
+    c = np.cos(0.5 * ang)
+    sc = 0.5 if ang < 1e-8 else np.sin(0.5 * ang) / ang
+    b0, b1, b2, b3 = c, sc * t1, sc * t2, sc * t3
+    e[0] = a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3
+    e[1] = a0 * b1 + b0 * a1 + a2 * b3 - a3 * b2
+    e[2] = a0 * b2 + b0 * a2 + a3 * b1 - a1 * b3
+    e[3] = a0 * b3 + b0 * a3 + a1 * b2 - a2 * b1
+    return e
+
+
+@njit(cache=True)
+def euler123(e, prev, out):
+    """Euler 1-2-3 angles (``R = Rx(a) Ry(b) Rz(c)``) of ``e`` on the branch nearest ``prev``."""
+    A = quat_matrix(e)
+    s = min(1.0, max(-1.0, A[0, 2]))
+    raw0 = np.arctan2(-A[1, 2], A[2, 2])
+    raw1 = np.arcsin(s)
+    raw2 = np.arctan2(-A[0, 1], A[0, 0])
+    tau = 2.0 * np.pi
+    out[0] = raw0 + tau * np.round((prev[0] - raw0) / tau)
+    out[1] = raw1 + tau * np.round((prev[1] - raw1) / tau)
+    out[2] = raw2 + tau * np.round((prev[2] - raw2) / tau)
+
+
+@njit(cache=True)
+def step_rotation(ea, eb):
+    """Rotation angle [rad] between unit quaternions ``ea`` and ``eb``."""
+    d = abs(ea[0] * eb[0] + ea[1] * eb[1] + ea[2] * eb[2] + ea[3] * eb[3])
+    return 2.0 * np.arccos(min(1.0, d))
+
+
+# ----------------------------------------------------------------------------------------
 # Dormand-Prince 5(4) with step control, landing on output times and load breakpoints
 # ----------------------------------------------------------------------------------------
 _C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0])
@@ -606,16 +686,25 @@ _E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525,
 def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres):
     """Integrate ``rhs(mode, ...)`` from ``t_out[0]``; return states at ``t_out``.
 
-    Returns ``(Y, status, t_stop, nfev, nstep)``; status 0 ok, 1 step budget exhausted,
-    2 step size underflow / non-finite state, 3 ``|y[n_lim0:n_lim1]|`` exceeded ``limit``
-    (divergence guard). Rows after a failure are NaN.
+    Returns ``(Y, EUL, status, t_stop, nfev, nstep)``; ``EUL`` (nt, 6) are the Euler 1-2-3
+    angles of the attitude, unwrapped after every accepted step (each step turns the body by at
+    most ``MAX_STEP_ROTATION``), so they do not depend on the output interval. Status 0 ok,
+    1 step budget exhausted, 2 step size underflow / non-finite state, 3 ``|y[n_lim0:n_lim1]|``
+    exceeded ``limit`` (divergence guard). Rows after a failure are NaN.
     """
     nt = t_out.shape[0]
     ny = y0.shape[0]
     Y = np.full((nt, ny), np.nan)
+    EUL = np.full((nt, 6), np.nan)
     Y[0] = y0
     y = y0.copy()
     t = t_out[0]
+    e_prev = attitude(mode, t, y, pres, False)
+    eul = np.zeros(3)
+    eul0 = np.zeros(3)
+    euler123(e_prev, eul, eul)
+    euler123(attitude(mode, t, y, pres, True), eul0, eul0)
+    EUL[0, :3], EUL[0, 3:] = eul, eul0
     K = np.zeros((7, ny))
     K[0] = rhs(mode, t, y, B, L, geo, pres)
     nfev = 1
@@ -660,8 +749,18 @@ def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_l
         en = np.sqrt(en / ny)
         if not np.isfinite(en):
             en = 1e10
+        e_new = attitude(mode, t + h_try, y_new, pres, False)
+        rot = step_rotation(e_prev, e_new)
+        if not rot <= MAX_STEP_ROTATION:
+            en = max(en, 2.0)
         nstep += 1
         if en <= 1.0:
+            e_prev = e_new
+            euler123(e_new, eul, eul)
+            if mode == 1:  # zero-order attitude; it turns by less than the total per step
+                euler123(attitude(mode, t + h_try, y_new, pres, True), eul0, eul0)
+            else:
+                eul0[:] = eul
             t = t_target if hit else t + h_try
             y = y_new
             K[0] = K[6]
@@ -679,6 +778,7 @@ def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_l
                     nfev += 1
                 while i_out < nt and abs(t - t_out[i_out]) <= 1e-12 * span:
                     Y[i_out] = y
+                    EUL[i_out, :3], EUL[i_out, 3:] = eul, eul0
                     i_out += 1
                 while i_brk < breaks.shape[0] and breaks[i_brk] <= t + 1e-12 * span:
                     i_brk += 1
@@ -696,4 +796,4 @@ def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_l
         if nstep >= max_steps:
             status = 1
             break
-    return Y, status, t, nfev, nstep
+    return Y, EUL, status, t, nfev, nstep

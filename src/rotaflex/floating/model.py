@@ -29,7 +29,11 @@ class Load:
     kind: Literal["force", "torque"] = param("force", doc="force [N] or torque [N m]")
     vector: Vec3 = param((0.0, 0.0, 0.0), doc="amplitude vector [N] or [N m]")
     point: Vec3 = param((0.0, 0.0, 0.0), unit="m", doc="material point (undeformed, body frame)")
-    frame: Literal["body", "inertial"] = param("body", doc="axes of `vector`: follower or fixed")
+    frame: Literal["body", "inertial", "material"] = param(
+        "body",
+        doc="axes of `vector`: body = follows the floating frame, inertial = fixed direction, "
+        "material = follows the deformed body at the point (turns with the section rotation)",
+    )
     profile: Profile = param("constant")
     start: float = param(0.0, unit="s", ge=0.0)
     duration: float = param(0.0, unit="s", ge=0.0)

@@ -51,11 +51,19 @@ class FloatingResult(Result):
         t = ds["time"].values
         figs = {}
         fig, ax = new_figure()
+        eul = ds["euler_123"].values
+        big = np.nanmax(np.abs(eul)) if np.isfinite(eul).any() else 0.0
+        # components that stay at round-off level (e.g. the out-of-plane angles of a planar
+        # manoeuvre) are not drawn as signal
+        shown = [a for a in range(3) if np.nanmax(np.abs(eul[..., a]), initial=0.0) > 1e-9 * big]
         for s in ds["solution"].values:
-            for a, name in enumerate("xyz"):
-                ax.plot(t, ds["euler_123"].sel(solution=s).values[:, a], label=f"{s} {name}")
+            for a in shown:
+                ax.plot(t, ds["euler_123"].sel(solution=s).values[:, a], label=f"{s} {'xyz'[a]}")
         if "zero_order_euler_123" in ds:
             ax.plot(t, ds["zero_order_euler_123"].values[:, 2], "k--", lw=1, label="zero order z")
+        hidden = [n for a, n in enumerate("xyz") if a not in shown]
+        if hidden:
+            ax.set_title(f"{', '.join(hidden)} angle(s) zero to round-off (not drawn)", fontsize=8)
         ax.set_xlabel("time [s]")
         ax.set_ylabel("Euler 1-2-3 angles [rad]")
         ax.legend(fontsize=7)
@@ -66,7 +74,7 @@ class FloatingResult(Result):
             for s in ds["solution"].values:
                 for pt in ds["point"].values:
                     u = ds["point_deflection"].sel(solution=s, point=pt).values
-                    k = int(np.nanargmax(np.nanmax(np.abs(u), axis=0)))
+                    k = int(np.argmax(np.nan_to_num(np.abs(u)).max(axis=0)))
                     ax.plot(t, u[:, k], label=f"{s} {pt} {'xyz'[k]}")
             ax.set_xlabel("time [s]")
             ax.set_ylabel("elastic deflection (body axes) [m]")
@@ -90,8 +98,7 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
     """Assemble a :class:`FloatingResult` from :class:`~rotaflex.floating.solve.Solution` s."""
     import xarray as xr
 
-    from rotaflex.floating.solve import invariants, point_motion
-    from rotaflex.rotation.quaternion import euler_from_quaternion
+    from rotaflex.floating.solve import invariants, point_motion, rotation_matrices
 
     names = list(points)
     P = np.array([points[k] for k in names], dtype=float).reshape(-1, 3)
@@ -100,10 +107,6 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
 
     def stack(f):
         return np.stack([f(s) for s in solutions])
-
-    def euler(e):
-        ang = euler_from_quaternion("123", e)
-        return np.unwrap(ang, axis=0)
 
     pos_pts, defl = [], []
     for s in solutions:
@@ -123,11 +126,17 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
             "1",
             "attitude",
         ),
+        "rotation_matrix": (
+            ("solution", "time", "row", "col"),
+            stack(lambda s: rotation_matrices(s.quaternion)),
+            "1",
+            "attitude matrix A (body to inertial) from the state at each output time",
+        ),
         "euler_123": (
             ax3,
-            stack(lambda s: euler(s.quaternion)),
+            stack(lambda s: s.euler_123),
             "rad",
-            "Euler 1-2-3 angles (output only)",
+            "Euler 1-2-3 angles, unwrapped after every integrator step (independent of dt_out)",
         ),
         "velocity": (ax3, stack(lambda s: s.velocity), "m/s", "V_o (body axes)"),
         "angular_velocity": (ax3, stack(lambda s: s.angular_velocity), "rad/s", "w (body axes)"),
@@ -172,11 +181,12 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
         data.update(
             {
                 "zero_order_position": (("time", "axis"), pp["R0"], "m", "R_o0"),
+                "zero_order_quaternion": (("time", "quat"), pp["e0"], "1", "zero-order attitude"),
                 "zero_order_euler_123": (
                     ("time", "axis"),
-                    euler(pp["e0"]),
+                    pp["euler0"],
                     "rad",
-                    "zero-order attitude",
+                    "zero-order Euler 1-2-3 angles (unwrapped step by step)",
                 ),
                 "zero_order_velocity": (("time", "axis"), pp["V0"], "m/s", "V_o0 (body axes)"),
                 "zero_order_angular_velocity": (
@@ -198,6 +208,8 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
             "time": ("time", t, {"units": "s", "long_name": "time"}),
             "axis": ["x", "y", "z"],
             "quat": ["e0", "e1", "e2", "e3"],
+            "row": ["x", "y", "z"],
+            "col": ["x", "y", "z"],
             "mode": list(body.mode_labels),
             "point": names,
             "natural_frequency": ("mode", np.sqrt(np.diag(body.stiffness)), {"units": "rad/s"}),

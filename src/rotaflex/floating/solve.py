@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rotaflex.core.errors import ConvergenceError, InputError
+from rotaflex.core.errors import InputError
 from rotaflex.floating.body import Body, skew
 from rotaflex.floating.model import Initial, Load, Prescribed, Settings
 
@@ -44,6 +44,7 @@ class Solution:
     parts: dict = field(default_factory=dict)  # perturbation: zero/first-order pieces
     geometric: bool = False
     min_stiffness: np.ndarray | None = None  # (T,) min eigenvalue of the effective stiffness
+    euler_123: np.ndarray | None = None  # (T, 3) Euler 1-2-3 angles unwrapped step by step
 
 
 def pack_body(body: Body):
@@ -54,14 +55,23 @@ def pack_body(body: Body):
     r = np.asarray(body.points, dtype=float)
     Phi = np.asarray(body.shapes, dtype=float)
     I0 = integrals(body)
-    M0 = I0["M"]
+    M0 = I0["M"].copy()
+    J = I0["J"].copy()
+    if body.planar and J[0, 0] < 1e-9 * J[2, 2]:
+        # a planar line beam: the rotation about its axis has (almost) no inertia but is decoupled
+        # from in-plane motion (in-plane loads are enforced in simulate), so w_x stays exactly 0
+        # whatever inertia the kernel uses for it; J_zz keeps the mass matrix well conditioned
+        J[0, 0] = M0[3, 3] = J[2, 2]
     ev = np.linalg.eigvalsh(M0[:6, :6])
-    if ev.min() <= 1e-12 * ev.max():
+    if ev.min() <= 1e-14 * ev.max():
+        beam = body.name.startswith("uniform")
         raise InputError(
-            "body",
+            "body.beam.section_radius" if beam else "body",
             f"rigid-body mass matrix eigenvalues min {ev.min():.3g}, max {ev.max():.3g}",
-            "a mass distribution with a non-singular inertia tensor (e.g. collinear point masses "
-            "need rotary inertia about their line)",
+            "a radius > 0 for a spatial beam (a line beam has no inertia about its axis)"
+            if beam
+            else "a mass distribution with a non-singular inertia tensor (e.g. collinear point "
+            "masses need rotary inertia about their line)",
         )
     P = np.einsum("k,kai,kbj->abij", m, Phi, Phi)
     R1 = np.einsum("k,kaj,kb->abj", m, Phi, r)
@@ -71,7 +81,7 @@ def pack_body(body: Body):
     return (
         float(I0["m"]),
         I0["S"].copy(),
-        c(I0["J"]),
+        c(J),
         c(I0["Phibar"]),
         c(I0["Phitilde"]),
         c(I0["Mb"]),
@@ -98,7 +108,14 @@ def geometric_stiffness(body: Body, w) -> np.ndarray:
     return np.einsum("...a,...b,abij->...ij", w, w, geometric_tensor(body))
 
 
-def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
+def pack_loads(
+    body: Body,
+    loads: tuple[Load, ...] | list[Load],
+    geometric: bool = False,
+    clamped: bool = False,
+):
+    """Load arrays for the kernels; ``geometric``: with the geometric stiffness of each force's
+    axial load state (``clamped``: prescribed frame motion, the root carries the load)."""
     n = body.n_modes
     nl = len(loads)
     kind = np.zeros(nl, dtype=np.int64)
@@ -109,9 +126,10 @@ def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
     rP = np.zeros((nl, 3))
     PhiP = np.zeros((nl, 3, n))
     PsiP = np.zeros((nl, 3, n))
+    GL = np.zeros((nl, 3, n, n))
     for i, ld in enumerate(loads):
         kind[i] = 0 if ld.kind == "force" else 1
-        frame[i] = 0 if ld.frame == "body" else 1
+        frame[i] = {"body": 0, "inertial": 1, "material": 2}[ld.frame]
         prof[i] = _PROFILES[ld.profile]
         par[i] = (ld.start, ld.duration, ld.frequency, ld.phase)
         amp[i] = ld.vector
@@ -121,20 +139,29 @@ def pack_loads(body: Body, loads: tuple[Load, ...] | list[Load]):
         except InputError as exc:
             raise InputError(f"loads[{i}].point", list(ld.point), exc.allowed) from None
         PhiP[i], PsiP[i] = Phi_i[0], Psi_i[0]
+        if geometric and ld.kind == "force" and body.load_geometric is not None:
+            GL[i] = body.load_geometric(ld.point, clamped)
+        if ld.frame == "material" and not np.all(np.isfinite(PsiP[i])):
+            raise InputError(
+                f"loads[{i}].frame",
+                "material",
+                "'body' or 'inertial' (this body has no rotation shapes to turn the load with)",
+            )
         if ld.kind == "torque" and not np.all(np.isfinite(PsiP[i])):
             raise InputError(
                 f"loads[{i}].kind",
                 "torque",
                 "a force (this body has no rotation shapes for point torques)",
             )
-    return kind, frame, prof, par, amp, rP, PhiP, PsiP
+    gln = (np.abs(GL).reshape(nl, 3, n * n).max(axis=2, initial=0.0) > 0).astype(np.int64)
+    return kind, frame, prof, par, amp, rP, PhiP, PsiP, GL, gln
 
 
-def _breaks(loads, prescribed, t_end):
+def _breaks(loads, prescribed, t_end, t_start=0.0):
     b = [t for ld in loads for t in ld.breakpoints()]
     if prescribed is not None:
         b.append(prescribed.spin_up_time)
-    return np.array(sorted({t for t in b if 0.0 < t < t_end}), dtype=float)
+    return np.array(sorted({t for t in b if t_start < t < t_end}), dtype=float)
 
 
 def use_geometric(body: Body, settings: Settings) -> bool:
@@ -150,12 +177,50 @@ def use_geometric(body: Body, settings: Settings) -> bool:
     return bool(settings.geometric_stiffness)
 
 
+def _require_in_plane(loads, initial: Initial) -> None:
+    """A planar line beam moves in the body x-y plane only: refuse anything out of plane."""
+    allowed = "in-plane input for a planar line beam (set body.beam.section_radius > 0 or "
+    for i, ld in enumerate(loads):
+        if ld.kind == "force" and ld.vector[2] != 0.0:
+            raise InputError(f"loads[{i}].vector", list(ld.vector), allowed + "use z = 0)")
+        if ld.kind == "torque" and (ld.vector[0] != 0.0 or ld.vector[1] != 0.0):
+            raise InputError(f"loads[{i}].vector", list(ld.vector), allowed + "torque about z)")
+    w, v, e = initial.angular_velocity, initial.velocity, initial.quaternion
+    if w[0] != 0.0 or w[1] != 0.0:
+        raise InputError("initial.angular_velocity", list(w), allowed + "rotate about z)")
+    if v[2] != 0.0:
+        raise InputError("initial.velocity", list(v), allowed + "use z = 0)")
+    if e[1] != 0.0 or e[2] != 0.0:
+        raise InputError("initial.quaternion", list(e), allowed + "rotate about z)")
+
+
 def _initial_modal(vals, n, name):
     if len(vals) == 0:
         return np.zeros(n)
     if len(vals) != n:
         raise InputError(f"initial.{name}", list(vals), f"{n} values (one per mode) or none")
     return np.asarray(vals, dtype=float)
+
+
+def check_inputs(body: Body, loads, initial: Initial, settings: Settings, method: str, clamped: bool = False):
+    """Every check :func:`simulate` makes before integrating; returns the packed
+    ``(geometric flag, body tensors, load arrays)``.
+
+    Raises
+    ------
+    InputError
+        Bad input (one line naming field, value and what is allowed).
+    """
+    if method not in METHODS:
+        raise InputError("solver.method", method, "one of " + ", ".join(METHODS))
+    geo = use_geometric(body, settings)
+    B = pack_body(body)
+    Lp = pack_loads(body, list(loads), geo, clamped)
+    if body.planar and B[2][0, 0] > body.extra_inertia[0, 0] * (1 + 1e-12):
+        _require_in_plane(loads, initial)
+    _initial_modal(initial.modal_displacement, body.n_modes, "modal_displacement")
+    _initial_modal(initial.modal_velocity, body.n_modes, "modal_velocity")
+    return geo, B, Lp
 
 
 def simulate(
@@ -165,6 +230,8 @@ def simulate(
     settings: Settings | None = None,
     method: str = "full",
     prescribed: Prescribed | None = None,
+    *,
+    t_start: float = 0.0,
 ) -> Solution:
     """Simulate a floating flexible body.
 
@@ -183,28 +250,26 @@ def simulate(
     prescribed : Prescribed, optional
         Prescribed rotation about a body-fixed axis (Kane-Ryan-Banerjee spin-up); then only the
         elastic coordinates are integrated and ``initial`` rigid values are ignored.
+    t_start : float
+        Start time [s] of the run (``initial`` holds at ``t_start``; output every
+        ``settings.dt_out`` up to ``settings.t_end``). Used for sampled-data control loops.
 
     Returns
     -------
     Solution
 
-    Raises
-    ------
-    ConvergenceError
-        Step budget exhausted or step size underflow (reports time and error norm).
+    A run that stops early (step budget, step-size underflow, divergence guard) returns its
+    samples up to the stop (later rows NaN) with ``status`` ``"failed"`` or ``"diverged"`` and a
+    ``message`` saying why in words.
     """
     from rotaflex.floating import kernels
 
-    if method not in METHODS:
-        raise InputError("solver.method", method, "one of " + ", ".join(METHODS))
     initial = initial or Initial()
     settings = settings or Settings()
     n = body.n_modes
-    geo = use_geometric(body, settings)
-    B = pack_body(body)
-    Lp = pack_loads(body, list(loads))
-    nt = int(round(settings.t_end / settings.dt_out))
-    t_out = np.linspace(0.0, nt * settings.dt_out, nt + 1)
+    geo, B, Lp = check_inputs(body, loads, initial, settings, method, prescribed is not None)
+    nt = max(1, int(round((settings.t_end - t_start) / settings.dt_out)))
+    t_out = t_start + np.linspace(0.0, nt * settings.dt_out, nt + 1)
     q0 = _initial_modal(initial.modal_displacement, n, "modal_displacement")
     p0 = _initial_modal(initial.modal_velocity, n, "modal_velocity")
     e0 = np.asarray(initial.quaternion, float) / np.linalg.norm(initial.quaternion)
@@ -228,11 +293,11 @@ def simulate(
     phimax = float(np.abs(body.shapes).max(initial=0.0))
     q_limit = 10.0 * body.length / max(phimax, 1e-300)
     t0 = time.perf_counter()
-    Y, st, t_stop, nfev, nstep = kernels.integrate(
+    Y, EUL, st, t_stop, nfev, nstep = kernels.integrate(
         mode,
         y0,
         t_out,
-        _breaks(loads, prescribed, t_out[-1]),
+        _breaks(loads, prescribed, t_out[-1], t_start),
         settings.rtol,
         settings.atol,
         settings.max_steps,
@@ -245,18 +310,33 @@ def simulate(
         pres,
     )
     wall = time.perf_counter() - t0
-    if st in (1, 2):
-        what = "time integration (step budget exhausted)" if st == 1 else "time integration (step size underflow)"
-        raise ConvergenceError(what, float(t_stop), float(nstep), float(settings.max_steps))
     sol = _unpack(mode, method, t_out, Y, n, prescribed, pres)
+    sol.euler_123 = EUL[:, :3]
+    if mode == 1:
+        sol.parts["euler0"] = EUL[:, 3:]
     sol.nfev, sol.nstep, sol.wall_time, sol.geometric = int(nfev), int(nstep), wall, geo
     sol.min_stiffness = min_effective_stiffness(body, sol.angular_velocity, geo)
-    neg = np.nonzero(sol.min_stiffness < 0)[0]
+    ok = np.isfinite(sol.min_stiffness)
+    neg = np.nonzero(ok & (sol.min_stiffness < 0))[0]
     notes = []
+    if st in (1, 2):
+        # stopped early: keep the samples computed so far (later rows are NaN) and say why
+        sol.status = "failed"
+        why = (
+            f"the step budget solver.max_steps = {settings.max_steps} was used up"
+            if st == 1
+            else "the step size fell below 1e-14 of the time span (stiff or non-finite state)"
+        )
+        notes.append(
+            f"time integration stopped early at t = {t_stop:.6g} s of {t_out[-1]:.6g} s because "
+            f"{why}; the output keeps the samples before that time"
+        )
+        log.warning("floating %s: %s", method, notes[0])
     if neg.size:
         notes.append(
             f"effective elastic stiffness K_b + M~(w){' + K_G' if geo else ''} is indefinite from "
-            f"t = {t_out[neg[0]]:.4g} s (min eigenvalue {sol.min_stiffness.min():.4g} 1/s^2): "
+            f"t = {t_out[neg[0]]:.4g} s (min eigenvalue {np.nanmin(sol.min_stiffness):.4g} "
+            "1/s^2): "
             "centrifugal softening makes the linear modal model unstable"
             + ("" if geo or body.geometric is None else "; set solver.geometric_stiffness = true")
         )
@@ -338,7 +418,10 @@ def min_effective_stiffness(body: Body, w: np.ndarray, geo: bool) -> np.ndarray:
     Keff = body.stiffness[None] + np.einsum("tab,abij->tij", WW, PP)
     if geo and body.geometric is not None:
         Keff = Keff + geometric_stiffness(body, w)
-    return np.linalg.eigvalsh(0.5 * (Keff + np.swapaxes(Keff, 1, 2)))[:, 0]
+    out = np.full(len(w), np.nan)
+    ok = np.all(np.isfinite(Keff), axis=(1, 2))  # rows after an early stop are NaN
+    out[ok] = np.linalg.eigvalsh(0.5 * (Keff[ok] + np.swapaxes(Keff[ok], 1, 2)))[:, 0]
+    return out
 
 
 # ----------------------------------------------------------------------------------------

@@ -1,0 +1,141 @@
+"""User structures from files: nodes, masses and mass-normalised modes in a NumPy ``.npz``.
+
+Layout (SI units, arrays stored under these names; ``N`` nodes, ``n`` elastic modes)::
+
+    positions        (N, 3)     node coordinates in the body frame [m]
+    masses           (N,)       nodal masses [kg], > 0
+    shapes           (n, N, 3)  mode j translation at node k [1/sqrt(kg)], mass-normalised:
+                                sum_k m_k shapes[i, k] . shapes[j, k] = delta_ij
+    frequencies      (n,)       natural frequencies [rad/s], > 0 (rigid-body modes left out)
+    rotation_shapes  (n, N, 3)  optional: mode j rotation at node k [rad/sqrt(kg)] (needed for
+                                torques at nodes)
+    rotary_inertias  (N, 3)     optional: principal rotary inertias of the nodes [kg m^2]
+
+Checks on load (each one :class:`~rotaflex.core.errors.InputError` naming ``body.file.<array>``):
+shapes and sizes, finite values, masses and frequencies > 0, mass-orthonormality (deviation
+<= 1e-6), and for ``frame = "mean-axes"`` no rigid-body content (free-free modes must satisfy
+``sum m phi = 0`` and ``sum m r x phi = 0`` to 1e-6 relative: a rigid mode left in the file, or
+modes of a constrained model, fail here).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from rotaflex.core.errors import InputError
+from rotaflex.floating.body import Body, point_body
+
+REQUIRED = ("positions", "masses", "shapes", "frequencies")
+OPTIONAL = ("rotation_shapes", "rotary_inertias")
+RIGID_TOL = 1e-6
+
+
+def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body:
+    """A :class:`Body` from an ``.npz`` file with the layout of the module docstring.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    frame : {"mean-axes", "attached"}
+        "mean-axes": free-free modes, checked for rigid-body content. "attached": modes of a
+        structure clamped to the body frame (no rigid-body check).
+    where : str
+        Config path used in error messages.
+    """
+    p = Path(path)
+    if p.suffix.lower() != ".npz":
+        raise InputError(f"{where}.path", str(path), "a NumPy .npz file")
+    if not p.is_file():
+        raise InputError(f"{where}.path", str(path), "an existing .npz file")
+    if frame not in ("mean-axes", "attached"):
+        raise InputError(f"{where}.frame", frame, "'mean-axes' or 'attached'")
+    try:
+        with np.load(p, allow_pickle=False) as z:
+            data = {k: np.asarray(z[k], dtype=float) for k in z.files if k in REQUIRED + OPTIONAL}
+            extra = [k for k in z.files if k not in REQUIRED + OPTIONAL]
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{where}.path", str(path), f"a readable .npz file ({exc})") from None
+    if extra:
+        raise InputError(f"{where}.{extra[0]}", "unknown array", "only " + ", ".join(REQUIRED + OPTIONAL))
+    for k in REQUIRED:
+        if k not in data:
+            raise InputError(f"{where}.{k}", "<missing>", f"an array '{k}' in the file")
+    for k, a in data.items():
+        if not np.all(np.isfinite(a)):
+            raise InputError(f"{where}.{k}", "non-finite values", "finite numbers")
+    X, m, S, f = data["positions"], data["masses"], data["shapes"], data["frequencies"]
+    N = m.size
+    if m.ndim != 1 or X.shape != (N, 3):
+        raise InputError(f"{where}.positions", f"shape {X.shape}", f"shape ({N}, 3) for {N} masses")
+    if S.ndim != 3 or S.shape[1:] != (N, 3):
+        raise InputError(f"{where}.shapes", f"shape {S.shape}", f"shape (n_modes, {N}, 3)")
+    n = S.shape[0]
+    if f.shape != (n,):
+        raise InputError(f"{where}.frequencies", f"shape {f.shape}", f"shape ({n},)")
+    if np.any(f <= 0):
+        k = int(np.argmin(f))
+        raise InputError(
+            f"{where}.frequencies[{k}]",
+            float(f[k]),
+            "a frequency > 0 [rad/s] (leave the rigid-body modes out of the file)",
+        )
+    if frame == "mean-axes" and n:
+        # rigid-body content of each mode relative to its own mass-weighted size
+        lin = np.einsum("k,jka->ja", m, S)
+        ang = np.einsum("k,jka->ja", m, np.cross(X[None] - (m @ X / m.sum())[None, None], S))
+        scale_l = np.sqrt(m.sum())
+        scale_a = np.sqrt(m @ np.sum((X - m @ X / m.sum()) ** 2, axis=1)) + 1e-300
+        rel = np.maximum(np.linalg.norm(lin, axis=1) / scale_l, np.linalg.norm(ang, axis=1) / scale_a)
+        if rel.max() > RIGID_TOL:
+            j = int(np.argmax(rel))
+            raise InputError(
+                f"{where}.shapes[{j}]",
+                f"rigid-body content {rel[j]:.3g}",
+                f"free-free elastic modes in mean axes (rigid content <= {RIGID_TOL:g}; "
+                "use frame = 'attached' for modes of a clamped structure)",
+            )
+    try:
+        return point_body(
+            m,
+            X,
+            S,
+            frequencies=f,
+            rotation_shapes=data.get("rotation_shapes"),
+            rotary_inertias=data.get("rotary_inertias"),
+            name=f"modes from {p.name}",
+        )
+    except InputError as exc:
+        fld = exc.field.replace("body.points", "body.positions")
+        for a, b in (
+            ("body.masses", "masses"),
+            ("body.positions", "positions"),
+            ("body.shapes", "shapes"),
+            ("body.n_modes", "shapes"),
+            ("body.frequencies", "frequencies"),
+            ("body.stiffness", "frequencies"),
+            ("body.rotation_shapes", "rotation_shapes"),
+            ("body.rotary_inertias", "rotary_inertias"),
+        ):
+            if fld.startswith(a):
+                fld = f"{where}.{b}" + fld[len(a) :]
+                break
+        raise InputError(fld, exc.value, exc.allowed) from None
+
+
+def save_modes(path, body: Body, rotation_shapes: bool = True) -> None:
+    """Write ``body`` (its mass points and modes) in the ``.npz`` layout (for exchange/tests).
+    Rotation shapes are written only where the body defines them at its points."""
+    arrays = {
+        "positions": body.points,
+        "masses": body.masses,
+        "shapes": np.transpose(body.shapes, (2, 0, 1)),
+        "frequencies": np.sqrt(np.diag(body.stiffness)),
+    }
+    if rotation_shapes:
+        _, Psi = body.shape_fn(body.points)
+        if np.all(np.isfinite(Psi)):
+            arrays["rotation_shapes"] = np.transpose(Psi, (2, 0, 1))
+    np.savez(path, **arrays)
