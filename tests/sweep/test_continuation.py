@@ -1,0 +1,167 @@
+"""Continuation sweeps of a domain verb (``verb = "steady"``, ``--continuation``) through the CLI.
+
+The torsional gear model with the analytic single/double-contact mesh (pair stiffness 1.2e8 N/m,
+2 um triangular unloaded TE, damping ratio 0.05) loses contact near its mesh resonance; the
+softening makes the response two-valued below resonance: sweeping up stays on the low branch
+(flanks in contact), sweeping down from above resonance stays on the high branch (contact loss)
+down to 10000 rpm. Far above resonance there is one branch and both directions agree.
+"""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+from rotaflex.cli import app
+from rotaflex.gear.geometry import GearGeometry, contact_ratio
+
+runner = CliRunner()
+ROOT = Path(__file__).resolve().parents[2]
+
+SPEEDS = "10000,11000,12000,15000,17000,20000,21000"
+BASE = """domain = "gear"
+verb = "steady"
+[mesh]
+source = "contact_pattern"
+pair_stiffness = 1.2e8
+unloaded_te_pp = 2e-6
+damping_ratio = 0.05
+table_points = 400
+[train]
+inertia = [2.965e-4, 2.965e-4]
+drive = "motor"
+motor_slope = 0.5
+[operation]
+torque = 22.25
+[steady]
+eval_cycles = 10
+max_cycles = 300
+"""
+ARGS = ["--vary", f"operation.speed_rpm={SPEEDS}", "--continuation", "operation.speed_rpm", "-j", "2"]
+
+
+def _linear_resonance_rpm() -> float:
+    """Mesh-mode resonance from the model data, independently of the code: both gears free
+    (motor drive, rigid shafts), k_mean of the analytic table = k_pair (1 + share of the cycle
+    with two pairs, sampled on the 400-point table), m_red = J1 J2 / (J1 r_b2^2 + J2 r_b1^2)."""
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, pressure_angle_deg=20.0)
+    eps = contact_ratio(g, g)
+    n = 400
+    k_mean = 1.2e8 * (1 + math.ceil((eps - 1) * n) / n)
+    j, rb = 2.965e-4, g.base_radius
+    m_red = j * j / (j * rb**2 + j * rb**2)
+    f_n = math.sqrt(k_mean / m_red) / (2 * math.pi)
+    return 60 * f_n / 28
+
+
+@pytest.fixture(scope="module")
+def swept(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("cont")
+    cfg = tmp / "base.toml"
+    cfg.write_text(BASE)
+    out = tmp / "out"
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(out), *ARGS])
+    return cfg, out, res
+
+
+def test_direction_dimension_and_all_cases_ok(swept):
+    _, out, res = swept
+    assert res.exit_code == 0, res.output
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        assert list(ds["direction"].values) == ["up", "down"]
+        assert ds["dynamic_factor"].dims == ("operation_speed_rpm", "direction")
+        assert (ds["status"].values == "success").all()
+        assert ds.attrs["verb"] == "steady" and ds.attrs["continuation"] == "operation.speed_rpm"
+    assert (out / "figures" / "gear_steady_sweep.png").stat().st_size > 10_000
+
+
+def test_hysteresis_below_resonance_and_agreement_far_above(swept):
+    _, out, _ = swept
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        kv = ds["dynamic_factor"]
+        low = kv.sel(operation_speed_rpm=10000.0)
+        # two branches: contact kept going up, contact loss going down (threshold: 1.0 in K_v,
+        # i.e. the dynamic mesh force differs by a whole static load)
+        assert float(low.sel(direction="down") - low.sel(direction="up")) > 1.0
+        assert float(ds["contact_loss_fraction"].sel(operation_speed_rpm=10000.0, direction="up")) < 0.05
+        assert float(ds["contact_loss_fraction"].sel(operation_speed_rpm=10000.0, direction="down")) > 0.3
+        # 20000 rpm is reached from 17000 going up and from 21000 going down: one branch there
+        far = kv.sel(operation_speed_rpm=20000.0)
+        assert abs(float(far.sel(direction="up") - far.sel(direction="down"))) < 1e-2
+
+
+def test_resonance_marked_where_the_linear_model_predicts(swept):
+    _, out, _ = swept
+    expected = _linear_resonance_rpm()
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        got = np.unique(ds["resonance_speed"].values)
+        f_n = np.unique(ds["mesh_natural_frequency"].values)
+    assert got.size == 1 and f_n.size == 1
+    assert got[0] == pytest.approx(expected, rel=1e-6)
+    assert 60 * f_n[0] / 28 == pytest.approx(expected, rel=1e-6)
+
+
+def test_resume_continues_the_chain_from_the_saved_state(swept, tmp_path):
+    cfg, out, _ = swept
+    import shutil
+
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        before = ds["dynamic_factor"].values.copy()
+        ids = ds["case_id"]
+        # drop the last three cases of the down leg (down at 12000, 11000, 10000)
+        dropped = [str(ids.sel(operation_speed_rpm=s, direction="down").item()) for s in (12000.0, 11000.0, 10000.0)]
+    for cid in dropped:
+        shutil.rmtree(copy / "cases" / cid)
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(copy), *ARGS])
+    assert res.exit_code == 0, res.output
+    assert "3 computed, 11 reused" in res.output
+    with xr.open_dataset(copy / "sweep.nc") as ds:
+        after = ds["dynamic_factor"].values
+    # recomputed from the saved final state of down at 15000: the same (deterministic) branch
+    np.testing.assert_allclose(after, before, rtol=1e-9)
+    info = json.loads((copy / "cases" / dropped[-1] / "case.json").read_text())
+    assert info["params"]["direction"] == "down"
+
+
+def test_example_sweep_file_plans(tmp_path):
+    from rotaflex.core.config import load_toml
+    from rotaflex.sweep import plan_study
+
+    st = plan_study(
+        load_toml(ROOT / "examples" / "sweep" / "gear_dynamic_factor.toml"),
+        ["operation.speed_rpm=2000:22000:40"],
+        "operation.speed_rpm",
+    )
+    assert st.verb == "steady" and len(st.cases) == 80 and len(st.chains) == 1
+
+
+def test_verb_schema_validates_every_case_up_front(tmp_path):
+    cfg = tmp_path / "bad.toml"
+    cfg.write_text(BASE.replace("max_cycles = 300", "max_cycles = 300\nmin_cycles = 20"))
+    res = runner.invoke(
+        app, ["sweep", str(cfg), "--out", str(tmp_path / "o"), "--vary", "steady.max_cycles=100,10", "-j", "0"]
+    )
+    assert res.exit_code == 2
+    assert "steady.min_cycles" in res.output and "steady.max_cycles=10" in res.output
+    assert not (tmp_path / "o" / "cases").exists()
+
+
+def test_continuation_needs_a_continuable_verb_and_a_swept_key(tmp_path):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(BASE)
+    res = runner.invoke(
+        app,
+        ["sweep", str(cfg), "--out", str(tmp_path / "o"), "--vary", "operation.torque=10,20"]
+        + ["--continuation", "operation.speed_rpm"],
+    )
+    assert res.exit_code == 2 and "--continuation" in res.output
+    bad_verb = tmp_path / "v.toml"
+    bad_verb.write_text(BASE.replace('verb = "steady"', 'verb = "nope"'))
+    res = runner.invoke(app, ["sweep", str(bad_verb), "--out", str(tmp_path / "o2"), "--vary", "operation.torque=1,2"])
+    assert res.exit_code == 2 and "verb" in res.output and "'steady'" in res.output
