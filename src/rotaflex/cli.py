@@ -289,7 +289,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
 
             _figure_options(fmt, dpi)
             out_dir = check_out_dir(out, marker=RESULT_MARKERS)
-            _, body = split_config(load_toml(config), domain=domain)
+            _, body = split_config(load_toml(config), domain=domain, verb=verb)
             if verb == "simulate":  # other verbs validate their own schema first thing
                 validate(domain, body)
             say = None if quiet else (lambda m: typer.echo(m, err=True))

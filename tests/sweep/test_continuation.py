@@ -165,3 +165,44 @@ def test_continuation_needs_a_continuable_verb_and_a_swept_key(tmp_path):
     bad_verb.write_text(BASE.replace('verb = "steady"', 'verb = "nope"'))
     res = runner.invoke(app, ["sweep", str(bad_verb), "--out", str(tmp_path / "o2"), "--vary", "operation.torque=1,2"])
     assert res.exit_code == 2 and "verb" in res.output and "'steady'" in res.output
+
+
+def test_dask_local_runs_the_same_chains_as_serial(tmp_path):
+    """The chain order (and so every number) does not depend on the executor."""
+    pytest.importorskip("distributed")
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(BASE)
+    common = ["--vary", "operation.speed_rpm=10000,15000,21000", "--continuation", "operation.speed_rpm"]
+    results = []
+    for tag, extra in (("serial", ["-j", "0"]), ("dask", ["--scheduler", "dask-local", "-j", "2"])):
+        res = runner.invoke(app, ["sweep", str(cfg), "--out", str(tmp_path / tag), *common, *extra])
+        assert res.exit_code == 0, res.output
+        with xr.open_dataset(tmp_path / tag / "sweep.nc") as ds:
+            results.append(ds["dynamic_factor"].values.copy())
+    assert results[0].shape == (3, 2)
+    np.testing.assert_array_equal(results[0], results[1])
+
+
+def test_unreadable_saved_state_restarts_the_chain(swept, tmp_path):
+    cfg, out, _ = swept
+    import shutil
+
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        last_up = str(ds["case_id"].sel(operation_speed_rpm=21000.0, direction="up").item())
+        first_down = str(ds["case_id"].sel(operation_speed_rpm=21000.0, direction="down").item())
+    shutil.rmtree(copy / "cases" / first_down)
+    (copy / "cases" / last_up / "result.nc").write_bytes(b"not a netCDF file")
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(copy), *ARGS])
+    assert res.exit_code == 0, res.output
+    assert "14 computed, 0 reused" in res.output
+
+
+def test_single_run_of_the_verb_reads_a_sweep_base_file(tmp_path):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(BASE.replace("[operation]", "[operation]\nspeed_rpm = 21000.0"))
+    res = runner.invoke(app, ["gear", "steady", str(cfg), "--out", str(tmp_path / "one"), "--no-figures"])
+    assert res.exit_code == 0, res.output
+    res = runner.invoke(app, ["gear", "static", str(cfg), "--out", str(tmp_path / "two"), "--no-figures"])
+    assert res.exit_code == 2 and "verb" in res.output

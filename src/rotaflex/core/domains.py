@@ -89,10 +89,11 @@ def validate(domain: str, config: dict) -> None:
         hook(config)
 
 
-def split_config(config: dict, *, domain: str | None = None) -> tuple[str, dict]:
+def split_config(config: dict, *, domain: str | None = None, verb: str | None = None) -> tuple[str, dict]:
     """The domain of a parsed config (from ``domain`` or its ``domain`` key) and the body.
 
-    If both are given they must agree.
+    If both are given they must agree. With ``verb``, a top-level ``verb`` key (as a sweep's
+    base file has) must name that verb and is dropped from the body.
     """
     from rotaflex.core.errors import InputError
 
@@ -105,6 +106,10 @@ def split_config(config: dict, *, domain: str | None = None) -> tuple[str, dict]
         domain = check_domain(cfg_domain)
     elif cfg_domain is not None and cfg_domain != domain:
         raise InputError("domain", cfg_domain, f"{domain!r} for 'rotaflex {domain} ...'")
+    if verb is not None and "verb" in config:
+        if config["verb"] != verb:
+            raise InputError("verb", config["verb"], f"{verb!r} for 'rotaflex {domain} {verb}' (or no verb key)")
+        config = {k: v for k, v in config.items() if k != "verb"}
     return domain, {k: v for k, v in config.items() if k != "domain"}
 
 

@@ -78,7 +78,7 @@ def steady_sweep_figure(ds) -> dict[str, Any]:
         rest = {d: 0 for d in others[1:]}
         groups = [(lab, {**sel, **rest}) for lab, sel in groups]
     directions = list(ds["direction"].values) if "direction" in ds.dims else [None]
-    fig, ax = new_figure(2, 1, sharex=True, figsize=(6.8, 7.0))
+    fig, ax = new_figure(2, 1, sharex=True, figsize=(6.8, 7.0 + 0.25 * len(groups) * (len(directions) + 1)))
     for gi, (glabel, sel) in enumerate(groups):
         sub = ds.isel(sel)
         colour = f"C{gi}"
@@ -110,11 +110,11 @@ def steady_sweep_figure(ds) -> dict[str, Any]:
                 if xs.min() <= speed <= xs.max():
                     for a in ax:
                         a.axvline(speed, color="gray", ls=":", lw=1)
-                    ax[0].annotate(
+                    ax[1].annotate(
                         f"{h}x f_mesh = f_n ({speed:.0f} rpm)",
-                        (speed, 1),
+                        (speed, 0.97),
                         xycoords=("data", "axes fraction"),
-                        xytext=(2, -10),
+                        xytext=(2, 0),
                         textcoords="offset points",
                         fontsize=7,
                         color="gray",
@@ -126,7 +126,10 @@ def steady_sweep_figure(ds) -> dict[str, Any]:
     ax[1].set_xlabel(_label(ds[x], x))
     for a in ax:
         a.grid(alpha=0.3)
-        a.legend(fontsize=7)
+    # one legend under the panels: the curves and the resonance labels stay readable
+    ax[1].legend(
+        *ax[0].get_legend_handles_labels(), fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2
+    )
     fn = float(np.nanmedian(ds["mesh_natural_frequency"].values)) if "mesh_natural_frequency" in ds else math.nan
     title = "Gear steady state vs speed"
     if math.isfinite(fn):
