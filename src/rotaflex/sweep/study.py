@@ -12,7 +12,7 @@ import functools
 import importlib
 import json
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -46,7 +46,6 @@ class Study:
     cases: list[Case]
     chains: list[list[str]] | None = None
     continuation: str | None = None
-    attrs: dict[str, Any] = field(default_factory=dict)
 
     @property
     def module(self) -> str:
