@@ -206,3 +206,46 @@ def test_single_run_of_the_verb_reads_a_sweep_base_file(tmp_path):
     assert res.exit_code == 0, res.output
     res = runner.invoke(app, ["gear", "static", str(cfg), "--out", str(tmp_path / "two"), "--no-figures"])
     assert res.exit_code == 2 and "verb" in res.output
+
+
+def test_chain_order_state_passing_and_a_killed_worker(tmp_path, monkeypatch, selftest_domain):
+    """A continuable test verb whose state is the running sum of x: up 1, 2, 3 then down 3, 2, 1
+    gives 1, 3, 6, 9, 11, 12 in each of two parallel chains (y = 0, 1), also when the first case
+    to run kills its worker process once (local pool rebuilt, case retried)."""
+    from rotaflex.core import domains
+
+    monkeypatch.setitem(domains.COMMANDS, "selftest", {"chain": "rotaflex.sweep._selftest_case:run_chain"})
+    cfg = tmp_path / "c.toml"
+    kill = tmp_path / "killed-once"
+    cfg.write_text(f'domain = "selftest"\nverb = "chain"\nx = 1.0\ny = 0.0\nkill_once = "{kill}"\n')
+    args = ["--vary", "x=3,1,2", "--vary", "y=0,1", "--continuation", "x", "-j", "2", "--no-figures"]
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(tmp_path / "o"), *args])
+    assert res.exit_code == 0, res.output
+    assert kill.exists()
+    with xr.open_dataset(tmp_path / "o" / "sweep.nc") as ds:
+        for y in (0, 1):
+            one = ds.sel(y=y)
+            up = one["running_sum"].sel(direction="up").sortby("x").values
+            down = one["running_sum"].sel(direction="down").sortby("x").values
+            np.testing.assert_array_equal(up, [1.0, 3.0, 6.0])
+            np.testing.assert_array_equal(down, [12.0, 11.0, 9.0])
+            np.testing.assert_array_equal(one["position"].sel(direction="down").sortby("x").values, [6, 5, 4])
+        assert int(ds["attempts"].max()) >= 2
+
+
+def test_a_failing_case_stops_its_chain(tmp_path, monkeypatch, selftest_domain):
+    from rotaflex.core import domains
+
+    monkeypatch.setitem(domains.COMMANDS, "selftest", {"chain": "rotaflex.sweep._selftest_case:run_chain"})
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('domain = "selftest"\nverb = "chain"\nx = 1.0\nfail = false\n')
+    args = ["--vary", "x=1,2,3", "--vary", "fail=false,true", "--continuation", "x", "-j", "0", "--no-figures"]
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(tmp_path / "o"), *args])
+    assert res.exit_code == 1
+    with xr.open_dataset(tmp_path / "o" / "sweep.nc") as ds:
+        by_fail = {str(ds["fail"].values[i]).lower(): ds.isel(fail=i) for i in range(ds.sizes["fail"])}
+        assert (by_fail["false"]["status"].values == "success").all()
+        errors = [str(e) for e in by_fail["true"]["error"].values.ravel()]
+    # the chain's first case (x = 1, up) raises; the 5 after it are not run
+    assert sum(e.startswith("RuntimeError") for e in errors) == 1
+    assert sum(e.startswith("ContinuationStopped") for e in errors) == 5
