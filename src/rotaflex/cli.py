@@ -189,6 +189,14 @@ def sweep(
         ),
     ] = None,
     retries: Annotated[int, typer.Option("--retries", help="Re-runs of a case whose worker died.", min=0)] = 2,
+    continuation: Annotated[
+        str | None,
+        typer.Option(
+            "--continuation",
+            help="A swept numeric KEY run in order, up then down, each case from the previous one's final "
+            "state (verbs that accept it, e.g. gear steady); adds the direction dimension.",
+        ),
+    ] = None,
     no_figures: NoFigures = False,
     fmt: Format = "png",
     dpi: Dpi = 150,
@@ -197,6 +205,7 @@ def sweep(
 ) -> None:
     """Run CONFIG for every combination of the --vary values; resume in DIR if re-run.
 
+    A top-level verb = "..." key in CONFIG sweeps that verb of the domain (default simulate).
     Writes DIR/cases/<id>/ per case, DIR/sweep.nc (swept keys as dimensions), DIR/summary.csv,
     DIR/figures/. Every case is validated before any runs. Exit status 1 if any case failed,
     130 if interrupted.
@@ -209,7 +218,7 @@ def sweep(
         from rotaflex.core.config import load_toml
         from rotaflex.core.io import check_out_dir
         from rotaflex.core.provenance import provenance
-        from rotaflex.sweep import plan, sweep_config
+        from rotaflex.sweep import plan_study, sweep_config
         from rotaflex.sweep.backends import executor_for
 
         _figure_options(fmt, dpi)
@@ -217,7 +226,7 @@ def sweep(
             raise InputError("--jobs", jobs, f"an integer from 0 to {MAX_JOBS} (0 = serial in this process)")
         out_dir = check_out_dir(out, marker=SWEEP_MARKERS)
         cfg = load_toml(config)
-        plan(cfg, vary)  # validate every case before starting workers
+        plan_study(cfg, vary, continuation)  # validate every case before starting workers
         plotting.configure(fmt=fmt, dpi=dpi)
         if quiet:
             shown: Any = False
@@ -237,6 +246,7 @@ def sweep(
                     executor,
                     progress=shown,
                     max_retries=retries,
+                    continuation=continuation,
                     figures=not no_figures,
                     attrs=provenance(config),
                 )
@@ -279,7 +289,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
 
             _figure_options(fmt, dpi)
             out_dir = check_out_dir(out, marker=RESULT_MARKERS)
-            _, body = split_config(load_toml(config), domain=domain)
+            _, body = split_config(load_toml(config), domain=domain, verb=verb)
             if verb == "simulate":  # other verbs validate their own schema first thing
                 validate(domain, body)
             say = None if quiet else (lambda m: typer.echo(m, err=True))

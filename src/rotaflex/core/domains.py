@@ -20,6 +20,17 @@ Each reproduce target provides a module with ``run(out_dir: Path, *, fast: bool,
 Per-domain CLI verbs are data in :data:`COMMANDS`: domain -> verb -> ``"module:function"``, the
 function having the signature of ``run_case``; ``rotaflex <domain> <verb> CONFIG --out DIR``
 runs it like ``simulate``.
+
+Validation of a verb (used by ``rotaflex sweep`` with a top-level ``verb = "..."`` key): the
+module holding the verb's function may define ``validate_config(config)`` (contract as above)
+and ``SCHEMA``; without ``validate_config`` the config is checked against ``SCHEMA``; with
+neither, nothing is checked up front (``simulate``: only ``validate_config``). For
+``simulate`` that module is the case module.
+
+Continuation (``rotaflex sweep --continuation KEY``): a verb function that accepts an
+``initial_state`` keyword (None: its usual start) and whose Result has a ``final_state()``
+method (picklable data, also available from the Result loaded back from ``result.nc``) can run
+a chain of cases, each starting from the previous case's final state.
 """
 
 from __future__ import annotations
@@ -87,10 +98,11 @@ def validate(domain: str, config: dict) -> None:
         hook(config)
 
 
-def split_config(config: dict, *, domain: str | None = None) -> tuple[str, dict]:
+def split_config(config: dict, *, domain: str | None = None, verb: str | None = None) -> tuple[str, dict]:
     """The domain of a parsed config (from ``domain`` or its ``domain`` key) and the body.
 
-    If both are given they must agree.
+    If both are given they must agree. With ``verb``, a top-level ``verb`` key (as a sweep's
+    base file has) must name that verb and is dropped from the body.
     """
     from rotaflex.core.errors import InputError
 
@@ -103,6 +115,10 @@ def split_config(config: dict, *, domain: str | None = None) -> tuple[str, dict]
         domain = check_domain(cfg_domain)
     elif cfg_domain is not None and cfg_domain != domain:
         raise InputError("domain", cfg_domain, f"{domain!r} for 'rotaflex {domain} ...'")
+    if verb is not None and "verb" in config:
+        if config["verb"] != verb:
+            raise InputError("verb", config["verb"], f"{verb!r} for 'rotaflex {domain} {verb}' (or no verb key)")
+        config = {k: v for k, v in config.items() if k != "verb"}
     return domain, {k: v for k, v in config.items() if k != "domain"}
 
 
@@ -116,9 +132,43 @@ def run_config(config: dict, *, domain: str | None = None, progress: bool = Fals
     return case_module(domain).run_case(body, progress=progress)
 
 
+def command_target(domain: Any, verb: Any, field: str = "verb") -> str:
+    """``"module:function"`` of ``rotaflex <domain> <verb>`` (``simulate``: the case module's
+    ``run_case``); InputError naming ``field`` for a verb the domain does not have."""
+    from rotaflex.core.errors import InputError
+
+    domain = check_domain(domain)
+    verbs = ["simulate", *COMMANDS.get(domain, {})]
+    if not isinstance(verb, str) or verb not in verbs:
+        raise InputError(field, verb, f"a verb of the {domain} domain, one of " + ", ".join(map(repr, verbs)))
+    return f"{CASES[domain]}:run_case" if verb == "simulate" else COMMANDS[domain][verb]
+
+
+def resolve(target: str):
+    """The function of a ``"module:function"`` target."""
+    module, _, name = target.partition(":")
+    return getattr(importlib.import_module(module), name)
+
+
 def command(domain: str, verb: str):
     """The function registered for ``rotaflex <domain> <verb>`` (``simulate``: ``run_case``)."""
-    if verb == "simulate":
-        return case_module(domain).run_case
-    module, _, name = COMMANDS[domain][verb].partition(":")
-    return getattr(importlib.import_module(module), name)
+    return resolve(command_target(domain, verb))
+
+
+def command_module(domain: str, verb: str) -> ModuleType:
+    """The module holding the function of ``rotaflex <domain> <verb>``."""
+    return importlib.import_module(command_target(domain, verb).partition(":")[0])
+
+
+def validate_command(domain: str, verb: str, config: dict) -> None:
+    """Check ``config`` for ``rotaflex <domain> <verb>`` without running it: the verb module's
+    ``validate_config``, else (verbs other than ``simulate``, whose case modules may combine
+    several root tables) its ``SCHEMA`` (:func:`rotaflex.core.config.from_mapping`)."""
+    module = command_module(domain, verb)
+    hook = getattr(module, "validate_config", None)
+    if hook is not None:
+        hook(config)
+    elif verb != "simulate" and getattr(module, "SCHEMA", None) is not None:
+        from rotaflex.core.config import from_mapping
+
+        from_mapping(module.SCHEMA, config)

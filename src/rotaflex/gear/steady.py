@@ -197,6 +197,19 @@ class SteadyStateResult(Result):
 
     kind = "gear_steady"
 
+    def final_state(self) -> dict | None:
+        """The model state at the end of the run (``state_*`` variables, attr ``state_time``) as
+        plain data for ``initial_state`` of the next point of a continuation; None if absent."""
+        ds = self.dataset
+        if "state_theta" not in ds:
+            return None
+        return {
+            "theta": ds["state_theta"].values.tolist(),
+            "omega": ds["state_omega"].values.tolist(),
+            "nominal": ds["state_nominal"].values.tolist(),
+            "time": float(ds.attrs["state_time"]),
+        }
+
     def plot(self) -> dict:
         """Figures: ``time_series`` (DTE, force), ``one_cycle`` (last cycle), ``spectrum``."""
         from rotaflex.core.plotting import new_figure

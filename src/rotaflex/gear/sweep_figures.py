@@ -43,6 +43,102 @@ def gear_mesh_estimate(cfg: dict) -> dict[str, float]:
 
 
 def sweep_figures(ds) -> dict[str, Any]:
+    """The gear sweep figure: :func:`steady_sweep_figure` for a sweep of ``gear steady``
+    (sweep.nc attribute ``verb = "steady"``), else :func:`dynamics_sweep_figure`."""
+    if ds.attrs.get("verb") == "steady":
+        return steady_sweep_figure(ds)
+    return dynamics_sweep_figure(ds)
+
+
+#: line styles per direction of a continuation (distinct also in black and white)
+_DIRECTION_STYLE = {"up": ("^", "-"), "down": ("v", "--")}
+
+
+def steady_sweep_figure(ds) -> dict[str, Any]:
+    """Steady-state sweep (``gear steady``): dynamic factor and DTE peak-to-peak vs speed.
+
+    Up and down directions of a continuation (dimension ``direction``) in distinct markers and
+    line styles, one colour per value of any other swept key (e.g. a tip relief: with and
+    without); the linear resonance speed of the mesh mode (summary ``resonance_speed``, mesh
+    order 1, and ``resonance_speed / 2`` for order 2) as vertical lines; the ISO 6336-1
+    method B K_v (summary ``iso_kv``) as a black line per other-key value. DTE in µm.
+    """
+    from rotaflex.core.plotting import new_figure
+
+    x = _speed_dim(ds, ("speed", "rpm"))
+    if x is None or "dynamic_factor" not in ds:
+        return {}
+    xs = np.asarray(ds[x].values, dtype=float)
+    order = np.argsort(xs)
+    others = [d for d in ds["dynamic_factor"].dims if d not in (x, "direction")]
+    groups: list[tuple[str, dict]] = [("", {})]
+    if others:
+        o = others[0]
+        groups = [(f"{ds[o].attrs.get('config_key', o)} = {v}", {o: i}) for i, v in enumerate(ds[o].values[:8])]
+        rest = {d: 0 for d in others[1:]}
+        groups = [(lab, {**sel, **rest}) for lab, sel in groups]
+    directions = list(ds["direction"].values) if "direction" in ds.dims else [None]
+    fig, ax = new_figure(2, 1, sharex=True, figsize=(6.8, 7.0 + 0.25 * len(groups) * (len(directions) + 1)))
+    for gi, (glabel, sel) in enumerate(groups):
+        sub = ds.isel(sel)
+        colour = f"C{gi}"
+        for d in directions:
+            one = sub if d is None else sub.sel(direction=d)
+            mk, ls = _DIRECTION_STYLE.get(str(d), ("o", "-"))
+            label = ", ".join(t for t in (glabel, "" if d is None else str(d)) if t) or "model"
+            kv = np.asarray(one["dynamic_factor"].values, dtype=float)[order]
+            ax[0].plot(xs[order], kv, marker=mk, ls=ls, ms=4, color=colour, label=label)
+            if "dte_pp" in one:
+                dte = np.asarray(one["dte_pp"].values, dtype=float)[order] * 1e6
+                ax[1].plot(xs[order], dte, marker=mk, ls=ls, ms=4, color=colour, label=label)
+        if "iso_kv" in sub:
+            iso = sub["iso_kv"] if directions == [None] else sub["iso_kv"].isel(direction=0)
+            lab = "ISO 6336-1 method B K_v" + (f" ({glabel})" if glabel else "")
+            ax[0].plot(
+                xs[order],
+                np.asarray(iso.values, dtype=float)[order],
+                "k",
+                ls=("-", ":", "-.")[gi % 3],
+                lw=1.2,
+                label=lab,
+            )
+    if "resonance_speed" in ds:
+        res = np.unique(np.round(np.asarray(ds["resonance_speed"].values, dtype=float), 3))
+        for r in res[np.isfinite(res)]:
+            for h in (1, 2):
+                speed = r / h
+                if xs.min() <= speed <= xs.max():
+                    for a in ax:
+                        a.axvline(speed, color="gray", ls=":", lw=1)
+                    ax[1].annotate(
+                        f"{h}x f_mesh = f_n ({speed:.0f} rpm)",
+                        (speed, 0.97),
+                        xycoords=("data", "axes fraction"),
+                        xytext=(2, 0),
+                        textcoords="offset points",
+                        fontsize=7,
+                        color="gray",
+                        rotation=90,
+                        va="top",
+                    )
+    ax[0].set_ylabel("dynamic factor F_max / F_static [-]")
+    ax[1].set_ylabel("DTE peak-to-peak [µm]")
+    ax[1].set_xlabel(_label(ds[x], x))
+    for a in ax:
+        a.grid(alpha=0.3)
+    # one legend under the panels: the curves and the resonance labels stay readable
+    ax[1].legend(
+        *ax[0].get_legend_handles_labels(), fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2
+    )
+    fn = float(np.nanmedian(ds["mesh_natural_frequency"].values)) if "mesh_natural_frequency" in ds else math.nan
+    title = "Gear steady state vs speed"
+    if math.isfinite(fn):
+        title += f" (linear mesh mode f_n = {fn:.0f} Hz)"
+    fig.suptitle(title)
+    return {"gear_steady_sweep": fig}
+
+
+def dynamics_sweep_figure(ds) -> dict[str, Any]:
     """Gear speed sweep: dynamic factor and peak-to-peak dynamic transmission error vs speed.
 
     Summary keys used (gear domain): ``dynamic_factor`` (peak contact force over the static

@@ -17,30 +17,39 @@ TOML tables (SI unless the key names its unit; all optional, defaults = the pape
     [iso]        f_pb_eff, f_f_eff, tip_relief (m), application_factor (ISO 6336-1 K_v overlay)
 
 :func:`run_torsional` has the signature of the domain command registry
-(``fn(config, *, progress=False) -> Result``).
+(``fn(config, *, progress=False) -> Result``); with ``initial_state`` (the ``final_state()`` of
+an earlier single-point result) one steady state continues from that state, which is how
+``rotaflex sweep --continuation operation.speed_rpm`` chains the speeds of a sweep.
+:func:`validate_config` checks a config without running it.
 """
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from dataclasses import dataclass
 from typing import Literal
 
+import numpy as np
+
 from rotaflex.core.config import from_mapping, param, to_mapping
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result
 from rotaflex.gear.geometry import GearGeometry, contact_ratio
+from rotaflex.gear.iso6336_kv import iso_kv
 from rotaflex.gear.torsional import (
     OperatingPoint,
+    State,
     TorsionalSystem,
     contact_pattern_mesh,
     mesh_table_from_static,
+    natural_frequencies,
     steady_state,
 )
 from rotaflex.gear.torsional_sweep import iso_input, speed_sweep
 
-__all__ = ["SCHEMA", "TorsionalCaseConfig", "build_system", "run_torsional"]
+__all__ = ["SCHEMA", "TorsionalCaseConfig", "build_system", "run_torsional", "validate_config"]
 
 
 @dataclass(frozen=True)
@@ -138,23 +147,32 @@ class TorsionalCaseConfig:
 SCHEMA = TorsionalCaseConfig
 
 
-def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
-    """The torsional model and the contact ratio of ``cfg``."""
-    g1, g2 = cfg.gear.geometry()
+@functools.lru_cache(maxsize=8)
+def _mesh_table(gear: GearSpec, mesh_spec: MeshSpec, torque: float):
+    """Mesh table and contact ratio; cached per process because the static FE table (~0.5 s)
+    is the same for every speed of a sweep (frozen specs are hashable keys)."""
+    g1, g2 = gear.geometry()
     eps = contact_ratio(g1, g2)
-    if cfg.mesh.source == "static_fe":
+    if mesh_spec.source == "static_fe":
         from rotaflex.gear.static import mesh_stiffness
 
         ms = mesh_stiffness(
             g1,
             g2,
-            cfg.gear.youngs_modulus,
-            cfg.gear.poisson_ratio,
-            torque=cfg.operation.torque * g1.base_radius / g2.base_radius,
+            gear.youngs_modulus,
+            gear.poisson_ratio,
+            torque=torque * g1.base_radius / g2.base_radius,
         )
-        mesh = mesh_table_from_static(ms, g1.teeth, cfg.mesh.table_points)
+        mesh = mesh_table_from_static(ms, g1.teeth, mesh_spec.table_points)
     else:
-        mesh = contact_pattern_mesh(cfg.mesh.pair_stiffness, eps, cfg.mesh.table_points, cfg.mesh.unloaded_te_pp)
+        mesh = contact_pattern_mesh(mesh_spec.pair_stiffness, eps, mesh_spec.table_points, mesh_spec.unloaded_te_pp)
+    return mesh, eps
+
+
+def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
+    """The torsional model and the contact ratio of ``cfg``."""
+    g1, g2 = cfg.gear.geometry()
+    mesh, eps = _mesh_table(cfg.gear, cfg.mesh, cfg.operation.torque)
     t = cfg.train
     sys = TorsionalSystem(
         mesh=mesh,
@@ -175,11 +193,91 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
     return sys, eps
 
 
-def run_torsional(config: dict, *, progress: bool = False) -> Result:
-    """Validate ``config`` (module docstring), run one steady state or a speed sweep."""
+def _checked(config: dict) -> TorsionalCaseConfig:
     cfg = from_mapping(TorsionalCaseConfig, config)
-    if cfg.steady.min_cycles > cfg.steady.max_cycles:
-        raise InputError("steady.min_cycles", cfg.steady.min_cycles, f"<= steady.max_cycles = {cfg.steady.max_cycles}")
+    s = cfg.steady
+    if s.min_cycles > s.max_cycles:
+        raise InputError("steady.min_cycles", s.min_cycles, f"<= steady.max_cycles = {s.max_cycles}")
+    if s.fixed_cycles is not None and s.fixed_cycles < max(s.eval_cycles, 2):
+        least = max(s.eval_cycles, 2)
+        raise InputError("steady.fixed_cycles", s.fixed_cycles, f">= max(steady.eval_cycles, 2) = {least}")
+    sp = cfg.sweep.speeds_rpm
+    if len(sp) == 1 or any(b <= a for a, b in zip(sp, sp[1:], strict=False)):
+        raise InputError("sweep.speeds_rpm", list(sp), "empty, or two or more ascending speeds")
+    for d in cfg.sweep.directions:
+        if d not in ("up", "down"):
+            raise InputError("sweep.directions", d, "'up' or 'down'")
+    g1, g2 = cfg.gear.geometry()
+    eps = contact_ratio(g1, g2)
+    if cfg.mesh.source == "contact_pattern" and not 1.0 < eps < 2.0:
+        raise InputError("gear", f"contact ratio {eps:.3f}", "1 < eps < 2 for mesh.source = 'contact_pattern'")
+    return cfg
+
+
+def validate_config(config: dict) -> None:
+    """Check a ``gear steady`` config completely without running it (InputError otherwise)."""
+    _checked(config)
+
+
+def _state_of(initial_state) -> State:
+    try:
+        return State(
+            np.asarray(initial_state["theta"], dtype=float),
+            np.asarray(initial_state["omega"], dtype=float),
+            float(initial_state["time"]),
+            np.asarray(initial_state["nominal"], dtype=float),
+        )
+    except (KeyError, TypeError, ValueError) as exc:
+        what = f"a final_state() of gear steady ({exc})"
+        raise InputError("initial_state", type(initial_state).__name__, what) from None
+
+
+def _point_extras(res, sys: TorsionalSystem, st: State, cfg: TorsionalCaseConfig, eps: float) -> None:
+    """Scalars a speed sweep of single points needs (linear resonance, ISO K_v at this speed)
+    and the final state (continuation, also after reading result.nc back)."""
+    ds = res.dataset
+    op = cfg.operation
+    nf = natural_frequencies(sys)
+    f_mesh_mode = float(nf["frequency"][nf["mesh_mode"]])
+    ds["mesh_natural_frequency"] = ((), f_mesh_mode, {"units": "Hz", "long_name": "linear mesh-mode frequency"})
+    ds["resonance_speed"] = (
+        (),
+        60.0 * f_mesh_mode / sys.teeth[0],
+        {"units": "rpm", "long_name": "pinion speed where the mesh frequency meets the mesh mode"},
+    )
+    iso = iso_input(
+        sys,
+        op.torque,
+        cfg.gear.face_width,
+        eps,
+        f_pb_eff=cfg.iso.f_pb_eff,
+        f_f_eff=cfg.iso.f_f_eff,
+        tip_relief=cfg.iso.tip_relief,
+        application_factor=cfg.iso.application_factor,
+    )
+    ds["iso_kv"] = ((), float(iso_kv(iso, [op.speed_rpm])[0]), {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
+    ds["iso_resonance_speed"] = ((), float(iso.resonance_speed_rpm), {"units": "rpm"})
+    ds["state_theta"] = ("chain_node", st.theta, {"units": "rad", "long_name": "final angles"})
+    ds["state_omega"] = ("chain_node", st.omega, {"units": "rad/s", "long_name": "final speeds"})
+    ds["state_nominal"] = ("chain_node", st.nominal, {"units": "rad/s", "long_name": "final nominal speeds"})
+    ds.attrs["state_time"] = st.time
+
+
+def run_torsional(config: dict, *, progress: bool = False, initial_state: dict | None = None) -> Result:
+    """Validate ``config`` (module docstring), run one steady state or a speed sweep.
+
+    ``initial_state`` (single point only): continue from this ``final_state()`` of an earlier
+    point (angles and vibration velocities kept, mean speeds moved to this speed) instead of
+    starting from the static equilibrium.
+    """
+    cfg = _checked(config)
+    if initial_state is not None and len(cfg.sweep.speeds_rpm) >= 2:
+        raise InputError(
+            "sweep.speeds_rpm",
+            list(cfg.sweep.speeds_rpm),
+            "empty when a case continues from a previous state (sweep operation.speed_rpm instead)",
+        )
+    state = None if initial_state is None else _state_of(initial_state)
     sys, eps = build_system(cfg)
     s = cfg.steady
     kw = dict(
@@ -204,6 +302,7 @@ def run_torsional(config: dict, *, progress: bool = False) -> Result:
         )
         res = speed_sweep(sys, op.torque, cfg.sweep.speeds_rpm, directions=cfg.sweep.directions, iso=iso, **kw)
     else:
-        res, _ = steady_state(sys, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), **kw)
+        res, st = steady_state(sys, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state, **kw)
+        _point_extras(res, sys, st, cfg, eps)
     res.dataset.attrs["config"] = json.dumps(to_mapping(cfg))
     return res

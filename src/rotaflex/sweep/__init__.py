@@ -12,22 +12,25 @@ Python API::
     res.dataset            # xarray.Dataset, swept parameters as dimensions
 
 Command line: ``rotaflex sweep CONFIG.toml --vary KEY=START:STOP:N --out DIR [-j N]
-[--scheduler tcp://host:port | dask-local]``.
+[--scheduler tcp://host:port | dask-local] [--continuation KEY]``; a top-level ``verb`` key in
+the config sweeps another verb of the domain (e.g. ``verb = "steady"`` for gear).
 """
 
 from rotaflex.sweep.runner import CaseRecord, SerialExecutor, SweepResult, process_pool, run_sweep
 from rotaflex.sweep.spec import Case, as_cases, grid_cases, parse_vary
-from rotaflex.sweep.study import plan, sweep_config
+from rotaflex.sweep.study import Study, plan, plan_study, sweep_config
 
 __all__ = [
     "Case",
     "CaseRecord",
     "SerialExecutor",
+    "Study",
     "SweepResult",
     "as_cases",
     "grid_cases",
     "parse_vary",
     "plan",
+    "plan_study",
     "process_pool",
     "run_sweep",
     "sweep_config",

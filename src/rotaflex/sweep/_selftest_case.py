@@ -8,6 +8,10 @@ sleeps, burns CPU, or kills its own worker process (SIGKILL) to emulate a crashi
 Closed-form outputs (checked by the tests against the formulas, not against stored values):
 ``a = x**2 + y`` [m], ``b = n * sin(x)`` [s], and a series ``signal(t) = x sin(2 pi y t)``
 on ``n`` points of ``t`` in [0, 1] s with ``signal_max = max |signal|`` [m].
+
+:func:`run_chain` is a continuable verb for the continuation tests: its state is the running sum
+of ``x`` and the number of cases so far, so the outputs ``running_sum`` and ``position`` show
+the order in which a chain ran and that each case started from its predecessor's state.
 """
 
 from __future__ import annotations
@@ -23,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.config import from_mapping, param
-from rotaflex.core.result import Result
+from rotaflex.core.result import Result, register_result
 
 
 @dataclass(frozen=True)
@@ -96,3 +100,24 @@ def run_case(config: dict, *, progress: bool = False) -> Result:
         },
     )
     return Result(ds)
+
+
+@register_result
+class ChainResult(Result):
+    """Result of :func:`run_chain` with the state a continuation passes on."""
+
+    kind = "selftest_chain"
+
+    def final_state(self) -> dict:
+        ds = self.dataset
+        return {"sum": float(ds["running_sum"]), "count": int(ds["position"])}
+
+
+def run_chain(config: dict, *, progress: bool = False, initial_state: dict | None = None) -> Result:
+    """``run_case`` plus ``running_sum = previous sum + x`` and ``position = previous count + 1``."""
+    base = run_case(config, progress=progress).dataset
+    start = initial_state or {"sum": 0.0, "count": 0}
+    x = from_mapping(SelftestConfig, config).x
+    base["running_sum"] = ((), start["sum"] + x, {"units": "m"})
+    base["position"] = ((), start["count"] + 1, {"units": "1"})
+    return ChainResult(base)

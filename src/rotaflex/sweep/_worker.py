@@ -44,12 +44,12 @@ class Outcome:
     worker: str
 
 
-def execute_case(case_fn: Callable[[Any], Any], data: Any) -> Outcome:
-    """Run ``case_fn(data)`` and wrap its result or its exception in an :class:`Outcome`."""
+def execute_case(case_fn: Callable[[Any], Any], data: Any, **kwargs: Any) -> Outcome:
+    """Run ``case_fn(data, **kwargs)`` and wrap its result or its exception in an :class:`Outcome`."""
     t0 = time.perf_counter()
     worker = f"{socket.gethostname()}:{os.getpid()}"
     try:
-        result = case_fn(data)
+        result = case_fn(data, **kwargs)
     except Exception as exc:  # noqa: BLE001 - every case error is recorded, the sweep goes on
         return Outcome(
             None,
@@ -68,6 +68,14 @@ def run_module_case(module: str, config: dict) -> Any:
     importable (same rotaflex version), not the client's registry.
     """
     return importlib.import_module(module).run_case(config, progress=False)
+
+
+def run_target(target: str, config: dict, **kwargs: Any) -> Any:
+    """``function(config, progress=False, **kwargs)`` of a ``"module:function"`` target (a
+    domain verb, :func:`rotaflex.core.domains.command_target`); ``kwargs`` e.g.
+    ``initial_state`` of a continuation."""
+    module, _, name = target.partition(":")
+    return getattr(importlib.import_module(module), name)(config, progress=False, **kwargs)
 
 
 def rotaflex_version() -> str:

@@ -360,6 +360,7 @@ def run_sweep(
     domain: str | None = None,
     attrs: Mapping[str, Any] | None = None,
     units: Mapping[str, str] | None = None,
+    chains: list[list[str]] | None = None,
 ) -> SweepResult:
     """Run ``case_fn`` on every case, write each case as it finishes, then combine.
 
@@ -395,6 +396,10 @@ def run_sweep(
         Extra global attributes of ``sweep.nc`` (e.g. the base config as JSON).
     units : dict, optional
         Units of the swept keys (default: from their names, e.g. ``speed_rpm``).
+    chains : list of list of str, optional
+        Continuation (:mod:`rotaflex.sweep.continuation`): case ids per chain in run order,
+        every case in one chain; ``case_fn(data, initial_state=...)`` runs from its
+        predecessor's ``final_state()``, the chains in parallel.
 
     Returns
     -------
@@ -415,12 +420,16 @@ def run_sweep(
     out = Path(out_dir) if out_dir is not None else None
     records: dict[str, CaseRecord] = {}
     todo: deque[Case] = deque()
-    for case in cases:
-        done = _read_done(case, out / "cases" / case.id) if out is not None else None
-        if done is not None:
-            records[case.id] = done
-        else:
-            todo.append(case)
+    if chains is None:
+        for case in cases:
+            done = _read_done(case, out / "cases" / case.id) if out is not None else None
+            if done is not None:
+                records[case.id] = done
+            else:
+                todo.append(case)
+    else:
+        chain_todo, chain_states = _pending_chains(cases, chains, out, records)
+        todo.extend(c for ch in chain_todo for c in ch)
     total = len(cases)
     if out is not None:
         log.info(
@@ -450,7 +459,12 @@ def run_sweep(
     if todo:
         backend = _Backend(executor)
         try:
-            _drive(backend, case_fn, todo, finish, max_retries)
+            if chains is None:
+                _drive(backend, case_fn, todo, finish, max_retries)
+            else:
+                from rotaflex.sweep.continuation import drive_chains
+
+                drive_chains(backend, case_fn, chain_todo, chain_states, finish, max_retries)
         except BaseException:
             backend.shutdown(wait=False)
             raise
@@ -473,6 +487,33 @@ def run_sweep(
     result.wall_time = time.perf_counter() - t0
     log.info("%s", result.summary_text())
     return result
+
+
+def _pending_chains(cases: list[Case], chains, out: Path | None, records: dict[str, CaseRecord]):
+    """Per chain: the cases still to run (after the longest finished prefix) and the state the
+    first of them starts from (the saved final state of the prefix's last case)."""
+    from rotaflex.sweep.continuation import saved_state
+
+    by_id = {c.id: c for c in cases}
+    if sorted(i for ch in chains for i in ch) != sorted(by_id):
+        raise ValueError("chains must list every case id exactly once")
+    pending: list[deque[Case]] = []
+    states: list[Any] = []
+    for chain in chains:
+        done: list[CaseRecord] = []
+        for cid in chain:
+            rec = _read_done(by_id[cid], out / "cases" / cid) if out is not None else None
+            if rec is None:  # a finished case (any status but error) has a state to go on from
+                break
+            done.append(rec)
+        state = saved_state(out / "cases" / done[-1].id) if done else None
+        if done and state is None:
+            done = []  # no state to continue from: the whole chain again
+        for rec in done:
+            records[rec.id] = rec
+        pending.append(deque(by_id[cid] for cid in chain[len(done) :]))
+        states.append(state)
+    return pending, states
 
 
 def _drive(

@@ -1,46 +1,101 @@
-"""Sweeps over a TOML config: the domain picked by its ``domain`` key, keys varied on a grid."""
+"""Sweeps over a TOML config: the domain picked by its ``domain`` key, keys varied on a grid.
+
+The verb is ``simulate`` unless the config has a top-level ``verb`` key naming another verb of
+the domain (:data:`rotaflex.core.domains.COMMANDS`, e.g. ``verb = "steady"`` for the gear
+steady-state model); the verb's own checks validate every case before any runs. With
+``continuation=KEY`` the cases run as chains along that key (:mod:`.continuation`).
+"""
 
 from __future__ import annotations
 
 import functools
+import importlib
 import json
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from rotaflex.core.errors import InputError, shown
-from rotaflex.sweep._worker import run_module_case
+from rotaflex.sweep._worker import run_target
 from rotaflex.sweep.runner import SweepResult, run_sweep
 from rotaflex.sweep.spec import Case, grid_cases, parse_vary
 
 
+@dataclass
+class Study:
+    """A planned sweep (:func:`plan_study`).
+
+    Attributes
+    ----------
+    domain, verb : str
+    target : str
+        ``"module:function"`` of the verb (run on the workers).
+    cases : list of Case
+        Grid cases; with a continuation each twice (``direction`` up/down), data
+        ``{"config", "continuation"}`` (:func:`~rotaflex.sweep.continuation.chain_cases`).
+    chains : list of list of str or None
+        Case ids per continuation chain in run order.
+    continuation : str or None
+        The continued key.
+    """
+
+    domain: str
+    verb: str
+    target: str
+    cases: list[Case]
+    chains: list[list[str]] | None = None
+    continuation: str | None = None
+
+    @property
+    def module(self) -> str:
+        return self.target.partition(":")[0]
+
+
+#: top-level keys of a sweep's base config that are not part of the case config
+TOP_KEYS = ("domain", "verb")
+
+
 def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[Any]]) -> tuple[str, str, list[Case]]:
+    """Validate a config sweep before anything runs: ``(domain, module, cases)`` of
+    :func:`plan_study` (module: the verb's module, e.g. the domain's ``run_case`` module)."""
+    st = plan_study(config, vary)
+    return st.domain, st.module, st.cases
+
+
+def plan_study(
+    config: Mapping[str, Any],
+    vary: Sequence[str] | Mapping[str, Sequence[Any]],
+    continuation: str | None = None,
+) -> Study:
     """Validate a config sweep before anything runs.
 
     Parameters
     ----------
     config : dict
-        Parsed TOML with a top-level ``domain`` key.
+        Parsed TOML with a top-level ``domain`` key and optionally ``verb`` (default
+        ``"simulate"``; another verb of the domain's ``COMMANDS``, e.g. ``"steady"``).
     vary : list of str or dict
         ``--vary`` specifications (``"KEY=START:STOP:N"``, ``"KEY=v1,v2"``) or a mapping
         key -> values.
+    continuation : str, optional
+        A swept numeric key to run as continuation chains, up then down
+        (:mod:`rotaflex.sweep.continuation`); the verb must accept ``initial_state``.
 
     Returns
     -------
-    domain : str
-    module : str
-        The domain's ``run_case`` module (imported once here to fail early).
-    cases : list of Case
-        Each case's data is the config *without* the ``domain`` key.
+    Study
+        Each case's config is the base config *without* the ``domain`` and ``verb`` keys.
 
     Raises
     ------
     InputError
-        Missing/unknown domain, malformed vary spec, repeated key, key not in the config, or -
-        when the domain's case module has a ``validate_config(config)`` hook - a case whose
-        values the domain rejects.
+        Missing/unknown domain or verb, malformed vary spec, repeated key, key not in the
+        config, a case whose values the verb rejects (its module's ``validate_config``, else
+        its ``SCHEMA``; see :func:`rotaflex.core.domains.validate_command`), or a continuation
+        the verb or the grid cannot do.
     """
-    from rotaflex.core.domains import CASES, case_module, check_domain
+    from rotaflex.core.domains import CASES, check_domain, command_target, resolve, validate_command
 
     if not isinstance(config, Mapping):
         raise InputError("config", config, "a TOML table")
@@ -48,8 +103,11 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
     if domain is None:
         raise InputError("domain", "<missing>", "a top-level domain = one of " + ", ".join(CASES))
     check_domain(domain)
+    verb = config.get("verb", "simulate")
+    target = command_target(domain, verb)
     try:
-        module = case_module(domain)
+        fn = resolve(target)
+        module = importlib.import_module(target.partition(":")[0])
     except ImportError as exc:
         raise InputError("domain", domain, f"an installed domain ({exc})") from None
     typed: dict[str, list[str]] = {}  # the values as written in a list spec, echoed in errors
@@ -65,22 +123,30 @@ def plan(config: Mapping[str, Any], vary: Sequence[str] | Mapping[str, Sequence[
             rhs = spec.split("=", 1)[1]
             if "," in rhs or ":" not in rhs:
                 typed[key] = [t.strip() for t in rhs.split(",")]
-    body = {k: v for k, v in config.items() if k != "domain"}
+    if "verb" in axes:
+        raise InputError("--vary verb", axes["verb"], "a key inside the domain's config, not 'verb'")
+    body = {k: v for k, v in config.items() if k not in TOP_KEYS}
     cases = grid_cases(body, axes, defaults=_schema_defaults(module))
-    validate = getattr(module, "validate_config", None)
-    if validate is not None:  # optional domain hook: every case's values checked up front
-        for case in cases:
-            try:
-                validate(case.data)
-            except InputError as exc:
-                value = exc.value
-                if exc.field in typed and exc.field in case.params:
-                    i = _index_of(axes[exc.field], case.params[exc.field])
-                    if i is not None and i < len(typed[exc.field]):
-                        value = _Typed(typed[exc.field][i])
-                params = ", ".join(f"{k}={shown(v, 24)}" for k, v in case.params.items())
-                raise InputError(exc.field, value, f"{exc.allowed} (case {params})") from None
-    return domain, CASES[domain], cases
+    # every case's values checked up front by the verb's own checks
+    for case in cases:
+        try:
+            validate_command(domain, verb, case.data)
+        except InputError as exc:
+            value = exc.value
+            if exc.field in typed and exc.field in case.params:
+                i = _index_of(axes[exc.field], case.params[exc.field])
+                if i is not None and i < len(typed[exc.field]):
+                    value = _Typed(typed[exc.field][i])
+            params = ", ".join(f"{k}={shown(v, 24)}" for k, v in case.params.items())
+            raise InputError(exc.field, value, f"{exc.allowed} (case {params})") from None
+    study = Study(domain, verb, target, cases)
+    if continuation is not None:
+        from rotaflex.sweep.continuation import chain_cases, check_continuable
+
+        check_continuable(fn, target)
+        study.cases, study.chains = chain_cases(cases, continuation)
+        study.continuation = continuation
+    return study
 
 
 class _Typed(str):
@@ -121,8 +187,6 @@ def _schema_defaults(module):
 
 def _schema_units(module_name: str) -> dict[str, str]:
     """Units of every key of the domain's schema (for the sweep's dimension coordinates)."""
-    import importlib
-
     from rotaflex.core.schema import entries
 
     module = importlib.import_module(module_name)
@@ -136,26 +200,46 @@ def _schema_units(module_name: str) -> dict[str, str]:
 
 
 def sweep_config(
-    config: Mapping[str, Any], vary, out_dir: str | Path | None, executor: Any = None, **kwargs: Any
+    config: Mapping[str, Any],
+    vary,
+    out_dir: str | Path | None,
+    executor: Any = None,
+    *,
+    continuation: str | None = None,
+    **kwargs: Any,
 ) -> SweepResult:
-    """Sweep a domain config: :func:`plan`, then :func:`run_sweep` with the domain's ``run_case``.
+    """Sweep a domain config: :func:`plan_study`, then :func:`run_sweep` with the verb's function.
 
-    Extra keyword arguments go to :func:`run_sweep` (``progress``, ``max_retries``, ...).
+    ``continuation``: a swept key to run as up/down continuation chains (see
+    :mod:`rotaflex.sweep.continuation`). Extra keyword arguments go to :func:`run_sweep`
+    (``progress``, ``max_retries``, ...).
 
     Examples
     --------
     >>> from rotaflex.core.config import load_toml                     # doctest: +SKIP
     >>> res = sweep_config(load_toml("rotor.toml"), ["spin.omega=0:100:11"], "out/sweep")
     """
-    domain, module, cases = plan(config, vary)
-    kwargs.setdefault("units", _schema_units(module))
-    attrs = {"base_config": json.dumps(dict(config), sort_keys=True, default=str), **kwargs.pop("attrs", {})}
+    study = plan_study(config, vary, continuation)
+    kwargs.setdefault("units", _schema_units(study.module))
+    attrs = {
+        "base_config": json.dumps(dict(config), sort_keys=True, default=str),
+        "verb": study.verb,
+        "continuation": study.continuation or "",
+        **kwargs.pop("attrs", {}),
+    }
+    if study.chains is None:
+        case_fn = functools.partial(run_target, study.target)
+    else:
+        from rotaflex.sweep.continuation import run_link
+
+        case_fn = functools.partial(run_link, study.target)
     return run_sweep(
-        functools.partial(run_module_case, module),
-        cases,
+        case_fn,
+        study.cases,
         executor,
         out_dir=out_dir,
-        domain=domain,
+        domain=study.domain,
         attrs=attrs,
+        chains=study.chains,
         **kwargs,
     )
