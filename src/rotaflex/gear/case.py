@@ -18,8 +18,7 @@ import json
 import time
 from dataclasses import asdict
 
-from rotaflex.core.config import from_mapping
-from rotaflex.gear.config import GearCaseConfig, build, to_run
+from rotaflex.gear.config import GearCaseConfig, build, elastic_constants, load_config, to_run
 from rotaflex.gear.result import GearResult, build_dataset
 from rotaflex.gear.sweep_figures import sweep_figures
 
@@ -41,7 +40,7 @@ __all__ = [
 def prepare(config: dict):
     """Validated configuration, geometry, mesh, model (with the static preload of several teeth)
     and the SI run description, without integrating."""
-    cfg = from_mapping(GearCaseConfig, config)
+    cfg = load_config(config)
     geo, mesh, model = build(cfg)
     run = to_run(cfg, geo, model)
     return cfg, geo, mesh, model, run
@@ -85,7 +84,7 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     if cfg.output.root_stress and run.method == "paper_rk4" and run.teeth_per_gear == 1:
         from rotaflex.gear.post import root_stress_probe
 
-        probe = root_stress_probe(model, cfg.material.youngs_modulus, cfg.material.poisson_ratio)
+        probe = root_stress_probe(model, *elastic_constants(cfg))
     kw = dict(
         run.options,
         speeds=run.speeds,

@@ -1,0 +1,180 @@
+"""``gear simulate`` with drawing pairs ([pinion]/[wheel]): identical gears reproduce the paper
+path bit for bit, a 1:2 pair is quasi-statically balanced at low speed with the disk speeds in the
+tooth ratio, swapping the driver or the direction mirrors the results, the wheel's tip relief
+shifts the DTE by its depth, layout conflicts are one-line errors."""
+
+import copy
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rotaflex.core.errors import InputError
+from rotaflex.gear.case import run_case, validate_config
+from rotaflex.gear.config import GearConfig
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "gear" / "unequal_shifted_relief.toml"
+PAPER = GearConfig()  # defaults: the paper's gear (gear/paper.py)
+PAPER_SPEC = {
+    "teeth": PAPER.teeth,
+    "module": PAPER.module,
+    "face_width": PAPER.face_width,
+    "pressure_angle_deg": PAPER.pressure_angle_deg,
+    "tip_radius": PAPER.tip_radius,
+    "root_radius": PAPER.root_radius,
+    "material": {"youngs_modulus": 210e9, "poisson_ratio": 0.3, "density": 7800.0},
+    "blank": {"inertia": 2.965e-4},
+}
+SHORT = {"mesh": {"preset": "coarse"}, "output": {"every": 10, "root_stress": False}}
+
+
+def _example(**operation) -> dict:
+    """The shipped 20/40 example (simulate part), coarse mesh, coarse-mesh time step."""
+    cfg = tomllib.loads(EXAMPLE.read_text())
+    cfg["mesh"]["preset"] = "coarse"
+    cfg["solver"]["dt"] = 2.4e-8
+    cfg["output"] = {"every": 10, "root_stress": False}
+    cfg["operation"].update(operation)
+    return cfg
+
+
+def _drawing_paper(driver="pinion", span=2.0) -> dict:
+    return {
+        "pinion": PAPER_SPEC,
+        "wheel": PAPER_SPEC,
+        "driver": driver,
+        "operation": {"driver_speed_rpm": 4000.0, "span_deg": span},
+        **copy.deepcopy(SHORT),
+    }
+
+
+@pytest.mark.parametrize("driver", ["A", "B"])
+def test_identical_drawing_pair_reproduces_the_paper_path_bit_for_bit(driver):
+    paper = run_case({"operation": {"span_deg": 2.0, "driver": driver}, **copy.deepcopy(SHORT)}).dataset
+    drawing = run_case(_drawing_paper("pinion" if driver == "A" else "wheel")).dataset
+    for name in ("contact_force", "rotation_angle", "angular_velocity", "transmission_error", "contact_point"):
+        assert np.array_equal(paper[name].values, drawing[name].values), name
+    assert float(paper["peak_contact_force"]) == float(drawing["peak_contact_force"])
+    assert float(paper["dte_peak_to_peak"]) == float(drawing["dte_peak_to_peak"])
+    assert float(drawing["gear_ratio"]) == 1.0
+
+
+@pytest.fixture(scope="module")
+def quasi_static():
+    """The 20/40 example without reliefs at 1000 rpm over the first two zones (ramp 9.9 deg =
+    1.6 ms, about 12 periods of the 7 kHz mesh mode: quasi-static)."""
+    cfg = _example(span_deg=18.0)
+    for g in ("pinion", "wheel"):
+        cfg[g].pop("tip_relief")
+    return run_case(cfg).dataset
+
+
+def test_one_to_two_pair_is_balanced_at_low_speed(quasi_static):
+    ds = quasi_static
+    assert ds.attrs["status"] == "success"
+    rb = ds["gear_base_radius"].values
+    assert rb[1] / rb[0] == pytest.approx(2.0, rel=1e-14)  # base radii in the tooth ratio
+    th = ds["rotation_angle"].sel(gear="A").values
+    th2 = float(ds["theta_2"])
+    single = th > th2 * 1.05
+    assert np.count_nonzero(single) > 100
+    force = ds["contact_force"].values[single]
+    torque = ds["torque"].values[single]
+    # driver torque tau_0 = 80 N m on A, load torque 2 tau_0 on B (constant in the single zone)
+    assert np.allclose(torque[:, 0], 80.0) and np.allclose(torque[:, 1], 160.0)
+    # mean over the single-pair zone (about 9 periods of the mesh mode): within 1 %
+    assert np.mean(force) == pytest.approx(80.0 / rb[0], rel=1e-2)
+    assert np.mean(force) == pytest.approx(np.mean(torque[:, 1]) / rb[1], rel=1e-2)
+    # the ripple left by the ramp is small: quasi-static
+    assert np.ptp(force) < 0.1 * 80.0 / rb[0]
+    # disk speeds: rotation increments over the single zone in the tooth ratio 2 (the
+    # difference is the change of the tooth deflection, ~1 um over ~2 mm of roll)
+    rot = ds["rotation_angle"].values[single]
+    ratio = (rot[-1, 0] - rot[0, 0]) / (rot[-1, 1] - rot[0, 1])
+    assert ratio == pytest.approx(2.0, rel=2e-3)
+    om = ds["angular_velocity"].values[single]
+    assert np.mean(om[:, 0]) / np.mean(om[:, 1]) == pytest.approx(2.0, rel=2e-3)
+
+
+def test_unequal_pair_energy_balance(quasi_static):
+    # the paper cases stay below 0.5 % (docs/gear-dynamics.md); the same bound here
+    assert float(quasi_static["energy_balance_error"]) < 5e-3
+
+
+def test_swapping_the_tables_and_the_driver_mirrors_the_results():
+    base = _example(span_deg=1.0, driver_speed_rpm=4000.0)
+    swapped = copy.deepcopy(base)
+    swapped["pinion"], swapped["wheel"] = base["wheel"], base["pinion"]
+    swapped["driver"] = "wheel"
+    a = run_case(base).dataset
+    b = run_case(swapped).dataset
+    assert np.array_equal(a["contact_force"].values, b["contact_force"].values)
+    assert np.array_equal(a["rotation_angle"].values, b["rotation_angle"].values[:, ::-1])
+    assert np.array_equal(a["torque"].values, b["torque"].values[:, ::-1])
+    assert float(a["gear_ratio"]) == 2.0 and float(b["gear_ratio"]) == 0.5
+    cd = 0.060672595664510075  # no-backlash working centre distance of the pair
+    cpa, cpb = a["contact_point"].values, b["contact_point"].values[:, ::-1]
+    assert np.allclose(cpa[..., 0], cpb[..., 0], rtol=0, atol=1e-15)
+    assert np.allclose(cpa[..., 1], cd - cpb[..., 1], rtol=0, atol=1e-14)
+    # the DTE is r_bA theta_A - r_bB theta_B in each labelling: opposite signs
+    assert np.allclose(a["transmission_error"].values, -b["transmission_error"].values, rtol=0, atol=1e-18)
+
+
+def test_reverse_direction_is_the_mirror_image_about_the_line_of_centres():
+    fwd = run_case(_example(span_deg=1.0, driver_speed_rpm=4000.0)).dataset
+    rev = run_case(_example(span_deg=1.0, driver_speed_rpm=4000.0, direction="reverse")).dataset
+    assert rev.attrs["direction"] == "reverse"
+    assert np.array_equal(fwd["contact_force"].values, rev["contact_force"].values)
+    cp_f, cp_r = fwd["contact_point"].values, rev["contact_point"].values
+    assert np.array_equal(cp_f[..., 0], -cp_r[..., 0]) and np.array_equal(cp_f[..., 1], cp_r[..., 1])
+    # forward: the contact lies on gear A's left flank (x < 0 in the start position)
+    assert np.all(cp_f[:, 0, 0] < 0.0)
+
+
+def test_wheel_tip_relief_shifts_the_quasi_static_dte_by_its_depth(quasi_static):
+    """At t = 0 the wheel's tip corner touches the pinion; with a tip relief of depth d there,
+    the wheel starts d / r_bB ahead of the unrelieved position, so once the contact has left
+    the relieved zone the DTE (r_bA theta_A - r_bB theta_B, relative to t = 0) is larger by d.
+    Prediction: d = the relief depth at the wheel's tip radius = its amount, 10.0 um (linear
+    relief, depth measured along the involute normal = the line of action)."""
+    cfg = _example(span_deg=18.0)
+    cfg["pinion"].pop("tip_relief")
+    rel = run_case(cfg).dataset
+    ref = quasi_static
+    th = ref["rotation_angle"].sel(gear="A").values
+    single = th > float(ref["theta_2"]) * 1.05
+    shift = np.mean(rel["transmission_error"].values[single] - ref["transmission_error"].values[single])
+    assert shift == pytest.approx(10.0e-6, abs=0.5e-6)
+
+
+@pytest.mark.parametrize(
+    "patch, field",
+    [
+        ({"gear": {"teeth": 28}}, "gear"),
+        ({"material": {"youngs_modulus": 2e11}}, "material"),
+        ({"operation": {"speed_rpm": [1000, 500]}}, "operation.speed_rpm"),
+        ({"solver": {"method": "reduced_hht"}}, "solver.method"),
+        ({"model": {"teeth_per_gear": 2}}, "model.teeth_per_gear"),
+    ],
+)
+def test_layout_conflicts_are_one_line_errors(patch, field):
+    cfg = _example()
+    for table, val in patch.items():
+        cfg.setdefault(table, {}).update(val)
+    if field == "solver.method":
+        cfg["solver"].pop("dt")
+    with pytest.raises(InputError) as exc:
+        validate_config(cfg)
+    assert exc.value.field == field
+
+
+def test_drawing_keys_in_a_paper_config_are_refused():
+    with pytest.raises(InputError) as exc:
+        validate_config({"driver": "wheel", **copy.deepcopy(SHORT)})
+    assert exc.value.field == "driver"
+    cfg = _example()
+    del cfg["wheel"]
+    with pytest.raises(InputError) as exc:
+        validate_config(cfg)
+    assert exc.value.field == "wheel"
