@@ -335,7 +335,13 @@ class GearCaseConfig:
 #: tables and keys only ``gear static`` reads (a file may carry both verbs' tables)
 STATIC_ONLY = {"load": None, "analysis": None, "mesh": ("n_radii",)}
 #: keys that belong to one pair layout only: (table, key or None for the whole table)
-PAPER_ONLY = (("gear", None), ("material", None), ("disk_inertia", None), ("operation", "speed_rpm"), ("operation", "driver"))
+PAPER_ONLY = (
+    ("gear", None),
+    ("material", None),
+    ("disk_inertia", None),
+    ("operation", "speed_rpm"),
+    ("operation", "driver"),
+)
 DRAWING_ONLY = (("center_distance", None), ("backlash", None), ("driver", None), ("operation", "driver_speed_rpm"))
 
 
