@@ -107,13 +107,11 @@ def test_one_to_two_pair_is_balanced_at_low_speed(quasi_static):
 
 
 def test_unequal_pair_energy_balance(quasi_static):
-    # |E_kin + E_strain - W_ext + D - E_0| / max E_strain: the run is checked against
-    # MAX_ENERGY_BALANCE_ERROR (status); this 110,000-step run measures 1.3 % (the 29,000-step
-    # paper cases 0.5 %), held here to the 2 % of the smoothed-contact test
-    from rotaflex.gear.config import MAX_ENERGY_BALANCE_ERROR
-
+    # |E_kin + E_strain - W_ext + D - E_0| / max E_strain; the paper cases stay below 0.5 %
+    # (docs/gear-dynamics.md), the bound used here; this 110,000-step run measures 0.39 %
     ebe = float(quasi_static["energy_balance_error"])
-    assert ebe < 2e-2 < MAX_ENERGY_BALANCE_ERROR
+    assert ebe < 5e-3
+    assert float(quasi_static["impacts"]) == 0.0
 
 
 def test_swapping_the_tables_and_the_driver_mirrors_the_results():
