@@ -4,12 +4,13 @@ The schema and the conversion to SI are in :mod:`rotaflex.gear.config` (TOML lay
 integrators in :mod:`rotaflex.gear.solvers` (``METHODS``), the dataset and figures in
 :mod:`rotaflex.gear.result`.
 
-Driver: gear A turns counter-clockwise about the origin, B clockwise about (0, a). The driver
-gets the drive torque (in its running direction), the other gear the load torque (against its
-running direction). ``driver = "B"`` is run as the mirror image (reflection about y = a/2 maps
-a counter-clockwise driver at the origin onto a clockwise driver at (0, a)): the kernel
-simulates the driver as its gear A, and the outputs are relabelled (gear axes swapped, contact
-points mirrored), which is exact for identical gears.
+Driver: gear A (the pinion of a ``[pinion]``/``[wheel]`` pair) turns counter-clockwise about the
+origin, B clockwise about (0, a) (``direction = "reverse"``: the mirror image about x = 0). The
+driver gets the drive torque (in its running direction), the other gear the load torque times
+the ratio (against its running direction). ``driver = "B"`` (``"wheel"``) is run as the mirror
+image (reflection about y = a/2 maps a counter-clockwise driver at the origin onto a clockwise
+driver at (0, a)): the kernel simulates the driver as its gear A, and the outputs are relabelled
+(gear axes swapped, contact points mirrored), which is exact for any two gears.
 """
 
 from __future__ import annotations

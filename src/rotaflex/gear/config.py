@@ -268,7 +268,7 @@ class GearCaseConfig:
         None, unit="m", gt=0.0, doc="[pinion]/[wheel]: working centre distance (default: no backlash)"
     )
     backlash: float | None = param(None, unit="m", ge=0.0, doc="[pinion]/[wheel]: normal backlash j_bn")
-    driver: Literal["pinion", "wheel"] = param("pinion", doc="[pinion]/[wheel]: gear that drives")
+    driver: Literal["pinion", "wheel"] | None = param(None, doc="[pinion]/[wheel]: gear that drives (default 'pinion')")
     material: MaterialConfig = field(default_factory=MaterialConfig)
     disk_inertia: float = param(paper.DISK_INERTIA, unit="kg m^2", gt=0.0)
     operation: OperationConfig = field(default_factory=OperationConfig)
@@ -328,7 +328,7 @@ class GearCaseConfig:
             wheel=self.wheel,
             center_distance=self.center_distance,
             backlash=self.backlash,
-            driver=self.driver,
+            driver=self.driver or "pinion",
         ).check()
 
 
@@ -519,7 +519,7 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
         # u = z_driven / z_driver: the driven gear turns u times slower and carries u x the torque
         ratio = g_b.teeth / g_a.teeth
         rpm = (op.driver_speed_rpm, op.driver_speed_rpm / ratio)
-        driver = "A" if cfg.driver == "pinion" else "B"
+        driver = "B" if cfg.driver == "wheel" else "A"
         gain = (1.0, ratio)
     else:
         rpm = tuple(op.speed_rpm) if op.driver == "A" else tuple(op.speed_rpm[::-1])
