@@ -192,3 +192,15 @@ def test_drawing_keys_in_a_paper_config_are_refused():
     with pytest.raises(InputError) as exc:
         validate_config(cfg)
     assert exc.value.field == "wheel"
+
+
+def test_gear_template_loads_with_the_drawing_tables_commented_out():
+    import tomllib
+
+    from rotaflex.cli import domain_template
+    from rotaflex.gear.config import load_config
+
+    text = domain_template("gear")
+    assert "# [pinion]" in text and "\n[pinion]" not in text
+    cfg = load_config(tomllib.loads(text))
+    assert cfg.pinion is None and cfg.gear == GearConfig()
