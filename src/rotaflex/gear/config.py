@@ -308,12 +308,6 @@ class GearCaseConfig:
                 )
             if self.operation.driver_speed_rpm is None:
                 raise InputError("operation.driver_speed_rpm", None, "a driver speed > 0 rpm with [pinion]/[wheel]")
-            if self.solver.method == "reduced_hht" and self.pinion.teeth != self.wheel.teeth:
-                raise InputError(
-                    "solver.method",
-                    self.solver.method,
-                    "'paper_rk4' for a pair with gear ratio != 1 (the Craig-Bampton path applies equal torques)",
-                )
 
     @property
     def pair(self):
@@ -584,7 +578,9 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
             f"(this one: {n_rec:.3g} records, {mem / 1e9:.3g} GB)",
         )
     if sol.method == "reduced_hht":
-        options = dict(alpha=sol.hht_alpha, tol=sol.tolerance, max_iter=min(sol.max_iter, 100), modes=sol.modes)
+        options = dict(
+            alpha=sol.hht_alpha, tol=sol.tolerance, max_iter=min(sol.max_iter, 100), modes=sol.modes, gain=gain
+        )
     else:
         options = dict(
             tol=sol.tolerance,

@@ -137,6 +137,7 @@ class HHTParams(NamedTuple):
     r_ref: float  # reference radius of the angle residual [m]
     max_iter: int
     n_points: int
+    gain: np.ndarray  # (2,) gear-ratio factor u_g of each disk (as StepParams.gain)
 
 
 class HHTState(NamedTuple):
