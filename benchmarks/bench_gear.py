@@ -8,7 +8,8 @@ Then compares the two faster methods with the paper_rk4 run (same case): the dir
 multiplier solve (``multipliers="direct"``, same dt) and the large-step method
 (``reduced_hht``: Craig-Bampton teeth + HHT-alpha) at several dt, with wall time, time per step,
 speed-up and the peak / RMS difference of the contact force (reduced method: paper_rk4 force
-interpolated at its times). ``--rpm 20000`` for the 20000 rpm case.
+interpolated at its times). ``--rpm 20000`` for the 20000 rpm case. Last, the cost of the
+unequal drawing-pair example (examples/gear/unequal_shifted_relief.toml) over a short span.
 
     PYTHONPATH=src python benchmarks/bench_gear.py [--coarse] [--span DEG] [--rpm RPM]
 """
@@ -115,6 +116,31 @@ def main() -> None:
     # share is at most the remainder above; the direct-solve row below shows what replacing the
     # iteration by the exact solve changes per step.
     compare(model, out, rpm, th2, ths, span)
+    unequal(args.span or 2.0)
+
+
+def unequal(span_deg: float) -> None:
+    """Cost of examples/gear/unequal_shifted_relief.toml (20/40 drawing pair, default mesh) over
+    ``span_deg`` of the pinion, and the full run (theta_s) extrapolated per step."""
+    import tomllib
+    from pathlib import Path
+
+    from rotaflex.gear.case import prepare, run_case
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "gear" / "unequal_shifted_relief.toml"
+    cfg = tomllib.loads(path.read_text())
+    cfg["operation"]["span_deg"] = span_deg
+    cfg["output"]["root_stress"] = False
+    _, _, _, model, run = prepare(cfg)
+    ds = run_case(cfg).dataset
+    per = float(ds["time_per_step"])
+    n_full = round(float(ds["theta_s"]) / run.span * run.n_steps)
+    print(
+        f"\nunequal example (20/40, x 0.25/0.1, tip reliefs; {model.n_nodes} nodes, dt {run.dt:g} s, "
+        f"{cfg['operation']['driver_speed_rpm']:g} rpm): {int(ds['steps'])} steps over {span_deg:g} deg in "
+        f"{float(ds['solver_wall_time']):.2f} s = {per * 1e6:.1f} us/step; full theta_s = "
+        f"{math.degrees(float(ds['theta_s'])):.2f} deg: {n_full} steps, about {n_full * per:.0f} s"
+    )
 
 
 def compare(model, ref, rpm, th2, ths, span):

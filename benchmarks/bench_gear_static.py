@@ -138,8 +138,8 @@ def static_command():
     from rotaflex.core.config import load_toml
     from rotaflex.gear.static_case import run_static
 
-    cfg = load_toml(Path(__file__).resolve().parents[1] / "examples/gear/static/unequal_shifted_relief.toml")
-    print("\ngear static, examples/gear/static/unequal_shifted_relief.toml (20/40, x 0.25/0.1, tip relief)")
+    cfg = load_toml(Path(__file__).resolve().parents[1] / "examples/gear/unequal_shifted_relief.toml")
+    print("\ngear static, examples/gear/unequal_shifted_relief.toml (20/40, x 0.25/0.1, tip relief)")
     print("preset   refinement  wall[s]  STE mean[um]  p-p[um]  p-p no relief[um]  k mean[N/um]  c'[N/(mm um)]")
     for preset, refine in (("coarse", [1]), ("default", [1]), ("default", [1, 2]), ("fine", [1])):
         c = dict(cfg, mesh={"preset": preset, "n_radii": 9}, analysis={"n_angles": 240, "refinement": refine})

@@ -12,6 +12,7 @@ from typer.testing import CliRunner
 from rotaflex.cli import app
 from rotaflex.core.config import from_mapping
 from rotaflex.gear.case import GearCaseConfig
+from rotaflex.gear.config import load_config, without
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "gear"
 PAPER_CASES = ("4000rpm", "20000rpm", "4000_4040rpm", "20000_20200rpm")
@@ -19,8 +20,39 @@ PAPER_CASES = ("4000rpm", "20000rpm", "4000_4040rpm", "20000_20200rpm")
 
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.stem)
 def test_every_gear_example_is_a_valid_config(path):
-    cfg = from_mapping(GearCaseConfig, {k: v for k, v in tomllib.loads(path.read_text()).items() if k != "domain"})
-    assert cfg.operation.torque == pytest.approx(22.25)
+    data = tomllib.loads(path.read_text())
+    cfg = load_config(data)
+    if cfg.pinion is None:  # the paper's cases
+        assert cfg == from_mapping(GearCaseConfig, {k: v for k, v in data.items() if k != "domain"})
+        assert cfg.operation.torque == pytest.approx(22.25)
+    else:  # a drawing pair: the same file is a valid `gear static` config
+        from rotaflex.gear.static_case import DYNAMIC_ONLY, StaticConfig
+
+        static = from_mapping(StaticConfig, without({k: v for k, v in data.items() if k != "domain"}, DYNAMIC_ONLY))
+        assert static.pair == cfg.pair
+        assert static.load.torque == cfg.operation.torque
+
+
+def test_one_file_runs_gear_static_and_gear_simulate(tmp_path):
+    """examples/gear/unequal_shifted_relief.toml through both verbs (coarse mesh, short span)."""
+    text = (EXAMPLES / "unequal_shifted_relief.toml").read_text()
+    text = text.replace('preset = "default"', 'preset = "coarse"').replace("refinement = [1, 2]", "refinement = [1]")
+    text = text.replace("[operation]\n", "[operation]\nspan_deg = 1.0\n", 1).replace("dt = 1.8e-8", "dt = 2.4e-8")
+    cfg = tmp_path / "pair.toml"
+    cfg.write_text(text)
+    for verb in ("static", "simulate"):
+        out = tmp_path / verb
+        res = CliRunner().invoke(app, ["gear", verb, str(cfg), "--out", str(out), "-q", "--no-figures"])
+        assert res.exit_code == 0, res.output
+        assert (out / "result.nc").exists()
+    dyn = xr.open_dataset(tmp_path / "simulate" / "result.nc")
+    assert float(dyn["gear_ratio"]) == 2.0
+    assert np.degrees(float(dyn["rotation_angle"].sel(gear="A")[-1])) == pytest.approx(1.0, abs=0.05)
+    # the driven wheel turns at half the pinion's speed (initial speeds: 1000 and 500 rpm)
+    om = dyn["angular_velocity"].values[0]
+    assert om[0] / om[1] == pytest.approx(2.0, rel=1e-3)
+    static = xr.open_dataset(tmp_path / "static" / "result.nc")
+    assert "ste_engagement" in static
 
 
 def _shortened(name: str, tmp_path: Path, extra: str = "") -> Path:

@@ -17,7 +17,7 @@ from rotaflex.gear.mesh import COARSE, build_tooth_mesh
 from rotaflex.gear.static import mesh_stiffness
 from rotaflex.gear.static_case import run_static
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "gear" / "static" / "unequal_shifted_relief.toml"
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "gear" / "unequal_shifted_relief.toml"
 PAPER = GearConfig()  # defaults: the paper data of gear/paper.py
 PAPER_GEAR = {
     "teeth": PAPER.teeth,

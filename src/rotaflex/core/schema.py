@@ -158,8 +158,27 @@ def template(schema: type, domain: str, *, table: str = "") -> str:
     prefix = f"{table}." if table else ""
     if table:
         lines += ["", f"[{table}]"]
-    for e in entries(schema):
+    # an optional table (default None, e.g. an alternative layout) is written commented out,
+    # with everything under it
+    off: list[str] = []
+    # top-level keys first: in TOML a key after a table header belongs to that table
+    ents = list(entries(schema))
+    ents = [e for e in ents if "." not in e.key and not e.table] + [e for e in ents if "." in e.key or e.table]
+    for e in ents:
+        if any(e.key.startswith(o + ".") for o in off):
+            if e.table:
+                lines += ["", f"# [{prefix}{e.key}]"]
+            else:
+                info = " ".join(x for x in (f"[{e.unit}]" if e.unit else "", e.allowed + ".", e.doc) if x)
+                val = "<required>" if e.default is _MISSING else _toml(e.default) or "  (not set by default)"
+                lines += [f"# {info}", f"# {e.key.rsplit('.', 1)[-1]} = {val}"]
+            continue
         if e.table:
+            if e.default is None:
+                off.append(e.key)
+                lines += ["", f"# [{prefix}{e.key}]   (optional table, not set by default)"]
+                lines += [f"# {e.doc}"] if e.doc else []
+                continue
             lines += ["", f"[{prefix}{e.key}]"] + ([f"# {e.doc}"] if e.doc else [])
             continue
         name = e.key.rsplit(".", 1)[-1]

@@ -4,12 +4,13 @@ The schema and the conversion to SI are in :mod:`rotaflex.gear.config` (TOML lay
 integrators in :mod:`rotaflex.gear.solvers` (``METHODS``), the dataset and figures in
 :mod:`rotaflex.gear.result`.
 
-Driver: gear A turns counter-clockwise about the origin, B clockwise about (0, a). The driver
-gets the drive torque (in its running direction), the other gear the load torque (against its
-running direction). ``driver = "B"`` is run as the mirror image (reflection about y = a/2 maps
-a counter-clockwise driver at the origin onto a clockwise driver at (0, a)): the kernel
-simulates the driver as its gear A, and the outputs are relabelled (gear axes swapped, contact
-points mirrored), which is exact for identical gears.
+Driver: gear A (the pinion of a ``[pinion]``/``[wheel]`` pair) turns counter-clockwise about the
+origin, B clockwise about (0, a) (``direction = "reverse"``: the mirror image about x = 0). The
+driver gets the drive torque (in its running direction), the other gear the load torque times
+the ratio (against its running direction). ``driver = "B"`` (``"wheel"``) is run as the mirror
+image (reflection about y = a/2 maps a counter-clockwise driver at the origin onto a clockwise
+driver at (0, a)): the kernel simulates the driver as its gear A, and the outputs are relabelled
+(gear axes swapped, contact points mirrored), which is exact for any two gears.
 """
 
 from __future__ import annotations
@@ -18,8 +19,7 @@ import json
 import time
 from dataclasses import asdict
 
-from rotaflex.core.config import from_mapping
-from rotaflex.gear.config import GearCaseConfig, build, to_run
+from rotaflex.gear.config import GearCaseConfig, build, elastic_constants, load_config, to_run
 from rotaflex.gear.result import GearResult, build_dataset
 from rotaflex.gear.sweep_figures import sweep_figures
 
@@ -41,7 +41,7 @@ __all__ = [
 def prepare(config: dict):
     """Validated configuration, geometry, mesh, model (with the static preload of several teeth)
     and the SI run description, without integrating."""
-    cfg = from_mapping(GearCaseConfig, config)
+    cfg = load_config(config)
     geo, mesh, model = build(cfg)
     run = to_run(cfg, geo, model)
     return cfg, geo, mesh, model, run
@@ -85,7 +85,7 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     if cfg.output.root_stress and run.method == "paper_rk4" and run.teeth_per_gear == 1:
         from rotaflex.gear.post import root_stress_probe
 
-        probe = root_stress_probe(model, cfg.material.youngs_modulus, cfg.material.poisson_ratio)
+        probe = root_stress_probe(model, *elastic_constants(cfg))
     kw = dict(
         run.options,
         speeds=run.speeds,

@@ -3,11 +3,16 @@
 TOML layout (all tables optional; defaults are the paper's data, :mod:`rotaflex.gear.paper`)::
 
     domain = "gear"
+    # the pair: paper-style (identical gears, explicit radii) ...
     [gear]       module, teeth, pressure_angle_deg, face_width, tip_radius, root_radius
     [material]   youngs_modulus, poisson_ratio, density
     disk_inertia = 2.965e-4
-    [operation]  speed_rpm = [4000, 4000], torque, theta_2_deg, theta_s_deg, span_deg,
-                 driver = "A" | "B"
+    # ... or as on a drawing (the keys of rotaflex.gear.drawing, shared with `gear static`)
+    [pinion], [wheel]   teeth, module, face_width, profile_shift, tip_relief, material, blank, ...
+    center_distance | backlash, driver = "pinion" | "wheel"
+    [operation]  torque, theta_2_deg, theta_s_deg, span_deg, direction = "forward" | "reverse",
+                 paper-style: speed_rpm = [4000, 4000], driver = "A" | "B";
+                 drawing: driver_speed_rpm
     [mesh]       preset = "default" | "coarse" | "fine", n_points, contact_smoothing
     [solver]     method = "paper_rk4" | "reduced_hht", dt (default per method), tolerance,
                  accel_n, max_iter, multipliers = "iterative" | "direct", restitution,
@@ -32,6 +37,7 @@ import numpy as np
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
 from rotaflex.gear import paper
+from rotaflex.gear.drawing import GearSpec
 
 #: smallest Young's modulus accepted [Pa]. Engineering gear materials start at about 1 GPa
 #: (moulded polymers; steels 210 GPa); below 0.1 GPa the teeth deflect by a sizeable fraction of
@@ -126,7 +132,21 @@ class OperationConfig:
     span_deg: float | None = param(
         None, unit="deg", gt=0.0, doc="rotation of gear A simulated (default theta_s; at least one output record)"
     )
-    driver: Literal["A", "B"] = param("A", doc="gear that gets the drive torque; the other gets the load torque")
+    driver: Literal["A", "B"] = param(
+        "A", doc="[gear] pairs: gear that gets the drive torque; the other gets the load torque"
+    )
+    driver_speed_rpm: float | None = param(
+        None,
+        unit="rpm",
+        gt=0.0,
+        doc="[pinion]/[wheel] pairs (required there): initial speed of the driver; the driven "
+        "gear starts at driver speed / ratio",
+    )
+    direction: Literal["forward", "reverse"] = param(
+        "forward",
+        doc="forward: gear A (pinion) turns counter-clockwise; reverse: clockwise, contact on the "
+        "other flanks (run as the mirror image about the line of centres)",
+    )
 
 
 @dataclass(frozen=True)
@@ -240,6 +260,15 @@ class ModelConfig:
 @dataclass(frozen=True)
 class GearCaseConfig:
     gear: GearConfig = field(default_factory=GearConfig)
+    pinion: GearSpec | None = param(
+        None, doc="gear A as on a drawing (keys of gear static); with [wheel], instead of [gear]"
+    )
+    wheel: GearSpec | None = param(None, doc="gear B as on a drawing; with [pinion]")
+    center_distance: float | None = param(
+        None, unit="m", gt=0.0, doc="[pinion]/[wheel]: working centre distance (default: no backlash)"
+    )
+    backlash: float | None = param(None, unit="m", ge=0.0, doc="[pinion]/[wheel]: normal backlash j_bn")
+    driver: Literal["pinion", "wheel"] | None = param(None, doc="[pinion]/[wheel]: gear that drives (default 'pinion')")
     material: MaterialConfig = field(default_factory=MaterialConfig)
     disk_inertia: float = param(paper.DISK_INERTIA, unit="kg m^2", gt=0.0)
     operation: OperationConfig = field(default_factory=OperationConfig)
@@ -267,6 +296,90 @@ class GearCaseConfig:
             )
         if self.model.teeth_per_gear > 1 and self.solver.method != "paper_rk4":
             raise InputError("solver.method", self.solver.method, "'paper_rk4' with [model] teeth_per_gear > 1")
+        if (self.pinion is None) != (self.wheel is None):
+            missing = "wheel" if self.wheel is None else "pinion"
+            raise InputError(missing, None, "a table: [pinion] and [wheel] go together")
+        if self.pinion is not None:
+            if self.model.teeth_per_gear > 1:
+                raise InputError(
+                    "model.teeth_per_gear",
+                    self.model.teeth_per_gear,
+                    "1 with [pinion]/[wheel] (several teeth per gear: identical [gear] pairs only)",
+                )
+            if self.operation.driver_speed_rpm is None:
+                raise InputError("operation.driver_speed_rpm", None, "a driver speed > 0 rpm with [pinion]/[wheel]")
+
+    @property
+    def pair(self):
+        """The checked :class:`~rotaflex.gear.drawing.PairSpec` of ``[pinion]``/``[wheel]``
+        (None for a paper-style ``[gear]`` pair)."""
+        if self.pinion is None:
+            return None
+        from rotaflex.gear.drawing import PairSpec
+
+        return PairSpec(
+            pinion=self.pinion,
+            wheel=self.wheel,
+            center_distance=self.center_distance,
+            backlash=self.backlash,
+            driver=self.driver or "pinion",
+        ).check()
+
+
+#: tables and keys only ``gear static`` reads (a file may carry both verbs' tables)
+STATIC_ONLY = {"load": None, "analysis": None, "mesh": ("n_radii",)}
+#: keys that belong to one pair layout only: (table, key or None for the whole table)
+PAPER_ONLY = (
+    ("gear", None),
+    ("material", None),
+    ("disk_inertia", None),
+    ("operation", "speed_rpm"),
+    ("operation", "driver"),
+)
+DRAWING_ONLY = (("center_distance", None), ("backlash", None), ("driver", None), ("operation", "driver_speed_rpm"))
+
+
+def without(config: dict, drop: dict) -> dict:
+    """``config`` without the tables (``drop[name] = None``) or table keys (a tuple) of
+    ``drop``: the other verb's part of a file shared by ``gear static`` and ``gear simulate``."""
+    out = {}
+    for key, val in config.items():
+        if key in drop and drop[key] is None:
+            continue
+        if key in drop and isinstance(val, dict):
+            val = {k: v for k, v in val.items() if k not in drop[key]}
+        out[key] = val
+    return out
+
+
+def load_config(config: dict) -> GearCaseConfig:
+    """The validated :class:`GearCaseConfig` of a parsed TOML mapping (no ``domain`` key).
+
+    Static-only tables (:data:`STATIC_ONLY`) are ignored. A paper-style pair (``[gear]``,
+    ``[material]``, ``disk_inertia``, ``operation.speed_rpm``/``driver``) and a drawing pair
+    (``[pinion]``/``[wheel]``, ``center_distance``/``backlash``, top-level ``driver``,
+    ``operation.driver_speed_rpm``) exclude each other: a key of the other layout is an
+    InputError naming it.
+    """
+    from rotaflex.core.config import from_mapping
+
+    config = without({k: v for k, v in config.items() if k != "domain"}, STATIC_ONLY)
+    drawing = "pinion" in config or "wheel" in config
+    for table, key in PAPER_ONLY if drawing else DRAWING_ONLY:
+        sub = config.get(table)
+        if key is None and table in config or key is not None and isinstance(sub, dict) and key in sub:
+            name = table if key is None else f"{table}.{key}"
+            value = config[table] if key is None else sub[key]
+            if isinstance(value, dict):
+                value = f"[{table}]"
+            allowed = (
+                "omitted with [pinion]/[wheel] (drawing pair: materials, blanks and the driver speed are "
+                "in the pair tables and operation.driver_speed_rpm)"
+                if drawing
+                else "omitted with a paper-style [gear] pair (it belongs to a [pinion]/[wheel] pair)"
+            )
+            raise InputError(name, value, allowed)
+    return from_mapping(GearCaseConfig, config)
 
 
 #: 2x the default tooth mesh (1125 nodes; RK4 limit 1.74e-8 s, see docs/gear-fe.md)
@@ -291,6 +404,8 @@ class Run:
     start_angle: float  # [rad]
     window: float  # [rad]
     options: dict = field(default_factory=dict)  # method keywords (tolerances, ...)
+    gain: tuple[float, float] = (1.0, 1.0)  # gear-ratio factor of the kernel's gears (1, z_B / z_A)
+    direction: str = "forward"
 
 
 def default_span(n_teeth: int, pitch: float, theta_s: float, start_angle: float) -> float:
@@ -299,13 +414,55 @@ def default_span(n_teeth: int, pitch: float, theta_s: float, start_angle: float)
     return (pitch if n_teeth == 2 else theta_s) - start_angle
 
 
+def kernel_specs(cfg: GearCaseConfig, pair=None):
+    """The drawing specs of a ``[pinion]``/``[wheel]`` pair in the kernel's order (driver
+    first), or None for a ``[gear]`` pair."""
+    pair = cfg.pair if pair is None else pair
+    if pair is None:
+        return None
+    return (pair.pinion, pair.wheel) if pair.driver == "pinion" else (pair.wheel, pair.pinion)
+
+
+def elastic_constants(cfg: GearCaseConfig) -> tuple[tuple[float, float], tuple[float, float]]:
+    """((E_A, E_B) [Pa], (nu_A, nu_B)) of the kernel's gears (driver first)."""
+    specs = kernel_specs(cfg)
+    if specs is None:
+        m = cfg.material
+        return (m.youngs_modulus,) * 2, (m.poisson_ratio,) * 2
+    return tuple(s.elastic[0] for s in specs), tuple(s.elastic[1] for s in specs)
+
+
 def build(cfg: GearCaseConfig):
-    """Geometry, tooth mesh and the assembled (unloaded) two-gear model of a configuration."""
+    """Geometry, tooth mesh and the assembled (unloaded) two-gear model of a configuration.
+
+    For a ``[pinion]``/``[wheel]`` pair the kernel's gear A is the driver: the model holds
+    (driver, driven) geometries, meshes, materials and blank inertias at the working centre
+    distance, and the returned geometry and mesh are the driver's.
+    """
     from rotaflex.gear import dynamics
     from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
 
-    geo = cfg.gear.geometry()
     kw = {"coarse": COARSE, "default": DEFAULT, "fine": FINE}[cfg.mesh.preset]
+    pair = cfg.pair
+    if pair is not None:
+        from rotaflex.gear.drawing import pair_meshes
+
+        geos, meshes = pair.gears, pair_meshes(pair, kw)
+        inertia = (pair.pinion.inertia("pinion"), pair.wheel.inertia("wheel"))
+        order = (0, 1) if pair.driver == "pinion" else (1, 0)
+        mats = [s.material.values for s in kernel_specs(cfg, pair)]
+        model = dynamics.build_model(
+            *(geos[i] for i in order),
+            *(meshes[i] for i in order),
+            youngs_modulus=tuple(m[0] for m in mats),
+            poisson_ratio=tuple(m[1] for m in mats),
+            density=tuple(m[2] for m in mats),
+            inertia=tuple(inertia[i] for i in order),
+            n_points=cfg.mesh.n_points,
+            centre_distance=pair.working_center_distance,
+        )
+        return geos[order[0]], meshes[order[0]], model
+    geo = cfg.gear.geometry()
     mesh = build_tooth_mesh(geo, **kw)
     mat = cfg.material
     common = dict(
@@ -332,9 +489,12 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
 
     op = cfg.operation
     sol = cfg.solver
+    drawing = cfg.pinion is not None
+    # kernel order (driver first); a [pinion]/[wheel] pair is checked by PairSpec.check in build
+    g_a, g_b = model.geometry if drawing else (geo, geo)
     try:
-        eps = contact_ratio(geo, geo)
-        ths, th2 = contact_angles(geo, geo)
+        eps = contact_ratio(g_a, g_b, model.centre_distance if drawing else None)
+        ths, th2 = contact_angles(g_a, g_b, model.centre_distance if drawing else None)
     except InputError as exc:
         raise InputError(f"gear.{exc.field}", exc.value, exc.allowed) from None
     del eps
@@ -349,7 +509,16 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
             f"<= theta_s / 2 = {math.degrees(ths) / 2:g} deg",
         )
     # kernel gear A is always the driver (driver = "B": mirror image, see rotaflex.gear.result)
-    rpm = tuple(op.speed_rpm) if op.driver == "A" else tuple(op.speed_rpm[::-1])
+    if drawing:
+        # u = z_driven / z_driver: the driven gear turns u times slower and carries u x the torque
+        ratio = g_b.teeth / g_a.teeth
+        rpm = (op.driver_speed_rpm, op.driver_speed_rpm / ratio)
+        driver = "B" if cfg.driver == "wheel" else "A"
+        gain = (1.0, ratio)
+    else:
+        rpm = tuple(op.speed_rpm) if op.driver == "A" else tuple(op.speed_rpm[::-1])
+        driver = op.driver
+        gain = (1.0, 1.0)
     speeds = rpm_to_rad_s(rpm)
     n = cfg.model.teeth_per_gear
     start = math.radians(cfg.model.start_angle_deg)
@@ -373,7 +542,7 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
         dt = sol.dt
     elif sol.method == "reduced_hht":
         # per gear A's speed as typed (with driver = "B" too), as before the config split
-        dt = REDUCED_STEP_ANGLE / float(rpm_to_rad_s(op.speed_rpm[0]))
+        dt = REDUCED_STEP_ANGLE / float(rpm_to_rad_s(rpm[0] if drawing else op.speed_rpm[0]))
     else:
         dt = DEFAULT_DT[sol.method]
     every = cfg.output.every or (1 if sol.method == "reduced_hht" else 10)
@@ -409,7 +578,9 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
             f"(this one: {n_rec:.3g} records, {mem / 1e9:.3g} GB)",
         )
     if sol.method == "reduced_hht":
-        options = dict(alpha=sol.hht_alpha, tol=sol.tolerance, max_iter=min(sol.max_iter, 100), modes=sol.modes)
+        options = dict(
+            alpha=sol.hht_alpha, tol=sol.tolerance, max_iter=min(sol.max_iter, 100), modes=sol.modes, gain=gain
+        )
     else:
         options = dict(
             tol=sol.tolerance,
@@ -418,6 +589,7 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
             restitution=sol.restitution,
             multipliers=sol.multipliers,
             smoothing=cfg.mesh.contact_smoothing,
+            gain=gain,
         )
     return Run(
         method=sol.method,
@@ -429,9 +601,11 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
         dt=dt,
         every=every,
         n_steps=n_steps,
-        driver=op.driver,
+        driver=driver,
         teeth_per_gear=n,
         start_angle=start,
         window=window,
         options=options,
+        gain=gain,
+        direction=op.direction,
     )

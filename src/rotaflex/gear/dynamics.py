@@ -122,6 +122,12 @@ def _tie_blocks(k_local: sp.csr_matrix, nodes: np.ndarray, offset_tie: int):
     return bi, bj, bb
 
 
+def _per_gear(value) -> tuple[float, float]:
+    """(A, B) of a material value given once for both gears or per gear."""
+    v = np.broadcast_to(np.asarray(value, dtype=float), (2,))
+    return float(v[0]), float(v[1])
+
+
 def build_model(
     geometry_a,
     geometry_b,
@@ -134,15 +140,19 @@ def build_model(
     inertia,
     n_points=61,
     flank="left",
+    centre_distance=None,
 ):
     """Place the two single-tooth gears at the start of contact and assemble the arrays.
+
+    Gear A is the driver (counter-clockwise about the origin), gear B the driven gear (clockwise
+    about ``(0, a)``); the gears may differ (teeth, profile shift, reliefs, mesh, material).
 
     Parameters
     ----------
     geometry_a, geometry_b : GearGeometry
     mesh_a, mesh_b : ToothMesh
-    youngs_modulus, poisson_ratio, density : float
-        E [Pa], nu [-], rho [kg/m^3].
+    youngs_modulus, poisson_ratio, density : float or (float, float)
+        E [Pa], nu [-], rho [kg/m^3]; one value for both gears or one per gear (A, B).
     inertia : (float, float)
         Disk polar inertia of A and B [kg m^2].
     n_points : int
@@ -150,6 +160,9 @@ def build_model(
     flank : str
         Working flank of both teeth; with A turning counter-clockwise and B clockwise the
         working flanks are the ``"left"`` ones (x < 0 in the tooth frame).
+    centre_distance : float or None
+        Working centre distance a [m] (default: the no-backlash one of the two geometries);
+        the operating pressure angle is ``acos((r_bA + r_bB) / a)``.
     """
     from rotaflex.gear import fe
     from rotaflex.gear.contact import search
@@ -157,7 +170,8 @@ def build_model(
 
     geoms = (geometry_a, geometry_b)
     meshes = (mesh_a, mesh_b)
-    a = center_distance_no_backlash(geometry_a, geometry_b)
+    a = center_distance_no_backlash(geometry_a, geometry_b) if centre_distance is None else float(centre_distance)
+    mats = [_per_gear(v) for v in (youngs_modulus, poisson_ratio, density)]
     alpha_w = math.acos((geometry_a.base_radius + geometry_b.base_radius) / a)
     rb = (geometry_a.base_radius, geometry_b.base_radius)
     # start of the path of contact, measured from A's tangency point T_A
@@ -173,11 +187,12 @@ def build_model(
     ntie = 0
     dt_lim = []
     for g, mesh in enumerate(meshes):
-        k = fe.stiffness_matrix(mesh, youngs_modulus, poisson_ratio).tocsr()
-        m = fe.lumped_mass(mesh, density)[::2]
+        e_g, nu_g, rho_g = (v[g] for v in mats)
+        k = fe.stiffness_matrix(mesh, e_g, nu_g).tocsr()
+        m = fe.lumped_mass(mesh, rho_g)[::2]
         if np.any(m <= 0):
             raise InputError("mesh", "HRZ masses", "positive lumped masses")
-        dt_lim.append(fe.stable_time_step(mesh, youngs_modulus, poisson_ratio, density))
+        dt_lim.append(fe.stable_time_step(mesh, e_g, nu_g, rho_g))
         xl.append(mesh.nodes)
         gid.append(np.full(mesh.n_nodes, g))
         minv.append(1.0 / m)
@@ -363,6 +378,7 @@ def integrate(
     torque_mode=None,
     window=None,
     warm_start=None,
+    gain=(1.0, 1.0),
 ):
     """Integrate the pair over a rotation ``span`` of gear A [rad] with the paper's scheme.
 
@@ -374,7 +390,7 @@ def integrate(
         Initial speeds of A (counter-clockwise) and B (clockwise) [rad/s]
         (:func:`rotaflex.gear.config.rpm_to_rad_s`).
     torque : float
-        tau_0 [N m]; drive torque on A and load torque on B.
+        tau_0 [N m]; drive torque on A and (times ``gain[1]``) load torque on B.
     theta_2, theta_s : float
         Two-pair zone and single-tooth contact angles of Fig. 7 [rad].
     span : float
@@ -412,6 +428,10 @@ def integrate(
     warm_start : (nw, 3) array or None
         Involute contact parameters (a, b, contact angle) for pairs entering the window
         (default: none for one tooth per gear, the involute table of the model for several).
+    gain : (float, float)
+        Gear-ratio factor u_g of each disk (1 for the driver A, z_B / z_A for the driven B):
+        disk g gets ``u_g tau(u_g theta_g)``, so the load torque is the drive torque times the
+        ratio and its ramp follows the driver's rotation.
 
     Returns
     -------
@@ -505,6 +525,7 @@ def integrate(
         direct=multipliers == "direct",
         dfac=dfac,
         dperm=dperm,
+        gain=np.asarray(gain, dtype=float),
     )
     state = State(
         x=x,

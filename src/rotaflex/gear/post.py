@@ -65,8 +65,9 @@ class RootStressProbe:
     angle_deg: float
 
 
-def root_stress_probe(model, youngs_modulus: float, poisson_ratio: float, angle_deg: float = 30.0) -> RootStressProbe:
-    """Build the fillet-stress operators of both teeth of a :class:`GearPairModel`.
+def root_stress_probe(model, youngs_modulus, poisson_ratio, angle_deg: float = 30.0) -> RootStressProbe:
+    """Build the fillet-stress operators of both teeth of a :class:`GearPairModel`
+    (``youngs_modulus`` [Pa] and ``poisson_ratio``: one value or one per gear).
 
     The fillet under the model's working flank (``model.sig`` > 0: left) is the loaded
     (tension) side.
@@ -77,7 +78,8 @@ def root_stress_probe(model, youngs_modulus: float, poisson_ratio: float, angle_
     off = 0
     for g, mesh in enumerate(model.meshes):
         order = (0, 1) if model.sig[g] > 0 else (1, 0)  # operator rows are (left, right)
-        s = root_stress_operator(mesh, youngs_modulus, poisson_ratio, angle_deg)[list(order)]
+        e_g, nu_g = (float(np.broadcast_to(v, (2,))[g]) for v in (youngs_modulus, poisson_ratio))
+        s = root_stress_operator(mesh, e_g, nu_g, angle_deg)[list(order)]
         cols = np.nonzero(np.any(s != 0.0, axis=0))[0]
         nd = np.unique(cols // 2)
         nodes.append(nd + off)

@@ -181,7 +181,8 @@ def build_reduced(model, n_modes: int = 20) -> ReducedPairModel:
 
 def _contact_period(red: ReducedPairModel) -> float:
     """Period of the mesh-contact mode: static contact stiffness at the pitch point of the
-    reduced teeth in series, against the disks' reduced inertia J_A J_B / (J_A + J_B) / r_b^2."""
+    reduced teeth in series, against the disks' reduced inertia J_A J_B / (J_A + J_B) / r_b^2
+    (1 / (r_bA^2 / J_A + r_bB^2 / J_B) for unequal gears)."""
     base = red.base
     comp = 0.0
     for g in range(2):
@@ -198,9 +199,12 @@ def _contact_period(red: ReducedPairModel) -> float:
         q = int(red.fl_map[red.fl_start[g] + j])
         f[q : q + 2] = nrm
         comp += float(f @ np.linalg.solve(k, f))
-    rb = base.geometry[0].base_radius
     ja, jb = base.inertia
-    meq = ja * jb / (ja + jb) / rb**2
+    rb, rb_b = base.geometry[0].base_radius, base.geometry[1].base_radius
+    if rb == rb_b:
+        meq = ja * jb / (ja + jb) / rb**2
+    else:  # equivalent mass of the two disks along the line of action
+        meq = 1.0 / (rb**2 / ja + rb_b**2 / jb)
     return 2 * math.pi * math.sqrt(meq * comp)
 
 
@@ -226,10 +230,12 @@ def simulate_reduced(
     snapshots=0,
     progress=None,
     progress_every=2000,
+    gain=(1.0, 1.0),
 ):
     """Integrate the reduced pair with HHT-alpha over a rotation ``span`` of gear A [rad].
 
-    Parameters as :func:`rotaflex.gear.dynamics.simulate`, plus ``alpha`` (HHT parameter in
+    Parameters as :func:`rotaflex.gear.dynamics.simulate` (``gain``: gear-ratio factor of each
+    disk), plus ``alpha`` (HHT parameter in
     [-1/3, 0]; 0 = trapezoidal rule). ``tol`` [m] bounds the Newton displacement increment and
     the penetration of active contacts.
     """
@@ -280,7 +286,7 @@ def simulate_reduced(
     cres[:, 0], cres[:, 1] = 0.3, 0.99
     cnod = np.zeros((npair, 2, 3), dtype=np.int64)
     cw = np.zeros((npair, 2, 3))
-    tpar = np.array([torque, theta_2, theta_s])
+    tpar = np.array([torque, theta_2, theta_s, gain[0], gain[1]], dtype=float)
     # consistent initial acceleration (contact force zero at t = 0: torques start at zero)
     nf = red.fl_xref.shape[0]
     maxfl = int(red.fl_len.max())
@@ -372,6 +378,7 @@ def simulate_reduced(
         r_ref=rref,
         max_iter=int(max_iter),
         n_points=int(base.n_points),
+        gain=np.asarray(gain, dtype=float),
     )
     state = HHTState(
         z=z, zd=zd, za=za, phi=phi, phid=phid, phia=phia, p=p, cres=cres, cnod=cnod, cw=cw, fz=fz, fphi=fphi, sc=sc

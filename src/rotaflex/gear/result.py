@@ -490,6 +490,24 @@ def mirror_driver_b(ds, centre_distance: float):
     return ds
 
 
+def mirror_direction(ds) -> None:
+    """Relabel a forward run as ``direction = "reverse"`` in place (mirror image about x = 0).
+
+    Reflection about the line of centres turns gear A's counter-clockwise rotation into a
+    clockwise one and makes the other flanks the working ones; for teeth symmetric about their
+    centre line (the profile reliefs are applied to both flanks) the reverse run is exactly
+    this mirror image. Rotations, speeds, torques and forces are in the running directions and
+    do not change; every x coordinate changes sign. Disk-frame tie multipliers stay in the
+    (mirrored) tooth frame.
+    """
+    for name in ("contact_point", "reference_position", "snapshot_displacement"):
+        if name in ds:
+            v = ds[name].values.copy()
+            v[..., 0] = -v[..., 0]
+            ds[name].values[...] = v
+    ds.attrs["mirrored_direction"] = "reverse: simulated as the mirror image about x = 0 (forward run)"
+
+
 def zone_pairs(pair_angle: np.ndarray, theta_s: float) -> np.ndarray:
     """Number of pairs nominally in contact (contact angle in [0, theta_s]) per record."""
     return np.sum((pair_angle >= 0.0) & (pair_angle <= theta_s), axis=1)
@@ -527,11 +545,20 @@ def build_dataset(out, model, geo, run, probe=None):
     ds = histories(out, model, geo, run.torque, run.theta_2, run.theta_s)
     if probe is not None:
         add_root_stress(ds, out, model, probe)
+    # base radii and tooth counts of gears A, B (kernel order: driver first)
+    rb = [g.base_radius for g in model.geometry]
+    teeth = [g.teeth for g in model.geometry]
     if run.driver == "B":
         ds = mirror_driver_b(ds, model.centre_distance)
+        rb, teeth = rb[::-1], teeth[::-1]
+    if run.direction == "reverse":
+        mirror_direction(ds)
     if run.teeth_per_gear == 1:
-        add_transmission_error(ds, geo.base_radius, geo.base_radius)
+        add_transmission_error(ds, rb[0], rb[1])
+    ds["gear_base_radius"] = (("gear",), np.array(rb, dtype=float), {"units": "m", "long_name": "base radius"})
+    ds["gear_ratio"] = ((), teeth[1] / teeth[0], {"units": "1", "long_name": "z_B / z_A"})
     ds.attrs["driver"] = run.driver
+    ds.attrs["direction"] = run.direction
     failed = []
     ebe = float(ds["energy_balance_error"])
     if not ebe <= MAX_ENERGY_BALANCE_ERROR:

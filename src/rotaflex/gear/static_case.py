@@ -19,6 +19,7 @@ import numpy as np
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result, register_result
+from rotaflex.gear.config import without
 from rotaflex.gear.drawing import GearSpec, PairSpec, pair_meshes
 from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
 from rotaflex.gear.static import iso6336_stiffness, weber_contact_compliance
@@ -86,6 +87,16 @@ class StaticConfig:
 
 
 SCHEMA = StaticConfig
+
+#: tables and keys only ``gear simulate`` reads: a file may carry both verbs' tables
+#: (examples/gear/unequal_shifted_relief.toml); ``gear static`` ignores these
+DYNAMIC_ONLY = {
+    "operation": None,
+    "solver": None,
+    "output": None,
+    "model": None,
+    "mesh": ("n_points", "contact_smoothing"),
+}
 
 
 def gear_meshes(pair: PairSpec, preset: str | dict = "default", refine: int = 1, *, relief: bool = True):
@@ -187,7 +198,7 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     import xarray as xr
 
     t0 = time.perf_counter()
-    config = {k: v for k, v in config.items() if k != "domain"}
+    config = without({k: v for k, v in config.items() if k != "domain"}, DYNAMIC_ONLY)
     cfg = from_mapping(StaticConfig, config)
     pair = cfg.pair
     g1, g2 = pair.gears

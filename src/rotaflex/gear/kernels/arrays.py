@@ -71,6 +71,7 @@ class StepParams(NamedTuple):
     direct: bool  # direct multiplier solve
     dfac: np.ndarray  # (3, n + 1, bw + 3) tie-block factors (direct); else (3, 1, 1)
     dperm: np.ndarray  # (n,) row order of the factors
+    gain: np.ndarray  # (2,) gear-ratio factor u_g of each disk: torque u_g tau(u_g theta_g) (1 for the driver)
 
 
 class State(NamedTuple):
@@ -136,6 +137,7 @@ class HHTParams(NamedTuple):
     r_ref: float  # reference radius of the angle residual [m]
     max_iter: int
     n_points: int
+    gain: np.ndarray  # (2,) gear-ratio factor u_g of each disk (as StepParams.gain)
 
 
 class HHTState(NamedTuple):

@@ -120,6 +120,11 @@ def _normal_fn(pq, mq, ps, ms, sig, a, b, bq, bs):
     return (bs[1, 0] * n0 + bs[1, 1] * n1) / lb, b, ok
 
 
+#: largest change of the flank parameter of A accepted from the secant iteration in one search
+#: (the contact point moves by ~1e-5 of the flank per step; the paper's runs stay far below)
+MAX_SEARCH_JUMP = 0.5
+
+
 @njit(cache=True)
 def contact_search(pa, ma, pb, mb, sig_a, sig_b, a0, b0, res):
     """Pair of minimum normal distance between spline surfaces A and B.
@@ -161,6 +166,11 @@ def contact_search(pa, ma, pb, mb, sig_a, sig_b, a0, b0, res):
         if abs(a1 - a) < 1e-13:
             conv = True
             break
+    if conv and abs(a1 - a0) > MAX_SEARCH_JUMP:
+        # a common normal far from the warm start (the secant can leave the flank and meet a
+        # spurious root beyond the tip, e.g. near the start of contact of a small pinion):
+        # take the root nearest the warm start, or the corner contact, as below
+        conv = False
     if not conv:
         # robust fallback: scan for sign changes, bisect the one nearest the warm start
         na = 200

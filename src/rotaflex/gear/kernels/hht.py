@@ -198,7 +198,8 @@ def evaluate(
             fz[g, i] = acc + 2.0 * phid[g] * accg - phid[g] ** 2 * (cx[g, i] + accm)
             sc += cx[g, i] * zd[g, i]
             sm += accm * zd[g, i]
-        tau[g] = ramp_torque(rsgn[g] * phi[g], tpar[0], tpar[1], tpar[2])
+        u = tpar[3 + g]  # gear-ratio factor: u tau(u theta), exact for u = 1
+        tau[g] = u * ramp_torque(u * rsgn[g] * phi[g], tpar[0], tpar[1], tpar[2])
         fphi[g] = phid[g] * (2.0 * sc + 2.0 * sm) - tau[g]
         for k in range(npair):
             for i in range(n):
@@ -297,7 +298,7 @@ def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
     out, out_p, info = hr.out, hr.outp, hr.info
     h = hp.dt
     alpha = hp.alpha
-    tpar = np.array([hp.tau0, hp.theta_2, hp.theta_s])
+    tpar = np.array([hp.tau0, hp.theta_2, hp.theta_s, hp.gain[0], hp.gain[1]])
     tol = hp.tol
     rref = hp.r_ref
     gam = 0.5 - alpha
@@ -353,7 +354,7 @@ def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
             phin[g] = phi[g]
             phidn[g] = phid[g]
             phian[g] = phia[g]
-            taun[g] = ramp_torque(rsgn[g] * phi[g], tpar[0], tpar[1], tpar[2])
+            taun[g] = tpar[3 + g] * ramp_torque(tpar[3 + g] * rsgn[g] * phi[g], tpar[0], tpar[1], tpar[2])
         converged = False
         res = 0.0
         its = 0

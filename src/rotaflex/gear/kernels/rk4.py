@@ -175,10 +175,16 @@ def kinetic_energy(v, om, minv, jd):
 
 @njit(cache=True)
 def torque_of(g, phi_g, rsgn_g, tpar, mode):
-    """External torque on disk ``g`` (counter-clockwise positive): ramp of Fig. 7 or constant."""
+    """External torque on disk ``g`` (counter-clockwise positive): ramp of Fig. 7 or constant.
+
+    ``tpar`` = (tau0, theta_2, theta_s, u_0, u_1): disk ``g`` gets ``u_g tau(u_g theta_g)``, the
+    driver's ramp in the driver's rotation ``u_g theta_g`` scaled by the gear ratio ``u_g``
+    (1 for the driver, z_driven / z_driver for the driven gear; u = 1 multiplies exactly).
+    """
+    u = tpar[3] if g == 0 else tpar[4]
     if mode == 1:
-        return tpar[0]
-    return ramp_torque(rsgn_g * phi_g, tpar[0], tpar[1], tpar[2])
+        return u * tpar[0]
+    return u * ramp_torque(u * rsgn_g * phi_g, tpar[0], tpar[1], tpar[2])
 
 
 @njit(cache=True)
@@ -214,7 +220,7 @@ def accelerations(
     parameters and normal at the step start (``ct[j]`` = a, b, n_x, n_y) advance with their
     rates (``rates[j]`` = da/dt, db/dt, dn_x/dt, dn_y/dt, appendix A) over ``tau_off`` seconds.
     ``m`` is the :class:`~rotaflex.gear.kernels.arrays.ModelArrays`; ``tpar`` = (tau0, theta_2,
-    theta_s).
+    theta_s, u_A, u_B).
     """
     set_rotation(phi, m.theta0, rot)
     tie_vectors(x, m.centres, m.tie_node, m.tie_gear, rot, bvec, rx)
@@ -291,7 +297,7 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
     Returns (status, next record row).
     """
     dt = p.dt
-    tpar = (p.tau0, p.theta_2, p.theta_s)
+    tpar = (p.tau0, p.theta_2, p.theta_s, p.gain[0], p.gain[1])
     rest = p.restitution
     tol1 = p.tol_disp
     tol2 = p.tol_vel
