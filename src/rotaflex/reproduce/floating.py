@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rotaflex.core.report import Check, FigureEntry, Section
+from rotaflex.core.report import Check, FigureEntry, Section, step
 
 
 def _chk(name, val, unit, crit, ok, note="", claim=False):
@@ -567,6 +567,7 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
     """Run the floating-body reproduction into ``out_dir/floating``."""
     out_dir = Path(out_dir)
     t0 = time.perf_counter()
+    step("eq. 32/42/44 reduction and design checks")
     sec = Section(
         title="Floating flexible bodies: quasi-coordinates + perturbation (Kwak & Seong 2005)",
         intro=(
@@ -580,7 +581,10 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
         ),
         checks=_reduction_checks() + _design_checks(),
     )
-    sec.figures = [_planar(out_dir, fast), _slew3d(out_dir, fast), _spinup(out_dir, fast)]
+    sec.figures = []
+    for label, case in (("planar maneuver", _planar), ("3-D slew", _slew3d), ("spin-up beam", _spinup)):
+        step(label)
+        sec.figures.append(case(out_dir, fast))
     sec.notes = [
         "Eq. 43-44 are the same planar equation with body-frame velocities replaced by inertial "
         "ones; with dots restored, the theta_1 term reads -phibar (cos th0 Rddot_x0 + sin th0 "
