@@ -51,7 +51,7 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     figs.append(
         FigureEntry(
             "Example 5.9.1 model",
-            "Friswell, Penny, Garvey & Lees (2010), Dynamics of Rotating Machines, Example 5.9.1: "
+            "(not in the paper) Friswell, Penny, Garvey & Lees (2010), Dynamics of Rotating Machines, Example 5.9.1: "
             "1.5 m shaft, 50 mm, disks at 0.5 m and 1 m, 1 MN/m isotropic bearings; 6 Timoshenko elements.",
             str(rel / "model.png"),
             "",
@@ -89,7 +89,7 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     figs.append(
         FigureEntry(
             "Campbell diagram",
-            "Damped natural frequencies vs speed, bearings with 3 kN s/m damping (Example 5.9.5 "
+            "(not in the paper) Damped natural frequencies vs speed, bearings with 3 kN s/m damping (Example 5.9.5 "
             "values); modes tracked by MAC, 1X line, critical speeds circled.",
             str(rel / "campbell.png"),
             "",
@@ -126,7 +126,7 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     figs.append(
         FigureEntry(
             "Unbalance response",
-            "Bode plot at the disk nodes for 1e-4 kg m at the right disk; peaks with the "
+            "(not in the paper) Bode plot at the disk nodes for 1e-4 kg m at the right disk; peaks with the "
             "half-power amplification factor AF = N_c / (N_2 - N_1) and separation margin SM = |N_op - N_c| / N_op "
             "from N_op = 3000 rpm.",
             str(rel / "bode.png"),
@@ -172,7 +172,7 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     figs.append(
         FigureEntry(
             "Run-up through the first critical",
-            f"Linear run-up from {0.3 * crit / RPM:.0f} to {2 * crit / RPM:.0f} "
+            f"(not in the paper) Linear run-up from {0.3 * crit / RPM:.0f} to {2 * crit / RPM:.0f} "
             f"rpm in {t_end:g} s (modal method, 12 modes), with the steady response for comparison.",
             str(rel / "runup.png"),
             "",
