@@ -55,7 +55,7 @@ if __name__ == "__main__":
             )
         report(name, ref, errs, wall)
     t0 = time.perf_counter()
-    ref = converged(SPINUP, 20.0, 0.05, n0=32, levels=4)
+    ref = converged(SPINUP, 20.0, 0.05, n0=16, levels=4)
     wall = time.perf_counter() - t0
     errs = {}
     for nm in (4, 8, 12):
