@@ -109,3 +109,29 @@ def test_relative_file_path_is_read_from_the_case_files_directory(tmp_path, monk
 
     cfg = {"body": {"type": "file", "file": {"path": str(case_dir / "beam.npz")}}}
     assert resolve_paths(cfg, elsewhere) == cfg
+
+
+def test_csv_layout_round_trip_and_named_errors(tmp_path):
+    b = uniform_beam(2.0, 1.0, 10.0, 3)
+    save_modes(tmp_path / "b.npz", b)
+    save_modes(tmp_path / "b.csv", b)
+    text = (tmp_path / "b.csv").read_text()
+    assert text.startswith("# frequencies: ") and "\nx,y,z,mass,phi1_x," in text
+    fn, fc = load_modes(tmp_path / "b.npz", frame="attached"), load_modes(tmp_path / "b.csv", frame="attached")
+    for k in ("M", "J"):
+        np.testing.assert_allclose(integrals(fc)[k], integrals(fn)[k], rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(fc.stiffness, b.stiffness, rtol=1e-14)
+    # a column missing, a mode not mass-normalised: errors name the field
+    lines = text.splitlines()
+    bad = tmp_path / "bad.csv"
+    bad.write_text("\n".join([lines[0], lines[1].replace("phi2_y", "phi2_q")] + lines[2:]))
+    with pytest.raises(InputError, match=r"body\.file\.shapes\[1\]"):
+        load_modes(bad)
+    rows = np.loadtxt(tmp_path / "b.csv", delimiter=",", skiprows=2)
+    rows[:, 4:7] *= 2.0  # mode 1 twice too large
+    np.savetxt(bad, rows, delimiter=",", header=lines[0] + "\n" + lines[1], comments="")
+    with pytest.raises(InputError, match=r"body\.file\.shapes"):
+        load_modes(bad)
+    bad.write_text("\n".join(lines[1:]))
+    with pytest.raises(InputError, match=r"body\.file\.frequencies"):
+        load_modes(bad)
