@@ -120,3 +120,16 @@ def test_spinup_beam_tip_within_1e3_of_the_reference_over_20_s():
     err = np.abs(u - ref.tip).max()
     assert err < 1e-3  # [m], the issue's acceptance number
     assert err / np.abs(ref.tip).max() < 1.1e-3  # relative to the peak: just above 1e-3
+
+
+def test_issue_torque_pulse_example_file():
+    # examples/floating/torque_pulse_beam.toml through run(path): euler_123 at dt_out = 0.5 s
+    from pathlib import Path
+
+    from rotaflex.floating import run
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "floating" / "torque_pulse_beam.toml"
+    ds = run(path).dataset
+    z = ds["euler_123"].values[..., 2].ravel()
+    assert abs(z[-1] - 36.0 / np.pi) < 1e-4
+    assert ds["time"].values[-1] == 2.0 and len(ds["time"]) == 5
