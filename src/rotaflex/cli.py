@@ -282,7 +282,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
         def go():
             from rotaflex.core import plotting
             from rotaflex.core.config import load_toml
-            from rotaflex.core.domains import command, split_config, validate
+            from rotaflex.core.domains import command, resolve_paths, split_config, validate
             from rotaflex.core.io import check_out_dir
             from rotaflex.core.provenance import provenance
             from rotaflex.core.report import CompileTimer
@@ -290,6 +290,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             _figure_options(fmt, dpi)
             out_dir = check_out_dir(out, marker=RESULT_MARKERS)
             _, body = split_config(load_toml(config), domain=domain, verb=verb)
+            body = resolve_paths(domain, body, Path(config).parent)  # paths inside: from the file
             if verb == "simulate":  # other verbs validate their own schema first thing
                 validate(domain, body)
             say = None if quiet else (lambda m: typer.echo(m, err=True))

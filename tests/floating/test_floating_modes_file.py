@@ -77,3 +77,61 @@ def test_bad_files_are_refused_with_the_array_named(tmp_path, change, field):
     assert exc.value.field == field, str(exc.value)
     with pytest.raises(InputError, match="body.file.path"):
         load_modes(tmp_path / "missing.npz")
+
+
+def test_relative_file_path_is_read_from_the_case_files_directory(tmp_path, monkeypatch):
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+    from rotaflex.floating import run
+
+    case_dir = tmp_path / "case"
+    case_dir.mkdir()
+    b = uniform_beam(2.0, 1.0, 10.0, 2)
+    save_modes(case_dir / "beam.npz", b)
+    with np.load(case_dir / "beam.npz") as z:
+        d = dict(z)
+    d["rotary_inertias"] = np.outer(b.masses * 0.05**2, [0.5, 0.25, 0.25])  # a 5 cm section
+    np.savez(case_dir / "beam.npz", **d)
+    toml = case_dir / "file_case.toml"
+    toml.write_text(
+        'domain = "floating"\n[body]\ntype = "file"\n[body.file]\npath = "beam.npz"\n'
+        '[solver]\nmethod = "full"\nt_end = 0.2\ndt_out = 0.1\ngeometric_stiffness = false\n'
+    )
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)  # no beam.npz here: only the case file's directory has it
+    assert run(toml).status == "success"
+    res = CliRunner().invoke(app, ["floating", "simulate", str(toml), "--out", str(tmp_path / "o"), "--quiet"])
+    assert res.exit_code == 0, res.output
+    # an absolute path is kept as given
+    from rotaflex.floating.case import resolve_paths
+
+    cfg = {"body": {"type": "file", "file": {"path": str(case_dir / "beam.npz")}}}
+    assert resolve_paths(cfg, elsewhere) == cfg
+
+
+def test_csv_layout_round_trip_and_named_errors(tmp_path):
+    b = uniform_beam(2.0, 1.0, 10.0, 3)
+    save_modes(tmp_path / "b.npz", b)
+    save_modes(tmp_path / "b.csv", b)
+    text = (tmp_path / "b.csv").read_text()
+    assert text.startswith("# frequencies: ") and "\nx,y,z,mass,phi1_x," in text
+    fn, fc = load_modes(tmp_path / "b.npz", frame="attached"), load_modes(tmp_path / "b.csv", frame="attached")
+    for k in ("M", "J"):
+        np.testing.assert_allclose(integrals(fc)[k], integrals(fn)[k], rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(fc.stiffness, b.stiffness, rtol=1e-14)
+    # a column missing, a mode not mass-normalised: errors name the field
+    lines = text.splitlines()
+    bad = tmp_path / "bad.csv"
+    bad.write_text("\n".join([lines[0], lines[1].replace("phi2_y", "phi2_q")] + lines[2:]))
+    with pytest.raises(InputError, match=r"body\.file\.shapes\[1\]"):
+        load_modes(bad)
+    rows = np.loadtxt(tmp_path / "b.csv", delimiter=",", skiprows=2)
+    rows[:, 4:7] *= 2.0  # mode 1 twice too large
+    np.savetxt(bad, rows, delimiter=",", header=lines[0] + "\n" + lines[1], comments="")
+    with pytest.raises(InputError, match=r"body\.file\.shapes"):
+        load_modes(bad)
+    bad.write_text("\n".join(lines[1:]))
+    with pytest.raises(InputError, match=r"body\.file\.frequencies"):
+        load_modes(bad)

@@ -98,6 +98,13 @@ def validate(domain: str, config: dict) -> None:
         hook(config)
 
 
+def resolve_paths(domain: str, config: dict, base) -> dict:
+    """``config`` with the file paths it names made relative to ``base`` (the case file's
+    directory), through the domain's ``resolve_paths`` hook (unchanged if it has none)."""
+    hook = getattr(case_module(domain), "resolve_paths", None)
+    return config if hook is None else hook(config, base)
+
+
 def split_config(config: dict, *, domain: str | None = None, verb: str | None = None) -> tuple[str, dict]:
     """The domain of a parsed config (from ``domain`` or its ``domain`` key) and the body.
 

@@ -93,10 +93,12 @@ def run(
         if body is not None or loads or controller is not None:
             raise InputError("run", "config and body/loads/controller", "one or the other")
         from rotaflex.core.config import load_toml
-        from rotaflex.floating.case import run_case
+        from rotaflex.floating.case import resolve_paths, run_case
 
         cfg = load_toml(config) if isinstance(config, (str, Path)) else dict(config)
         cfg.pop("domain", None)
+        if isinstance(config, (str, Path)):  # file paths inside a case file: from its directory
+            cfg = resolve_paths(cfg, Path(config).parent)
         return run_case(cfg)
     if body is None:
         raise InputError("run.body", None, "a Body (or a config)")

@@ -28,6 +28,7 @@ import dataclasses
 import json
 import time
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Literal
 
 import numpy as np
@@ -102,10 +103,10 @@ class PointsConfig:
 
 @dataclass(frozen=True)
 class FileConfig:
-    """Nodes, masses and mass-normalised modes from a NumPy ``.npz`` file (layout in
+    """Nodes, masses and mass-normalised modes from a NumPy ``.npz`` or a ``.csv`` file (layouts in
     :mod:`rotaflex.floating.modes_file` and docs/floating.md)."""
 
-    path: str = param(doc="the .npz file (relative paths: from the working directory)")
+    path: str = param(doc="the .npz or .csv file (relative paths: from the case file's directory)")
     frame: Literal["mean-axes", "attached"] = param(
         "mean-axes", doc="free-free modes in mean axes (checked) or modes clamped to the frame"
     )
@@ -317,6 +318,19 @@ def prepare(config: dict):
     for m in methods:
         check_inputs(body, case.loads, case.initial, case.solver, m)
     return case, body, methods
+
+
+def resolve_paths(config: dict, base) -> dict:
+    """A copy of ``config`` with a relative ``body.file.path`` joined to ``base`` (the directory
+    of the case file), so a case runs the same from any working directory."""
+    body = config.get("body")
+    file = body.get("file") if isinstance(body, dict) else None
+    path = file.get("path") if isinstance(file, dict) else None
+    if not isinstance(path, str) or Path(path).is_absolute():
+        return config  # absent or malformed: the schema check reports it
+    body = dict(config["body"])
+    body["file"] = {**body["file"], "path": str(Path(base) / path)}
+    return {**config, "body": body}
 
 
 def validate_config(config: dict) -> None:

@@ -11,6 +11,14 @@ Layout (SI units, arrays stored under these names; ``N`` nodes, ``n`` elastic mo
                                 torques at nodes)
     rotary_inertias  (N, 3)     optional: principal rotary inertias of the nodes [kg m^2]
 
+The same data as one CSV file (``.csv``): a comment line ``# frequencies: w1, w2, ...`` [rad/s],
+then a header row and one row per node, comma-separated, columns by name (any order)::
+
+    x, y, z, mass                 node coordinates [m] and nodal mass [kg]
+    jx, jy, jz                    optional: principal rotary inertias [kg m^2]
+    phi1_x, phi1_y, phi1_z, ...   mode j translations (j = 1 .. n) [1/sqrt(kg)]
+    psi1_x, psi1_y, psi1_z, ...   optional: mode j rotations [rad/sqrt(kg)] (all modes or none)
+
 Checks on load (each one :class:`~rotaflex.core.errors.InputError` naming ``body.file.<array>``):
 shapes and sizes, finite values, masses and frequencies > 0, mass-orthonormality (deviation
 <= 1e-6), and for ``frame = "mean-axes"`` no rigid-body content (free-free modes must satisfy
@@ -46,18 +54,82 @@ def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body
         Config path used in error messages.
     """
     p = Path(path)
-    if p.suffix.lower() != ".npz":
-        raise InputError(f"{where}.path", str(path), "a NumPy .npz file")
+    if p.suffix.lower() not in (".npz", ".csv"):
+        raise InputError(f"{where}.path", str(path), "a NumPy .npz or a .csv file")
     if not p.is_file():
-        raise InputError(f"{where}.path", str(path), "an existing .npz file")
+        raise InputError(f"{where}.path", str(path), f"an existing {p.suffix.lower()} file")
     if frame not in ("mean-axes", "attached"):
         raise InputError(f"{where}.frame", frame, "'mean-axes' or 'attached'")
+    if p.suffix.lower() == ".csv":
+        data, extra = _read_csv(p, where), []
+    else:
+        data, extra = _read_npz(p, where)
+    return _checked_body(data, extra, frame, where, p.name)
+
+
+def _read_npz(p: Path, where: str):
     try:
         with np.load(p, allow_pickle=False) as z:
             data = {k: np.asarray(z[k], dtype=float) for k in z.files if k in REQUIRED + OPTIONAL}
             extra = [k for k in z.files if k not in REQUIRED + OPTIONAL]
     except (OSError, ValueError) as exc:
-        raise InputError(f"{where}.path", str(path), f"a readable .npz file ({exc})") from None
+        raise InputError(f"{where}.path", str(p), f"a readable .npz file ({exc})") from None
+    return data, extra
+
+
+def _read_csv(p: Path, where: str) -> dict:
+    """The arrays of the CSV layout (module docstring)."""
+    try:
+        lines = p.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{where}.path", str(p), f"a readable UTF-8 .csv file ({exc})") from None
+    freq = [ln for ln in lines if ln.lstrip().startswith("#") and "frequencies" in ln]
+    rows = [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")]
+    if not freq:
+        raise InputError(f"{where}.frequencies", "<missing>", "a line '# frequencies: w1, w2, ...' [rad/s]")
+    if len(rows) < 2:
+        raise InputError(f"{where}.path", str(p), "a header row and one row per node")
+    head = [h.strip() for h in rows[0].split(",")]
+    try:
+        f = np.array([float(v) for v in freq[0].split(":", 1)[1].split(",") if v.strip()])
+        table = np.array([[float(v) for v in r.split(",")] for r in rows[1:]])
+    except (ValueError, IndexError) as exc:
+        raise InputError(f"{where}.path", str(p), f"numbers in every row and the frequencies line ({exc})") from None
+    if table.shape[1] != len(head):
+        raise InputError(f"{where}.path", f"{table.shape[1]} values per row", f"{len(head)} (one per header column)")
+    col = {h: table[:, i] for i, h in enumerate(head)}
+
+    def block(names, field):
+        missing = [c for c in names if c not in col]
+        if missing:
+            raise InputError(f"{where}.{field}", "<missing>", f"columns {', '.join(missing)}")
+        return np.column_stack([col[c] for c in names])
+
+    n = len(f)
+    data = {
+        "positions": block(["x", "y", "z"], "positions"),
+        "masses": block(["mass"], "masses")[:, 0],
+        "frequencies": f,
+        "shapes": np.array([block([f"phi{j}_{a}" for a in "xyz"], f"shapes[{j - 1}]") for j in range(1, n + 1)]),
+    }
+    if any(c.startswith("j") for c in col):
+        data["rotary_inertias"] = block(["jx", "jy", "jz"], "rotary_inertias")
+    if any(c.startswith("psi") for c in col):
+        data["rotation_shapes"] = np.array(
+            [block([f"psi{j}_{a}" for a in "xyz"], f"rotation_shapes[{j - 1}]") for j in range(1, n + 1)]
+        )
+    known = {"x", "y", "z", "mass", "jx", "jy", "jz"} | {
+        f"{c}{j}_{a}" for c in ("phi", "psi") for j in range(1, n + 1) for a in "xyz"
+    }
+    unknown = [h for h in head if h not in known]
+    if unknown:
+        raise InputError(
+            f"{where}.{unknown[0]}", "unknown column", f"x, y, z, mass, jx.., phi1_x.. psi{n}_z for {n} frequencies"
+        )
+    return data
+
+
+def _checked_body(data: dict, extra: list, frame: str, where: str, name: str) -> Body:
     if extra:
         raise InputError(f"{where}.{extra[0]}", "unknown array", "only " + ", ".join(REQUIRED + OPTIONAL))
     for k in REQUIRED:
@@ -105,7 +177,7 @@ def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body
             frequencies=f,
             rotation_shapes=data.get("rotation_shapes"),
             rotary_inertias=data.get("rotary_inertias"),
-            name=f"modes from {p.name}",
+            name=f"modes from {name}",
         )
     except InputError as exc:
         fld = exc.field.replace("body.points", "body.positions")
@@ -126,8 +198,9 @@ def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body
 
 
 def save_modes(path, body: Body, rotation_shapes: bool = True) -> None:
-    """Write ``body`` (its mass points and modes) in the ``.npz`` layout (for exchange/tests).
-    Rotation shapes are written only where the body defines them at its points."""
+    """Write ``body`` (its mass points and modes) in the ``.npz`` layout, or the CSV layout if
+    ``path`` ends in ``.csv`` (for exchange/tests). Rotation shapes are written only where the
+    body defines them at its points; rotary inertias are not written."""
     arrays = {
         "positions": body.points,
         "masses": body.masses,
@@ -138,4 +211,18 @@ def save_modes(path, body: Body, rotation_shapes: bool = True) -> None:
         _, Psi = body.shape_fn(body.points)
         if np.all(np.isfinite(Psi)):
             arrays["rotation_shapes"] = np.transpose(Psi, (2, 0, 1))
+    if str(path).lower().endswith(".csv"):
+        n = arrays["shapes"].shape[0]
+        cols = {"x": arrays["positions"][:, 0], "y": arrays["positions"][:, 1], "z": arrays["positions"][:, 2]}
+        cols["mass"] = arrays["masses"]
+        for key, pre in (("shapes", "phi"), ("rotation_shapes", "psi")):
+            for j in range(n if key in arrays else 0):
+                for i, a in enumerate("xyz"):
+                    cols[f"{pre}{j + 1}_{a}"] = arrays[key][j, :, i]
+        table = np.column_stack(list(cols.values()))
+        head = "# frequencies: " + ", ".join(f"{w:.17g}" for w in arrays["frequencies"])
+        np.savetxt(path, table, delimiter=",", header=",".join(cols), comments="", fmt="%.17g")
+        text = Path(path).read_text(encoding="utf-8")
+        Path(path).write_text(head + "\n" + text, encoding="utf-8")
+        return
     np.savez(path, **arrays)

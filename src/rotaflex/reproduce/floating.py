@@ -459,6 +459,68 @@ def _spinup(out: Path, fast: bool):
     )
 
 
+def _reference_checks(fast: bool) -> list[Check]:
+    """Model vs the converged geometrically exact planar reference (docs/floating.md)."""
+    from rotaflex.floating.reference import PlanarCase, converged, modal_counterpart
+
+    out = []
+    push = PlanarCase(4.0, 2.0, 1.0, force=0.2)
+    ref = converged(push, 2.0, 0.05, n0=64, levels=4, check_dt=False)
+    note = "free-free L 4 m, EI 1, 0.2 N half-sine end force (fixed direction); 64..512 links"
+    out.append(
+        _chk("reference: observed order in the link length", ref.order, "", "2 +- 0.2", 1.8 < ref.order < 2.2, note)
+    )
+    out.append(
+        _chk(
+            "reference: extrapolated tip error (estimate)",
+            ref.error,
+            "",
+            "< 1e-4",
+            ref.error < 1e-4,
+            "change of the extrapolant between the last two pairs of levels",
+        )
+    )
+    u, _ = modal_counterpart(push, 2.0, 0.05)
+    e = np.abs(u - ref.tip).max() / np.abs(ref.tip).max()
+    out.append(
+        _chk(
+            "modal model vs reference: tip history (rel. max)",
+            e,
+            "",
+            "< 2.5e-3",
+            e < 2.5e-3,
+            "10 modes + attachment shape, geometric stiffness on; measured 1.7e-3",
+        )
+    )
+    th = modal_counterpart(PlanarCase(1.0, 1.0, 10.0, torque=1.0), 2.0, 0.5, n_modes=4)[1][-1]
+    out.append(
+        _chk(
+            "issue torque pulse: theta(2 s) at dt_out 0.5 s",
+            th,
+            "rad",
+            "36/pi = 11.459 +- 1e-4",
+            abs(th - 36.0 / np.pi) < 1e-4,
+            "unit free-free beam, 1 N m half-sine for 1 s",
+        )
+    )
+    if not fast:
+        spin = PlanarCase(10.0, 1.2, 1.4e4, support="clamped-spin", rate=6.0, spin_up_time=15.0)
+        ref = converged(spin, 20.0, 0.05, n0=16, levels=3, check_dt=False)
+        u, _ = modal_counterpart(spin, 20.0, 0.05, n_modes=8)
+        e = np.abs(u - ref.tip).max()
+        out.append(
+            _chk(
+                "spin-up beam vs reference: max |tip error| over 20 s",
+                e,
+                "m",
+                "< 1e-3 m",
+                e < 1e-3,
+                f"{e / np.abs(ref.tip).max():.2e} of the peak {np.abs(ref.tip).max():.3f} m; 8 modes",
+            )
+        )
+    return out
+
+
 def _design_checks() -> list[Check]:
     """Attitude output, moment attachment shapes, load stiffening, follower loads (all cheap)."""
     from scipy.linalg import eigh
@@ -579,7 +641,7 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
             "thetaddot0 -0.9 rad/s^2), then the elastic row in inertial velocities against "
             "eq. 44 (eq. 43 substituted), then simulate."
         ),
-        checks=_reduction_checks() + _design_checks(),
+        checks=_reduction_checks() + _design_checks() + _reference_checks(fast),
     )
     sec.figures = []
     for label, case in (("planar maneuver", _planar), ("3-D slew", _slew3d), ("spin-up beam", _spinup)):
