@@ -105,6 +105,7 @@ def test_stiff_beam_large_loads(case, tol_on, off_min):
     assert err[True] < tol_on and err[False] > off_min
 
 
+@pytest.mark.slow  # 11 s; the same comparison is a check of `rotaflex reproduce floating` (full)
 def test_spinup_beam_tip_within_1e3_of_the_reference_over_20_s():
     # examples/floating/spinup_beam.toml (geometric stiffness on), 20 s. Reference: 16, 32, 64
     # links extrapolated (the 32..256-link benchmark gives order 2.00 and error 5e-7, max tip

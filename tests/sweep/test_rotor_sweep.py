@@ -69,6 +69,7 @@ def test_rotor_sweep_unknown_key_is_named(tmp_path):
     assert res.exit_code == 2 and "motion.spin" in res.output
 
 
+@pytest.mark.slow  # 25 s; the same section runs in `rotaflex reproduce all` (the main job)
 def test_reproduce_sweep_section_passes(tmp_path):
     from rotaflex.reproduce.sweep import run
 
