@@ -38,7 +38,7 @@ import numpy as np
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
 from rotaflex.gear.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
-from rotaflex.gear.torsional_kernel import run_rk4
+from rotaflex.gear.torsional_kernel import ChainArgs, MeshArgs, run_rk4
 
 __all__ = [
     "MeshTable",
@@ -404,24 +404,19 @@ def _run(sys, op, ch, st: State, n_cycles: int, spc: int):
         dt,
         n_cycles * spc,
         1,
-        ch.jinv,
-        ch.ks,
-        ch.cs,
-        ch.torque,
-        ch.slope,
-        ch.nominal,
-        ch.presc,
-        ramp,
-        ch.ip,
-        ch.iw,
-        r1,
-        r2,
-        float(sys.teeth[0]),
-        0.0,
-        mesh.coefficients(mesh.stiffness),
-        mesh.coefficients(mesh.unloaded_te),
-        sys.mesh_damping,
-        sys.backlash,
+        ChainArgs(ch.jinv, ch.ks, ch.cs, ch.torque, ch.slope, ch.nominal, ch.presc, float(ramp)),
+        MeshArgs(
+            int(ch.ip),
+            int(ch.iw),
+            float(r1),
+            float(r2),
+            float(sys.teeth[0]),
+            0.0,
+            mesh.coefficients(mesh.stiffness),
+            mesh.coefficients(mesh.unloaded_te),
+            float(sys.mesh_damping),
+            float(sys.backlash),
+        ),
     )
     st.time = float(t[-1])
     return {"time": t, "theta": th, "omega": om, "force": f, "delta": d, "ddelta": dd}

@@ -17,10 +17,44 @@ Mesh deflection and force (one-sided, optional back side after a backlash ``b``)
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
-__all__ = ["run_rk4"]
+__all__ = ["ChainArgs", "MeshArgs", "run_rk4"]
+
+
+class ChainArgs(NamedTuple):
+    """The inertia chain: 1/J [1/(kg m^2)], shaft stiffness [N m/rad] and damping [N m s/rad]
+    between neighbours, applied torque [N m], motor slope [N m s/rad] about the nominal speed
+    [rad/s], prescribed-speed flags, and the torque ramp time [s] (0: none)."""
+
+    jinv: np.ndarray
+    ks: np.ndarray
+    cs: np.ndarray
+    torque: np.ndarray
+    slope: np.ndarray
+    nominal: np.ndarray
+    presc: np.ndarray
+    ramp_time: float
+
+
+class MeshArgs(NamedTuple):
+    """The mesh: pinion and wheel node indices, base radii [m], pinion teeth, phase offset
+    [cycles], stiffness [N/m] and unloaded-TE [m] cubic coefficients, damping [N s/m], backlash
+    [m] (negative: no back-side contact)."""
+
+    ip: int
+    iw: int
+    rb1: float
+    rb2: float
+    z1: float
+    phi0: float
+    kc: np.ndarray
+    ec: np.ndarray
+    c_m: float
+    backlash: float
 
 
 @njit(cache=True)
@@ -38,7 +72,8 @@ def _table(c, phi):
 
 
 @njit(cache=True)
-def _mesh(th, om, ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash):
+def _mesh(mesh, th, om):
+    ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash = mesh
     """Mesh force F [N], deflection delta [m], its rate [m/s] and contact state (1, 0, -1)."""
     phi = z1 * th[ip] / (2.0 * np.pi) + phi0
     dphi = z1 * om[ip] / (2.0 * np.pi)
@@ -60,27 +95,13 @@ def _rhs(
     om,
     out_th,
     out_om,
-    jinv,
-    ks,
-    cs,
-    torque,
-    slope,
-    nominal,
-    presc,
-    ramp_time,
-    ip,
-    iw,
-    rb1,
-    rb2,
-    z1,
-    phi0,
-    kc,
-    ec,
-    c_m,
-    backlash,
+    chain,
+    mesh,
 ):
+    jinv, ks, cs, torque, slope, nominal, presc, ramp_time = chain
     n = th.shape[0]
-    f, _, _, _ = _mesh(th, om, ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash)
+    f, _, _, _ = _mesh(mesh, th, om)
+    ip, iw, rb1, rb2 = mesh.ip, mesh.iw, mesh.rb1, mesh.rb2
     scale = 1.0
     if ramp_time > 0.0 and t < ramp_time:
         scale = t / ramp_time
@@ -109,24 +130,8 @@ def run_rk4(
     dt,
     n_steps,
     record_every,
-    jinv,
-    ks,
-    cs,
-    torque,
-    slope,
-    nominal,
-    presc,
-    ramp_time,
-    ip,
-    iw,
-    rb1,
-    rb2,
-    z1,
-    phi0,
-    kc,
-    ec,
-    c_m,
-    backlash,
+    chain,
+    mesh,
 ):
     """Advance ``n_steps`` RK4 steps of size ``dt`` [s] from (th, om) at time t0 [s].
 
@@ -160,7 +165,7 @@ def run_rk4(
     t = t0
     for step in range(n_steps + 1):
         if step % record_every == 0:
-            f, d, dd, _ = _mesh(th, om, ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash)
+            f, d, dd, _ = _mesh(mesh, th, om)
             t_rec[r] = t
             th_rec[r, :] = th
             om_rec[r, :] = om
@@ -176,24 +181,8 @@ def run_rk4(
             om,
             k1t,
             k1o,
-            jinv,
-            ks,
-            cs,
-            torque,
-            slope,
-            nominal,
-            presc,
-            ramp_time,
-            ip,
-            iw,
-            rb1,
-            rb2,
-            z1,
-            phi0,
-            kc,
-            ec,
-            c_m,
-            backlash,
+            chain,
+            mesh,
         )
         for i in range(n):
             yt[i] = th[i] + 0.5 * dt * k1t[i]
@@ -204,24 +193,8 @@ def run_rk4(
             yo,
             k2t,
             k2o,
-            jinv,
-            ks,
-            cs,
-            torque,
-            slope,
-            nominal,
-            presc,
-            ramp_time,
-            ip,
-            iw,
-            rb1,
-            rb2,
-            z1,
-            phi0,
-            kc,
-            ec,
-            c_m,
-            backlash,
+            chain,
+            mesh,
         )
         for i in range(n):
             yt[i] = th[i] + 0.5 * dt * k2t[i]
@@ -232,24 +205,8 @@ def run_rk4(
             yo,
             k3t,
             k3o,
-            jinv,
-            ks,
-            cs,
-            torque,
-            slope,
-            nominal,
-            presc,
-            ramp_time,
-            ip,
-            iw,
-            rb1,
-            rb2,
-            z1,
-            phi0,
-            kc,
-            ec,
-            c_m,
-            backlash,
+            chain,
+            mesh,
         )
         for i in range(n):
             yt[i] = th[i] + dt * k3t[i]
@@ -260,24 +217,8 @@ def run_rk4(
             yo,
             k4t,
             k4o,
-            jinv,
-            ks,
-            cs,
-            torque,
-            slope,
-            nominal,
-            presc,
-            ramp_time,
-            ip,
-            iw,
-            rb1,
-            rb2,
-            z1,
-            phi0,
-            kc,
-            ec,
-            c_m,
-            backlash,
+            chain,
+            mesh,
         )
         for i in range(n):
             th[i] += dt / 6.0 * (k1t[i] + 2.0 * k2t[i] + 2.0 * k3t[i] + k4t[i])
