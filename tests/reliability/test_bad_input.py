@@ -148,6 +148,21 @@ def test_read_only_parent(capsys, tmp_path):
     assert code == 2 and "read-only" in one_line(err)
 
 
+def test_read_only_parent_reported_by_the_os(capsys, tmp_path, monkeypatch):
+    # root ignores permission bits, so the check above cannot run as root (as in CI); here the
+    # OS answer is simulated for that directory only, which runs the same check on every uid
+    import rotaflex.core.io as io_mod
+
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    real_access = os.access
+    monkeypatch.setattr(io_mod.os, "access", lambda p, mode: False if Path(p) == ro else real_access(p, mode))
+    code, _, err = run(capsys, "rotor", "simulate", GOOD, "--out", ro / "o")
+    line = one_line(err)
+    assert code == 2 and "read-only" in line and "--out" in line
+    assert not (ro / "o").exists()
+
+
 # -- sweeps: every case validated before any runs -----------------------------------------------
 BAD_SWEEPS = [
     (["disk.mass=-1,-2"], "disk.mass = -1 is invalid"),  # as typed, not -1.0

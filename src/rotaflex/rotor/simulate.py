@@ -157,6 +157,7 @@ class _Progress:
     def __init__(self, t_end: float, enabled: bool, max_evals: float = float("inf")):
         self.t_end, self.bar, self.shown = t_end, None, 0.0
         self.evals, self.max_evals = 0, max_evals
+        self.t_over = None  # time of the first evaluation past the budget
         if enabled:
             from tqdm import tqdm
 
@@ -164,8 +165,10 @@ class _Progress:
 
     def __call__(self, t: float) -> None:
         self.evals += 1
-        if self.evals > self.max_evals:
-            raise _StepBudget(t)
+        if self.evals > self.max_evals and self.t_over is None:
+            self.t_over = t  # the budget event stops the run at the end of this step
+        if self.evals > 2 * self.max_evals:
+            raise _StepBudget(t)  # last resort if one step alone runs away
         if self.bar is not None and t - self.shown >= self.t_end / 200:
             self.bar.n = int(100 * min(t, self.t_end) / self.t_end)
             self.bar.refresh()
@@ -342,6 +345,17 @@ def _solve(rhs, y0, solver, t_eval, bar, events=None):
     """
     from types import SimpleNamespace
 
+    def budget(t, y):
+        # zero at the time the budget ran out, so the run stops there and keeps its samples
+        return 1.0 if bar.t_over is None else bar.t_over - t
+
+    budget.terminal = True
+    listed = [] if events is None else (list(events) if isinstance(events, (list, tuple)) else [events])
+    budget_message = (
+        "step budget exceeded: {evals} right-hand-side evaluations reached t = {t:.6g} s "
+        f"of {t_eval[-1]:g} s (solver.max_steps = {solver.max_steps}); the motion is faster or "
+        "stiffer than estimated: shorten t_end, loosen rtol or raise max_steps"
+    )
     try:
         sol = solve_ivp(
             rhs,
@@ -351,7 +365,7 @@ def _solve(rhs, y0, solver, t_eval, bar, events=None):
             t_eval=t_eval,
             rtol=solver.rtol,
             atol=solver.atol,
-            events=events,
+            events=[*listed, budget],
         )
     except _StepBudget as exc:
         return SimpleNamespace(
@@ -359,16 +373,20 @@ def _solve(rhs, y0, solver, t_eval, bar, events=None):
             y=np.asarray(y0, float)[:, None],
             nfev=bar.evals,
             status=-1,
-            message=(
-                f"step budget exceeded: {bar.evals} right-hand-side evaluations reached t = {exc.t:.6g} s "
-                f"of {t_eval[-1]:g} s (solver.max_steps = {solver.max_steps}); the motion is faster or "
-                "stiffer than estimated: shorten t_end, loosen rtol or raise max_steps"
-            ),
+            message=budget_message.format(evals=bar.evals, t=exc.t),
             t_events=None,
             y_events=None,
         )
     sol.t = np.asarray(sol.t, float)
     sol.y = np.asarray(sol.y, float).reshape(len(y0), -1)
+    if sol.status == 1 and len(sol.t_events[-1]):  # the budget event: keep what was integrated
+        t_b = float(sol.t_events[-1][0])
+        sol.t = np.append(sol.t, t_b)
+        sol.y = np.hstack([sol.y, sol.y_events[-1][0][:, None]])
+        sol.status = -1
+        sol.message = budget_message.format(evals=bar.evals, t=t_b)
+    sol.t_events = None if sol.t_events is None else sol.t_events[: len(listed)]
+    sol.y_events = None if sol.y_events is None else sol.y_events[: len(listed)]
     if sol.status == -1:
         reached = float(sol.t[-1]) if sol.t.size else 0.0
         sol.message = f"integration failed after t = {reached:.6g} s of {t_eval[-1]:g} s: {sol.message}"
