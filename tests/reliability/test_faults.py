@@ -145,12 +145,14 @@ def _alive(pid: int) -> bool:
 
 
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc")
-def test_kill_9_of_a_sweep_client_leaves_no_workers(tmp_path):
+@pytest.mark.parametrize("scheduler", [None, "dask-local"])  # None: the local process pool
+def test_kill_9_of_a_sweep_client_leaves_no_workers(tmp_path, scheduler):
     helper = Path(__file__).resolve().parents[1] / "sweep" / "selftest_cli.py"
     cfg = tmp_path / "s.toml"
     cfg.write_text(f'domain = "selftest"\nx = 0.0\nsleep = 30.0\nstarted_dir = "{tmp_path / "started"}"\n')
     proc = subprocess.Popen(
-        [sys.executable, str(helper), "sweep", str(cfg), "--vary", "x=1,2", "-o", str(tmp_path / "s"), "-j", "2", "-q"],
+        [sys.executable, str(helper), "sweep", str(cfg), "--vary", "x=1,2", "-o", str(tmp_path / "s"), "-j", "2", "-q"]
+        + ([] if scheduler is None else ["--scheduler", scheduler]),
         env=ENV,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
@@ -158,7 +160,7 @@ def test_kill_9_of_a_sweep_client_leaves_no_workers(tmp_path):
     try:
         assert _wait_for(lambda: len(list((tmp_path / "started").glob("*"))) >= 2, 120)
         workers = _children(proc.pid)
-        assert len(workers) >= 3  # fork server + 2 workers
+        assert len(workers) >= 3  # fork server (local) or nannies (dask-local) + 2 workers
     finally:
         proc.kill()
         proc.wait()
