@@ -149,23 +149,29 @@ class OperationConfig:
     )
 
 
+#: default contact smoothing of drawing pairs: their small teeth have short flank elements whose
+#: slope kinks the paper's spline surfaces follow (docs/gear-dynamics.md, "Drawing pairs")
+DRAWING_SMOOTHING = 12
+
+
 @dataclass(frozen=True)
 class MeshConfig:
     preset: Literal["default", "coarse", "fine"] = param(
         "default", doc="tooth mesh; 'fine' (2x default) needs dt <= 1.7e-8 s"
     )
     n_points: int = param(61, ge=8, le=1000, doc="spline data points per flank")
-    contact_smoothing: int = param(
-        0,
+    contact_smoothing: int | None = param(
+        None,
         ge=0,
         le=100,
         doc="contact surfaces without the short-wave flank deformation (the point force's own "
-        "indentation): uniform intervals of the least-squares cubic fit; 0 = paper's surfaces "
-        "(paper_rk4 only; at most n_points - 3)",
+        "indentation, the slope kinks between short flank elements): uniform intervals of the "
+        "least-squares cubic fit; 0 = paper's surfaces (paper_rk4 only; at most n_points - 3); "
+        f"default: {DRAWING_SMOOTHING} for [pinion]/[wheel] pairs with paper_rk4, else 0",
     )
 
     def __post_init__(self) -> None:
-        if self.contact_smoothing > 0 and self.contact_smoothing + 3 > self.n_points:
+        if self.contact_smoothing and self.contact_smoothing + 3 > self.n_points:
             raise InputError(
                 "mesh.contact_smoothing", self.contact_smoothing, f"0 or 1..{self.n_points - 3} (n_points - 3)"
             )
@@ -284,7 +290,7 @@ class GearCaseConfig:
                 raise InputError(
                     "operation.theta_2_deg", op.theta_2_deg, f"<= theta_s_deg / 2 = {op.theta_s_deg / 2:g}"
                 )
-        if self.mesh.contact_smoothing > 0 and self.solver.method != "paper_rk4":
+        if self.mesh.contact_smoothing and self.solver.method != "paper_rk4":
             raise InputError(
                 "mesh.contact_smoothing", self.mesh.contact_smoothing, "0 unless solver.method = 'paper_rk4'"
             )
@@ -483,6 +489,16 @@ def build(cfg: GearCaseConfig):
     return geo, mesh, model
 
 
+def contact_smoothing(cfg: GearCaseConfig) -> int:
+    """Contact-smoothing intervals of a case: as set, or the default (0 = the paper's surfaces
+    for the paper's gear, :data:`DRAWING_SMOOTHING` for drawing pairs, which fit whenever
+    ``n_points`` leaves room)."""
+    if cfg.mesh.contact_smoothing is not None:
+        return cfg.mesh.contact_smoothing
+    drawing = cfg.pinion is not None and cfg.solver.method == "paper_rk4"
+    return DRAWING_SMOOTHING if drawing and DRAWING_SMOOTHING + 3 <= cfg.mesh.n_points else 0
+
+
 def to_run(cfg: GearCaseConfig, geo, model) -> Run:
     """Angles, speeds and the step count of a configuration in SI, with the size checks."""
     from rotaflex.gear.geometry import contact_angles, contact_ratio
@@ -588,7 +604,7 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
             max_iter=sol.max_iter,
             restitution=sol.restitution,
             multipliers=sol.multipliers,
-            smoothing=cfg.mesh.contact_smoothing,
+            smoothing=contact_smoothing(cfg),
             gain=gain,
         )
     return Run(
