@@ -18,7 +18,7 @@ TOML layout (all tables optional; defaults are the paper's data, :mod:`rotaflex.
                  accel_n, max_iter, multipliers = "iterative" | "direct", restitution,
                  modes, hht_alpha
     [output]     every, vtu_snapshots, root_stress
-    [model]      teeth_per_gear = 1 | 2 | 3, start_angle_deg, mesh_window_deg
+    [model]      teeth_per_gear = 1 .. 12, start_angle_deg, mesh_window_deg
 
 :func:`to_run` is the only place where rpm and degrees become rad/s and rad: it returns a
 frozen :class:`Run` (SI) next to the frozen model; a change is a new object
@@ -241,19 +241,19 @@ class ModelConfig:
     teeth_per_gear: int = param(
         1,
         ge=1,
-        le=3,
-        doc="1: the paper's model with the Fig. 7 torque ramps; 2-3: "
-        "adjacent teeth, several contact pairs, constant torques",
+        le=12,
+        doc="1: the paper's model with the Fig. 7 torque ramps; 2-12: "
+        "adjacent teeth, several contact pairs alternating by geometry, constant torques",
     )
     start_angle_deg: float = param(
-        -0.5, unit="deg", le=0.0, doc="contact angle of the entering pair at t = 0 (2-3 teeth)"
+        -0.5, unit="deg", le=0.0, doc="contact angle of the entering pair at t = 0 (several teeth)"
     )
     mesh_window_deg: float = param(
         1.0,
         unit="deg",
         gt=0.0,
         le=5.0,
-        doc="pairs are searched from this angle before the start of contact to this angle after its end (2-3 teeth)",
+        doc="pairs are searched from this angle before the start of contact to this angle after its end (several teeth)",
     )
 
     def __post_init__(self) -> None:
@@ -416,8 +416,11 @@ class Run:
 
 def default_span(n_teeth: int, pitch: float, theta_s: float, start_angle: float) -> float:
     """Rotation of A simulated by default with several teeth: pair 1 from its start angle up to
-    the entry of the next pair (two teeth) or over its whole contact theta_s (three teeth)."""
-    return (pitch if n_teeth == 2 else theta_s) - start_angle
+    the entry of the next pair (two teeth), or up to the end of contact of pair ``n - 2`` (three
+    or more: pair 1 over its whole contact theta_s, then one pitch more per further tooth)."""
+    if n_teeth == 2:
+        return pitch - start_angle
+    return (n_teeth - 3) * pitch + theta_s - start_angle
 
 
 def kernel_specs(cfg: GearCaseConfig, pair=None):

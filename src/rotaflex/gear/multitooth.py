@@ -1,8 +1,8 @@
-"""Two or three elastic teeth per gear: the two-pair zones modelled directly.
+"""Several elastic teeth per gear: the two-pair zones and continuous meshing modelled directly.
 
 Model
 -----
-Each gear is a rigid disk carrying ``n`` (2 or 3) adjacent elastic teeth at the angular pitch
+Each gear is a rigid disk carrying ``n`` (2 to 12) adjacent elastic teeth at the angular pitch
 ``2 pi / z``; every tooth is its own pitch-sector mesh (:func:`rotaflex.gear.mesh.build_tooth_mesh`)
 whose root nodes (inner arc and side cuts) are tied to the disk, exactly as the single tooth of
 :mod:`rotaflex.gear.dynamics`. Tooth ``j`` of A can touch tooth ``j`` of B only: ``n`` contact
@@ -91,8 +91,8 @@ def build_multi_model(
     """
     from rotaflex.gear import dynamics, fe
 
-    if n_teeth not in (1, 2, 3):
-        raise InputError("model.teeth_per_gear", n_teeth, "1, 2 or 3")
+    if not 1 <= n_teeth <= 12:
+        raise InputError("model.teeth_per_gear", n_teeth, "1..12")
     base = dynamics.build_model(
         geometry,
         geometry,
