@@ -253,7 +253,8 @@ class ModelConfig:
         unit="deg",
         gt=0.0,
         le=5.0,
-        doc="pairs are searched from this angle before the start of contact to this angle after its end (several teeth)",
+        doc="pairs are searched from this angle before the start of contact to this angle after its end "
+        "(several teeth)",
     )
 
     def __post_init__(self) -> None:
