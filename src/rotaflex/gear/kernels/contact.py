@@ -617,33 +617,11 @@ def pair_contact(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw
 
 
 @njit(cache=True)
-def search_pairs(
-    x,
-    phi,
-    rsgn0,
-    flank,
-    nedge,
-    sig,
-    mpts,
-    psi0,
-    wtab,
-    lo,
-    hi,
-    corners,
-    theta0,
-    tab,
-    mloc,
-    pa,
-    ma,
-    pb,
-    mb,
-    cres,
-    cnod,
-    cw,
-    spair,
-):
-    """Contact search of every pair whose nominal contact angle ``psi0[j] + rsgn0 phi[0]`` lies
-    in the mesh window [lo, hi] (one pair, no window: ``lo, hi = -inf, inf``).
+def search_pairs(x, phi, m_arr, mpts, lo, hi, corners, pa, ma, pb, mb, cres, cnod, cw, spair):
+    """Contact search of every pair whose nominal contact angle ``psi[j] + rsgn[0] phi[0]`` lies
+    in the mesh window [lo, hi] (one pair, no window: ``lo, hi = -inf, inf``); the pair's data
+    (flanks, warm-start table ``wtab``, smoothed surfaces) from ``m_arr``, the
+    :class:`~rotaflex.gear.kernels.arrays.ModelArrays`.
 
     A pair entering the window is warm-started from ``wtab`` (involute contact parameters on a
     uniform grid of the contact angle over [0, theta_s]; a table of one row: no warm start, the
@@ -653,6 +631,8 @@ def search_pairs(
     the search). A pair outside the window is not searched: gap 1 m, case -1, zero-weight
     contact row. ``spair[j, 5]`` is set to 1 for a pair in the window, else 0.
     Returns False if a search failed."""
+    flank, nedge, sig, psi0, wtab = m_arr.flank, m_arr.nedge, m_arr.sig, m_arr.psi, m_arr.wtab
+    rsgn0, theta0, tab, mloc = m_arr.rsgn[0], m_arr.theta0, m_arr.tab, m_arr.mloc
     npair = cres.shape[0]
     nw = wtab.shape[0]
     for jp in range(npair):

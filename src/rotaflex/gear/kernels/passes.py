@@ -68,8 +68,10 @@ def respond(g, gth, c1, c2, minv, gid, rot, jd, indptr, indices, data, zk, tx, t
 
 
 @njit(cache=True)
-def tie_row_sums(c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, rs):
+def tie_row_sums(c1, c2, m_arr, bvec, rs):
     """Row sums of |C| over the tie block (for the infinity norm of appendix B)."""
+    minv, tie_node, tie_gear, jd = m_arr.minv, m_arr.tie_node, m_arr.tie_gear, m_arr.inertia
+    tb_i, tb_j, tb_b = m_arr.tb_i, m_arr.tb_j, m_arr.tb_b
     nt = tie_node.shape[0]
     sb0 = 0.0
     sb1 = 0.0
@@ -204,8 +206,11 @@ def contact_columns(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cno
 
 
 @njit(cache=True)
-def c_matvec(z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, yl, kz):
-    """out = C' z: tie block (structured) + the active contact rows/columns (``act`` mask)."""
+def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl, kz):
+    """out = C' z: tie block (structured) + the active contact rows/columns (``act`` mask);
+    ``m_arr`` the :class:`~rotaflex.gear.kernels.arrays.ModelArrays` of the pair."""
+    minv, tie_node, tie_gear, jd = m_arr.minv, m_arr.tie_node, m_arr.tie_gear, m_arr.inertia
+    tb_i, tb_j, tb_b = m_arr.tb_i, m_arr.tb_j, m_arr.tb_b
     nt = tie_node.shape[0]
     ic = 2 * nt
     npair = ccol.shape[0]
@@ -256,29 +261,7 @@ def c_matvec(z, out, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j
 
 
 @njit(cache=True)
-def iterate_pass(
-    mode,
-    e0,
-    mu,
-    pbar,
-    c1,
-    c2,
-    eps_tie,
-    tol,
-    n_acc,
-    max_iter,
-    minv,
-    tie_node,
-    tie_gear,
-    jd,
-    bvec,
-    tb_i,
-    tb_j,
-    tb_b,
-    ccol,
-    work,
-    stats,
-):
+def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
     """Multiplier / contact-force iteration of eq. 19-21 with ``npair`` unilateral rows.
 
     Each contact row is active when (mode 1) its force is compressive or it penetrates, or
@@ -302,7 +285,7 @@ def iterate_pass(
     coef = np.zeros(33)
     act = np.zeros(npair, np.bool_)
     allact = np.ones(npair, np.bool_)
-    tie_row_sums(c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, rs)
+    tie_row_sums(c1, c2, m_arr, bvec, rs)
     last_mask = -1
     nrm = 1.0
     bbar = 1.0
@@ -374,7 +357,7 @@ def iterate_pass(
         for r in range(nc):
             d[r] = coef[deg] * e[r]
         for j in range(deg - 1, -1, -1):
-            c_matvec(d, t1, act, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, yl, kz)
+            c_matvec(d, t1, act, c1, c2, m_arr, bvec, ccol, yl, kz)
             for r in range(nc):
                 d[r] = t1[r] / nrm + coef[j] * e[r]
         for r in range(nc):
@@ -385,7 +368,7 @@ def iterate_pass(
             d[ic + jp] = newp - p
         for r in range(nc):
             mu[r] += d[r]
-        c_matvec(d, t1, allact, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, yl, kz)
+        c_matvec(d, t1, allact, c1, c2, m_arr, bvec, ccol, yl, kz)
         for r in range(nc):
             y[r] += t1[r]
     stats[0] = res
@@ -452,6 +435,25 @@ def prepare_woodbury(lb, perm, bmat, dcoef, y, s2):
 
 
 @njit(cache=True)
+def _factor_views(packed, tie_gear, bvec, n, buf):
+    """Band factor, Woodbury vectors (copied into ``buf[4:6]``), 2 x 2 capacitance matrix and
+    the current disk vectors B (n, 2) of one pass's packed factor data."""
+    nb = packed.shape[1] - 2
+    lb = packed[:n, :nb]
+    y = buf[4:6, :n]
+    for r in range(n):
+        y[0, r] = packed[r, nb]
+        y[1, r] = packed[r, nb + 1]
+    s2 = packed[n, :4].reshape((2, 2))
+    bmat = np.zeros((n, 2))
+    for k in range(n // 2):
+        g = tie_gear[k]
+        bmat[2 * k, g] = bvec[k, 0]
+        bmat[2 * k + 1, g] = bvec[k, 1]
+    return lb, y, s2, bmat
+
+
+@njit(cache=True)
 def direct_pass(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, tol, dmu, buf):
     """Multiplier change ``dmu`` of one pass from the factored C (unilateral contact by active set).
 
@@ -473,19 +475,7 @@ def direct_pass(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, tol, dmu
     nc = e0.shape[0]
     ic = nc - 1
     n = ic
-    nb = packed.shape[1] - 2
-    lb = packed[:n, :nb]
-    y = buf[4:6, :n]
-    for r in range(n):
-        y[0, r] = packed[r, nb]
-        y[1, r] = packed[r, nb + 1]
-    s2 = packed[n, :4].reshape((2, 2))
-    bmat = np.zeros((n, 2))
-    nt = n // 2
-    for k in range(nt):
-        g = tie_gear[k]
-        bmat[2 * k, g] = bvec[k, 0]
-        bmat[2 * k + 1, g] = bvec[k, 1]
+    lb, y, s2, bmat = _factor_views(packed, tie_gear, bvec, n, buf)
     tmp = buf[0]
     w = buf[1]
     u = buf[2]
@@ -527,19 +517,7 @@ def direct_pass_pairs(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, to
     nc = e0.shape[0]
     ic = nc - npair
     n = ic
-    nb = packed.shape[1] - 2
-    lb = packed[:n, :nb]
-    y = buf[4:6, :n]
-    for r in range(n):
-        y[0, r] = packed[r, nb]
-        y[1, r] = packed[r, nb + 1]
-    s2 = packed[n, :4].reshape((2, 2))
-    bmat = np.zeros((n, 2))
-    nt = n // 2
-    for k in range(nt):
-        g = tie_gear[k]
-        bmat[2 * k, g] = bvec[k, 0]
-        bmat[2 * k + 1, g] = bvec[k, 1]
+    lb, y, s2, bmat = _factor_views(packed, tie_gear, bvec, n, buf)
     tmp = buf[0]
     w = buf[1]
     rhs = buf[3]
@@ -604,29 +582,7 @@ def direct_pass_pairs(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, to
 
 
 @njit(cache=True)
-def direct_solve(
-    mode,
-    e0,
-    mu,
-    pbar,
-    c1,
-    c2,
-    tol,
-    max_ref,
-    lb,
-    perm,
-    minv,
-    tie_node,
-    tie_gear,
-    jd,
-    bvec,
-    tb_i,
-    tb_j,
-    tb_b,
-    ccol,
-    work,
-    stats,
-):
+def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec, ccol, work, stats):
     """Direct multiplier solve of one pass, checked.
 
     After the exact solve the error ``e0 + C dmu`` is re-evaluated with the structured
@@ -649,12 +605,12 @@ def direct_solve(
         for r in range(nc):
             e[r] = e0[r] + y[r]
         if npair == 1:
-            direct_pass(mode, e, mu, pbar[0], lb, perm, tie_gear, bvec, ccol[0], tol, dmu, buf)
+            direct_pass(mode, e, mu, pbar[0], lb, perm, m_arr.tie_gear, bvec, ccol[0], tol, dmu, buf)
         else:
-            direct_pass_pairs(mode, e, mu, pbar, lb, perm, tie_gear, bvec, ccol, tol, dmu, buf)
+            direct_pass_pairs(mode, e, mu, pbar, lb, perm, m_arr.tie_gear, bvec, ccol, tol, dmu, buf)
         for r in range(nc):
             mu[r] += dmu[r]
-        c_matvec(dmu, t1, allact, c1, c2, minv, tie_node, tie_gear, jd, bvec, tb_i, tb_j, tb_b, ccol, work[5], work[6])
+        c_matvec(dmu, t1, allact, c1, c2, m_arr, bvec, ccol, work[5], work[6])
         for r in range(nc):
             y[r] += t1[r]
         res = 0.0
@@ -679,81 +635,14 @@ def direct_solve(
 
 
 @njit(cache=True)
-def solve_pass(
-    direct,
-    lb,
-    perm,
-    mode,
-    e0,
-    mu,
-    pbar,
-    c1,
-    c2,
-    eps_tie,
-    tol,
-    n_acc,
-    max_iter,
-    minv,
-    tie_node,
-    tie_gear,
-    jd,
-    bvec,
-    tb_i,
-    tb_j,
-    tb_b,
-    ccol,
-    work,
-    stats,
-):
-    """Dispatch one pass to the iteration of eq. 19-24 or to the direct solve; returns
-    (residual, iterations, converged) and leaves C (mu - mu_start) in ``work[0]``."""
+def solve_pass(direct, prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
+    """Dispatch pass ``mode`` (1, 2, 3) to the iteration of eq. 19-24 or to the direct solve
+    (factors ``prm.dfac[mode - 1]`` of the :class:`~rotaflex.gear.kernels.arrays.StepParams`);
+    returns (residual, iterations, converged) and leaves C (mu - mu_start) in ``work[0]``."""
     if direct:
-        return direct_solve(
-            mode,
-            e0,
-            mu,
-            pbar,
-            c1,
-            c2,
-            tol,
-            3,
-            lb,
-            perm,
-            minv,
-            tie_node,
-            tie_gear,
-            jd,
-            bvec,
-            tb_i,
-            tb_j,
-            tb_b,
-            ccol,
-            work,
-            stats,
-        )
-    return iterate_pass(
-        mode,
-        e0,
-        mu,
-        pbar,
-        c1,
-        c2,
-        eps_tie,
-        tol,
-        n_acc,
-        max_iter,
-        minv,
-        tie_node,
-        tie_gear,
-        jd,
-        bvec,
-        tb_i,
-        tb_j,
-        tb_b,
-        ccol,
-        work,
-        stats,
-    )
+        lb = prm.dfac[mode - 1]
+        return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, lb, prm.dperm, m_arr, bvec, ccol, work, stats)
+    return iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats)
 
 
 def factor_tie_blocks(model, dt: float):

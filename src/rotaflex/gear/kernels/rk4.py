@@ -388,31 +388,7 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
     hi = p.window_hi
     corners = p.corners
     if init:
-        if not search_pairs(
-            x,
-            phi,
-            m.rsgn[0],
-            m.flank,
-            m.nedge,
-            m.sig,
-            mpts,
-            m.psi,
-            m.wtab,
-            lo,
-            hi,
-            corners,
-            m.theta0,
-            m.tab,
-            m.mloc,
-            pa,
-            ma,
-            pb,
-            mb,
-            cres,
-            cnod,
-            cw,
-            spair,
-        ):
+        if not search_pairs(x, phi, m, mpts, lo, hi, corners, pa, ma, pb, mb, cres, cnod, cw, spair):
             info[0] = sc[0]
             return 4, row
     for jp in range(npair):
@@ -496,31 +472,7 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
                 om[g] += dt / 6.0 * osum[g]
             t = t + dt
             # ---- contact search of every pair at the predicted state
-            if not search_pairs(
-                x,
-                phi,
-                m.rsgn[0],
-                m.flank,
-                m.nedge,
-                m.sig,
-                mpts,
-                m.psi,
-                m.wtab,
-                lo,
-                hi,
-                corners,
-                m.theta0,
-                m.tab,
-                m.mloc,
-                pa,
-                ma,
-                pb,
-                mb,
-                cres,
-                cnod,
-                cw,
-                spair,
-            ):
+            if not search_pairs(x, phi, m, mpts, lo, hi, corners, pa, ma, pb, mb, cres, cnod, cw, spair):
                 info[0] = t
                 return 4, row
             for jp in range(npair):
@@ -547,30 +499,7 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
             )
             mu0[:] = mu
             res, its, ok = solve_pass(
-                direct,
-                p.dfac[0],
-                p.dperm,
-                1,
-                e0,
-                mu,
-                pbar,
-                c11,
-                c12,
-                p.eps_disp,
-                tol1,
-                n_acc,
-                max_iter,
-                minv,
-                m.tie_node,
-                m.tie_gear,
-                jd,
-                bvec,
-                m.tb_i,
-                m.tb_j,
-                m.tb_b,
-                ccol,
-                work,
-                stats,
+                direct, p, 1, e0, mu, pbar, c11, c12, p.eps_disp, tol1, n_acc, max_iter, m, bvec, ccol, work, stats
             )
             if not ok:
                 info[0] = t
@@ -644,30 +573,7 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
             )
             mu0[:] = mu
             res, its, ok = solve_pass(
-                direct,
-                p.dfac[1],
-                p.dperm,
-                2,
-                e0,
-                mu,
-                pbar,
-                c21,
-                c22,
-                p.eps_vel,
-                tol2,
-                n_acc,
-                max_iter,
-                minv,
-                m.tie_node,
-                m.tie_gear,
-                jd,
-                bvec,
-                m.tb_i,
-                m.tb_j,
-                m.tb_b,
-                ccol,
-                work,
-                stats,
+                direct, p, 2, e0, mu, pbar, c21, c22, p.eps_vel, tol2, n_acc, max_iter, m, bvec, ccol, work, stats
             )
             if not ok:
                 info[0] = t
@@ -773,30 +679,7 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
         )
         mu0[:] = mu
         res, its, ok = solve_pass(
-            direct,
-            p.dfac[2],
-            p.dperm,
-            3,
-            e0,
-            mu,
-            pbar,
-            1.0,
-            0.0,
-            p.eps_acc,
-            tol3,
-            n_acc,
-            max_iter,
-            minv,
-            m.tie_node,
-            m.tie_gear,
-            jd,
-            bvec,
-            m.tb_i,
-            m.tb_j,
-            m.tb_b,
-            ccol,
-            work,
-            stats,
+            direct, p, 3, e0, mu, pbar, 1.0, 0.0, p.eps_acc, tol3, n_acc, max_iter, m, bvec, ccol, work, stats
         )
         if not ok:
             info[0] = t
