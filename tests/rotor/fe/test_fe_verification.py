@@ -7,7 +7,7 @@ import scipy.linalg as sla
 from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
 from rotaflex.rotor.fe.elements.shaft import plane_matrices
 from rotaflex.rotor.fe.modal import campbell, modal, ucs_map
-from rotaflex.rotor.fe.response import peaks, unbalance_response
+from rotaflex.rotor.fe.response import api684_required_margin, peaks, unbalance_response
 from rotaflex.rotor.fe.transient import transient
 
 RPM = np.pi / 30
@@ -124,6 +124,25 @@ def test_jeffcott_critical_speed_and_unbalance_closed_form():
     zeta = c / (2 * np.sqrt(k * m))
     assert len(pk) == 1 and pk[0]["af"] == pytest.approx(1 / (2 * zeta), rel=0.02)
     assert pk[0]["sm_percent"] == pytest.approx(100 * abs(2 * wn - pk[0]["speed"]) / (2 * wn))
+    # API 684 required margin by hand: AF = 1/(2 zeta) = 15.81 -> 17 (1 - 1/(15.81 - 1.5)) = 15.81 %
+    # below the operating speed, 10 + 15.81 = 25.81 % above it
+    af = pk[0]["af"]
+    assert pk[0]["sm_required_percent"] == pytest.approx(17 * (1 - 1 / (af - 1.5)))
+    assert pk[0]["sm_required_percent"] == pytest.approx(15.8, abs=0.3) and pk[0]["sm_ok"] == 1.0
+    close = peaks(Wf, amp, operating_speed=1.1 * wn)[0]  # 9.1 % < 15.8 %
+    assert close["sm_percent"] == pytest.approx(9.1, abs=0.2) and close["sm_ok"] == 0.0
+    above = peaks(Wf, amp, operating_speed=0.8 * wn)[0]  # critical above: 25 % < 25.8 %
+    assert above["sm_required_percent"] == pytest.approx(25.8, abs=0.3) and above["sm_ok"] == 0.0
+    assert peaks(Wf, amp, operating_speed=0.75 * wn)[0]["sm_ok"] == 1.0  # 33 % > 25.8 %
+
+
+def test_api684_required_margin_hand_values():
+    assert api684_required_margin(2.4, below=True) == 0.0  # AF < 2.5: no margin required
+    assert api684_required_margin(2.5, below=True) == pytest.approx(0.0)  # 17 (1 - 1/1) = 0
+    assert api684_required_margin(3.5, below=True) == pytest.approx(8.5)  # 17 (1 - 1/2)
+    assert api684_required_margin(3.5, below=False) == pytest.approx(18.5)
+    assert api684_required_margin(100.0, below=True) == 16.0  # capped
+    assert api684_required_margin(100.0, below=False) == 26.0
 
 
 def _ss_beam_frequencies(n_el, L=1.0, d=0.1, E=2.1e11, G=8.1e10, rho=7800.0, kap=0.9):

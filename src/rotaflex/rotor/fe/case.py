@@ -292,6 +292,8 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
         extra[f"peak_{i}_speed_rpm"] = {"value": p["speed"] / RPM, "unit": "rpm"}
         extra[f"peak_{i}_amplification_factor"] = {"value": p["af"], "unit": ""}
         extra[f"peak_{i}_separation_margin"] = {"value": p["sm_percent"], "unit": "%"}
+        extra[f"peak_{i}_required_separation_margin"] = {"value": p["sm_required_percent"], "unit": "%"}
+        extra[f"peak_{i}_meets_api684_margin"] = {"value": p["sm_ok"], "unit": ""}
     msg = f"{spec.n_speeds} speeds, {len(probes)} probes; peaks [rpm]: " + (
         ", ".join(f"{p['speed'] / RPM:.0f} (AF {p['af']:.1f})" for p in pk) or "none"
     )

@@ -104,7 +104,9 @@ def peaks(speed: np.ndarray, amplitude: np.ndarray, operating_speed: float | Non
     list of dict
         ``speed`` (N_c, refined by a parabola through the three highest samples), ``amplitude``,
         ``n1``, ``n2`` (half-power speeds, nan if outside the range), ``af`` (N_c / (N_2 - N_1)),
-        ``sm_percent`` (|N_op - N_c| / N_op * 100, nan without an operating speed).
+        ``sm_percent`` (|N_op - N_c| / N_op * 100, nan without an operating speed),
+        ``sm_required_percent`` (:func:`api684_required_margin`, nan without an operating speed)
+        and ``sm_ok`` (1.0 if the margin meets the requirement, 0.0 if not, nan without one).
     """
     a = np.asarray(amplitude, float)
     out = []
@@ -128,14 +130,37 @@ def peaks(speed: np.ndarray, amplitude: np.ndarray, operating_speed: float | Non
         if np.isnan(n1) or np.isnan(n2):
             continue  # a peak whose half-power band is not resolved is not a resonance we can rate
         sm = abs(operating_speed - nc) / operating_speed * 100 if operating_speed else np.nan
+        af = nc / (n2 - n1)
+        req = api684_required_margin(af, nc < operating_speed) if operating_speed else np.nan
+        ok = float(sm >= req) if operating_speed else np.nan
         out.append(
             {
                 "speed": float(nc),
                 "amplitude": float(peak),
                 "n1": float(n1),
                 "n2": float(n2),
-                "af": float(nc / (n2 - n1)),
+                "af": float(af),
                 "sm_percent": float(sm),
+                "sm_required_percent": float(req),
+                "sm_ok": ok,
             }
         )
     return out
+
+
+def api684_required_margin(af: float, below: bool) -> float:
+    """Separation margin [%] required of a critical speed with amplification factor ``af``.
+
+    The API 684 / API 617 rule: a critical with AF < 2.5 needs no margin (0 %); otherwise a
+    critical below the operating speed needs min(16, 17 (1 - 1/(AF - 1.5))) % and one above it
+    min(26, 10 + 17 (1 - 1/(AF - 1.5))) %.
+
+    Examples
+    --------
+    >>> round(api684_required_margin(5.5, below=True), 4)
+    12.75
+    """
+    if af < 2.5:
+        return 0.0
+    base = 17.0 * (1.0 - 1.0 / (af - 1.5))
+    return min(16.0, base) if below else min(26.0, 10.0 + base)
