@@ -135,3 +135,33 @@ def test_csv_layout_round_trip_and_named_errors(tmp_path):
     bad.write_text("\n".join(lines[1:]))
     with pytest.raises(InputError, match=r"body\.file\.frequencies"):
         load_modes(bad)
+
+
+def test_hdf5_layout_round_trip_and_named_errors(tmp_path):
+    import h5py
+
+    b = uniform_beam(2.0, 1.0, 10.0, 3)
+    save_modes(tmp_path / "b.npz", b)
+    save_modes(tmp_path / "b.h5", b)
+    with h5py.File(tmp_path / "b.h5", "r") as f, np.load(tmp_path / "b.npz") as z:
+        assert sorted(f.keys()) == sorted(z.files)
+        for k in z.files:
+            np.testing.assert_array_equal(f[k][()], z[k])  # the same arrays, bit for bit
+    fn, fh = load_modes(tmp_path / "b.npz"), load_modes(tmp_path / "b.h5")
+    for k in ("M", "J"):
+        np.testing.assert_array_equal(integrals(fh)[k], integrals(fn)[k])
+    np.testing.assert_array_equal(fh.stiffness, fn.stiffness)
+    # the load-time checks apply: a mode not mass-normalised, a group instead of a dataset
+    with h5py.File(tmp_path / "bad.h5", "w") as f, np.load(tmp_path / "b.npz") as z:
+        for k in z.files:
+            f.create_dataset(k, data=1.1 * z[k] if k == "shapes" else z[k])
+    with pytest.raises(InputError) as exc:
+        load_modes(tmp_path / "bad.h5")
+    assert exc.value.field == "body.file.shapes"
+    with h5py.File(tmp_path / "grp.h5", "w") as f:
+        f.create_group("masses")
+    with pytest.raises(InputError, match=r"body\.file\.masses"):
+        load_modes(tmp_path / "grp.h5")
+    (tmp_path / "junk.h5").write_bytes(b"not hdf5")
+    with pytest.raises(InputError, match=r"body\.file\.path"):
+        load_modes(tmp_path / "junk.h5")

@@ -103,10 +103,10 @@ class PointsConfig:
 
 @dataclass(frozen=True)
 class FileConfig:
-    """Nodes, masses and mass-normalised modes from a NumPy ``.npz`` or a ``.csv`` file (layouts in
+    """Nodes, masses and mass-normalised modes from a NumPy ``.npz``, an HDF5 or a ``.csv`` file (layouts in
     :mod:`rotaflex.floating.modes_file` and docs/floating.md)."""
 
-    path: str = param(doc="the .npz or .csv file (relative paths: from the case file's directory)")
+    path: str = param(doc="the .npz, .h5/.hdf5 or .csv file (relative paths: from the case file's directory)")
     frame: Literal["mean-axes", "attached"] = param(
         "mean-axes", doc="free-free modes in mean axes (checked) or modes clamped to the frame"
     )

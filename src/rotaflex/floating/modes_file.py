@@ -1,4 +1,5 @@
-"""User structures from files: nodes, masses and mass-normalised modes in a NumPy ``.npz``.
+"""User structures from files: nodes, masses and mass-normalised modes in a NumPy ``.npz`` or
+HDF5 file (``.h5``/``.hdf5``: the same arrays as root-level datasets of the same names).
 
 Layout (SI units, arrays stored under these names; ``N`` nodes, ``n`` elastic modes)::
 
@@ -38,6 +39,7 @@ from rotaflex.floating.body import Body, point_body
 REQUIRED = ("positions", "masses", "shapes", "frequencies")
 OPTIONAL = ("rotation_shapes", "rotary_inertias")
 RIGID_TOL = 1e-6
+HDF5 = (".h5", ".hdf5")
 
 
 def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body:
@@ -54,14 +56,16 @@ def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body
         Config path used in error messages.
     """
     p = Path(path)
-    if p.suffix.lower() not in (".npz", ".csv"):
-        raise InputError(f"{where}.path", str(path), "a NumPy .npz or a .csv file")
+    if p.suffix.lower() not in (".npz", ".csv", *HDF5):
+        raise InputError(f"{where}.path", str(path), "a NumPy .npz, an HDF5 .h5/.hdf5 or a .csv file")
     if not p.is_file():
         raise InputError(f"{where}.path", str(path), f"an existing {p.suffix.lower()} file")
     if frame not in ("mean-axes", "attached"):
         raise InputError(f"{where}.frame", frame, "'mean-axes' or 'attached'")
     if p.suffix.lower() == ".csv":
         data, extra = _read_csv(p, where), []
+    elif p.suffix.lower() in HDF5:
+        data, extra = _read_hdf5(p, where)
     else:
         data, extra = _read_npz(p, where)
     return _checked_body(data, extra, frame, where, p.name)
@@ -75,6 +79,24 @@ def _read_npz(p: Path, where: str):
     except (OSError, ValueError) as exc:
         raise InputError(f"{where}.path", str(p), f"a readable .npz file ({exc})") from None
     return data, extra
+
+
+def _read_hdf5(p: Path, where: str):
+    import h5py  # installed with h5netcdf, the NetCDF writer
+
+    try:
+        with h5py.File(p, "r") as f:
+            names = list(f.keys())
+            data = {}
+            for k in names:
+                if k not in REQUIRED + OPTIONAL:
+                    continue
+                if not isinstance(f[k], h5py.Dataset):
+                    raise InputError(f"{where}.{k}", str(p), "a dataset at the file's root (found a group)")
+                data[k] = np.asarray(f[k][()], dtype=float)
+    except (OSError, ValueError, TypeError) as exc:
+        raise InputError(f"{where}.path", str(p), f"a readable HDF5 file ({exc})") from None
+    return data, [k for k in names if k not in REQUIRED + OPTIONAL]
 
 
 def _read_csv(p: Path, where: str) -> dict:
@@ -198,8 +220,9 @@ def _checked_body(data: dict, extra: list, frame: str, where: str, name: str) ->
 
 
 def save_modes(path, body: Body, rotation_shapes: bool = True) -> None:
-    """Write ``body`` (its mass points and modes) in the ``.npz`` layout, or the CSV layout if
-    ``path`` ends in ``.csv`` (for exchange/tests). Rotation shapes are written only where the
+    """Write ``body`` (its mass points and modes) in the ``.npz`` layout, as HDF5 datasets if
+    ``path`` ends in ``.h5``/``.hdf5``, or the CSV layout if it ends in ``.csv`` (for
+    exchange/tests). Rotation shapes are written only where the
     body defines them at its points; rotary inertias are not written."""
     arrays = {
         "positions": body.points,
@@ -224,5 +247,12 @@ def save_modes(path, body: Body, rotation_shapes: bool = True) -> None:
         np.savetxt(path, table, delimiter=",", header=",".join(cols), comments="", fmt="%.17g")
         text = Path(path).read_text(encoding="utf-8")
         Path(path).write_text(head + "\n" + text, encoding="utf-8")
+        return
+    if str(path).lower().endswith(HDF5):
+        import h5py
+
+        with h5py.File(path, "w") as f:
+            for k, a in arrays.items():
+                f.create_dataset(k, data=a)
         return
     np.savez(path, **arrays)
