@@ -14,6 +14,16 @@ unconditionally stable: the shaft's high modes make the full system stiff), ``st
 steps per output interval; a nonlinear force is converged by fixed-point iteration in each step.
 ``method="modal"`` projects on the lowest undamped modes of (K(Omega_mid), M), which removes the
 stiff modes, and integrates with the adaptive DOP853 scheme.
+
+Large-rotation disks (``large_rotation``): ``large_rotation_model="euler_123"`` adds the exact
+1-2-3 tilt terms of :class:`~rotaflex.rotor.fe.elements.large_disk.LargeRotationDisk` to the
+node's DOFs (singular at theta_y = +-90 deg: the integration stops with a SingularityError at
+|theta_y| > 89 deg); ``"quaternion"`` carries each disk as a rigid body with quaternion attitude
+and body rates (:class:`~rotaflex.rotor.fe.elements.quaternion_disk.QuaternionDisk`), joined
+to the node by a bending hub spring, integrated together with the modal coordinates (the
+quaternion is not renormalised in the state; it is normalised where the attitude is used and
+its norm drift is returned). The quaternion disk needs a constant speed (its spin is free,
+the joint transmits no torque about the disk axis) and the modal method.
 """
 
 from __future__ import annotations
@@ -27,8 +37,9 @@ import numpy as np
 import scipy.linalg as sla
 from scipy.integrate import solve_ivp
 
-from rotaflex.core.errors import ConvergenceError, InputError
+from rotaflex.core.errors import ConvergenceError, InputError, SingularityError
 from rotaflex.rotor.fe.elements.large_disk import LargeRotationDisk
+from rotaflex.rotor.fe.elements.quaternion_disk import QuaternionDisk
 from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
 
 log = logging.getLogger(__name__)
@@ -48,6 +59,12 @@ class TransientData:
     nfev : int
     wall_time : float [s]
     message : str
+    quaternion : ndarray (t, n_disk, 4) or None
+        Attitudes of the quaternion disks (as integrated, not renormalised).
+    omega : ndarray (t, n_disk, 3) or None
+        Their body angular velocities [rad/s].
+    disks : tuple of QuaternionDisk
+        The quaternion disks, in the order of the second axis above.
     """
 
     time: np.ndarray
@@ -57,6 +74,16 @@ class TransientData:
     nfev: int
     wall_time: float
     message: str
+    quaternion: np.ndarray | None = None
+    omega: np.ndarray | None = None
+    disks: tuple = ()
+
+    @property
+    def quaternion_norm_drift(self) -> float:
+        """max | |e| - 1 | over the history and the quaternion disks (0 without any)."""
+        if self.quaternion is None or self.quaternion.size == 0:
+            return 0.0
+        return float(np.max(np.abs(np.linalg.norm(self.quaternion, axis=-1) - 1.0)))
 
 
 def _speed_grid(rotor: Rotor, lo: float, hi: float) -> np.ndarray:
@@ -84,6 +111,9 @@ def transient(
     atol: float = 1e-12,
     steps_per_output: int = 4,
     large_rotation=(),
+    large_rotation_model: str = "euler_123",
+    hub_stiffness: float | None = None,
+    disk_state0=None,
 ) -> TransientData:
     """Integrate the rotor's motion from 0 to ``t_end`` [s].
 
@@ -100,6 +130,13 @@ def transient(
     large_rotation : sequence of int
         Disk nodes whose tilt is integrated with exact (large-rotation) kinematics
         (:class:`~rotaflex.rotor.fe.elements.large_disk.LargeRotationDisk`).
+    large_rotation_model : ``"euler_123"`` or ``"quaternion"``
+    hub_stiffness : float, optional
+        Bending stiffness of the quaternion disks' hub joint [N m/rad]; default 1000 times the
+        node's largest tilt stiffness diagonal (close to rigid; 0 gives a free disk).
+    disk_state0 : dict node -> (quaternion (4,), body rates (3,) [rad/s]), optional
+        Initial state of quaternion disks; default from the node's initial tilt and tilt rate
+        and ``speed_start`` (:meth:`QuaternionDisk.initial_state`).
     """
     t0 = time.perf_counter()
     speed_end = speed_start if speed_end is None else speed_end
@@ -108,6 +145,27 @@ def transient(
     grid = _speed_grid(rotor, min(speed_start, speed_end), max(speed_start, speed_end))
     Kg, Cg = rotor.KC(grid)
     M, G, Kst = rotor.M, rotor.G, rotor.Kst
+    disks = dict(rotor.disks)
+    if large_rotation_model not in ("euler_123", "quaternion"):
+        raise InputError("transient.large_rotation_model", large_rotation_model, "'euler_123' or 'quaternion'")
+    for node in large_rotation:
+        if node not in disks:
+            raise InputError("transient.large_rotation", node, "nodes that carry a disk: " + str(sorted(disks)))
+    quat = large_rotation_model == "quaternion" and bool(large_rotation)
+    Mbasis = M
+    if quat:
+        if method != "modal":
+            raise InputError("transient.method", method, "'modal' with large_rotation_model = 'quaternion'")
+        if speed_end != speed_start:
+            raise InputError(
+                "transient.speed_rpm", (speed_start, speed_end), "equal speeds with large_rotation_model = 'quaternion'"
+            )
+        M, G, Kst = M.copy(), G.copy(), Kst.copy()
+        for node in large_rotation:  # the disk's rotary inertia moves to the rigid body
+            sl = slice(NDOF_NODE * node, NDOF_NODE * node + 4)
+            M[sl, sl] -= np.diag([0.0, 0.0, disks[node].Id, disks[node].Id])
+            G[sl, sl] -= disks[node].G()
+            Kst[sl, sl] -= disks[node].Kst()
     F = np.zeros((n, 2), complex)  # unbalance: x and y rows, phasor of the spin angle
     for node, u, phase in unbalance:
         if not 0 <= node < rotor.n_nodes:
@@ -119,8 +177,10 @@ def transient(
         mid = 0.5 * (speed_start + speed_end)
         Kmid = rotor.KC(mid)[0][0]
         k = min(n_modes, n)
-        w2, Phi = sla.eigh(0.5 * (Kmid + Kmid.T), M, subset_by_index=(0, k - 1))
-        T = Phi  # M-orthonormal basis
+        # basis of the rotor with its disks' rotary inertia (also for quaternion disks: their
+        # stiff hub keeps the node near the disk's attitude, so the same low modes span it)
+        w2, Phi = sla.eigh(0.5 * (Kmid + Kmid.T), Mbasis, subset_by_index=(0, k - 1))
+        T = Phi
     elif method == "direct":
         T = np.eye(n)
     else:
@@ -132,13 +192,31 @@ def transient(
     Kr = np.einsum("ia,sij,jb->sab", T, Kg, T)
     Cr = np.einsum("ia,sij,jb->sab", T, Cg, T)
     Fr = T.T @ F[:, 0]
-    disks = dict(rotor.disks)
-    large = []
+    large, qdisks = [], []
+    q0 = np.zeros(n) if q0 is None else np.asarray(q0, float)
+    v0 = np.zeros(n) if v0 is None else np.asarray(v0, float)
+    # modal coordinates of q0, v0 in the basis' own mass metric; a quaternion disk starts at the
+    # node's tilt as the basis represents it (an unstrained hub)
+    Pb = sla.solve(T.T @ Mbasis @ T, T.T @ Mbasis)
+    q0b, v0b = T @ (Pb @ q0), T @ (Pb @ v0)
+    z_disk = []
     for node in large_rotation:
-        if node not in disks:
-            raise InputError("transient.large_rotation", node, "nodes that carry a disk: " + str(sorted(disks)))
-        el = LargeRotationDisk(node, disks[node].Id, disks[node].Ip)
-        large.append((el, T[NDOF_NODE * node : NDOF_NODE * node + 4]))
+        Tn = T[NDOF_NODE * node : NDOF_NODE * node + 4]
+        if not quat:
+            large.append((LargeRotationDisk(node, disks[node].Id, disks[node].Ip), Tn))
+            continue
+        sl = slice(NDOF_NODE * node + 2, NDOF_NODE * node + 4)
+        kb = hub_stiffness if hub_stiffness is not None else 1e3 * float(np.max(np.diag(Kg[0])[sl]))
+        if not (np.isfinite(kb) and kb >= 0):
+            raise InputError("transient.hub_stiffness", hub_stiffness, "a finite number >= 0 [N m/rad]")
+        el = QuaternionDisk(node, disks[node].Id, disks[node].Ip, kb)
+        if disk_state0 is not None and node in disk_state0:
+            e0, w0 = (np.asarray(a, float) for a in disk_state0[node])
+        else:
+            e0, w0 = QuaternionDisk.initial_state(q0b[sl], v0b[sl], speed_start)
+        qdisks.append((el, Tn[2:4]))
+        z_disk += [e0, w0]
+    nq = len(qdisks)
 
     def mats(t):
         w = speed_start + alpha * t
@@ -152,24 +230,37 @@ def transient(
 
     def rhs(t, z):
         w, K, D = mats(t)
-        x, v = z[:m], z[m:]
+        x, v = z[:m], z[m : 2 * m]
         phi = speed_start * t + 0.5 * alpha * t * t
         e = np.exp(1j * phi)
         f = (Fr * (w * w - 1j * alpha) * e).real if unbalance else np.zeros(m)
         if force is not None:
             f = f + T.T @ force(t, T @ x, T @ v)
+        if qdisks:
+            dz = []
+            for i, (el, Tt) in enumerate(qdisks):
+                zi = z[2 * m + 7 * i : 2 * m + 7 * i + 7]
+                de, dw, mom = el.rates(zi[:4], zi[4:], Tt @ x)
+                f = f + Tt.T @ mom
+                dz += [de, dw]
+            return np.concatenate([v, Mi @ (f - D @ v - K @ x), *dz])
         if not large:
             return np.concatenate([v, Mi @ (f - D @ v - K @ x)])
         Mq = Mr.copy()
         for el, Tn in large:
             qn, vn = Tn @ x, Tn @ v
+            if abs(qn[3]) > np.radians(89.0):
+                raise SingularityError(
+                    f"Euler 1-2-3 large-rotation disk at node {el.node}",
+                    t,
+                    f"theta_y = {np.degrees(qn[3]):.2f} deg, singular at 90 deg; "
+                    "use large_rotation_model = 'quaternion'",
+                )
             Mq += el.mass_increment(qn) * np.outer(Tn[2], Tn[2])
             f = f - Tn.T @ el.force(qn, vn, w, alpha)
         return np.concatenate([v, np.linalg.solve(Mq, f - D @ v - K @ x)])
 
-    q0 = np.zeros(n) if q0 is None else np.asarray(q0, float)
-    v0 = np.zeros(n) if v0 is None else np.asarray(v0, float)
-    z0 = np.concatenate([sla.solve(Mr, T.T @ M @ q0), sla.solve(Mr, T.T @ M @ v0)])
+    z0 = np.concatenate([Pb @ q0, Pb @ v0, *z_disk])
     t_eval = np.linspace(0.0, t_end, n_output)
     if method == "direct":
         return _newmark(mats, rhs, M, Mi, z0, t_eval, steps_per_output, force is not None or bool(large), rtol, t0)
@@ -178,10 +269,20 @@ def transient(
         tt = float(sol.t[-1]) if sol.t.size else 0.0
         raise ConvergenceError(f"time integration ({method}): {sol.message}", tt, float("nan"), rtol)
     q = (T @ sol.y[:m]).T
-    v = (T @ sol.y[m:]).T
+    v = (T @ sol.y[m : 2 * m]).T
     log.info("transient %s: %d rhs evaluations", method, sol.nfev)
+    zd = sol.y[2 * m :].T.reshape(sol.t.size, nq, 7)
     return TransientData(
-        sol.t, q, v, speed_start + alpha * sol.t, int(sol.nfev), time.perf_counter() - t0, f"{method}: {sol.message}"
+        sol.t,
+        q,
+        v,
+        speed_start + alpha * sol.t,
+        int(sol.nfev),
+        time.perf_counter() - t0,
+        f"{method}: {sol.message}",
+        quaternion=zd[..., :4] if nq else None,
+        omega=zd[..., 4:] if nq else None,
+        disks=tuple(el for el, _ in qdisks),
     )
 
 
