@@ -117,3 +117,21 @@ def test_bad_large_rotation_model_is_an_input_error():
     r = _overhung()
     with pytest.raises(InputError, match="large_rotation_model"):
         transient(r, 0.01, speed_start=300.0, large_rotation=[NODE], large_rotation_model="rodrigues", **KW)
+
+
+def test_example_toml_runs_with_the_quaternion_disk():
+    import tomllib
+    from pathlib import Path
+
+    from rotaflex.rotor.fe.case import run_case
+
+    path = Path(__file__).resolve().parents[3] / "examples" / "rotor" / "fe_overhung_quaternion_disk.toml"
+    cfg = tomllib.loads(path.read_text())
+    cfg["transient"].update(duration=0.004, n_output=41)
+    res = run_case({"analysis": "transient", **cfg})
+    ds = res.dataset
+    assert ds.attrs["status"] == "success"
+    assert ds["disk_quaternion"].dims == ("time", "disk", "component")
+    norm = np.linalg.norm(ds["disk_quaternion"].values, axis=-1)
+    assert np.max(np.abs(norm - 1.0)) < 1e-8
+    assert res.summary()["quaternion_norm_drift"]["value"] < 1e-8
