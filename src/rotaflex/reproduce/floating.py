@@ -518,6 +518,22 @@ def _reference_checks(fast: bool) -> list[Check]:
                 f"{e / np.abs(ref.tip).max():.2e} of the peak {np.abs(ref.tip).max():.3f} m; 8 modes",
             )
         )
+        # the relative error is the linear model's O((u/L)^2): same coefficient at half the rate
+        k = [e / np.abs(ref.tip).max() ** 3 * spin.length**2]
+        half = PlanarCase(10.0, 1.2, 1.4e4, support="clamped-spin", rate=3.0, spin_up_time=15.0)
+        ref = converged(half, 20.0, 0.05, n0=16, levels=3, check_dt=False)
+        u, _ = modal_counterpart(half, 20.0, 0.05, n_modes=8)
+        k.append(np.abs(u - ref.tip).max() / np.abs(ref.tip).max() ** 3 * half.length**2)
+        out.append(
+            _chk(
+                "spin-up beam: (relative tip error) / (u/L)^2 at 6 rad/s over 3 rad/s",
+                k[0] / k[1],
+                "",
+                "1 +- 0.2",
+                abs(k[0] / k[1] - 1.0) < 0.2,
+                f"coefficients {k[0]:.2f} and {k[1]:.2f}: the error is quadratic in the deflection",
+            )
+        )
     return out
 
 
