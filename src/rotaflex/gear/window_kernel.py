@@ -23,9 +23,10 @@ __all__ = ["WindowArgs", "run_window_rk4"]
 class WindowArgs(NamedTuple):
     """Pinion/wheel chain nodes, base radii [m], base pitch [m], path start/end [m], window
     entry position [m], window size, modes per tooth, table origin and step [m], residual
-    stiffness [N/m], pair damping [N s/m], gap [m], participations (n_s, m) [1/sqrt(kg)],
+    stiffness [N/m], gap [m], participations (n_s, m) [1/sqrt(kg)],
     fillet stress per newton [Pa/N] of both gears, modal circular frequencies (m,) of both
-    gears [rad/s], tooth damping ratio."""
+    gears [rad/s], tooth damping ratio, mesh damping [N s/m] and the deflection over which it
+    grows to its full value [m]."""
 
     ip: int
     iw: int
@@ -40,7 +41,6 @@ class WindowArgs(NamedTuple):
     s0: float
     ds: float
     k_res: np.ndarray
-    c_pair: np.ndarray
     gap: np.ndarray
     a1: np.ndarray
     a2: np.ndarray
@@ -49,6 +49,8 @@ class WindowArgs(NamedTuple):
     omega1: np.ndarray
     omega2: np.ndarray
     zeta: float
+    c_mesh: float
+    damping_onset: float
 
 
 @njit(cache=True)
@@ -89,6 +91,7 @@ def _pairs(y, n_chain, n_hi, win, gen, rec):
     sd = win.rb1 * om1
     u_roll = win.rb1 * th1 + win.s_start
     s_min, s_max = win.s0, win.s0 + win.ds * (win.k_res.shape[0] - 1)
+    dmax = 0.0
     for j in range(W):
         n = n_hi - j
         s = u_roll - n * win.pb
@@ -99,7 +102,6 @@ def _pairs(y, n_chain, n_hi, win, gen, rec):
         k, dk = _lin(win.k_res, c, u, win.ds)
         g, dg = _lin(win.gap, c, u, win.ds)
         defl = 0.0
-        rate = 0.0
         dpar = dg
         for gear in range(2):
             tab = win.a1 if gear == 0 else win.a2
@@ -108,21 +110,20 @@ def _pairs(y, n_chain, n_hi, win, gen, rec):
                 a = tab[c, kk] + u * (tab[c + 1, kk] - tab[c, kk])
                 da = (tab[c + 1, kk] - tab[c, kk]) / win.ds
                 eta = y[o + kk]
-                deta = y[o + nm2 + kk]
                 defl += a * eta
-                rate += da * sd * eta + a * deta
                 dpar += da * eta
         delta = x - g - defl
         if delta <= 0.0:
             continue
-        cp = win.c_pair[c] + u * (win.c_pair[c + 1] - win.c_pair[c])
-        ddelta = xd - dg * sd - rate
-        f = k * delta + cp * ddelta
+        fs = k * delta
+        if delta > dmax:
+            dmax = delta
         for gear in range(2):
             tab = win.a1 if gear == 0 else win.a2
             o = (slot * 2 + gear) * m
             for kk in range(m):
-                gen[o + kk] += (tab[c, kk] + u * (tab[c + 1, kk] - tab[c, kk])) * f
+                gen[o + kk] += (tab[c, kk] + u * (tab[c + 1, kk] - tab[c, kk])) * fs
+        f = fs
         rec[0] += f
         f1 = (win.fillet1[c] + u * (win.fillet1[c + 1] - win.fillet1[c])) * f
         f2 = (win.fillet2[c] + u * (win.fillet2[c + 1] - win.fillet2[c])) * f
@@ -131,9 +132,17 @@ def _pairs(y, n_chain, n_hi, win, gen, rec):
         if f2 > rec[2]:
             rec[2] = f2
         rec[3] += 1.0
-        rec[4] += sd * (0.5 * dk * delta * delta - f * dpar)
-        rec[5] += cp * ddelta * ddelta
+        rec[4] += sd * (0.5 * dk * delta * delta - k * delta * dpar)
         rec[6] += 0.5 * k * delta * delta
+    if dmax > 0.0:
+        # one mesh dashpot between the base circles while any pair touches (the lumped model's
+        # c_m), growing over the first damping_onset of deflection: no force step at first touch;
+        # it damps vibration, not the kinematic approach of a profile rolling through the mesh
+        cm = win.c_mesh
+        if dmax < win.damping_onset:
+            cm *= dmax / win.damping_onset
+        rec[0] += cm * xd
+        rec[5] = cm * xd * xd
 
 
 @njit(cache=True)

@@ -55,7 +55,6 @@ def _args(model: WindowModel, ch) -> WindowArgs:
         float(model.s_grid[0]),
         float(model.s_grid[1] - model.s_grid[0]),
         model.k_res,
-        model.c_pair,
         model.gap,
         np.ascontiguousarray(model.a1),
         np.ascontiguousarray(model.a2),
@@ -64,6 +63,8 @@ def _args(model: WindowModel, ch) -> WindowArgs:
         model.modes[0].omega.copy(),
         model.modes[1].omega.copy(),
         float(model.tooth_damping_ratio),
+        float(model.system.mesh_damping),
+        float(model.damping_onset),
     )
 
 
