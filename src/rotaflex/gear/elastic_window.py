@@ -211,7 +211,7 @@ def build_window_model(
     meshes,
     densities,
     *,
-    n_modes: int = 2,
+    n_modes: int = 0,
     tooth_damping_ratio: float = DEFAULT_TOOTH_DAMPING_RATIO,
     corner_contact: bool = True,
     extension: float = 0.3,
@@ -228,7 +228,8 @@ def build_window_model(
         FE pair data (:func:`~.static_pair.pair_line`), the same meshes as ``meshes``.
     meshes, densities : pair of ToothMesh, pair of float [kg/m^3]
     n_modes : int
-        Tooth modes per gear (0: massless teeth).
+        Tooth modes per gear; 0 (default): massless, statically condensed FE teeth (the
+        tooth springs of DANST-type models); 1-6 add tooth inertia (docs/gear-steady-state.md).
     tooth_damping_ratio : float
         Modal damping ratio of the tooth modes.
     corner_contact : bool
