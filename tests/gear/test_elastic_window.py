@@ -156,9 +156,7 @@ def test_default_window_model_agrees_with_the_lumped_model_in_the_linear_limit(p
 def toothed(plain):
     mesh, lines = plain
     line = lines[22.25]
-    model = build_window_model(
-        _system(loaded_mesh_table(line, line.force)), line, (mesh, mesh), (RHO, RHO), n_modes=2
-    )
+    model = build_window_model(_system(loaded_mesh_table(line, line.force)), line, (mesh, mesh), (RHO, RHO), n_modes=2)
     op = tor.OperatingPoint(10000.0, 22.25)
     res, st = wr.steady_state(model, op)
     return model, op, res, st
@@ -210,4 +208,4 @@ def test_contact_loss_and_reimpact_at_resonance_run_through(plain):
     assert float(ds.contact_loss_fraction) > 0.1
     assert np.all(np.isfinite(ds["mesh_force"].values)) and float(ds.force_min) <= 0.0
     assert ds.attrs["status"] in ("success", "not_periodic") and "periodic" in ds.attrs["message"]
-    assert np.all(ds["fillet_stress_max"].values > 0)
+    assert float(ds.fillet_stress_max_pinion) > 0 and float(ds.fillet_stress_max_wheel) > 0

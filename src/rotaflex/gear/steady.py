@@ -203,12 +203,15 @@ class SteadyStateResult(Result):
         ds = self.dataset
         if "state_theta" not in ds:
             return None
-        return {
+        out = {
             "theta": ds["state_theta"].values.tolist(),
             "omega": ds["state_omega"].values.tolist(),
             "nominal": ds["state_nominal"].values.tolist(),
             "time": float(ds.attrs["state_time"]),
         }
+        if "state_modal" in ds:  # elastic-tooth window model
+            out.update(modal=ds["state_modal"].values.tolist(), n_hi=int(ds.attrs["state_n_hi"]))
+        return out
 
     def plot(self) -> dict:
         """Figures: ``time_series`` (DTE, force), ``one_cycle`` (last cycle), ``spectrum``."""

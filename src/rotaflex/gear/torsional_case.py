@@ -15,6 +15,18 @@ TOML tables (SI unless the key names its unit; all optional, defaults = the pape
     [sweep]      speeds_rpm = [...] (two or more: an up-and-down sweep instead of one point),
                  directions = ["up", "down"]
     [iso]        f_pb_eff, f_f_eff, tip_relief (m), application_factor (ISO 6336-1 K_v overlay)
+    [model]      method = "lumped" | "elastic_teeth", n_modes, tooth_damping_ratio,
+                 corner_contact, mesh_preset, n_radii, relief
+    [pinion], [wheel], center_distance
+                 the pair as on a drawing (the tables of ``gear static``: shifts, reliefs,
+                 materials, blanks) instead of ``[gear]``
+
+Mesh model (``model.method``): ``lumped`` drives the torsional chain with a mesh table
+``k(phi), e(phi)`` (from ``gear.static`` for ``[gear]``; from the loaded TE of
+:mod:`~.static_pair` at the operating torque for a ``[pinion]``/``[wheel]`` pair, so tip
+relief enters as unloaded TE); ``elastic_teeth`` replaces the mesh spring by the FE tooth pairs
+of :mod:`~.elastic_window` (per-pair compliance, relief gaps, load sharing, corner contact,
+optional tooth inertia).
 
 :func:`run_torsional` has the signature of the domain command registry
 (``fn(config, *, progress=False) -> Result``); with ``initial_state`` (the ``final_state()`` of
@@ -25,6 +37,7 @@ an earlier single-point result) one steady state continues from that state, whic
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import math
@@ -36,7 +49,9 @@ import numpy as np
 from rotaflex.core.config import from_mapping, param, to_mapping
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result
-from rotaflex.gear.geometry import GearGeometry, contact_ratio
+from rotaflex.gear.drawing import GearSpec as DrawingGearSpec
+from rotaflex.gear.drawing import PairSpec
+from rotaflex.gear.geometry import GearGeometry, center_distance_no_backlash, contact_ratio
 from rotaflex.gear.iso6336_kv import iso_kv
 from rotaflex.gear.torsional import (
     OperatingPoint,
@@ -62,6 +77,7 @@ class GearSpec:
     root_radius: tuple[float, float] | None = param(None, unit="m", doc="omitted: derived")
     youngs_modulus: float = param(210e9, unit="Pa", gt=0.0)
     poisson_ratio: float = param(0.3, gt=0.0, lt=0.5)
+    density: float = param(7800.0, unit="kg/m^3", gt=0.0, doc="tooth mass (elastic_teeth with n_modes > 0)")
 
     def geometry(self) -> tuple[GearGeometry, GearGeometry]:
         return tuple(
@@ -134,6 +150,19 @@ class IsoSpec:
 
 
 @dataclass(frozen=True)
+class ModelSpec:
+    method: Literal["lumped", "elastic_teeth"] = param(
+        "lumped", doc="mesh spring k(phi), e(phi), or the travelling window of FE tooth pairs"
+    )
+    n_modes: int = param(0, ge=0, le=6, doc="elastic_teeth: tooth modes per gear (0: massless FE teeth)")
+    tooth_damping_ratio: float = param(0.02, ge=0.0, lt=1.0, doc="elastic_teeth: modal damping of tooth modes")
+    corner_contact: bool = param(True, doc="elastic_teeth: premature tip-corner contact beyond the path")
+    mesh_preset: Literal["coarse", "default", "fine"] = param("default", doc="FE tooth mesh ([pinion]/[wheel])")
+    n_radii: int = param(9, ge=4, le=40, doc="FE load cases per tooth over its active profile")
+    relief: bool = param(True, doc="false: the [pinion]/[wheel] gears without their profile reliefs")
+
+
+@dataclass(frozen=True)
 class TorsionalCaseConfig:
     gear: GearSpec = param(GearSpec())
     mesh: MeshSpec = param(MeshSpec())
@@ -142,9 +171,77 @@ class TorsionalCaseConfig:
     steady: SteadySpec = param(SteadySpec())
     sweep: SweepSpec = param(SweepSpec())
     iso: IsoSpec = param(IsoSpec())
+    model: ModelSpec = param(ModelSpec())
+    pinion: DrawingGearSpec | None = param(None, doc="gear 1 as on a drawing (instead of [gear])")
+    wheel: DrawingGearSpec | None = param(None, doc="gear 2 as on a drawing")
+    center_distance: float | None = param(None, unit="m", gt=0.0, doc="[pinion]/[wheel]: working centre distance")
+
+    @property
+    def pair(self) -> PairSpec | None:
+        """The checked drawing pair, or None with ``[gear]``."""
+        if self.pinion is None:
+            return None
+        return PairSpec(pinion=self.pinion, wheel=self.wheel, center_distance=self.center_distance).check()
 
 
 SCHEMA = TorsionalCaseConfig
+
+
+@dataclass(frozen=True)
+class PairData:
+    """What the mesh models need from the pair: geometries, FE meshes, working centre
+    distance [m], (E1, nu1, E2, nu2), densities [kg/m^3], gear inertias [kg m^2], face width [m]."""
+
+    gears: tuple
+    meshes: tuple
+    center_distance: float
+    elastic: tuple
+    densities: tuple
+    inertias: tuple | None
+    face_width: float
+
+
+@functools.lru_cache(maxsize=8)
+def pair_data(cfg: TorsionalCaseConfig) -> PairData:
+    """Geometry, meshes and materials of ``cfg``'s pair ([gear] or [pinion]/[wheel])."""
+    from rotaflex.gear.mesh import build_tooth_mesh
+
+    pair = cfg.pair
+    if pair is None:
+        g = cfg.gear
+        g1, g2 = g.geometry()
+        meshes = (build_tooth_mesh(g1), build_tooth_mesh(g2))
+        e = (g.youngs_modulus, g.poisson_ratio)
+        return PairData(
+            (g1, g2), meshes, center_distance_no_backlash(g1, g2), 2 * e, (g.density,) * 2, None, g.face_width
+        )
+    from rotaflex.gear.static_case import gear_meshes
+
+    gears = pair.gears
+    if not cfg.model.relief:
+        gears = tuple(dataclasses.replace(x, tip_relief=None, root_relief=None) for x in gears)
+    meshes = gear_meshes(pair, cfg.model.mesh_preset, relief=cfg.model.relief)
+    (e1, nu1, r1), (e2, nu2, r2) = pair.pinion.material.values, pair.wheel.material.values
+    return PairData(
+        gears,
+        meshes,
+        pair.working_center_distance,
+        (e1, nu1, e2, nu2),
+        (r1, r2),
+        (pair.pinion.inertia("pinion"), pair.wheel.inertia("wheel")),
+        min(pair.pinion.face_width, pair.wheel.face_width),
+    )
+
+
+@functools.lru_cache(maxsize=8)
+def pair_line_of(cfg: TorsionalCaseConfig):
+    """FE pair data along the line of action at the operating torque."""
+    from rotaflex.gear.static_pair import pair_line
+
+    pd = pair_data(cfg)
+    g1, g2 = pd.gears
+    force = cfg.operation.torque / g2.base_radius
+    return pair_line(g1, g2, *pd.meshes, pd.center_distance, force, pd.elastic, cfg.model.n_radii)
 
 
 @functools.lru_cache(maxsize=8)
@@ -169,16 +266,32 @@ def _mesh_table(gear: GearSpec, mesh_spec: MeshSpec, torque: float):
     return mesh, eps
 
 
-def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
-    """The torsional model and the contact ratio of ``cfg``."""
-    g1, g2 = cfg.gear.geometry()
-    mesh, eps = _mesh_table(cfg.gear, cfg.mesh, cfg.operation.torque)
+def build_system(cfg: TorsionalCaseConfig, inertia_given: bool = True) -> tuple[TorsionalSystem, float]:
+    """The torsional model and the contact ratio of ``cfg``.
+
+    ``inertia_given`` False: a drawing pair's gear inertias come from its blanks, not from
+    ``train.inertia``'s default.
+    """
     t = cfg.train
+    inertia = tuple(t.inertia)
+    if cfg.pair is None and cfg.model.method == "lumped":
+        g1, g2 = cfg.gear.geometry()
+        mesh, eps = _mesh_table(cfg.gear, cfg.mesh, cfg.operation.torque)
+    else:
+        from rotaflex.gear.elastic_window import loaded_mesh_table
+
+        pd = pair_data(cfg)
+        g1, g2 = pd.gears
+        line = pair_line_of(cfg)
+        mesh = loaded_mesh_table(line, line.force, cfg.mesh.table_points)
+        eps = contact_ratio(g1, g2, pd.center_distance)
+        if pd.inertias is not None and not inertia_given:
+            inertia = pd.inertias
     sys = TorsionalSystem(
         mesh=mesh,
-        teeth=tuple(cfg.gear.teeth),
+        teeth=(g1.teeth, g2.teeth),
         base_radius=(g1.base_radius, g2.base_radius),
-        inertia=tuple(t.inertia),
+        inertia=inertia,
         motor_inertia=t.motor_inertia,
         load_inertia=t.load_inertia,
         input_shaft_stiffness=t.input_shaft_stiffness or math.inf,
@@ -195,6 +308,20 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
 
 def _checked(config: dict) -> TorsionalCaseConfig:
     cfg = from_mapping(TorsionalCaseConfig, config)
+    if (cfg.pinion is None) != (cfg.wheel is None):
+        missing = "wheel" if cfg.wheel is None else "pinion"
+        raise InputError(missing, None, f"a [{missing}] table together with the other gear's")
+    if cfg.pinion is not None and "gear" in config:
+        raise InputError("gear", "a [gear] table", "either [gear] or [pinion]/[wheel], not both")
+    if cfg.pinion is None and cfg.center_distance is not None:
+        raise InputError("center_distance", cfg.center_distance, "only with [pinion]/[wheel]")
+    if cfg.model.method == "elastic_teeth" and cfg.mesh.source != "static_fe":
+        raise InputError("mesh.source", cfg.mesh.source, "'static_fe' with model.method = 'elastic_teeth'")
+    if cfg.pinion is not None and cfg.mesh.source != "static_fe":
+        raise InputError("mesh.source", cfg.mesh.source, "'static_fe' with [pinion]/[wheel]")
+    if cfg.model.method == "elastic_teeth" and cfg.mesh.backlash is not None:
+        raise InputError("mesh.backlash", cfg.mesh.backlash, "omitted with model.method = 'elastic_teeth'")
+    cfg.pair  # noqa: B018  (checks the drawing pair)
     s = cfg.steady
     if s.min_cycles > s.max_cycles:
         raise InputError("steady.min_cycles", s.min_cycles, f"<= steady.max_cycles = {s.max_cycles}")
@@ -207,8 +334,8 @@ def _checked(config: dict) -> TorsionalCaseConfig:
     for d in cfg.sweep.directions:
         if d not in ("up", "down"):
             raise InputError("sweep.directions", d, "'up' or 'down'")
-    g1, g2 = cfg.gear.geometry()
-    eps = contact_ratio(g1, g2)
+    g1, g2 = cfg.gear.geometry() if cfg.pair is None else cfg.pair.gears
+    eps = contact_ratio(g1, g2) if cfg.pair is None else cfg.pair.contact_ratio
     if cfg.mesh.source == "contact_pattern" and not 1.0 < eps < 2.0:
         raise InputError("gear", f"contact ratio {eps:.3f}", "1 < eps < 2 for mesh.source = 'contact_pattern'")
     return cfg
@@ -219,20 +346,28 @@ def validate_config(config: dict) -> None:
     _checked(config)
 
 
-def _state_of(initial_state) -> State:
+def _state_of(initial_state):
+    """A lumped :class:`State` or, with ``modal`` data, a window-model state."""
     try:
-        return State(
+        th, om, nom, t = (
             np.asarray(initial_state["theta"], dtype=float),
             np.asarray(initial_state["omega"], dtype=float),
-            float(initial_state["time"]),
             np.asarray(initial_state["nominal"], dtype=float),
+            float(initial_state["time"]),
         )
+        if "modal" in initial_state:
+            from rotaflex.gear.window_run import WindowState
+
+            return WindowState(
+                th, om, t, nom, np.asarray(initial_state["modal"], dtype=float), int(initial_state["n_hi"])
+            )
+        return State(th, om, t, nom)
     except (KeyError, TypeError, ValueError) as exc:
         what = f"a final_state() of gear steady ({exc})"
         raise InputError("initial_state", type(initial_state).__name__, what) from None
 
 
-def _point_extras(res, sys: TorsionalSystem, st: State, cfg: TorsionalCaseConfig, eps: float) -> None:
+def _point_extras(res, sys: TorsionalSystem, st, cfg: TorsionalCaseConfig, eps: float, face_width: float) -> None:
     """Scalars a speed sweep of single points needs (linear resonance, ISO K_v at this speed)
     and the final state (continuation, also after reading result.nc back)."""
     ds = res.dataset
@@ -248,7 +383,7 @@ def _point_extras(res, sys: TorsionalSystem, st: State, cfg: TorsionalCaseConfig
     iso = iso_input(
         sys,
         op.torque,
-        cfg.gear.face_width,
+        face_width,
         eps,
         f_pb_eff=cfg.iso.f_pb_eff,
         f_f_eff=cfg.iso.f_f_eff,
@@ -261,6 +396,9 @@ def _point_extras(res, sys: TorsionalSystem, st: State, cfg: TorsionalCaseConfig
     ds["state_omega"] = ("chain_node", st.omega, {"units": "rad/s", "long_name": "final speeds"})
     ds["state_nominal"] = ("chain_node", st.nominal, {"units": "rad/s", "long_name": "final nominal speeds"})
     ds.attrs["state_time"] = st.time
+    if hasattr(st, "modal"):
+        ds["state_modal"] = ("modal_dof", st.modal, {"units": "sqrt(kg) m", "long_name": "final tooth modal states"})
+        ds.attrs["state_n_hi"] = st.n_hi
 
 
 def run_torsional(config: dict, *, progress: bool = False, initial_state: dict | None = None) -> Result:
@@ -278,7 +416,26 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
             "empty when a case continues from a previous state (sweep operation.speed_rpm instead)",
         )
     state = None if initial_state is None else _state_of(initial_state)
-    sys, eps = build_system(cfg)
+    sys, eps = build_system(cfg, inertia_given="inertia" in config.get("train", {}))
+    face_width = cfg.gear.face_width if cfg.pair is None else pair_data(cfg).face_width
+    model, run = sys, steady_state
+    if cfg.model.method == "elastic_teeth":
+        from rotaflex.gear.elastic_window import build_window_model
+        from rotaflex.gear.window_run import steady_state as run
+
+        pd = pair_data(cfg)
+        m = cfg.model
+        model = build_window_model(
+            sys,
+            pair_line_of(cfg),
+            pd.meshes,
+            pd.densities,
+            n_modes=m.n_modes,
+            tooth_damping_ratio=m.tooth_damping_ratio,
+            corner_contact=m.corner_contact,
+        )
+    if state is not None and isinstance(model, TorsionalSystem) == hasattr(state, "modal"):
+        raise InputError("initial_state", "a final_state()", f"one of the same model.method ({cfg.model.method})")
     s = cfg.steady
     kw = dict(
         tol=s.tol,
@@ -293,16 +450,17 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
         iso = iso_input(
             sys,
             op.torque,
-            cfg.gear.face_width,
+            face_width,
             eps,
             f_pb_eff=cfg.iso.f_pb_eff,
             f_f_eff=cfg.iso.f_f_eff,
             tip_relief=cfg.iso.tip_relief,
             application_factor=cfg.iso.application_factor,
         )
-        res = speed_sweep(sys, op.torque, cfg.sweep.speeds_rpm, directions=cfg.sweep.directions, iso=iso, **kw)
+        res = speed_sweep(model, op.torque, cfg.sweep.speeds_rpm, directions=cfg.sweep.directions, iso=iso, **kw)
     else:
-        res, st = steady_state(sys, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state, **kw)
-        _point_extras(res, sys, st, cfg, eps)
+        res, st = run(model, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state, **kw)
+        _point_extras(res, sys, st, cfg, eps, face_width)
     res.dataset.attrs["config"] = json.dumps(to_mapping(cfg))
+    res.dataset.attrs["method"] = cfg.model.method
     return res

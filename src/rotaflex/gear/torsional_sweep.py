@@ -28,6 +28,8 @@ from rotaflex.gear.torsional import (
 
 __all__ = ["SpeedSweepResult", "iso_input", "speed_sweep"]
 
+FILLET = ("fillet_stress_max_pinion", "fillet_stress_max_wheel")
+
 
 def iso_input(
     sys: TorsionalSystem,
@@ -75,7 +77,9 @@ def speed_sweep(
 
     Parameters
     ----------
-    sys : TorsionalSystem
+    sys : TorsionalSystem or WindowModel
+        The lumped model, or the elastic-tooth window model (:mod:`~.elastic_window`; adds
+        ``fillet_stress_max_pinion`` / ``_wheel``).
     torque : float
         Output torque [N m].
     speeds_rpm : array_like
@@ -104,16 +108,25 @@ def speed_sweep(
         if d not in ("up", "down"):
             raise InputError("directions", d, "'up' or 'down'")
     t0 = time.perf_counter()
+    model, run = sys, steady_state
+    if not isinstance(sys, TorsionalSystem):  # the elastic-tooth window model
+        from rotaflex.gear.window_run import steady_state as run
+
+        sys = model.system
     names = list(METRIC_UNITS) + ["change", "period_cycles", "cycles_run"]
     data = {k: np.full((len(directions), len(speeds)), np.nan) for k in names}
+
     state = None
     for di, d in enumerate(directions):
         order = range(len(speeds)) if d == "up" else range(len(speeds) - 1, -1, -1)
         for j in order:
             op = OperatingPoint(speed_rpm=float(speeds[j]), torque=torque)
-            res, state = steady_state(sys, op, state=state, **steady_kw)
+            res, state = run(model, op, state=state, **steady_kw)
             for k in names:
                 data[k][di, j] = res.dataset[k].item()
+            for k in FILLET:
+                if k in res.dataset:
+                    data.setdefault(k, np.full((len(directions), len(speeds)), np.nan))[di, j] = res.dataset[k].item()
     nf = natural_frequencies(sys)
     res_speeds = resonance_speeds_rpm(sys)
     ds = xr.Dataset(
@@ -127,6 +140,9 @@ def speed_sweep(
     for k in names:
         ds[k] = (("direction", "speed"), data[k], {"units": units[k]})
     ds["converged"] = (("direction", "speed"), data["period_cycles"] > 0, {"units": "1"})
+    for k in FILLET:
+        if k in data:
+            ds[k] = (("direction", "speed"), data[k], {"units": "Pa"})
     ds["natural_frequency"] = ("mode", nf["frequency"], {"units": "Hz"})
     ds["resonance_speed"] = (
         "resonance",

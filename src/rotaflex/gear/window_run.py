@@ -252,7 +252,8 @@ def steady_state(
     """Run until periodic, then evaluate the last ``eval_cycles`` mesh cycles.
 
     The procedure, tolerances and metrics of :func:`rotaflex.gear.torsional.steady_state`, plus
-    ``fillet_stress_max`` of pinion and wheel [Pa] and ``pairs_in_contact`` (mean).
+    ``fillet_stress_max_pinion`` / ``_wheel`` [Pa] (quasi-static: the FE tooth's stress per
+    newton times the pair's spring force) and the ``pairs_in_contact`` history.
 
     Returns
     -------
@@ -313,7 +314,12 @@ def steady_state(
     ds["pairs_in_contact"] = ("time", buf["n_contact"][sl], {"units": "1"})
     for k, v in met.items():
         ds[k] = ((), v, {"units": METRIC_UNITS[k]})
-    ds["fillet_stress_max"] = ("gear", buf["fillet_stress"][sl].max(axis=0), {"units": "Pa"})
+    for i, name in enumerate(("pinion", "wheel")):
+        ds[f"fillet_stress_max_{name}"] = (
+            (),
+            float(buf["fillet_stress"][sl, i].max()),
+            {"units": "Pa", "long_name": f"largest tension-side fillet stress of the {name}"},
+        )
     ds["change"] = ((), per.change, {"units": "1", "long_name": "cycle-to-cycle change"})
     ds["period_cycles"] = ((), per.period, {"units": "1"})
     ds["cycles_run"] = ((), done, {"units": "1"})
