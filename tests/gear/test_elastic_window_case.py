@@ -1,0 +1,90 @@
+"""`gear steady` with model.method = "elastic_teeth" and drawing pairs: config to result."""
+
+import copy
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rotaflex.core.errors import InputError
+from rotaflex.gear.torsional_case import run_torsional, validate_config
+
+EXAMPLE = Path(__file__).parents[2] / "examples" / "gear" / "steady" / "elastic_teeth_relief.toml"
+
+
+@pytest.fixture(scope="module")
+def config():
+    cfg = tomllib.loads(EXAMPLE.read_text())
+    cfg.pop("domain"), cfg.pop("verb")
+    cfg["model"]["mesh_preset"] = "coarse"
+    cfg["steady"] = {"fixed_cycles": 20, "eval_cycles": 10}
+    return cfg
+
+
+def _with(cfg, **tables):
+    out = copy.deepcopy(cfg)
+    for table, values in tables.items():
+        out.setdefault(table, {}).update(values)
+    return out
+
+
+def test_relief_lowers_the_dynamic_factor_and_dte_of_the_drawing_pair(config):
+    with_relief = run_torsional(config).dataset
+    without = run_torsional(_with(config, model={"relief": False})).dataset
+    assert with_relief.attrs["method"] == "elastic_teeth"
+    # the relief is sized for this load: the loaded TE (and so the excitation) is much smaller
+    assert float(with_relief.dte_pp) < 0.5 * float(without.dte_pp)
+    assert float(with_relief.dynamic_factor) < float(without.dynamic_factor)
+    for ds in (with_relief, without):
+        assert float(ds.fillet_stress_max_pinion) > 0 and float(ds.fillet_stress_max_wheel) > 0
+        assert float(ds.contact_loss_fraction) == 0.0
+    # gear inertias from the blanks (train.inertia not given) set the mesh mode
+    assert 5e3 < float(with_relief.mesh_natural_frequency) < 5e4
+
+
+def test_lumped_and_elastic_teeth_share_the_pair_data(config):
+    """Same drawing pair, both methods: the lumped model gets the loaded k(phi), e(phi) of the
+    same FE data, so its mean DTE (the static deflection) is the window model's."""
+    et = run_torsional(config).dataset
+    lu = run_torsional(_with(config, model={"method": "lumped"})).dataset
+    assert lu.attrs["method"] == "lumped"
+    assert abs(float(lu.dte_mean) / float(et.dte_mean) - 1) < 0.02
+    assert float(lu.mesh_natural_frequency) == pytest.approx(float(et.mesh_natural_frequency), rel=1e-12)
+
+
+def test_continuation_carries_the_tooth_states(config):
+    first = run_torsional(_with(config, model={"n_modes": 1}))
+    state = first.final_state()
+    assert "modal" in state and len(state["modal"]) > 0
+    nxt = run_torsional(_with(config, model={"n_modes": 1}, operation={"speed_rpm": 6100.0}), initial_state=state)
+    assert nxt.dataset.attrs["status"] in ("success", "not_periodic")
+    assert np.isfinite(float(nxt.dataset.dynamic_factor))
+    with pytest.raises(InputError, match="model.method"):
+        run_torsional(_with(config, model={"method": "lumped"}), initial_state=state)
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        ({"gear": {"module": 2e-3}}, "gear"),
+        ({"model": {"method": "elastic_teeth"}, "mesh": {"backlash": 1e-4}}, "mesh.backlash"),
+        ({"mesh": {"source": "contact_pattern"}}, "mesh.source"),
+        ({"model": {"n_modes": 9}}, "model.n_modes"),
+        ({"pinion": {"profile_shift": 3.0}}, "pinion.profile_shift"),
+    ],
+)
+def test_bad_input_names_the_field(config, change, field):
+    bad = copy.deepcopy(config)
+    for table, values in change.items():
+        bad.setdefault(table, {}).update(values)
+    with pytest.raises(InputError) as err:
+        validate_config(bad)
+    assert err.value.field.startswith(field), err.value.field
+
+
+def test_a_lone_pinion_table_is_rejected(config):
+    bad = copy.deepcopy(config)
+    bad.pop("wheel")
+    with pytest.raises(InputError, match="wheel"):
+        validate_config(bad)
