@@ -88,3 +88,16 @@ def test_a_lone_pinion_table_is_rejected(config):
     bad.pop("wheel")
     with pytest.raises(InputError, match="wheel"):
         validate_config(bad)
+
+
+def test_tooth_mesh_refinement_converges(config):
+    """coarse -> default FE tooth mesh: the dynamic quantities move by far less than the
+    fillet stress (a stress concentration, converging slowest; docs: 220/254/266 MPa)."""
+    out = {}
+    for preset in ("coarse", "default"):
+        out[preset] = run_torsional(_with(config, model={"mesh_preset": preset})).dataset
+    c, d = out["coarse"], out["default"]
+    assert abs(float(c.dte_mean) / float(d.dte_mean) - 1) < 0.02
+    assert abs(float(c.dynamic_factor) / float(d.dynamic_factor) - 1) < 0.01
+    assert abs(float(c.dte_pp) / float(d.dte_pp) - 1) < 0.05
+    assert 0.7 < float(c.fillet_stress_max_pinion) / float(d.fillet_stress_max_pinion) < 0.95
