@@ -13,6 +13,23 @@ def selftest_domain(monkeypatch):
     monkeypatch.setitem(domains.CASES, "selftest", "rotaflex.sweep._selftest_case")
 
 
+def _scheduler_address(sched_file, proc, timeout=60.0):
+    """Address from the scheduler file once it is complete.
+
+    The scheduler creates the file before it has written it, so an empty or half-written
+    file is waited out rather than parsed.
+    """
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            return json.loads(sched_file.read_text())["address"]
+        except (FileNotFoundError, json.JSONDecodeError, KeyError):
+            pass
+        if time.monotonic() > deadline or proc.poll() is not None:
+            raise RuntimeError("dask scheduler did not start")
+        time.sleep(0.2)
+
+
 @pytest.fixture(scope="module")
 def dask_cluster(tmp_path_factory):
     """A real ``dask scheduler`` and two ``dask worker`` processes (nanny, 1 thread), 127.0.0.1."""
@@ -40,12 +57,7 @@ def dask_cluster(tmp_path_factory):
                 stderr=subprocess.DEVNULL,
             )
         )
-        deadline = time.monotonic() + 60
-        while not sched_file.exists():
-            if time.monotonic() > deadline or procs[0].poll() is not None:
-                raise RuntimeError("dask scheduler did not start")
-            time.sleep(0.2)
-        address = json.loads(sched_file.read_text())["address"]
+        address = _scheduler_address(sched_file, procs[0])
         for i in range(2):
             procs.append(
                 subprocess.Popen(

@@ -69,8 +69,12 @@ def two_pair_length(pair_angle, force, threshold):
     return float(a.max() - a.min())
 
 
-def comparison(dom: Path, *, fast: bool) -> FigureEntry:
-    """Run both models (coarse mesh) and build the FigureEntry with its checks."""
+def comparison(dom: Path, *, fast: bool, single=None) -> FigureEntry:
+    """Run both models (coarse mesh) and build the FigureEntry with its checks.
+
+    ``single`` is an already computed single-tooth run at the comparison speed on the coarse
+    mesh (Fig. 8 in fast mode); it is run here when not given.
+    """
     from rotaflex.core.plotting import new_figure, save_figure
     from rotaflex.gear.case import run_case
     from rotaflex.gear.mesh import COARSE, build_tooth_mesh
@@ -85,7 +89,10 @@ def comparison(dom: Path, *, fast: bool) -> FigureEntry:
             "output": {"every": 20},
         }
     )
-    single = run_case({"mesh": {"preset": "coarse"}, "operation": {"speed_rpm": [rpm, rpm]}, "output": {"every": 20}})
+    if single is None:
+        single = run_case(
+            {"mesh": {"preset": "coarse"}, "operation": {"speed_rpm": [rpm, rpm]}, "output": {"every": 20}}
+        )
     ds, d1 = multi.dataset, single.dataset
     multi.to_netcdf(dom / "three_teeth.nc")
     nominal = float(ds["nominal_force"])

@@ -175,9 +175,10 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
         report_step(f"{domain} case {done}/{total}: {rec.status}")
 
     kw = dict(domain=domain, attrs=attrs, progress=progress if progress else tick)
-    # serial reference on at most 4 cases spread over the sweep (the pool runs them all)
-    step = max(1, len(cases) // 4)
-    subset = cases[::step][:4]
+    # serial reference on at most 4 cases (2 in fast mode) spread over the sweep (the pool runs them all)
+    n_serial = 2 if fast else 4
+    step = max(1, len(cases) // n_serial)
+    subset = cases[::step][:n_serial]
     t0 = time.perf_counter()
     serial = run_sweep(case_fn, subset, "serial", out_dir=root / "serial", figures=False, **kw)
     t_serial = time.perf_counter() - t0
