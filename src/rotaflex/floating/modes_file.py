@@ -166,6 +166,9 @@ def _checked_body(data: dict, extra: list, frame: str, where: str, name: str) ->
         raise InputError(f"{where}.positions", f"shape {X.shape}", f"shape ({N}, 3) for {N} masses")
     if S.ndim != 3 or S.shape[1:] != (N, 3):
         raise InputError(f"{where}.shapes", f"shape {S.shape}", f"shape (n_modes, {N}, 3)")
+    if np.any(m <= 0):
+        k = int(np.argmin(m))
+        raise InputError(f"{where}.masses[{k}]", float(m[k]), "a nodal mass > 0 [kg]")
     n = S.shape[0]
     if f.shape != (n,):
         raise InputError(f"{where}.frequencies", f"shape {f.shape}", f"shape ({n},)")

@@ -66,7 +66,8 @@ class FloatingResult(Result):
             ax.set_title(f"{', '.join(hidden)} angle(s) zero to round-off (not drawn)", fontsize=8)
         ax.set_xlabel("time [s]")
         ax.set_ylabel("Euler 1-2-3 angles [rad]")
-        ax.legend(fontsize=7)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
         figs["attitude"] = fig
         if ds.sizes["point"]:
