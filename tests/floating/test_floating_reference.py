@@ -121,7 +121,7 @@ def test_stiff_beam_large_loads(case, tol_on, off_min):
 
 @pytest.mark.slow  # 11 s; the same comparison is a check of `rotaflex reproduce floating` (full)
 def test_spinup_beam_tip_within_1e3_of_the_reference_over_20_s():
-    # examples/floating/spinup_beam.toml (geometric stiffness on), 20 s. Reference: 16, 32, 64
+    # the spin-up beam on the linear model (geometric stiffness on), 20 s. Reference: 16, 32, 64
     # links extrapolated (the 32..256-link benchmark gives order 2.00 and error 5e-7, max tip
     # 0.5738 m). Measured model error: 6.0e-4 m absolute = 1.04e-3 of the peak deflection
     # (8 modes; 4 modes 5.6e-4 m, 12 modes 6.0e-4 m: converged in modes, so this is the

@@ -210,6 +210,7 @@ def _closed_loop(body, loads, initial, solver, controller, dt):
     sol.euler_123 = cat("euler_123")
     sol.min_stiffness = cat("min_stiffness")
     sol.geometric = parts[0].geometric
+    sol.kinematics = parts[0].kinematics
     sol.nstep = sum(s.nstep for s in parts)
     sol.nfev = sum(s.nfev for s in parts)
     sol.wall_time = sum(s.wall_time for s in parts)

@@ -79,6 +79,9 @@ class Body:
         True for a planar line beam (points on the x axis, deflection along y only): its rotation
         about its own axis carries no inertia and is decoupled from in-plane motion, so the
         solvers accept zero inertia about x and require in-plane loads and initial state.
+    inextensible : InextensibleBeam or None
+        Quadrature data for the exact inextensible kinematics (``solver.kinematics =
+        "inextensible"``, :mod:`rotaflex.floating.inextensible`); planar cantilever beams only.
     rigid : bool
         True only for :func:`rigid_body` (no elastic modes, for cross-checks against rigid-body
         solvers); a normal body must have at least one elastic mode.
@@ -98,6 +101,7 @@ class Body:
     rigid: bool = False
     planar: bool = False
     load_geometric: Callable | None = field(default=None, repr=False)
+    inextensible: object | None = field(default=None, repr=False)
 
     def __post_init__(self):
         validate_body(self)
@@ -488,6 +492,15 @@ def uniform_beam(
             out[0] += np.einsum("k,ki,kj->ij", ws * N, d_s, d_s) * same_plane
         return out
 
+    inext = None
+    if support == "cantilever" and not spatial:
+        from rotaflex.floating import inextensible
+
+        def plane_columns(x, deriv):
+            vals = plane_values(np.asarray(x, dtype=float), deriv)
+            return np.column_stack([vals[p_i][:, c] for (_a, p_i, c) in cols])
+
+        inext = inextensible.build(xq, wq, cuts, lambda x: plane_columns(x, 1), lambda x: plane_columns(x, 2), ei)
     frame = (
         "mean axes (origin at the centre of mass, x along the beam)"
         if support == "free-free"
@@ -507,6 +520,7 @@ def uniform_beam(
         extra_inertia=rho_a * length * rg**2 * np.diag([0.5, 0.25, 0.25]),
         planar=not spatial,
         load_geometric=load_geometric,
+        inextensible=inext,
     )
 
 

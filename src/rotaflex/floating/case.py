@@ -316,7 +316,7 @@ def prepare(config: dict):
     if case.prescribed is not None:
         methods = ["full"]
     for m in methods:
-        check_inputs(body, case.loads, case.initial, case.solver, m)
+        check_inputs(body, case.loads, case.initial, case.solver, m, case.prescribed is not None)
     return case, body, methods
 
 

@@ -597,12 +597,106 @@ def rhs_prescribed(t, y, B, L, geo, axis, rate, t_up):
 
 
 @njit(cache=True)
-def rhs(mode, t, y, B, L, geo, pres):
+def rhs_inextensible(t, y, kin, axis, rate, t_up):
+    """Prescribed frame motion with the exact inextensible kinematics of a planar cantilever
+    (:mod:`rotaflex.floating.inextensible`): ``M(q) qddot = -K(q) - sum m J^T c``, where
+    ``J = Phi + e_x du/dq`` and ``c = alpha x r + w x (w x r) + 2 w x J p + e_x p^T u_qq p``.
+    A slope ``|v'| >= 1`` has no inextensible curve: the state is returned as NaN, which the
+    integrator reports as a failure."""
+    m, X, Phi, Dp, wp, pend, D1, D2, wq, ei = kin
+    n = Phi.shape[2]
+    q, p = y[0:n], y[n:]
+    _, om, al = spin_profile(rate, t_up, t)
+    w = om * axis
+    W = skew3(al * axis) + outer3(w, w)
+    ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+    for a in range(3):
+        W[a, a] -= ww
+    dy = np.empty_like(y)
+    dy[0:n] = p
+    # cumulative shortening u, its gradient g = du/dq and h = p^T (d2u/dq2) p along the panels
+    npan = Dp.shape[0]
+    cu = np.zeros(npan + 1)
+    cg = np.zeros((npan + 1, n))
+    ch = np.zeros(npan + 1)
+    for k in range(npan):
+        s1 = 0.0
+        sp = 0.0
+        for i in range(n):
+            s1 += Dp[k, i] * q[i]
+            sp += Dp[k, i] * p[i]
+        c2 = 1.0 - s1 * s1
+        if not c2 > 0.0:
+            dy[n:] = np.nan
+            return dy
+        c = np.sqrt(c2)
+        cu[k + 1] = cu[k] + wp[k] * (c - 1.0)
+        f1 = -wp[k] * s1 / c
+        for i in range(n):
+            cg[k + 1, i] = cg[k, i] + f1 * Dp[k, i]
+        ch[k + 1] = ch[k] - wp[k] * sp * sp / (c2 * c)
+    M = np.zeros((n, n))
+    f = np.zeros(n)
+    J = np.empty((3, n))
+    r = np.empty(3)
+    Jp = np.empty(3)
+    for k in range(m.shape[0]):
+        e = pend[k]
+        for a in range(3):
+            acc = X[k, a]
+            accp = 0.0
+            for i in range(n):
+                J[a, i] = Phi[k, a, i]
+                acc += Phi[k, a, i] * q[i]
+                accp += Phi[k, a, i] * p[i]
+            r[a] = acc
+            Jp[a] = accp
+        r[0] += cu[e]
+        for i in range(n):
+            J[0, i] += cg[e, i]
+            Jp[0] += cg[e, i] * p[i]
+        c0 = W[0, 0] * r[0] + W[0, 1] * r[1] + W[0, 2] * r[2] + 2.0 * (w[1] * Jp[2] - w[2] * Jp[1]) + ch[e]
+        c1 = W[1, 0] * r[0] + W[1, 1] * r[1] + W[1, 2] * r[2] + 2.0 * (w[2] * Jp[0] - w[0] * Jp[2])
+        c2_ = W[2, 0] * r[0] + W[2, 1] * r[1] + W[2, 2] * r[2] + 2.0 * (w[0] * Jp[1] - w[1] * Jp[0])
+        mk = m[k]
+        for i in range(n):
+            f[i] -= mk * (J[0, i] * c0 + J[1, i] * c1 + J[2, i] * c2_)
+            for j in range(n):
+                M[i, j] += mk * (J[0, i] * J[0, j] + J[1, i] * J[1, j] + J[2, i] * J[2, j])
+    # exact bending: U = EI/2 int v''^2 / (1 - v'^2)
+    for k in range(wq.shape[0]):
+        v1 = 0.0
+        v2 = 0.0
+        for i in range(n):
+            v1 += D1[k, i] * q[i]
+            v2 += D2[k, i] * q[i]
+        c2 = 1.0 - v1 * v1
+        if not c2 > 0.0:
+            dy[n:] = np.nan
+            return dy
+        a2 = ei[0] * wq[k] * v2 / c2
+        a1 = ei[0] * wq[k] * v2 * v2 * v1 / (c2 * c2)
+        for i in range(n):
+            f[i] -= a2 * D2[k, i] + a1 * D1[k, i]
+    dy[n:] = np.linalg.solve(M, f)
+    return dy
+
+
+@njit(cache=True)
+def rhs(mode, t, y, B, L, geo, pres, kin):
     if mode == 0:
         return rhs_full(t, y, B, L, geo)
     if mode == 1:
         return rhs_perturbation(t, y, B, L, geo)
+    if mode == 3:
+        return rhs_inextensible(t, y, kin, pres[0:3], pres[3], pres[4])
     return rhs_prescribed(t, y, B, L, geo, pres[0:3], pres[3], pres[4])
+
+
+def no_kinematics() -> tuple:
+    """Placeholder of the inextensible-kinematics arrays for the other modes (same types)."""
+    z1, z2 = np.zeros(0), np.zeros((0, 0))
+    return (z1, np.zeros((0, 3)), np.zeros((0, 3, 0)), z2, z1, np.zeros(0, np.int64), z2, z2, z1, np.zeros(1))
 
 
 # ----------------------------------------------------------------------------------------
@@ -618,7 +712,7 @@ def attitude(mode, t, y, pres, zero_order):
     """Unit attitude quaternion (scalar first) of state ``y`` at time ``t`` (``zero_order``:
     the zero-order attitude ``e0`` of the perturbation method)."""
     e = np.empty(4)
-    if mode == 2:
+    if mode >= 2:
         ang = spin_profile(pres[3], pres[4], t)[0]
         e[0] = np.cos(0.5 * ang)
         for i in range(3):
@@ -683,7 +777,7 @@ _E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525,
 
 
 @njit(cache=True)
-def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres):
+def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres, kin):
     """Integrate ``rhs(mode, ...)`` from ``t_out[0]``; return states at ``t_out``.
 
     Returns ``(Y, EUL, status, t_stop, nfev, nstep)``; ``EUL`` (nt, 6) are the Euler 1-2-3
@@ -706,7 +800,7 @@ def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_l
     euler123(attitude(mode, t, y, pres, True), eul0, eul0)
     EUL[0, :3], EUL[0, 3:] = eul, eul0
     K = np.zeros((7, ny))
-    K[0] = rhs(mode, t, y, B, L, geo, pres)
+    K[0] = rhs(mode, t, y, B, L, geo, pres, kin)
     nfev = 1
     span = t_out[-1] - t_out[0]
     h = 1e-4 * span
@@ -736,7 +830,7 @@ def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_l
             ts = t + _C[s] * h_try
             if hit and _C[s] == 1.0:
                 ts = t_target - 1e-13 * span  # stay left of a load jump at t_target
-            K[s] = rhs(mode, ts, ys, B, L, geo, pres)
+            K[s] = rhs(mode, ts, ys, B, L, geo, pres, kin)
         nfev += 6
         y_new = ys  # stage 7 evaluates at the 5th-order solution (FSAL)
         en = 0.0
@@ -774,7 +868,7 @@ def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_l
             if hit:
                 if i_brk < breaks.shape[0] and abs(t - breaks[i_brk]) <= 1e-12 * span:
                     i_brk += 1
-                    K[0] = rhs(mode, t, y, B, L, geo, pres)  # restart after a load jump
+                    K[0] = rhs(mode, t, y, B, L, geo, pres, kin)  # restart after a load jump
                     nfev += 1
                 while i_out < nt and abs(t - t_out[i_out]) <= 1e-12 * span:
                     Y[i_out] = y

@@ -105,6 +105,12 @@ class Settings:
     atol: float = param(1e-9, gt=0.0)
     max_steps: int = param(2_000_000, gt=0)
     geometric_stiffness: bool | None = param(None, doc="centrifugal stiffening; default: on when the body provides it")
+    kinematics: Literal["linear", "inextensible"] = param(
+        "linear",
+        doc="linear floating-frame deflection (+ geometric stiffness), or the exact inextensible "
+        "kinematics of a planar cantilever beam under [prescribed] motion (no loads; contains "
+        "the stiffening, so leave geometric_stiffness unset)",
+    )
 
     def __post_init__(self):
         if self.dt_out > self.t_end:

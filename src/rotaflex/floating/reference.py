@@ -281,13 +281,22 @@ def converged(case: PlanarCase, t_end: float, dt_out: float, n0: int = 32, level
     )
 
 
-def modal_counterpart(case: PlanarCase, t_end: float, dt_out: float, n_modes: int = 10, geometric=True, rtol=1e-10):
+def modal_counterpart(
+    case: PlanarCase,
+    t_end: float,
+    dt_out: float,
+    n_modes: int = 10,
+    geometric=True,
+    rtol=1e-10,
+    kinematics: str = "linear",
+):
     """The same case on the floating modal model (analytic beam modes, ``method = "full"``).
 
     Free-free: end force along inertial y at the +x end (with its attachment shape) or torque
     about z at the centre (with its moment attachment shape), the reference's half-sine as a
     ``sinusoid`` of frequency ``1/(2 t1)`` cut at ``t1``. Clamped-spin: cantilever with the
-    prescribed spin-up. Returns ``(tip deflection along body y [m], z angle [rad])``.
+    prescribed spin-up (``kinematics = "inextensible"``: the exact inextensible kinematics,
+    clamped-spin only). Returns ``(tip deflection along body y [m], z angle [rad])``.
     """
     from rotaflex.floating.body import uniform_beam
     from rotaflex.floating.model import Load, Prescribed, Settings
@@ -295,7 +304,15 @@ def modal_counterpart(case: PlanarCase, t_end: float, dt_out: float, n_modes: in
 
     if case.shape != "half-sine":
         raise InputError("reference.shape", case.shape, "'half-sine' for the modal counterpart")
-    st = Settings(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=1e-13, geometric_stiffness=geometric)
+    inext = kinematics == "inextensible"
+    st = Settings(
+        t_end=t_end,
+        dt_out=dt_out,
+        rtol=rtol,
+        atol=1e-13,
+        geometric_stiffness=None if inext else geometric,
+        kinematics=kinematics,
+    )
     if case.support == "clamped-spin":
         b = uniform_beam(case.length, case.rho_a, case.ei, n_modes, support="cantilever")
         tip = (case.length, 0.0, 0.0)

@@ -226,6 +226,7 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
             "body": body.name,
             "floating_frame": body.frame,
             "geometric_stiffness": int(any(s.geometric for s in solutions)),
+            "kinematics": solutions[0].kinematics,
             "solver_wall_times": json.dumps({s.method: s.wall_time for s in solutions}),
         }
     )

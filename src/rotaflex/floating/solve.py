@@ -43,6 +43,7 @@ class Solution:
     wall_time: float = 0.0
     parts: dict = field(default_factory=dict)  # perturbation: zero/first-order pieces
     geometric: bool = False
+    kinematics: str = "linear"
     min_stiffness: np.ndarray | None = None  # (T,) min eigenvalue of the effective stiffness
     euler_123: np.ndarray | None = None  # (T, 3) Euler 1-2-3 angles unwrapped step by step
 
@@ -164,7 +165,37 @@ def _breaks(loads, prescribed, t_end, t_start=0.0):
     return np.array(sorted({t for t in b if t_start < t < t_end}), dtype=float)
 
 
+def _check_inextensible(body: Body, loads, settings: Settings, clamped: bool) -> None:
+    """The exact inextensible kinematics exists for planar cantilever beams in a prescribed frame."""
+    if body.inextensible is None:
+        raise InputError(
+            "solver.kinematics",
+            "inextensible",
+            "'linear' for this body (the inextensible kinematics needs a planar cantilever beam: "
+            "body.beam.support = 'cantilever', not spatial)",
+        )
+    if not clamped:
+        raise InputError(
+            "solver.kinematics", "inextensible", "'linear' without [prescribed] motion (the root must be clamped)"
+        )
+    if len(loads):
+        raise InputError(
+            "loads",
+            f"{len(loads)} load(s)",
+            "no loads with solver.kinematics = 'inextensible' (prescribed motion only)",
+        )
+    if settings.geometric_stiffness:
+        raise InputError(
+            "solver.geometric_stiffness",
+            True,
+            "unset or false with solver.kinematics = 'inextensible' (the exact kinematics contains "
+            "the centrifugal stiffening; adding it would count it twice)",
+        )
+
+
 def use_geometric(body: Body, settings: Settings) -> bool:
+    if settings.kinematics == "inextensible":
+        return False
     if settings.geometric_stiffness is None:
         return body.geometric is not None
     if settings.geometric_stiffness and body.geometric is None:
@@ -213,6 +244,8 @@ def check_inputs(body: Body, loads, initial: Initial, settings: Settings, method
     """
     if method not in METHODS:
         raise InputError("solver.method", method, "one of " + ", ".join(METHODS))
+    if settings.kinematics == "inextensible":
+        _check_inextensible(body, loads, settings, clamped)
     geo = use_geometric(body, settings)
     B = pack_body(body)
     Lp = pack_loads(body, list(loads), geo, clamped)
@@ -275,8 +308,17 @@ def simulate(
     e0 = np.asarray(initial.quaternion, float) / np.linalg.norm(initial.quaternion)
     rigid0 = np.concatenate([initial.position, e0, initial.velocity, initial.angular_velocity])
     pres = np.zeros(5)
+    kin = kernels.no_kinematics()
     if prescribed is not None:
         mode = 2
+        if settings.kinematics == "inextensible":
+            mode = 3
+            kin = (
+                np.asarray(body.masses, float),
+                np.asarray(body.points, float),
+                np.asarray(body.shapes, float),
+                *body.inextensible.packed(),
+            )
         ax = np.asarray(prescribed.axis, float)
         pres[:3] = ax / np.linalg.norm(ax)
         pres[3], pres[4] = prescribed.rate, prescribed.spin_up_time
@@ -308,6 +350,7 @@ def simulate(
         Lp,
         geo,
         pres,
+        kin,
     )
     wall = time.perf_counter() - t0
     sol = _unpack(mode, method, t_out, Y, n, prescribed, pres)
@@ -315,7 +358,9 @@ def simulate(
     if mode == 1:
         sol.parts["euler0"] = EUL[:, 3:]
     sol.nfev, sol.nstep, sol.wall_time, sol.geometric = int(nfev), int(nstep), wall, geo
-    sol.min_stiffness = min_effective_stiffness(body, sol.angular_velocity, geo)
+    sol.kinematics = "inextensible" if mode == 3 else "linear"
+    # the inextensible model's linearisation is K_b + M~(w) + K_G: judge its stability by that
+    sol.min_stiffness = min_effective_stiffness(body, sol.angular_velocity, geo or mode == 3)
     ok = np.isfinite(sol.min_stiffness)
     neg = np.nonzero(ok & (sol.min_stiffness < 0))[0]
     notes = []
@@ -362,7 +407,7 @@ def _unpack(mode, method, t, Y, n, prescribed, pres) -> Solution:
     from rotaflex.rotation.quaternion import quaternion_product
 
     nt = len(t)
-    if mode == 2:
+    if mode >= 2:
         ax = pres[:3]
         from rotaflex.floating.kernels import spin_profile
 
@@ -437,6 +482,8 @@ def point_motion(body: Body, sol: Solution, points: np.ndarray):
     """Inertial positions (T, P, 3) and body-frame elastic deflections (T, P, 3) of points."""
     Phi, _ = body.shape_fn(points)
     u = np.einsum("paj,tj->tpa", Phi, sol.q)
+    if sol.kinematics == "inextensible":
+        u[:, :, 0] += body.inextensible.shortening(np.asarray(points, float)[:, 0], sol.q)
     A = rotation_matrices(sol.quaternion)
     pos = sol.position[:, None, :] + np.einsum("tab,tpb->tpa", A, points[None] + u)
     return pos, u
@@ -448,6 +495,10 @@ def invariants(body: Body, sol: Solution):
     A = rotation_matrices(sol.quaternion)
     c = body.points[None] + np.einsum("kaj,tj->tka", body.shapes, sol.q)
     ud = np.einsum("kaj,tj->tka", body.shapes, sol.p)
+    inext = sol.kinematics == "inextensible"
+    if inext:
+        c[:, :, 0] += body.inextensible.shortening(body.points[:, 0], sol.q)
+        ud[:, :, 0] += body.inextensible.shortening_rate(body.points[:, 0], sol.q, sol.p)
     vb = sol.velocity[:, None, :] + np.cross(sol.angular_velocity[:, None, :], c) + ud
     m = body.masses
     Pb = np.einsum("k,tka->ta", m, vb)
@@ -463,6 +514,10 @@ def invariants(body: Body, sol: Solution):
         T = T - 0.5 * np.einsum("ta,tab,tb->t", w, Sm, w)
     P = np.einsum("tab,tb->ta", A, Pb)
     H = np.cross(sol.position, P) + np.einsum("tab,tb->ta", A, Hb)
-    U = 0.5 * np.einsum("ti,ij,tj->t", sol.q, body.stiffness, sol.q)
+    U = (
+        body.inextensible.bending_energy(sol.q)
+        if inext
+        else 0.5 * np.einsum("ti,ij,tj->t", sol.q, body.stiffness, sol.q)
+    )
     cm = sol.position + np.einsum("tab,tb->ta", A, np.einsum("k,tka->ta", m, c)) / m.sum()
     return P, H, T + U, cm
