@@ -101,3 +101,17 @@ def test_tooth_mesh_refinement_converges(config):
     assert abs(float(c.dynamic_factor) / float(d.dynamic_factor) - 1) < 0.01
     assert abs(float(c.dte_pp) / float(d.dte_pp) - 1) < 0.05
     assert 0.7 < float(c.fillet_stress_max_pinion) / float(d.fillet_stress_max_pinion) < 0.95
+
+
+@pytest.mark.parametrize(
+    ("tables", "expected"),
+    [
+        ({}, 10.0e-6),  # the larger of the drawing's tip reliefs (pinion 9.6 um, wheel 10 um)
+        ({"model": {"relief": False}}, 0.0),  # the gears run without their reliefs
+        ({"iso": {"tip_relief": 4e-6}}, 4e-6),  # given explicitly
+    ],
+)
+def test_iso_tip_relief_follows_the_drawing(config, tables, expected):
+    from rotaflex.gear.torsional_case import _checked, _iso_tip_relief
+
+    assert _iso_tip_relief(_checked(_with(config, **tables))) == expected

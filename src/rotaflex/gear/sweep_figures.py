@@ -104,14 +104,23 @@ def steady_sweep_figure(ds) -> dict[str, Any]:
             )
     if "resonance_speed" in ds:
         res = np.unique(np.round(np.asarray(ds["resonance_speed"].values, dtype=float), 3))
-        for r in res[np.isfinite(res)]:
+        res = res[np.isfinite(res)]
+        # resonances of the swept variants within 2 % of each other share one line and label
+        groups = []
+        for r in res:
+            if groups and r <= 1.02 * groups[-1][0]:
+                groups[-1].append(r)
+            else:
+                groups.append([r])
+        for grp in groups:
             for h in (1, 2):
-                speed = r / h
+                speed = float(np.mean(grp)) / h
+                text = f"{grp[0] / h:.0f}" + (f"-{grp[-1] / h:.0f}" if len(grp) > 1 else "")
                 if xs.min() <= speed <= xs.max():
                     for a in ax:
                         a.axvline(speed, color="gray", ls=":", lw=1)
                     ax[1].annotate(
-                        f"{h}x f_mesh = f_n ({speed:.0f} rpm)",
+                        f"{h}x f_mesh = f_n ({text} rpm)",
                         (speed, 0.97),
                         xycoords=("data", "axes fraction"),
                         xytext=(2, 0),

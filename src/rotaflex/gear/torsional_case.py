@@ -145,8 +145,23 @@ class SweepSpec:
 class IsoSpec:
     f_pb_eff: float = param(0.0, unit="m", ge=0.0)
     f_f_eff: float = param(0.0, unit="m", ge=0.0)
-    tip_relief: float = param(0.0, unit="m", ge=0.0)
+    tip_relief: float | None = param(
+        None,
+        unit="m",
+        ge=0.0,
+        doc="C_a of B_k; default: the larger tip relief amount of [pinion]/[wheel] "
+        "(0 without reliefs or with model.relief = false)",
+    )
     application_factor: float = param(1.0, ge=1.0)
+
+
+def _iso_tip_relief(cfg) -> float:
+    """ISO's single C_a [m]: as given, else the larger drawing tip relief of the pair in use."""
+    if cfg.iso.tip_relief is not None:
+        return cfg.iso.tip_relief
+    if cfg.pinion is None or not cfg.model.relief:
+        return 0.0
+    return max((g.tip_relief.amount for g in (cfg.pinion, cfg.wheel) if g.tip_relief is not None), default=0.0)
 
 
 @dataclass(frozen=True)
@@ -387,7 +402,7 @@ def _point_extras(res, sys: TorsionalSystem, st, cfg: TorsionalCaseConfig, eps: 
         eps,
         f_pb_eff=cfg.iso.f_pb_eff,
         f_f_eff=cfg.iso.f_f_eff,
-        tip_relief=cfg.iso.tip_relief,
+        tip_relief=_iso_tip_relief(cfg),
         application_factor=cfg.iso.application_factor,
     )
     ds["iso_kv"] = ((), float(iso_kv(iso, [op.speed_rpm])[0]), {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
@@ -454,7 +469,7 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
             eps,
             f_pb_eff=cfg.iso.f_pb_eff,
             f_f_eff=cfg.iso.f_f_eff,
-            tip_relief=cfg.iso.tip_relief,
+            tip_relief=_iso_tip_relief(cfg),
             application_factor=cfg.iso.application_factor,
         )
         res = speed_sweep(model, op.torque, cfg.sweep.speeds_rpm, directions=cfg.sweep.directions, iso=iso, **kw)
