@@ -127,6 +127,18 @@ def test_spinup_beam_is_within_3e4_of_the_geometrically_exact_reference():
     assert err_lin > 3 * err_ext  # the linear model's O((u/L)^2) error is what it removes
 
 
+def test_a_folded_beam_stops_with_a_failure_that_says_why(beam):
+    # a first-mode tip deflection of 9 m on a 10 m beam needs slopes > 1 near the tip
+    tip_phi = beam.shape_fn(np.array([[L, 0.0, 0.0]]))[0][0, 1]
+    q0 = np.zeros(beam.n_modes)
+    q0[0] = 9.0 / tip_phi[0]
+    st = Settings(t_end=1.0, dt_out=0.1, kinematics="inextensible")
+    sol = simulate(beam, [], settings=st, prescribed=Prescribed(), initial=Initial(modal_displacement=tuple(q0)))
+    assert sol.status == "failed"
+    assert "t = 0 s" in sol.message and "|v'| >= 1" in sol.message
+    assert np.isnan(sol.q[-1]).all()
+
+
 @pytest.mark.parametrize(
     ("change", "field"),
     [

@@ -619,16 +619,16 @@ def rhs_inextensible(t, y, kin, axis, rate, t_up):
     cu = np.zeros(npan + 1)
     cg = np.zeros((npan + 1, n))
     ch = np.zeros(npan + 1)
+    slope = Dp @ q
+    slope_rate = Dp @ p
+    bend_slope = D1 @ q
+    if not (np.max(np.abs(slope)) < 1.0 and np.max(np.abs(bend_slope)) < 1.0):
+        dy[n:] = np.nan  # folded (or non-finite): no inextensible curve has this deflection
+        return dy
     for k in range(npan):
-        s1 = 0.0
-        sp = 0.0
-        for i in range(n):
-            s1 += Dp[k, i] * q[i]
-            sp += Dp[k, i] * p[i]
+        s1 = slope[k]
+        sp = slope_rate[k]
         c2 = 1.0 - s1 * s1
-        if not c2 > 0.0:
-            dy[n:] = np.nan
-            return dy
         c = np.sqrt(c2)
         cu[k + 1] = cu[k] + wp[k] * (c - 1.0)
         f1 = -wp[k] * s1 / c
@@ -664,16 +664,11 @@ def rhs_inextensible(t, y, kin, axis, rate, t_up):
             for j in range(n):
                 M[i, j] += mk * (J[0, i] * J[0, j] + J[1, i] * J[1, j] + J[2, i] * J[2, j])
     # exact bending: U = EI/2 int v''^2 / (1 - v'^2)
+    curvature = D2 @ q
     for k in range(wq.shape[0]):
-        v1 = 0.0
-        v2 = 0.0
-        for i in range(n):
-            v1 += D1[k, i] * q[i]
-            v2 += D2[k, i] * q[i]
+        v1 = bend_slope[k]
+        v2 = curvature[k]
         c2 = 1.0 - v1 * v1
-        if not c2 > 0.0:
-            dy[n:] = np.nan
-            return dy
         a2 = ei[0] * wq[k] * v2 / c2
         a1 = ei[0] * wq[k] * v2 * v2 * v1 / (c2 * c2)
         for i in range(n):

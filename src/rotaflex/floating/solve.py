@@ -370,7 +370,8 @@ def simulate(
         why = (
             f"the step budget solver.max_steps = {settings.max_steps} was used up"
             if st == 1
-            else "the step size fell below 1e-14 of the time span (stiff or non-finite state)"
+            else "the step size fell below 1e-14 of the time span (stiff or non-finite state"
+            + (", or a slope |v'| >= 1 that no inextensible curve has)" if mode == 3 else ")")
         )
         notes.append(
             f"time integration stopped early at t = {t_stop:.6g} s of {t_out[-1]:.6g} s because "
