@@ -318,9 +318,16 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
 
 
 def _template_command(domain: str) -> Callable[..., None]:
-    def template(debug: Debug = False) -> None:
+    verbs = ", ".join(["simulate", *COMMANDS.get(domain, {})])
+
+    # the help names this domain's verbs, so the option is a default value (evaluated here), not
+    # an annotation (a string under ``from __future__ import annotations``)
+    def template(
+        debug: Debug = False,
+        verb: str = typer.Option("simulate", "--verb", help=f"The verb whose config to print: {verbs}."),
+    ) -> None:
         def go():
-            typer.echo(domain_template(domain), nl=False)
+            typer.echo(domain_template(domain, verb), nl=False)
 
         guarded(go, debug)
 
@@ -328,16 +335,19 @@ def _template_command(domain: str) -> Callable[..., None]:
     return template
 
 
-def domain_template(domain: str) -> str:
-    """The generated TOML template of ``domain`` (InputError if the domain has no ``SCHEMA``)."""
-    from rotaflex.core.domains import case_module
+def domain_template(domain: str, verb: str = "simulate") -> str:
+    """The generated TOML template of ``rotaflex <domain> <verb>`` (InputError for an unknown
+    verb or a module without ``SCHEMA``)."""
+    from rotaflex.core.domains import case_module, command_module
     from rotaflex.core.schema import template
 
-    module = case_module(domain)
+    module = case_module(domain) if verb == "simulate" else command_module(domain, verb)
     schema = getattr(module, "SCHEMA", None)
     if schema is None:
         raise InputError("domain", domain, "a domain whose case module exposes SCHEMA (not yet for this one)")
-    text = template(schema, domain)
+    if verb != "simulate" and schema is getattr(case_module(domain), "SCHEMA", None):
+        verb = ""  # the verb reads the domain's own case file
+    text = template(schema, domain, verb="" if verb == "simulate" else verb)
     for table, alt in getattr(module, "ALTERNATIVES", {}).items():
         body = template(alt, domain, table=table).split("\n", 4)[-1]  # skip the header lines
         text += "\n# ---- alternatively, a [" + table + "] case (nothing else beside it):\n"
@@ -355,6 +365,7 @@ def config_reference() -> str:
     """The Markdown config reference of every domain that exposes ``SCHEMA``."""
     import importlib
 
+    from rotaflex.core.domains import command_module
     from rotaflex.core.schema import reference_markdown
 
     schemas = {}
@@ -365,7 +376,16 @@ def config_reference() -> str:
             continue
         if getattr(module, "SCHEMA", None) is None:
             continue
-        schemas[domain] = [("", module.SCHEMA), *getattr(module, "ALTERNATIVES", {}).items()]
+        roots = [("Top-level tables", "", module.SCHEMA)]
+        roots += [(f"`[{t}]` case", t, alt) for t, alt in getattr(module, "ALTERNATIVES", {}).items()]
+        by_schema: dict = {}  # verbs with their own schema, grouped (rotor modal, campbell, ...)
+        for verb in COMMANDS.get(domain, {}):
+            vs = getattr(command_module(domain, verb), "SCHEMA", None)
+            if vs is not None and vs is not module.SCHEMA:
+                by_schema.setdefault(vs, []).append(verb)
+        for vs, verbs in by_schema.items():
+            roots.append((f"`rotaflex {domain} {'|'.join(verbs)}`", "", vs))
+        schemas[domain] = roots
     return reference_markdown(schemas)
 
 

@@ -50,3 +50,37 @@ def test_from_mapping_refuses_huge_integers_without_overflow():
 
     with pytest.raises(InputError, match=r"disk.mass = 100000\.\.\.000 \(401 digits\)"):
         from_mapping(Disk, {"mass": 10**400}, "disk")
+
+
+@pytest.mark.parametrize(("domain", "verb"), [("gear", "steady"), ("gear", "static"), ("rotor", "modal")])
+def test_verb_templates_name_their_own_keys_and_are_accepted_by_the_verb(domain, verb):
+    from rotaflex.core.domains import validate_command
+
+    text = domain_template(domain, verb)
+    data = tomllib.loads(text)
+    assert data.pop("domain") == domain
+    if verb == "steady":  # keys only the steady-state verb has, with their meaning
+        assert data.pop("verb") == "steady"
+        for key in ("[steady]", "[iso]", "[train]", "[model]", "tol = ", "tip_relief"):
+            assert key in text, key
+        assert "# [m] number (optional), >= 0 and <= 0.001. C_a of B_k" in text
+    # required keys are written commented out: a template without them is refused by name
+    try:
+        validate_command(domain, verb, data)
+    except InputError as exc:
+        assert "<required>" in text and exc.field in text
+    assert "Config(" not in text.splitlines()[1], "the title is a sentence, not a dataclass signature"
+
+
+def test_config_reference_has_a_section_per_verb_schema():
+    text = config_reference()
+    for heading in ("`rotaflex gear steady`", "`rotaflex gear static`", "`rotaflex rotor modal|campbell"):
+        assert f"### {heading}" in text
+    assert "TorsionalCaseConfig(" not in text and "FloatingCase(" not in text
+    assert "| `iso.tip_relief` |" in text and "| `steady.eval_cycles` |" in text
+
+
+def test_booleans_are_shown_as_typed_in_toml():
+    assert str(InputError("solver.geometric_stiffness", True, "false")).startswith(
+        "solver.geometric_stiffness = true is invalid"
+    )

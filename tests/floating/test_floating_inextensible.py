@@ -157,3 +157,47 @@ def test_bad_input_names_the_field(change, field):
     with pytest.raises(InputError) as exc:
         simulate(b, change.get("loads", []), settings=st, method="full", prescribed=pres)
     assert exc.value.field == field
+
+
+def test_a_soft_beam_that_folds_during_spin_up_keeps_its_samples_and_says_why():
+    # EI 300 instead of 1.4e4: the beam curls over (|v'| -> 1) during the spin-up; trial states
+    # of rejected steps are far out of range, which must not raise from inside the kernel
+    b = uniform_beam(L, RHO_A, 3e2, 6, support="cantilever")
+    st = Settings(t_end=8.0, dt_out=0.05, kinematics="inextensible")
+    sol = simulate(b, [], settings=st, prescribed=Prescribed(rate=6.0, spin_up_time=15.0))
+    assert sol.status == "failed"
+    assert "|v'| >= 1" in sol.message and "slope |v'| reached" in sol.message
+    kept = np.isfinite(sol.q).all(axis=1)
+    assert 2.0 < sol.time[kept][-1] < 8.0 and kept[: int(2.0 / 0.05)].all()
+
+
+def test_the_linear_model_flags_deflections_beyond_its_range():
+    # EI 140: the linear model (with geometric stiffness) deflects by more than the beam's length
+    b = uniform_beam(L, RHO_A, 1.4e2, 6, support="cantilever")
+    sol = simulate(b, [], settings=Settings(t_end=20.0, dt_out=0.1), prescribed=Prescribed(rate=6.0, spin_up_time=15.0))
+    assert sol.status == "diverged"
+    assert "of the body size 10 m" in sol.message and "not a small-deflection solution" in sol.message
+    # the spin-up beam itself (5.7 % of L) stays in range without a note
+    ok = simulate(
+        uniform_beam(L, RHO_A, EI, 6, support="cantilever"),
+        [],
+        settings=Settings(t_end=20.0, dt_out=0.1),
+        prescribed=Prescribed(rate=6.0, spin_up_time=15.0),
+    )
+    assert ok.status == "success" and "body size" not in ok.message
+
+
+def test_perturbation_method_with_prescribed_motion_is_refused_by_name():
+    from rotaflex.floating.case import run_case
+
+    cfg = {
+        "body": {
+            "type": "beam",
+            "beam": {"length": L, "rho_a": RHO_A, "ei": EI, "n_modes": 3, "support": "cantilever"},
+        },
+        "prescribed": {"rate": 1.0, "spin_up_time": 5.0},
+        "solver": {"method": "perturbation", "t_end": 1.0, "dt_out": 0.1},
+    }
+    with pytest.raises(InputError) as exc:
+        run_case(cfg)
+    assert exc.value.field == "solver.method" and "prescribed" in exc.value.allowed

@@ -30,7 +30,10 @@ class CheckFailed(RuntimeError):
 
 
 def shown(value: object, limit: int = 60) -> str:
-    """``repr(value)`` as typed, shortened in the middle when very long (a 400-digit integer)."""
+    """``repr(value)`` as typed, shortened in the middle when very long (a 400-digit integer);
+    booleans as TOML spells them."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
     if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**limit:
         digits = str(abs(value))
         return f"{'-' if value < 0 else ''}{digits[:6]}...{digits[-3:]} ({len(digits)} digits)"

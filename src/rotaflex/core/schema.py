@@ -96,8 +96,7 @@ def entries(schema: type, prefix: str = "") -> Iterator[Entry]:
         doc = meta.get("doc", "") or ""
         nested = _nested(tp)
         if nested is not None:
-            first = (nested.__doc__ or "").strip().splitlines()
-            yield Entry(key, "table", _default(f), "", "", doc or (first[0] if first else ""), True)
+            yield Entry(key, "table", _default(f), "", "", doc or title_of(nested), True)
             yield from entries(nested, key + ".")
             continue
         allowed = _type_text(tp)
@@ -141,20 +140,31 @@ def _toml(value: Any) -> str:
     return str(value)
 
 
-def template(schema: type, domain: str, *, table: str = "") -> str:
+def title_of(schema: type) -> str:
+    """First line of the schema's docstring; the class name where the docstring is only the
+    signature that ``dataclasses`` writes for an undocumented class."""
+    doc = (schema.__doc__ or "").strip().splitlines()
+    if not doc or doc[0].startswith(schema.__name__ + "("):
+        return schema.__name__
+    return doc[0]
+
+
+def template(schema: type, domain: str, *, table: str = "", verb: str = "") -> str:
     """A commented TOML config with every key at its default, its unit and allowed values.
 
     Keys without a default are written commented out with ``<required>``; optional keys whose
     default is "not set" are commented out too, so the file loads as it is.
     """
-    doc = (schema.__doc__ or "").strip().splitlines()
+    command = f"{domain} {verb}" if verb else domain
     lines = [
-        f"# rotaflex {domain} case: every key with its default, unit and allowed values.",
-        f"# {doc[0]}" if doc else "",
-        "# Generated from the schema (rotaflex " + domain + " template); delete what you do not change.",
+        f"# rotaflex {command} case: every key with its default, unit and allowed values.",
+        f"# {title_of(schema)}",
+        f"# Generated from the schema (rotaflex {domain} template"
+        + (f" --verb {verb}" if verb else "")
+        + "); delete what you do not change.",
         "",
         f'domain = "{domain}"',
-    ]
+    ] + ([f'verb = "{verb}"'] if verb else [])
     prefix = f"{table}." if table else ""
     if table:
         lines += ["", f"[{table}]"]
@@ -193,22 +203,22 @@ def template(schema: type, domain: str, *, table: str = "") -> str:
     return "\n".join(lines).replace("\n\n\n", "\n\n") + "\n"
 
 
-def reference_markdown(schemas: dict[str, list[tuple[str, type]]]) -> str:
-    """The config reference: one table of keys per domain (and per alternative root table)."""
+def reference_markdown(schemas: dict[str, list[tuple[str, str, type]]]) -> str:
+    """The config reference: one table of keys per domain, per alternative root table and per
+    verb with its own schema; ``schemas[domain]`` lists ``(heading, table, schema)``."""
     out = [
         "# Configuration reference",
         "",
         "Generated from the code by `rotaflex docs config-reference` (do not edit by hand; a test checks",
-        "that this file is up to date). `rotaflex <domain> template` prints the same keys as a commented",
-        "TOML file. Values are SI unless the key's name says otherwise (`speed_rpm`, `span_deg`).",
+        "that this file is up to date). `rotaflex <domain> template [--verb VERB]` prints the same keys as",
+        "a commented TOML file. Values are SI unless the key's name says otherwise (`speed_rpm`,",
+        "`span_deg`).",
         "",
     ]
     for domain, roots in schemas.items():
         out += [f"## {domain}", ""]
-        for table, schema in roots:
-            doc = (schema.__doc__ or "").strip().splitlines()
-            title = f"`[{table}]` case" if table else "Top-level tables"
-            out += [f"### {title}: {doc[0] if doc else schema.__name__}", ""]
+        for heading, table, schema in roots:
+            out += [f"### {heading}: {title_of(schema)}", ""]
             out += ["| key | default | unit | allowed | description |", "|---|---|---|---|---|"]
             prefix = f"{table}." if table else ""
             for e in entries(schema):

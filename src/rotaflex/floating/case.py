@@ -114,6 +114,8 @@ class FileConfig:
 
 @dataclass(frozen=True)
 class BodyConfig:
+    """The flexible body: an analytic beam, an FE frame, point masses with modes, or modes from a file."""
+
     type: Literal["beam", "frame", "points", "file"] = param("beam")
     beam: BeamConfig | None = param(None)
     frame: FrameConfig | None = param(None)
@@ -134,6 +136,8 @@ class BodyConfig:
 
 @dataclass(frozen=True)
 class FloatingCase:
+    """A floating flexible body case: body, loads, initial state, prescribed motion, solver, outputs."""
+
     body: BodyConfig = param()
     loads: tuple[Load, ...] = param(())
     initial: Initial = param(Initial())
@@ -314,6 +318,13 @@ def prepare(config: dict):
             raise InputError(f"outputs.{name}", list(pt), exc.allowed) from None
     methods = ["full", "perturbation"] if case.solver.method == "both" else [case.solver.method]
     if case.prescribed is not None:
+        if case.solver.method == "perturbation":
+            raise InputError(
+                "solver.method",
+                "perturbation",
+                "'full' or 'both' with [prescribed] motion (the frame's motion is given, so there is no "
+                "rigid-body part to perturb; one 'prescribed' solution is computed)",
+            )
         methods = ["full"]
     for m in methods:
         check_inputs(body, case.loads, case.initial, case.solver, m, case.prescribed is not None)

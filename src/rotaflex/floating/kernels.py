@@ -335,6 +335,15 @@ def loads_perturbation(t, A0, th1, q1, L):
 # so that with u = Phi q:  sum m u_a r_b = R1 . q,  sum m Phi_aj u_b = (P . q)[a, b, j].
 # ----------------------------------------------------------------------------------------
 @njit(cache=True)
+def solve_lu(M, f):
+    """``M x = f`` by LU; NaN where ``M`` or ``f`` is not finite (a trial state far out of range,
+    which the integrator rejects), instead of an exception from inside the compiled loop."""
+    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(f))):
+        return np.full(f.shape[0], np.nan)
+    return np.linalg.solve(M, f)
+
+
+@njit(cache=True)
 def solve_spd(M, f):
     """Solve ``M x = f`` for a symmetric positive definite ``M`` (Cholesky, in place on copies)."""
     n = M.shape[0]
@@ -345,7 +354,7 @@ def solve_spd(M, f):
         for k in range(j):
             s -= Lc[j, k] * Lc[j, k]
         if not s > 0.0:
-            return np.linalg.solve(M, f)  # not SPD (far outside the model's range): LU
+            return solve_lu(M, f)  # not SPD (far outside the model's range): LU
         d = np.sqrt(s)
         Lc[j, j] = d
         for i in range(j + 1, n):
@@ -592,7 +601,7 @@ def rhs_prescribed(t, y, B, L, geo, axis, rate, t_up):
     sub_weighted(f, 6, skew3(2.0 * w), Pp)
     dy = np.empty_like(y)
     dy[0:n] = p
-    dy[n:] = np.linalg.solve(Mb, f[6:])
+    dy[n:] = solve_lu(Mb, f[6:])
     return dy
 
 
@@ -673,7 +682,7 @@ def rhs_inextensible(t, y, kin, axis, rate, t_up):
         a1 = ei[0] * wq[k] * v2 * v2 * v1 / (c2 * c2)
         for i in range(n):
             f[i] -= a2 * D2[k, i] + a1 * D1[k, i]
-    dy[n:] = np.linalg.solve(M, f)
+    dy[n:] = solve_lu(M, f)
     return dy
 
 

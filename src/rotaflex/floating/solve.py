@@ -181,7 +181,7 @@ def _check_inextensible(body: Body, loads, settings: Settings, clamped: bool) ->
     if len(loads):
         raise InputError(
             "loads",
-            f"{len(loads)} load(s)",
+            [ld.kind for ld in loads],
             "no loads with solver.kinematics = 'inextensible' (prescribed motion only)",
         )
     if settings.geometric_stiffness:
@@ -386,6 +386,10 @@ def simulate(
             "centrifugal softening makes the linear modal model unstable"
             + ("" if geo or body.geometric is None else "; set solver.geometric_stiffness = true")
         )
+    notes += _range_notes(body, sol)
+    if sol.status == "success" and sol.kinematics == "linear" and _max_deflection(body, sol.q) > body.length:
+        sol.status = "diverged"
+        log.warning("floating %s: %s", method, notes[-1])
     if st == 3:
         sol.status = "diverged"
         notes.insert(
@@ -395,6 +399,53 @@ def simulate(
         log.warning("floating %s: %s", method, notes[0])
     sol.message = "; ".join(notes) if notes else f"{nstep} steps, {nfev} evaluations"
     return sol
+
+
+#: elastic deflection [fraction of the body size] above which the linear model is out of range
+LINEAR_RANGE = 0.1
+#: slope |v'| above which a modal v(s) field resolves the inextensible curve poorly
+STEEP_SLOPE = 0.8
+
+
+def _max_deflection(body: Body, q: np.ndarray) -> float:
+    """Largest elastic deflection [m] of any mass point over the finite rows of ``q`` (T, n)."""
+    q = q[np.isfinite(q).all(axis=1)]
+    if q.size == 0 or body.n_modes == 0:
+        return 0.0
+    S = body.shapes.reshape(-1, body.n_modes)
+    out = 0.0
+    for i in range(0, len(q), 256):  # blocks keep the (T, N, 3) deflections small
+        u = (q[i : i + 256] @ S.T).reshape(-1, body.masses.size, 3)
+        out = max(out, float(np.sqrt((u * u).sum(axis=-1)).max()))
+    return out
+
+
+def _range_notes(body: Body, sol: Solution) -> list[str]:
+    """Plain-words notes when a run left the range where its kinematics is accurate."""
+    if body.n_modes == 0:
+        return []
+    if sol.kinematics == "inextensible":
+        q = sol.q[np.isfinite(sol.q).all(axis=1)]
+        slope = float(np.abs(q @ body.inextensible.slopes.T).max(initial=0.0))
+        if slope > STEEP_SLOPE:
+            return [
+                f"the slope |v'| reached {slope:.3g} (the beam turns by {np.degrees(np.arcsin(min(slope, 1.0))):.0f}"
+                " deg): a modal v(s) field resolves such shapes poorly; check the result with more modes"
+            ]
+        return []
+    defl = _max_deflection(body, sol.q)
+    if defl <= LINEAR_RANGE * body.length:
+        return []
+    return [
+        f"the elastic deflection reached {defl:.3g} m, {defl / body.length:.0%} of the body size "
+        f"{body.length:g} m: "
+        + (
+            "more than the body itself, so the result is not a small-deflection solution; "
+            if defl > body.length
+            else ""
+        )
+        + "the linear floating-frame model is accurate to ~1e-3 only below ~1 % (docs/floating.md, limits)"
+    ]
 
 
 def _quat_from_rotvec(th):

@@ -107,6 +107,8 @@ class GearConfig:
 
 @dataclass(frozen=True)
 class MaterialConfig:
+    """Elastic material of both gears."""
+
     youngs_modulus: float = param(
         paper.YOUNGS_MODULUS,
         unit="Pa",
@@ -156,6 +158,8 @@ DRAWING_SMOOTHING = 12
 
 @dataclass(frozen=True)
 class MeshConfig:
+    """FE tooth mesh: a preset or explicit element counts."""
+
     preset: Literal["default", "coarse", "fine"] = param(
         "default", doc="tooth mesh; 'fine' (2x default) needs dt <= 1.7e-8 s"
     )
@@ -186,6 +190,8 @@ REDUCED_STEP_ANGLE = 5e-4
 
 @dataclass(frozen=True)
 class SolverConfig:
+    """Time integration of the dynamic-contact method."""
+
     method: Literal["paper_rk4", "reduced_hht"] = param(
         "paper_rk4",
         doc="paper_rk4: the paper's RK4 + multiplier passes; reduced_hht: "
@@ -227,6 +233,8 @@ class SolverConfig:
 
 @dataclass(frozen=True)
 class OutputConfig:
+    """What is recorded and how often."""
+
     every: int | None = param(
         None, ge=1, doc="record every n-th step (1 = full rate; default 10 for paper_rk4, 1 for reduced_hht)"
     )
@@ -266,6 +274,8 @@ class ModelConfig:
 
 @dataclass(frozen=True)
 class GearCaseConfig:
+    """A gear dynamic-contact case (`rotaflex gear simulate`): pair, material, operation, mesh, solver."""
+
     gear: GearConfig = field(default_factory=GearConfig)
     pinion: GearSpec | None = param(
         None, doc="gear A as on a drawing (keys of gear static); with [wheel], instead of [gear]"

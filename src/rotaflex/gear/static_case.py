@@ -37,17 +37,23 @@ MESH_PRESETS = {
 
 @dataclasses.dataclass(frozen=True)
 class LoadConfig:
+    """Transmitted (design) torque."""
+
     torque: float = param(unit="N m", gt=0.0, doc="design torque on the pinion")
 
 
 @dataclasses.dataclass(frozen=True)
 class StaticMeshConfig:
+    """FE tooth mesh and the number of positions over a mesh cycle."""
+
     preset: Literal["coarse", "default", "fine"] = param("default", doc="tooth mesh")
     n_radii: int = param(9, ge=4, le=40, doc="FE load cases per tooth over the active profile")
 
 
 @dataclasses.dataclass(frozen=True)
 class AnalysisConfig:
+    """Which static quantities to compute."""
+
     n_angles: int = param(240, ge=20, le=5000, doc="roll-angle samples per mesh cycle")
     compliance_diameters_pinion: tuple[float, ...] = param(
         (),

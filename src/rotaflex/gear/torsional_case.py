@@ -69,6 +69,8 @@ __all__ = ["SCHEMA", "TorsionalCaseConfig", "build_system", "run_torsional", "va
 
 @dataclass(frozen=True)
 class GearSpec:
+    """The paper's symmetric pair (used when no [pinion]/[wheel] is given)."""
+
     module: float = param(3.175e-3, unit="m", gt=0.0)
     teeth: tuple[int, int] = param((28, 28), doc="(pinion, wheel)")
     pressure_angle_deg: float = param(20.0, unit="deg", gt=5.0, lt=45.0)
@@ -95,6 +97,8 @@ class GearSpec:
 
 @dataclass(frozen=True)
 class MeshSpec:
+    """Mesh stiffness and unloaded TE source, and mesh damping."""
+
     source: Literal["static_fe", "contact_pattern"] = param(
         "static_fe", doc="static FE mesh stiffness (gear.static) or the analytic 1/2-pair model"
     )
@@ -102,57 +106,72 @@ class MeshSpec:
     unloaded_te_pp: float = param(0.0, unit="m", ge=0.0, doc="triangular unloaded TE per cycle (contact_pattern only)")
     damping_ratio: float = param(0.07, ge=0.0, doc="mesh damping ratio zeta")
     backlash: float | None = param(None, unit="m", ge=0.0, doc="omitted: no back-side contact")
-    table_points: int = param(400, ge=16)
+    table_points: int = param(400, ge=16, doc="samples per mesh cycle of the stiffness and TE tables")
 
 
 @dataclass(frozen=True)
 class TrainSpec:
-    inertia: tuple[float, float] = param((2.965e-4, 2.965e-4), unit="kg m^2")
-    motor_inertia: float = param(0.0, unit="kg m^2", ge=0.0)
-    load_inertia: float = param(0.0, unit="kg m^2", ge=0.0)
+    """The torsional train around the pair: drive, motor and load inertias, shafts, backlash."""
+
+    inertia: tuple[float, float] = param(
+        (2.965e-4, 2.965e-4), unit="kg m^2", doc="(pinion, wheel); with [pinion]/[wheel]: from the blanks unless given"
+    )
+    motor_inertia: float = param(0.0, unit="kg m^2", ge=0.0, doc="motor rotor (drive = 'motor')")
+    load_inertia: float = param(0.0, unit="kg m^2", ge=0.0, doc="driven machine on the wheel side")
     input_shaft_stiffness: float | None = param(None, unit="N m/rad", gt=0.0, doc="omitted: rigid")
-    input_shaft_damping: float = param(0.0, unit="N m s/rad", ge=0.0)
+    input_shaft_damping: float = param(0.0, unit="N m s/rad", ge=0.0, doc="motor-pinion shaft")
     output_shaft_stiffness: float | None = param(None, unit="N m/rad", gt=0.0, doc="omitted: rigid")
-    output_shaft_damping: float = param(0.0, unit="N m s/rad", ge=0.0)
-    drive: Literal["motor", "constant_speed"] = param("motor")
-    motor_slope: float = param(0.5, unit="N m s/rad", gt=0.0)
+    output_shaft_damping: float = param(0.0, unit="N m s/rad", ge=0.0, doc="wheel-load shaft")
+    drive: Literal["motor", "constant_speed"] = param(
+        "motor", doc="motor: speed set by the torque-speed slope; constant_speed: prescribed input speed"
+    )
+    motor_slope: float = param(0.5, unit="N m s/rad", gt=0.0, doc="motor torque drop per rad/s above nominal")
 
 
 @dataclass(frozen=True)
 class OperationSpec:
-    speed_rpm: float = param(10000.0, unit="rpm", gt=0.0)
-    torque: float = param(22.25, unit="N m", gt=0.0, doc="output torque")
-    ramp_cycles: float = param(0.0, ge=0.0)
+    """Operating point: pinion speed, output torque, start-up ramp."""
+
+    speed_rpm: float = param(10000.0, unit="rpm", gt=0.0, doc="pinion (mean) speed")
+    torque: float = param(22.25, unit="N m", gt=0.0, doc="output torque on the wheel")
+    ramp_cycles: float = param(0.0, ge=0.0, doc="start-up torque ramp in mesh cycles; 0: start from statics")
 
 
 @dataclass(frozen=True)
 class SteadySpec:
-    tol: float = param(1e-4, gt=0.0)
-    min_cycles: int = param(20, ge=2)
-    max_cycles: int = param(400, ge=2)
-    eval_cycles: int = param(10, ge=1)
-    fixed_cycles: int | None = param(None, ge=2)
-    steps_per_cycle: int = param(100, ge=8)
+    """Steady-state detection: tolerance, cycles evaluated, time step."""
+
+    tol: float = param(1e-4, gt=0.0, doc="periodic when the cycle-to-cycle change of force and DTE (scaled) is below")
+    min_cycles: int = param(20, ge=2, doc="mesh cycles before the first periodicity check")
+    max_cycles: int = param(400, ge=2, doc="give up (status not_periodic) after")
+    eval_cycles: int = param(10, ge=1, doc="last mesh cycles evaluated (K_v, DTE, spectra)")
+    fixed_cycles: int | None = param(None, ge=2, doc="run exactly this many cycles instead of checking")
+    steps_per_cycle: int = param(100, ge=8, doc="RK4 steps per mesh cycle (more where tooth modes need it)")
 
 
 @dataclass(frozen=True)
 class SweepSpec:
-    speeds_rpm: tuple[float, ...] = param((), unit="rpm", gt=0.0)
-    directions: tuple[str, ...] = param(("up", "down"))
+    """An in-process speed sweep (for large sweeps use `rotaflex sweep --continuation`)."""
+
+    speeds_rpm: tuple[float, ...] = param((), unit="rpm", gt=0.0, doc="pinion speeds, each continued from the last")
+    directions: tuple[str, ...] = param(("up", "down"), doc="sweep order(s)")
 
 
 @dataclass(frozen=True)
 class IsoSpec:
-    f_pb_eff: float = param(0.0, unit="m", ge=0.0)
-    f_f_eff: float = param(0.0, unit="m", ge=0.0)
+    """Inputs of the ISO 6336-1 method B K_v overlay."""
+
+    f_pb_eff: float = param(0.0, unit="m", ge=0.0, doc="effective base-pitch deviation (after running-in)")
+    f_f_eff: float = param(0.0, unit="m", ge=0.0, doc="effective profile form deviation (after running-in)")
     tip_relief: float | None = param(
         None,
         unit="m",
         ge=0.0,
+        le=1e-3,
         doc="C_a of B_k; default: the larger tip relief amount of [pinion]/[wheel] "
         "(0 without reliefs or with model.relief = false)",
     )
-    application_factor: float = param(1.0, ge=1.0)
+    application_factor: float = param(1.0, ge=1.0, doc="K_A")
 
 
 def _iso_tip_relief(cfg) -> float:
@@ -166,6 +185,8 @@ def _iso_tip_relief(cfg) -> float:
 
 @dataclass(frozen=True)
 class ModelSpec:
+    """Mesh model: lumped mesh spring or FE tooth pairs in a travelling window."""
+
     method: Literal["lumped", "elastic_teeth"] = param(
         "lumped", doc="mesh spring k(phi), e(phi), or the travelling window of FE tooth pairs"
     )
@@ -179,6 +200,8 @@ class ModelSpec:
 
 @dataclass(frozen=True)
 class TorsionalCaseConfig:
+    """A steady-state gear dynamics case (`rotaflex gear steady`): pair, mesh model, train, operation."""
+
     gear: GearSpec = param(GearSpec())
     mesh: MeshSpec = param(MeshSpec())
     train: TrainSpec = param(TrainSpec())
@@ -476,6 +499,11 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
     else:
         res, st = run(model, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state, **kw)
         _point_extras(res, sys, st, cfg, eps, face_width)
+    res.dataset["iso_tip_relief"] = (
+        (),
+        _iso_tip_relief(cfg),
+        {"units": "m", "long_name": "C_a used for ISO 6336-1 B_k (iso.tip_relief or the drawing's)"},
+    )
     res.dataset.attrs["config"] = json.dumps(to_mapping(cfg))
     res.dataset.attrs["method"] = cfg.model.method
     return res

@@ -38,12 +38,16 @@ class UnbalanceMass:
 
 @dataclass(frozen=True)
 class ModalSpec:
+    """Modal analysis: damped natural frequencies and mode shapes at one speed."""
+
     speed_rpm: float = param(0.0, unit="rpm", ge=0, doc="spin speed")
     n_modes: int = param(8, ge=1, doc="number of modes reported")
 
 
 @dataclass(frozen=True)
 class CampbellSpec:
+    """Campbell diagram: natural frequencies over a speed range."""
+
     speed_rpm: tuple[float, float] = param((0.0, 10000.0), unit="rpm", ge=0, doc="speed range start, stop")
     n_speeds: int = param(50, ge=2)
     n_modes: int = param(8, ge=1)
@@ -53,6 +57,8 @@ class CampbellSpec:
 
 @dataclass(frozen=True)
 class UCSSpec:
+    """Undamped critical speed map over a range of bearing stiffness."""
+
     stiffness: tuple[float, float] = param((1e5, 1e10), unit="N/m", gt=0, doc="bearing stiffness range (log)")
     n_points: int = param(40, ge=2)
     n_modes: int = param(4, ge=1)
@@ -60,6 +66,8 @@ class UCSSpec:
 
 @dataclass(frozen=True)
 class UnbalanceSpec:
+    """Steady unbalance response over a speed range."""
+
     speed_rpm: tuple[float, float] = param((0.0, 10000.0), unit="rpm", ge=0)
     n_speeds: int = param(500, ge=2)
     probes: tuple[int, ...] = param((), ge=0, doc="probe nodes (default: the unbalance nodes)")
@@ -69,6 +77,8 @@ class UnbalanceSpec:
 
 @dataclass(frozen=True)
 class TransientSpec:
+    """Time response of the rotor-bearing system."""
+
     speed_rpm: tuple[float, float] = param((0.0, 0.0), unit="rpm", ge=0, doc="speed at start and end (ramp)")
     duration: float = param(1.0, unit="s", gt=0)
     n_output: int = param(2001, ge=2)
