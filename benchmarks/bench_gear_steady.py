@@ -76,7 +76,7 @@ def main(out_dir=None):
     print(f"run-until-periodic point: {(time.perf_counter() - t) * 1e3:.1f} ms, {res.message}")
 
     eps = contact_ratio(G, G)
-    iso_c = iso6336_stiffness(G, G, TORQUE / rb / G.face_width / 1e3)
+    iso_c = iso6336_stiffness(G, G, TORQUE / G.pitch_radius / G.face_width / 1e3)  # ISO F_t: reference circle
     iso = iso_input(system, TORQUE, G.face_width, eps, c_single=iso_c["c_single"] * 1e9, f_pb_eff=5e-6, f_f_eff=4e-6)
     speeds = np.linspace(2000.0, 22000.0, 40)
     t = time.perf_counter()

@@ -115,3 +115,29 @@ def test_iso_tip_relief_follows_the_drawing(config, tables, expected):
     from rotaflex.gear.torsional_case import _checked, _iso_tip_relief
 
     assert _iso_tip_relief(_checked(_with(config, **tables))) == expected
+
+
+def test_iso_overlay_uses_the_standards_own_stiffness_and_reference_circle_load(config):
+    import math
+
+    from rotaflex.gear.static import iso6336_stiffness
+    from rotaflex.gear.torsional_case import _checked, pair_data
+
+    cfg_point = {k: v for k, v in config.items() if k != "sweep"}
+    res = run_torsional(_with(cfg_point, steady={"fixed_cycles": 4, "eval_cycles": 2}))
+    cfg = _checked(cfg_point)
+    pd = pair_data(cfg)
+    g1, g2 = pd.gears
+    b = pd.face_width
+    # ISO 6336-1: F_t at the wheel's reference circle, per mm of face width; C_R of the blanks
+    ft_b = cfg.operation.torque / (g2.module * g2.teeth / 2) / (b * 1e3)
+    c_r = 0.5 * (cfg.pair.pinion.blank_factor() + cfg.pair.wheel.blank_factor())
+    c_gamma = iso6336_stiffness(g1, g2, load_per_width=ft_b, eps_alpha=cfg.pair.contact_ratio, c_r=c_r)["c_gamma"]
+    (j1, j2), (r1, r2) = pd.inertias, (g1.base_radius, g2.base_radius)
+    m_red = j1 * j2 / (j1 * r2**2 + j2 * r1**2) / (b * 1e3)  # kg/mm
+    n_e1 = 30000.0 / (math.pi * g1.teeth) * math.sqrt(c_gamma / m_red)  # ISO 6336-1 (min^-1)
+    assert abs(float(res.dataset["iso_resonance_speed"]) / n_e1 - 1.0) < 1e-9
+    # iso.stiffness = "model": n_E1 from the model's own mean mesh stiffness, i.e. its mesh mode
+    # with rigid shafts and no motor/load inertia
+    res_m = run_torsional(_with(cfg_point, steady={"fixed_cycles": 4, "eval_cycles": 2}, iso={"stiffness": "model"}))
+    assert float(res_m.dataset["iso_resonance_speed"]) != float(res.dataset["iso_resonance_speed"])

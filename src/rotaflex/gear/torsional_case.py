@@ -172,6 +172,10 @@ class IsoSpec:
         "(0 without reliefs or with model.relief = false)",
     )
     application_factor: float = param(1.0, ge=1.0, doc="K_A")
+    stiffness: Literal["iso", "model"] = param(
+        "iso",
+        doc="c' and c_gamma_alpha (hence n_E1) from ISO 6336-1's own formulas, or from the model's mean mesh stiffness",
+    )
 
 
 def _iso_tip_relief(cfg) -> float:
@@ -181,6 +185,34 @@ def _iso_tip_relief(cfg) -> float:
     if cfg.pinion is None or not cfg.model.relief:
         return 0.0
     return max((g.tip_relief.amount for g in (cfg.pinion, cfg.wheel) if g.tip_relief is not None), default=0.0)
+
+
+def _iso_data(cfg, sys: TorsionalSystem, eps: float, face_width: float):
+    """ISO 6336-1 method B input of the case: ISO's F_t at the wheel's reference circle and, with
+    ``iso.stiffness = "iso"``, ISO's own c' and c_gamma_alpha (blank factor C_R of the drawing)."""
+    from rotaflex.gear.static import iso6336_stiffness
+
+    g1, g2 = cfg.gear.geometry() if cfg.pair is None else cfg.pair.gears
+    iso = cfg.iso
+    stiff = {}
+    if iso.stiffness == "iso":
+        pair = cfg.pair
+        c_r = 1.0 if pair is None else 0.5 * (pair.pinion.blank_factor() + pair.wheel.blank_factor())
+        load = iso.application_factor * cfg.operation.torque / g2.pitch_radius / (face_width * 1e3)  # N/mm
+        c = iso6336_stiffness(g1, g2, load_per_width=load, eps_alpha=eps, c_r=c_r)
+        stiff = {"c_single": c["c_single"] * 1e9, "c_gamma_alpha": c["c_gamma"] * 1e9}  # N/(mm um) -> N/m^2
+    return iso_input(
+        sys,
+        cfg.operation.torque,
+        face_width,
+        eps,
+        reference_radius=g2.pitch_radius,
+        f_pb_eff=iso.f_pb_eff,
+        f_f_eff=iso.f_f_eff,
+        tip_relief=_iso_tip_relief(cfg),
+        application_factor=iso.application_factor,
+        **stiff,
+    )
 
 
 @dataclass(frozen=True)
@@ -418,16 +450,7 @@ def _point_extras(res, sys: TorsionalSystem, st, cfg: TorsionalCaseConfig, eps: 
         60.0 * f_mesh_mode / sys.teeth[0],
         {"units": "rpm", "long_name": "pinion speed where the mesh frequency meets the mesh mode"},
     )
-    iso = iso_input(
-        sys,
-        op.torque,
-        face_width,
-        eps,
-        f_pb_eff=cfg.iso.f_pb_eff,
-        f_f_eff=cfg.iso.f_f_eff,
-        tip_relief=_iso_tip_relief(cfg),
-        application_factor=cfg.iso.application_factor,
-    )
+    iso = _iso_data(cfg, sys, eps, face_width)
     ds["iso_kv"] = ((), float(iso_kv(iso, [op.speed_rpm])[0]), {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
     ds["iso_resonance_speed"] = ((), float(iso.resonance_speed_rpm), {"units": "rpm"})
     ds["state_theta"] = ("chain_node", st.theta, {"units": "rad", "long_name": "final angles"})
@@ -485,16 +508,7 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
     )
     op = cfg.operation
     if len(cfg.sweep.speeds_rpm) >= 2:
-        iso = iso_input(
-            sys,
-            op.torque,
-            face_width,
-            eps,
-            f_pb_eff=cfg.iso.f_pb_eff,
-            f_f_eff=cfg.iso.f_f_eff,
-            tip_relief=_iso_tip_relief(cfg),
-            application_factor=cfg.iso.application_factor,
-        )
+        iso = _iso_data(cfg, sys, eps, face_width)
         res = speed_sweep(model, op.torque, cfg.sweep.speeds_rpm, directions=cfg.sweep.directions, iso=iso, **kw)
     else:
         res, st = run(model, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state, **kw)

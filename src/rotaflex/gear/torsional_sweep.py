@@ -38,25 +38,32 @@ def iso_input(
     contact_ratio: float,
     *,
     c_single: float | None = None,
+    c_gamma_alpha: float | None = None,
+    reference_radius: float | None = None,
     f_pb_eff: float = 0.0,
     f_f_eff: float = 0.0,
     tip_relief: float = 0.0,
     application_factor: float = 1.0,
 ) -> IsoKvInput:
-    """ISO 6336-1 method B data matching the torsional model.
+    """ISO 6336-1 method B data for the torsional model's pair.
 
-    ``c_gamma_alpha = k_mean / b`` (the model's mean mesh stiffness), ``m_red`` from the gears'
-    inertias and base radii, ``K_A F_t / b`` from the output torque, and by default
-    ``c' = c_gamma_alpha / (0.75 eps_alpha + 0.25)`` (ISO's relation between the two).
+    ``m_red`` from the gears' inertias and base radii; ``K_A F_t / b`` with ISO's nominal
+    tangential load at the wheel's *reference* circle, ``F_t = T_out / r_2``
+    (``reference_radius``; default ``r_b2 / cos 20 deg``). The stiffnesses [N/m^2] are ISO's own
+    when given (``c_single``, ``c_gamma_alpha``, e.g. from
+    :func:`rotaflex.gear.static.iso6336_stiffness`); otherwise ``c_gamma_alpha = k_mean / b``
+    (the model's mean mesh stiffness) and ``c' = c_gamma_alpha / (0.75 eps_alpha + 0.25)``
+    (ISO's relation between the two).
     """
-    c_g = sys.mesh.mean_stiffness / face_width
+    c_g = sys.mesh.mean_stiffness / face_width if c_gamma_alpha is None else c_gamma_alpha
     c1 = c_g / (0.75 * contact_ratio + 0.25) if c_single is None else c_single
+    r2 = sys.base_radius[1] / np.cos(np.radians(20.0)) if reference_radius is None else reference_radius
     return IsoKvInput(
         z1=int(sys.teeth[0]),
         c_single=c1,
         c_gamma_alpha=c_g,
         m_red=reduced_mass_per_width(sys.inertia, sys.base_radius, face_width),
-        load_per_width=application_factor * torque / sys.base_radius[1] / face_width,
+        load_per_width=application_factor * torque / r2 / face_width,
         eps_gamma=contact_ratio,
         f_pb_eff=f_pb_eff,
         f_f_eff=f_f_eff,
