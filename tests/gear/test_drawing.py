@@ -120,6 +120,7 @@ def test_swapping_pinion_and_wheel_swaps_the_geometry():
         ("wheel.root_relief", {"amount": 5e-4, "start_diameter": 0.1155}, "wheel.root_relief.amount"),
         ("pinion.tip_relief", {"amount": 1e-5, "start_diameter": 0.06}, "pinion.tip_relief.start_diameter"),
         ("pinion.teeth", 19.5, "pinion.teeth"),
+        ("pinion.module", 3.0, "pinion.module"),  # millimetres typed as metres
     ],
 )
 def test_bad_pairs_raise_one_line_naming_the_field(path, value, field):
@@ -130,7 +131,7 @@ def test_bad_pairs_raise_one_line_naming_the_field(path, value, field):
 
 
 def test_limits_stated_in_the_messages():
-    with pytest.raises(InputError, match=r"tip thickness is >= 0.0005 m \(0.2 m"):
+    with pytest.raises(InputError, match=r"tip thickness is >= 0.0005 m \(0.2 x module\); this profile shift leaves"):
         pair_from_mapping(_with("pinion.profile_shift", 1.0))
     with pytest.raises(InputError, match="to avoid undercut with 10 teeth"):
         pair_from_mapping(_with("pinion.teeth", 10))

@@ -141,3 +141,41 @@ def test_iso_overlay_uses_the_standards_own_stiffness_and_reference_circle_load(
     # with rigid shafts and no motor/load inertia
     res_m = run_torsional(_with(cfg_point, steady={"fixed_cycles": 4, "eval_cycles": 2}, iso={"stiffness": "model"}))
     assert float(res_m.dataset["iso_resonance_speed"]) != float(res.dataset["iso_resonance_speed"])
+
+
+def test_sweep_figure_marks_points_that_did_not_settle():
+    import xarray as xr
+
+    from rotaflex.gear.sweep_figures import steady_sweep_figure
+
+    speeds = np.array([1000.0, 2000.0, 3000.0])
+    status = np.array([["success", "success"], ["not_periodic", "success"], ["success", "success"]])
+    ds = xr.Dataset(
+        {
+            "dynamic_factor": (("operation_speed_rpm", "direction"), np.array([[1.1, 1.1], [1.6, 1.4], [1.2, 1.2]])),
+            "dte_pp": (("operation_speed_rpm", "direction"), np.full((3, 2), 2e-6)),
+            "status": (("operation_speed_rpm", "direction"), status),
+        },
+        coords={"operation_speed_rpm": speeds, "direction": ["up", "down"]},
+    )
+    fig = steady_sweep_figure(ds)["gear_steady_sweep"]
+    marks = [ln for ln in fig.axes[0].lines if ln.get_marker() == "x"]
+    assert len(marks) == 1 and marks[0].get_label() == "not periodic"
+    assert list(marks[0].get_xdata()) == [2000.0] and list(marks[0].get_ydata()) == [1.6]
+
+
+def test_a_drawing_pair_case_records_what_it_used(config):
+    import json
+
+    res = run_torsional(_with(config, steady={"fixed_cycles": 4, "eval_cycles": 2}))
+    ds = res.dataset
+    stored = json.loads(ds.attrs["config"])
+    # no paper [gear] table and no default inertia pretend to describe this pair
+    assert stored["gear"] is None and stored["train"]["inertia"] is None
+    from rotaflex.gear.torsional_case import _checked, pair_data
+
+    j1, j2 = pair_data(_checked(config)).inertias
+    assert float(ds["inertia_pinion"]) == j1 and float(ds["inertia_wheel"]) == j2
+    g2 = pair_data(_checked(config)).gears[1]
+    assert abs(float(ds["static_mesh_force"]) - config["operation"]["torque"] / g2.base_radius) < 1e-9
+    assert float(ds["mean_mesh_stiffness"]) > 0 and float(ds["reduced_mass"]) > 0

@@ -140,6 +140,26 @@ def _toml(value: Any) -> str:
     return str(value)
 
 
+def _toml_order(ents: list[Entry]) -> list[Entry]:
+    """Entries in an order TOML reads back: in every table its own keys before its sub-tables
+    (a key written after a sub-table's header would belong to the sub-table)."""
+    children: dict[str, list[Entry]] = {}
+    for e in ents:
+        children.setdefault(e.key.rpartition(".")[0], []).append(e)
+    out: list[Entry] = []
+
+    def emit(parent: str) -> None:
+        kids = children.get(parent, [])
+        out.extend(e for e in kids if not e.table)
+        for e in kids:
+            if e.table:
+                out.append(e)
+                emit(e.key)
+
+    emit("")
+    return out
+
+
 def title_of(schema: type) -> str:
     """First line of the schema's docstring; the class name where the docstring is only the
     signature that ``dataclasses`` writes for an undocumented class."""
@@ -171,9 +191,7 @@ def template(schema: type, domain: str, *, table: str = "", verb: str = "") -> s
     # an optional table (default None, e.g. an alternative layout) is written commented out,
     # with everything under it
     off: list[str] = []
-    # top-level keys first: in TOML a key after a table header belongs to that table
-    ents = list(entries(schema))
-    ents = [e for e in ents if "." not in e.key and not e.table] + [e for e in ents if "." in e.key or e.table]
+    ents = _toml_order(list(entries(schema)))
     for e in ents:
         if any(e.key.startswith(o + ".") for o in off):
             if e.table:

@@ -67,7 +67,7 @@ def rpm_to_rad_s(rpm):
 class GearConfig:
     """Both gears (identical, as in the paper)."""
 
-    module: float = param(paper.MODULE, unit="m", gt=0.0, doc="module")
+    module: float = param(paper.MODULE, unit="m", gt=0.0, le=0.1, doc="module in metres (3 mm: 3e-3)")
     teeth: int = param(paper.TEETH, gt=5, doc="number of teeth")
     pressure_angle_deg: float = param(paper.PRESSURE_ANGLE_DEG, unit="deg", gt=5.0, lt=45.0)
     face_width: float = param(paper.FACE_WIDTH, unit="m", gt=0.0)

@@ -66,9 +66,11 @@ class ReliefSpec:
     """Tip or root relief on a drawing: amount and where it starts (diameter or roll angle)."""
 
     amount: float = param(unit="m", gt=0.0, doc="depth along the involute normal at its end")
-    start_diameter: float | None = param(None, unit="m", gt=0.0, doc="diameter where it starts")
+    start_diameter: float | None = param(
+        None, unit="m", gt=0.0, doc="diameter where it starts (give this or start_roll_deg)"
+    )
     start_roll_deg: float | None = param(
-        None, unit="deg", gt=0.0, doc="roll angle tan(alpha_y) where it starts (alternative)"
+        None, unit="deg", gt=0.0, doc="roll angle tan(alpha_y) where it starts (or give start_diameter)"
     )
     shape: Literal["linear", "parabolic"] = param("linear", doc="depth ~ t (linear) or t^2")
 
@@ -120,8 +122,8 @@ class GearSpec:
     """One external spur gear as on a drawing."""
 
     teeth: int = param(gt=5, doc="number of teeth z")
-    module: float = param(unit="m", gt=0.0, doc="module m")
-    face_width: float = param(unit="m", gt=0.0, doc="face width b")
+    module: float = param(unit="m", gt=0.0, le=0.1, doc="module m in metres (3 mm: 3e-3)")
+    face_width: float = param(unit="m", gt=0.0, le=2.0, doc="face width b in metres")
     pressure_angle_deg: float = param(20.0, unit="deg", gt=5.0, lt=45.0)
     addendum_coef: float = param(1.0, gt=0.0, le=2.0, doc="h_a / m")
     dedendum_coef: float = param(1.25, gt=0.0, le=2.5, doc="h_f / m (= rack addendum)")
@@ -193,7 +195,7 @@ class GearSpec:
                     f"{where}.tip_relief.amount",
                     tip.amount,
                     f"a relief leaving a tip thickness >= {lim:.4g} m "
-                    f"({MIN_TIP_THICKNESS_COEF} m); it leaves {s_a:.4g} m",
+                    f"({MIN_TIP_THICKNESS_COEF} x module); it leaves {s_a:.4g} m",
                 )
         if root is not None:
             s_f = thickness_at(g, g.form_radius)
@@ -397,8 +399,8 @@ class PairSpec:
                     f"{name}.{key}",
                     getattr(getattr(self, name), key),
                     f"a tooth whose tip thickness is >= {lim:.4g} m "
-                    f"({MIN_TIP_THICKNESS_COEF} m; pointed tip: "
-                    f"{g.tip_thickness:.4g} m)",
+                    f"({MIN_TIP_THICKNESS_COEF} x module); this profile shift leaves "
+                    f"{g.tip_thickness:.4g} m",
                 )
         a0 = self.center_distance_no_backlash
         a = self.working_center_distance

@@ -54,6 +54,16 @@ def sweep_figures(ds) -> dict[str, Any]:
 _DIRECTION_STYLE = {"up": ("^", "-"), "down": ("v", "--")}
 
 
+def _unsettled(one) -> np.ndarray:
+    """Points that did not settle: a sweep case whose status is not success (``not_periodic``),
+    or an in-process sweep point with ``converged`` false."""
+    if "status" in one:
+        return np.asarray(one["status"].values).astype(str) != "success"
+    if "converged" in one:
+        return ~np.asarray(one["converged"].values, dtype=bool)
+    return np.zeros(one["dynamic_factor"].shape, dtype=bool)
+
+
 def steady_sweep_figure(ds) -> dict[str, Any]:
     """Steady-state sweep (``gear steady``): dynamic factor and DTE peak-to-peak vs speed.
 
@@ -79,6 +89,7 @@ def steady_sweep_figure(ds) -> dict[str, Any]:
         groups = [(lab, {**sel, **rest}) for lab, sel in groups]
     directions = list(ds["direction"].values) if "direction" in ds.dims else [None]
     fig, ax = new_figure(2, 1, sharex=True, figsize=(6.8, 7.0 + 0.25 * len(groups) * (len(directions) + 1)))
+    unsettled_shown = False
     for gi, (glabel, sel) in enumerate(groups):
         sub = ds.isel(sel)
         colour = f"C{gi}"
@@ -88,9 +99,15 @@ def steady_sweep_figure(ds) -> dict[str, Any]:
             label = ", ".join(t for t in (glabel, "" if d is None else str(d)) if t) or "model"
             kv = np.asarray(one["dynamic_factor"].values, dtype=float)[order]
             ax[0].plot(xs[order], kv, marker=mk, ls=ls, ms=4, color=colour, label=label)
+            bad = _unsettled(one)[order]
+            if bad.any():  # points that did not become periodic: shown, but marked
+                ax[0].plot(xs[order][bad], kv[bad], "kx", ms=8, label=None if unsettled_shown else "not periodic")
+                unsettled_shown = True
             if "dte_pp" in one:
                 dte = np.asarray(one["dte_pp"].values, dtype=float)[order] * 1e6
                 ax[1].plot(xs[order], dte, marker=mk, ls=ls, ms=4, color=colour, label=label)
+                if bad.any():
+                    ax[1].plot(xs[order][bad], dte[bad], "kx", ms=8)
         if "iso_kv" in sub:
             iso = sub["iso_kv"] if directions == [None] else sub["iso_kv"].isel(direction=0)
             lab = "ISO 6336-1 method B K_v" + (f" ({glabel})" if glabel else "")

@@ -71,7 +71,7 @@ __all__ = ["SCHEMA", "TorsionalCaseConfig", "build_system", "run_torsional", "va
 class GearSpec:
     """The paper's symmetric pair (used when no [pinion]/[wheel] is given)."""
 
-    module: float = param(3.175e-3, unit="m", gt=0.0)
+    module: float = param(3.175e-3, unit="m", gt=0.0, le=0.1, doc="module in metres")
     teeth: tuple[int, int] = param((28, 28), doc="(pinion, wheel)")
     pressure_angle_deg: float = param(20.0, unit="deg", gt=5.0, lt=45.0)
     face_width: float = param(6.35e-3, unit="m", gt=0.0)
@@ -113,8 +113,10 @@ class MeshSpec:
 class TrainSpec:
     """The torsional train around the pair: drive, motor and load inertias, shafts, backlash."""
 
-    inertia: tuple[float, float] = param(
-        (2.965e-4, 2.965e-4), unit="kg m^2", doc="(pinion, wheel); with [pinion]/[wheel]: from the blanks unless given"
+    inertia: tuple[float, float] | None = param(
+        None,
+        unit="kg m^2",
+        doc="(pinion, wheel); default: from the [pinion]/[wheel] blanks, or the paper's 2.965e-4 each",
     )
     motor_inertia: float = param(0.0, unit="kg m^2", ge=0.0, doc="motor rotor (drive = 'motor')")
     load_inertia: float = param(0.0, unit="kg m^2", ge=0.0, doc="driven machine on the wheel side")
@@ -234,7 +236,9 @@ class ModelSpec:
 class TorsionalCaseConfig:
     """A steady-state gear dynamics case (`rotaflex gear steady`): pair, mesh model, train, operation."""
 
-    gear: GearSpec = param(GearSpec())
+    gear: GearSpec | None = param(
+        None, doc="the paper's 28:28 pair, keys changeable; default when no [pinion]/[wheel] is given"
+    )
     mesh: MeshSpec = param(MeshSpec())
     train: TrainSpec = param(TrainSpec())
     operation: OperationSpec = param(OperationSpec())
@@ -245,6 +249,10 @@ class TorsionalCaseConfig:
     pinion: DrawingGearSpec | None = param(None, doc="gear 1 as on a drawing (instead of [gear])")
     wheel: DrawingGearSpec | None = param(None, doc="gear 2 as on a drawing")
     center_distance: float | None = param(None, unit="m", gt=0.0, doc="[pinion]/[wheel]: working centre distance")
+
+    def __post_init__(self):
+        if self.gear is None and self.pinion is None:
+            object.__setattr__(self, "gear", GearSpec())
 
     @property
     def pair(self) -> PairSpec | None:
@@ -336,14 +344,19 @@ def _mesh_table(gear: GearSpec, mesh_spec: MeshSpec, torque: float):
     return mesh, eps
 
 
-def build_system(cfg: TorsionalCaseConfig, inertia_given: bool = True) -> tuple[TorsionalSystem, float]:
-    """The torsional model and the contact ratio of ``cfg``.
+#: lumped model: a dynamic factor above this far below resonance is noted as the mesh spring's
+#: step response (the stiffness jump between one and two pairs rings the mesh mode)
+LOW_SPEED_KV = 1.1
 
-    ``inertia_given`` False: a drawing pair's gear inertias come from its blanks, not from
-    ``train.inertia``'s default.
-    """
+#: gear inertias of the paper's pair [kg m^2] (train.inertia's default with [gear])
+PAPER_INERTIA = (2.965e-4, 2.965e-4)
+
+
+def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
+    """The torsional model and the contact ratio of ``cfg``; gear inertias from
+    ``train.inertia``, else a drawing pair's blanks, else the paper's."""
     t = cfg.train
-    inertia = tuple(t.inertia)
+    inertia = PAPER_INERTIA if t.inertia is None else tuple(t.inertia)
     if cfg.pair is None and cfg.model.method == "lumped":
         g1, g2 = cfg.gear.geometry()
         mesh, eps = _mesh_table(cfg.gear, cfg.mesh, cfg.operation.torque)
@@ -355,7 +368,7 @@ def build_system(cfg: TorsionalCaseConfig, inertia_given: bool = True) -> tuple[
         line = pair_line_of(cfg)
         mesh = loaded_mesh_table(line, line.force, cfg.mesh.table_points)
         eps = contact_ratio(g1, g2, pd.center_distance)
-        if pd.inertias is not None and not inertia_given:
+        if pd.inertias is not None and t.inertia is None:
             inertia = pd.inertias
     sys = TorsionalSystem(
         mesh=mesh,
@@ -450,6 +463,12 @@ def _point_extras(res, sys: TorsionalSystem, st, cfg: TorsionalCaseConfig, eps: 
         60.0 * f_mesh_mode / sys.teeth[0],
         {"units": "rpm", "long_name": "pinion speed where the mesh frequency meets the mesh mode"},
     )
+    # the model data behind the numbers, for checking by hand
+    ds["static_mesh_force"] = ((), float(op.torque / sys.base_radius[1]), {"units": "N", "long_name": "T_out / r_b2"})
+    ds["mean_mesh_stiffness"] = ((), float(sys.mesh.mean_stiffness), {"units": "N/m", "long_name": "k_mean"})
+    ds["reduced_mass"] = ((), float(sys.reduced_mass), {"units": "kg", "long_name": "m_red along the line of action"})
+    for name, j in zip(("pinion", "wheel"), sys.inertia, strict=True):
+        ds[f"inertia_{name}"] = ((), float(j), {"units": "kg m^2", "long_name": f"{name} polar inertia used"})
     iso = _iso_data(cfg, sys, eps, face_width)
     ds["iso_kv"] = ((), float(iso_kv(iso, [op.speed_rpm])[0]), {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
     ds["iso_resonance_speed"] = ((), float(iso.resonance_speed_rpm), {"units": "rpm"})
@@ -477,7 +496,7 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
             "empty when a case continues from a previous state (sweep operation.speed_rpm instead)",
         )
     state = None if initial_state is None else _state_of(initial_state)
-    sys, eps = build_system(cfg, inertia_given="inertia" in config.get("train", {}))
+    sys, eps = build_system(cfg)
     face_width = cfg.gear.face_width if cfg.pair is None else pair_data(cfg).face_width
     model, run = sys, steady_state
     if cfg.model.method == "elastic_teeth":
@@ -513,6 +532,14 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
     else:
         res, st = run(model, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state, **kw)
         _point_extras(res, sys, st, cfg, eps, face_width)
+        ds = res.dataset
+        kv, n_res = float(ds["dynamic_factor"]), float(ds["resonance_speed"])
+        if cfg.model.method == "lumped" and op.speed_rpm < 0.25 * n_res and kv > LOW_SPEED_KV:
+            ds.attrs["message"] += (
+                f"; note: K_v {kv:.3f} far below the resonance ({n_res:.0f} rpm) comes from the lumped "
+                "mesh spring's step response where the stiffness changes between one and two pairs; "
+                "model.method = 'elastic_teeth' resolves each pair's engagement (docs/gear-steady-state.md)"
+            )
     res.dataset["iso_tip_relief"] = (
         (),
         _iso_tip_relief(cfg),
