@@ -179,3 +179,15 @@ def test_a_drawing_pair_case_records_what_it_used(config):
     g2 = pair_data(_checked(config)).gears[1]
     assert abs(float(ds["static_mesh_force"]) - config["operation"]["torque"] / g2.base_radius) < 1e-9
     assert float(ds["mean_mesh_stiffness"]) > 0 and float(ds["reduced_mass"]) > 0
+
+
+def test_backlash_sets_the_centre_distance_as_in_gear_static(config):
+    from rotaflex.gear.torsional_case import _checked
+
+    cfg = _checked(_with(config, **{}) | {"backlash": 50e-6})
+    a0 = cfg.pair.center_distance_no_backlash
+    assert cfg.pair.working_center_distance > a0
+    assert abs(cfg.pair.normal_backlash_at(cfg.pair.working_center_distance) - 50e-6) < 1e-12
+    with pytest.raises(InputError) as exc:
+        _checked(_with(config) | {"backlash": 50e-6, "center_distance": a0})
+    assert exc.value.field == "backlash"

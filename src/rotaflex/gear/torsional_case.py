@@ -249,6 +249,13 @@ class TorsionalCaseConfig:
     pinion: DrawingGearSpec | None = param(None, doc="gear 1 as on a drawing (instead of [gear])")
     wheel: DrawingGearSpec | None = param(None, doc="gear 2 as on a drawing")
     center_distance: float | None = param(None, unit="m", gt=0.0, doc="[pinion]/[wheel]: working centre distance")
+    backlash: float | None = param(
+        None,
+        unit="m",
+        ge=0.0,
+        doc="[pinion]/[wheel]: normal backlash j_bn (alternative to center_distance); it sets the "
+        "centre distance only: the lumped model's back flank is mesh.backlash",
+    )
 
     def __post_init__(self):
         if self.gear is None and self.pinion is None:
@@ -259,7 +266,9 @@ class TorsionalCaseConfig:
         """The checked drawing pair, or None with ``[gear]``."""
         if self.pinion is None:
             return None
-        return PairSpec(pinion=self.pinion, wheel=self.wheel, center_distance=self.center_distance).check()
+        return PairSpec(
+            pinion=self.pinion, wheel=self.wheel, center_distance=self.center_distance, backlash=self.backlash
+        ).check()
 
 
 SCHEMA = TorsionalCaseConfig
@@ -398,6 +407,8 @@ def _checked(config: dict) -> TorsionalCaseConfig:
         raise InputError("gear", "a [gear] table", "either [gear] or [pinion]/[wheel], not both")
     if cfg.pinion is None and cfg.center_distance is not None:
         raise InputError("center_distance", cfg.center_distance, "only with [pinion]/[wheel]")
+    if cfg.pinion is None and cfg.backlash is not None:
+        raise InputError("backlash", cfg.backlash, "only with [pinion]/[wheel]")
     if cfg.model.method == "elastic_teeth" and cfg.mesh.source != "static_fe":
         raise InputError("mesh.source", cfg.mesh.source, "'static_fe' with model.method = 'elastic_teeth'")
     if cfg.pinion is not None and cfg.mesh.source != "static_fe":
@@ -467,6 +478,13 @@ def _point_extras(res, sys: TorsionalSystem, st, cfg: TorsionalCaseConfig, eps: 
     ds["static_mesh_force"] = ((), float(op.torque / sys.base_radius[1]), {"units": "N", "long_name": "T_out / r_b2"})
     ds["mean_mesh_stiffness"] = ((), float(sys.mesh.mean_stiffness), {"units": "N/m", "long_name": "k_mean"})
     ds["reduced_mass"] = ((), float(sys.reduced_mass), {"units": "kg", "long_name": "m_red along the line of action"})
+    if cfg.pair is not None:
+        pair = cfg.pair
+        ds["normal_backlash"] = (
+            (),
+            float(pair.normal_backlash_at(pair.working_center_distance)),
+            {"units": "m", "long_name": "normal backlash j_bn of the drawing pair"},
+        )
     for name, j in zip(("pinion", "wheel"), sys.inertia, strict=True):
         ds[f"inertia_{name}"] = ((), float(j), {"units": "kg m^2", "long_name": f"{name} polar inertia used"})
     iso = _iso_data(cfg, sys, eps, face_width)
