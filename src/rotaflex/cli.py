@@ -338,9 +338,10 @@ def _template_command(domain: str) -> Callable[..., None]:
 def domain_template(domain: str, verb: str = "simulate") -> str:
     """The generated TOML template of ``rotaflex <domain> <verb>`` (InputError for an unknown
     verb or a module without ``SCHEMA``)."""
-    from rotaflex.core.domains import case_module, command_module
+    from rotaflex.core.domains import case_module, command_module, command_target
     from rotaflex.core.schema import template
 
+    command_target(domain, verb, field="--verb")  # an unknown verb is named as the option
     module = case_module(domain) if verb == "simulate" else command_module(domain, verb)
     schema = getattr(module, "SCHEMA", None)
     if schema is None:

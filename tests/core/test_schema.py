@@ -84,3 +84,9 @@ def test_booleans_are_shown_as_typed_in_toml():
     assert str(InputError("solver.geometric_stiffness", True, "false")).startswith(
         "solver.geometric_stiffness = true is invalid"
     )
+
+
+def test_unknown_template_verb_is_named_as_the_option():
+    with pytest.raises(InputError) as exc:
+        domain_template("gear", "stedy")
+    assert exc.value.field == "--verb" and "'steady'" in exc.value.allowed
