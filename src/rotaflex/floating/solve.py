@@ -295,7 +295,7 @@ def simulate(
     samples up to the stop (later rows NaN) with ``status`` ``"failed"`` or ``"diverged"`` and a
     ``message`` saying why in words.
     """
-    from rotaflex.floating import kernels
+    from rotaflex.floating import integrator, kernels
 
     initial = initial or Initial()
     settings = settings or Settings()
@@ -335,7 +335,7 @@ def simulate(
     phimax = float(np.abs(body.shapes).max(initial=0.0))
     q_limit = 10.0 * body.length / max(phimax, 1e-300)
     t0 = time.perf_counter()
-    Y, EUL, st, t_stop, nfev, nstep = kernels.integrate(
+    Y, EUL, st, t_stop, nfev, nstep = integrator.integrate(
         mode,
         y0,
         t_out,

@@ -1,0 +1,206 @@
+"""Compiled Dormand-Prince 5(4) integrator of the floating-body right-hand sides.
+
+Attitude from the state and Euler 1-2-3 angles unwrapped after every accepted step (never from
+output samples), step control landing on output times and load breakpoints, divergence guard.
+The right-hand sides are :func:`rotaflex.floating.kernels.rhs` (``mode`` 0-3).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from rotaflex.floating.kernels import quat_matrix, rhs, spin_profile
+
+# ----------------------------------------------------------------------------------------
+# attitude from the state, and Euler 1-2-3 angles unwrapped step by step (never from samples)
+# ----------------------------------------------------------------------------------------
+#: largest attitude change [rad] accepted in one integrator step, so that the per-step Euler
+#: unwrapping below is unambiguous whatever rtol and dt_out are
+MAX_STEP_ROTATION = 0.5
+
+
+@njit(cache=True)
+def attitude(mode, t, y, pres, zero_order):
+    """Unit attitude quaternion (scalar first) of state ``y`` at time ``t`` (``zero_order``:
+    the zero-order attitude ``e0`` of the perturbation method)."""
+    e = np.empty(4)
+    if mode >= 2:
+        ang = spin_profile(pres[3], pres[4], t)[0]
+        e[0] = np.cos(0.5 * ang)
+        for i in range(3):
+            e[i + 1] = np.sin(0.5 * ang) * pres[i]
+        return e
+    n = np.sqrt(y[3] ** 2 + y[4] ** 2 + y[5] ** 2 + y[6] ** 2)
+    a0, a1, a2, a3 = y[3] / n, y[4] / n, y[5] / n, y[6] / n
+    if mode == 0 or zero_order:
+        e[0], e[1], e[2], e[3] = a0, a1, a2, a3
+        return e
+    # perturbation: e0 (x) exp(theta_1)
+    t1, t2, t3 = y[16], y[17], y[18]
+    ang = np.sqrt(t1 * t1 + t2 * t2 + t3 * t3)
+    c = np.cos(0.5 * ang)
+    sc = 0.5 if ang < 1e-8 else np.sin(0.5 * ang) / ang
+    b0, b1, b2, b3 = c, sc * t1, sc * t2, sc * t3
+    e[0] = a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3
+    e[1] = a0 * b1 + b0 * a1 + a2 * b3 - a3 * b2
+    e[2] = a0 * b2 + b0 * a2 + a3 * b1 - a1 * b3
+    e[3] = a0 * b3 + b0 * a3 + a1 * b2 - a2 * b1
+    return e
+
+
+@njit(cache=True)
+def euler123(e, prev, out):
+    """Euler 1-2-3 angles (``R = Rx(a) Ry(b) Rz(c)``) of ``e`` on the branch nearest ``prev``."""
+    A = quat_matrix(e)
+    s = min(1.0, max(-1.0, A[0, 2]))
+    raw0 = np.arctan2(-A[1, 2], A[2, 2])
+    raw1 = np.arcsin(s)
+    raw2 = np.arctan2(-A[0, 1], A[0, 0])
+    tau = 2.0 * np.pi
+    out[0] = raw0 + tau * np.round((prev[0] - raw0) / tau)
+    out[1] = raw1 + tau * np.round((prev[1] - raw1) / tau)
+    out[2] = raw2 + tau * np.round((prev[2] - raw2) / tau)
+
+
+@njit(cache=True)
+def step_rotation(ea, eb):
+    """Rotation angle [rad] between unit quaternions ``ea`` and ``eb``."""
+    d = abs(ea[0] * eb[0] + ea[1] * eb[1] + ea[2] * eb[2] + ea[3] * eb[3])
+    return 2.0 * np.arccos(min(1.0, d))
+
+
+# ----------------------------------------------------------------------------------------
+# Dormand-Prince 5(4) with step control, landing on output times and load breakpoints
+# ----------------------------------------------------------------------------------------
+_C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0])
+_A = np.array(
+    [
+        [0, 0, 0, 0, 0, 0],
+        [1 / 5, 0, 0, 0, 0, 0],
+        [3 / 40, 9 / 40, 0, 0, 0, 0],
+        [44 / 45, -56 / 15, 32 / 9, 0, 0, 0],
+        [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0, 0],
+        [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656, 0],
+        [35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84],
+    ]
+)
+_B = np.array([35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0])
+_E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
+
+
+@njit(cache=True)
+def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres, kin):
+    """Integrate ``rhs(mode, ...)`` from ``t_out[0]``; return states at ``t_out``.
+
+    Returns ``(Y, EUL, status, t_stop, nfev, nstep)``; ``EUL`` (nt, 6) are the Euler 1-2-3
+    angles of the attitude, unwrapped after every accepted step (each step turns the body by at
+    most ``MAX_STEP_ROTATION``), so they do not depend on the output interval. Status 0 ok,
+    1 step budget exhausted, 2 step size underflow / non-finite state, 3 ``|y[n_lim0:n_lim1]|``
+    exceeded ``limit`` (divergence guard). Rows after a failure are NaN.
+    """
+    nt = t_out.shape[0]
+    ny = y0.shape[0]
+    Y = np.full((nt, ny), np.nan)
+    EUL = np.full((nt, 6), np.nan)
+    Y[0] = y0
+    y = y0.copy()
+    t = t_out[0]
+    e_prev = attitude(mode, t, y, pres, False)
+    eul = np.zeros(3)
+    eul0 = np.zeros(3)
+    euler123(e_prev, eul, eul)
+    euler123(attitude(mode, t, y, pres, True), eul0, eul0)
+    EUL[0, :3], EUL[0, 3:] = eul, eul0
+    K = np.zeros((7, ny))
+    K[0] = rhs(mode, t, y, B, L, geo, pres, kin)
+    nfev = 1
+    span = t_out[-1] - t_out[0]
+    h = 1e-4 * span
+    nstep = 0
+    i_out = 1
+    i_brk = 0
+    while i_brk < breaks.shape[0] and breaks[i_brk] <= t:
+        i_brk += 1
+    status = 0
+    while i_out < nt:
+        t_target = t_out[i_out]
+        if i_brk < breaks.shape[0] and breaks[i_brk] < t_target:
+            t_target = breaks[i_brk]
+        hit = False
+        if t + h >= t_target - 1e-12 * span:
+            h_try = t_target - t
+            hit = True
+        else:
+            h_try = h
+        ys = np.empty(ny)
+        for s in range(1, 7):
+            for i in range(ny):
+                acc = y[i]
+                for j in range(s):
+                    acc += h_try * _A[s, j] * K[j, i]
+                ys[i] = acc
+            ts = t + _C[s] * h_try
+            if hit and _C[s] == 1.0:
+                ts = t_target - 1e-13 * span  # stay left of a load jump at t_target
+            K[s] = rhs(mode, ts, ys, B, L, geo, pres, kin)
+        nfev += 6
+        y_new = ys  # stage 7 evaluates at the 5th-order solution (FSAL)
+        en = 0.0
+        for i in range(ny):
+            er = 0.0
+            for j in range(7):
+                er += _E[j] * K[j, i]
+            sc = atol + rtol * max(abs(y[i]), abs(y_new[i]))
+            en += (h_try * er / sc) ** 2
+        en = np.sqrt(en / ny)
+        if not np.isfinite(en):
+            en = 1e10
+        e_new = attitude(mode, t + h_try, y_new, pres, False)
+        rot = step_rotation(e_prev, e_new)
+        if not rot <= MAX_STEP_ROTATION:
+            en = max(en, 2.0)
+        nstep += 1
+        if en <= 1.0:
+            e_prev = e_new
+            euler123(e_new, eul, eul)
+            if mode == 1:  # zero-order attitude; it turns by less than the total per step
+                euler123(attitude(mode, t + h_try, y_new, pres, True), eul0, eul0)
+            else:
+                eul0[:] = eul
+            t = t_target if hit else t + h_try
+            y = y_new
+            K[0] = K[6]
+            fac = 0.9 * en ** (-0.2) if en > 0 else 5.0
+            if fac > 5.0:
+                fac = 5.0
+            if not hit:
+                h = h_try * fac
+            elif fac > 1.0:
+                h = max(h, h_try * fac)
+            if hit:
+                if i_brk < breaks.shape[0] and abs(t - breaks[i_brk]) <= 1e-12 * span:
+                    i_brk += 1
+                    K[0] = rhs(mode, t, y, B, L, geo, pres, kin)  # restart after a load jump
+                    nfev += 1
+                while i_out < nt and abs(t - t_out[i_out]) <= 1e-12 * span:
+                    Y[i_out] = y
+                    EUL[i_out, :3], EUL[i_out, 3:] = eul, eul0
+                    i_out += 1
+                while i_brk < breaks.shape[0] and breaks[i_brk] <= t + 1e-12 * span:
+                    i_brk += 1
+            if n_lim1 > n_lim0 and np.max(np.abs(y[n_lim0:n_lim1])) > limit:
+                status = 3
+                break
+        else:
+            fac = 0.9 * en ** (-0.2)
+            if fac < 0.2:
+                fac = 0.2
+            h = h_try * fac
+            if h < 1e-14 * span:
+                status = 2
+                break
+        if nstep >= max_steps:
+            status = 1
+            break
+    return Y, EUL, status, t, nfev, nstep
