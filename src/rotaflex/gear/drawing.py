@@ -215,20 +215,19 @@ class GearSpec:
         e, nu, _ = self.material.values
         return e, nu
 
-    def inertia(self, where: str = "gear") -> float:
-        """Polar inertia of the gear body (blank + teeth) [kg m^2]."""
+    def _annuli(self, where: str) -> list[tuple[float, float, float, float]]:
+        """The gear body as coaxial annuli (density [kg/m^3], axial width, inner and outer
+        radius [m]); teeth: the root-tip annulus at half density (BlankSpec)."""
         b = self.blank
-        if b.inertia is not None:
-            return b.inertia
         g = self._plain(where)
         rho = self.material.values[2]
         rf, ra, w = g.root_radius_, g.tip_radius_, self.face_width
         r_bore = 0.5 * b.bore_diameter
-        j_teeth = 0.5 * _annulus(rho, w, rf, ra)
+        teeth = (0.5 * rho, w, rf, ra)
         if r_bore >= rf:
             raise InputError(f"{where}.blank.bore_diameter", b.bore_diameter, f"< root diameter {2 * rf:.6g} m")
         if b.kind == "solid":
-            return _annulus(rho, w, r_bore, rf) + j_teeth
+            return [(rho, w, r_bore, rf), teeth]
         for key in ("rim_thickness", "web_thickness", "hub_diameter"):
             if getattr(b, key) is None:
                 raise InputError(f"{where}.blank.{key}", None, "a value for kind = 'rimmed'")
@@ -241,12 +240,20 @@ class GearSpec:
             )
         if b.web_thickness > w:
             raise InputError(f"{where}.blank.web_thickness", b.web_thickness, f"<= face width {w:.6g} m")
-        return (
-            _annulus(rho, w, r_rim, rf)
-            + _annulus(rho, b.web_thickness, r_hub, r_rim)
-            + _annulus(rho, w, r_bore, r_hub)
-            + j_teeth
-        )
+        return [(rho, w, r_rim, rf), (rho, b.web_thickness, r_hub, r_rim), (rho, w, r_bore, r_hub), teeth]
+
+    def inertia(self, where: str = "gear") -> float:
+        """Polar inertia of the gear body (blank + teeth) [kg m^2]."""
+        if self.blank.inertia is not None:
+            return self.blank.inertia
+        return sum(_annulus(*a) for a in self._annuli(where))
+
+    def mass(self, where: str = "gear") -> float | None:
+        """Mass of the gear body (blank + teeth) [kg]; None when the blank is given by its
+        inertia alone."""
+        if self.blank.inertia is not None:
+            return None
+        return sum(math.pi * rho * w * (r_out**2 - r_in**2) for rho, w, r_in, r_out in self._annuli(where))
 
     def blank_factor(self) -> float:
         """ISO 6336-1 gear-blank factor C_R: 1 for solid blanks; rimmed (web) blanks

@@ -20,6 +20,12 @@ Four rigid inertias in a chain, angles positive in each body's sense of rotation
   (a linear torque-speed characteristic of slope s that fixes the mean speed).
   Load: constant torque ``T_out`` on the load inertia, ``T_in = T_out r_b1 / r_b2``.
 * A shaft stiffness of ``inf`` makes the shaft rigid: its two inertias are merged.
+* Bearings (optional): the gear centres move along the line of action, ``y_1``, ``y_2``, with
+  masses ``m_1``, ``m_2`` on springs/dashpots ``k_b``, ``c_b`` to ground (bearings and shaft
+  bending at the gear combined); the mesh deflection gains ``y_1 - y_2`` and the mesh force
+  acts on the centres: ``m_1 y_1'' = -k_b1 y_1 - c_b1 y_1' - F``,
+  ``m_2 y_2'' = -k_b2 y_2 - c_b2 y_2' + F``. Motion off the line of action is not excited
+  (frictionless spur mesh) and is left out.
 
 The equations are integrated by a compiled fixed-step RK4 (:mod:`~.torsional_kernel`) with a
 whole number of steps per mesh cycle, so the histories sample each mesh cycle identically.
@@ -192,6 +198,11 @@ class TorsionalSystem:
     backlash: float = param(-1.0, unit="m", doc="back-side contact after this gap; < 0: none")
     drive: Literal["constant_speed", "motor"] = param("constant_speed")
     motor_slope: float = param(0.0, unit="N m s/rad", ge=0.0, doc="torque-speed slope of the motor (drive = 'motor')")
+    bearing_stiffness: tuple = param(
+        (math.inf, math.inf), unit="N/m", doc="(pinion, wheel) support stiffness along the line of action; inf: rigid"
+    )
+    bearing_damping: tuple = param((0.0, 0.0), unit="N s/m", doc="(pinion, wheel) support damping")
+    gear_mass: tuple = param((0.0, 0.0), unit="kg", doc="(pinion, wheel) masses moving with the gear centres")
 
     def __post_init__(self):
         z1, z2 = self.teeth
@@ -204,6 +215,14 @@ class TorsionalSystem:
             raise InputError("load_inertia", self.load_inertia, "> 0 with an elastic output shaft")
         if self.drive == "motor" and math.isfinite(self.input_shaft_stiffness) and self.motor_inertia <= 0.0:
             raise InputError("motor_inertia", self.motor_inertia, "> 0 with drive = 'motor' and an elastic input shaft")
+        for i, name in enumerate(("pinion", "wheel")):
+            k, c, m = self.bearing_stiffness[i], self.bearing_damping[i], self.gear_mass[i]
+            if not k > 0.0:
+                raise InputError(f"bearing_stiffness[{i}]", k, f"> 0 N/m ({name}; inf: rigid)")
+            if not (math.isfinite(c) and c >= 0.0):
+                raise InputError(f"bearing_damping[{i}]", c, f">= 0 N s/m ({name})")
+            if math.isfinite(k) and not (math.isfinite(m) and m > 0.0):
+                raise InputError(f"gear_mass[{i}]", m, f"> 0 kg with a finite {name} bearing stiffness")
 
     @property
     def reduced_mass(self) -> float:
@@ -244,6 +263,15 @@ class _Chain:
     ip: int
     iw: int
     names: list = field(default_factory=list)
+    kg: np.ndarray | None = None
+    cg: np.ndarray | None = None
+    iy1: int = -1
+    iy2: int = -1
+
+    def args(self, ramp_time: float) -> ChainArgs:
+        """The kernel's chain arguments."""
+        c = self
+        return ChainArgs(c.jinv, c.ks, c.cs, c.torque, c.slope, c.nominal, c.presc, float(ramp_time), c.kg, c.cg)
 
 
 def _chain(sys: TorsionalSystem, op: OperatingPoint) -> _Chain:
@@ -271,12 +299,20 @@ def _chain(sys: TorsionalSystem, op: OperatingPoint) -> _Chain:
     else:
         nodes.append(["wheel", j2 + sys.load_inertia, -t_out, 0.0, w2, False])
     iw = ip + 1
+    lateral = {}
+    for i, name in enumerate(("pinion", "wheel")):
+        if math.isfinite(sys.bearing_stiffness[i]):
+            lateral[i] = len(nodes)
+            nodes.append([f"{name}_lateral", sys.gear_mass[i], 0.0, 0.0, 0.0, False])
     n = len(nodes)
+    kg, cg = np.zeros(n), np.zeros(n)
+    for i, node in lateral.items():
+        kg[node], cg[node] = sys.bearing_stiffness[i], sys.bearing_damping[i]
     ks = np.zeros(max(n - 1, 1))
     cs = np.zeros(max(n - 1, 1))
     if ip == 1:
         ks[0], cs[0] = sys.input_shaft_stiffness, sys.input_shaft_damping
-    if iw < n - 1:
+    if math.isfinite(sys.output_shaft_stiffness):
         ks[iw], cs[iw] = sys.output_shaft_stiffness, sys.output_shaft_damping
     inertia = np.array([v[1] for v in nodes], dtype=float)
     presc = np.array([v[5] for v in nodes], dtype=np.bool_)
@@ -293,6 +329,10 @@ def _chain(sys: TorsionalSystem, op: OperatingPoint) -> _Chain:
         ip,
         iw,
         [v[0] for v in nodes],
+        kg,
+        cg,
+        lateral.get(0, -1),
+        lateral.get(1, -1),
     )
 
 
@@ -304,41 +344,59 @@ def _linear_matrices(sys: TorsionalSystem, op: OperatingPoint):
     for i in range(n - 1):
         k = ch.ks[i]
         K[i : i + 2, i : i + 2] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    K += np.diag(ch.kg)
     r1, r2 = sys.base_radius
     g = np.zeros(n)
     g[ch.ip], g[ch.iw] = r1, -r2
+    if ch.iy1 >= 0:
+        g[ch.iy1] = 1.0
+    if ch.iy2 >= 0:
+        g[ch.iy2] = -1.0
     K_mesh = sys.mesh.mean_stiffness * np.outer(g, g)
     free = ~ch.presc
-    return ch, K[np.ix_(free, free)], K_mesh[np.ix_(free, free)], ch.inertia[free]
+    d = np.zeros(n)  # the DTE r_b1 theta_1 - r_b2 theta_2 as a row of the state
+    d[ch.ip], d[ch.iw] = r1, -r2
+    return ch, K[np.ix_(free, free)], K_mesh[np.ix_(free, free)], ch.inertia[free], g[free], d[free]
 
 
 def natural_frequencies(sys: TorsionalSystem, op: OperatingPoint | None = None) -> dict:
     """Linear torsional natural frequencies with the mean mesh stiffness.
 
-    Undamped eigenproblem ``K x = omega^2 M x`` of the free (not speed-prescribed) inertias,
-    the mesh as a spring ``k_mean`` along ``r_b1 theta_1 - r_b2 theta_2``. The rigid-body mode
-    (drive = 'motor') is dropped.
+    Undamped eigenproblem ``K x = omega^2 M x`` of the free (not speed-prescribed) inertias
+    and, with bearings, the lateral masses of the gear centres; the mesh as a spring ``k_mean``
+    along ``r_b1 theta_1 - r_b2 theta_2 + y_1 - y_2``. The rigid-body mode (drive = 'motor')
+    is dropped.
 
     Returns
     -------
     dict
         ``frequency`` [Hz] (ascending), ``mesh_energy`` (share of the mode's strain energy in
-        the mesh spring) [-], ``mesh_mode`` (index of the mode with the largest share).
+        the mesh spring) [-], ``dte_share`` (the mode's share of the static DTE under a mesh
+        force, ``|d.phi g.phi| / w^2`` normalised over the modes; with bearings a mode can move
+        the DTE much more than it strains the mesh) [-], ``mesh_mode`` (index of the mode with
+        the largest mesh energy share).
     """
     from scipy.linalg import eigh
 
-    ch, K, K_mesh, m = _linear_matrices(sys, op or OperatingPoint())
+    ch, K, K_mesh, m, g, d = _linear_matrices(sys, op or OperatingPoint())
     w2, vec = eigh(K + K_mesh, np.diag(m))
     keep = w2 > 1e-9 * np.max(np.abs(w2))
     w2, vec = w2[keep], vec[:, keep]
     energy = np.einsum("im,ij,jm->m", vec, K_mesh, vec) / np.einsum("im,ij,jm->m", vec, K + K_mesh, vec)
-    return {"frequency": np.sqrt(w2) / (2 * np.pi), "mesh_energy": energy, "mesh_mode": int(np.argmax(energy))}
+    dte = np.abs((d @ vec) * (g @ vec)) / w2
+    return {
+        "frequency": np.sqrt(w2) / (2 * np.pi),
+        "mesh_energy": energy,
+        "dte_share": dte / dte.sum() if dte.sum() > 0 else dte,
+        "mesh_mode": int(np.argmax(energy)),
+    }
 
 
 def resonance_speeds_rpm(sys: TorsionalSystem, orders=(1, 2, 3), min_mesh_energy=0.05):
     """Pinion speeds [rpm] where mesh order h meets a natural frequency: ``n = 60 f / (h z1)``.
 
-    Only modes with at least ``min_mesh_energy`` of their strain energy in the mesh.
+    Only modes with at least ``min_mesh_energy`` of their strain energy in the mesh or of the
+    static DTE under a mesh force (``dte_share``, which picks up bearing modes).
 
     Returns
     -------
@@ -346,8 +404,8 @@ def resonance_speeds_rpm(sys: TorsionalSystem, orders=(1, 2, 3), min_mesh_energy
     """
     nf = natural_frequencies(sys)
     out = []
-    for f, en in zip(nf["frequency"], nf["mesh_energy"], strict=True):
-        if en >= min_mesh_energy:
+    for f, en, de in zip(nf["frequency"], nf["mesh_energy"], nf["dte_share"], strict=True):
+        if max(en, de) >= min_mesh_energy:
             out += [(h, float(f), 60.0 * f / (h * sys.teeth[0])) for h in orders]
     return out
 
@@ -371,10 +429,17 @@ def _initial_state(sys, op, ch: _Chain) -> State:
     load = 0.0 if op.ramp_cycles > 0 else 1.0
     f0 = load * op.torque / r2
     k0, _, e0, _ = sys.mesh.evaluate(0.0)
-    th[ch.iw] = (-float(e0) - f0 / float(k0)) / r2
+    lateral = 0.0
+    if ch.iy1 >= 0:
+        th[ch.iy1] = -f0 / ch.kg[ch.iy1]
+        lateral += th[ch.iy1]
+    if ch.iy2 >= 0:
+        th[ch.iy2] = f0 / ch.kg[ch.iy2]
+        lateral -= th[ch.iy2]
+    th[ch.iw] = (lateral - float(e0) - f0 / float(k0)) / r2
     if ch.ip == 1:
         th[0] = f0 * r1 / ch.ks[0]
-    if ch.iw < n - 1:
+    if ch.names[ch.iw + 1 : ch.iw + 2] == ["load"]:
         th[ch.iw + 1] = th[ch.iw] - load * op.torque / ch.ks[ch.iw]
     return State(th, ch.nominal.copy(), 0.0, ch.nominal.copy())
 
@@ -404,7 +469,7 @@ def _run(sys, op, ch, st: State, n_cycles: int, spc: int):
         dt,
         n_cycles * spc,
         1,
-        ChainArgs(ch.jinv, ch.ks, ch.cs, ch.torque, ch.slope, ch.nominal, ch.presc, float(ramp)),
+        ch.args(ramp),
         MeshArgs(
             int(ch.ip),
             int(ch.iw),
@@ -416,6 +481,8 @@ def _run(sys, op, ch, st: State, n_cycles: int, spc: int):
             mesh.coefficients(mesh.unloaded_te),
             float(sys.mesh_damping),
             float(sys.backlash),
+            int(ch.iy1),
+            int(ch.iy2),
         ),
     )
     st.time = float(t[-1])
@@ -460,9 +527,9 @@ def energy_balance(sys: TorsionalSystem, op: OperatingPoint, hist: dict) -> dict
     """Energy bookkeeping of a :func:`simulate` history (NumPy, Simpson's rule in time).
 
     ``E = sum J omega^2 / 2 + sum k_s dtheta^2 / 2 + k(phi) delta_c^2 / 2`` (delta_c: the
-    deflection in contact); power balance
+    deflection in contact; with bearings also ``m y'^2 / 2 + k_b y^2 / 2``); power balance
     ``dE/dt = P_drive - T_out omega_L - D + P_par`` with the dissipation
-    ``D = sum c_s domega^2 + c_m delta'^2`` (in contact) and the parametric power of the
+    ``D = sum c_s domega^2 + c_m delta'^2`` (in contact) ``+ sum c_b y'^2`` and the parametric power of the
     time-varying mesh ``P_par = phi' (k'(phi) delta_c^2 / 2 - F e'(phi))``.
 
     Returns
@@ -493,6 +560,8 @@ def energy_balance(sys: TorsionalSystem, op: OperatingPoint, hist: dict) -> dict
         tw, rate = th[:, i] - th[:, i + 1], om[:, i] - om[:, i + 1]
         pot = pot + 0.5 * ch.ks[i] * tw**2
         diss = diss + ch.cs[i] * rate**2
+    pot = pot + 0.5 * th**2 @ ch.kg
+    diss = diss + om**2 @ ch.cg
     ramp = op.ramp_cycles * 2 * np.pi / (op.omega * sys.teeth[0])
     scale = np.clip(t / ramp, 0.0, 1.0) if ramp > 0 else np.ones(len(t))
     for i in range(len(ch.inertia)):

@@ -10,6 +10,8 @@ TOML tables (SI unless the key names its unit; all optional, defaults = the pape
     [train]      inertia = [J1, J2], motor_inertia, load_inertia, input_shaft_stiffness,
                  output_shaft_stiffness (omitted: rigid), input_shaft_damping,
                  output_shaft_damping, drive = "motor" | "constant_speed", motor_slope
+    [bearings]   stiffness = [k_b1, k_b2], damping, mass: support of the gear centres along the
+                 line of action (omitted: rigid)
     [operation]  speed_rpm, torque (output, N m), ramp_cycles
     [steady]     tol, min_cycles, max_cycles, eval_cycles, fixed_cycles, steps_per_cycle
     [sweep]      speeds_rpm = [...] (two or more: an up-and-down sweep instead of one point),
@@ -131,6 +133,26 @@ class TrainSpec:
 
 
 @dataclass(frozen=True)
+class BearingSpec:
+    """Lateral compliance of the gear centres along the line of action (bearings, housing and
+    shaft bending at the gear, combined into one spring per gear)."""
+
+    stiffness: tuple[float, float] = param(
+        unit="N/m",
+        gt=0.0,
+        doc="(pinion, wheel) support stiffness along the line of action (bearings, housing, shaft bending)",
+    )
+    damping: tuple[float, float] = param((0.0, 0.0), unit="N s/m", ge=0.0, doc="(pinion, wheel) support damping")
+    mass: tuple[float, float] | None = param(
+        None,
+        unit="kg",
+        gt=0.0,
+        doc="(pinion, wheel) masses moving with the centres; default: the [pinion]/[wheel] blanks "
+        "(required with [gear] or a blank given by its inertia)",
+    )
+
+
+@dataclass(frozen=True)
 class OperationSpec:
     """Operating point: pinion speed, output torque, start-up ramp."""
 
@@ -241,6 +263,7 @@ class TorsionalCaseConfig:
     )
     mesh: MeshSpec = param(MeshSpec())
     train: TrainSpec = param(TrainSpec())
+    bearings: BearingSpec | None = param(None, doc="omitted: rigid bearings")
     operation: OperationSpec = param(OperationSpec())
     steady: SteadySpec = param(SteadySpec())
     sweep: SweepSpec = param(SweepSpec())
@@ -394,8 +417,20 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
         backlash=-1.0 if cfg.mesh.backlash is None else cfg.mesh.backlash,
         drive=t.drive,
         motor_slope=t.motor_slope,
+        **_bearing_keys(cfg),
     )
     return sys, eps
+
+
+def _bearing_keys(cfg: TorsionalCaseConfig) -> dict:
+    """TorsionalSystem keywords of ``[bearings]``; masses from the drawing blanks if not given."""
+    b = cfg.bearings
+    if b is None:
+        return {}
+    mass = b.mass
+    if mass is None:
+        mass = (cfg.pinion.mass("pinion"), cfg.wheel.mass("wheel"))
+    return {"bearing_stiffness": tuple(b.stiffness), "bearing_damping": tuple(b.damping), "gear_mass": tuple(mass)}
 
 
 def _checked(config: dict) -> TorsionalCaseConfig:
@@ -416,6 +451,13 @@ def _checked(config: dict) -> TorsionalCaseConfig:
     if cfg.model.method == "elastic_teeth" and cfg.mesh.backlash is not None:
         raise InputError("mesh.backlash", cfg.mesh.backlash, "omitted with model.method = 'elastic_teeth'")
     cfg.pair  # noqa: B018  (checks the drawing pair)
+    if cfg.bearings is not None and cfg.bearings.mass is None:
+        if cfg.pinion is None:
+            raise InputError("bearings.mass", None, "(pinion, wheel) masses in kg with [gear]")
+        for name, g in (("pinion", cfg.pinion), ("wheel", cfg.wheel)):
+            if g.mass(name) is None:
+                what = f"(pinion, wheel) masses in kg: {name}.blank gives only an inertia"
+                raise InputError("bearings.mass", None, what)
     s = cfg.steady
     if s.min_cycles > s.max_cycles:
         raise InputError("steady.min_cycles", s.min_cycles, f"<= steady.max_cycles = {s.max_cycles}")
@@ -490,13 +532,30 @@ def _point_extras(res, sys: TorsionalSystem, st, cfg: TorsionalCaseConfig, eps: 
     iso = _iso_data(cfg, sys, eps, face_width)
     ds["iso_kv"] = ((), float(iso_kv(iso, [op.speed_rpm])[0]), {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
     ds["iso_resonance_speed"] = ((), float(iso.resonance_speed_rpm), {"units": "rpm"})
-    ds["state_theta"] = ("chain_node", st.theta, {"units": "rad", "long_name": "final angles"})
-    ds["state_omega"] = ("chain_node", st.omega, {"units": "rad/s", "long_name": "final speeds"})
+    ds.coords["chain_node"] = _node_names(sys, cfg)
+    ds["state_theta"] = (
+        "chain_node",
+        st.theta,
+        {"units": "rad", "long_name": "final angles (lateral nodes: displacements in m)"},
+    )
+    ds["state_omega"] = (
+        "chain_node",
+        st.omega,
+        {"units": "rad/s", "long_name": "final speeds (lateral nodes: velocities in m/s)"},
+    )
     ds["state_nominal"] = ("chain_node", st.nominal, {"units": "rad/s", "long_name": "final nominal speeds"})
     ds.attrs["state_time"] = st.time
     if hasattr(st, "modal"):
         ds["state_modal"] = ("modal_dof", st.modal, {"units": "sqrt(kg) m", "long_name": "final tooth modal states"})
         ds.attrs["state_n_hi"] = st.n_hi
+
+
+def _node_names(sys: TorsionalSystem, cfg: TorsionalCaseConfig) -> list[str]:
+    """Chain nodes of the model (motor, pinion, wheel, load as present; lateral nodes)."""
+    from rotaflex.gear.torsional import _chain
+
+    op = cfg.operation
+    return _chain(sys, OperatingPoint(op.speed_rpm, op.torque)).names
 
 
 def run_torsional(config: dict, *, progress: bool = False, initial_state: dict | None = None) -> Result:
@@ -534,6 +593,10 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
         )
     if state is not None and isinstance(model, TorsionalSystem) == hasattr(state, "modal"):
         raise InputError("initial_state", "a final_state()", f"one of the same model.method ({cfg.model.method})")
+    if state is not None and len(state.theta) != len(names := _node_names(sys, cfg)):
+        raise InputError(
+            "initial_state", f"{len(state.theta)} chain nodes", f"{len(names)} ({', '.join(names)}): the same train"
+        )
     s = cfg.steady
     kw = dict(
         tol=s.tol,

@@ -7,9 +7,14 @@ The mesh phase is ``phi = z1 theta_ip / (2 pi) + phi0`` (mesh cycles), the mesh 
 piecewise cubics on a uniform phase grid of ``m`` cells: for cell j and local ``u`` in [0, 1),
 ``y = c[0, j] + c[1, j] u + c[2, j] u^2 + c[3, j] u^3``.
 
+Optional lateral nodes ``iy1``, ``iy2`` (< 0: none) carry the displacements of the pinion and
+wheel centres along the line of action (bearing compliance): they are chain entries with a
+mass instead of an inertia, no shaft to their neighbours, a spring and dashpot to ground
+(``kg``, ``cg``) and nominal speed 0.
+
 Mesh deflection and force (one-sided, optional back side after a backlash ``b``)::
 
-    delta = rb1 theta_ip - rb2 theta_iw - e(phi),   delta' = d delta / dt
+    delta = rb1 theta_ip - rb2 theta_iw + y1 - y2 - e(phi),   delta' = d delta / dt
     F = k(phi) delta + c_m delta'            delta > 0        (drive side)
     F = k(phi) (delta + b) + c_m delta'      delta < -b       (back side, if b >= 0)
     F = 0                                    otherwise       (contact loss)
@@ -28,7 +33,8 @@ __all__ = ["ChainArgs", "MeshArgs", "run_rk4"]
 class ChainArgs(NamedTuple):
     """The inertia chain: 1/J [1/(kg m^2)], shaft stiffness [N m/rad] and damping [N m s/rad]
     between neighbours, applied torque [N m], motor slope [N m s/rad] about the nominal speed
-    [rad/s], prescribed-speed flags, and the torque ramp time [s] (0: none)."""
+    [rad/s], prescribed-speed flags, the torque ramp time [s] (0: none), and each node's
+    stiffness and damping to ground (bearings of the lateral nodes) [N/m], [N s/m]."""
 
     jinv: np.ndarray
     ks: np.ndarray
@@ -38,12 +44,14 @@ class ChainArgs(NamedTuple):
     nominal: np.ndarray
     presc: np.ndarray
     ramp_time: float
+    kg: np.ndarray
+    cg: np.ndarray
 
 
 class MeshArgs(NamedTuple):
     """The mesh: pinion and wheel node indices, base radii [m], pinion teeth, phase offset
     [cycles], stiffness [N/m] and unloaded-TE [m] cubic coefficients, damping [N s/m], backlash
-    [m] (negative: no back-side contact)."""
+    [m] (negative: no back-side contact), lateral node indices of pinion and wheel (< 0: none)."""
 
     ip: int
     iw: int
@@ -55,6 +63,8 @@ class MeshArgs(NamedTuple):
     ec: np.ndarray
     c_m: float
     backlash: float
+    iy1: int
+    iy2: int
 
 
 @njit(cache=True)
@@ -73,14 +83,20 @@ def _table(c, phi):
 
 @njit(cache=True)
 def _mesh(mesh, th, om):
-    ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash = mesh
     """Mesh force F [N], deflection delta [m], its rate [m/s] and contact state (1, 0, -1)."""
+    ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash, iy1, iy2 = mesh
     phi = z1 * th[ip] / (2.0 * np.pi) + phi0
     dphi = z1 * om[ip] / (2.0 * np.pi)
     k, _ = _table(kc, phi)
     e, de = _table(ec, phi)
     delta = rb1 * th[ip] - rb2 * th[iw] - e
     ddelta = rb1 * om[ip] - rb2 * om[iw] - de * dphi
+    if iy1 >= 0:
+        delta += th[iy1]
+        ddelta += om[iy1]
+    if iy2 >= 0:
+        delta -= th[iy2]
+        ddelta -= om[iy2]
     if delta > 0.0:
         return k * delta + c_m * ddelta, delta, ddelta, 1
     if backlash >= 0.0 and delta < -backlash:
@@ -98,7 +114,7 @@ def _rhs(
     chain,
     mesh,
 ):
-    jinv, ks, cs, torque, slope, nominal, presc, ramp_time = chain
+    jinv, ks, cs, torque, slope, nominal, presc, ramp_time, kg, cg = chain
     n = th.shape[0]
     f, _, _, _ = _mesh(mesh, th, om)
     ip, iw, rb1, rb2 = mesh.ip, mesh.iw, mesh.rb1, mesh.rb2
@@ -110,7 +126,7 @@ def _rhs(
         if presc[i]:
             out_om[i] = 0.0
             continue
-        q = scale * torque[i] + slope[i] * (nominal[i] - om[i])
+        q = scale * torque[i] + slope[i] * (nominal[i] - om[i]) - kg[i] * th[i] - cg[i] * om[i]
         if i > 0:
             q -= ks[i - 1] * (th[i] - th[i - 1]) + cs[i - 1] * (om[i] - om[i - 1])
         if i < n - 1:
@@ -119,6 +135,10 @@ def _rhs(
             q -= rb1 * f
         if i == iw:
             q += rb2 * f
+        if i == mesh.iy1:
+            q -= f
+        if i == mesh.iy2:
+            q += f
         out_om[i] = q * jinv[i]
 
 

@@ -157,6 +157,7 @@ def speed_sweep(
         {"units": "rpm", "long_name": "pinion speed: mesh order h meets f_n"},
     )
     ds["resonance_order"] = ("resonance", np.array([r[0] for r in res_speeds]), {"units": "1"})
+    ds["resonance_frequency"] = ("resonance", np.array([r[1] for r in res_speeds]), {"units": "Hz"})
     if iso is not None:
         ds["iso_kv"] = ("speed", iso_kv(iso, speeds), {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
         ds.attrs["iso_resonance_speed"] = iso.resonance_speed_rpm
@@ -226,11 +227,14 @@ class SpeedSweepResult(Result):
             ax[1].plot(sp, ds["dte_pp"].values[di] * 1e6, mk, ms=3, label=f"model, {d}")
         if "iso_kv" in ds:
             ax[0].plot(sp, ds["iso_kv"].values, "k-", lw=1.0, label="ISO 6336-1 method B")
-        for r, h in zip(ds["resonance_speed"].values, ds["resonance_order"].values, strict=True):
+        freqs = ds["resonance_frequency"].values if "resonance_frequency" in ds else np.zeros(ds.sizes["resonance"])
+        several = len(np.unique(freqs)) > 1
+        for r, h, f in zip(ds["resonance_speed"].values, ds["resonance_order"].values, freqs, strict=True):
             if sp[0] <= r <= sp[-1]:
                 for a in ax:
                     a.axvline(r, c="gray", lw=0.8, ls=":")
-                ax[0].annotate(f"{int(h)}x f_n", (r, 1.0), fontsize=7, rotation=90)
+                label = f"{int(h)}x {f / 1e3:.1f} kHz" if several else f"{int(h)}x f_n"
+                ax[0].annotate(label, (r, 1.0), fontsize=7, rotation=90)
         ax[0].set(ylabel="K_v = F_max / F_static [-]")
         ax[1].set(xlabel="pinion speed [rpm]", ylabel="DTE peak-to-peak [µm]")
         ax[0].legend(fontsize=7)

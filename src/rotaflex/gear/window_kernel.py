@@ -26,7 +26,7 @@ class WindowArgs(NamedTuple):
     stiffness [N/m], gap [m], participations (n_s, m) [1/sqrt(kg)],
     fillet stress per newton [Pa/N] of both gears, modal circular frequencies (m,) of both
     gears [rad/s], tooth damping ratio, mesh damping [N s/m] and the deflection over which it
-    grows to its full value [m]."""
+    grows to its full value [m], lateral (bearing) chain nodes of pinion and wheel (< 0: none)."""
 
     ip: int
     iw: int
@@ -51,6 +51,8 @@ class WindowArgs(NamedTuple):
     zeta: float
     c_mesh: float
     damping_onset: float
+    iy1: int
+    iy2: int
 
 
 @njit(cache=True)
@@ -88,6 +90,12 @@ def _pairs(y, n_chain, n_hi, win, gen, rec):
     om1, om2 = y[n_chain + ip], y[n_chain + iw]
     x = win.rb1 * th1 - win.rb2 * th2
     xd = win.rb1 * om1 - win.rb2 * om2
+    if win.iy1 >= 0:
+        x += y[win.iy1]
+        xd += y[n_chain + win.iy1]
+    if win.iy2 >= 0:
+        x -= y[win.iy2]
+        xd -= y[n_chain + win.iy2]
     sd = win.rb1 * om1
     u_roll = win.rb1 * th1 + win.s_start
     s_min, s_max = win.s0, win.s0 + win.ds * (win.k_res.shape[0] - 1)
@@ -147,7 +155,7 @@ def _pairs(y, n_chain, n_hi, win, gen, rec):
 
 @njit(cache=True)
 def _rhs(t, y, dy, n_hi, chain, win, gen, rec):
-    jinv, ks, cs, torque, slope, nominal, presc, ramp_time = chain
+    jinv, ks, cs, torque, slope, nominal, presc, ramp_time, kg, cg = chain
     n = jinv.shape[0]
     _pairs(y, n, n_hi, win, gen, rec)
     f = rec[0]
@@ -160,7 +168,7 @@ def _rhs(t, y, dy, n_hi, chain, win, gen, rec):
         if presc[i]:
             dy[n + i] = 0.0
             continue
-        q = scale * torque[i] + slope[i] * (nominal[i] - om)
+        q = scale * torque[i] + slope[i] * (nominal[i] - om) - kg[i] * th - cg[i] * om
         if i > 0:
             q -= ks[i - 1] * (th - y[i - 1]) + cs[i - 1] * (om - y[n + i - 1])
         if i < n - 1:
@@ -169,6 +177,10 @@ def _rhs(t, y, dy, n_hi, chain, win, gen, rec):
             q -= win.rb1 * f
         if i == win.iw:
             q += win.rb2 * f
+        if i == win.iy1:
+            q -= f
+        if i == win.iy2:
+            q += f
         dy[n + i] = q * jinv[i]
     m = win.n_modes
     nm2 = win.window * 2 * m

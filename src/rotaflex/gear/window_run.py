@@ -20,7 +20,6 @@ from rotaflex.gear.elastic_window import WindowModel
 from rotaflex.gear.static_pair import loaded_te
 from rotaflex.gear.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
 from rotaflex.gear.torsional import OperatingPoint, _chain, _initial_state, natural_frequencies
-from rotaflex.gear.torsional_kernel import ChainArgs
 from rotaflex.gear.window_kernel import WindowArgs, run_window_rk4
 
 __all__ = ["WindowState", "cycle_steps", "simulate", "energy_balance", "steady_state"]
@@ -65,6 +64,8 @@ def _args(model: WindowModel, ch) -> WindowArgs:
         float(model.tooth_damping_ratio),
         float(model.system.mesh_damping),
         float(model.damping_onset),
+        int(ch.iy1),
+        int(ch.iy2),
     )
 
 
@@ -116,7 +117,7 @@ def _run(model, op, ch, st: WindowState, n_cycles: int, spc: int) -> dict:
     t_mesh = 2 * np.pi / (op.omega * sys.teeth[0])
     y = np.concatenate([st.theta, st.omega, st.modal])
     ramp = op.ramp_cycles * t_mesh
-    chain = ChainArgs(ch.jinv, ch.ks, ch.cs, ch.torque, ch.slope, ch.nominal, ch.presc, float(ramp))
+    chain = ch.args(ramp)
     t, yr, rec, work, n_hi, dropped = run_window_rk4(
         y, st.n_hi, st.time, t_mesh / spc, n_cycles * spc, chain, _args(model, ch)
     )
@@ -172,7 +173,7 @@ def simulate(
 def energy_balance(model: WindowModel, op: OperatingPoint, hist: dict) -> dict:
     """Energy bookkeeping of a :func:`simulate` history.
 
-    ``E`` = chain kinetic + shaft strain + tooth modal + contact-spring energy; power balance
+    ``E`` = chain kinetic + shaft strain + bearing + tooth modal + contact-spring energy; power balance
     ``dE/dt = P_drive - P_load - D_mesh - D_teeth + P_par`` (``P_par``: work of the pairs'
     position-dependent stiffness, gap and mode shapes as the mesh rolls); teeth leaving the
     window take ``dropped`` with them. The mesh and tooth terms are integrated by the kernel
@@ -195,6 +196,8 @@ def energy_balance(model: WindowModel, op: OperatingPoint, hist: dict) -> dict:
     for i in range(len(ch.inertia) - 1):
         e = e + 0.5 * ch.ks[i] * (th[:, i] - th[:, i + 1]) ** 2
         diss = diss + ch.cs[i] * (om[:, i] - om[:, i + 1]) ** 2
+    e = e + 0.5 * th**2 @ ch.kg
+    diss = diss + om**2 @ ch.cg
     rb1 = model.line.g1.base_radius
     ramp = op.ramp_cycles * 2 * np.pi / (op.omega * model.system.teeth[0])
     scale = np.clip(t / ramp, 0.0, 1.0) if ramp > 0 else np.ones(len(t))
