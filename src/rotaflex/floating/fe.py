@@ -242,9 +242,10 @@ def frame_body(
         U = inertia_relief_solve(K, M, Rg, np.hstack(Fs))
         modes, om2, n_att = augment_ritz(modes, U, M, K)
         labels += [f"attach{k + 1}" for k in range(n_att)]
-    G = None
+    G = load_geometric = None
     if geometric:
         G = centrifugal_geometric(K, M, Rg, modes, mass, pos, Nglob, dofs[E_], L, Lam, T, El, e * area)
+        load_geometric = _load_geometric_fn(K, M, Rg, modes, interp, L, Lam, T, El, e * area)
     Phi = np.einsum("pad,pdj->paj", Nglob, modes[dofs[E_]])
 
     def shape_fn(pts):
@@ -263,6 +264,7 @@ def frame_body(
         frame="mean axes (free-free FE modes, axes parallel to the model's axes)",
         length=size,
         mode_labels=tuple(labels),
+        load_geometric=load_geometric,
     )
     return body
 
@@ -325,32 +327,58 @@ def centrifugal_geometric(K, M, Rg, modes, mass, pos, Nglob, pdofs, L, Lam, T, E
     each element contributes ``N_e int (v'^2 + w'^2) dx`` (consistent Hermite geometric
     stiffness of both bending planes; no torsional term). ``K_G(w) = sum_ab w_a w_b G[a, b]``.
     """
-    ndof = K.shape[0]
     rc = pos - (mass @ pos) / mass.sum()
     pairs = [(a, b) for a in range(3) for b in range(a, 3)]
-    F = np.zeros((ndof, len(pairs)))
+    F = np.zeros((K.shape[0], len(pairs)))
     for c, (a, b) in enumerate(pairs):
         f = -0.5 * mass[:, None] * (np.eye(3)[a][None] * rc[:, b : b + 1] + np.eye(3)[b][None] * rc[:, a : a + 1])
         if a == b:
             f = f + mass[:, None] * rc
         np.add.at(F[:, c], pdofs, np.einsum("pad,pa->pd", Nglob, f))
-    U = inertia_relief_solve(K, M, Rg, F)
-    ex = Lam[:, 0, :]
+    N = _axial_forces(inertia_relief_solve(K, M, Rg, F), L, Lam, El, ea)
+    Ge = _modal_element_geometric(modes, L, T, El)
+    G = np.zeros((3, 3, modes.shape[1], modes.shape[1]))
+    for c, (a, b) in enumerate(pairs):
+        G[a, b] = G[b, a] = np.einsum("e,eij->ij", N[:, c], Ge)
+    return G
+
+
+def _axial_forces(U, L, Lam, El, ea):
+    """Element axial forces (E, k) [N] (tension > 0) of the deflections ``U`` (ndof, k)."""
     idx1 = 6 * El[:, 0][:, None] + np.arange(3)
     idx2 = 6 * El[:, 1][:, None] + np.arange(3)
+    return (ea / L)[:, None] * np.einsum("ea,eak->ek", Lam[:, 0, :], U[idx2] - U[idx1])
+
+
+def _modal_element_geometric(modes, L, T, El):
+    """Per-element modal geometric stiffness for unit axial force (E, n, n): the consistent
+    Hermite ``int (v'^2 + w'^2) dx`` of both bending planes (no torsional term)."""
     _, nt = _interp(np.repeat(_GP, len(L)), np.tile(L, len(_GP)))
     nt = nt.reshape(len(_GP), len(L), 3, 12)
-    # unit element matrix int (th_z^2 + th_y^2) dx in local coordinates, transformed to global
     kg1 = np.einsum("g,e,geai,geaj->eij", _GW, L, nt[:, :, 1:, :], nt[:, :, 1:, :])
     kg1 = np.einsum("eji,ejk,ekl->eil", T, kg1, T)
     dofs = np.concatenate([6 * El[:, :1] + np.arange(6), 6 * El[:, 1:] + np.arange(6)], axis=1)
-    G = np.zeros((3, 3, modes.shape[1], modes.shape[1]))
-    for c, (a, b) in enumerate(pairs):
-        N = ea / L * np.einsum("ea,ea->e", ex, U[idx2, c] - U[idx1, c])
-        KG = np.zeros((ndof, ndof))
-        np.add.at(KG, (dofs[:, :, None], dofs[:, None, :]), N[:, None, None] * kg1)
-        G[a, b] = G[b, a] = modes.T @ KG @ modes
-    return G
+    me = modes[dofs]  # (E, 12, n)
+    return np.einsum("eai,eab,ebj->eij", me, kg1, me)
+
+
+def _load_geometric_fn(K, M, Rg, modes, interp, L, Lam, T, El, ea):
+    """``load_geometric(point, clamped=False) -> (3, n, n)``: modal geometric stiffness per unit
+    body-frame force along x, y, z at ``point`` (on an element axis), from the axial forces of
+    its inertia-relieved static deflection: the free body's rigid acceleration under the force
+    loads every element (translational and rotational inertia relief). ``clamped`` is not
+    meaningful for a free-free FE body and is ignored (FE bodies float)."""
+    Ge = _modal_element_geometric(modes, L, T, El)
+    ndof = K.shape[0]
+
+    def load_geometric(point, clamped=False):
+        Ng, _, dd = interp(np.asarray(point, dtype=float)[None])
+        F = np.zeros((ndof, 3))
+        np.add.at(F, dd[0], Ng[0].T)  # consistent nodal loads of unit forces along x, y, z
+        N = _axial_forces(inertia_relief_solve(K, M, Rg, F), L, Lam, El, ea)
+        return np.einsum("ec,eij->cij", N, Ge)
+
+    return load_geometric
 
 
 def straight_beam_nodes(length: float, n_elements: int, start=(0.0, 0.0, 0.0), direction=(1.0, 0.0, 0.0)):
