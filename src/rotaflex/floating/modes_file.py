@@ -20,6 +20,15 @@ then a header row and one row per node, comma-separated, columns by name (any or
     phi1_x, phi1_y, phi1_z, ...   mode j translations (j = 1 .. n) [1/sqrt(kg)]
     psi1_x, psi1_y, psi1_z, ...   optional: mode j rotations [rad/sqrt(kg)] (all modes or none)
 
+Mass normalisation: either with the translational masses alone (``sum_k m_k phi_ik . phi_jk =
+delta_ij``; rotary inertias then count only in the rigid-body inertia) or, when the file has
+``rotation_shapes`` and ``rotary_inertias``, with the full lumped mass matrix of an FE export
+(``sum_k m_k phi_ik . phi_jk + psi_ik . J_k psi_jk = delta_ij``). The loader detects which one
+holds. In the second case each node's rotary inertia is carried by six satellite point masses at
+``+-d e_a`` moving rigidly with the node (``u + psi x s``), which reproduce ``J_k`` exactly in the
+modal mass and in every inertia integral of the floating-body equations (the FE frame's section
+points work the same way).
+
 Checks on load (each one :class:`~rotaflex.core.errors.InputError` naming ``body.file.<array>``):
 shapes and sizes, finite values, masses and frequencies > 0, mass-orthonormality (deviation
 <= 1e-6), and for ``frame = "mean-axes"`` no rigid-body content (free-free modes must satisfy
@@ -179,6 +188,9 @@ def _checked_body(data: dict, extra: list, frame: str, where: str, name: str) ->
             float(f[k]),
             "a frequency > 0 [rad/s] (leave the rigid-body modes out of the file)",
         )
+    if _full_mass_normalised(data):
+        data = _with_rotary_satellites(data, where)
+        X, m, S = data["positions"], data["masses"], data["shapes"]
     if frame == "mean-axes" and n:
         # rigid-body content of each mode relative to its own mass-weighted size
         lin = np.einsum("k,jka->ja", m, S)
@@ -220,6 +232,54 @@ def _checked_body(data: dict, extra: list, frame: str, where: str, name: str) ->
                 fld = f"{where}.{b}" + fld[len(a) :]
                 break
         raise InputError(fld, exc.value, exc.allowed) from None
+
+
+def _full_mass_normalised(data: dict) -> bool:
+    """True when the modes are orthonormal with translational *and* rotary mass, but not with
+    the translational masses alone."""
+    if "rotation_shapes" not in data or "rotary_inertias" not in data:
+        return False
+    m, S, R, J = data["masses"], data["shapes"], data["rotation_shapes"], data["rotary_inertias"]
+    if R.shape != S.shape or J.shape != (m.size, 3):
+        return False  # the shape checks of point_body report it
+    eye = np.eye(S.shape[0])
+    trans = np.einsum("k,ika,jka->ij", m, S, S)
+    full = trans + np.einsum("ka,ika,jka->ij", J, R, R)
+    return np.abs(full - eye).max() < np.abs(trans - eye).max()
+
+
+def _with_rotary_satellites(data: dict, where: str) -> dict:
+    """Nodes plus six satellite masses each (``m_a / 2`` at ``+-d e_a``) that carry the nodal
+    principal rotary inertia J: ``m_x = (J_y + J_z - J_x) / (2 d^2)`` and cyclic (>= 0 by the
+    triangle inequality), ``d^2 = (J_x + J_y + J_z) / m`` so that half the nodal mass stays on
+    the node."""
+    X, m, S, R, J = (data[k] for k in ("positions", "masses", "shapes", "rotation_shapes", "rotary_inertias"))
+    tr = J.sum(axis=1)
+    d = np.sqrt(np.where(tr > 0, tr / m, 0.0))
+    ma = np.stack([J[:, 1] + J[:, 2] - J[:, 0], J[:, 0] + J[:, 2] - J[:, 1], J[:, 0] + J[:, 1] - J[:, 2]], axis=1)
+    ma = np.where(tr[:, None] > 0, ma / (2.0 * np.where(d > 0, d, 1.0)[:, None] ** 2), 0.0)
+    if np.any(ma < -1e-12 * tr[:, None]):
+        k = int(np.argmin(ma.min(axis=1)))
+        raise InputError(f"{where}.rotary_inertias[{k}]", J[k].tolist(), "principal inertias with J_a <= J_b + J_c")
+    ma = np.maximum(ma, 0.0)
+    pts, mass, shp, rot = [X], [m - ma.sum(axis=1)], [S], [R]
+    for a in range(3):
+        for sign in (1.0, -1.0):
+            off = np.zeros(3)
+            off[a] = sign
+            o = d[:, None] * off[None]  # (N, 3)
+            pts.append(X + o)
+            mass.append(0.5 * ma[:, a])
+            shp.append(S + np.cross(R, o[None]))  # u + psi x s
+            rot.append(R)
+    keep = np.concatenate([np.ones(len(m), bool)] + [0.5 * ma[:, a] > 0 for a in range(3) for _ in (0, 1)])
+    out = dict(data)
+    out.pop("rotary_inertias")
+    out["positions"] = np.concatenate(pts)[keep]
+    out["masses"] = np.concatenate(mass)[keep]
+    out["shapes"] = np.concatenate(shp, axis=1)[:, keep]
+    out["rotation_shapes"] = np.concatenate(rot, axis=1)[:, keep]
+    return out
 
 
 def save_modes(path, body: Body, rotation_shapes: bool = True) -> None:
