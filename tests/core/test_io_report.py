@@ -51,6 +51,17 @@ def test_report_lists_failed_checks(tmp_path):
     assert "caption" in (tmp_path / "index.html").read_text()
 
 
+def test_information_rows_are_shown_but_not_counted_as_checks(tmp_path):
+    # a wall time or a value beyond a method's range has no criterion: a row that cannot fail is
+    # information, not a passing check
+    info = Check("wall time", 0.9, "s", "none (information)", True, info=True)
+    section = Section("Demo", checks=[Check("d", 1e-12, "", "< 1e-9", True), info])
+    assert section.all_checks() == [section.checks[0]] and section.claims() == []
+    write_report(tmp_path, [section], "t")
+    md = (tmp_path / "report.md").read_text()
+    assert "1 / 1" in md and "| wall time | 0.9 s | none (information) | info |" in md
+
+
 def test_compile_timer_counts_outermost_numba_compilations_once():
     import numba
 

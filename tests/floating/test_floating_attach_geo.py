@@ -136,7 +136,7 @@ def test_point_body_geometric_input():
     )
     w = np.array([0.3, 1.2, -0.7])
     assert np.allclose(geometric_stiffness(pb, w), geometric_stiffness(ab, w), atol=1e-12)
-    with pytest.raises(InputError, match="body.geometric.ww"):
+    with pytest.raises(InputError, match=r"body\.points\.geometric\.ww"):
         point_body(ab.masses, ab.points, shapes, frequencies=f, geometric={"ww": np.eye(4)})
     with pytest.raises(InputError, match="symmetric"):
         point_body(ab.masses, ab.points, shapes, frequencies=f, geometric={"xy": np.triu(np.ones((4, 4)))})

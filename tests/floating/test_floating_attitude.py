@@ -85,3 +85,28 @@ def test_planar_attitude_figure_does_not_draw_round_off():
     labels = [ln.get_label() for ln in ax.lines]
     assert labels == ["full z", "perturbation z", "zero order z"]
     assert "zero to round-off" in ax.get_title()
+
+
+@pytest.mark.parametrize(("t_end", "times"), [(2.22, [2.0, 2.22]), (2.3, [2.0, 2.3])])
+def test_run_ends_at_t_end_when_it_is_not_a_multiple_of_dt_out(tmp_path, t_end, times):
+    # the torque_pulse_beam example with t_end 2.22 or 2.3 s and dt_out 0.5 s: the output grid is
+    # 0, 0.5, ..., 2.0 and then t_end (before: 2.22 stopped at 2.0, 2.3 ran on to 2.5), and the
+    # final angle is the one at t_end: the same as with dt_out 0.01 s, which divides t_end, and
+    # the rigid closed form (tau/J) (t1^2 + 2 t1 (t - t1)) / pi after the half-sine pulse
+    from pathlib import Path
+
+    from rotaflex.core.config import load_toml
+    from rotaflex.floating import run
+
+    cfg = load_toml(Path(__file__).resolve().parents[2] / "examples" / "floating" / "torque_pulse_beam.toml")
+    final = {}
+    for dt_out in (0.5, 0.01):
+        cfg["solver"].update(t_end=t_end, dt_out=dt_out)
+        res = run(cfg)
+        t = res.dataset["time"].values
+        assert t[-1] == t_end
+        if dt_out == 0.5:
+            np.testing.assert_allclose(t[-len(times) :], times)
+        final[dt_out] = res.summary()["full.final_euler_123"]["value"][2]
+    assert abs(final[0.5] - final[0.01]) < 1e-8
+    assert abs(final[0.5] - 12.0 * (1.0 + 2.0 * (t_end - 1.0)) / np.pi) < 1e-4

@@ -38,6 +38,11 @@ class Check:
         with ``passed=False`` and the outcome in ``note``.
     note : str
         Interpretation in one or two sentences.
+    claim : bool
+        A claim of the paper: reported as holding or not, not counted as a check.
+    info : bool
+        A measured number shown for information (a wall time, a value beyond the method's
+        range): no criterion, so not counted as a check (a check that cannot fail is none).
     """
 
     name: str
@@ -47,9 +52,12 @@ class Check:
     passed: bool
     note: str = ""
     claim: bool = False  # a claim of the paper: reported as holds / does not hold, not as pass/fail
+    info: bool = False  # information only: neither pass/fail nor a claim
 
     @property
     def outcome(self) -> str:
+        if self.info:
+            return "info"
         if self.claim:
             return "claim holds" if self.passed else "claim does not hold"
         return "pass" if self.passed else "FAIL"
@@ -91,11 +99,11 @@ class Section:
     provenance: dict = field(default_factory=dict)
 
     def all_checks(self) -> list[Check]:
-        """Verification checks (pass/fail), excluding the paper's claims."""
-        return [c for c in self._every() if not c.claim]
+        """Verification checks (pass/fail), excluding the paper's claims and information rows."""
+        return [c for c in self._every() if not (c.claim or c.info)]
 
     def claims(self) -> list[Check]:
-        return [c for c in self._every() if c.claim]
+        return [c for c in self._every() if c.claim and not c.info]
 
     def _every(self) -> list[Check]:
         return self.checks + [c for f in self.figures for c in f.checks]
@@ -162,7 +170,7 @@ def _html_checks(checks: list[Check]) -> str:
         return ""
     e = html.escape
     rows = "".join(
-        f"<tr class='{'ok' if c.passed or c.claim else 'fail'}'><td>{e(c.name)}</td>"
+        f"<tr class='{'ok' if c.passed or c.claim or c.info else 'fail'}'><td>{e(c.name)}</td>"
         f"<td>{e(c.value_text())}</td><td>{e(c.criterion)}</td><td>{c.outcome}</td><td>{e(c.note)}</td></tr>"
         for c in checks
     )

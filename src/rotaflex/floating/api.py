@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.errors import InputError
-from rotaflex.floating.body import Body
-from rotaflex.floating.model import Initial, Load, Prescribed, Settings
+from rotaflex.floating.body import Body, record
+from rotaflex.floating.model import Initial, Load, Prescribed, Settings, load_from
 
 
 @dataclass(frozen=True)
@@ -65,8 +65,9 @@ def run(
         argument must be left out.
     body : Body
         Library path: the body (``uniform_beam``, ``frame_body``, ``point_body``, ``load_modes``).
-    loads : sequence of Load
-        Fixed load profiles.
+    loads : sequence of Load or mapping
+        Fixed load profiles: ``Load`` objects or tables with its keys (as ``[[loads]]`` in a case
+        file); each is checked like a case file's, errors naming ``loads[i].<field>``.
     initial, solver, prescribed
         As in :func:`rotaflex.floating.solve.simulate`; ``solver.method = "both"`` runs both.
     outputs : dict of name -> (3,) point [m]
@@ -82,8 +83,8 @@ def run(
     Returns
     -------
     FloatingResult
-        ``dataset.attrs["config"]`` holds the resolved inputs (JSON) and ``["wall_time"]`` the
-        wall time [s].
+        ``dataset.attrs["config"]`` holds the resolved inputs (JSON; the body as its name, size,
+        frequencies and the parameters it was made from) and ``["wall_time"]`` the wall time [s].
     """
     from rotaflex.floating.result import build_result
     from rotaflex.floating.solve import simulate
@@ -102,7 +103,7 @@ def run(
         return run_case(cfg)
     if body is None:
         raise InputError("run.body", None, "a Body (or a config)")
-    loads = tuple(loads)
+    loads = tuple(load_from(ld, f"loads[{i}]") for i, ld in enumerate(loads))
     initial = initial or Initial()
     solver = solver or Settings()
     outputs = dict(outputs or {})
@@ -110,7 +111,7 @@ def run(
     if prescribed is not None:
         methods = ["full"]
     resolved = {
-        "body": body.name,
+        "body": record(body),
         "loads": [asdict(ld) for ld in loads],
         "initial": asdict(initial),
         "solver": asdict(solver),
@@ -143,37 +144,50 @@ def run(
 
 
 def _controller_loads(out, t) -> list[Load]:
+    """The controller's ``[(kind, vector[, point[, frame]]), ...]`` as checked constant loads."""
     loads = []
     for i, item in enumerate(out or ()):
-        kind, vec, *rest = item
-        point = rest[0] if len(rest) > 0 else (0.0, 0.0, 0.0)
-        frame = rest[1] if len(rest) > 1 else "body"
-        v = np.asarray(vec, dtype=float)
-        if v.shape != (3,) or not np.all(np.isfinite(v)):
-            raise InputError(f"controller(t={t:g})[{i}].vector", vec, "3 finite numbers")
-        loads.append(Load(kind=kind, vector=tuple(v), point=tuple(point), frame=frame))
+        where = f"controller(t={t:g})[{i}]"
+        if isinstance(item, (str, bytes)) or not 2 <= len(item) <= 4:
+            raise InputError(where, item, "a tuple (kind, vector[, point[, frame]])")
+        keys = ("kind", "vector", "point", "frame")
+        loads.append(load_from(dict(zip(keys, item, strict=False)), where))
     return loads
+
+
+def _state(t: float, ini: Initial, n_modes: int, euler_123) -> State:
+    """What the controller sees at time ``t`` [s] when the body is in state ``ini``."""
+    e = np.asarray(ini.quaternion, float)
+
+    def modal(vals):
+        return np.asarray(vals, float) if len(vals) else np.zeros(n_modes)
+
+    return State(
+        t,
+        np.asarray(ini.position, float),
+        e / np.linalg.norm(e),
+        np.asarray(ini.velocity, float),
+        np.asarray(ini.angular_velocity, float),
+        modal(ini.modal_displacement),
+        modal(ini.modal_velocity),
+        np.asarray(euler_123, float),
+    )
 
 
 def _closed_loop(body, loads, initial, solver, controller, dt):
     """Zero-order-hold loop: integrate ``dt`` at a time with the controller's loads held."""
     from rotaflex.floating.solve import Solution, simulate
+    from rotaflex.rotation.quaternion import euler_from_quaternion
 
     t, ini, parts = 0.0, initial, []
     t_end = solver.t_end
     while t < t_end - 1e-12 * t_end:
         t1 = min(t + dt, t_end)
         last = parts[-1] if parts else None
-        state = State(
-            t,
-            np.asarray(ini.position, float),
-            np.asarray(ini.quaternion, float),
-            np.asarray(ini.velocity, float),
-            np.asarray(ini.angular_velocity, float),
-            np.zeros(body.n_modes) if last is None else last.q[-1],
-            np.zeros(body.n_modes) if last is None else last.p[-1],
-            np.zeros(3) if last is None else last.euler_123[-1],
-        )
+        # Euler angles: at t = 0 those of the initial attitude (the integrator's branch: nearest
+        # zero); later the previous period's, unwrapped step by step
+        eul = euler_from_quaternion("123", np.asarray(ini.quaternion, float)) if last is None else last.euler_123[-1]
+        state = _state(t, ini, body.n_modes, eul)
         held = _controller_loads(controller(t, state), t)
         seg = simulate(body, loads + tuple(held), ini, replace(solver, t_end=t1), "full", t_start=t)
         if last is not None:  # same instant: the angles differ by whole turns only

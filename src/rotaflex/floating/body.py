@@ -85,6 +85,9 @@ class Body:
     rigid : bool
         True only for :func:`rigid_body` (no elastic modes, for cross-checks against rigid-body
         solvers); a normal body must have at least one elastic mode.
+    params : dict
+        How the body was made, as plain data for provenance (``source``: the function, and its
+        scalar arguments; see :func:`record`).
     """
 
     name: str
@@ -102,6 +105,7 @@ class Body:
     planar: bool = False
     load_geometric: Callable | None = field(default=None, repr=False)
     inextensible: object | None = field(default=None, repr=False)
+    params: dict = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
         validate_body(self)
@@ -163,6 +167,57 @@ def validate_body(b: Body) -> None:
             f"max |sum m Phi^T Phi - I| = {dev:.3e}",
             f"mass-orthonormal modes (deviation <= {ORTHONORMAL_TOL:g})",
         )
+
+
+def record(body: Body) -> dict:
+    """The body as plain data for a result's ``attrs["config"]``: its name, size, frame, modal
+    frequencies [rad/s] and the parameters it was made from (``body.params``)."""
+    return {
+        "name": body.name,
+        **body.params,
+        "n_points": int(body.masses.size),
+        "n_modes": int(body.n_modes),
+        "mass": float(body.mass),
+        "frame": body.frame,
+        "frequencies": [float(f) for f in body.frequencies],
+    }
+
+
+def plain(value):
+    """``value`` with arrays and tuples turned into (nested) lists of floats, for JSON."""
+    if value is None or isinstance(value, (bool, str, int, float)):
+        return value
+    if isinstance(value, dict):
+        return {str(k): plain(v) for k, v in value.items()}
+    return np.asarray(value, dtype=float).tolist()
+
+
+#: library names of a point body's fields -> their paths in a case file (``[body.points]``)
+POINT_FIELDS = {
+    "body.masses": "body.points.masses",
+    "body.points": "body.points.positions",
+    "body.shapes": "body.points.shapes",
+    "body.n_modes": "body.points.shapes",
+    "body.frequencies": "body.points.frequencies",
+    "body.stiffness": "body.points.frequencies",
+    "body.rotation_shapes": "body.points.rotation_shapes",
+    "body.rotary_inertias": "body.points.rotary_inertias",
+    "body.geometric": "body.points.geometric",
+}
+
+
+def renamed(exc: InputError, table: dict[str, str], default_prefix: str = "") -> InputError:
+    """The same error with its field named by ``table`` (old prefix -> new prefix, whole path
+    components only); other ``body.*`` fields get ``default_prefix`` instead of ``body.``."""
+    f = exc.field
+    for old, new in table.items():
+        if f == old or f.startswith(old + "[") or f.startswith(old + "."):
+            return InputError(new + f[len(old) :], exc.value, exc.allowed)
+    if default_prefix and f.startswith("body.") and not f.startswith(default_prefix):
+        tail = f[len("body.") :]
+        if tail.split(".")[0].split("[")[0] not in ("attachment_points", "attach_at_loads"):
+            return InputError(default_prefix + tail, exc.value, exc.allowed)
+    return exc
 
 
 # ----------------------------------------------------------------------------------------
@@ -521,6 +576,20 @@ def uniform_beam(
         planar=not spatial,
         load_geometric=load_geometric,
         inextensible=inext,
+        params={
+            "source": "uniform_beam",
+            "length": float(length),
+            "rho_a": float(rho_a),
+            "ei": float(ei),
+            "ei_z": None if ei_z is None else float(ei_z),
+            "n_modes_per_plane": int(n_modes),
+            "spatial": bool(spatial),
+            "support": support,
+            "section_radius": rg,
+            "n_quad": int(nq),
+            "attachment_points": plain([list(p) for p in attachment_points]),
+            "moment_points": plain([list(p) for p in moment_points]),
+        },
     )
 
 
@@ -646,8 +715,18 @@ def point_body(
         a full tensor; ``K_G(w) = sum_ab w_a w_b G[a, b]``. Without it the body has no geometric
         stiffness option.
 
-    Output points and load points must coincide with a node.
+    Output points and load points must coincide with a node. Errors name the fields as a case
+    file does (``body.points.masses[1]``, ``body.points.frequencies`` for ``stiffness`` too).
     """
+    args = (masses, positions, shapes, frequencies, stiffness, rotation_shapes, rotary_inertias, geometric, name)
+    try:
+        return _point_body(*args)
+    except InputError as exc:
+        table = POINT_FIELDS if stiffness is None else {**POINT_FIELDS, "body.stiffness": "body.points.stiffness"}
+        raise renamed(exc, table) from None
+
+
+def _point_body(masses, positions, shapes, frequencies, stiffness, rotation_shapes, rotary_inertias, geometric, name):
     m = np.asarray(masses, dtype=float).ravel()
     P = np.asarray(positions, dtype=float).reshape(-1, 3)
     S = np.asarray(shapes, dtype=float)
@@ -710,4 +789,5 @@ def point_body(
         length=size,
         mode_labels=tuple(f"mode{j + 1}" for j in range(n)),
         extra_inertia=extra,
+        params={"source": "point_body"},
     )

@@ -35,7 +35,7 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
-from rotaflex.floating.model import Initial, Load, Prescribed, Settings, Vec3
+from rotaflex.floating.model import Initial, Load, Prescribed, Settings, Vec3, load_from
 
 #: budgets checked before anything is allocated (memory and run time grow like n^2 and n^4)
 MAX_BEAM_MODES = 100
@@ -135,8 +135,19 @@ class BodyConfig:
 
 
 @dataclass(frozen=True)
+class ParaviewConfig:
+    """Deformed-shape series for ParaView, written by ``rotaflex floating simulate`` into
+    ``<out>/paraview/<solution>.pvd`` and one ``.vtu`` per kept output time."""
+
+    every: int = param(1, ge=1, doc="keep every n-th output time")
+    solution: Literal["full", "perturbation", "prescribed"] | None = param(
+        None, doc="which solution (default: the first computed: full, or prescribed)"
+    )
+
+
+@dataclass(frozen=True)
 class FloatingCase:
-    """A floating flexible body case: body, loads, initial state, prescribed motion, solver, outputs."""
+    """A floating flexible body case: body, loads, initial state, prescribed motion, solver, outputs, ParaView."""
 
     body: BodyConfig = param()
     loads: tuple[Load, ...] = param(())
@@ -144,33 +155,10 @@ class FloatingCase:
     prescribed: Prescribed | None = param(None)
     solver: Settings = param(Settings())
     outputs: dict[str, Vec3] = param({}, unit="m", doc="named body points (undeformed, body frame)")
+    paraview: ParaviewConfig | None = param(None, doc="write a ParaView series (an empty [paraview] table: defaults)")
 
 
-_POINT_FIELDS = {
-    "body.masses": "body.points.masses",
-    "body.points": "body.points.positions",
-    "body.shapes": "body.points.shapes",
-    "body.n_modes": "body.points.shapes",
-    "body.frequencies": "body.points.frequencies",
-    "body.stiffness": "body.points.frequencies",
-    "body.rotation_shapes": "body.points.rotation_shapes",
-    "body.rotary_inertias": "body.points.rotary_inertias",
-    "body.geometric": "body.points.geometric",
-}
 _FRAME_FIELDS = {"body.elements": "body.frame.nodes", "body.n_modes": "body.frame.n_modes"}
-
-
-def _renamed(exc: InputError, table: dict[str, str], default_prefix: str = "") -> InputError:
-    """The same error with its field named by its path in the config file."""
-    f = exc.field
-    for old, new in table.items():
-        if f == old or f.startswith(old + "[") or f.startswith(old + "."):
-            return InputError(new + f[len(old) :], exc.value, exc.allowed)
-    if default_prefix and f.startswith("body.") and not f.startswith(default_prefix):
-        tail = f[len("body.") :]
-        if tail.split(".")[0].split("[")[0] not in ("attachment_points", "attach_at_loads"):
-            return InputError(default_prefix + tail, exc.value, exc.allowed)
-    return exc
 
 
 def build_body(cfg: BodyConfig, loads=()):
@@ -178,14 +166,14 @@ def build_body(cfg: BodyConfig, loads=()):
 
     Errors name the field by its path in the case file (``body.points.masses[1]``).
     """
+    from rotaflex.floating.body import renamed
+
     try:
         return _build_body(cfg, loads)
     except InputError as exc:
-        if cfg.type == "points":
-            raise _renamed(exc, _POINT_FIELDS) from None
         if cfg.type == "frame":
-            raise _renamed(exc, _FRAME_FIELDS, "body.frame.") from None
-        raise
+            raise renamed(exc, _FRAME_FIELDS, "body.frame.") from None
+        raise  # point bodies name body.points.* themselves
 
 
 def _build_body(cfg: BodyConfig, loads=()):
@@ -279,12 +267,7 @@ def _parse(config: dict) -> FloatingCase:
     loads = config.get("loads", ())
     if isinstance(loads, (list, tuple)):
         for i, ld in enumerate(loads):
-            try:
-                from_mapping(Load, ld, f"loads[{i}]")
-            except InputError as exc:
-                if exc.field.startswith("loads."):  # raised by Load's own cross-field checks
-                    raise InputError(f"loads[{i}].{exc.field[len('loads.') :]}", exc.value, exc.allowed) from None
-                raise
+            load_from(ld, f"loads[{i}]")
     case = from_mapping(FloatingCase, config)
     s = case.solver
     n_out = s.t_end / s.dt_out + 1.0
@@ -328,6 +311,11 @@ def prepare(config: dict):
         methods = ["full"]
     for m in methods:
         check_inputs(body, case.loads, case.initial, case.solver, m, case.prescribed is not None)
+    pv = case.paraview
+    if pv is not None and pv.solution is not None:
+        computed = ["prescribed"] if case.prescribed is not None else methods
+        if pv.solution not in computed:
+            raise InputError("paraview.solution", pv.solution, "a computed solution: one of " + ", ".join(computed))
     return case, body, methods
 
 
@@ -371,4 +359,10 @@ def run_case(config: dict, *, progress: bool = False):
     case, body, methods = prepare(config)
     sols = [simulate(body, case.loads, case.initial, case.solver, m, case.prescribed) for m in methods]
     resolved = json.loads(json.dumps(dataclasses.asdict(case)))
-    return build_result(body, sols, dict(case.outputs), resolved, time.perf_counter() - t0)
+    result = build_result(body, sols, dict(case.outputs), resolved, time.perf_counter() - t0)
+    if case.paraview is not None:
+        from rotaflex.floating.paraview import frames
+
+        name = case.paraview.solution or sols[0].method
+        result.paraview = (name, frames(result, body, solution=name, every=case.paraview.every))
+    return result

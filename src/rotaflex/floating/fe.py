@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from rotaflex.core.errors import InputError
-from rotaflex.floating.body import Body, skew
+from rotaflex.floating.body import Body, plain, skew
 
 _GP, _GW = np.polynomial.legendre.leggauss(3)
 _GP, _GW = 0.5 * (_GP + 1.0), 0.5 * _GW
@@ -265,6 +265,20 @@ def frame_body(
         length=size,
         mode_labels=tuple(labels),
         load_geometric=load_geometric,
+        params={
+            "source": "frame_body",
+            "nodes": plain(nodes),
+            "elements": None if elements is None else np.asarray(elements).tolist(),
+            **{
+                k: float(v)
+                for k, v in (("e", e), ("g", g), ("rho", rho), ("area", area), ("iy", iy), ("iz", iz), ("j", j))
+            },
+            "n_modes": int(n_modes),
+            "up": plain(up),
+            "attachment_points": plain([list(p) for p in attachment_points]),
+            "moment_points": plain([list(p) for p in moment_points]),
+            "geometric": bool(geometric),
+        },
     )
     return body
 

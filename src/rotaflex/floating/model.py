@@ -24,6 +24,10 @@ class Load:
     ``bang-bang`` (+1 for the first half of ``duration``, -1 for the second: a rest-to-rest slew),
     ``sinusoid`` (``sin(2 pi frequency (t - start) + phase)`` from ``start``, for ``duration`` if
     > 0), ``pulse`` (1 for ``start <= t < start + duration``).
+
+    Constructed directly, only the cross-field rules are checked (errors name ``loads.<field>``:
+    the index is not known here); :func:`load_from`, which ``run`` and case files use, checks
+    every field and names ``loads[i].<field>``.
     """
 
     kind: Literal["force", "torque"] = param("force", doc="force [N] or torque [N m]")
@@ -56,6 +60,44 @@ class Load:
             "sinusoid": [t0] + ([t0 + d] if d > 0 else []),
             "pulse": [t0, t0 + d],
         }[self.profile]
+
+
+def load_from(data, where: str) -> Load:
+    """A :class:`Load` from a ``Load`` or a mapping with its keys (a ``[[loads]]`` table), checked
+    like a case file's load: types, ranges and the cross-field rules.
+
+    Parameters
+    ----------
+    data : Load or mapping
+    where : str
+        Path of the load in error messages, e.g. ``"loads[2]"``.
+
+    Raises
+    ------
+    InputError
+        Naming ``where.field`` (``loads[2].duration``), the value and what is allowed.
+    """
+    from dataclasses import asdict
+
+    from rotaflex.core.config import from_mapping
+
+    if isinstance(data, Load):
+        data = {k: _python(v) for k, v in asdict(data).items()}
+    try:
+        return from_mapping(Load, data, where)
+    except InputError as exc:
+        if exc.field.startswith("loads."):  # raised by Load's own cross-field checks
+            raise InputError(f"{where}.{exc.field[len('loads.') :]}", exc.value, exc.allowed) from None
+        raise
+
+
+def _python(v):
+    """NumPy scalars and arrays as Python numbers and lists (as a TOML table would hold them)."""
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, (np.ndarray, list, tuple)):
+        return [_python(x) for x in v]
+    return v
 
 
 @dataclass(frozen=True)

@@ -38,6 +38,7 @@ modes of a constrained model, fail here).
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -77,7 +78,8 @@ def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body
         data, extra = _read_hdf5(p, where)
     else:
         data, extra = _read_npz(p, where)
-    return _checked_body(data, extra, frame, where, p.name)
+    body = _checked_body(data, extra, frame, where, p.name)
+    return dataclasses.replace(body, params={"source": "load_modes", "path": str(p), "frame": frame})
 
 
 def _read_npz(p: Path, where: str):
@@ -216,21 +218,10 @@ def _checked_body(data: dict, extra: list, frame: str, where: str, name: str) ->
             rotary_inertias=data.get("rotary_inertias"),
             name=f"modes from {name}",
         )
-    except InputError as exc:
-        fld = exc.field.replace("body.points", "body.positions")
-        for a, b in (
-            ("body.masses", "masses"),
-            ("body.positions", "positions"),
-            ("body.shapes", "shapes"),
-            ("body.n_modes", "shapes"),
-            ("body.frequencies", "frequencies"),
-            ("body.stiffness", "frequencies"),
-            ("body.rotation_shapes", "rotation_shapes"),
-            ("body.rotary_inertias", "rotary_inertias"),
-        ):
-            if fld.startswith(a):
-                fld = f"{where}.{b}" + fld[len(a) :]
-                break
+    except InputError as exc:  # point_body names body.points.<array>, the file's own array names
+        fld = exc.field
+        if fld.startswith("body.points."):
+            fld = f"{where}." + fld[len("body.points.") :]
         raise InputError(fld, exc.value, exc.allowed) from None
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 
@@ -19,6 +20,19 @@ class FloatingResult(Result):
     """
 
     kind = "floating"
+    #: deformed-shape series (:class:`rotaflex.floating.paraview.Frames`) written by
+    #: :meth:`write_extra` into ``paraview/``; set by ``run_case`` for a case with ``[paraview]``
+    paraview = None
+
+    def write_extra(self, out_dir: Path) -> list[Path]:
+        """The ParaView series ``paraview/<solution>_00000.vtu ...`` and ``paraview/<solution>.pvd``
+        if the case asked for it (``[paraview]``); nothing otherwise."""
+        if self.paraview is None:
+            return []
+        from rotaflex.floating.paraview import write_frames
+
+        name, series = self.paraview
+        return write_frames(series, Path(out_dir) / "paraview", name)
 
     def summary(self):
         ds = self.dataset

@@ -158,6 +158,25 @@ def pack_loads(
     return kind, frame, prof, par, amp, rP, PhiP, PsiP, GL, gln
 
 
+def output_times(t_start: float, t_end: float, dt_out: float) -> np.ndarray:
+    """Output times [s]: ``t_start, t_start + dt_out, ...`` and ``t_end`` last (a shorter final
+    interval when ``t_end - t_start`` is not a multiple of ``dt_out``; a grid point within
+    1e-9 ``dt_out`` of ``t_end`` is moved onto it), so a run always ends exactly at ``t_end``.
+
+    Examples
+    --------
+    >>> output_times(0.0, 2.22, 0.5).tolist()
+    [0.0, 0.5, 1.0, 1.5, 2.0, 2.22]
+    """
+    span = t_end - t_start
+    n = max(1, int(np.floor(span / dt_out + 1e-9)))
+    t = t_start + dt_out * np.arange(n + 1)
+    if t_end - t[-1] > 1e-9 * dt_out:
+        return np.append(t, t_end)
+    t[-1] = t_end
+    return t
+
+
 def _breaks(loads, prescribed, t_end, t_start=0.0):
     b = [t for ld in loads for t in ld.breakpoints()]
     if prescribed is not None:
@@ -284,8 +303,9 @@ def simulate(
         Prescribed rotation about a body-fixed axis (Kane-Ryan-Banerjee spin-up); then only the
         elastic coordinates are integrated and ``initial`` rigid values are ignored.
     t_start : float
-        Start time [s] of the run (``initial`` holds at ``t_start``; output every
-        ``settings.dt_out`` up to ``settings.t_end``). Used for sampled-data control loops.
+        Start time [s] of the run (``initial`` holds at ``t_start``; output times from
+        :func:`output_times`: every ``settings.dt_out``, and always ``settings.t_end`` last).
+        Used for sampled-data control loops.
 
     Returns
     -------
@@ -301,8 +321,7 @@ def simulate(
     settings = settings or Settings()
     n = body.n_modes
     geo, B, Lp = check_inputs(body, loads, initial, settings, method, prescribed is not None)
-    nt = max(1, int(round((settings.t_end - t_start) / settings.dt_out)))
-    t_out = t_start + np.linspace(0.0, nt * settings.dt_out, nt + 1)
+    t_out = output_times(t_start, settings.t_end, settings.dt_out)
     q0 = _initial_modal(initial.modal_displacement, n, "modal_displacement")
     p0 = _initial_modal(initial.modal_velocity, n, "modal_velocity")
     e0 = np.asarray(initial.quaternion, float) / np.linalg.norm(initial.quaternion)
@@ -389,7 +408,8 @@ def simulate(
     notes += _range_notes(body, sol)
     if sol.status == "success" and sol.kinematics == "linear" and _max_deflection(body, sol.q) > body.length:
         sol.status = "diverged"
-        log.warning("floating %s: %s", method, notes[-1])
+        if st != 3:  # a stop by the divergence guard is reported once, below
+            log.warning("floating %s: %s", method, notes[-1])
     if st == 3:
         sol.status = "diverged"
         notes.insert(
