@@ -230,3 +230,16 @@ def test_fe_export_normalised_with_the_full_mass_matrix(tmp_path):
     np.savez(tmp_path / "bad.npz", **bad)
     with pytest.raises(InputError, match="body.file.shapes"):
         load_modes(tmp_path / "bad.npz")
+
+
+def test_forces_on_a_file_body_are_said_not_to_stiffen_it(tmp_path):
+    d = _lumped_fe_export()
+    np.savez(tmp_path / "fe.npz", **d)
+    force = {"kind": "force", "vector": [-1.0, 0.0, 0.0], "point": [1.0, 0.0, 0.0], "profile": "constant"}
+    cfg = {
+        "body": {"type": "file", "file": {"path": str(tmp_path / "fe.npz")}},
+        "loads": [force],
+        "solver": {"method": "full", "t_end": 0.1, "dt_out": 0.05},
+    }
+    res = run_case(cfg)
+    assert "forces do not stiffen this body" in res.dataset.attrs["message"]

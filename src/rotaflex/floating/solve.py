@@ -406,6 +406,12 @@ def simulate(
             + ("" if geo or body.geometric is None else "; set solver.geometric_stiffness = true")
         )
     notes += _range_notes(body, sol)
+    unstiffened = settings.geometric_stiffness is not False and settings.kinematics == "linear"
+    if unstiffened and body.load_geometric is None and any(ld.kind == "force" for ld in loads):
+        notes.append(
+            "note: forces do not stiffen this body (point or file data carry no stress state; "
+            "only a given centrifugal geometric tensor acts): use a beam or FE frame body for load stiffening"
+        )
     if sol.status == "success" and sol.kinematics == "linear" and _max_deflection(body, sol.q) > body.length:
         sol.status = "diverged"
         if st != 3:  # a stop by the divergence guard is reported once, below
