@@ -27,20 +27,19 @@ MASS = (0.35, 0.5)  # gear masses [kg]
 E = (1.0e-6, 0.4e-6, 0.2e-6)  # unloaded TE harmonics 1x, 2x, 3x [m]
 
 
+def _free_pair(**kw):
+    """Both gears free (motor drive, rigid shafts), constant mesh stiffness."""
+    return TorsionalSystem(
+        mesh=harmonic_mesh(K), base_radius=(RB, RB), inertia=(J, J), drive="motor", motor_slope=0.5, **kw
+    )
+
+
 def test_symmetric_pair_natural_frequencies_closed_form():
     """Equal gears and bearings, both gears free: the symmetric mode pair solves
     M m w^4 - (M (k_b + 2k) + 2 k m) w^2 + 2 k k_b = 0 (M = J / r_b^2); the antisymmetric lateral
     mode does not strain the mesh, w^2 = k_b / m."""
     kb, m = 4.0e8, 0.4
-    sys = TorsionalSystem(
-        mesh=harmonic_mesh(K),
-        base_radius=(RB, RB),
-        inertia=(J, J),
-        drive="motor",
-        motor_slope=0.5,
-        bearing_stiffness=(kb, kb),
-        gear_mass=(m, m),
-    )
+    sys = _free_pair(bearing_stiffness=(kb, kb), gear_mass=(m, m))
     big_m = J / RB**2
     a, b, c = big_m * m, -(big_m * (kb + 2 * K) + 2 * K * m), 2 * K * kb
     w2 = np.sort(np.roots([a, b, c]).real)
@@ -52,20 +51,10 @@ def test_symmetric_pair_natural_frequencies_closed_form():
 
 
 def test_stiff_bearings_approach_the_rigid_pair():
-    sys0 = TorsionalSystem(mesh=harmonic_mesh(K), base_radius=(RB, RB), inertia=(J, J), drive="motor", motor_slope=0.5)
-    f0 = natural_frequencies(sys0)["frequency"][0]
+    f0 = natural_frequencies(_free_pair())["frequency"][0]
     errs = []
     for kb in (1e11, 1e12, 1e13):
-        sys = TorsionalSystem(
-            mesh=harmonic_mesh(K),
-            base_radius=(RB, RB),
-            inertia=(J, J),
-            drive="motor",
-            motor_slope=0.5,
-            bearing_stiffness=(kb, kb),
-            gear_mass=MASS,
-        )
-        nf = natural_frequencies(sys)
+        nf = natural_frequencies(_free_pair(bearing_stiffness=(kb, kb), gear_mass=MASS))
         errs.append(abs(nf["frequency"][nf["mesh_mode"]] / f0 - 1))
     # series springs: the mesh mode softens by about k / (2 k_b) per bearing pair -> 1/k_b
     assert errs[0] > 5e-4
