@@ -18,7 +18,7 @@ from typing import Annotated, Any
 import typer
 
 from rotaflex.core.domains import CASES, COMMANDS, REPRODUCE
-from rotaflex.core.errors import ConvergenceError, InputError, SingularityError
+from rotaflex.core.errors import ConvergenceError, DivergenceError, InputError, SingularityError
 
 app = typer.Typer(
     add_completion=False,
@@ -86,7 +86,7 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
             raise
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2) from None
-    except (ConvergenceError, SingularityError) as exc:
+    except (ConvergenceError, DivergenceError, SingularityError) as exc:
         if debug:
             raise
         typer.echo(f"error: {exc}", err=True)

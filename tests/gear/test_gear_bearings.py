@@ -301,3 +301,17 @@ def test_bearings_example_runs_from_the_command_line(tmp_path, capsys):
     assert summary["status"]["value"] == "success"
     # the supports' static deflection is in the DTE: 9.96 um on rigid supports
     assert summary["dte_mean"]["value"] > 3 * 9.96e-6
+
+
+def test_an_unstable_step_is_reported_with_its_time():
+    """RK4 far beyond its stability limit (2 steps per mesh cycle at 4,000 rpm: w h = 13 for the
+    8 kHz mesh mode, limit 2.8):
+    the run stops with the time of the first non-finite state instead of returning NaNs."""
+    from rotaflex.core.errors import DivergenceError
+    from rotaflex.gear.torsional import _chain, _initial_state, _run
+
+    sys = _held_pinion()
+    op = OperatingPoint(4000.0, 50.0)
+    ch = _chain(sys, op)
+    with pytest.raises(DivergenceError, match=r"torsional mesh model \(RK4\) diverged at t = [0-9.e-]+ s"):
+        _run(sys, op, ch, _initial_state(sys, op, ch), 200, 2)

@@ -81,3 +81,21 @@ class SingularityError(RuntimeError):
         self.what, self.time, self.detail = what, time, detail
         at = "" if time != time else f" at t = {time:.9g} s"
         super().__init__(f"{what} is singular{at}" + (f" ({detail})" if detail else ""))
+
+
+class DivergenceError(RuntimeError):
+    """A time integration left the finite numbers (unstable step or unbounded response).
+
+    Parameters
+    ----------
+    what : str
+        Which integration diverged.
+    time : float
+        Simulation time of the first non-finite state [s].
+    detail : str
+        What to try.
+    """
+
+    def __init__(self, what: str, time: float, detail: str = ""):
+        self.what, self.time, self.detail = what, time, detail
+        super().__init__(f"{what} diverged at t = {time:.9g} s" + (f": {detail}" if detail else ""))

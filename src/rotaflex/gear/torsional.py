@@ -42,7 +42,7 @@ from typing import Literal
 import numpy as np
 
 from rotaflex.core.config import param
-from rotaflex.core.errors import InputError
+from rotaflex.core.errors import DivergenceError, InputError
 from rotaflex.gear.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
 from rotaflex.gear.torsional_kernel import ChainArgs, MeshArgs, run_rk4
 
@@ -486,6 +486,11 @@ def _run(sys, op, ch, st: State, n_cycles: int, spc: int):
         ),
     )
     st.time = float(t[-1])
+    if not (np.all(np.isfinite(st.theta)) and np.all(np.isfinite(st.omega))):
+        bad = int(np.argmax(~(np.all(np.isfinite(th), axis=1) & np.all(np.isfinite(om), axis=1))))
+        raise DivergenceError(
+            "torsional mesh model (RK4)", t[bad], f"non-finite state after step {bad}; raise steady.steps_per_cycle"
+        )
     return {"time": t, "theta": th, "omega": om, "force": f, "delta": d, "ddelta": dd}
 
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rotaflex.core.errors import InputError
+from rotaflex.core.errors import DivergenceError, InputError
 from rotaflex.gear.elastic_window import WindowModel
 from rotaflex.gear.static_pair import loaded_te
 from rotaflex.gear.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
@@ -126,7 +126,9 @@ def _run(model, op, ch, st: WindowState, n_cycles: int, spc: int) -> dict:
     st.time, st.n_hi = float(t[-1]), int(n_hi)
     if not np.all(np.isfinite(y)):
         bad = int(np.argmax(~np.all(np.isfinite(yr), axis=1)))
-        raise FloatingPointError(f"elastic-tooth model diverged at t = {t[bad]:.6g} s (step {bad}); reduce the step")
+        raise DivergenceError(
+            "elastic-tooth model (RK4)", t[bad], f"non-finite state after step {bad}; raise steady.steps_per_cycle"
+        )
     rb1, rb2 = model.line.g1.base_radius, model.line.g2.base_radius
     th, om = yr[:, :n], yr[:, n:]
     return {
