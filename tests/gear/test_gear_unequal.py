@@ -199,7 +199,6 @@ def test_reduced_hht_on_the_one_to_two_pair_matches_paper_rk4(fast_unrelieved):
         ({"gear": {"teeth": 28}}, "gear"),
         ({"material": {"youngs_modulus": 2e11}}, "material"),
         ({"operation": {"speed_rpm": [1000, 500]}}, "operation.speed_rpm"),
-        ({"model": {"teeth_per_gear": 2}}, "model.teeth_per_gear"),
     ],
 )
 def test_layout_conflicts_are_one_line_errors(patch, field):

@@ -69,8 +69,8 @@ def _preload(cfg, model, run):
         return model
     from rotaflex.gear.multitooth import static_preload
 
-    mat = cfg.material
-    return static_preload(model, run.torque, mat.youngs_modulus, mat.poisson_ratio, run.theta_s, run.window)
+    smoothing = run.options.get("smoothing", 0)
+    return static_preload(model, run.torque, *elastic_constants(cfg), run.theta_s, run.window, smoothing=smoothing)
 
 
 def run_case(config: dict, *, progress: bool = False) -> GearResult:

@@ -251,7 +251,8 @@ class ModelConfig:
         ge=1,
         le=12,
         doc="1: the paper's model with the Fig. 7 torque ramps; 2-12: "
-        "adjacent teeth, several contact pairs alternating by geometry, constant torques",
+        "adjacent teeth, several contact pairs alternating by geometry, constant torques "
+        "([gear] and [pinion]/[wheel] pairs)",
     )
     start_angle_deg: float = param(
         -0.5, unit="deg", le=0.0, doc="contact angle of the entering pair at t = 0 (several teeth)"
@@ -317,12 +318,6 @@ class GearCaseConfig:
             missing = "wheel" if self.wheel is None else "pinion"
             raise InputError(missing, None, "a table: [pinion] and [wheel] go together")
         if self.pinion is not None:
-            if self.model.teeth_per_gear > 1:
-                raise InputError(
-                    "model.teeth_per_gear",
-                    self.model.teeth_per_gear,
-                    "1 with [pinion]/[wheel] (several teeth per gear: identical [gear] pairs only)",
-                )
             if self.operation.driver_speed_rpm is None:
                 raise InputError("operation.driver_speed_rpm", None, "a driver speed > 0 rpm with [pinion]/[wheel]")
 
@@ -457,13 +452,16 @@ def build(cfg: GearCaseConfig):
 
     For a ``[pinion]``/``[wheel]`` pair the kernel's gear A is the driver: the model holds
     (driver, driven) geometries, meshes, materials and blank inertias at the working centre
-    distance, and the returned geometry and mesh are the driver's.
+    distance, and the returned geometry and mesh are the driver's. With ``[model]
+    teeth_per_gear > 1`` the model is :func:`rotaflex.gear.multitooth.build_multi_model` of the
+    same per-gear data.
     """
     from rotaflex.gear import dynamics
     from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
 
     kw = {"coarse": COARSE, "default": DEFAULT, "fine": FINE}[cfg.mesh.preset]
     pair = cfg.pair
+    n_teeth = cfg.model.teeth_per_gear
     if pair is not None:
         from rotaflex.gear.drawing import pair_meshes
 
@@ -471,9 +469,8 @@ def build(cfg: GearCaseConfig):
         inertia = (pair.pinion.inertia("pinion"), pair.wheel.inertia("wheel"))
         order = (0, 1) if pair.driver == "pinion" else (1, 0)
         mats = [s.material.values for s in kernel_specs(cfg, pair)]
-        model = dynamics.build_model(
-            *(geos[i] for i in order),
-            *(meshes[i] for i in order),
+        geo, mesh = (geos[order[0]], geos[order[1]]), (meshes[order[0]], meshes[order[1]])
+        common = dict(
             youngs_modulus=tuple(m[0] for m in mats),
             poisson_ratio=tuple(m[1] for m in mats),
             density=tuple(m[2] for m in mats),
@@ -481,26 +478,25 @@ def build(cfg: GearCaseConfig):
             n_points=cfg.mesh.n_points,
             centre_distance=pair.working_center_distance,
         )
-        return geos[order[0]], meshes[order[0]], model
-    geo = cfg.gear.geometry()
-    mesh = build_tooth_mesh(geo, **kw)
-    mat = cfg.material
-    common = dict(
-        youngs_modulus=mat.youngs_modulus,
-        poisson_ratio=mat.poisson_ratio,
-        density=mat.density,
-        inertia=(cfg.disk_inertia, cfg.disk_inertia),
-        n_points=cfg.mesh.n_points,
-    )
-    if cfg.model.teeth_per_gear > 1:
+    else:
+        g = cfg.gear.geometry()
+        geo, mesh = (g, g), (build_tooth_mesh(g, **kw),) * 2
+        mat = cfg.material
+        common = dict(
+            youngs_modulus=mat.youngs_modulus,
+            poisson_ratio=mat.poisson_ratio,
+            density=mat.density,
+            inertia=(cfg.disk_inertia, cfg.disk_inertia),
+            n_points=cfg.mesh.n_points,
+        )
+    if n_teeth > 1:
         from rotaflex.gear.multitooth import build_multi_model
 
-        model = build_multi_model(
-            geo, mesh, cfg.model.teeth_per_gear, start_angle=math.radians(cfg.model.start_angle_deg), **common
-        )
+        start = math.radians(cfg.model.start_angle_deg)
+        model = build_multi_model(geo, mesh, n_teeth, start_angle=start, **common)
     else:
-        model = dynamics.build_model(geo, geo, mesh, mesh, **common)
-    return geo, mesh, model
+        model = dynamics.build_model(*geo, *mesh, **common)
+    return geo[0], mesh[0], model
 
 
 def contact_smoothing(cfg: GearCaseConfig) -> int:

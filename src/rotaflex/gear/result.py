@@ -454,12 +454,14 @@ def add_transmission_error(ds, rb_a: float, rb_b: float) -> None:
     ds["dte_peak_to_peak"] = ((), p2p, {"units": "m", "long_name": "peak-to-peak transmission error"})
 
 
-def mirror_driver_b(ds, centre_distance: float):
+def mirror_driver_b(ds, centre_distance: float, first: tuple[int, int] | None = None):
     """Relabel a run whose kernel gear A was the driver as ``driver = "B"`` (mirror image).
 
     Reflection about y = a/2 swaps the gear centres and keeps both running directions, so the
     gear axes are swapped and every y coordinate becomes a - y. Disk-frame tie multipliers keep
-    the kernel's tooth frame (mirrored); only their gear blocks are swapped.
+    the kernel's tooth frame (mirrored); only their gear blocks are swapped. ``first``: the
+    number of tie columns and of nodes of the kernel's gear A (default: half of each; the gears
+    of a drawing pair may have different tie supports).
     """
     swap = [1, 0]
     for name in list(ds.data_vars):
@@ -471,13 +473,14 @@ def mirror_driver_b(ds, centre_distance: float):
     cp[..., 1] = centre_distance - cp[..., 1]
     ds["contact_point"].values[...] = cp
     ds["torque"].attrs["long_name"] = "external torque (load on A, drive on B)"
+    n_tie, n_node = (ds.sizes.get("tie", 0) // 2, ds.sizes.get("node", 0) // 2) if first is None else first
     if "tie_multiplier" in ds:
-        n = ds.sizes["tie"]
+        n = n_tie
         ds["tie_multiplier"].values[...] = np.concatenate(
-            [ds["tie_multiplier"].values[:, n // 2 :], ds["tie_multiplier"].values[:, : n // 2]], axis=1
+            [ds["tie_multiplier"].values[:, n:], ds["tie_multiplier"].values[:, :n]], axis=1
         )
     if "reference_position" in ds:
-        nn = ds.sizes["node"] // 2
+        nn = n_node
         for name in ("reference_position", "snapshot_displacement"):
             v = ds[name].values
             v = np.concatenate([v[..., nn:, :], v[..., :nn, :]], axis=-2)
@@ -549,7 +552,9 @@ def build_dataset(out, model, geo, run, probe=None):
     rb = [g.base_radius for g in model.geometry]
     teeth = [g.teeth for g in model.geometry]
     if run.driver == "B":
-        ds = mirror_driver_b(ds, model.centre_distance)
+        fe = getattr(model, "base", model)  # the FE arrays (of the reduced model too)
+        first = (2 * int(np.count_nonzero(fe.tie_gear == 0)), int(np.count_nonzero(fe.gid == 0)))
+        ds = mirror_driver_b(ds, model.centre_distance, first)
         rb, teeth = rb[::-1], teeth[::-1]
     if run.direction == "reverse":
         mirror_direction(ds)

@@ -28,29 +28,16 @@ _gear = paper.geometry
 
 def static_share(mesh, angles, torque=paper.TORQUE) -> np.ndarray:
     """Load share of the entering pair at contact angles ``angles`` [rad] from the static FE
-    preload of the three-tooth model (pairs 0 and 1 in mesh)."""
+    preload of the three-tooth model (pairs 0 and 1 in mesh,
+    :func:`rotaflex.gear.multitooth.static_pair_forces`)."""
     from rotaflex.gear.geometry import contact_angles
-    from rotaflex.gear.multitooth import build_multi_model, pair_geometry, static_preload
+    from rotaflex.gear.multitooth import build_multi_model, static_pair_forces
 
     g = _gear()
     ths, _ = contact_angles(g, g)
-    out = []
     kw = dict(youngs_modulus=E, poisson_ratio=NU, density=RHO, inertia=(J, J))
-    # warm starts tracked along a rigid rotation from the start of contact (a fresh
-    # common-normal search near A's tip can converge to a distant pair)
-    track = build_multi_model(g, mesh, 3, start_angle=0.0, **kw)
-    st, _, _ = pair_geometry(track, track.reference_positions(), theta_s=ths)
-    done = 0.0
-    for ang in angles:
-        for d in np.linspace(done, float(ang), max(2, int(abs(ang - done) / 2e-3) + 1))[1:]:
-            mod = build_multi_model(g, mesh, 3, start_angle=float(d), **kw)
-            st, _, _ = pair_geometry(mod, mod.reference_positions(), start=st[:, :2], theta_s=ths)
-        done = float(ang)
-        mod = build_multi_model(g, mesh, 3, start_angle=float(ang), **kw)
-        pre = static_preload(mod, torque, E, NU, ths, start=st[:, :2]).preload
-        f = pre["force"]
-        out.append(f[1] / f.sum())
-    return np.array(out)
+    f = static_pair_forces(build_multi_model(g, mesh, 3, start_angle=0.0, **kw), torque, E, NU, ths, angles)
+    return f[:, 1] / f.sum(axis=1)
 
 
 def zone_means(angle, values, edges):
