@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any, Literal, TypeVar, get_args, get_origin, get_type_hints
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.limits import require
 
 T = TypeVar("T")
 _MISSING = dataclasses.MISSING
@@ -222,8 +223,7 @@ def budget(field: str, value: Any, estimate: float, limit: float, what: str) -> 
     what : str
         Unit of the estimate in words, e.g. ``"output samples"``.
     """
-    if not (estimate <= limit):  # also refuses nan
-        raise InputError(field, value, f"a value needing at most {limit:.3g} {what} (this needs ~{estimate:.3g})")
+    require(field, value, estimate, limit, what)
 
 
 def set_dotted(data: dict[str, Any], key: str, value: Any) -> dict[str, Any]:
