@@ -28,11 +28,11 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.gear.geometry import GearGeometry, contact_ratio
+from rotaflex.gear.mesh_stiffness import mesh_table_from_static
 from rotaflex.gear.static import iso6336_stiffness, mesh_stiffness
 from rotaflex.gear.torsional import (
     OperatingPoint,
     TorsionalSystem,
-    mesh_table_from_static,
     natural_frequencies,
     steady_state,
 )

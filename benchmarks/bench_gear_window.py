@@ -21,9 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rotaflex.gear.elastic_window import build_window_model, loaded_mesh_table
+from rotaflex.gear.elastic_window import build_window_model
 from rotaflex.gear.geometry import GearGeometry, center_distance_no_backlash
 from rotaflex.gear.mesh import build_tooth_mesh
+from rotaflex.gear.mesh_stiffness import loaded_mesh_table
 from rotaflex.gear.static_pair import pair_line
 from rotaflex.gear.torsional import OperatingPoint, TorsionalSystem
 from rotaflex.gear.torsional_sweep import speed_sweep

@@ -8,9 +8,10 @@ import pytest
 
 from rotaflex.gear import torsional as tor
 from rotaflex.gear import window_run as wr
-from rotaflex.gear.elastic_window import build_window_model, corner_gap, loaded_mesh_table
+from rotaflex.gear.elastic_window import build_window_model, corner_gap
 from rotaflex.gear.geometry import GearGeometry, ProfileRelief, center_distance_no_backlash
 from rotaflex.gear.mesh import build_tooth_mesh
+from rotaflex.gear.mesh_stiffness import loaded_mesh_table, mesh_table_from_static
 from rotaflex.gear.static import mesh_stiffness
 from rotaflex.gear.static_pair import loaded_te, pair_line
 
@@ -113,7 +114,7 @@ def test_massless_teeth_without_corner_contact_are_the_lumped_model_from_gear_st
     mesh, lines = plain
     torque = 5.0
     ms = mesh_stiffness(G0, G0, E, NU, torque=torque)
-    lumped = _system(tor.mesh_table_from_static(ms, 28), zeta=0.2)
+    lumped = _system(mesh_table_from_static(ms, 28), zeta=0.2)
     model = build_window_model(
         _system(loaded_mesh_table(lines[5.0], torque / G0.base_radius), zeta=0.2),
         lines[5.0],
@@ -137,7 +138,7 @@ def test_default_window_model_agrees_with_the_lumped_model_in_the_linear_limit(p
     mesh, lines = plain
     torque = 5.0
     ms = mesh_stiffness(G0, G0, E, NU, torque=torque)
-    lumped = _system(tor.mesh_table_from_static(ms, 28), zeta=0.25)
+    lumped = _system(mesh_table_from_static(ms, 28), zeta=0.25)
     model = build_window_model(
         _system(loaded_mesh_table(lines[5.0], torque / G0.base_radius), zeta=0.25), lines[5.0], (mesh, mesh), (RHO, RHO)
     )

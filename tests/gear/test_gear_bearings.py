@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
+from rotaflex.gear.mesh_stiffness import harmonic_mesh
 from rotaflex.gear.torsional import (
     OperatingPoint,
     TorsionalSystem,
     energy_balance,
-    harmonic_mesh,
     natural_frequencies,
     simulate,
     steady_state,
@@ -189,9 +189,9 @@ def test_window_model_with_bearings_is_the_lumped_model_with_bearings(paper_pair
     """Massless FE teeth without corner contact = the lumped model driven by gear static's
     k(phi): the bearing nodes enter both kernels the same way."""
     from rotaflex.gear import window_run as wr
-    from rotaflex.gear.elastic_window import build_window_model, loaded_mesh_table
+    from rotaflex.gear.elastic_window import build_window_model
+    from rotaflex.gear.mesh_stiffness import loaded_mesh_table, mesh_table_from_static
     from rotaflex.gear.static import mesh_stiffness
-    from rotaflex.gear.torsional import mesh_table_from_static
 
     g, mesh, line, torque = paper_pair
     lumped = _pair_system(g, mesh_table_from_static(mesh_stiffness(g, g, 210e9, 0.3, torque=torque), 28))
@@ -211,7 +211,8 @@ def test_window_model_with_bearings_is_the_lumped_model_with_bearings(paper_pair
 
 def test_window_model_energy_with_bearings_and_tooth_modes(paper_pair):
     from rotaflex.gear import window_run as wr
-    from rotaflex.gear.elastic_window import build_window_model, loaded_mesh_table
+    from rotaflex.gear.elastic_window import build_window_model
+    from rotaflex.gear.mesh_stiffness import loaded_mesh_table
 
     g, mesh, line, torque = paper_pair
     model = build_window_model(

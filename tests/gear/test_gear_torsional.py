@@ -6,12 +6,11 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
+from rotaflex.gear.mesh_stiffness import contact_pattern_mesh, harmonic_mesh
 from rotaflex.gear.torsional import (
     OperatingPoint,
     TorsionalSystem,
-    contact_pattern_mesh,
     energy_balance,
-    harmonic_mesh,
     natural_frequencies,
     simulate,
     steady_state,

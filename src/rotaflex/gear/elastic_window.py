@@ -48,7 +48,7 @@ from rotaflex.gear.static import surface_load
 from rotaflex.gear.static_pair import PairLine, contact_half_width
 from rotaflex.gear.torsional import TorsionalSystem
 
-__all__ = ["ToothModes", "WindowModel", "tooth_modes", "corner_gap", "build_window_model", "loaded_mesh_table"]
+__all__ = ["ToothModes", "WindowModel", "tooth_modes", "corner_gap", "build_window_model"]
 
 DEFAULT_TOOTH_DAMPING_RATIO = 0.02
 
@@ -301,16 +301,3 @@ def build_window_model(
         s_low,
         0.1 * line.force / system.mesh.mean_stiffness,
     )
-
-
-def loaded_mesh_table(line: PairLine, force: float, n: int = 400):
-    """Lumped mesh table of the pair at ``force`` [N]: loaded stiffness ``k(phi)`` (the loaded
-    pairs' ``sum 1/q``) and the unloaded TE ``e = TE_loaded - force / k`` that makes the lumped
-    model's static deflection the loaded TE of :func:`~.static_pair.loaded_te` at this load
-    (exact without relief; with relief, a linearisation about the design load)."""
-    from rotaflex.gear.static_pair import loaded_te
-    from rotaflex.gear.torsional import MeshTable
-
-    s = line.s_start + np.arange(n) / n * line.base_pitch
-    lt = loaded_te(line, s, force)
-    return MeshTable(lt["stiffness"], lt["te"] - force / lt["stiffness"], "linear")

@@ -43,17 +43,16 @@ import numpy as np
 
 from rotaflex.core.config import param
 from rotaflex.core.errors import DivergenceError, InputError
+from rotaflex.gear.mesh_stiffness import (
+    MeshTable,
+)
 from rotaflex.gear.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
 from rotaflex.gear.torsional_kernel import ChainArgs, MeshArgs, run_rk4
 
 __all__ = [
-    "MeshTable",
     "OperatingPoint",
     "TorsionalSystem",
-    "contact_pattern_mesh",
     "energy_balance",
-    "harmonic_mesh",
-    "mesh_table_from_static",
     "natural_frequencies",
     "resonance_speeds_rpm",
     "simulate",
@@ -61,122 +60,6 @@ __all__ = [
 ]
 
 DEFAULT_DAMPING_RATIO = 0.07
-
-
-# ------------------------------------------------------------------------------ mesh tables
-@dataclass(frozen=True)
-class MeshTable:
-    """Mesh stiffness and unloaded transmission error over one mesh cycle.
-
-    Attributes
-    ----------
-    stiffness : ndarray (n,)
-        k at phases j/n, j = 0 ... n-1 [N/m] (> 0).
-    unloaded_te : ndarray (n,)
-        e at the same phases [m]; > 0 means the unloaded flanks overlap (more deflection).
-    interpolation : {"cubic", "linear"}
-        Periodic cubic spline (smooth tables) or piecewise linear (tables with jumps, e.g. the
-        step at the start of two-pair contact, without overshoot).
-    """
-
-    stiffness: np.ndarray
-    unloaded_te: np.ndarray
-    interpolation: Literal["cubic", "linear"] = "cubic"
-
-    def __post_init__(self):
-        k = np.asarray(self.stiffness, dtype=float)
-        e = np.asarray(self.unloaded_te, dtype=float)
-        if k.ndim != 1 or len(k) < 4 or np.any(~np.isfinite(k)) or np.any(k <= 0):
-            raise InputError("mesh.stiffness", "array", "a 1-D table of >= 4 values > 0")
-        if e.shape != k.shape or np.any(~np.isfinite(e)):
-            raise InputError("mesh.unloaded_te", "array", f"{len(k)} finite values")
-        if self.interpolation not in ("cubic", "linear"):
-            raise InputError("mesh.interpolation", self.interpolation, "'cubic' or 'linear'")
-        object.__setattr__(self, "stiffness", k)
-        object.__setattr__(self, "unloaded_te", e)
-
-    @property
-    def mean_stiffness(self) -> float:
-        """One-cycle mean of the interpolated stiffness [N/m] (= mean of the samples for both
-        the linear and the uniform periodic cubic interpolant)."""
-        return float(np.mean(self.stiffness))
-
-    def coefficients(self, y: np.ndarray) -> np.ndarray:
-        """Piecewise-cubic coefficients (4, n) in the local cell variable u in [0, 1)."""
-        n = len(y)
-        if self.interpolation == "linear":
-            return np.stack([y, np.roll(y, -1) - y, np.zeros(n), np.zeros(n)])
-        from scipy.interpolate import CubicSpline
-
-        cs = CubicSpline(np.arange(n + 1) / n, np.append(y, y[0]), bc_type="periodic")
-        h = 1.0 / n
-        return np.stack([cs.c[3], cs.c[2] * h, cs.c[1] * h**2, cs.c[0] * h**3])
-
-    def evaluate(self, phase) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """k, dk/dphi, e, de/dphi at ``phase`` [mesh cycles] (NumPy, for post-processing)."""
-        phase = np.asarray(phase, dtype=float)
-        out = []
-        for y in (self.stiffness, self.unloaded_te):
-            c = self.coefficients(y)
-            n = c.shape[1]
-            x = (phase - np.floor(phase)) * n
-            j = np.minimum(x.astype(int), n - 1)
-            u = x - j
-            out.append(c[0, j] + u * (c[1, j] + u * (c[2, j] + u * c[3, j])))
-            out.append(n * (c[1, j] + u * (2 * c[2, j] + 3 * u * c[3, j])))
-        return out[0], out[1], out[2], out[3]
-
-
-def harmonic_mesh(k_mean: float, k_harmonics=(), te_harmonics=(), n: int = 256) -> MeshTable:
-    """Smooth table ``k = k_mean + sum a_h cos(2 pi h phi)``, ``e = sum e_h sin(2 pi h phi)``.
-
-    Parameters
-    ----------
-    k_mean : float
-        Mean mesh stiffness [N/m].
-    k_harmonics, te_harmonics : sequence of float
-        Amplitudes of harmonic h = 1, 2, ... [N/m] and [m].
-    n : int
-        Table points per cycle.
-    """
-    ph = np.arange(n) / n
-    k = np.full(n, float(k_mean))
-    e = np.zeros(n)
-    for h, a in enumerate(k_harmonics, start=1):
-        k += a * np.cos(2 * np.pi * h * ph)
-    for h, a in enumerate(te_harmonics, start=1):
-        e += a * np.sin(2 * np.pi * h * ph)
-    return MeshTable(k, e, "cubic")
-
-
-def contact_pattern_mesh(k_pair: float, contact_ratio: float, n: int = 400, unloaded_te: float = 0.0) -> MeshTable:
-    """Analytic single/double contact mesh: each pair has stiffness ``k_pair`` over its contact.
-
-    The cycle starts when a pair enters: two pairs for ``0 <= phi < eps - 1``, one after.
-    ``unloaded_te`` adds a constant-amplitude triangular TE of that peak-to-peak [m] (as a
-    stand-in for profile errors or relief), zero mean, peaking in the single-pair zone.
-    Linear interpolation (the stiffness steps are spread over one table cell, 1/n cycle).
-    """
-    if not 1.0 < contact_ratio < 2.0:
-        raise InputError("contact_ratio", contact_ratio, "1 < eps < 2")
-    ph = np.arange(n) / n
-    k = np.where(ph < contact_ratio - 1.0, 2.0 * k_pair, k_pair)
-    tri = 1.0 - 2.0 * np.abs(ph - 0.5)
-    e = unloaded_te * (tri - tri.mean())
-    return MeshTable(k, e, "linear")
-
-
-def mesh_table_from_static(ms, teeth: int, n: int = 400, unloaded_te=None) -> MeshTable:
-    """One-cycle table from :func:`rotaflex.gear.static.mesh_stiffness` output.
-
-    Resamples ``ms.mesh_stiffness`` (over gear A's angle from the start of one pair's contact)
-    on the mesh cycle ``2 pi / teeth``; ``unloaded_te`` (optional, same angles) [m].
-    """
-    cyc = 2 * np.pi / teeth
-    ph = np.arange(n) / n * cyc
-    k = np.interp(ph, ms.angle, ms.mesh_stiffness)
-    e = np.zeros(n) if unloaded_te is None else np.interp(ph, ms.angle, unloaded_te)
-    return MeshTable(k, e, "linear")
 
 
 # ------------------------------------------------------------------------------- the system

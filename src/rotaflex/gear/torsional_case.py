@@ -55,12 +55,11 @@ from rotaflex.gear.drawing import GearSpec as DrawingGearSpec
 from rotaflex.gear.drawing import PairSpec
 from rotaflex.gear.geometry import GearGeometry, center_distance_no_backlash, contact_ratio
 from rotaflex.gear.iso6336_kv import iso_kv
+from rotaflex.gear.mesh_stiffness import contact_pattern_mesh, mesh_table_from_static
 from rotaflex.gear.torsional import (
     OperatingPoint,
     State,
     TorsionalSystem,
-    contact_pattern_mesh,
-    mesh_table_from_static,
     natural_frequencies,
     steady_state,
 )
@@ -393,7 +392,7 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
         g1, g2 = cfg.gear.geometry()
         mesh, eps = _mesh_table(cfg.gear, cfg.mesh, cfg.operation.torque)
     else:
-        from rotaflex.gear.elastic_window import loaded_mesh_table
+        from rotaflex.gear.mesh_stiffness import loaded_mesh_table
 
         pd = pair_data(cfg)
         g1, g2 = pd.gears

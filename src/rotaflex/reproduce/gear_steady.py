@@ -53,9 +53,10 @@ def comparison(dom: Path, *, fast: bool = False) -> FigureEntry:
     from rotaflex.core.plotting import new_figure, save_figure
     from rotaflex.gear import torsional as tor
     from rotaflex.gear import window_run as wr
-    from rotaflex.gear.elastic_window import build_window_model, loaded_mesh_table
+    from rotaflex.gear.elastic_window import build_window_model
     from rotaflex.gear.geometry import ProfileRelief, center_distance_no_backlash
     from rotaflex.gear.mesh import build_tooth_mesh
+    from rotaflex.gear.mesh_stiffness import loaded_mesh_table, mesh_table_from_static
     from rotaflex.gear.static import mesh_stiffness
     from rotaflex.gear.static_pair import loaded_te, pair_line
     from rotaflex.gear.torsional_sweep import speed_sweep
@@ -66,7 +67,7 @@ def comparison(dom: Path, *, fast: bool = False) -> FigureEntry:
     torque = paper.TORQUE
     force = torque / g.base_radius
     line = pair_line(g, g, mesh, mesh, a, force, (E, NU, E, NU))
-    lumped = _system(tor.mesh_table_from_static(mesh_stiffness(g, g, E, NU, torque=torque), g.teeth), g)
+    lumped = _system(mesh_table_from_static(mesh_stiffness(g, g, E, NU, torque=torque), g.teeth), g)
     own = _system(loaded_mesh_table(line, force), g)
     window = build_window_model(own, line, (mesh, mesh), (RHO, RHO))
     speeds = np.linspace(2000.0, 22000.0, 20 if fast else 40)
@@ -96,7 +97,7 @@ def comparison(dom: Path, *, fast: bool = False) -> FigureEntry:
     # light load, heavy damping: no contact loss, resonance of the default model vs lumped
     light = 5.0
     ll = pair_line(g, g, mesh, mesh, a, light / g.base_radius, (E, NU, E, NU))
-    lin_l = _system(tor.mesh_table_from_static(mesh_stiffness(g, g, E, NU, torque=light), g.teeth), g, zeta=0.25)
+    lin_l = _system(mesh_table_from_static(mesh_stiffness(g, g, E, NU, torque=light), g.teeth), g, zeta=0.25)
     lin_w = build_window_model(
         _system(loaded_mesh_table(ll, light / g.base_radius), g, zeta=0.25), ll, (mesh, mesh), (RHO, RHO)
     )
