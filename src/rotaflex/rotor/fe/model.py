@@ -21,6 +21,7 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm
 from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS
 from rotaflex.rotor.fe.materials import Material, material
@@ -91,6 +92,7 @@ class Bearing:
     cyy: tuple[float, ...] = param((0.0,), unit="N s/m")
     speed_rpm: tuple[float, ...] | None = param(None, unit="rpm", ge=0, doc="speeds of tabulated coefficients")
     name: str = param("", doc="label")
+    fluid_film: FluidFilm | None = param(None, doc="plain journal bearing: coefficients computed (no k/c keys)")
 
     def __post_init__(self):
         for key in COEFFICIENTS:  # Python callers may pass plain numbers
@@ -307,6 +309,9 @@ class Rotor:
             m = self.station(b.to_node, b.to_position, where, False, ("to_node", "to_position"))
             if m == n:
                 raise InputError(f"{where}.to_node", m, "a node other than the bearing's own node")
+            if b.fluid_film is not None:
+                out.append((n, m, BearingElement.from_fluid_film(b, where)))
+                continue
             lengths = {len(getattr(b, k)) for k in COEFFICIENTS}
             ns = 1 if b.speed_rpm is None else len(b.speed_rpm)
             for k in COEFFICIENTS:
