@@ -68,7 +68,7 @@ class FluidFilm:
             raise InputError(f"{where}.n_z", self.n_z, "an even number >= 4")
         if self.clearance >= 0.05 * self.diameter:
             raise InputError(
-                f"{where}.clearance", self.clearance, f"a radial clearance < 0.05 D = {0.05 * self.diameter:g} m (SI: m)"
+                f"{where}.clearance", self.clearance, f"a radial clearance < 0.05 D = {0.05 * self.diameter:g} m"
             )
         if np.hypot(*self.load) <= 0:
             raise InputError(f"{where}.load", list(self.load), "[Fx, Fy] in N, not both zero")
@@ -206,7 +206,8 @@ def coefficients_from_reaction(ff: FluidFilm, reaction, speeds=None, where: str 
     W = float(np.hypot(*reaction))
     film = _Film(ff)
     n = speeds.size
-    out = {k: np.zeros(s) for k, s in (("eps", n), ("att", n), ("pos", (n, 2)), ("S", n), ("k", (n, 2, 2)), ("c", (n, 2, 2)))}
+    shapes = {"eps": n, "att": n, "pos": (n, 2), "S": n, "k": (n, 2, 2), "c": (n, 2, 2)}
+    out = {key: np.zeros(shape) for key, shape in shapes.items()}
     eps = None
     for m, w in enumerate(speeds):
         if w <= 0:

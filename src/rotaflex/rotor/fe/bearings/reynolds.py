@@ -102,9 +102,11 @@ class ReynoldsGrid:
         # entries: (row, col, kind) with kind 0 diag, 1 east (face i+1/2), 2 west (face i-1/2), 3 axial
         rows = [k, k, k, k[j > 0], k[~mid]]
         cols = [k, east, west, k[j > 0] - 1, k[~mid] + 1]
-        kind = [np.full(k.size, 0), np.full(k.size, 1), np.full(k.size, 2), np.full((j > 0).sum(), 3), np.full((~mid).sum(), 3)]
+        n_s, n_n = int((j > 0).sum()), int((~mid).sum())
+        kind = [np.full(k.size, 0), np.full(k.size, 1), np.full(k.size, 2), np.full(n_s, 3), np.full(n_n, 3)]
         # axial weight: 1 per neighbour, 2 for the mid-plane's south neighbour (its mirror image)
-        zmul = [np.zeros(k.size), np.zeros(k.size), np.zeros(k.size), np.where(mid[j > 0], 2.0, 1.0), np.ones((~mid).sum())]
+        zero = np.zeros(k.size)
+        zmul = [zero, zero, zero, np.where(mid[j > 0], 2.0, 1.0), np.ones(n_n)]
         rows, cols = np.concatenate(rows), np.concatenate(cols)
         kind, zmul = np.concatenate(kind), np.concatenate(zmul)
         order = np.lexsort((cols, rows))
@@ -133,7 +135,6 @@ class ReynoldsGrid:
         i = self._i[self._diag]
         v[self._diag] = G[i] + G[(i - 1) % self.n_theta] + 2 * G[self.n_theta + i]
         return v
-
 
     def matvec(self, data: np.ndarray, P: np.ndarray) -> np.ndarray:
         """M P for the matrix with entries ``data`` on the fixed pattern."""
@@ -201,7 +202,11 @@ def solve_film(
     f = grid.rhs(hf)
     # cold start: cavitated where the film diverges (the half-Sommerfeld guess)
     A = f > 0 if active is None else active.copy()
-    for it in range(1, MAX_ACTIVE_SET_ITERATIONS + 1):
+    it = 0
+    while True:
+        it += 1
+        if it > MAX_ACTIVE_SET_ITERATIONS:
+            raise RuntimeError(f"cavitation active set did not settle in {MAX_ACTIVE_SET_ITERATIONS} iterations")
         # active rows become P = p_cav (identity rows): same pattern, no slicing
         d = data.copy()
         on = A[grid._rows]
@@ -214,8 +219,6 @@ def solve_film(
         if np.array_equal(A_new, A):
             break
         A = A_new
-    else:
-        raise RuntimeError(f"cavitation active set did not settle in {MAX_ACTIVE_SET_ITERATIONS} iterations")
     force = grid.force(P)
     k = b = np.full((2, 2), np.nan)
     if derivatives:

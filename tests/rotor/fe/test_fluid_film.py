@@ -1,0 +1,276 @@
+"""Fluid-film journal bearings: closed forms, published tables, statics, convergence, oil whip."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+from scipy.optimize import brentq
+
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+from rotaflex.rotor.fe.bearings import FluidFilm, coefficients_from_reaction
+from rotaflex.rotor.fe.bearings.fluid_film import short_film
+from rotaflex.rotor.fe.bearings.reynolds import ReynoldsGrid, solve_film
+from rotaflex.rotor.fe.modal import campbell, modal
+
+RPM = np.pi / 30
+G = 9.81
+
+
+# -- independent closed forms (written here from the literature, not from the code) ------------
+def ocvirk_sommerfeld(eps, l_over_d):
+    """S = mu N L D (R/c)^2 / W of the short bearing (Ocvirk; Childs 1993, eq. 3.34 rearranged)."""
+    return (1 / l_over_d) ** 2 * (1 - eps**2) ** 2 / (np.pi * eps * np.sqrt(np.pi**2 * (1 - eps**2) + 16 * eps**2))
+
+
+def ocvirk_coefficients(e):
+    """Load-normalised short-bearing coefficients K c / W, C c omega / W (Childs 1993, ch. 3;
+    Friswell, Penny, Garvey & Lees 2010, Dynamics of Rotating Machines, section 5.5.2) in the
+    frame (u, v): v along the static load, u such that the spin turns u into v."""
+    q = 1 - e * e
+    h0 = 1 / (np.pi**2 * q + 16 * e * e) ** 1.5
+    auu = h0 * 4 * (np.pi**2 * (2 - e * e) + 16 * e * e)
+    auv = h0 * np.pi * (np.pi**2 * q * q - 16 * e**4) / (e * np.sqrt(q))
+    avu = -h0 * np.pi * (np.pi**2 * q * (1 + 2 * e * e) + 32 * e * e * (1 + e * e)) / (e * np.sqrt(q))
+    avv = h0 * 4 * (np.pi**2 * (1 + 2 * e * e) + 32 * e * e * (1 + e * e) / q)
+    buu = h0 * 2 * np.pi * np.sqrt(q) * (np.pi**2 * (1 + 2 * e * e) - 16 * e * e) / e
+    buv = -h0 * 8 * (np.pi**2 * (1 + 2 * e * e) - 16 * e * e)
+    bvv = h0 * 2 * np.pi * (np.pi**2 * q * q + 48 * e * e) / (e * np.sqrt(q))
+    return np.array([[auu, auv], [avu, avv]]), np.array([[buu, buv], [buv, bvv]])
+
+
+def bearing(model="short", l_over_d=0.25, load=(0.0, -1000.0), **kw):
+    d = 0.1
+    return FluidFilm(
+        diameter=d,
+        length=l_over_d * d,
+        clearance=1e-4,
+        viscosity=0.02,
+        load=load,
+        speed_rpm=(100.0, 20000.0),
+        model=model,
+        **kw,
+    )
+
+
+def speed_for(ff, S, W):
+    """Spin speed [rad/s] at which the bearing has Sommerfeld number S under load W."""
+    R = ff.diameter / 2
+    N = S * W / (ff.viscosity * ff.length * ff.diameter * (R / ff.clearance) ** 2)
+    return 2 * np.pi * N
+
+
+def load_frame(table, load, i=0):
+    """K c/W and C c omega/W in the (u, v) frame of ocvirk_coefficients."""
+    W = np.hypot(*load)
+    v = np.asarray(load) / W
+    Q = np.stack([np.array([v[1], -v[0]]), v], 1)  # columns u, v
+    c = 1e-4
+    return Q.T @ table.k[i] @ Q * c / W, Q.T @ table.c[i] @ Q * c * table.speed[i] / W
+
+
+# -- short bearing ---------------------------------------------------------------------------
+@pytest.mark.parametrize("eps", [0.1, 0.3, 0.5, 0.7, 0.9])
+@pytest.mark.parametrize("load", [(0.0, -1000.0), (700.0, 300.0)])
+def test_short_bearing_matches_ocvirk_closed_form(eps, load):
+    ff = bearing("short", 0.25, load)
+    W = np.hypot(*load)
+    w = speed_for(ff, ocvirk_sommerfeld(eps, 0.25), W)
+    t = coefficients_from_reaction(ff, -np.asarray(load), [w])
+    assert t.eccentricity[0] == pytest.approx(eps, rel=1e-9)
+    # attitude angle tan(phi) = pi sqrt(1 - eps^2) / (4 eps), journal displaced from the load
+    # line in the sense of rotation
+    assert t.attitude[0] == pytest.approx(np.arctan(np.pi * np.sqrt(1 - eps**2) / (4 * eps)), rel=1e-9)
+    lhat = np.asarray(load) / W
+    cross = lhat[0] * t.position[0, 1] - lhat[1] * t.position[0, 0]
+    assert cross > 0  # load -> journal position turns with the spin (+z)
+    a, b = ocvirk_coefficients(eps)
+    K, C = load_frame(t, load)
+    np.testing.assert_allclose(K, a, rtol=1e-9, atol=1e-9 * np.abs(a).max())
+    np.testing.assert_allclose(C, b, rtol=1e-9, atol=1e-9 * np.abs(b).max())
+
+
+def test_short_bearing_film_force_is_the_integrated_pressure():
+    """Closed-form forces vs quadrature of the short-bearing pressure with p >= 0 (Guembel)."""
+    eps, ld = 0.6, 0.25
+    F, k, b = short_film(eps, ld)
+
+    # P = p c^2 / (6 mu omega R^2); short bearing: P = (L/R)^2 / 2 * (zb^2 - 1/4) dH/dtheta / H^3
+    def Pz(t):  # P integrated over zb: int (zb^2 - 1/4) dzb = -1/6
+        return max(0.0, (2 * ld) ** 2 / 12 * eps * -np.sin(t) / (1 - eps * np.cos(t)) ** 3)
+
+    Fx = -quad(lambda t: Pz(t) * np.cos(t), 0, 2 * np.pi, points=[np.pi], limit=200)[0]
+    Fy = -quad(lambda t: Pz(t) * np.sin(t), 0, 2 * np.pi, points=[np.pi], limit=200)[0]
+    np.testing.assert_allclose(F, [Fx, Fy], rtol=1e-8)
+
+
+# -- finite bearing --------------------------------------------------------------------------
+def test_finite_tends_to_short_as_l_over_d_shrinks():
+    """|finite - short| / |short| at eps = 0.6 falls with L/D (table in docs/fluid-film-bearings.md)."""
+    diffs = []
+    for ld in (0.5, 0.25, 0.125, 0.0625):
+        s = solve_film(ReynoldsGrid(ld, 144, 8), 0.6)
+        F, k, b = short_film(0.6, ld)
+        diffs.append([np.abs(x - y).max() / np.abs(y).max() for x, y in ((s.force, F), (s.k, k), (s.b, b))])
+    d = np.array(diffs)
+    assert np.all(np.diff(d[:, 0]) < 0) and np.all(np.diff(d[:, 1]) < 0)  # force, stiffness: monotone
+    assert d[0].min() > 0.2  # L/D = 1/2 is far from short ...
+    assert d[-1].max() < 0.03  # ... L/D = 1/16 within 3 % (finite grid and Reynolds vs Guembel boundary)
+
+
+# Someya (1989), Journal-Bearing Databook, two-axial-groove bearing, L/D = 0.5: S, eps, phi [deg],
+# K c / W (xx, xy, yx, yy) and C c omega / W, x along the load. Compared where the film lies
+# within the loaded half, so the grooves of Someya's bearing matter least.
+SOMEYA_LD05 = [
+    (0.187, 0.70, 38.2, (4.92, 3.88, 0.0235, 1.83), (7.32, 2.16, 2.16, 1.70)),
+    (0.0926, 0.80, 31.2, (7.35, 4.46, 0.527, 1.78), (8.17, 2.05, 2.05, 1.24)),
+    (0.0315, 0.90, 22.7, (13.8, 5.76, 1.24, 1.72), (10.6, 2.03, 2.03, 0.846)),
+]
+
+
+@pytest.mark.parametrize("S, eps, phi, kref, cref", SOMEYA_LD05)
+def test_finite_bearing_vs_someya_table(S, eps, phi, kref, cref):
+    load = (0.0, -1000.0)
+    ff = bearing("finite", 0.5, load, n_theta=96, n_z=16)
+    t = coefficients_from_reaction(ff, (0.0, 1000.0), [speed_for(ff, S, 1000.0)])
+    assert t.eccentricity[0] == pytest.approx(eps, abs=0.01)
+    assert np.degrees(t.attitude[0]) == pytest.approx(phi, abs=3.0)
+    # Someya's x is along the load and y at +90 deg in the spin sense: (x, y) = (v, -u)
+    K, C = load_frame(t, load)
+    P = np.array([[0, 1], [-1, 0]])  # (x, y) components from (u, v)
+    Ks, Cs = P @ K @ P.T, P @ C @ P.T
+    kref, cref = np.reshape(kref, (2, 2)), np.reshape(cref, (2, 2))
+    assert np.abs(Ks - kref).max() < 0.10 * np.abs(kref).max()
+    assert np.abs(Cs - cref).max() < 0.10 * np.abs(cref).max()
+
+
+# Raimondi & Boyd (1958), full 360 deg bearing, L/D = 1 (as tabulated in Shigley's Mechanical
+# Engineering Design): eps, S, attitude angle [deg]
+RAIMONDI_BOYD_LD1 = [
+    (0.2, 0.631, 74.02),
+    (0.4, 0.264, 63.10),
+    (0.6, 0.121, 50.58),
+    (0.8, 0.0446, 36.24),
+    (0.9, 0.0188, 26.45),
+]
+
+
+def test_finite_bearing_vs_raimondi_boyd():
+    g = ReynoldsGrid(1.0, 96, 16)
+    for eps, S, phi in RAIMONDI_BOYD_LD1:
+        s = solve_film(g, eps, derivatives=False)
+        assert 1 / (6 * np.pi * np.hypot(*s.force)) == pytest.approx(S, rel=0.03)
+        assert np.degrees(np.arctan2(s.force[1], -s.force[0])) == pytest.approx(phi, abs=4.0)
+
+
+@pytest.mark.parametrize("model", ["short", "finite"])
+def test_integrated_pressure_balances_the_load(model):
+    """At the equilibrium, the pressure field integrated afresh (trapezoid over the whole film,
+    theta measured from the line of centres as in the solver, then turned to x, y) equals -load
+    to the tolerance of the root solve."""
+    load = (150.0, -800.0)
+    ff = bearing(model, 0.5, load)
+    t = coefficients_from_reaction(ff, -np.asarray(load), [3000 * RPM])
+    ex, ey = t.position[0] / ff.clearance
+    R, L, c, mu, w = ff.diameter / 2, ff.length, ff.clearance, ff.viscosity, t.speed[0]
+    theta = np.linspace(0, 2 * np.pi, 4001)
+    if model == "finite":
+        g = ReynoldsGrid(0.5, ff.n_theta, ff.n_z)
+        p = solve_film(g, np.hypot(ex, ey), 0.0, derivatives=False).pressure * 6 * mu * w * R**2 / c**2  # Pa
+        z = np.linspace(-L / 2, L / 2, ff.n_z + 1)
+        line = np.trapezoid(p, z, axis=1)  # N/m per unit arc
+        psi = np.arctan2(ey, ex)  # the line of centres
+        th = g.theta + psi
+        F = -np.array([np.sum(line * np.cos(th)), np.sum(line * np.sin(th))]) * R * g.dt
+    else:
+        h = c * (1 - ex * np.cos(theta) - ey * np.sin(theta))
+        dh = c * (ex * np.sin(theta) - ey * np.cos(theta))
+        # p = 3 mu / h^3 (z^2 - L^2/4) omega dh/dtheta, kept where positive; int p dz over the length:
+        line = np.maximum(0.0, -mu * w * L**3 * dh / (2 * h**3))
+        F = -np.array([np.trapezoid(line * np.cos(theta), theta), np.trapezoid(line * np.sin(theta), theta)]) * R
+    np.testing.assert_allclose(F, -np.asarray(load), rtol=1e-6, atol=1e-6 * 800)
+
+
+def test_reynolds_solver_second_order_under_refinement():
+    """Film force at fixed eps on grids h, h/2, h/4, h/8: observed order log2(e1/e2) near 2."""
+    for eps in (0.3, 0.6):
+        grids = ((36, 4), (72, 8), (144, 16), (288, 32))
+        F = [solve_film(ReynoldsGrid(0.5, nt, nz), eps, derivatives=False).force for nt, nz in grids]
+        d = [np.abs(F[i] - F[i + 1]).max() for i in range(3)]
+        orders = np.log2([d[0] / d[1], d[1] / d[2]])
+        assert np.all((orders > 1.7) & (orders < 2.3)), orders
+
+
+def test_stiffness_matches_finite_differences_of_the_force():
+    """Perturbed-Reynolds coefficients vs central differences of the discrete film force."""
+    g, eps, h = ReynoldsGrid(0.5, 72, 12), 0.5, 1e-6
+    s = solve_film(g, eps)
+    kx = -(solve_film(g, eps + h, derivatives=False).force - solve_film(g, eps - h, derivatives=False).force) / (2 * h)
+    ky = -(solve_film(g, eps, h, derivatives=False).force - solve_film(g, eps, -h, derivatives=False).force) / (2 * h)
+    np.testing.assert_allclose(s.k, np.stack([kx, ky], 1), rtol=1e-5, atol=1e-6 * np.abs(s.k).max())
+
+
+def test_no_equilibrium_is_a_clear_error():
+    ff = bearing("finite", 0.5, (0.0, -1e6))
+    with pytest.raises(InputError, match="carries at most"):
+        coefficients_from_reaction(ff, (0.0, 1e6), [100 * RPM])
+
+
+# -- oil whip of a rigid rotor on two short bearings -------------------------------------------
+def whip_threshold_closed_form(m, ff):
+    """Onset speed [rad/s] of a rigid symmetric rotor (mass m per bearing) on short bearings.
+
+    Per bearing: m x'' + C x' + K x = 0 with K = W/c a(eps), C = W/(c omega) b(eps) from the
+    published closed forms; eps from Ocvirk's load relation; the speed where the largest real
+    part of the 4x4 characteristic roots crosses zero.
+    """
+    W, ld = m * G, ff.length / ff.diameter
+    R = ff.diameter / 2
+
+    def growth(w):
+        S = ff.viscosity * (w / (2 * np.pi)) * ff.length * ff.diameter * (R / ff.clearance) ** 2 / W
+        eps = brentq(lambda e: ocvirk_sommerfeld(e, ld) - S, 1e-6, 1 - 1e-9, xtol=1e-14)
+        a, b = ocvirk_coefficients(eps)
+        K, C = W / ff.clearance * a, W / (ff.clearance * w) * b
+        A = np.block([[np.zeros((2, 2)), np.eye(2)], [-K / m, -C / m]])
+        return np.linalg.eigvals(A).real.max()
+
+    return brentq(growth, 8000 * RPM, 16000 * RPM, xtol=1e-9)
+
+
+def test_oil_whip_onset_of_rigid_rotor_matches_closed_form():
+    m = 50.0  # kg per bearing
+    ff = FluidFilm(
+        diameter=0.05,
+        length=0.0125,
+        clearance=50e-6,
+        viscosity=0.01,
+        load=(0.0, -m * G),
+        speed_rpm=(8000.0, 16000.0),
+        n_speeds=161,
+        model="short",
+    )
+    w_th = whip_threshold_closed_form(m, ff)
+    # a stiff, light shaft with a 100 kg disk of small diametral inertia (conical modes far above)
+    rotor = Rotor(
+        shaft=(Shaft(outer_diameter=0.05, length=0.3, elements=2, E=2e14, G=8e13, rho=1.0),),
+        disk=(Disk(node=1, mass=2 * m - 5.9e-4, Id=0.01, Ip=0.02),),
+        bearing=(Bearing(node=0, fluid_film=ff), Bearing(node=2, fluid_film=ff)),
+    )
+    speeds = np.linspace(8000, 16000, 81) * RPM
+    c = campbell(rotor, speeds, 4)
+    assert c.unstable, "no unstable mode found over the range"
+    onset = min(u["speed"] for u in c.unstable)  # log-dec zero crossing, interpolated on 100 rpm steps
+    assert onset == pytest.approx(w_th, rel=2e-3)
+
+    def growth(w):
+        return modal(rotor, w, 4).eigenvalue[0].real.max()
+
+    w_fe = brentq(growth, onset - 100 * RPM, onset + 100 * RPM, xtol=1e-6)
+    # left: table interpolation (50 rpm steps) and the shaft's finite stiffness
+    assert w_fe == pytest.approx(w_th, rel=1e-3)
+    # the whirl at onset is forward, near half the spin speed (oil whip/whirl)
+    lam = modal(rotor, w_fe, 4).eigenvalue[0]
+    k = np.argmax(lam.real)
+    assert 0.3 < lam[k].imag / w_fe < 0.55
