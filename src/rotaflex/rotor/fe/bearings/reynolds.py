@@ -124,6 +124,7 @@ class ReynoldsGrid:
         wz = np.where(mid, 1.0, 2.0)
         self.w = self.dt * self.dz * wz
         self.cos, self.sin = np.cos(self.theta[i]), np.sin(self.theta[i])
+        self._s = 2 * np.sin(self.dt / 2) / self.dt
 
     def values(self, g_face: np.ndarray, g_node: np.ndarray) -> np.ndarray:
         """CSR data of M (minus the discrete operator) for coefficients g (H^3 or a derivative).
@@ -160,10 +161,10 @@ class ReynoldsGrid:
         hn = 1 - ex * np.cos(self.theta) - ey * np.sin(self.theta)
         return hf, hn
 
-    def rhs(self, hf: np.ndarray, vx: float = 0.0, vy: float = 0.0) -> np.ndarray:
-        """f: the Reynolds right-hand side dH/dtheta - 2 (vx cos + vy sin) at the unknowns."""
-        dh = (hf - np.roll(hf, 1)) / self.dt  # conservative: (H_{i+1/2} - H_{i-1/2}) / dtheta
-        return dh[self.i_of] - 2 * (vx * self.cos + vy * self.sin)
+    def rhs(self, ex: float, ey: float, vx: float = 0.0, vy: float = 0.0) -> np.ndarray:
+        """f = dH/dtheta - 2 (vx cos + vy sin) at the unknowns, dH/dtheta taken conservatively as
+        (H_{i+1/2} - H_{i-1/2}) / dtheta = 2 sin(dtheta/2)/dtheta (ex sin theta_i - ey cos theta_i)."""
+        return self._s * (ex * self.sin - ey * self.cos) - 2 * (vx * self.cos + vy * self.sin)
 
     def force(self, P: np.ndarray) -> np.ndarray:
         """Film force on the journal (2,) or (2, n_rhs) from nodal pressures (trapezoid rule)."""
@@ -199,7 +200,7 @@ def solve_film(
     """
     hf, hn = grid.film(ex, ey)
     data = grid.values(hf**3, hn**3)
-    f = grid.rhs(hf)
+    f = grid.rhs(ex, ey)
     # cold start: cavitated where the film diverges (the half-Sommerfeld guess)
     A = f > 0 if active is None else active.copy()
     it = 0
@@ -224,9 +225,12 @@ def solve_film(
     if derivatives:
         # d/de_x, d/de_y of (M P + f) at fixed P; then M_FF dP_F = -that, dP = 0 on the cavitated set
         cols = []
-        for c_f, c_n in ((np.cos(grid.theta_half), np.cos(grid.theta)), (np.sin(grid.theta_half), np.sin(grid.theta))):
+        for c_f, c_n, unit in (
+            (np.cos(grid.theta_half), np.cos(grid.theta), (1.0, 0.0)),
+            (np.sin(grid.theta_half), np.sin(grid.theta), (0.0, 1.0)),
+        ):
             dM = grid.values(-3 * hf**2 * c_f, -3 * hn**2 * c_n)
-            cols.append(grid.matvec(dM, P) + grid.rhs(-c_f))  # the rhs is linear in H: d rhs / de = rhs(dH / de)
+            cols.append(grid.matvec(dM, P) + grid.rhs(*unit))  # the rhs is linear in e
         cols.append(-2 * grid.cos)  # d f / d ex'
         cols.append(-2 * grid.sin)  # d f / d ey'
         R = -np.stack(cols, 1)

@@ -95,4 +95,4 @@ class BearingElement:
         if bearing.speed_rpm is not None:
             raise InputError(f"{where}.speed_rpm", list(bearing.speed_rpm), "fluid_film.speed_rpm instead")
         table = fluid_film_table(bearing.fluid_film, f"{where}.fluid_film")
-        return cls(table.k, table.c, table.speed, where)
+        return cls(table.k, table.c, table.speed, f"{where}.fluid_film")
