@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -224,3 +226,52 @@ def test_oil_whip_onset_of_rigid_rotor_matches_closed_form():
     lam = modal(rotor, w_fe, 4).eigenvalue[0]
     k = np.argmax(lam.real)
     assert 0.3 < lam[k].imag / w_fe < 0.55
+
+
+# -- configuration path ------------------------------------------------------------------------
+EXAMPLE = Path(__file__).parents[3] / "examples" / "rotor" / "fe_fluid_film.toml"
+
+
+def test_example_config_feeds_the_bearing_table_to_the_rotor():
+    rotor = Rotor.from_toml(EXAMPLE)
+    ff = rotor.bearing[0].fluid_film
+    w = ff.speeds[7]  # a table speed: no interpolation
+    ref = coefficients_from_reaction(ff, -np.asarray(ff.load), [w])
+    K, C = rotor.KC(w)
+    Ks = K[0] - rotor.K_shaft  # only the bearings add stiffness
+    # the equilibrium is solved to 1e-9 in log|F| from a different start here: agree to 1e-7
+    np.testing.assert_allclose(Ks[:2, :2], ref.k[0], rtol=1e-7)
+    np.testing.assert_allclose(C[0][:2, :2], ref.c[0], rtol=1e-7)
+    # between table speeds the element interpolates linearly
+    wm = 0.5 * (ff.speeds[7] + ff.speeds[8])
+    both = coefficients_from_reaction(ff, -np.asarray(ff.load), ff.speeds[7:9])
+    np.testing.assert_allclose((rotor.KC(wm)[0][0] - rotor.K_shaft)[:2, :2], both.k.mean(0), rtol=1e-7)
+
+
+@pytest.mark.parametrize(
+    "change, field",
+    [
+        ({"kxx": 1e6}, "bearing[0].kxx"),
+        ({"fluid_film": {"n_z": 7}}, "bearing[0].fluid_film.n_z"),
+        ({"fluid_film": {"clearance": 60.0}}, "bearing[0].fluid_film.clearance"),
+        ({"fluid_film": {"load": [0.0, 0.0]}}, "bearing[0].fluid_film.load"),
+        ({"fluid_film": {"speed_rpm": [900.0, 500.0]}}, "bearing[0].fluid_film.speed_rpm"),
+        ({"fluid_film": {"load": [0.0, -4e5]}}, "bearing[0].fluid_film.speed_rpm"),
+        ({"fluid_film": {"viscosity": -1.0}}, "bearing[0].fluid_film.viscosity"),
+    ],
+)
+def test_bad_fluid_film_input_names_the_field(change, field):
+    from rotaflex.core.config import load_toml
+
+    cfg = load_toml(EXAMPLE)
+    data = {k: cfg[k] for k in ("shaft", "disk", "bearing")}
+    left = dict(data["bearing"]["left"])
+    for key, value in change.items():
+        if key == "fluid_film":
+            left["fluid_film"] = {**left["fluid_film"], **value}
+        else:
+            left[key] = value
+    data["bearing"] = {"left": left, "right": data["bearing"]["right"]}
+    with pytest.raises(InputError) as err:
+        Rotor.from_mapping(data)
+    assert err.value.field == field

@@ -169,7 +169,7 @@ def _solve_eps(film: _Film, target: float, p_cav: float, eps0: float, where: str
             if eps == EPS_MAX[film.ff.model]:
                 raise InputError(
                     where,
-                    round(speed / RPM, 3),
+                    float(round(speed / RPM, 3)),
                     f"a speed at which the film carries the load: at {speed / RPM:.6g} rpm the film carries at most "
                     f"{mag / target * 100:.3g} % of it (eccentricity ratio {eps}); raise the speed range, the "
                     "viscosity or L, or lower the clearance",
@@ -211,7 +211,7 @@ def coefficients_from_reaction(ff: FluidFilm, reaction, speeds=None, where: str 
     eps = None
     for m, w in enumerate(speeds):
         if w <= 0:
-            raise InputError(f"{where}.speed_rpm", round(w / RPM, 6), "speeds > 0 (no film at rest)")
+            raise InputError(f"{where}.speed_rpm", float(round(w / RPM, 6)), "speeds > 0 (no film at rest)")
         unit = 6 * mu * w * R**3 * L / c**2  # force unit [N]
         p_cav = ff.cavitation_pressure * c**2 / (6 * mu * w * R**2)
         if eps is None:  # first speed: start from the short-bearing equilibrium (closed form, cheap)
