@@ -275,3 +275,12 @@ def test_bad_fluid_film_input_names_the_field(change, field):
     with pytest.raises(InputError) as err:
         Rotor.from_mapping(data)
     assert err.value.field == field
+
+
+def test_table_dataset_has_units_and_the_coefficients():
+    ff = bearing("short", 0.25)
+    t = coefficients_from_reaction(ff, (0.0, 1000.0), [1000 * RPM, 2000 * RPM])
+    ds = t.to_dataset()
+    assert ds["kxy"].attrs["units"] == "N/m" and ds["cyy"].attrs["units"] == "N s/m"
+    np.testing.assert_array_equal(ds["kyx"].values, t.k[:, 1, 0])
+    np.testing.assert_allclose(ds["speed_rpm"].values, [1000, 2000])

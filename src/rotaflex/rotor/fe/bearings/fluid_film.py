@@ -105,6 +105,24 @@ class FluidFilmTable:
     k: np.ndarray
     c: np.ndarray
 
+    def to_dataset(self):
+        """The table as an ``xarray.Dataset`` over ``speed`` with units (e.g. to save as NetCDF)."""
+        import xarray as xr
+
+        data = {
+            "speed_rpm": ("speed", self.speed / RPM, {"units": "rpm"}),
+            "eccentricity_ratio": ("speed", self.eccentricity, {"units": "1"}),
+            "attitude_angle": ("speed", np.degrees(self.attitude), {"units": "deg"}),
+            "journal_x": ("speed", self.position[:, 0], {"units": "m"}),
+            "journal_y": ("speed", self.position[:, 1], {"units": "m"}),
+            "sommerfeld": ("speed", self.sommerfeld, {"units": "1", "long_name": "mu N L D (R/c)^2 / W"}),
+        }
+        for i, a in enumerate("xy"):
+            for j, b in enumerate("xy"):
+                data[f"k{a}{b}"] = ("speed", self.k[:, i, j], {"units": "N/m"})
+                data[f"c{a}{b}"] = ("speed", self.c[:, i, j], {"units": "N s/m"})
+        return xr.Dataset(data, coords={"speed": ("speed", self.speed, {"units": "rad/s"})})
+
 
 # -- short bearing (closed form) --------------------------------------------------------------
 def short_film(eps: float, l_over_d: float):
@@ -149,37 +167,41 @@ class _Film:
 
 
 def _solve_eps(film: _Film, target: float, p_cav: float, eps0: float, where: str, speed: float):
-    """eps with |F(eps)| = target: Newton on log|F| in eps, kept inside a shrinking bracket.
+    """eps with |F(eps)| = target: Newton on log|F| in u = log eps inside a shrinking bracket.
 
-    |F| grows monotonically from 0 (eps = 0) to infinity (eps -> 1); the upper end EPS_MAX is
-    evaluated only when an iterate would pass it, and then decides whether a root exists.
+    |F| grows monotonically from 0 (eps = 0, where log|F| ~ log eps: Newton exact) to infinity
+    (eps -> 1). Bisection in u is the fallback when a Newton step leaves the bracket. The upper
+    end EPS_MAX is evaluated only when an iterate would pass it, and then decides whether a root
+    exists.
     """
-    lo, hi, hi_checked = 0.0, EPS_MAX[film.ff.model], False
-    eps = min(max(eps0, 1e-3), hi)
-    for _ in range(80):
+    top = np.log(EPS_MAX[film.ff.model])
+    lo, hi, hi_checked = np.log(1e-12), top, False
+    u = np.log(min(max(eps0, 1e-9), EPS_MAX[film.ff.model]))
+    for _ in range(100):
+        eps = float(np.exp(u))
         F, k, b = film(eps, p_cav)
         mag = np.hypot(*F)
         g = np.log(mag / target)
         if abs(g) < 1e-9:
             return eps, F, k, b
         if g > 0:
-            hi = eps
+            hi = u
         else:
-            lo = eps
-            if eps == EPS_MAX[film.ff.model]:
+            lo = u
+            if u == top:
                 raise InputError(
                     where,
                     float(round(speed / RPM, 3)),
                     f"a speed at which the film carries the load: at {speed / RPM:.6g} rpm the film carries at most "
-                    f"{mag / target * 100:.3g} % of it (eccentricity ratio {eps}); raise the speed range, the "
+                    f"{mag / target * 100:.3g} % of it (eccentricity ratio {eps:g}); raise the speed range, the "
                     "viscosity or L, or lower the clearance",
                 )
-        dmag = -(F @ k[:, 0]) / mag  # d|F|/d eps along the line of centres
-        step = eps - g * mag / dmag if dmag > 0 else np.nan
-        if not step < hi and not hi_checked and hi == EPS_MAX[film.ff.model]:
-            eps, hi_checked = hi, True  # test the capacity at the largest eccentricity once
+        dg = -eps * (F @ k[:, 0]) / mag**2  # d log|F| / d log eps, along the line of centres
+        step = u - g / dg if dg > 0 else np.nan
+        if not step < hi and not hi_checked and hi == top:
+            u, hi_checked = top, True  # test the capacity at the largest eccentricity once
             continue
-        eps = step if lo < step < hi else 0.5 * (lo + hi)
+        u = step if lo < step < hi else 0.5 * (lo + hi)
         if hi - lo < 1e-12:
             break
     raise RuntimeError(f"{where}: equilibrium iteration did not converge at {speed / RPM:.6g} rpm")
@@ -216,9 +238,9 @@ def coefficients_from_reaction(ff: FluidFilm, reaction, speeds=None, where: str 
         p_cav = ff.cavitation_pressure * c**2 / (6 * mu * w * R**2)
         if eps is None:  # first speed: start from the short-bearing equilibrium (closed form, cheap)
             eps = _solve_eps(_Film(replace(ff, model="short")), W / unit, 0.0, 0.5, where, w)[0]
-        if m >= 2:  # start from the eps(log S) line through the last two speeds
+        if m >= 2:  # start from the log eps (log S) line through the last two speeds
             t = np.log(w / speeds[m - 1]) / np.log(speeds[m - 1] / speeds[m - 2])
-            eps = out["eps"][m - 1] + t * (out["eps"][m - 1] - out["eps"][m - 2])
+            eps = out["eps"][m - 1] * (out["eps"][m - 1] / out["eps"][m - 2]) ** t
         eps, F, k, b = _solve_eps(film, W / unit, p_cav, eps, f"{where}.speed_rpm", w)
         # rotate the solution (journal on +x) so that the film force points along the reaction
         psi = np.arctan2(reaction[1], reaction[0]) - np.arctan2(F[1], F[0])
