@@ -284,3 +284,21 @@ def test_table_dataset_has_units_and_the_coefficients():
     assert ds["kxy"].attrs["units"] == "N/m" and ds["cyy"].attrs["units"] == "N s/m"
     np.testing.assert_array_equal(ds["kyx"].values, t.k[:, 1, 0])
     np.testing.assert_allclose(ds["speed_rpm"].values, [1000, 2000])
+
+
+def test_example_campbell_reports_the_whip_onset():
+    """`rotaflex rotor campbell` on the example (coarser tables to keep the test short): the
+    oil-whip mode's onset lands in the summary between one and three times the first critical."""
+    import json
+
+    from rotaflex.core.config import load_toml
+    from rotaflex.rotor.fe.case import run_campbell
+
+    cfg = load_toml(EXAMPLE)
+    for b in cfg["bearing"].values():
+        b["fluid_film"]["n_speeds"] = 24
+    cfg["campbell"]["n_speeds"] = 24
+    summary = json.loads(run_campbell(cfg).dataset.attrs["summary_extra"])
+    onset = [v["value"] for k, v in summary.items() if k.startswith("unstable_mode_") and k.endswith("_onset_rpm")]
+    first = [v["value"] for k, v in summary.items() if k.startswith("critical_") and v.get("whirl") == "forward"][0]
+    assert len(onset) == 1 and first < onset[0] < 3 * first
