@@ -8,8 +8,9 @@ Written from the literature, independently of the solvers in this package:
 - Someya (1989), Journal-Bearing Databook, two-axial-groove bearing, L/D = 0.5 (p. 14).
 - Raimondi & Boyd (1958), full 360 deg bearing, L/D = 1 (as tabulated in Shigley's Mechanical
   Engineering Design).
-- The stability threshold of a rigid symmetric rotor on two bearings from the 4x4 linearised
-  equations (Lund 1987, Review of the concept of dynamic coefficients, J. Tribology 109).
+- The stability threshold of a symmetric rotor on two bearings from the linearised equations:
+  rigid (4x4; Lund 1987, Review of the concept of dynamic coefficients, J. Tribology 109) and
+  the Jeffcott rotor (central disk on a massless flexible shaft, massless journals; 6 states).
 """
 
 from __future__ import annotations
@@ -66,17 +67,30 @@ RAIMONDI_BOYD_LD1 = [
 ]
 
 
-def rigid_rotor_growth(w, m, diameter, length, clearance, viscosity):
-    """Largest real part [1/s] of the rigid rotor (mass m per bearing, load m g) on short bearings."""
+def rigid_rotor_growth(w, m, diameter, length, clearance, viscosity, shaft_stiffness=np.inf):
+    """Largest real part [1/s] of a symmetric rotor (mass m per bearing, load m g) on two short
+    bearings at spin speed w [rad/s], cylindrical whirl.
+
+    ``shaft_stiffness`` = inf: rigid rotor, m x'' + C x' + K x = 0 (4 states). Finite: the
+    Jeffcott rotor with midspan shaft stiffness k_s (N/m, between the disk and both journals):
+    per bearing m x_d'' = k (x_j - x_d), C x_j' + (K + k) x_j = k x_d with k = k_s / 2 and massless
+    journals (6 states).
+    """
     W, R = m * G_ACC, diameter / 2
     S = viscosity * (w / (2 * np.pi)) * length * diameter * (R / clearance) ** 2 / W
-    eps = brentq(lambda e: ocvirk_sommerfeld(e, length / diameter) - S, 1e-6, 1 - 1e-9, xtol=1e-14)
+    eps = brentq(lambda e: ocvirk_sommerfeld(e, length / diameter) - S, 1e-9, 1 - 1e-9, xtol=1e-14)
     a, b = ocvirk_coefficients(eps)
     K, C = W / clearance * a, W / (clearance * w) * b
-    A = np.block([[np.zeros((2, 2)), np.eye(2)], [-K / m, -C / m]])
+    Z, I2 = np.zeros((2, 2)), np.eye(2)
+    if np.isinf(shaft_stiffness):
+        A = np.block([[Z, I2], [-K / m, -C / m]])
+    else:
+        k, Ci = shaft_stiffness / 2, np.linalg.inv(C)
+        A = np.block([[Z, I2, Z], [-k / m * I2, Z, k / m * I2], [k * Ci, Z, -Ci @ (K + k * I2)]])
     return np.linalg.eigvals(A).real.max()
 
 
-def rigid_rotor_whip_threshold(m, diameter, length, clearance, viscosity, bracket):
-    """Onset speed [rad/s] of oil whip of the rigid rotor within ``bracket`` [rad/s]."""
-    return brentq(rigid_rotor_growth, *bracket, args=(m, diameter, length, clearance, viscosity), xtol=1e-9)
+def rigid_rotor_whip_threshold(m, diameter, length, clearance, viscosity, bracket, shaft_stiffness=np.inf):
+    """Onset speed [rad/s] of oil whip within ``bracket`` [rad/s] (see :func:`rigid_rotor_growth`)."""
+    args = (m, diameter, length, clearance, viscosity, shaft_stiffness)
+    return brentq(rigid_rotor_growth, *bracket, args=args, xtol=1e-9)
