@@ -324,3 +324,49 @@ def test_oil_whip_onset_of_jeffcott_rotor_matches_closed_form():
     onset = min(u["speed"] for u in c.unstable)
     # measured 1.4e-5 (Campbell interpolation, the FE shaft's little mass and the disk's Id)
     assert onset == pytest.approx(w_th, rel=1e-3)
+
+
+# -- tilting pads ------------------------------------------------------------------------------
+def tilting_pad(**kw):
+    return FluidFilm(
+        diameter=0.1,
+        length=0.05,
+        clearance=1e-4,
+        viscosity=0.02,
+        load=(0.0, -1000.0),
+        speed_rpm=(100.0, 30000.0),
+        type="tilting_pad",
+        pad_arc_deg=80.0,
+        **kw,
+    )
+
+
+@pytest.mark.parametrize("S, eps, kl, kp, cl, cp", [r for r in lit.SOMEYA_TILTING_PAD_LBP_LD05 if r[1] >= 0.4])
+def test_tilting_pad_vs_someya_load_between_pads(S, eps, kl, kp, cl, cp):
+    """Four 80 deg pads, pivots at mid-arc, load between pads, L/D = 0.5, no preload. Someya's
+    low-eccentricity rows (eps <= 0.2, lightly loaded upper pads) are not compared."""
+    ff = tilting_pad()
+    t = coefficients_from_reaction(ff, (0.0, 1000.0), [speed_for(ff, S, 1000.0)])
+    K, C = t.k[0] * 1e-4 / 1000.0, t.c[0] * 1e-4 * t.speed[0] / 1000.0
+    assert t.eccentricity[0] == pytest.approx(eps, abs=0.02)
+    assert K[1, 1] == pytest.approx(kl, rel=0.08) and K[0, 0] == pytest.approx(kp, rel=0.08)
+    assert C[1, 1] == pytest.approx(cl, rel=0.08) and C[0, 0] == pytest.approx(cp, rel=0.08)
+
+
+def test_tilting_pad_symmetry_and_equilibrium():
+    """Load between pads: no cross-coupling, equal direct coefficients (four pads), journal on the
+    load line; every pad in moment equilibrium and the pad forces balance the load."""
+    from rotaflex.rotor.fe.bearings.tilting_pad import PadSet
+
+    ff = tilting_pad(preload=0.2)
+    t = coefficients_from_reaction(ff, (0.0, 1000.0), [3000 * RPM])
+    k, c = t.k[0], t.c[0]
+    assert abs(k[0, 1]) + abs(k[1, 0]) < 1e-8 * k[0, 0] and abs(c[0, 1]) + abs(c[1, 0]) < 1e-8 * c[0, 0]
+    assert k[0, 0] == pytest.approx(k[1, 1], rel=1e-6) and c[0, 0] == pytest.approx(c[1, 1], rel=1e-6)
+    assert abs(t.position[0, 0]) < 1e-9 * ff.clearance and t.position[0, 1] < 0
+    pads = PadSet(0.5, 4, np.radians(80.0), 0.5, np.radians(45.0), 0.2, ff.n_theta, ff.n_z)
+    F, _, sols = pads.state(*(t.position[0] / ff.clearance), 0.0)
+    unit = 6 * ff.viscosity * t.speed[0] * 0.05**3 * ff.length / ff.clearance**2
+    np.testing.assert_allclose(F * unit, [0.0, 1000.0], atol=1e-6)
+    for s in sols:
+        assert abs(s.Q[2]) <= 1e-9 * np.abs(s.Q[:2]).sum()

@@ -32,6 +32,7 @@ import numpy as np
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.bearings.reynolds import ReynoldsGrid, solve_film
+from rotaflex.rotor.fe.bearings.tilting_pad import PadSet, tilting_pad_equilibrium
 
 RPM = np.pi / 30.0
 EPS_MAX = {"short": 0.995, "finite": 0.97}  #: largest eccentricity ratio the solvers accept
@@ -61,6 +62,14 @@ class FluidFilm:
     )
     n_theta: int = param(72, ge=8, doc="finite model: grid nodes around the circumference")
     n_z: int = param(12, ge=4, doc="finite model: grid intervals along the length (even)")
+    type: Literal["plain", "tilting_pad"] = param("plain", doc="plain 360 deg bearing or tilting pads (finite model)")
+    pads: int = param(4, ge=2, doc="tilting_pad: number of pads")
+    pad_arc_deg: float = param(80.0, unit="deg", gt=0, lt=180, doc="tilting_pad: arc of each pad")
+    pivot_offset: float = param(0.5, gt=0, lt=1, doc="tilting_pad: pivot position as a fraction of the arc")
+    preload: float = param(0.0, ge=0, lt=1, doc="tilting_pad: m = 1 - C_b / C_p (clearance is C_p)")
+    first_pivot_deg: float = param(
+        45.0, unit="deg", doc="tilting_pad: angle of the first pivot from +x towards +y (45: load between pads for -y)"
+    )
 
     def validate(self, where: str = "fluid_film") -> None:
         """Raise :class:`InputError` (naming ``where.<key>``) for inconsistent values."""
@@ -76,6 +85,10 @@ class FluidFilm:
             raise InputError(f"{where}.speed_rpm", list(self.speed_rpm), "[start, stop] in rpm with stop > start > 0")
         if self.model == "short" and self.cavitation_pressure != 0:
             raise InputError(f"{where}.cavitation_pressure", self.cavitation_pressure, "0 for the short model")
+        if self.type == "tilting_pad" and self.model != "finite":
+            raise InputError(f"{where}.model", self.model, '"finite" for tilting pads')
+        if self.type == "tilting_pad" and self.pads * self.pad_arc_deg >= 360:
+            raise InputError(f"{where}.pad_arc_deg", self.pad_arc_deg, f"pads x arc < 360 deg ({self.pads} pads)")
 
     @property
     def speeds(self) -> np.ndarray:
@@ -230,6 +243,8 @@ def coefficients_from_reaction(ff: FluidFilm, reaction, speeds=None, where: str 
     n = speeds.size
     shapes = {"eps": n, "att": n, "pos": (n, 2), "S": n, "k": (n, 2, 2), "c": (n, 2, 2)}
     out = {key: np.zeros(shape) for key, shape in shapes.items()}
+    if ff.type == "tilting_pad":
+        return _tilting_pad_table(ff, reaction, speeds, where, out)
     eps = None
     for m, w in enumerate(speeds):
         if w <= 0:
@@ -250,6 +265,34 @@ def coefficients_from_reaction(ff: FluidFilm, reaction, speeds=None, where: str 
         out["eps"][m] = eps
         out["pos"][m] = eps * c * Q[:, 0]
         out["att"][m] = np.arccos(np.clip(-(Q[:, 0] @ reaction) / W, -1, 1))  # journal vs load direction
+        out["S"][m] = mu * (w / (2 * np.pi)) * L * 2 * R * (R / c) ** 2 / W
+    return FluidFilmTable(speeds, out["eps"], out["att"], out["pos"], out["S"], out["k"], out["c"])
+
+
+def _tilting_pad_table(ff: FluidFilm, reaction, speeds, where, out) -> FluidFilmTable:
+    R, L, c, mu = ff.diameter / 2, ff.length, ff.clearance, ff.viscosity
+    W = float(np.hypot(*reaction))
+    pads = PadSet(
+        ff.length / ff.diameter,
+        ff.pads,
+        np.radians(ff.pad_arc_deg),
+        ff.pivot_offset,
+        np.radians(ff.first_pivot_deg),
+        ff.preload,
+        ff.n_theta,
+        ff.n_z,
+    )
+    e = -0.3 * reaction / W  # start below the load line's bearing centre
+    for m, w in enumerate(speeds):
+        if w <= 0:
+            raise InputError(f"{where}.speed_rpm", float(round(w / RPM, 6)), "speeds > 0 (no film at rest)")
+        unit = 6 * mu * w * R**3 * L / c**2
+        p_cav = ff.cavitation_pressure * c**2 / (6 * mu * w * R**2)
+        e, sols = tilting_pad_equilibrium(pads, reaction / unit, e, p_cav, f"{where}.speed_rpm", w)
+        kb, bb = pads.reduced(sols)
+        out["k"][m], out["c"][m] = unit / c * kb, unit / (c * w) * bb
+        out["eps"][m], out["pos"][m] = np.hypot(*e), e * c
+        out["att"][m] = np.arccos(np.clip(-(e @ reaction) / (np.hypot(*e) * W), -1, 1))
         out["S"][m] = mu * (w / (2 * np.pi)) * L * 2 * R * (R / c) ** 2 / W
     return FluidFilmTable(speeds, out["eps"], out["att"], out["pos"], out["S"], out["k"], out["c"])
 

@@ -6,6 +6,7 @@ Written from the literature, independently of the solvers in this package:
   Childs (1993), Turbomachinery Rotordynamics, ch. 3, and Friswell, Penny, Garvey & Lees (2010),
   Dynamics of Rotating Machines, section 5.5.2.
 - Someya (1989), Journal-Bearing Databook, two-axial-groove bearing, L/D = 0.5 (p. 14).
+- Someya (1989), four-pad tilting-pad bearing, load between pads, L/D = 0.5 (p. 83).
 - Raimondi & Boyd (1958), full 360 deg bearing, L/D = 1 (as tabulated in Shigley's Mechanical
   Engineering Design).
 - The stability threshold of a symmetric rotor on two bearings from the linearised equations:
@@ -55,6 +56,16 @@ SOMEYA_LD05 = [
     (0.187, 0.70, 38.2, (4.92, 3.88, 0.0235, 1.83), (7.32, 2.16, 2.16, 1.70)),
     (0.0926, 0.80, 31.2, (7.35, 4.46, 0.527, 1.78), (8.17, 2.05, 2.05, 1.24)),
     (0.0315, 0.90, 22.7, (13.8, 5.76, 1.24, 1.72), (10.6, 2.03, 2.03, 0.846)),
+]
+
+#: Someya (1989) four-pad tilting-pad bearing, load between pads, L/D = 0.5, no preload (p. 83):
+#: (S, eps, K c/W along and across the load, C c omega/W along and across); cross terms are 0
+SOMEYA_TILTING_PAD_LBP_LD05 = [
+    (5.76, 0.1, 0.901, 0.901, 10.8, 10.8),
+    (2.67, 0.2, 1.22, 1.22, 6.03, 6.03),
+    (1.05, 0.4, 1.68, 1.68, 3.61, 3.61),
+    (0.550, 0.6, 2.26, 2.26, 3.21, 3.21),
+    (0.259, 0.8, 3.15, 3.15, 3.01, 3.01),
 ]
 
 #: Raimondi & Boyd (1958), 360 deg bearing, L/D = 1: (eps, S, attitude [deg])
