@@ -45,17 +45,27 @@ def film(load: float, **kw) -> FluidFilm:
     )
 
 
+def row(label: str, t, ms: bool = False, target: str = "") -> None:
+    """One printed line: best and median wall time, best CPU time."""
+    f, u = (1e3, "ms") if ms else (1.0, "s ")
+    best_, med, cpu = (x * f for x in t)
+    print(f"{label:<50s} best {best_:7.3f} {u}  median {med:7.3f} {u}  CPU {cpu:7.3f} {u}  {target}")
+
+
 def main() -> None:
     ff = film(419.0)
     one = best(lambda: coefficients_from_reaction(ff, (0.0, 419.0), [3000 * RPM]), 10)
     table = best(lambda: coefficients_from_reaction(ff, (0.0, 419.0)), 3)
     t = coefficients_from_reaction(ff, (0.0, 419.0))
     print(f"grid {ff.n_theta} x {ff.n_z} (half solved: {ff.n_theta * ff.n_z // 2} unknowns), L/D = 0.5")
-    print(f"finite, one speed (equilibrium + 8 coefficients)  best {one[0] * 1e3:6.1f} ms  median {one[1] * 1e3:6.1f} ms  CPU {one[2] * 1e3:6.1f} ms")
-    print(f"finite, 50-speed table                            best {table[0]:6.3f} s   median {table[1]:6.3f} s   CPU {table[2]:6.3f} s")
-    print(f"   eccentricity ratio {t.eccentricity[0]:.3f} .. {t.eccentricity[-1]:.3f}, S {t.sommerfeld[0]:.3g} .. {t.sommerfeld[-1]:.3g}")
+    row("finite, one speed (equilibrium + 8 coefficients)", one, True, "(target 20 ms)")
+    row("finite, 50-speed table", table, False, "(target 0.5 s)")
+    print(f"   eccentricity ratio {t.eccentricity[0]:.3f} .. {t.eccentricity[-1]:.3f}, ", end="")
+    print(f"S {t.sommerfeld[0]:.3g} .. {t.sommerfeld[-1]:.3g}")
     short = best(lambda: coefficients_from_reaction(dataclasses.replace(ff, model="short"), (0.0, 419.0)), 3)
-    print(f"short, 50-speed table                             best {short[0] * 1e3:6.1f} ms  median {short[1] * 1e3:6.1f} ms  CPU {short[2] * 1e3:6.1f} ms")
+    row("short, 50-speed table", short, True)
+    tp = dataclasses.replace(ff, type="tilting_pad", clearance=80e-6, preload=0.2, n_speeds=20)
+    row("tilting pad (4 pads), 20-speed table", best(lambda: coefficients_from_reaction(tp, (0.0, 419.0)), 3))
 
     base = bench_rotor()
 
@@ -65,14 +75,11 @@ def main() -> None:
 
     rotor = build()
     speeds = np.linspace(500, 12000, 50) * RPM
-    t_build = best(build, 3)
-    t_camp = best(lambda: campbell(rotor, speeds, 8), 3)
-    t_all = best(lambda: campbell(build(), speeds, 8), 3)
-    c = campbell(rotor, speeds, 8)
     print(f"rotor {rotor.n_dof} DOF on 2 fluid-film bearings:")
-    print(f"   build (2 coefficient tables)   best {t_build[0]:6.3f} s  median {t_build[1]:6.3f} s  CPU {t_build[2]:6.3f} s")
-    print(f"   Campbell, 50 speeds            best {t_camp[0]:6.3f} s  median {t_camp[1]:6.3f} s  CPU {t_camp[2]:6.3f} s")
-    print(f"   build + Campbell               best {t_all[0]:6.3f} s  median {t_all[1]:6.3f} s  CPU {t_all[2]:6.3f} s  (target 1 s)")
+    row("   build (2 coefficient tables)", best(build, 3))
+    row("   Campbell, 50 speeds", best(lambda: campbell(rotor, speeds, 8), 3))
+    row("   build + Campbell", best(lambda: campbell(build(), speeds, 8), 3), False, "(target 1 s)")
+    c = campbell(rotor, speeds, 8)
     onset = ", ".join(f"mode {u['mode']} at {u['speed'] / RPM:.0f} rpm" for u in c.unstable) or "none"
     print(f"   instability onset: {onset}")
 
