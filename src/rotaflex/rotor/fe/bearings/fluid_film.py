@@ -1,4 +1,4 @@
-"""Plain cylindrical (360 deg) fluid-film journal bearing: equilibrium and 8 dynamic coefficients.
+"""Fluid-film journal bearings (plain 360 deg and tilting-pad): equilibrium and 8 dynamic coefficients.
 
 Conventions (SI): the journal spins about +z (from x towards y); its centre sits at
 e = (ex, ey) from the bearing centre; the film force on the journal balances the static
@@ -17,9 +17,10 @@ Two models:
            closed-form forces and their exact derivatives (Sommerfeld integrals).
 ``finite`` the finite-length Reynolds equation by finite differences with the
            Reynolds (Swift-Stieber) cavitation condition, :mod:`.reynolds`.
-The bearing is rotationally symmetric (no grooves), so the equilibrium is a 1-D root
+The plain bearing is rotationally symmetric (no grooves), so the equilibrium is a 1-D root
 solve in eps (safeguarded Newton inside a bracket) followed by a rotation that aligns the
-film force with the reaction.
+film force with the reaction. Tilting pads (``type = "tilting_pad"``, finite model) are in
+:mod:`.tilting_pad`.
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ EPS_MAX = {"short": 0.995, "finite": 0.97}  #: largest eccentricity ratio the so
 
 @dataclass(frozen=True)
 class FluidFilm:
-    """``[bearing.NAME.fluid_film]``: a plain cylindrical journal bearing (SI units).
+    """``[bearing.NAME.fluid_film]``: a plain cylindrical or tilting-pad journal bearing (SI units).
 
     The coefficient table is computed at ``n_speeds`` speeds spread evenly over ``speed_rpm``
     and interpolated linearly in between by the bearing element; an analysis speed outside
@@ -49,7 +50,7 @@ class FluidFilm:
 
     diameter: float = param(unit="m", gt=0, doc="journal diameter D")
     length: float = param(unit="m", gt=0, doc="bearing length L")
-    clearance: float = param(unit="m", gt=0, doc="radial clearance c")
+    clearance: float = param(unit="m", gt=0, doc="radial clearance c (tilting pads: the pad clearance C_p)")
     viscosity: float = param(unit="Pa s", gt=0, doc="dynamic viscosity mu of the lubricant")
     load: tuple[float, float] = param(
         unit="N", doc="static load [Fx, Fy] the journal puts on the bearing (e.g. [0, -m g / 2]); required"

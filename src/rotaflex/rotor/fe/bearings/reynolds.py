@@ -19,6 +19,11 @@ Film force on the journal Fb = -int int P (cos theta, sin theta) dtheta dzb, in 
 6 mu omega R^3 L / c^2. The stiffness kb = -dFb/de and damping bb = -dFb/de' come from the
 exact derivative of the discrete solution with the cavitated set frozen (the perturbed Reynolds
 equations on the full-film region, Lund's method), reusing the factorisation of the last solve.
+
+:func:`solve_general` takes any film H = 1 - sum_k q_k cos(theta - phase_k) (the journal's x and
+y are phases 0 and pi/2; a tilting pad adds its tilt and preload) on the full circle or on a
+pad arc (P = 0 at the pad edges), and returns the generalised forces -int int P cos(theta -
+phase_k) with their derivatives; :func:`solve_film` is the plain-bearing case.
 """
 
 from __future__ import annotations
