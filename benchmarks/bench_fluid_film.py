@@ -79,9 +79,12 @@ def main() -> None:
     row("   build (2 coefficient tables)", best(build, 3))
     row("   Campbell, 50 speeds", best(lambda: campbell(rotor, speeds, 8), 3))
     row("   build + Campbell", best(lambda: campbell(build(), speeds, 8), 3), False, "(target 1 s)")
-    c = campbell(rotor, speeds, 8)
-    onset = ", ".join(f"mode {u['mode']} at {u['speed'] / RPM:.0f} rpm" for u in c.unstable) or "none"
-    print(f"   instability onset: {onset}")
+    row("   Campbell, 50 speeds, 40-mode basis", best(lambda: campbell(rotor, speeds, 8, reduce=40), 3))
+    row("   build + Campbell, 40-mode basis", best(lambda: campbell(build(), speeds, 8, reduce=40), 3), False, "(1 s)")
+    for red in (None, 40):
+        c = campbell(rotor, speeds, 8, reduce=red)
+        onset = ", ".join(f"mode {u['mode']} at {u['speed'] / RPM:.1f} rpm" for u in c.unstable) or "none"
+        print(f"   instability onset ({'full' if red is None else '40-mode basis'}): {onset}")
 
 
 if __name__ == "__main__":
