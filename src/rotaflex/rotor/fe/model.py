@@ -76,7 +76,8 @@ class PointMass:
 
 @dataclass(frozen=True)
 class Bearing:
-    """Linear bearing or seal; each coefficient a number or a list over ``speed_rpm``."""
+    """Linear bearing or seal (each coefficient a number or a list over ``speed_rpm``), or a fluid-film
+    journal bearing whose coefficients are computed (``fluid_film`` sub-table, docs/fluid-film-bearings.md)."""
 
     node: int | None = param(None, ge=0, doc="node number (or give position)")
     position: float | None = param(None, unit="m")
