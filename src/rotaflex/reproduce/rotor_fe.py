@@ -188,6 +188,9 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
             ],
         )
     )
+    from rotaflex.reproduce.rotor_fluid_film import fluid_film_entries
+
+    figs += fluid_film_entries(out, rel, fast=fast)
     return Section(
         "FE rotor-bearing model (Timoshenko shaft, disks, bearings)",
         "Finite-element rotor-bearing model on the Example 5.9.1 rotor of Friswell et al. (2010).",

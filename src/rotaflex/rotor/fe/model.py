@@ -21,6 +21,7 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm
 from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS
 from rotaflex.rotor.fe.materials import Material, material
@@ -75,7 +76,8 @@ class PointMass:
 
 @dataclass(frozen=True)
 class Bearing:
-    """Linear bearing or seal; each coefficient a number or a list over ``speed_rpm``."""
+    """Linear bearing or seal (each coefficient a number or a list over ``speed_rpm``), or a fluid-film
+    journal bearing whose coefficients are computed (``fluid_film`` sub-table, docs/fluid-film-bearings.md)."""
 
     node: int | None = param(None, ge=0, doc="node number (or give position)")
     position: float | None = param(None, unit="m")
@@ -91,6 +93,7 @@ class Bearing:
     cyy: tuple[float, ...] = param((0.0,), unit="N s/m")
     speed_rpm: tuple[float, ...] | None = param(None, unit="rpm", ge=0, doc="speeds of tabulated coefficients")
     name: str = param("", doc="label")
+    fluid_film: FluidFilm | None = param(None, doc="plain journal bearing: coefficients computed (no k/c keys)")
 
     def __post_init__(self):
         for key in COEFFICIENTS:  # Python callers may pass plain numbers
@@ -307,6 +310,9 @@ class Rotor:
             m = self.station(b.to_node, b.to_position, where, False, ("to_node", "to_position"))
             if m == n:
                 raise InputError(f"{where}.to_node", m, "a node other than the bearing's own node")
+            if b.fluid_film is not None:
+                out.append((n, m, BearingElement.from_fluid_film(b, where)))
+                continue
             lengths = {len(getattr(b, k)) for k in COEFFICIENTS}
             ns = 1 if b.speed_rpm is None else len(b.speed_rpm)
             for k in COEFFICIENTS:

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.bearings.fluid_film import fluid_film_table
 
 COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
 
@@ -81,3 +82,17 @@ class BearingElement:
     def G(self) -> np.ndarray:
         """Gyroscopic (2, 2): zero."""
         return np.zeros((2, 2))
+
+    @classmethod
+    def from_fluid_film(cls, bearing, where: str = "bearing") -> BearingElement:
+        """Speed-tabulated element of a ``[bearing.NAME.fluid_film]`` table (coefficient keys refused).
+
+        ``bearing`` is a :class:`rotaflex.rotor.fe.model.Bearing` whose ``fluid_film`` is set.
+        """
+        for key in COEFFICIENTS:
+            if any(getattr(bearing, key)):
+                raise InputError(f"{where}.{key}", list(getattr(bearing, key)), "no coefficients with fluid_film")
+        if bearing.speed_rpm is not None:
+            raise InputError(f"{where}.speed_rpm", list(bearing.speed_rpm), "fluid_film.speed_rpm instead")
+        table = fluid_film_table(bearing.fluid_film, f"{where}.fluid_film")
+        return cls(table.k, table.c, table.speed, f"{where}.fluid_film")

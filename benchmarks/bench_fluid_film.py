@@ -1,0 +1,91 @@
+"""Fluid-film bearing timings (prints numbers; nothing asserted).
+
+Run: PYTHONPATH=src OMP_NUM_THREADS=1 python benchmarks/bench_fluid_film.py
+Targets (issue 23): finite-length coefficients at one speed <= 20 ms; a 50-speed table <= 0.5 s;
+the 20-element rotor of bench_rotor_fe.py on two fluid-film bearings: Campbell over 50 speeds <= 1 s.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+from bench_rotor_fe import bench_rotor
+
+from rotaflex.rotor.fe import Bearing
+from rotaflex.rotor.fe.bearings import FluidFilm, coefficients_from_reaction
+from rotaflex.rotor.fe.modal import campbell
+
+RPM = np.pi / 30
+
+
+def best(fn, repeat=5):
+    """(best wall, median wall, best CPU time of this process) [s]; on a shared machine the CPU
+    time is the steadier figure (run with OMP_NUM_THREADS=1 so that CPU ~ wall when idle)."""
+    ts, cs = [], []
+    for _ in range(repeat):
+        t0, c0 = time.perf_counter(), time.process_time()
+        fn()
+        ts.append(time.perf_counter() - t0)
+        cs.append(time.process_time() - c0)
+    return min(ts), float(np.median(ts)), min(cs)
+
+
+def film(load: float, **kw) -> FluidFilm:
+    """D = 60 mm, L/D = 0.5, c = 60 um, 0.02 Pa s (the bearings of examples/rotor/fe_fluid_film.toml)."""
+    return FluidFilm(
+        diameter=0.06,
+        length=0.03,
+        clearance=60e-6,
+        viscosity=0.02,
+        load=(0.0, -load),
+        speed_rpm=(500.0, 12000.0),
+        **kw,
+    )
+
+
+def row(label: str, t, ms: bool = False, target: str = "") -> None:
+    """One printed line: best and median wall time, best CPU time."""
+    f, u = (1e3, "ms") if ms else (1.0, "s ")
+    best_, med, cpu = (x * f for x in t)
+    print(f"{label:<50s} best {best_:7.3f} {u}  median {med:7.3f} {u}  CPU {cpu:7.3f} {u}  {target}")
+
+
+def main() -> None:
+    ff = film(419.0)
+    one = best(lambda: coefficients_from_reaction(ff, (0.0, 419.0), [3000 * RPM]), 10)
+    table = best(lambda: coefficients_from_reaction(ff, (0.0, 419.0)), 3)
+    t = coefficients_from_reaction(ff, (0.0, 419.0))
+    print(f"grid {ff.n_theta} x {ff.n_z} (half solved: {ff.n_theta * ff.n_z // 2} unknowns), L/D = 0.5")
+    row("finite, one speed (equilibrium + 8 coefficients)", one, True, "(target 20 ms)")
+    row("finite, 50-speed table", table, False, "(target 0.5 s)")
+    print(f"   eccentricity ratio {t.eccentricity[0]:.3f} .. {t.eccentricity[-1]:.3f}, ", end="")
+    print(f"S {t.sommerfeld[0]:.3g} .. {t.sommerfeld[-1]:.3g}")
+    short = best(lambda: coefficients_from_reaction(dataclasses.replace(ff, model="short"), (0.0, 419.0)), 3)
+    row("short, 50-speed table", short, True)
+    tp = dataclasses.replace(ff, type="tilting_pad", clearance=80e-6, preload=0.2, n_speeds=20)
+    row("tilting pad (4 pads), 20-speed table", best(lambda: coefficients_from_reaction(tp, (0.0, 419.0)), 3))
+
+    base = bench_rotor()
+
+    def build():
+        brg = (Bearing(node=0, fluid_film=film(419.0)), Bearing(node=20, fluid_film=film(458.0)))
+        return dataclasses.replace(base, bearing=brg)
+
+    rotor = build()
+    speeds = np.linspace(500, 12000, 50) * RPM
+    print(f"rotor {rotor.n_dof} DOF on 2 fluid-film bearings:")
+    row("   build (2 coefficient tables)", best(build, 3))
+    row("   Campbell, 50 speeds", best(lambda: campbell(rotor, speeds, 8), 3))
+    row("   build + Campbell", best(lambda: campbell(build(), speeds, 8), 3), False, "(target 1 s)")
+    row("   Campbell, 50 speeds, 40-mode basis", best(lambda: campbell(rotor, speeds, 8, reduce=40), 3))
+    row("   build + Campbell, 40-mode basis", best(lambda: campbell(build(), speeds, 8, reduce=40), 3), False, "(1 s)")
+    for red in (None, 40):
+        c = campbell(rotor, speeds, 8, reduce=red)
+        onset = ", ".join(f"mode {u['mode']} at {u['speed'] / RPM:.1f} rpm" for u in c.unstable) or "none"
+        print(f"   instability onset ({'full' if red is None else '40-mode basis'}): {onset}")
+
+
+if __name__ == "__main__":
+    main()
