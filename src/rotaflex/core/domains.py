@@ -51,6 +51,7 @@ CASES: dict[str, str] = {
 #: the CLI adds ``rotaflex <domain> <verb> CONFIG --out DIR`` for each
 COMMANDS: dict[str, dict[str, str]] = {
     "rotor": {
+        "static": "rotaflex.rotor.fe.case:run_static",
         "modal": "rotaflex.rotor.fe.case:run_modal",
         "campbell": "rotaflex.rotor.fe.case:run_campbell",
         "ucs": "rotaflex.rotor.fe.case:run_ucs",

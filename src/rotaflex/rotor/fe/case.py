@@ -98,7 +98,30 @@ class TransientSpec:
     mass: tuple[UnbalanceMass, ...] = param(())
 
 
+@dataclass(frozen=True)
+class PointLoad:
+    """A static point force at a station."""
+
+    node: int | None = param(None, ge=0, doc="node number (or give position)")
+    position: float | None = param(None, unit="m")
+    fx: float = param(0.0, unit="N", doc="force in x")
+    fy: float = param(0.0, unit="N", doc="force in y")
+
+
+@dataclass(frozen=True)
+class StaticSpec:
+    """Static deflection under gravity and point loads; bearing reactions, shear, moment."""
+
+    gravity: float = param(9.80665, unit="m/s^2", ge=0, doc="acceleration of gravity (0: point loads only)")
+    gravity_direction: tuple[float, float] = param((0.0, -1.0), doc="direction of gravity [g_x, g_y] (default -y)")
+    speed_rpm: float | None = param(
+        None, unit="rpm", ge=0, doc="speed of the bearing coefficients (default 0 or the table's lowest)"
+    )
+    load: tuple[PointLoad, ...] = param(())
+
+
 ANALYSES = {
+    "static": StaticSpec,
     "modal": ModalSpec,
     "campbell": CampbellSpec,
     "ucs": UCSSpec,
@@ -117,7 +140,8 @@ class FECase:
     bearing: tuple[Bearing, ...] = param(())
     material: dict[str, Material] = param({})
     free: bool = param(False)
-    analysis: Literal["modal", "campbell", "ucs", "unbalance", "transient"] | None = param(None)
+    analysis: Literal["static", "modal", "campbell", "ucs", "unbalance", "transient", "frf"] | None = param(None)
+    static: StaticSpec = field(default_factory=StaticSpec)
     modal: ModalSpec = field(default_factory=ModalSpec)
     campbell: CampbellSpec = field(default_factory=CampbellSpec)
     ucs: UCSSpec = field(default_factory=UCSSpec)
@@ -372,7 +396,15 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
     return TransientResult(ds)
 
 
+def run_static(config: dict, *, progress: bool = False):
+    """Static deflection, bearing reactions, shear force and bending moment (``[static]``)."""
+    from rotaflex.rotor.fe.verbs import run_static as _run
+
+    return _run(config, progress=progress)
+
+
 RUNNERS = {
+    "static": run_static,
     "modal": run_modal,
     "campbell": run_campbell,
     "ucs": run_ucs,

@@ -107,3 +107,34 @@ def bode_figure(speed, amplitude: dict, phase: dict, peaks=()):
     a1.grid(alpha=0.3)
     a2.grid(alpha=0.3)
     return fig
+
+
+def static_figure(ds):
+    """Deflection [um], shear force [N] and bending moment [N m] along the shaft, bearings marked."""
+    from rotaflex.core.plotting import new_figure
+
+    fig, axes = new_figure(3, 1, sharex=True, figsize=(7.4, 7.5))
+    z, zc = ds["z"].values, ds["z_cut"].values
+    zb = z[ds["bearing_node"].values] if ds.sizes.get("bearing", 0) else np.array([])
+    styles = {"x": ("tab:blue", "x-z plane"), "y": ("tab:red", "y-z plane")}
+    for ax_name, (color, plane) in styles.items():
+        d = ds["deflection"].sel(axis=ax_name).values
+        V = ds["shear"].sel(axis=ax_name).values
+        M = ds["moment"].sel(axis=ax_name).values
+        if np.any(d) or np.any(V):
+            axes[0].plot(z, d * 1e6, "o-", ms=3, color=color, label=f"{ax_name} ({plane})")
+            axes[1].plot(zc, V, color=color, label=f"V_{ax_name} ({plane})")
+            axes[2].plot(zc, M, color=color, label=f"M ({plane})")
+    for ax, lab in zip(axes, ("deflection [\u00b5m]", "shear force [N]", "bending moment [N m]"), strict=True):
+        ax.axhline(0, color="k", lw=0.5)
+        for zz in zb:
+            ax.axvline(zz, color="tab:orange", lw=0.8, ls="--")
+        ax.set_ylabel(lab)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="best")
+    axes[2].set_xlabel("axial position z [m] (dashed: bearings)")
+    loads = ", ".join(
+        f"{n} {np.hypot(*ds['reaction'].isel(bearing=i).values):.4g} N" for i, n in enumerate(ds["bearing_name"].values)
+    )
+    axes[0].set_title(f"static analysis; bearing loads: {loads}", fontsize=9)
+    return fig

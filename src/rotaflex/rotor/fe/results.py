@@ -178,3 +178,15 @@ class TransientResult(_FEResult):
         ax.set_ylabel("y [m]")
         ax.legend(fontsize=8)
         return {**_model_fig(self), "time_response": fig, "orbit": fig2}
+
+
+@register_result
+class StaticResult(_FEResult):
+    """Static deflection, bearing reactions, shear force and bending moment."""
+
+    kind = "rotor_fe_static"
+
+    def plot(self) -> dict:
+        from rotaflex.rotor.fe.figures import static_figure
+
+        return {**_model_fig(self), "static": static_figure(self.dataset)}
