@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rotaflex.rotor.fe.modal import STABILITY_TOL
 from rotaflex.rotor.fe.model import Rotor
 
 HZ = 1 / (2 * np.pi)
@@ -73,7 +74,7 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=()):
         fw = forward[:, k] >= 0.5
         ax.plot(rpm, np.where(fw, f, np.nan), "-", color=f"C{k % 10}", lw=1.2)
         ax.plot(rpm, np.where(~fw, f, np.nan), "--", color=f"C{k % 10}", lw=1.2)
-        bad = logdec[:, k] < 0
+        bad = logdec[:, k] < -2 * np.pi * STABILITY_TOL
         if np.any(bad):
             ax.plot(rpm[bad], f[bad], "x", color="r")
     for h in harmonics:

@@ -39,6 +39,11 @@ DENSITY_RANGE = (0.0, 1e6)
 MAX_BEARING = {"k": 1e15, "c": 1e12}  # N/m, N s/m: far beyond any rigid support of a real machine
 
 
+#: default largest model (1000 shaft elements): a dense 8000-state eigenproblem takes minutes
+DEFAULT_MAX_DOF = 4004
+RIGID_FACTOR = 1e8  #: stiffness of a rigid section relative to the model's stiffest other part
+
+
 def _not_mm(where: str, value: float, limit: float) -> None:
     """InputError if a length [m] exceeds ``limit``: it looks like millimetres."""
     if value is not None and value > limit:
@@ -67,6 +72,7 @@ class Shaft:
     G: float | None = param(None, unit="Pa", gt=0, doc="shear modulus (overrides the material)")
     rho: float | None = param(None, unit="kg/m^3", gt=0, doc="density (overrides the material)")
     shear_coefficient: float | None = param(None, gt=0, doc="Timoshenko kappa (default: Cowper's value)")
+    rigid: bool = param(False, doc="rigid section: keeps its mass, stiffness set 1e8 x the model's stiffest other part")
 
 
 @dataclass(frozen=True)
@@ -151,6 +157,9 @@ class Rotor:
     bearing: tuple[Bearing, ...] = param(())
     material: dict[str, Material] = param({})
     free: bool = param(False, doc="allow rigid-body modes (free-free rotor)")
+    max_dof: int = param(
+        DEFAULT_MAX_DOF, ge=4, doc="refuse models with more lateral DOFs (4 per node); raise it deliberately"
+    )
 
     # -- construction ----------------------------------------------------------------------
     @classmethod
@@ -181,9 +190,28 @@ class Rotor:
     def __post_init__(self):
         if not self.shaft:
             raise InputError("shaft", "<missing>", "at least one [[shaft]] section")
+        self._check_size()
         _ = self.nodes, self.elements, self.disks, self.point_masses, self.bearings  # validate now
         if not self.free:
             self._check_supported()
+
+    def _check_size(self) -> None:
+        """Refuse, before anything is assembled, a mesh beyond ``max_dof`` or the memory limit."""
+        from rotaflex.core.limits import require, require_memory
+
+        counts = [s.elements for s in self.shaft]
+        i = int(np.argmax(counts))
+        n_dof = NDOF_NODE * (sum(counts) + 1)
+        require(
+            f"shaft[{i}].elements",
+            counts[i],
+            n_dof,
+            self.max_dof,
+            "lateral DOFs",
+            "raise the top-level max_dof if you mean it (dense solvers: time grows as DOFs^3)",
+        )
+        # assembly holds M, K, G, Kst and the speed-dependent K, C copies: ~8 dense n x n arrays
+        require_memory(f"shaft[{i}].elements", counts[i], 8 * 8.0 * n_dof**2, "the assembled matrices")
 
     # -- geometry ----------------------------------------------------------------------------
     def _mat(self, name: str, where: str) -> Material:
@@ -259,7 +287,30 @@ class Rotor:
             cols["G"] += [G] * n
             cols["rho"] += [rho] * n
             cols["kappa"] += [s.shear_coefficient if s.shear_coefficient else np.nan] * n
-        return {k: np.asarray(v, float) for k, v in cols.items()}
+        out = {k: np.asarray(v, float) for k, v in cols.items()}
+        rigid = np.concatenate([[s.rigid] * s.elements for s in self.shaft])
+        if rigid.any():
+            self._make_rigid(out, rigid)
+        return out
+
+    def _make_rigid(self, e: dict[str, np.ndarray], rigid: np.ndarray) -> None:
+        """Stiffen the elements of rigid sections in place (their mass stays).
+
+        A penalty: the element's bending stiffness 12 E I / L^3 is set to RIGID_FACTOR = 1e8 times
+        the stiffest other part of the model (bearing coefficients, flexible elements). The
+        penalty error falls as 1/factor and the round-off of the eigenproblem grows as
+        factor x 1e-16, so 1e8 (about 1/sqrt(machine epsilon)) balances the two: the rigid-body
+        frequencies of a rigid rotor on springs come out to ~1e-8 (tested).
+        """
+        I = np.pi / 64 * (((e["do_l"] + e["do_r"]) / 2) ** 4 - ((e["di_l"] + e["di_r"]) / 2) ** 4)
+        k_el = 12 * e["E"] * I / e["L"] ** 3
+        ref = [float(np.max(k_el[~rigid]))] if (~rigid).any() else []
+        for b in self.bearing:
+            ref += [abs(float(v)) for key in ("kxx", "kxy", "kyx", "kyy") for v in getattr(b, key)]
+        k_ref = max(ref) if ref and max(ref) > 0 else 1e8
+        E = RIGID_FACTOR * k_ref * e["L"] ** 3 / (12 * I)
+        e["E"] = np.where(rigid, E, e["E"])
+        e["G"] = np.where(rigid, E / 2.6, e["G"])  # Poisson 0.3: shear as stiff as bending
 
     @functools.cached_property
     def nodes(self) -> np.ndarray:
@@ -477,4 +528,4 @@ class Rotor:
         return dataclasses.asdict(self)
 
 
-ROTOR_KEYS = ("shaft", "disk", "point_mass", "bearing", "material", "free")
+ROTOR_KEYS = ("shaft", "disk", "point_mass", "bearing", "material", "free", "max_dof")

@@ -19,12 +19,25 @@ def _model_fig(result):
     return {"model": model_figure(Rotor.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS}))}
 
 
+def json_safe(obj):
+    """``obj`` with every non-finite float replaced by None (strict JSON has no NaN/Infinity)."""
+    if isinstance(obj, dict):
+        return {k: json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [json_safe(v) for v in obj]
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if np.isfinite(obj) else None
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
 class _FEResult(Result):
     def summary(self) -> dict:
         out = super().summary()
         extra = json.loads(self.dataset.attrs.get("summary_extra", "{}"))
         out.update(extra)
-        return out
+        return json_safe(out)
 
 
 @register_result
