@@ -57,6 +57,7 @@ COMMANDS: dict[str, dict[str, str]] = {
         "ucs": "rotaflex.rotor.fe.case:run_ucs",
         "unbalance": "rotaflex.rotor.fe.case:run_unbalance",
         "transient": "rotaflex.rotor.fe.case:run_transient",
+        "frf": "rotaflex.rotor.fe.case:run_frf",
     },
     "gear": {
         "static": "rotaflex.gear.static_case:run_static",

@@ -54,6 +54,12 @@ class CampbellSpec:
     n_modes: int = param(8, ge=1)
     harmonics: tuple[float, ...] = param((1.0,), gt=0, doc="excitation orders drawn and crossed (1 = 1X)")
     reduce: int | None = param(None, ge=2, doc="solve in a basis of this many undamped modes (faster)")
+    critical_solve: Literal["direct", "interpolated"] = param(
+        "direct", doc="critical speeds: root of omega_d = h Omega (Brent) or linear interpolation between speeds"
+    )
+    operating_range_rpm: tuple[float, float] | None = param(
+        None, unit="rpm", gt=0, doc="[minimum, maximum] continuous speed: shaded, with the API margins marked"
+    )
 
 
 @dataclass(frozen=True)
@@ -140,6 +146,31 @@ class StaticSpec:
     load: tuple[PointLoad, ...] = param(())
 
 
+@dataclass(frozen=True)
+class FRFPair:
+    """One frequency response: output DOF per unit force (or moment) at the input DOF."""
+
+    input_node: int = param(ge=0, doc="node of the force")
+    input_direction: Literal["x", "y", "theta_x", "theta_y"] = param("x", doc="force (x, y) or moment (theta_*)")
+    output_node: int | None = param(None, ge=0, doc="node of the response (default: input_node)")
+    output_direction: Literal["x", "y", "theta_x", "theta_y"] | None = param(
+        None, doc="response DOF (default: input_direction)"
+    )
+
+
+@dataclass(frozen=True)
+class FRFSpec:
+    """Frequency response functions at one spin speed (Bode and Nyquist)."""
+
+    speed_rpm: float = param(0.0, unit="rpm", ge=0, doc="spin speed")
+    frequency_hz: tuple[float, float] = param((1.0, 200.0), unit="Hz", ge=0, doc="excitation frequency range")
+    n_frequencies: int = param(2000, ge=2)
+    kind: Literal["receptance", "mobility", "accelerance"] = param(
+        "receptance", doc="H = X/F [m/N], i w H [m/(N s)] or -w^2 H [m/(N s^2)]"
+    )
+    pair: tuple[FRFPair, ...] = param((), doc="default: direct x and y at the first disk (or mid-shaft) node")
+
+
 ANALYSES = {
     "static": StaticSpec,
     "modal": ModalSpec,
@@ -147,6 +178,7 @@ ANALYSES = {
     "ucs": UCSSpec,
     "unbalance": UnbalanceSpec,
     "transient": TransientSpec,
+    "frf": FRFSpec,
 }
 
 
@@ -168,6 +200,7 @@ class FECase:
     ucs: UCSSpec = field(default_factory=UCSSpec)
     unbalance: UnbalanceSpec = field(default_factory=UnbalanceSpec)
     transient: TransientSpec = field(default_factory=TransientSpec)
+    frf: FRFSpec = field(default_factory=FRFSpec)
 
 
 SCHEMA = FECase
@@ -322,7 +355,16 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     t0 = time.perf_counter()
     rotor, spec = parse(config, "campbell")
     speeds = _speeds(spec.speed_rpm, spec.n_speeds, "campbell")
-    c = campbell(rotor, speeds, spec.n_modes, spec.harmonics, reduce=spec.reduce)
+    n_modes, note = clamp_modes(rotor, spec.n_modes, "campbell.n_modes")
+    reduce = spec.reduce if spec.reduce is None or spec.reduce < rotor.n_dof else None
+    if reduce is None and spec.reduce is not None:
+        note = (note + "; " if note else "") + f"campbell.reduce = {spec.reduce} >= the {rotor.n_dof} DOFs: full solve"
+    c = campbell(rotor, speeds, n_modes, spec.harmonics, reduce=reduce)
+    critical = c.critical
+    if spec.critical_solve == "direct" and reduce is None:
+        from rotaflex.rotor.fe.critical import critical_speeds
+
+        critical = critical_speeds(rotor, speeds, n_modes, spec.harmonics, data=c)
     m = c.modes
     ds = xr.Dataset(
         {
@@ -334,29 +376,37 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
             "mac_min": ("speed", c.mac_min, {"units": "1", "long_name": "smallest MAC of the tracking step"}),
             "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
         },
-        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(spec.n_modes)},
+        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(n_modes)},
     )
     extra = {
+        "critical_solve": {"value": spec.critical_solve if reduce is None else "interpolated", "unit": ""},
+        **({"note": {"value": note, "unit": ""}} if note else {}),
+    }
+    extra |= {
         f"critical_{i}_rpm": {
             "value": cr["speed"] / RPM,
             "unit": "rpm",
             "whirl": cr["whirl"],
             "harmonic": cr["harmonic"],
         }
-        for i, cr in enumerate(c.critical)
+        for i, cr in enumerate(critical)
     }
     extra["unstable_modes"] = {"value": len(c.unstable), "unit": ""}
     extra.update(
         {f"unstable_mode_{u['mode']}_onset_rpm": {"value": u["speed"] / RPM, "unit": "rpm"} for u in c.unstable}
     )
-    fw = [cr for cr in c.critical if cr["whirl"] == "forward" and cr["harmonic"] == 1]
+    fw = [cr for cr in critical if cr["whirl"] == "forward" and cr["harmonic"] == 1]
     msg = (
-        f"{spec.n_modes} modes over {spec.n_speeds} speeds; forward 1X critical speeds [rpm]: "
+        f"{n_modes} modes over {spec.n_speeds} speeds; forward 1X critical speeds [rpm]: "
         + (", ".join(f"{cr['speed'] / RPM:.0f}" for cr in fw) or "none")
         + (f"; {len(c.unstable)} unstable mode(s)" if c.unstable else "")
     )
     ds.attrs.update(_attrs(config, t0, extra, msg))
-    ds.attrs["critical_speeds"] = json.dumps(c.critical)
+    ds.attrs["critical_speeds"] = json.dumps(critical)
+    if spec.operating_range_rpm is not None:
+        from rotaflex.rotor.fe.api import check_bands
+
+        ds.attrs["bands"] = json.dumps(check_bands([spec.operating_range_rpm], "campbell.operating_range_rpm"))
     ds.attrs["unstable"] = json.dumps(c.unstable)
     ds.attrs["harmonics"] = json.dumps(list(spec.harmonics))
     return CampbellResult(ds)
@@ -596,8 +646,16 @@ def run_static(config: dict, *, progress: bool = False):
     return _run(config, progress=progress)
 
 
+def run_frf(config: dict, *, progress: bool = False):
+    """Frequency response functions of ``[frf]`` (receptance, mobility or accelerance)."""
+    from rotaflex.rotor.fe.verbs import run_frf as _run
+
+    return _run(config, progress=progress)
+
+
 RUNNERS = {
     "static": run_static,
+    "frf": run_frf,
     "modal": run_modal,
     "campbell": run_campbell,
     "ucs": run_ucs,

@@ -139,3 +139,36 @@ def static_figure(ds):
     )
     axes[0].set_title(f"static analysis; bearing loads: {loads}", fontsize=9)
     return fig
+
+
+def frf_figures(ds) -> dict:
+    """Bode (|H| log, phase) and Nyquist (Re, Im) of each FRF pair."""
+    from rotaflex.core.plotting import new_figure
+
+    unit = ds["amplitude"].attrs.get("units", "")
+    kind = ds.attrs.get("kind", "receptance")
+    f = ds["frequency_hz"].values
+    fig, (a1, a2) = new_figure(2, 1, sharex=True, figsize=(7.4, 6.0))
+    fig2, ax = new_figure(figsize=(6.0, 5.6))
+    for j, lab in enumerate(ds["pair"].values):
+        H = ds["H_real"].values[:, j] + 1j * ds["H_imag"].values[:, j]
+        a1.semilogy(f, np.abs(H), color=f"C{j}", label=str(lab))
+        a2.plot(f, np.degrees(np.angle(H)), color=f"C{j}", label=str(lab))
+        ax.plot(H.real, H.imag, color=f"C{j}", label=str(lab))
+    a1.set_ylabel(f"|{kind}| [{unit}]")
+    a2.set_ylabel("phase [deg]")
+    a2.set_yticks([-180, -90, 0, 90, 180])
+    a2.set_xlabel("excitation frequency [Hz]")
+    a1.set_title(f"FRF at {float(ds.attrs.get('speed_rpm', 0)):g} rpm (label: output / input DOF and node)")
+    for a in (a1, a2):
+        a.grid(alpha=0.3, which="both")
+        a.legend(fontsize=8)
+    ax.set_xlabel(f"Re H [{unit}]")
+    ax.set_ylabel(f"Im H [{unit}]")
+    ax.set_title("Nyquist plot")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.axvline(0, color="k", lw=0.5)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return {"frf_bode": fig, "frf_nyquist": fig2}

@@ -203,3 +203,15 @@ class StaticResult(_FEResult):
         from rotaflex.rotor.fe.figures import static_figure
 
         return {**_model_fig(self), "static": static_figure(self.dataset)}
+
+
+@register_result
+class FRFResult(_FEResult):
+    """Frequency response functions at one spin speed: Bode and Nyquist."""
+
+    kind = "rotor_fe_frf"
+
+    def plot(self) -> dict:
+        from rotaflex.rotor.fe.figures import frf_figures
+
+        return {**_model_fig(self), **frf_figures(self.dataset)}

@@ -13,7 +13,7 @@ import xarray as xr
 
 from rotaflex.rotor.fe.case import _attrs, parse
 from rotaflex.rotor.fe.model import RPM
-from rotaflex.rotor.fe.results import StaticResult
+from rotaflex.rotor.fe.results import FRFResult, StaticResult
 
 
 def run_static(config: dict, *, progress: bool = False) -> StaticResult:
@@ -66,3 +66,58 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     )
     ds.attrs.update(_attrs(config, t0, extra, msg))
     return StaticResult(ds)
+
+
+def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
+    """FRFs of ``[frf]`` at ``speed_rpm`` over ``frequency_hz``, with peaks and half-power damping."""
+    from rotaflex.core.errors import InputError
+    from rotaflex.rotor.fe.frf import dof_index, frf, half_power
+
+    t0 = time.perf_counter()
+    rotor, spec = parse(config, "frf")
+    f0, f1 = spec.frequency_hz
+    if f1 <= f0:
+        raise InputError("frf.frequency_hz", list(spec.frequency_hz), "[start, stop] with stop > start")
+    node = rotor.disks[0][0] if rotor.disks else rotor.n_nodes // 2
+    pairs = [(p.input_node, p.input_direction, p.output_node, p.output_direction) for p in spec.pair] or [
+        (node, "x", None, None),
+        (node, "y", None, None),
+    ]
+    ins, outs, labels = [], [], []
+    for i, (a, da, b, db) in enumerate(pairs):
+        b = a if b is None else b
+        db = da if db is None else db
+        ins.append(dof_index(rotor, a, da, f"frf.pair[{i}].input_node"))
+        outs.append(dof_index(rotor, b, db, f"frf.pair[{i}].output_node"))
+        labels.append(f"{db}{b}/{'F' if da in 'xy' else 'M'}{da}{a}")
+    w = np.linspace(f0, f1, spec.n_frequencies) * 2 * np.pi
+    speed = spec.speed_rpm * RPM
+    uniq = sorted(set(ins))
+    data = frf(rotor, w, speed, uniq, sorted(set(outs)), spec.kind)
+    out_idx = {d: j for j, d in enumerate(sorted(set(outs)))}
+    H = np.stack([data.H[:, out_idx[o], uniq.index(i)] for i, o in zip(ins, outs, strict=True)], 1)
+    unit = {"receptance": "m/N", "mobility": "m/(N s)", "accelerance": "m/(N s^2)"}[spec.kind]
+    ds = xr.Dataset(
+        {
+            "H_real": (("frequency", "pair"), H.real, {"units": unit}),
+            "H_imag": (("frequency", "pair"), H.imag, {"units": unit}),
+            "amplitude": (("frequency", "pair"), np.abs(H), {"units": unit, "long_name": f"|{spec.kind}|"}),
+            "phase": (("frequency", "pair"), np.angle(H), {"units": "rad"}),
+            "frequency_hz": ("frequency", w / (2 * np.pi), {"units": "Hz"}),
+        },
+        coords={"frequency": ("frequency", w, {"units": "rad/s"}), "pair": labels},
+    )
+    ds.attrs["kind"] = spec.kind
+    ds.attrs["speed_rpm"] = spec.speed_rpm
+    extra = {"speed": {"value": spec.speed_rpm, "unit": "rpm"}, "kind": {"value": spec.kind, "unit": unit}}
+    shown = []
+    for j, lab in enumerate(labels):
+        for k, p in enumerate(half_power(w, np.abs(H[:, j]))):
+            extra[f"{lab}_peak_{k}_frequency_hz"] = {"value": p["frequency"] / (2 * np.pi), "unit": "Hz"}
+            extra[f"{lab}_peak_{k}_amplitude"] = {"value": p["amplitude"], "unit": unit}
+            extra[f"{lab}_peak_{k}_half_power_damping_ratio"] = {"value": p["zeta"], "unit": "1"}
+            if j == 0:
+                shown.append(f"{p['frequency'] / (2 * np.pi):.4g} Hz")
+    msg = f"{len(labels)} FRFs at {spec.speed_rpm:g} rpm; peaks of {labels[0]}: " + (", ".join(shown) or "none")
+    ds.attrs.update(_attrs(config, t0, extra, msg))
+    return FRFResult(ds)
