@@ -188,3 +188,19 @@ def test_bad_operating_inputs(tmp_path: Path):
         run_unbalance(
             _cfg(tmp_path, "operating_speed_rpm = 2000\noperating_range_rpm = [1000, 3000]\napi_unbalance = true")
         )
+
+
+def test_cli_example_gives_api_verdicts_and_figures(tmp_path: Path):
+    """The example's first forward critical (~4,220 rpm) lies inside 3,000-9,000 rpm: the verdict must say so."""
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+
+    example = Path(__file__).resolve().parents[3] / "examples" / "rotor" / "fe_api684.toml"
+    res = CliRunner().invoke(app, ["rotor", "unbalance", str(example), "--out", str(tmp_path), "-q"])
+    assert res.exit_code == 0, res.output
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["peak_0_position"]["value"] == "inside" and s["peak_0_meets_api684_margin"]["value"] == 0.0
+    assert 4000 < s["peak_0_speed_rpm"]["value"] < 4400
+    assert s["vibration_limit_pp"]["value"] == pytest.approx(25.4e-6)  # N = 9000 rpm < 12000: the cap
+    assert (tmp_path / "bode.png").exists() and (tmp_path / "orbit.png").exists()
