@@ -51,12 +51,12 @@ CASES: dict[str, str] = {
 #: the CLI adds ``rotaflex <domain> <verb> CONFIG --out DIR`` for each
 COMMANDS: dict[str, dict[str, str]] = {
     "rotor": {
-        "static": "rotaflex.rotor.fe.case:run_static",
         "modal": "rotaflex.rotor.fe.case:run_modal",
         "campbell": "rotaflex.rotor.fe.case:run_campbell",
         "ucs": "rotaflex.rotor.fe.case:run_ucs",
         "unbalance": "rotaflex.rotor.fe.case:run_unbalance",
         "transient": "rotaflex.rotor.fe.case:run_transient",
+        "static": "rotaflex.rotor.fe.case:run_static",
         "frf": "rotaflex.rotor.fe.case:run_frf",
     },
     "gear": {

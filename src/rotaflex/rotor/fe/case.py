@@ -593,6 +593,7 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
 
     t0 = time.perf_counter()
     rotor, spec = parse(config, "transient")
+    n_modes, note = clamp_modes(rotor, spec.n_modes, "transient.n_modes")
     ub = _unbalances(rotor, spec.mass, "transient")
     probes = list(spec.probes) or (sorted({u[0] for u in ub}) or [rotor.n_nodes // 2])
     for p in probes:
@@ -606,7 +607,7 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
         unbalance=ub,
         n_output=spec.n_output,
         method=spec.method,
-        n_modes=spec.n_modes,
+        n_modes=n_modes,
         steps_per_output=spec.steps_per_output,
         large_rotation=spec.large_rotation,
         large_rotation_model=spec.large_rotation_model,
@@ -634,7 +635,9 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
     }
     if tr.quaternion is not None:
         extra["quaternion_norm_drift"] = {"value": tr.quaternion_norm_drift, "unit": "1"}
-    ds.attrs.update(_attrs(config, t0, extra, tr.message))
+    if note:
+        extra["note"] = {"value": note, "unit": ""}
+    ds.attrs.update(_attrs(config, t0, extra, tr.message + (f"; {note}" if note else "")))
     ds.attrs["nfev"] = tr.nfev
     return TransientResult(ds)
 

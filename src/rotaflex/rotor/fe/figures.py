@@ -125,7 +125,31 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
     return fig
 
 
-def bode_figure(ds, peaks=(), bands=(), limit=None):
+def bode_figure(speed, amplitude: dict, phase: dict, peaks=()):
+    """Amplitude [um] (linear) and phase [deg] vs speed [rpm] per labelled curve; peaks marked."""
+    from rotaflex.core.plotting import new_figure
+
+    fig, (a1, a2) = new_figure(2, 1, sharex=True)
+    rpm = np.asarray(speed) * RPM
+    for name, amp in amplitude.items():
+        a1.plot(rpm, np.asarray(amp) * 1e6, label=name)
+        a2.plot(rpm, np.degrees(np.unwrap(phase[name])), label=name)
+    for p in peaks:
+        a1.axvline(p["speed"] * RPM, color="0.6", lw=0.6)
+        a1.annotate(
+            f"{p['speed'] * RPM:.0f} rpm", (p["speed"] * RPM, 0), fontsize=7, xytext=(3, 3), textcoords="offset points"
+        )
+    a1.set_ylabel("amplitude [\u00b5m]")
+    a1.set_ylim(bottom=0)
+    a2.set_ylabel("phase [deg]")
+    a2.set_xlabel("spin speed [rpm]")
+    a1.legend(fontsize=8)
+    a1.grid(alpha=0.3)
+    a2.grid(alpha=0.3)
+    return fig
+
+
+def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
     """Unbalance response per probe: peak-to-peak x, y and orbit major axis [um] (linear), phases.
 
     ``limit`` [m]: the vibration limit (peak-to-peak) drawn as a line; ``bands`` [(lo, hi) rad/s]

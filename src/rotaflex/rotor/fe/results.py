@@ -130,11 +130,11 @@ class UnbalanceResult(_FEResult):
 
     def plot(self) -> dict:
         from rotaflex.core.plotting import new_figure
-        from rotaflex.rotor.fe.figures import bode_figure
+        from rotaflex.rotor.fe.figures import unbalance_bode_figure
 
         ds = self.dataset
         figs = _model_fig(self)
-        figs["bode"] = bode_figure(
+        figs["bode"] = unbalance_bode_figure(
             ds,
             json.loads(ds.attrs.get("peaks", "[]")),
             json.loads(ds.attrs.get("bands", "[]")),
