@@ -49,7 +49,8 @@ def test_whirl_forward_backward_mixed_from_orbits():
 
 
 def test_modal_summary_has_every_quantity_with_units(tmp_path: Path):
-    res = CliRunner().invoke(app, ["rotor", "modal", str(EXAMPLES / "fe_api684.toml"), "--out", str(tmp_path), "-q"])
+    args = ["rotor", "modal", str(EXAMPLES / "fe_api684.toml"), "--out", str(tmp_path), "-q", "--no-figures"]
+    res = CliRunner().invoke(app, args)
     assert res.exit_code == 0, res.output
     s = json.loads((tmp_path / "summary.json").read_text())
     for key, unit in (

@@ -54,7 +54,12 @@ def critical_speeds(
                     j = int(np.argmax(mac(ref[None], m.shape[0])[0]))
                     return m.wd[0, j] - h * w
 
-                root = brentq(g, scan[s], scan[s + 1], xtol=xtol * scan[s + 1], rtol=4 * np.finfo(float).eps)
+                try:
+                    root = brentq(g, scan[s], scan[s + 1], xtol=xtol * scan[s + 1], rtol=4 * np.finfo(float).eps)
+                    how = "direct"
+                except ValueError:  # the MAC-matched mode has no sign change (a near-degenerate pair): interpolate
+                    root = scan[s] + d[s] / (d[s] - d[s + 1]) * (scan[s + 1] - scan[s])
+                    how = "interpolated"
                 m = modal(rotor, root, n_cand)
                 j = int(np.argmax(mac(ref[None], m.shape[0])[0]))
                 out.append(
@@ -66,6 +71,7 @@ def critical_speeds(
                         "whirl": str(m.whirl[0, j]),
                         "log_dec": float(m.log_dec[0, j]),
                         "evaluations": count[0],
+                        "solve": how,
                     }
                 )
     out.sort(key=lambda x: x["speed"])
