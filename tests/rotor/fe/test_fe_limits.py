@@ -55,3 +55,12 @@ def test_reduce_above_dofs_is_a_full_solve_with_a_note(tmp_path):
     assert res.exit_code == 0, res.output
     s = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert "full solve" in s["note"]["value"]
+
+
+def test_ucs_n_modes_above_the_plane_dofs_is_clamped(tmp_path):
+    import json
+
+    res = _run(tmp_path, "ucs", "n_points = 40", "n_points = 5\nn_modes = 100", "--no-figures")
+    assert res.exit_code == 0, res.output
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert "clamped to 14" in s["note"]["value"]

@@ -421,12 +421,17 @@ def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
     if spec.stiffness[1] <= spec.stiffness[0]:
         raise InputError("ucs.stiffness", list(spec.stiffness), "[low, high] with high > low")
     k = np.geomspace(spec.stiffness[0], spec.stiffness[1], spec.n_points)
-    w = ucs_map(rotor, k, spec.n_modes)
+    n_modes, note = spec.n_modes, ""
+    if n_modes > rotor.n_dof // 2:  # the one-plane UCS problem has n_dof / 2 DOFs
+        n_modes, note = rotor.n_dof // 2, f"ucs.n_modes = {spec.n_modes} clamped to {rotor.n_dof // 2} (one-plane DOFs)"
+    w = ucs_map(rotor, k, n_modes)
     ds = xr.Dataset(
         {"critical_speed": (("stiffness", "mode"), w, {"units": "rad/s"})},
-        coords={"stiffness": ("stiffness", k, {"units": "N/m"}), "mode": np.arange(spec.n_modes)},
+        coords={"stiffness": ("stiffness", k, {"units": "N/m"}), "mode": np.arange(n_modes)},
     )
-    ds.attrs.update(_attrs(config, t0, {}, f"{spec.n_points} stiffness values, {spec.n_modes} critical speeds each"))
+    extra = {"note": {"value": note, "unit": ""}} if note else {}
+    msg = f"{spec.n_points} stiffness values, {n_modes} critical speeds each" + (f"; {note}" if note else "")
+    ds.attrs.update(_attrs(config, t0, extra, msg))
     return UCSResult(ds)
 
 
