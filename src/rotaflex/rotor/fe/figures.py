@@ -97,7 +97,7 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
             ax.plot(rpm[bad], f[bad], "x", color="r")
         if np.isfinite(f[-1]):
             sense = "FW" if fw[-1] else "BW"
-            ax.annotate(f" {k}{sense} {f[-1]:.0f} Hz", (rpm[-1], f[-1]), fontsize=7, color=f"C{k % 10}", va="center")
+            ax.annotate(f" {k} {sense} {f[-1]:.0f} Hz", (rpm[-1], f[-1]), fontsize=7, color=f"C{k % 10}", va="center")
     for h in harmonics:
         ax.plot(rpm, h * np.asarray(speed) * HZ, ":k", lw=0.9)
         yh = min(h * speed[-1] * HZ, top * 0.97)
