@@ -87,6 +87,7 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
             alpha=0.5,
             label="largest API margins (16 % / 26 %)" if i == 0 else None,
         )
+    labels = []
     for k in range(wd.shape[1]):
         f = wd[:, k] * HZ
         fw = forward[:, k] >= 0.5
@@ -96,21 +97,24 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
         if np.any(bad):
             ax.plot(rpm[bad], f[bad], "x", color="r")
         if np.isfinite(f[-1]):
-            sense = "FW" if fw[-1] else "BW"
-            ax.annotate(f" {k} {sense} {f[-1]:.0f} Hz", (rpm[-1], f[-1]), fontsize=7, color=f"C{k % 10}", va="center")
+            labels.append([f[-1], f" {k} {'FW' if fw[-1] else 'BW'} {f[-1]:.0f} Hz", f"C{k % 10}"])
+    gap = 0.03 * top  # spread labels of close modes apart
+    labels.sort(key=lambda t: t[0])
+    for i in range(1, len(labels)):
+        labels[i][0] = max(labels[i][0], labels[i - 1][0] + gap)
+    for y, text, color in labels:
+        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center")
     for h in harmonics:
         ax.plot(rpm, h * np.asarray(speed) * HZ, ":k", lw=0.9)
         yh = min(h * speed[-1] * HZ, top * 0.97)
         ax.annotate(f"{h:g}X", (yh / (h * HZ) * RPM, yh), fontsize=8, ha="right", va="bottom")
-    for c in critical:
+    last = -np.inf
+    for c in sorted(critical, key=lambda c: c["speed"]):
         ax.plot(c["speed"] * RPM, c["frequency"] * HZ, "o", mfc="none", mec="k", ms=7)
-        if c.get("harmonic", 1) == 1:
+        if c.get("harmonic", 1) == 1 and c["speed"] * RPM > last * 1.04:  # skip labels that would overprint
+            last = c["speed"] * RPM
             ax.annotate(
-                f"{c['speed'] * RPM:.0f}",
-                (c["speed"] * RPM, c["frequency"] * HZ),
-                fontsize=7,
-                xytext=(4, -10),
-                textcoords="offset points",
+                f"{last:.0f}", (last, c["frequency"] * HZ), fontsize=7, xytext=(4, -10), textcoords="offset points"
             )
     ax.set_ylim(0, top)
     ax.set_xlim(rpm[0], rpm[-1] * 1.12)
