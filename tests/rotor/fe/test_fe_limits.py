@@ -64,3 +64,13 @@ def test_ucs_n_modes_above_the_plane_dofs_is_clamped(tmp_path):
     assert res.exit_code == 0, res.output
     s = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert "clamped to 14" in s["note"]["value"]
+
+
+def test_campbell_n_modes_above_the_dofs_is_clamped(tmp_path):
+    """n_modes 100 in a 28-DOF rotor: once a crash (non-finite matrix); now clamped, with figures."""
+    import json
+
+    res = _run(tmp_path, "campbell", "n_speeds = 50\nn_modes = 6", "n_speeds = 8\nn_modes = 100")
+    assert res.exit_code == 0, res.output
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert "clamped to 28" in s["note"]["value"] and (tmp_path / "o" / "campbell.png").exists()

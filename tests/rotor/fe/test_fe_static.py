@@ -111,3 +111,16 @@ def test_cli_static_writes_reactions_and_figure(tmp_path: Path):
     total = summ["load_drive_end"]["value"] + summ["load_non_drive_end"]["value"]
     assert np.isclose(total, summ["total_mass"]["value"] * STANDARD_GRAVITY, rtol=1e-9)
     assert (tmp_path / "static.png").exists()
+
+
+def test_point_load_from_toml_by_position():
+    """Overhung load: 200 N down at z = 1.2 m, bearings at 0.1 and 1.1 m -> -20 N and 220 N (lever rule)."""
+    from rotaflex.core.config import load_toml
+    from rotaflex.rotor.fe.verbs import run_static
+
+    cfg = load_toml(EXAMPLE)
+    cfg["static"] = {"gravity": 0.0, "load": [{"position": 1.2, "fy": -200.0}]}
+    s = run_static(cfg).summary()
+    assert s["reaction_drive_end_y"]["value"] == pytest.approx(-20.0, rel=1e-9)
+    assert s["reaction_non_drive_end_y"]["value"] == pytest.approx(220.0, rel=1e-9)
+    assert s["max_bending_moment"]["value"] == pytest.approx(200.0 * 0.1, rel=1e-9)  # at the right bearing
