@@ -24,6 +24,12 @@ def _run(tmp_path, verb, old, new, *extra, env=None):
         ("modal", "elements = 6", "elements = 3000", "shaft[0].elements"),
         ("static", "elements = 6", "elements = 100000", "shaft[0].elements"),
         ("transient", "n_output = 4001", "n_output = 1000000000", "transient.n_output"),
+        (
+            "transient",
+            'method = "modal"',
+            'method = "direct"\nsteps_per_output = 1000000000',
+            "transient.steps_per_output",
+        ),
         ("unbalance", "n_speeds = 500", "n_speeds = 1000000000", "unbalance.n_speeds"),
         ("campbell", "n_speeds = 50", "n_speeds = 1000000000", "campbell.n_speeds"),
         ("ucs", "n_points = 40", "n_points = 1000000000", "ucs.n_points"),
