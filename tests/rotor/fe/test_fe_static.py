@@ -124,3 +124,19 @@ def test_point_load_from_toml_by_position():
     assert s["reaction_drive_end_y"]["value"] == pytest.approx(-20.0, rel=1e-9)
     assert s["reaction_non_drive_end_y"]["value"] == pytest.approx(220.0, rel=1e-9)
     assert s["max_bending_moment"]["value"] == pytest.approx(200.0 * 0.1, rel=1e-9)  # at the right bearing
+
+
+def test_deflection_curve_within_elements_is_the_exact_sag():
+    """Between the nodes the element's shape functions give the exact Euler-Bernoulli + shear sag of a
+    point-loaded span (the interdependent element is exact for nodal loads)."""
+    from rotaflex.rotor.fe.static import deflection_curve
+
+    L, d, P = 1.0, 0.05, 1000.0
+    r = _beam(L, d, 2)
+    s = static_analysis(r, gravity=0.0, loads=[(1, 0.0, -P)])
+    curve = deflection_curve(r, s.q)[:, 1] - s.q[1]
+    z = s.z
+    A, I = np.pi * d**2 / 4, np.pi * d**4 / 64
+    zl = np.minimum(z, L - z)  # symmetric: left half formula
+    exact = -(P * zl * (3 * L**2 - 4 * zl**2) / (48 * E * I) + P * zl / (2 * KAPPA * G * A))
+    assert np.allclose(curve, exact, rtol=1e-6, atol=1e-6 * np.abs(exact).max())

@@ -229,7 +229,11 @@ def static_figure(ds):
         V = ds["shear"].sel(axis=ax_name).values
         M = ds["moment"].sel(axis=ax_name).values
         if np.any(d) or np.any(V):
-            axes[0].plot(z, d * 1e6, "o-", ms=3, color=color, label=f"{ax_name} ({plane})")
+            if "deflection_curve" in ds:
+                axes[0].plot(zc, ds["deflection_curve"].sel(axis=ax_name).values * 1e6, "-", color=color)
+                axes[0].plot(z, d * 1e6, "o", ms=3, color=color, label=f"{ax_name} ({plane}), o: nodes")
+            else:
+                axes[0].plot(z, d * 1e6, "o-", ms=3, color=color, label=f"{ax_name} ({plane})")
             axes[1].plot(zc, V, color=color, label=f"V_{ax_name} ({plane})")
             axes[2].plot(zc, M, color=color, label=f"M ({plane})")
     for ax, lab in zip(axes, ("deflection [\u00b5m]", "shear force [N]", "bending moment [N m]"), strict=True):

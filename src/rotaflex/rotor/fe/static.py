@@ -206,3 +206,25 @@ def _diagrams(rotor: Rotor, point: np.ndarray, g: np.ndarray, n_sub: int):
     M = F * z[..., None] - Fz + (cm0 * z - cm1)[..., None] * g
     stress = np.hypot(M[..., 0], M[..., 1]) * (do / 2) / inertia
     return z.ravel(), V.reshape(-1, 2), M.reshape(-1, 2), stress.ravel()
+
+
+def deflection_curve(rotor: Rotor, q: np.ndarray, n_sub: int = 8) -> np.ndarray:
+    """Deflection (c, 2) [m] at the cuts of :func:`static_analysis` (``n_sub + 1`` per element).
+
+    Interpolated within each element by its own interdependent Timoshenko shape functions
+    (``N_w`` of the element, plane by plane: x with theta_y, y with -theta_x), so the curve is
+    the element's displacement field, not a straight line between nodes.
+    """
+    from rotaflex.rotor.fe.elements.shaft import _section, _shape, cowper_shear_coefficient
+
+    e = rotor.elements
+    t = np.linspace(0.0, 1.0, n_sub + 1)
+    dm, dim_ = (e["do_l"] + e["do_r"]) / 2, (e["di_l"] + e["di_r"]) / 2
+    A, I = _section(dm, dim_)
+    kappa = np.where(np.isnan(e["kappa"]), cowper_shear_coefficient(dim_ / dm, e["E"] / (2 * e["G"]) - 1), e["kappa"])
+    phi = 12 * e["E"] * I / (kappa * e["G"] * A * e["L"] ** 2)
+    nw = _shape(t, phi, e["L"])[0]  # (ne, n_sub + 1, 4)
+    Q = q.reshape(rotor.n_nodes, NDOF_NODE)
+    qx = np.stack([Q[:-1, 0], Q[:-1, 3], Q[1:, 0], Q[1:, 3]], -1)  # x-z plane: (x, theta_y)
+    qy = np.stack([Q[:-1, 1], -Q[:-1, 2], Q[1:, 1], -Q[1:, 2]], -1)  # y-z plane: (y, -theta_x)
+    return np.stack([np.einsum("ngi,ni->ng", nw, qx).ravel(), np.einsum("ngi,ni->ng", nw, qy).ravel()], -1)

@@ -18,7 +18,7 @@ from rotaflex.rotor.fe.results import FRFResult, StaticResult
 
 def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     """Static analysis of ``[static]``: gravity sag, point loads, reactions, shear and moment."""
-    from rotaflex.rotor.fe.static import static_analysis
+    from rotaflex.rotor.fe.static import deflection_curve, static_analysis
 
     t0 = time.perf_counter()
     rotor, spec = parse(config, "static")
@@ -39,6 +39,11 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
             "moment": (("cut", "axis"), s.moment, {"units": "N m", "long_name": "bending moment"}),
             "stress": ("cut", s.stress, {"units": "Pa", "long_name": "largest bending stress"}),
             "z_cut": ("cut", s.z, {"units": "m"}),
+            "deflection_curve": (
+                ("cut", "axis"),
+                deflection_curve(rotor, s.q),
+                {"units": "m", "long_name": "deflection within the elements (shape functions)"},
+            ),
         },
         coords={"node": np.arange(rotor.n_nodes), "axis": ["x", "y"], "bearing": np.arange(nb)},
     )
