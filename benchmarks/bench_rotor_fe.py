@@ -60,10 +60,35 @@ def main() -> None:
         f"(max relative frequency difference to full: {dr:.1e})"
     )
     print(f"unbalance, 500 speeds  best {t_unb[0]:7.3f} s   median {t_unb[1]:7.3f} s   (target 0.5 s)")
+    practice(r)
     try:
         import ross  # noqa: F401
     except ImportError:
         print("ROSS not importable: no comparison")
+
+
+def practice(r: Rotor) -> None:
+    """Static analysis, FRF and the direct critical-speed solve vs a fine Campbell diagram."""
+    from rotaflex.rotor.fe.critical import critical_speeds
+    from rotaflex.rotor.fe.frf import frf
+    from rotaflex.rotor.fe.static import static_analysis
+
+    t_static = best(lambda: static_analysis(r))
+    w = np.linspace(1.0, 2 * np.pi * 400, 2000)
+    t_frf = best(lambda: frf(r, w, 5000 * RPM, [24, 25]), 3)
+    scan = np.linspace(1.0, 12000 * RPM, 30)
+    t_crit = best(lambda: critical_speeds(r, scan, 6), 3)
+    cs = critical_speeds(r, scan, 6)
+    fine_n = 2000
+    t_fine = best(lambda: campbell(r, np.linspace(1.0, 12000 * RPM, fine_n), 6), 1)
+    fine = campbell(r, np.linspace(1.0, 12000 * RPM, fine_n), 6).critical
+    diff = max(min(abs(f["speed"] - c["speed"]) for f in fine) / c["speed"] for c in cs)
+    print(f"static analysis        best {t_static[0] * 1e3:7.2f} ms  median {t_static[1] * 1e3:7.2f} ms")
+    print(f"FRF, 2000 freq x 2 in  best {t_frf[0]:7.3f} s   median {t_frf[1]:7.3f} s")
+    print(
+        f"direct critical speeds ({len(cs)} roots, 30-speed scan) best {t_crit[0]:7.3f} s; "
+        f"{fine_n}-speed Campbell {t_fine[0]:7.3f} s; max relative difference {diff:.1e}"
+    )
 
 
 if __name__ == "__main__":

@@ -56,6 +56,8 @@ COMMANDS: dict[str, dict[str, str]] = {
         "ucs": "rotaflex.rotor.fe.case:run_ucs",
         "unbalance": "rotaflex.rotor.fe.case:run_unbalance",
         "transient": "rotaflex.rotor.fe.case:run_transient",
+        "static": "rotaflex.rotor.fe.case:run_static",
+        "frf": "rotaflex.rotor.fe.case:run_frf",
     },
     "gear": {
         "static": "rotaflex.gear.static_case:run_static",

@@ -1,12 +1,16 @@
 """Finite-element rotor-bearing systems (Timoshenko shaft, rigid disks, linear bearings).
 
-Model: :class:`Rotor` (frozen data, SI). Analyses are functions: :func:`modal`,
-:func:`campbell`, :func:`ucs_map`, :func:`unbalance_response`, :func:`transient`.
+Model: :class:`Rotor` (frozen data, SI). Analyses are functions: :func:`static_analysis`,
+:func:`modal`, :func:`campbell`, :func:`critical_speeds`, :func:`ucs_map`,
+:func:`unbalance_response`, :func:`frf`, :func:`transient`; API 684 rules in :mod:`.api`.
 """
 
+from rotaflex.rotor.fe.critical import critical_speeds
+from rotaflex.rotor.fe.frf import frf
 from rotaflex.rotor.fe.modal import campbell, modal, ucs_map
 from rotaflex.rotor.fe.model import Bearing, Disk, PointMass, Rotor, Shaft
 from rotaflex.rotor.fe.response import peaks, unbalance_response
+from rotaflex.rotor.fe.static import static_analysis
 from rotaflex.rotor.fe.torsion_axial import axial_modes, torsional_modes
 from rotaflex.rotor.fe.transient import transient
 
@@ -18,8 +22,11 @@ __all__ = [
     "Shaft",
     "axial_modes",
     "campbell",
+    "critical_speeds",
+    "frf",
     "modal",
     "peaks",
+    "static_analysis",
     "torsional_modes",
     "transient",
     "ucs_map",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rotaflex.rotor.fe.modal import STABILITY_TOL
 from rotaflex.rotor.fe.model import Rotor
 
 HZ = 1 / (2 * np.pi)
@@ -62,48 +63,296 @@ def model_figure(rotor: Rotor):
     return fig
 
 
-def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=()):
-    """Damped frequencies [Hz] vs speed [rpm]; forward solid, backward dashed; x: unstable."""
+def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), bands=()):
+    """Damped frequencies [Hz] vs speed [rpm], labelled per mode; forward solid, backward dashed.
+
+    ``bands`` [(lo, hi) rad/s]: operating ranges shaded, with API 684's largest separation
+    margins (16 % below the minimum, 26 % above the maximum speed) hatched beside them.
+    """
     from rotaflex.core.plotting import new_figure
 
-    fig, ax = new_figure()
+    fig, ax = new_figure(figsize=(8.4, 5.4))
     rpm = np.asarray(speed) * RPM
+    top = np.nanmax(wd) * HZ * 1.08
+    for i, (lo, hi) in enumerate(bands):
+        ax.axvspan(lo * RPM, hi * RPM, color="tab:green", alpha=0.15, lw=0, label="operating range" if i == 0 else None)
+        ax.axvspan(lo * RPM * 0.84, lo * RPM, fill=False, hatch="//", ec="tab:green", lw=0, alpha=0.5)
+        ax.axvspan(
+            hi * RPM,
+            hi * RPM * 1.26,
+            fill=False,
+            hatch="//",
+            ec="tab:green",
+            lw=0,
+            alpha=0.5,
+            label="largest API margins (16 % / 26 %)" if i == 0 else None,
+        )
+    labels = []
     for k in range(wd.shape[1]):
         f = wd[:, k] * HZ
         fw = forward[:, k] >= 0.5
-        ax.plot(rpm, np.where(fw, f, np.nan), "-", color=f"C{k % 10}", lw=1.2)
-        ax.plot(rpm, np.where(~fw, f, np.nan), "--", color=f"C{k % 10}", lw=1.2)
-        bad = logdec[:, k] < 0
+        ax.plot(rpm, np.where(fw, f, np.nan), "-", color=f"C{k % 10}", lw=1.3)
+        ax.plot(rpm, np.where(~fw, f, np.nan), "--", color=f"C{k % 10}", lw=1.3)
+        bad = logdec[:, k] < -2 * np.pi * STABILITY_TOL
         if np.any(bad):
             ax.plot(rpm[bad], f[bad], "x", color="r")
+        if np.isfinite(f[-1]):
+            labels.append([f[-1], f" {k} {'FW' if fw[-1] else 'BW'} {f[-1]:.0f} Hz", f"C{k % 10}"])
+    gap = 0.03 * top  # spread labels of close modes apart
+    labels.sort(key=lambda t: t[0])
+    for i in range(1, len(labels)):
+        labels[i][0] = max(labels[i][0], labels[i - 1][0] + gap)
+    for y, text, color in labels:
+        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center")
     for h in harmonics:
-        ax.plot(rpm, h * np.asarray(speed) * HZ, ":k", lw=0.8)
-        ax.annotate(f"{h}X", (rpm[-1], h * speed[-1] * HZ), fontsize=8)
-    for c in critical:
-        ax.plot(c["speed"] * RPM, c["frequency"] * HZ, "o", mfc="none", mec="k")
-    ax.set_ylim(0, np.nanmax(wd) * HZ * 1.05)
+        ax.plot(rpm, h * np.asarray(speed) * HZ, ":k", lw=0.9)
+        yh = min(h * speed[-1] * HZ, top * 0.97)
+        ax.annotate(f"{h:g}X", (yh / (h * HZ) * RPM, yh), fontsize=8, ha="right", va="bottom")
+    last = -np.inf
+    for c in sorted(critical, key=lambda c: c["speed"]):
+        ax.plot(c["speed"] * RPM, c["frequency"] * HZ, "o", mfc="none", mec="k", ms=7)
+        if c.get("harmonic", 1) == 1 and c["speed"] * RPM > last * 1.04:  # skip labels that would overprint
+            last = c["speed"] * RPM
+            ax.annotate(
+                f"{last:.0f}", (last, c["frequency"] * HZ), fontsize=7, xytext=(4, -10), textcoords="offset points"
+            )
+    ax.set_ylim(0, top)
+    ax.set_xlim(rpm[0], rpm[-1] * 1.12)
     ax.set_xlabel("spin speed [rpm]")
     ax.set_ylabel("damped natural frequency [Hz]")
-    ax.set_title("Campbell diagram (solid: forward, dashed: backward, o: critical, x: unstable)")
+    ax.set_title(
+        "Campbell diagram (solid: forward, dashed: backward whirl; o: critical speed [rpm]; x: unstable)", fontsize=9
+    )
     ax.grid(alpha=0.3)
+    if bands:
+        ax.legend(fontsize=8, loc="upper left")
     return fig
 
 
 def bode_figure(speed, amplitude: dict, phase: dict, peaks=()):
-    """Amplitude [m] (log) and phase [deg] vs speed [rpm] per probe."""
+    """Amplitude [um] (linear) and phase [deg] vs speed [rpm] per labelled curve; peaks marked."""
     from rotaflex.core.plotting import new_figure
 
     fig, (a1, a2) = new_figure(2, 1, sharex=True)
     rpm = np.asarray(speed) * RPM
     for name, amp in amplitude.items():
-        a1.semilogy(rpm, amp, label=name)
+        a1.plot(rpm, np.asarray(amp) * 1e6, label=name)
         a2.plot(rpm, np.degrees(np.unwrap(phase[name])), label=name)
     for p in peaks:
         a1.axvline(p["speed"] * RPM, color="0.6", lw=0.6)
-    a1.set_ylabel("amplitude [m]")
+        a1.annotate(
+            f"{p['speed'] * RPM:.0f} rpm", (p["speed"] * RPM, 0), fontsize=7, xytext=(3, 3), textcoords="offset points"
+        )
+    a1.set_ylabel("amplitude [\u00b5m]")
+    a1.set_ylim(bottom=0)
     a2.set_ylabel("phase [deg]")
     a2.set_xlabel("spin speed [rpm]")
     a1.legend(fontsize=8)
     a1.grid(alpha=0.3)
     a2.grid(alpha=0.3)
+    return fig
+
+
+def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
+    """Unbalance response per probe: peak-to-peak x, y and orbit major axis [um] (linear), phases.
+
+    ``limit`` [m]: the vibration limit (peak-to-peak) drawn as a line; ``bands`` [(lo, hi) rad/s]
+    shaded; peaks marked with their speed and amplification factor.
+    """
+    from rotaflex.core.plotting import new_figure
+
+    fig, (a1, a2) = new_figure(2, 1, sharex=True, figsize=(8.4, 7.0), height_ratios=(2, 1))
+    rpm = ds["speed"].values * RPM
+    um = 1e6
+    for i, (lo, hi) in enumerate(bands):
+        for a in (a1, a2):
+            a.axvspan(
+                lo * RPM,
+                hi * RPM,
+                color="tab:green",
+                alpha=0.12,
+                lw=0,
+                label="operating range" if i == 0 and a is a1 else None,
+            )
+    for j, p in enumerate(ds["probe"].values):
+        X = ds["x_real"].values[:, j] + 1j * ds["x_imag"].values[:, j]
+        Y = ds["y_real"].values[:, j] + 1j * ds["y_imag"].values[:, j]
+        c = f"C{j % 10}"
+        a1.plot(rpm, 2 * ds["major_axis"].values[:, j] * um, "-", color=c, lw=1.8, label=f"node {p}: major axis")
+        a1.plot(rpm, 2 * np.abs(X) * um, "--", color=c, lw=1.0, label=f"node {p}: x")
+        a1.plot(rpm, 2 * np.abs(Y) * um, ":", color=c, lw=1.2, label=f"node {p}: y")
+        if "probe_amplitude" in ds:
+            for a_i, ang in enumerate(ds["angle"].values):
+                a1.plot(
+                    rpm,
+                    2 * ds["probe_amplitude"].values[:, j, a_i] * um,
+                    "-.",
+                    color=c,
+                    lw=0.7,
+                    label=f"node {p}: probe {ang:g} deg",
+                )
+        a2.plot(rpm, np.degrees(np.unwrap(np.angle(X))), "--", color=c, lw=1.0, label=f"node {p}: x")
+        a2.plot(rpm, np.degrees(np.unwrap(np.angle(Y))), ":", color=c, lw=1.2, label=f"node {p}: y")
+    if limit is not None:
+        a1.axhline(limit * um, color="r", lw=1.2, label=f"API 617 limit {limit * um:.1f} \u00b5m p-p")
+    for p in peaks:
+        a1.axvline(p["speed"] * RPM, color="0.5", lw=0.6)
+        a1.annotate(
+            f"{p['speed'] * RPM:.0f} rpm\nAF {p['af']:.1f}",
+            (p["speed"] * RPM, a1.get_ylim()[1] * 0.92),
+            fontsize=7,
+            ha="left",
+            xytext=(3, 0),
+            textcoords="offset points",
+        )
+    a1.set_ylabel("amplitude, peak-to-peak [\u00b5m]")
+    a1.set_ylim(bottom=0)
+    a2.set_ylabel("phase [deg] (lag < 0)")
+    a2.set_xlabel("spin speed [rpm]")
+    a1.legend(fontsize=7, ncol=2, loc="upper right")
+    a1.grid(alpha=0.3)
+    a2.grid(alpha=0.3)
+    a1.set_title("unbalance response (solid: orbit major axis; dashed: x; dotted: y)", fontsize=9)
+    return fig
+
+
+def static_figure(ds):
+    """Deflection [um], shear force [N] and bending moment [N m] along the shaft, bearings marked."""
+    from rotaflex.core.plotting import new_figure
+
+    fig, axes = new_figure(3, 1, sharex=True, figsize=(7.4, 7.5))
+    z, zc = ds["z"].values, ds["z_cut"].values
+    zb = z[ds["bearing_node"].values] if ds.sizes.get("bearing", 0) else np.array([])
+    styles = {"x": ("tab:blue", "x-z plane"), "y": ("tab:red", "y-z plane")}
+    for ax_name, (color, plane) in styles.items():
+        d = ds["deflection"].sel(axis=ax_name).values
+        V = ds["shear"].sel(axis=ax_name).values
+        M = ds["moment"].sel(axis=ax_name).values
+        if np.any(d) or np.any(V):
+            if "deflection_curve" in ds:
+                axes[0].plot(zc, ds["deflection_curve"].sel(axis=ax_name).values * 1e6, "-", color=color)
+                axes[0].plot(z, d * 1e6, "o", ms=3, color=color, label=f"{ax_name} ({plane}), o: nodes")
+            else:
+                axes[0].plot(z, d * 1e6, "o-", ms=3, color=color, label=f"{ax_name} ({plane})")
+            axes[1].plot(zc, V, color=color, label=f"V_{ax_name} ({plane})")
+            axes[2].plot(zc, M, color=color, label=f"M ({plane})")
+    for ax, lab in zip(axes, ("deflection [\u00b5m]", "shear force [N]", "bending moment [N m]"), strict=True):
+        ax.axhline(0, color="k", lw=0.5)
+        for zz in zb:
+            ax.axvline(zz, color="tab:orange", lw=0.8, ls="--")
+        ax.set_ylabel(lab)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="best")
+    axes[2].set_xlabel("axial position z [m] (dashed: bearings)")
+    loads = ", ".join(
+        f"{n} {np.hypot(*ds['reaction'].isel(bearing=i).values):.4g} N" for i, n in enumerate(ds["bearing_name"].values)
+    )
+    axes[0].set_title(f"static analysis; bearing loads: {loads}", fontsize=9)
+    return fig
+
+
+def frf_figures(ds) -> dict:
+    """Bode (|H| log, phase) and Nyquist (Re, Im) of each FRF pair."""
+    from rotaflex.core.plotting import new_figure
+
+    unit = ds["amplitude"].attrs.get("units", "")
+    kind = ds.attrs.get("kind", "receptance")
+    f = ds["frequency_hz"].values
+    fig, (a1, a2) = new_figure(2, 1, sharex=True, figsize=(7.4, 6.0))
+    fig2, ax = new_figure(figsize=(6.0, 5.6))
+    for j, lab in enumerate(ds["pair"].values):
+        H = ds["H_real"].values[:, j] + 1j * ds["H_imag"].values[:, j]
+        a1.semilogy(f, np.abs(H), color=f"C{j}", label=str(lab))
+        a2.plot(f, np.degrees(np.angle(H)), color=f"C{j}", label=str(lab))
+        ax.plot(H.real, H.imag, color=f"C{j}", label=str(lab))
+    a1.set_ylabel(f"|{kind}| [{unit}]")
+    a2.set_ylabel("phase [deg]")
+    a2.set_yticks([-180, -90, 0, 90, 180])
+    a2.set_xlabel("excitation frequency [Hz]")
+    a1.set_title(f"FRF at {float(ds.attrs.get('speed_rpm', 0)):g} rpm (label: output / input DOF and node)")
+    for a in (a1, a2):
+        a.grid(alpha=0.3, which="both")
+        a.legend(fontsize=8)
+    ax.set_xlabel(f"Re H [{unit}]")
+    ax.set_ylabel(f"Im H [{unit}]")
+    ax.set_title("Nyquist plot")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.axvline(0, color="k", lw=0.5)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return {"frf_bode": fig, "frf_nyquist": fig2}
+
+
+def mode_shapes_figure(ds):
+    """Each mode in both bending planes: x(z) and y(z) at the instant of largest deflection, and
+    the orbit envelope +-a(z) (semi-major axis); title with frequency, damping and whirl sense."""
+    from rotaflex.core.plotting import new_figure
+
+    nm = ds.sizes["mode"]
+    ncol = 2 if nm > 1 else 1
+    nrow = (nm + ncol - 1) // ncol
+    fig, axes = new_figure(nrow, ncol, squeeze=False, sharex=True, figsize=(9.0, 2.3 * nrow + 0.6))
+    z = ds["z"].values
+    sh = ds["shape_real"].values + 1j * ds["shape_imag"].values  # (mode, node, dof)
+    th = np.linspace(0, np.pi, 73)
+    for k in range(nm):
+        ax = axes.flat[k]
+        X, Y = sh[k, :, 0], sh[k, :, 1]
+        a = 0.5 * (np.abs(X + 1j * Y) + np.abs(X - 1j * Y))
+        scale = np.max(a) or 1.0
+        e = np.exp(1j * th)[:, None]
+        t = int(np.argmax(np.sum((X * e).real ** 2 + (Y * e).real ** 2, 1)))
+        ax.fill_between(z, -a / scale, a / scale, color="0.85", label="orbit envelope")
+        ax.plot(z, (X * e[t]).real / scale, "-o", ms=2.5, color="tab:blue", label="x (x-z plane)")
+        ax.plot(z, (Y * e[t]).real / scale, "-s", ms=2.5, color="tab:red", label="y (y-z plane)")
+        ax.axhline(0, color="k", lw=0.4)
+        f = float(ds["damped_frequency"][k]) / (2 * np.pi)
+        ax.set_title(
+            f"mode {k}: {f:.2f} Hz, \u03b6 = {float(ds['damping_ratio'][k]):.3g}, {ds['whirl'].values[k]} whirl",
+            fontsize=8,
+        )
+        ax.set_ylim(-1.15, 1.15)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+    for ax in list(axes.flat)[nm:]:
+        ax.set_visible(False)
+    axes.flat[0].legend(fontsize=6, loc="lower right")
+    for ax in axes[-1]:
+        ax.set_xlabel("z [m]")
+    fig.suptitle(f"mode shapes at {float(ds['speed']) * RPM:.0f} rpm (normalised to the largest orbit)", fontsize=9)
+    return fig
+
+
+def ucs_figure(ds, bearings=()):
+    """Critical speeds [rpm] vs isotropic bearing stiffness, with each bearing's kxx, kyy overlaid.
+
+    ``bearings``: (label, speeds [rad/s] or None, kxx, kyy) per bearing; constant coefficients
+    are vertical lines, tabulated ones curves k(speed); where they cross a critical-speed line
+    is where that bearing puts the critical.
+    """
+    from rotaflex.core.plotting import new_figure
+
+    fig, ax = new_figure(figsize=(7.4, 5.2))
+    crit = ds["critical_speed"].values * RPM
+    for k in range(ds.sizes["mode"]):
+        ax.loglog(ds["stiffness"], crit[:, k], color=f"C{k}", lw=1.5, label=f"critical {k}")
+    lo, hi = np.nanmin(crit), np.nanmax(crit)
+    drawn: dict[float, str] = {}
+    for label, sp, kxx, kyy in bearings:
+        for kk, ls, axis in ((kxx, "--", "kxx"), (kyy, ":", "kyy")):
+            kk = np.atleast_1d(kk)
+            if sp is None or kk.size == 1:
+                if float(kk[0]) in drawn:  # equal bearings: one line
+                    continue
+                drawn[float(kk[0])] = label
+                ax.axvline(kk[0], color="k", ls=ls, lw=0.9, label=f"{label} {axis} = {kk[0]:.3g} N/m")
+            else:
+                ax.plot(kk, np.asarray(sp) * RPM, ls, color="k", lw=1.0, label=f"{label} {axis}(speed)")
+    ax.set_ylim(lo * 0.7, hi * 1.3)
+    ax.set_xlabel("bearing stiffness [N/m]")
+    ax.set_ylabel("undamped critical speed [rpm]")
+    ax.set_title("undamped critical speed map with the bearings' stiffness", fontsize=9)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, loc="upper left")
     return fig

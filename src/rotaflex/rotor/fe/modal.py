@@ -10,7 +10,14 @@ omega_n = |lambda|, damping ratio zeta = -sigma / |lambda| and logarithmic decre
 delta = -2 pi sigma / omega_d (negative: unstable). Its whirl sense comes from its orbit:
 each node's x + i y = 1/2 [(X + iY) e^{i omega t} + conj(X - iY) e^{-i omega t}] (times the
 decay), so the forward (with the spin, +z) radius is |X + iY|/2 and the backward one |X - iY|/2;
-the mode is forward when sum |X + iY|^2 > sum |X - iY|^2 over the nodes.
+the mode is forward when every node that moves (orbit radius >= 1 % of the largest) whirls
+forward (|X + iY| > |X - iY|), backward when every such node whirls backward, and mixed when
+both senses occur; a mode whose orbits are all straight lines (planar) is called by the sum
+rule sum |X + iY|^2 >= sum |X - iY|^2.
+
+Stability: a mode is unstable when its damping ratio is below -STABILITY_TOL (Re(lambda) >
+1e-8 |lambda|, a log decrement below about -6.3e-8): round-off leaves the eigenvalues of an
+undamped rotor with real parts of order 1e-12 |lambda| of either sign, which are not instability.
 """
 
 from __future__ import annotations
@@ -23,6 +30,13 @@ from scipy.optimize import linear_sum_assignment
 
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
+
+#: a mode is unstable when its damping ratio is below -STABILITY_TOL (relative to |lambda|)
+STABILITY_TOL = 1e-8
+#: nodes whose orbit radius is below this fraction of the largest do not vote on the whirl sense
+WHIRL_NODE_FRACTION = 0.01
+#: an orbit with | |X + iY| - |X - iY| | below this fraction of their sum is a straight line
+WHIRL_LINE_FRACTION = 1e-3
 
 
 @dataclass(frozen=True)
@@ -69,8 +83,21 @@ class Modes:
 
     @property
     def whirl(self) -> np.ndarray:
-        """``"forward"`` or ``"backward"`` per mode, from the orbit sense (not from sorting)."""
-        return np.where(self.forward_fraction >= 0.5, "forward", "backward")
+        """``"forward"``, ``"backward"`` or ``"mixed"`` per mode, from the nodes' orbit senses."""
+        X, Y = self.shape[..., 0::NDOF_NODE], self.shape[..., 1::NDOF_NODE]
+        rf, rb = np.abs(X + 1j * Y), np.abs(X - 1j * Y)
+        size = rf + rb
+        moving = size >= WHIRL_NODE_FRACTION * np.max(size, -1, keepdims=True)
+        clear = np.abs(rf - rb) > WHIRL_LINE_FRACTION * size
+        fw = np.any(moving & clear & (rf > rb), -1)
+        bw = np.any(moving & clear & (rf < rb), -1)
+        by_sum = np.where(self.forward_fraction >= 0.5, "forward", "backward")
+        return np.where(fw & bw, "mixed", np.where(fw, "forward", np.where(bw, "backward", by_sum)))
+
+    @property
+    def unstable(self) -> np.ndarray:
+        """True where the damping ratio is below -:data:`STABILITY_TOL`."""
+        return self.damping_ratio < -STABILITY_TOL
 
 
 def _state_matrices(rotor: Rotor, speeds: np.ndarray) -> np.ndarray:
@@ -159,6 +186,7 @@ def campbell(
 ) -> CampbellData:
     """Campbell diagram: modes at each speed [rad/s], tracked by MAC through crossings.
 
+    Unstable: damping ratio below -:data:`STABILITY_TOL`; the onset speed is interpolated to log dec = 0.
     At each speed the ``n_modes + extra`` lowest modes are candidates; the tracked modes of
     the previous speed are matched to them by maximising the total MAC (Hungarian
     assignment), so a mode keeps its label when its frequency crosses another's.
@@ -215,10 +243,10 @@ def campbell(
                     }
                 )
     critical.sort(key=lambda c: c["speed"])
-    ld = modes.log_dec
+    ld, bad_all = modes.log_dec, modes.unstable
     unstable = []
     for k in range(n_modes):
-        bad = np.flatnonzero(ld[:, k] < 0)
+        bad = np.flatnonzero(bad_all[:, k])
         if bad.size:
             s = bad[0]
             sp = (

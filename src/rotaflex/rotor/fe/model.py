@@ -29,6 +29,32 @@ from rotaflex.rotor.fe.materials import Material, material
 NDOF_NODE = 4  #: [x, y, theta_x, theta_y]
 RPM = np.pi / 30.0  #: rad/s per rpm
 
+#: plausibility bounds of the inputs (SI). Lengths beyond them are almost always millimetres typed
+#: as metres; moduli and coefficients beyond them overflow the assembly or its conditioning.
+MAX_DIAMETER = {"shaft": 5.0, "disk": 25.0}  # m (large turbine-generator bodies ~2 m, hydro rotors ~20 m)
+MAX_LENGTH = 200.0  # m, whole shaft
+# Pa, kg/m^3: open below (a soft link or a massless shaft is a legitimate idealisation) and capped
+# far above any solid (diamond 1.2e12 Pa, osmium 22.6e3 kg/m^3), where a "rigid" section stays solvable
+MODULUS_RANGE = (0.0, 1e20)
+DENSITY_RANGE = (0.0, 1e6)
+MAX_BEARING = {"k": 1e15, "c": 1e12}  # N/m, N s/m: far beyond any rigid support of a real machine
+
+
+#: default largest model (1000 shaft elements): a dense 8000-state eigenproblem takes minutes
+DEFAULT_MAX_DOF = 4004
+RIGID_FACTOR = 1e8  #: stiffness of a rigid section relative to the model's stiffest other part
+
+
+def _not_mm(where: str, value: float, limit: float) -> None:
+    """InputError if a length [m] exceeds ``limit``: it looks like millimetres."""
+    if value is not None and value > limit:
+        raise InputError(
+            where,
+            value,
+            f"a length in metres <= {limit:g} m; {value:g} m looks like millimetres "
+            f"(write {value / 1000:g} for {value:g} mm)",
+        )
+
 
 @dataclass(frozen=True)
 class Shaft:
@@ -47,6 +73,7 @@ class Shaft:
     G: float | None = param(None, unit="Pa", gt=0, doc="shear modulus (overrides the material)")
     rho: float | None = param(None, unit="kg/m^3", gt=0, doc="density (overrides the material)")
     shear_coefficient: float | None = param(None, gt=0, doc="Timoshenko kappa (default: Cowper's value)")
+    rigid: bool = param(False, doc="rigid section: keeps its mass, stiffness set 1e8 x the model's stiffest other part")
 
 
 @dataclass(frozen=True)
@@ -133,6 +160,9 @@ class Rotor:
     bearing: tuple[Bearing, ...] = param(())
     material: dict[str, Material] = param({})
     free: bool = param(False, doc="allow rigid-body modes (free-free rotor)")
+    max_dof: int = param(
+        DEFAULT_MAX_DOF, ge=4, doc="refuse models with more lateral DOFs (4 per node); raise it deliberately"
+    )
 
     # -- construction ----------------------------------------------------------------------
     @classmethod
@@ -163,9 +193,28 @@ class Rotor:
     def __post_init__(self):
         if not self.shaft:
             raise InputError("shaft", "<missing>", "at least one [[shaft]] section")
+        self._check_size()
         _ = self.nodes, self.elements, self.disks, self.point_masses, self.bearings  # validate now
         if not self.free:
             self._check_supported()
+
+    def _check_size(self) -> None:
+        """Refuse, before anything is assembled, a mesh beyond ``max_dof`` or the memory limit."""
+        from rotaflex.core.limits import require, require_memory
+
+        counts = [s.elements for s in self.shaft]
+        i = int(np.argmax(counts))
+        n_dof = NDOF_NODE * (sum(counts) + 1)
+        require(
+            f"shaft[{i}].elements",
+            counts[i],
+            n_dof,
+            self.max_dof,
+            "lateral DOFs",
+            "raise the top-level max_dof if you mean it (dense solvers: time grows as DOFs^3)",
+        )
+        # assembly holds M, K, G, Kst and the speed-dependent K, C copies: ~8 dense n x n arrays
+        require_memory(f"shaft[{i}].elements", counts[i], 8 * 8.0 * n_dof**2, "the assembled matrices")
 
     # -- geometry ----------------------------------------------------------------------------
     def _mat(self, name: str, where: str) -> Material:
@@ -189,6 +238,11 @@ class Rotor:
                 raise InputError(f"{where}.length", s.length, f"end - start = {s.end - start:g} m")
             if s.end is None and s.length is None:
                 raise InputError(f"{where}.length", "<missing>", "a length [m] > 0 or an end position")
+            for key in ("outer_diameter", "inner_diameter", "outer_diameter_right", "inner_diameter_right"):
+                _not_mm(f"{where}.{key}", getattr(s, key), MAX_DIAMETER["shaft"])
+            for key in ("length", "start", "end"):
+                v = getattr(s, key)
+                _not_mm(f"{where}.{key}", None if v is None else abs(v), MAX_LENGTH)
             end = s.end if s.end is not None else start + s.length
             if end <= start:
                 raise InputError(f"{where}.end", end, f"> start = {start:g} m")
@@ -209,6 +263,18 @@ class Rotor:
         for i, (s, (a, b)) in enumerate(zip(self.shaft, self.sections, strict=True)):
             m = self._mat(s.material, f"shaft[{i}].material")
             E, G, rho = s.E or m.E, s.G or m.G, s.rho or m.rho
+            for key, v, (lo, hi), unit in (
+                ("E", E, MODULUS_RANGE, "Pa"),
+                ("G", G, MODULUS_RANGE, "Pa"),
+                ("rho", rho, DENSITY_RANGE, "kg/m^3"),
+            ):
+                if not lo <= v <= hi:
+                    field = f"shaft[{i}].{key}" if getattr(s, key) else f"material.{s.material}.{key}"
+                    raise InputError(
+                        field,
+                        v,
+                        f"{lo:g} .. {hi:g} {unit} (a stiff section's E may exceed any solid's, up to this cap)",
+                    )
             do_r = s.outer_diameter if s.outer_diameter_right is None else s.outer_diameter_right
             di_r = s.inner_diameter if s.inner_diameter_right is None else s.inner_diameter_right
             t = np.arange(s.elements + 1) / s.elements
@@ -224,7 +290,30 @@ class Rotor:
             cols["G"] += [G] * n
             cols["rho"] += [rho] * n
             cols["kappa"] += [s.shear_coefficient if s.shear_coefficient else np.nan] * n
-        return {k: np.asarray(v, float) for k, v in cols.items()}
+        out = {k: np.asarray(v, float) for k, v in cols.items()}
+        rigid = np.concatenate([[s.rigid] * s.elements for s in self.shaft])
+        if rigid.any():
+            self._make_rigid(out, rigid)
+        return out
+
+    def _make_rigid(self, e: dict[str, np.ndarray], rigid: np.ndarray) -> None:
+        """Stiffen the elements of rigid sections in place (their mass stays).
+
+        A penalty: the element's bending stiffness 12 E I / L^3 is set to RIGID_FACTOR = 1e8 times
+        the stiffest other part of the model (bearing coefficients, flexible elements). The
+        penalty error falls as 1/factor and the round-off of the eigenproblem grows as
+        factor x 1e-16, so 1e8 (about 1/sqrt(machine epsilon)) balances the two: the rigid-body
+        frequencies of a rigid rotor on springs come out to ~1e-8 (tested).
+        """
+        I = np.pi / 64 * (((e["do_l"] + e["do_r"]) / 2) ** 4 - ((e["di_l"] + e["di_r"]) / 2) ** 4)
+        k_el = 12 * e["E"] * I / e["L"] ** 3
+        ref = [float(np.max(k_el[~rigid]))] if (~rigid).any() else []
+        for b in self.bearing:
+            ref += [abs(float(v)) for key in ("kxx", "kxy", "kyx", "kyy") for v in getattr(b, key)]
+        k_ref = max(ref) if ref and max(ref) > 0 else 1e8
+        E = RIGID_FACTOR * k_ref * e["L"] ** 3 / (12 * I)
+        e["E"] = np.where(rigid, E, e["E"])
+        e["G"] = np.where(rigid, E / 2.6, e["G"])  # Poisson 0.3: shear as stiff as bending
 
     @functools.cached_property
     def nodes(self) -> np.ndarray:
@@ -282,6 +371,9 @@ class Rotor:
                     )
                 el = DiskElement(d.mass, d.Id, d.Ip)
             else:
+                _not_mm(f"{where}.outer_diameter", d.outer_diameter, MAX_DIAMETER["disk"])
+                _not_mm(f"{where}.inner_diameter", d.inner_diameter, MAX_DIAMETER["disk"])
+                _not_mm(f"{where}.width", d.width, MAX_LENGTH)
                 if d.width is None or d.outer_diameter is None:
                     raise InputError(
                         f"{where}.mass", "<missing>", "mass, Id and Ip, or width and outer_diameter (geometry)"
@@ -323,6 +415,15 @@ class Rotor:
                 raise InputError(f"{where}.speed_rpm", "<missing>", "a list of speeds for tabulated coefficients")
             if b.speed_rpm is not None and np.any(np.diff(b.speed_rpm) <= 0):
                 raise InputError(f"{where}.speed_rpm", list(b.speed_rpm), "strictly increasing speeds")
+            for k in COEFFICIENTS:
+                v = np.asarray(getattr(b, k), float)
+                if not np.all(np.abs(v) <= MAX_BEARING[k[0]]):
+                    unit = "N/m" if k[0] == "k" else "N s/m"
+                    raise InputError(
+                        f"{where}.{k}",
+                        [float(x) for x in v],
+                        f"finite values of magnitude <= {MAX_BEARING[k[0]]:g} {unit}",
+                    )
             for k in ("kxx", "kyy", "cxx", "cyy"):
                 if min(getattr(b, k)) < 0:
                     raise InputError(f"{where}.{k}", list(getattr(b, k)), "direct coefficients >= 0")
@@ -397,16 +498,30 @@ class Rotor:
         return K, C
 
     def _check_supported(self) -> None:
+        """Refuse a model whose bearings leave a rigid-body motion of the shaft unrestrained.
+
+        A connected elastic shaft has exactly four zero-energy motions (translation and tilt in
+        each plane), so the supports suffice iff the bearing stiffness projected on them,
+        R^T K_b R (4 x 4, columns scaled to unit length), is non-singular. Judging this on the
+        projection, not on the whole stiffness, keeps a very stiff shaft on soft bearings from
+        being mistaken for a free one.
+        """
         speeds = [el.speeds[0] for _, _, el in self.bearings if el.speeds is not None]
-        K = self.KC(max(speeds) if speeds else 0.0)[0][0]
-        s = np.linalg.svd(K, compute_uv=False)
-        if s[-1] <= 1e-10 * s[0]:
+        Kb = self.KC(max(speeds) if speeds else 0.0)[0][0] - self.K_shaft
+        z = self.nodes - self.nodes.mean()
+        R = np.zeros((self.n_dof, 4))
+        R[0::NDOF_NODE, 0] = R[1::NDOF_NODE, 1] = 1.0
+        R[0::NDOF_NODE, 2], R[3::NDOF_NODE, 2] = z, 1.0  # tilt in x-z: x = z theta_y
+        R[1::NDOF_NODE, 3], R[2::NDOF_NODE, 3] = z, -1.0  # tilt in y-z: y = -z theta_x
+        R /= np.linalg.norm(R, axis=0)
+        sv = np.linalg.svd(R.T @ Kb @ R, compute_uv=False)
+        if not sv[-1] > 1e-9 * sv[0]:
             grounded = sum(other is None for _, other, _ in self.bearings)
             raise InputError(
                 "free",
                 False,
-                "true for a model with rigid-body modes: the stiffness matrix is "
-                f"singular ({grounded} bearing(s) to ground restrain too few DOFs)",
+                "true for a model with rigid-body modes: the bearings do not restrain every rigid "
+                f"motion of the shaft ({grounded} bearing(s) to ground; two at different stations are needed)",
             )
 
     @property
@@ -419,4 +534,4 @@ class Rotor:
         return dataclasses.asdict(self)
 
 
-ROTOR_KEYS = ("shaft", "disk", "point_mass", "bearing", "material", "free")
+ROTOR_KEYS = ("shaft", "disk", "point_mass", "bearing", "material", "free", "max_dof")

@@ -19,12 +19,25 @@ def _model_fig(result):
     return {"model": model_figure(Rotor.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS}))}
 
 
+def json_safe(obj):
+    """``obj`` with every non-finite float replaced by None (strict JSON has no NaN/Infinity)."""
+    if isinstance(obj, dict):
+        return {k: json_safe(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [json_safe(v) for v in obj]
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if np.isfinite(obj) else None
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
 class _FEResult(Result):
     def summary(self) -> dict:
         out = super().summary()
         extra = json.loads(self.dataset.attrs.get("summary_extra", "{}"))
         out.update(extra)
-        return out
+        return json_safe(out)
 
 
 @register_result
@@ -38,17 +51,9 @@ class ModalResult(_FEResult):
 
         ds = self.dataset
         figs = _model_fig(self)
-        fig, ax = new_figure()
-        z = ds["z"].values
-        for k in range(ds.sizes["mode"]):
-            sx = ds["shape_real"].isel(mode=k).sel(dof="x").values
-            f = float(ds["damped_frequency"][k]) / (2 * np.pi)
-            ax.plot(z, sx, label=f"{k}: {f:.2f} Hz {ds['whirl'].values[k]}")
-        ax.set_xlabel("z [m]")
-        ax.set_ylabel("mode shape x (real part)")
-        ax.legend(fontsize=7)
-        ax.grid(alpha=0.3)
-        figs["mode_shapes"] = fig
+        from rotaflex.rotor.fe.figures import mode_shapes_figure
+
+        figs["mode_shapes"] = mode_shapes_figure(ds)
         # orbits: each mode's whirl at every node (x + i y over one period), scaled to 1
         nm = ds.sizes["mode"]
         ncol = min(nm, 4)
@@ -90,6 +95,7 @@ class CampbellResult(_FEResult):
             ds["log_dec"].values,
             json.loads(ds.attrs.get("harmonics", "[1]")),
             crit,
+            json.loads(ds.attrs.get("bands", "[]")),
         )
         return figs
 
@@ -101,16 +107,18 @@ class UCSResult(_FEResult):
     kind = "rotor_fe_ucs"
 
     def plot(self) -> dict:
-        from rotaflex.core.plotting import new_figure
 
-        ds = self.dataset
-        fig, ax = new_figure()
-        for k in range(ds.sizes["mode"]):
-            ax.loglog(ds["stiffness"], ds["critical_speed"].isel(mode=k) * 30 / np.pi, label=f"mode {k}")
-        ax.set_xlabel("bearing stiffness [N/m]")
-        ax.set_ylabel("critical speed [rpm]")
-        ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=8)
+        from rotaflex.rotor.fe.figures import ucs_figure
+
+        cfg = self.config
+        bearings = []
+        if "shaft" in cfg:
+            from rotaflex.rotor.fe.model import ROTOR_KEYS, Rotor
+
+            rotor = Rotor.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS})
+            for i, ((_, _, el), b) in enumerate(zip(rotor.bearings, rotor.bearing, strict=True)):
+                bearings.append((b.name or f"bearing[{i}]", el.speeds, el.k[:, 0, 0], el.k[:, 1, 1]))
+        fig = ucs_figure(self.dataset, bearings)
         return {**_model_fig(self), "ucs_map": fig}
 
 
@@ -122,15 +130,16 @@ class UnbalanceResult(_FEResult):
 
     def plot(self) -> dict:
         from rotaflex.core.plotting import new_figure
-        from rotaflex.rotor.fe.figures import bode_figure
+        from rotaflex.rotor.fe.figures import unbalance_bode_figure
 
         ds = self.dataset
-        amp, ph = {}, {}
-        for p in ds["probe"].values:
-            X = ds["x_real"].sel(probe=p).values + 1j * ds["x_imag"].sel(probe=p).values
-            amp[f"node {p} x"], ph[f"node {p} x"] = np.abs(X), np.angle(X)
         figs = _model_fig(self)
-        figs["bode"] = bode_figure(ds["speed"].values, amp, ph, json.loads(ds.attrs.get("peaks", "[]")))
+        figs["bode"] = unbalance_bode_figure(
+            ds,
+            json.loads(ds.attrs.get("peaks", "[]")),
+            json.loads(ds.attrs.get("bands", "[]")),
+            ds.attrs.get("vibration_limit"),
+        )
         fig, ax = new_figure()
         i = int(np.argmax(ds["major_axis"].isel(probe=0).values))
         th = np.linspace(0, 2 * np.pi, 181)
@@ -138,10 +147,10 @@ class UnbalanceResult(_FEResult):
             X = complex(ds["x_real"].sel(probe=p)[i] + 1j * ds["x_imag"].sel(probe=p)[i])
             Y = complex(ds["y_real"].sel(probe=p)[i] + 1j * ds["y_imag"].sel(probe=p)[i])
             ax.plot((X * np.exp(1j * th)).real, (Y * np.exp(1j * th)).real, label=f"node {p}")
-        ax.set_aspect("equal")
+        ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
-        ax.set_title(f"orbits at {float(ds['speed'][i]) * 30 / np.pi:.0f} rpm")
+        ax.set_title(f"orbits at {float(ds['speed'][i]) * 30 / np.pi:.0f} rpm (largest response)")
         ax.legend(fontsize=8)
         figs["orbit"] = fig
         return figs
@@ -178,3 +187,27 @@ class TransientResult(_FEResult):
         ax.set_ylabel("y [m]")
         ax.legend(fontsize=8)
         return {**_model_fig(self), "time_response": fig, "orbit": fig2}
+
+
+@register_result
+class StaticResult(_FEResult):
+    """Static deflection, bearing reactions, shear force and bending moment."""
+
+    kind = "rotor_fe_static"
+
+    def plot(self) -> dict:
+        from rotaflex.rotor.fe.figures import static_figure
+
+        return {**_model_fig(self), "static": static_figure(self.dataset)}
+
+
+@register_result
+class FRFResult(_FEResult):
+    """Frequency response functions at one spin speed: Bode and Nyquist."""
+
+    kind = "rotor_fe_frf"
+
+    def plot(self) -> dict:
+        from rotaflex.rotor.fe.figures import frf_figures
+
+        return {**_model_fig(self), **frf_figures(self.dataset)}

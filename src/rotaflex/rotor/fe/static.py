@@ -1,0 +1,230 @@
+"""Static analysis: deflection under gravity and point loads, bearing reactions, shear and moment.
+
+The static problem is ``K(Omega) q = f`` with the full stiffness (shaft plus bearings, the
+bearings' coefficients at the spin speed ``speed``; cross-coupled terms included). Gravity
+loads are the consistent nodal loads ``f = M r g``: ``r`` is the rigid translation of every
+node in the gravity direction, and since the shaft element represents a rigid translation
+exactly (``N_w r = 1``, ``N_r r = 0``) this is ``int rho A N_w^T g dz`` plus ``m g`` of every disk
+and point mass. The interdependent Timoshenko element is exact for such loads at the nodes.
+
+Bearing reactions are the forces the bearings exert on the rotor, ``F_b = -K_b (q_n - q_m)``
+(``m``: the other node of a bearing between two nodes, else ground). Shear force and bending
+moment along the shaft then follow by statics from everything to the left of a cut at z (the
+reactions, point loads, disk and point-mass weights, and the distributed shaft weight
+``rho A(z) g``, integrated by Simpson's rule per sub-interval, exact for a linear taper):
+
+    V(z) = sum_{z_i < z} F_i + int_{z_0}^{z} w(s) ds,
+    M(z) = sum_{z_i < z} F_i (z - z_i) + int_{z_0}^{z} w(s) (z - s) ds
+
+per bending plane (``x``: x-z plane, ``y``: y-z plane). With y up and gravity -y, a simply
+supported beam has V > 0 right of the left support and M > 0 (sagging) at midspan; at the
+free right end both return to zero (a check of equilibrium, reported as ``end_moment``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
+
+#: standard gravity [m/s^2]
+STANDARD_GRAVITY = 9.80665
+
+
+@dataclass(frozen=True)
+class StaticData:
+    """Static solution.
+
+    Attributes
+    ----------
+    q : ndarray (n_dof,)
+        Displacements [m] and rotations [rad] at the nodes.
+    reactions : ndarray (n_bearing, 2)
+        Force of each bearing on the rotor, (F_x, F_y) [N] (in ``rotor.bearing`` order).
+    z : ndarray (c,)
+        Cut positions [m]; at a node with a point force the cut appears twice (left and right limit).
+    shear, moment : ndarray (c, 2)
+        Shear force [N] and bending moment [N m] at the cuts in the x-z and y-z planes.
+    stress : ndarray (c,)
+        Largest bending stress |M| (d_o / 2) / I at the cut [Pa].
+    load_total : ndarray (2,)
+        Sum of the applied loads (weights and point loads) (F_x, F_y) [N].
+    """
+
+    q: np.ndarray
+    reactions: np.ndarray
+    z: np.ndarray
+    shear: np.ndarray
+    moment: np.ndarray
+    stress: np.ndarray
+    load_total: np.ndarray
+
+    @property
+    def bearing_loads(self) -> np.ndarray:
+        """Magnitude of each bearing's static load |F_b| [N], shape (n_bearing,)."""
+        return np.hypot(self.reactions[:, 0], self.reactions[:, 1])
+
+    def deflection(self, rotor: Rotor) -> np.ndarray:
+        """Node translations (n_nodes, 2): x and y [m]."""
+        return self.q.reshape(rotor.n_nodes, NDOF_NODE)[:, :2]
+
+
+def default_speed(rotor: Rotor) -> float:
+    """Spin speed [rad/s] a static analysis uses by default: 0, or the lowest speed every bearing table covers."""
+    lows = [el.speeds[0] for _, _, el in rotor.bearings if el.speeds is not None]
+    return float(max(lows)) if lows else 0.0
+
+
+def static_analysis(
+    rotor: Rotor,
+    *,
+    gravity: float = STANDARD_GRAVITY,
+    direction=(0.0, -1.0),
+    loads=(),
+    speed: float | None = None,
+    n_sub: int = 8,
+) -> StaticData:
+    """Static deflection, bearing reactions, shear force and bending moment.
+
+    Parameters
+    ----------
+    rotor : Rotor
+        A supported rotor (``free = false``).
+    gravity : float
+        Acceleration of gravity [m/s^2] (0: point loads only).
+    direction : (float, float)
+        Direction of gravity in the x-y plane (normalised here); default (0, -1): -y.
+    loads : sequence of (node, F_x [N], F_y [N])
+        Point forces at nodes.
+    speed : float, optional
+        Spin speed [rad/s] at which the bearing coefficients are taken (default
+        :func:`default_speed`).
+    n_sub : int
+        Cuts per element for the shear and moment diagrams.
+
+    Returns
+    -------
+    StaticData
+        ``reactions`` (n_bearing, 2) [N] are the forces of the bearings on the rotor; their
+        magnitudes (``bearing_loads``) are the static loads a fluid-film bearing carries.
+
+    Examples
+    --------
+    >>> from rotaflex.rotor.fe.model import Rotor, Shaft, Bearing
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=1.0, elements=4),),
+    ...           bearing=(Bearing(node=0, kxx=1e9, kyy=1e9), Bearing(node=4, kxx=1e9, kyy=1e9)))
+    >>> s = static_analysis(r)
+    >>> bool(abs(s.reactions[0, 1] - r.mass * 9.80665 / 2) < 1e-6)
+    True
+    """
+    if rotor.free:
+        raise InputError("free", True, "false for a static analysis (a free rotor has no supports to react loads)")
+    d = np.asarray(direction, float)
+    if d.shape != (2,) or not np.all(np.isfinite(d)) or np.hypot(*d) == 0:
+        raise InputError("static.gravity_direction", list(np.atleast_1d(direction)), "[g_x, g_y], not both 0")
+    if not (np.isfinite(gravity) and gravity >= 0):
+        raise InputError("static.gravity", gravity, "an acceleration >= 0 [m/s^2]")
+    g = gravity * d / np.hypot(*d)
+    speed = default_speed(rotor) if speed is None else float(speed)
+    n, nn = rotor.n_dof, rotor.n_nodes
+    K = rotor.KC(speed)[0][0]
+    r = np.zeros(n)
+    r[0::NDOF_NODE], r[1::NDOF_NODE] = g[0], g[1]
+    f = rotor.M @ r
+    point = np.zeros((nn, 2))  # concentrated forces at nodes: disk/point-mass weights and loads
+    for node, el in rotor.disks:
+        point[node] += el.mass * g
+    for node, el in rotor.point_masses:
+        point[node] += el.mass * g
+    for i, (node, fx, fy) in enumerate(loads):
+        if not 0 <= node < nn:
+            raise InputError(f"static.load[{i}].node", node, f"an existing node 0..{nn - 1}")
+        f[NDOF_NODE * node] += fx
+        f[NDOF_NODE * node + 1] += fy
+        point[node] += (fx, fy)
+    q = np.linalg.solve(K, f)
+    reactions = np.zeros((len(rotor.bearings), 2))
+    for b, (node, other, el) in enumerate(rotor.bearings):
+        u = q[NDOF_NODE * node : NDOF_NODE * node + 2].copy()
+        if other is not None:
+            u -= q[NDOF_NODE * other : NDOF_NODE * other + 2]
+        F = -el.coefficients(speed)[0][0] @ u
+        reactions[b] = F
+        point[node] += F
+        if other is not None:
+            point[other] -= F
+    z, V, Mb, stress = _diagrams(rotor, point, g, n_sub)
+    total = point.sum(0) - reactions.sum(0) + _shaft_weight(rotor) * g
+    return StaticData(q, reactions, z, V, Mb, stress, total)
+
+
+def _shaft_weight(rotor: Rotor) -> float:
+    """Shaft mass alone [kg] (exact for a linear taper: the area is quadratic in z)."""
+    e = rotor.elements
+    a_l = np.pi / 4 * (e["do_l"] ** 2 - e["di_l"] ** 2)
+    a_r = np.pi / 4 * (e["do_r"] ** 2 - e["di_r"] ** 2)
+    dm, dim_ = (e["do_l"] + e["do_r"]) / 2, (e["di_l"] + e["di_r"]) / 2
+    a_m = np.pi / 4 * (dm**2 - dim_**2)
+    return float(np.sum(e["rho"] * e["L"] * (a_l + 4 * a_m + a_r) / 6))
+
+
+def _diagrams(rotor: Rotor, point: np.ndarray, g: np.ndarray, n_sub: int):
+    """Shear, moment and stress at cuts: n_sub + 1 per element, both limits at each node."""
+    e, zn = rotor.elements, rotor.nodes
+    ne = e["L"].size
+    t = np.linspace(0.0, 1.0, n_sub + 1)
+    z = zn[:-1, None] + e["L"][:, None] * t[None, :]  # (ne, n_sub + 1)
+    do = e["do_l"][:, None] + (e["do_r"] - e["do_l"])[:, None] * t
+    di = e["di_l"][:, None] + (e["di_r"] - e["di_l"])[:, None] * t
+    area = np.pi / 4 * (do**2 - di**2)
+    inertia = np.pi / 64 * (do**4 - di**4)
+    w = e["rho"][:, None] * area  # mass per length at the cuts [kg/m]
+    # Simpson per sub-interval: area is quadratic in z, so w and w s are integrated exactly
+    zm = 0.5 * (z[:, 1:] + z[:, :-1])
+    dm = 0.5 * (do[:, 1:] + do[:, :-1])
+    dim_ = 0.5 * (di[:, 1:] + di[:, :-1])
+    wm = e["rho"][:, None] * np.pi / 4 * (dm**2 - dim_**2)
+    h = np.diff(z, axis=1)
+    m0 = h / 6 * (w[:, :-1] + 4 * wm + w[:, 1:])  # mass of each sub-interval
+    m1 = h / 6 * (w[:, :-1] * z[:, :-1] + 4 * wm * zm + w[:, 1:] * z[:, 1:])  # first moment
+    c0 = np.concatenate([[0.0], np.cumsum(m0)])
+    c1 = np.concatenate([[0.0], np.cumsum(m1)])
+    # cumulative distributed mass up to each cut, per element row
+    idx = np.arange(ne)[:, None] * n_sub + np.arange(n_sub + 1)[None, :]
+    cm0, cm1 = c0[idx], c1[idx]
+    # point forces strictly left of each cut; a node's own force counts at its element's first cut
+    pf = np.concatenate([[[0.0, 0.0]], np.cumsum(point, 0)])  # pf[k] = sum of forces at nodes < k
+    pm = np.concatenate([[[0.0, 0.0]], np.cumsum(point * zn[:, None], 0)])
+    # element e's cuts count the forces at nodes <= e (at t = 1: the left limit at node e + 1)
+    left_inc = np.broadcast_to(np.arange(ne)[:, None] + 1, z.shape)
+    F = pf[left_inc]  # (ne, n_sub + 1, 2)
+    Fz = pm[left_inc]
+    V = F + cm0[..., None] * g
+    M = F * z[..., None] - Fz + (cm0 * z - cm1)[..., None] * g
+    stress = np.hypot(M[..., 0], M[..., 1]) * (do / 2) / inertia
+    return z.ravel(), V.reshape(-1, 2), M.reshape(-1, 2), stress.ravel()
+
+
+def deflection_curve(rotor: Rotor, q: np.ndarray, n_sub: int = 8) -> np.ndarray:
+    """Deflection (c, 2) [m] at the cuts of :func:`static_analysis` (``n_sub + 1`` per element).
+
+    Interpolated within each element by its own interdependent Timoshenko shape functions
+    (``N_w`` of the element, plane by plane: x with theta_y, y with -theta_x), so the curve is
+    the element's displacement field, not a straight line between nodes.
+    """
+    from rotaflex.rotor.fe.elements.shaft import _section, _shape, cowper_shear_coefficient
+
+    e = rotor.elements
+    t = np.linspace(0.0, 1.0, n_sub + 1)
+    dm, dim_ = (e["do_l"] + e["do_r"]) / 2, (e["di_l"] + e["di_r"]) / 2
+    A, I = _section(dm, dim_)
+    kappa = np.where(np.isnan(e["kappa"]), cowper_shear_coefficient(dim_ / dm, e["E"] / (2 * e["G"]) - 1), e["kappa"])
+    phi = 12 * e["E"] * I / (kappa * e["G"] * A * e["L"] ** 2)
+    nw = _shape(t, phi, e["L"])[0]  # (ne, n_sub + 1, 4)
+    Q = q.reshape(rotor.n_nodes, NDOF_NODE)
+    qx = np.stack([Q[:-1, 0], Q[:-1, 3], Q[1:, 0], Q[1:, 3]], -1)  # x-z plane: (x, theta_y)
+    qy = np.stack([Q[:-1, 1], -Q[:-1, 2], Q[1:, 1], -Q[1:, 2]], -1)  # y-z plane: (y, -theta_x)
+    return np.stack([np.einsum("ngi,ni->ng", nw, qx).ravel(), np.einsum("ngi,ni->ng", nw, qy).ravel()], -1)

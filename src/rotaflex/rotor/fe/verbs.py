@@ -1,0 +1,128 @@
+"""Runners of the FE rotor verbs added to the modal set: ``static`` and ``frf``.
+
+Each takes the parsed config (rotor tables plus its own analysis table), converts rpm to rad/s
+once, calls the library function and wraps the outcome in a registered Result.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import xarray as xr
+
+from rotaflex.rotor.fe.case import _attrs, parse
+from rotaflex.rotor.fe.model import RPM
+from rotaflex.rotor.fe.results import FRFResult, StaticResult
+
+
+def run_static(config: dict, *, progress: bool = False) -> StaticResult:
+    """Static analysis of ``[static]``: gravity sag, point loads, reactions, shear and moment."""
+    from rotaflex.rotor.fe.static import deflection_curve, static_analysis
+
+    t0 = time.perf_counter()
+    rotor, spec = parse(config, "static")
+    loads = [(rotor.station(ld.node, ld.position, f"static.load[{i}]"), ld.fx, ld.fy) for i, ld in enumerate(spec.load)]
+    speed = None if spec.speed_rpm is None else spec.speed_rpm * RPM
+    s = static_analysis(rotor, gravity=spec.gravity, direction=spec.gravity_direction, loads=loads, speed=speed)
+    defl = s.deflection(rotor)
+    nb = len(rotor.bearings)
+    names = [b.name or f"bearing[{i}]" for i, b in enumerate(rotor.bearing)]
+    ds = xr.Dataset(
+        {
+            "deflection": (("node", "axis"), defl, {"units": "m", "long_name": "static deflection"}),
+            "z": ("node", rotor.nodes, {"units": "m"}),
+            "reaction": (("bearing", "axis"), s.reactions, {"units": "N", "long_name": "force of bearing on rotor"}),
+            "bearing_node": ("bearing", [n for n, _, _ in rotor.bearings]),
+            "bearing_name": ("bearing", names),
+            "shear": (("cut", "axis"), s.shear, {"units": "N", "long_name": "shear force"}),
+            "moment": (("cut", "axis"), s.moment, {"units": "N m", "long_name": "bending moment"}),
+            "stress": ("cut", s.stress, {"units": "Pa", "long_name": "largest bending stress"}),
+            "z_cut": ("cut", s.z, {"units": "m"}),
+            "deflection_curve": (
+                ("cut", "axis"),
+                deflection_curve(rotor, s.q),
+                {"units": "m", "long_name": "deflection within the elements (shape functions)"},
+            ),
+        },
+        coords={"node": np.arange(rotor.n_nodes), "axis": ["x", "y"], "bearing": np.arange(nb)},
+    )
+    r = np.hypot(defl[:, 0], defl[:, 1])
+    mm = np.hypot(s.moment[:, 0], s.moment[:, 1])
+    vv = np.hypot(s.shear[:, 0], s.shear[:, 1])
+    jm, jv, jd = int(np.argmax(mm)), int(np.argmax(vv)), int(np.argmax(r))
+    extra = {
+        "total_mass": {"value": rotor.mass, "unit": "kg"},
+        "applied_load_x": {"value": float(s.load_total[0]), "unit": "N"},
+        "applied_load_y": {"value": float(s.load_total[1]), "unit": "N"},
+        "max_deflection": {"value": float(r[jd]), "unit": "m", "node": jd, "z": float(rotor.nodes[jd])},
+        "max_bending_moment": {"value": float(mm[jm]), "unit": "N m", "z": float(s.z[jm])},
+        "max_shear_force": {"value": float(vv[jv]), "unit": "N", "z": float(s.z[jv])},
+        "max_bending_stress": {"value": float(s.stress.max()), "unit": "Pa", "z": float(s.z[np.argmax(s.stress)])},
+    }
+    for i, nm in enumerate(names):
+        extra[f"reaction_{nm}_x"] = {"value": float(s.reactions[i, 0]), "unit": "N"}
+        extra[f"reaction_{nm}_y"] = {"value": float(s.reactions[i, 1]), "unit": "N"}
+        extra[f"load_{nm}"] = {"value": float(s.bearing_loads[i]), "unit": "N", "node": rotor.bearings[i][0]}
+    msg = (
+        "bearing loads [N]: "
+        + ", ".join(f"{nm} {v:.4g}" for nm, v in zip(names, s.bearing_loads, strict=True))
+        + f"; max deflection {r[jd] * 1e6:.4g} um at node {jd}; max moment {mm[jm]:.4g} N m at z = {s.z[jm]:.4g} m"
+    )
+    ds.attrs.update(_attrs(config, t0, extra, msg))
+    return StaticResult(ds)
+
+
+def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
+    """FRFs of ``[frf]`` at ``speed_rpm`` over ``frequency_hz``, with peaks and half-power damping."""
+    from rotaflex.core.errors import InputError
+    from rotaflex.rotor.fe.frf import dof_index, frf, half_power
+
+    t0 = time.perf_counter()
+    rotor, spec = parse(config, "frf")
+    f0, f1 = spec.frequency_hz
+    if f1 <= f0:
+        raise InputError("frf.frequency_hz", list(spec.frequency_hz), "[start, stop] with stop > start")
+    node = rotor.disks[0][0] if rotor.disks else rotor.n_nodes // 2
+    pairs = [(p.input_node, p.input_direction, p.output_node, p.output_direction) for p in spec.pair] or [
+        (node, "x", None, None),
+        (node, "y", None, None),
+    ]
+    ins, outs, labels = [], [], []
+    for i, (a, da, b, db) in enumerate(pairs):
+        b = a if b is None else b
+        db = da if db is None else db
+        ins.append(dof_index(rotor, a, da, f"frf.pair[{i}].input_node"))
+        outs.append(dof_index(rotor, b, db, f"frf.pair[{i}].output_node"))
+        labels.append(f"{db}{b}/{'F' if da in 'xy' else 'M'}{da}{a}")
+    w = np.linspace(f0, f1, spec.n_frequencies) * 2 * np.pi
+    speed = spec.speed_rpm * RPM
+    uniq = sorted(set(ins))
+    data = frf(rotor, w, speed, uniq, sorted(set(outs)), spec.kind)
+    out_idx = {d: j for j, d in enumerate(sorted(set(outs)))}
+    H = np.stack([data.H[:, out_idx[o], uniq.index(i)] for i, o in zip(ins, outs, strict=True)], 1)
+    unit = {"receptance": "m/N", "mobility": "m/(N s)", "accelerance": "m/(N s^2)"}[spec.kind]
+    ds = xr.Dataset(
+        {
+            "H_real": (("frequency", "pair"), H.real, {"units": unit}),
+            "H_imag": (("frequency", "pair"), H.imag, {"units": unit}),
+            "amplitude": (("frequency", "pair"), np.abs(H), {"units": unit, "long_name": f"|{spec.kind}|"}),
+            "phase": (("frequency", "pair"), np.angle(H), {"units": "rad"}),
+            "frequency_hz": ("frequency", w / (2 * np.pi), {"units": "Hz"}),
+        },
+        coords={"frequency": ("frequency", w, {"units": "rad/s"}), "pair": labels},
+    )
+    ds.attrs["kind"] = spec.kind
+    ds.attrs["speed_rpm"] = spec.speed_rpm
+    extra = {"speed": {"value": spec.speed_rpm, "unit": "rpm"}, "kind": {"value": spec.kind, "unit": unit}}
+    shown = []
+    for j, lab in enumerate(labels):
+        for k, p in enumerate(half_power(w, np.abs(H[:, j]))):
+            extra[f"{lab}_peak_{k}_frequency_hz"] = {"value": p["frequency"] / (2 * np.pi), "unit": "Hz"}
+            extra[f"{lab}_peak_{k}_amplitude"] = {"value": p["amplitude"], "unit": unit}
+            extra[f"{lab}_peak_{k}_half_power_damping_ratio"] = {"value": p["zeta"], "unit": "1"}
+            if j == 0:
+                shown.append(f"{p['frequency'] / (2 * np.pi):.4g} Hz")
+    msg = f"{len(labels)} FRFs at {spec.speed_rpm:g} rpm; peaks of {labels[0]}: " + (", ".join(shown) or "none")
+    ds.attrs.update(_attrs(config, t0, extra, msg))
+    return FRFResult(ds)
