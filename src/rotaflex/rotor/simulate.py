@@ -230,15 +230,12 @@ def simulate(model: RotorModel | FreeBody, *, progress: bool = False):
 
 
 def _import_solver_modules() -> None:
-    """Import what the solve and its dataset use, before the solver clock starts.
-
-    xarray imports its duck-array modules (``dask.array`` when dask is installed) when it makes
-    its first variable, so one tiny variable is made here as well.
-    """
+    """Import what the solve and its dataset use, before the solver clock starts."""
     import scipy.integrate  # noqa: F401
-    import xarray as xr
 
-    xr.Variable("x", np.zeros(1))
+    from rotaflex.core.result import import_xarray
+
+    import_xarray()
 
 
 def _linsolve(M: np.ndarray, f: np.ndarray) -> np.ndarray:
