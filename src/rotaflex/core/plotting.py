@@ -1,23 +1,32 @@
-"""Matplotlib helpers (Agg backend, no windows); imported only when figures are made."""
+"""Matplotlib helpers (Agg backend, no windows).
+
+Matplotlib itself (0.3-0.7 s to import) is loaded by the first figure, not by importing this
+module: the CLI checks ``--format`` against :data:`FORMATS` on every verb, figures or not.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
 
-import matplotlib
+from rotaflex.core.io import write_atomic
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
 
-from rotaflex.core.io import write_atomic  # noqa: E402
+def pyplot():
+    """``matplotlib.pyplot`` on the Agg backend (no windows), imported on first use."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
 
 
 def new_figure(nrows: int = 1, ncols: int = 1, **kw: Any):
     """A figure and axes with the project's default size."""
     kw.setdefault("figsize", (6.4 * ncols**0.5 + 1.0, 3.6 * nrows))
     kw.setdefault("layout", "constrained")
-    return plt.subplots(nrows, ncols, **kw)
+    return pyplot().subplots(nrows, ncols, **kw)
 
 
 #: figure file formats the commands accept (``--format``)
@@ -56,7 +65,7 @@ def save_figure(fig, path: str | Path, dpi: int | None = None, fmt: str | None =
     try:
         return write_atomic(path, lambda p: fig.savefig(p, format=fmt, dpi=dpi or DPI))
     finally:
-        plt.close(fig)
+        pyplot().close(fig)
 
 
 #: CF unit strings as printed on axes (superscripts, micro sign)

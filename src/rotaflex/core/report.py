@@ -10,13 +10,13 @@ from __future__ import annotations
 import html
 import logging
 import math
-import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from rotaflex.core.io import write_json_atomic, write_text_atomic
+from rotaflex.core.jit import CompileTimer  # noqa: F401 - its home is core.jit; imported from here too
 
 
 @dataclass
@@ -319,53 +319,3 @@ class ExpectedWarnings(logging.Filter):
         for h in logging.getLogger().handlers:
             h.removeFilter(self)
         _EXPECTED.clear()
-
-
-class CompileTimer:
-    """Time spent compiling numba kernels inside the block (outermost compilations only).
-
-    The first compilation is announced through ``announce`` (the first run of a domain compiles
-    its kernels; later runs load them from numba's cache). ``seconds`` is the total, so callers
-    can report it apart from the solver time.
-    """
-
-    def __init__(self, announce: Callable[[str], None] | None = None):
-        self.seconds = 0.0
-        self.count = 0
-        self._depth = 0
-        self._t0 = 0.0
-        self._announce = announce
-        self._said = False
-        self._listener = None
-
-    def __enter__(self) -> CompileTimer:
-        try:
-            from numba.core import event
-        except ImportError:  # pragma: no cover - numba is a dependency
-            return self
-        timer = self
-
-        class _Listener(event.Listener):
-            def on_start(self, ev):
-                if timer._depth == 0:
-                    timer._t0 = time.perf_counter()
-                    if not timer._said and timer._announce is not None:
-                        timer._announce("compiling numba kernels (first run only; cached afterwards)...")
-                        timer._said = True
-                timer._depth += 1
-
-            def on_end(self, ev):
-                timer._depth -= 1
-                if timer._depth == 0:
-                    timer.seconds += time.perf_counter() - timer._t0
-                    timer.count += 1
-
-        self._listener = _Listener()
-        event.register("numba:compile", self._listener)
-        return self
-
-    def __exit__(self, *exc) -> None:
-        if self._listener is not None:
-            from numba.core import event
-
-            event.unregister("numba:compile", self._listener)

@@ -1,4 +1,9 @@
-"""Time simulation of rotor-disk and free rigid-body models with ``scipy.integrate.solve_ivp``."""
+"""Time simulation of rotor-disk and free rigid-body models with ``scipy.integrate.solve_ivp``.
+
+``scipy.integrate`` and the symbolic derivation (sympy) are imported by :func:`simulate`, not by
+this module: ``rotaflex.rotor`` is imported by every rotor verb (``campbell`` too), and those
+two cost ~1 s of start-up that only a time simulation needs.
+"""
 
 from __future__ import annotations
 
@@ -8,7 +13,6 @@ import time as _time
 from dataclasses import asdict
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from rotaflex.core.config import budget
 from rotaflex.rotation.quaternion import (
@@ -197,6 +201,7 @@ def simulate(model: RotorModel | FreeBody, *, progress: bool = False):
     check_budget(model)
     if not (isinstance(model, FreeBody) and model.formulation.parameterisation == "quaternion"):
         compiled(spec_of(model))  # derive/load the equations first: not counted as solver time
+    _import_solver_modules()  # nor are imports: the first run of a process paid ~0.3 s for them
     t0 = _time.perf_counter()
     solver = model.solver
     p = parameter_vector(model)
@@ -224,6 +229,42 @@ def simulate(model: RotorModel | FreeBody, *, progress: bool = False):
     return RotorResult(ds)
 
 
+def _import_solver_modules() -> None:
+    """Import what the solve and its dataset use, before the solver clock starts."""
+    import scipy.integrate  # noqa: F401
+
+    from rotaflex.core.result import import_xarray
+
+    import_xarray()
+
+
+def _linsolve(M: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """``M^-1 f`` for the small mass matrices here through LAPACK ``gesv`` directly: the same
+    factorisation as ``np.linalg.solve`` at a fifth of its per-call overhead (3 us against
+    18 us for 4x4), which is most of the cost of a right-hand-side evaluation."""
+    from scipy.linalg.lapack import dgesv
+
+    _, _, x, info = dgesv(M, f)
+    if info > 0:
+        raise np.linalg.LinAlgError("Singular matrix")
+    return x
+
+
+def _solve_stacked(Ms: np.ndarray, fs: np.ndarray) -> np.ndarray:
+    """``M_i^-1 f_i`` for every output sample at once; NaN where ``M_i`` is singular."""
+    with np.errstate(all="ignore"):
+        try:
+            return np.linalg.solve(Ms, fs[..., None])[..., 0]
+        except np.linalg.LinAlgError:  # a singular sample (a run stopped at a singularity)
+            out = np.full(fs.shape, np.nan)
+            for i, (M, f) in enumerate(zip(Ms, fs, strict=True)):
+                try:
+                    out[i] = np.linalg.solve(M, f)
+                except np.linalg.LinAlgError:
+                    pass
+            return out
+
+
 def _mass_measure(M_rot: np.ndarray, J_max: float) -> float:
     """det of the rotational mass block relative to the inertia scale (0 = singular)."""
     n = M_rot.shape[0]
@@ -245,7 +286,7 @@ def _integrate_lagrange(model, p, t_eval, bar):
     def rhs(t, y):
         bar(t)
         M, f, _, _ = parts(t, y)
-        return np.concatenate([y[n:], np.linalg.solve(M, f)])
+        return np.concatenate([y[n:], _linsolve(M, f)])
 
     def singular(t, y):
         M = parts(t, y)[0]
@@ -292,15 +333,11 @@ def _integrate_lagrange(model, p, t_eval, bar):
     q, qd = sol_y[:n].T, sol_y[n:].T
     e = np.empty((sol_t.size, 4))
     e_dot = np.empty_like(e)
-    qdd = np.empty_like(q)
+    Ms = np.empty((sol_t.size, n, n))
+    fs = np.empty((sol_t.size, n))
     for i, (ti, yi) in enumerate(zip(sol_t, sol_y.T, strict=False)):  # output only, not the time loop
-        M, f, ei, edi = parts(ti, yi)
-        e[i], e_dot[i] = ei, edi
-        with np.errstate(all="ignore"):
-            try:
-                qdd[i] = np.linalg.solve(M, f)
-            except np.linalg.LinAlgError:
-                qdd[i] = np.nan
+        Ms[i], fs[i], e[i], e_dot[i] = parts(ti, yi)
+    qdd = _solve_stacked(Ms, fs)
     ds = _dataset(model, sol_t, q, qd, e, e_dot, ns["COORDINATES"], p)
     ds["generalized_acceleration"] = (
         ("time", "coordinate"),
@@ -344,6 +381,8 @@ def _solve(rhs, y0, solver, t_eval, bar, events=None):
     reached in ``message``; the samples integrated so far are kept.
     """
     from types import SimpleNamespace
+
+    from scipy.integrate import solve_ivp
 
     def budget(t, y):
         # zero at the time the budget ran out, so the run stops there and keeps its samples

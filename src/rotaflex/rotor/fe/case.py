@@ -20,9 +20,12 @@ import xarray as xr
 
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
+from rotaflex.core.result import import_xarray
 from rotaflex.rotor.fe.modal import STABILITY_TOL
 from rotaflex.rotor.fe.model import ROTOR_KEYS, RPM, Bearing, Disk, Material, PointMass, Rotor, Shaft
 from rotaflex.rotor.fe.results import CampbellResult, ModalResult, TransientResult, UCSResult, UnbalanceResult
+
+import_xarray()  # xarray's deferred imports (dask.array) now, not inside the analyses' timers
 
 DOFS = ["x", "y", "theta_x", "theta_y"]
 

@@ -35,7 +35,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
-from scipy.integrate import solve_ivp
 
 from rotaflex.core.errors import ConvergenceError, InputError, SingularityError
 from rotaflex.rotor.fe.elements.large_disk import LargeRotationDisk
@@ -264,6 +263,8 @@ def transient(
     t_eval = np.linspace(0.0, t_end, n_output)
     if method == "direct":
         return _newmark(mats, rhs, M, Mi, z0, t_eval, steps_per_output, force is not None or bool(large), rtol, t0)
+    from scipy.integrate import solve_ivp  # here: importing it costs every rotor verb ~0.15 s
+
     sol = solve_ivp(rhs, (0.0, t_end), z0, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
     if not sol.success:
         tt = float(sol.t[-1]) if sol.t.size else 0.0

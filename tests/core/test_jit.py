@@ -1,0 +1,76 @@
+"""core.jit: the compile timer picks numba up when a block imports it, and the first-run line
+is written only while numba's disk cache of the kernels is cold (fresh processes: NUMBA_CACHE_DIR
+is read when numba is imported)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+SRC = Path(__file__).resolve().parents[2] / "src"
+
+
+def _run(code: str, tmp_path: Path) -> dict:
+    env = {**os.environ, "PYTHONPATH": f"{SRC}{os.pathsep}{tmp_path}", "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    proc = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], env=env, capture_output=True, text=True, timeout=120
+    )
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def test_timer_starts_listening_when_the_block_imports_numba(tmp_path):
+    got = _run(
+        """
+        import json, sys
+        from rotaflex.core.jit import CompileTimer
+        with CompileTimer() as idle:
+            pass
+        after_idle = "numba" in sys.modules
+        said = []
+        with CompileTimer(said.append) as timer:
+            import numba  # first imported inside the block, as a domain's kernels module would
+            @numba.njit(cache=False)
+            def twice(x):
+                return 2.0 * x
+            twice(1.5)
+            twice(2.5)
+        hooks = [type(f).__name__ for f in sys.meta_path if type(f).__name__ == "_AfterImport"]
+        print(json.dumps({"after_idle": after_idle, "idle": idle.count, "count": timer.count,
+                          "seconds": timer.seconds, "said": said, "hooks": hooks}))
+        """,
+        tmp_path,
+    )
+    assert got["after_idle"] is False and got["idle"] == 0  # a block that compiles nothing imports nothing
+    assert got["count"] == 1 and got["seconds"] > 0  # one compilation, timed although numba came late
+    assert len(got["said"]) == 1 and "compiling numba kernels" in got["said"][0]
+    assert got["hooks"] == []  # the import hook is gone after the block
+
+
+def test_announcement_only_while_the_disk_cache_is_cold(tmp_path):
+    (tmp_path / "tiny_kernels.py").write_text(
+        "from numba import njit\n\n\n@njit(cache=True)\ndef plus_one(x):\n    return x + 1.0\n"
+    )
+    code = """
+        import json
+        import tiny_kernels
+        from rotaflex.core.jit import CompileTimer, announce_compilation, cache_is_cold
+        said = []
+        with CompileTimer(said.append) as timer:
+            cold = cache_is_cold([tiny_kernels])
+            first = announce_compilation("tiny", [tiny_kernels], 3.0)
+            again = announce_compilation("tiny", [tiny_kernels], 3.0)
+            tiny_kernels.plus_one(1.0)
+        print(json.dumps({"cold": cold, "first": first, "again": again, "said": said,
+                          "count": timer.count, "cold_after": cache_is_cold([tiny_kernels.plus_one])}))
+    """
+    one = _run(code, tmp_path)
+    assert one["cold"] and one["first"] and not one["again"]
+    assert one["said"] == ["compiling the tiny kernels once, ~3 s; later runs load them from the cache"]
+    assert one["count"] == 1 and not one["cold_after"]  # compiled and written to the cache
+    two = _run(code, tmp_path)  # a new process: numba loads the kernel from the cache
+    assert not two["cold"] and not two["first"] and two["said"] == [] and two["count"] == 0
