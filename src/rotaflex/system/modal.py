@@ -18,7 +18,7 @@ from scipy.optimize import linear_sum_assignment
 
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.modal import mac
-from rotaflex.system.assembly import Matrices, matrices, system_matrices, undamped_modes
+from rotaflex.system.assembly import Matrices, matrices, reduced_basis, system_matrices, undamped_modes
 from rotaflex.system.model import Gearbox
 
 
@@ -141,11 +141,13 @@ def modal(box: Gearbox, speed: float = 0.0, n_modes: int = 12) -> SystemModes:
     return SystemModes(np.array([speed]), lam[None], v[None], e[None], me[None], groups(box)[0])
 
 
-def reduction_basis(box: Gearbox, speed: float, n_basis: int, mats: Matrices | None = None) -> np.ndarray:
-    """Lowest ``n_basis`` undamped modes (free DOFs) of the system with mean mesh stiffness."""
+def reduction_basis(box: Gearbox, speed: float, n_modes: int, mats: Matrices | None = None) -> np.ndarray:
+    """Basis of :func:`~.assembly.reduced_basis` keeping the undamped modes below 1.2 x the
+    ``n_modes``-th undamped frequency at drive ``speed`` [rad/s]."""
     mats = matrices(box) if mats is None else mats
     M, _, K = system_matrices(box, speed, mats)
-    return undamped_modes(M, K, n_basis)[1]
+    w = undamped_modes(M, K, n_modes)[0]
+    return reduced_basis(box, mats, speed, float(w[-1]), 1.2)
 
 
 @dataclass(frozen=True)
@@ -171,12 +173,12 @@ def excitation_lines(box: Gearbox, harmonics=(1, 2, 3)) -> list[dict]:
 
 
 def campbell(
-    box: Gearbox, speeds, n_modes: int = 12, harmonics=(1, 2, 3), reduce: int | None = 36, extra: int = 6
+    box: Gearbox, speeds, n_modes: int = 12, harmonics=(1, 2, 3), reduce: bool = True, extra: int = 6
 ) -> SystemCampbell:
     """Campbell diagram over drive speeds [rad/s], modes tracked by MAC (Hungarian assignment).
 
-    ``reduce = m`` solves in the basis of the lowest m undamped modes at the middle speed (the
-    benchmark prints the difference to the full solve); None: all DOFs.
+    ``reduce`` solves in the basis of :func:`reduction_basis` at the middle speed (the benchmark
+    prints the difference to the full solve); False: all DOFs.
     """
     speeds = np.asarray(speeds, float)
     if speeds.ndim != 1 or speeds.size < 2 or np.any(np.diff(speeds) <= 0):
@@ -184,9 +186,10 @@ def campbell(
     mats = matrices(box)
     nfree = mats.free.size
     basis = None
-    if reduce is not None and reduce < nfree:
-        basis = reduction_basis(box, float(speeds[speeds.size // 2]), reduce, mats)
     n_cand = min(n_modes + extra, nfree)
+    if reduce:
+        basis = reduction_basis(box, float(speeds[speeds.size // 2]), n_cand, mats)
+        n_cand = min(n_cand, basis.shape[1])
     ns = speeds.size
     lam_t = np.full((ns, n_modes), np.nan + 0j)
     v_t = np.zeros((ns, n_modes, box.n_dof), complex)

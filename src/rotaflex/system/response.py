@@ -20,10 +20,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 
 from rotaflex.core.errors import InputError
-from rotaflex.system.assembly import bearing_matrices, matrices, system_matrices, undamped_modes
+from rotaflex.system.assembly import bearing_matrices, matrices, reduced_basis
 from rotaflex.system.model import Gearbox
 
 
@@ -72,40 +71,6 @@ class ForcedResponse:
     static_force: np.ndarray
 
 
-def _basis(box, mats, speed, w_max, cutoff):
-    """Undamped modes below ``cutoff * w_max`` plus the static shapes of the mesh forces,
-    M-orthonormal (free DOFs)."""
-    M, _, K = system_matrices(box, speed, mats)
-    w, phi = undamped_modes(M, K)
-    phi = phi[:, w <= cutoff * w_max]
-    g = mats.g[:, mats.free].T
-    # static shapes of unit loads at the bearing DOFs: the damping and reaction forces act there
-    pos = {int(d): i for i, d in enumerate(mats.free)}
-    loads = [g]
-    for r, pr in enumerate(box.rotors):
-        for node, _, _ in pr.rotor.bearings:
-            for ax in (0, 1):
-                e = np.zeros((mats.free.size, 1))
-                e[pos[box.lateral_dof(r, node, ax)], 0] = 1.0
-                loads.append(e)
-    # gyroscopic forces of the kept modes (the spin couples them to higher modes)
-    Gs = sum(pr.sense * pr.ratio * G for pr, G in zip(box.rotors, mats.G, strict=True))
-    loads.append(Gs[np.ix_(mats.free, mats.free)] @ phi)
-    g = np.concatenate(loads, 1)
-    Ks = 0.5 * (K + K.T)
-    static = sla.solve(Ks + 1e-12 * np.trace(Ks) / Ks.shape[0] * np.eye(Ks.shape[0]), g, assume_a="sym")
-    cols = [phi]
-    for v in static.T:  # Gram-Schmidt in the M inner product (twice, for round-off)
-        n0 = np.sqrt(v @ M @ v)
-        for _ in range(2):
-            basis = np.concatenate(cols, 1)
-            v = v - basis @ (basis.T @ (M @ v))
-        n1 = np.sqrt(v @ M @ v)
-        if n1 > 1e-8 * n0:
-            cols.append((v / n1)[:, None])
-    return np.concatenate(cols, 1)
-
-
 def forced_response(
     box: Gearbox,
     speeds,
@@ -129,7 +94,7 @@ def forced_response(
     nf = free.size
     ns, nm, nh = speeds.size, len(box.meshes), harmonics
     w_max = nh * max(box.mesh_frequency(j, float(np.max(np.abs(speeds)))) for j in range(nm))
-    P = np.eye(nf) if cutoff is None else _basis(box, mats, float(np.median(speeds)), w_max, cutoff)
+    P = np.eye(nf) if cutoff is None else reduced_basis(box, mats, float(np.median(speeds)), w_max, cutoff)
     Tfull = np.zeros((box.n_dof, P.shape[1]))
     Tfull[free] = P
     M = P.T @ mats.M[np.ix_(free, free)] @ P
@@ -190,12 +155,9 @@ def forced_response(
         out["mesh_force"][j] = zk * (gq - E[j][None, :])
         if len(brg):
             u = np.einsum("bar,shr->shba", Tb, Q)  # (ns, nh, nb, 2)
-            kb = kbn[:, None] if constant else kbn[:, None]
-            cb = cbn[:, None]
-            bf[j] = -(
-                np.einsum("sbij,shbj->shbi", kb[:, 0], u)
-                + 1j * wm[..., None, None] * np.einsum("sbij,shbj->shbi", cb[:, 0], u)
-            )
+            fk = np.einsum("sbij,shbj->shbi", kbn, u)  # kbn, cbn: (1 or ns, nb, 2, 2)
+            fc = np.einsum("sbij,shbj->shbi", cbn, u)
+            bf[j] = -(fk + 1j * wm[..., None, None] * fc)
         if len(probes):
             orb[j] = np.einsum("par,shr->shpa", Tp, Q)
     names = [(box.rotors[i].name, node) for i, node, _ in brg]
