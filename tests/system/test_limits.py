@@ -159,7 +159,7 @@ def test_energy_split_and_campbell_tracking(make):
     m = modal(box, 200.0, 10)
     np.testing.assert_allclose(m.energy.sum(-1), 1.0, rtol=1e-12)
     assert np.all((m.mesh_energy >= 0) & (m.mesh_energy <= 1 + 1e-12))
-    c = campbell(box, np.linspace(10.0, 600.0, 12), 8, reduce=None)
+    c = campbell(box, np.linspace(10.0, 600.0, 12), 8, reduce=False)
     np.testing.assert_allclose(
         c.modes.wd[3], modal(box, c.modes.speed[3], 8).wd[0][np.argsort(np.argsort(c.modes.wd[3]))], rtol=1e-9
     )

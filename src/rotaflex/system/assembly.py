@@ -66,12 +66,14 @@ def coupling_vector(box: Gearbox, mesh: int) -> np.ndarray:
 class Matrices:
     """Speed-independent parts of the equations (full DOF set) and the free DOFs.
 
-    M, K0 (shafts, torsion; bearings excluded), G (list per rotor, per unit signed speed,
-    embedded), g (n_mesh, n_dof), k_mean (n_mesh,), c_mesh (n_mesh,), free (indices kept).
+    M, K0 (shafts, torsion; bearings excluded), C0 (the load's torque-speed slope), G (list per
+    rotor, per unit signed speed, embedded), g (n_mesh, n_dof), k_mean (n_mesh,), c_mesh
+    (n_mesh,), free (indices kept).
     """
 
     M: np.ndarray
     K0: np.ndarray
+    C0: np.ndarray
     G: list
     g: np.ndarray
     k_mean: np.ndarray
@@ -99,10 +101,14 @@ def matrices(box: Gearbox) -> Matrices:
     g = np.array([coupling_vector(box, i) for i in range(len(box.meshes))]).reshape(-1, n)
     k = np.array([m.k_mean for m in box.meshes])
     c = np.array([m.damping for m in box.meshes])
+    C0 = np.zeros((n, n))
+    if box.load is not None and box.spec.load is not None and box.spec.load.damping > 0:
+        i = box.torsion_dof(*box.load)
+        C0[i, i] = box.spec.load.damping
     free = np.arange(n)
     if box.drive_kind == "constant_speed" and box.drive is not None:
         free = np.delete(free, box.torsion_dof(*box.drive))
-    return Matrices(M, K0, Gs, g, k, c, free)
+    return Matrices(M, K0, C0, Gs, g, k, c, free)
 
 
 def bearing_matrices(box: Gearbox, drive_speed: float) -> tuple[np.ndarray, np.ndarray]:
@@ -125,7 +131,7 @@ def system_matrices(box: Gearbox, drive_speed: float, mats: Matrices | None = No
     mats = matrices(box) if mats is None else mats
     Kb, Cb = bearing_matrices(box, drive_speed)
     K = mats.K0 + Kb
-    D = Cb.copy()
+    D = Cb + mats.C0
     for G, w in zip(mats.G, box.speeds(drive_speed), strict=True):
         D += w * G
     if mesh and len(mats.k_mean):

@@ -108,6 +108,7 @@ class LoadSpec:
     position: float | None = param(None, unit="m")
     torque: float = param(0.0, unit="N m", ge=0)
     inertia: float = param(0.0, unit="kg m^2", ge=0)
+    damping: float = param(0.0, unit="N m s/rad", ge=0, doc="torque-speed slope of the load (viscous)")
 
 
 @dataclass(frozen=True)

@@ -119,7 +119,7 @@ def forced_response(
     for s in sel:
         Kf, Cf = bearing_matrices(box, speeds[s])
         Kb.append(P.T @ Kf[np.ix_(free, free)] @ P)
-        Cb.append(P.T @ Cf[np.ix_(free, free)] @ P)
+        Cb.append(P.T @ (Cf + mats.C0)[np.ix_(free, free)] @ P)
         kbn.append(np.array([Kf[np.ix_(r, r)] for r in rows]).reshape(len(rows), 2, 2))
         cbn.append(np.array([Cf[np.ix_(r, r)] for r in rows]).reshape(len(rows), 2, 2))
     Kb, Cb, kbn, cbn = (np.array(x) for x in (Kb, Cb, kbn, cbn))  # (1 or ns, ...)
