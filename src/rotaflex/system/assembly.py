@@ -151,7 +151,7 @@ def undamped_modes(M: np.ndarray, K: np.ndarray, n: int | None = None) -> tuple[
 
 
 def reduced_basis(
-    box: Gearbox, mats: Matrices, speed: float, w_max: float, cutoff: float, extra: bool = True
+    box: Gearbox, mats: Matrices, speed: float, w_max: float, cutoff: float, extra: bool = True, bearings: bool = True
 ) -> np.ndarray:
     """Reduction basis P (free DOFs, ``P^T M P = I``).
 
@@ -167,7 +167,7 @@ def reduced_basis(
     loads = [mats.g[:, mats.free].T]
     if extra:
         pos = {int(d): i for i, d in enumerate(mats.free)}
-        for r, pr in enumerate(box.rotors):
+        for r, pr in enumerate(box.rotors if bearings else ()):
             for node, _, _ in pr.rotor.bearings:
                 for ax in (0, 1):
                     e = np.zeros((mats.free.size, 1))

@@ -90,10 +90,27 @@ def _energy(box: Gearbox, mats: Matrices, K_full: np.ndarray, v: np.ndarray):
     return e, mesh
 
 
-def _solve(box, mats, speed, n_keep, basis):
-    M, D, K = system_matrices(box, speed, mats)
-    if basis is not None:
-        M, D, K = basis.T @ M @ basis, basis.T @ D @ basis, basis.T @ K @ basis
+def _pencil(box, mats, basis):
+    """Function of the drive speed giving (M, D, K) on the free DOFs or in ``basis``; with
+    speed-independent bearings the projections are made once (D = D0 + Omega G_sum)."""
+    constant = all(el.speeds is None for pr in box.rotors for _, _, el in pr.rotor.bearings)
+    P = np.eye(mats.free.size) if basis is None else basis
+    if not constant:
+
+        def at(speed):
+            M, D, K = system_matrices(box, speed, mats)
+            return P.T @ M @ P, P.T @ D @ P, P.T @ K @ P
+
+        return at
+    M, D0, K = (P.T @ X @ P for X in system_matrices(box, 0.0, mats))
+    f = mats.free
+    Gs = sum(pr.sense * pr.ratio * G for pr, G in zip(box.rotors, mats.G, strict=True))
+    Gr = P.T @ Gs[np.ix_(f, f)] @ P
+    return lambda speed: (M, D0 + speed * Gr, K)
+
+
+def _solve(box, mats, speed, n_keep, basis, pencil=None):
+    M, D, K = (pencil or _pencil(box, mats, basis))(speed)
     n = M.shape[0]
     Minv = sla.inv(M)
     A = np.zeros((2 * n, 2 * n))
@@ -147,7 +164,7 @@ def reduction_basis(box: Gearbox, speed: float, n_modes: int, mats: Matrices | N
     mats = matrices(box) if mats is None else mats
     M, _, K = system_matrices(box, speed, mats)
     w = undamped_modes(M, K, n_modes)[0]
-    return reduced_basis(box, mats, speed, float(w[-1]), 1.2)
+    return reduced_basis(box, mats, speed, float(w[-1]), 1.2, bearings=False)
 
 
 @dataclass(frozen=True)
@@ -195,8 +212,9 @@ def campbell(
     v_t = np.zeros((ns, n_modes, box.n_dof), complex)
     mac_min = np.ones(ns)
     prev = None
+    pencil = _pencil(box, mats, basis)
     for s in range(ns):
-        lam, v = _solve(box, mats, speeds[s], n_cand, basis)
+        lam, v = _solve(box, mats, speeds[s], n_cand, basis, pencil)
         if prev is None:
             k = min(n_modes, lam.size)
             lam_t[s, :k], v_t[s, :k] = lam[:k], v[:k]
