@@ -75,6 +75,7 @@ REPRODUCE: dict[str, str] = {
     "rotor": "rotaflex.reproduce.rotor",
     "gear": "rotaflex.reproduce.gear",
     "floating": "rotaflex.reproduce.floating",
+    "geared_rotor": "rotaflex.reproduce.geared_rotor",  # FE rotors coupled through a gear mesh
     "sweep": "rotaflex.reproduce.sweep",  # keep last: sweeps every domain above
 }
 
