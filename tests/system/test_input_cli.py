@@ -78,3 +78,14 @@ def test_cli_modal_on_example(tmp_path):
     assert s["mode_0_frequency_hz"]["unit"] == "Hz"
     k = s["mesh_mode"]["value"]
     assert 0.3 < s[f"mode_{k}_mesh_energy"]["value"] <= 1.0
+
+
+def test_validate_config_checks_every_analysis_table(make):
+    from rotaflex.system.case import validate_config
+
+    cfg = make()
+    validate_config(cfg)
+    cfg["steady"] = {"speed_rpm": -5.0}
+    with pytest.raises(InputError) as exc:
+        validate_config(cfg)
+    assert exc.value.field == "steady.speed_rpm"

@@ -397,11 +397,16 @@ def run_case(config: dict, *, progress: bool = False):
 
 
 def validate_config(config: dict) -> None:
-    """Check a config without running it (model built: pairs checked, centres, stations)."""
+    """Check a config without running it: the model (pairs, centres, stations, ratios) and every
+    analysis table present."""
     name = config.get("analysis", "modal")
     if name not in ANALYSES:
         raise InputError("analysis", name, "one of " + ", ".join(ANALYSES))
-    parse({k: v for k, v in config.items() if k != "analysis"}, name)
+    body = {k: v for k, v in config.items() if k != "analysis"}
+    parse(body, name)
+    for other, spec in ANALYSES.items():
+        if other in body:
+            from_mapping(spec, body[other], other)
 
 
 def resolve_paths(config: dict, base) -> dict:
