@@ -83,9 +83,11 @@ ANALYSES = {"modal": ModalSpec, "campbell": CampbellSpec, "response": ResponseSp
 
 @dataclass(frozen=True)
 class SystemCase:
-    """Root schema of a gearbox case file: the model tables of :class:`~.model.GearboxSpec`
-    (each [[gear_mesh]] also takes the pair keys of ``gear static``: [pinion], [wheel],
-    center_distance, backlash, driver) and one table per analysis."""
+    """Gearbox case file: rotors, gear meshes, drive, load, and one table per analysis.
+
+    Each [[gear_mesh]] also takes the pair keys of ``gear static`` ([pinion], [wheel],
+    center_distance, backlash, driver) or a ``pair_file``.
+    """
 
     rotor: tuple[RotorSpec, ...] = param()
     gear_mesh: tuple[MeshSpec, ...] = param(())
