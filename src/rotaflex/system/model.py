@@ -415,8 +415,8 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
                 disk = Disk(node=node, mass=mass, Id=0.5 * ip, Ip=ip)  # thin disk: Id = Ip / 2
                 models[r] = dataclasses.replace(models[r], disk=(*models[r].disk, disk))
         built.append(MeshElement(gm, d, f, toward[i], rot @ loc, s, (float(rb[0]), float(rb[1])), c_m, backlash, m))
-    for tbl, st, inertia in ((spec.drive, (d_r, d_n), spec.drive.inertia), (spec.load, load, None)):
-        j = inertia if tbl is spec.drive else (spec.load.inertia if spec.load else 0.0)
+    extra = [((d_r, d_n), spec.drive.inertia), (load, spec.load.inertia if spec.load else 0.0)]
+    for st, j in extra:  # motor and load inertias as polar-only disks
         if st is not None and j:
             models[st[0]] = dataclasses.replace(
                 models[st[0]], disk=(*models[st[0]].disk, Disk(node=st[1], mass=0.0, Id=0.0, Ip=j))
