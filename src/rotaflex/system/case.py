@@ -435,6 +435,6 @@ def sweep_example(fast: bool) -> tuple[dict, dict]:
     cfg = load_toml(Path(__file__).resolve().parents[3] / "examples" / "system" / "gearbox.toml")
     cfg = {k: v for k, v in cfg.items() if k in MODEL_KEYS}
     cfg["analysis"] = "steady"
-    cfg["steady"] = {"min_cycles": 20, "max_cycles": 40 if fast else 200, "eval_cycles": 4}
     speeds = [2000.0, 3500.0] if fast else [float(v) for v in np.linspace(1000.0, 6000.0, 11)]
+    cfg["steady"] = {"speed_rpm": speeds[0], "min_cycles": 20, "max_cycles": 40 if fast else 200, "eval_cycles": 4}
     return cfg, {"steady.speed_rpm": speeds}
