@@ -117,7 +117,7 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     cres.to_netcdf(out / "campbell.nc")
     save_figure(cres.plot()["campbell"], out / "campbell.png")
     sp = cres.dataset["speed"].values
-    cf = campbell(box, sp[:: max(1, n_sp // 5)], 16, reduce=False)
+    cf = campbell(box, sp[:: max(1, n_sp // 5)], cres.dataset.sizes["mode"], reduce=False)
     red = np.sort(cres.dataset["damped_frequency"].values[:: max(1, n_sp // 5)], 1)
     d_red = float(np.max(np.abs(red - np.sort(cf.modes.wd, 1)) / np.sort(cf.modes.wd, 1)))
     me = cres.dataset["mesh_energy"].values
@@ -194,8 +194,6 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     step("lumped-model limit")
     w_fe, w_ref = lumped_limit(cfg)
     d_l = float(np.max(np.abs(w_fe - w_ref) / w_ref))
-    rows = ["| mode | coupled FE model [rad/s] | 2 inertias + 2 masses [rad/s] |", "|---|---|---|"]
-    rows += [f"| {k} | {a_:.3f} | {b_:.3f} |" for k, (a_, b_) in enumerate(zip(w_fe, w_ref, strict=True))]
     st = run_steady(cfg)
     sm = st.summary()
     for key in ("dynamic_factor", "contact_loss_fraction", "energy_balance_error", "period_cycles"):
@@ -214,7 +212,8 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
                 "",
                 "< 1e-4",
                 d_l < 1e-4,
-                "\n" + "\n".join(rows),
+                "FE vs closed form [rad/s]: "
+                + ", ".join(f"{a_:.3f} vs {b_:.3f}" for a_, b_ in zip(w_fe, w_ref, strict=True)),
             ),
             Check(
                 "example gearbox steady state at 3000 rpm: energy balance |E - E0 - int P| / scale",
