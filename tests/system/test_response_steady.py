@@ -77,3 +77,19 @@ def test_contact_loss_and_restart_from_final_state(make):
     b = run(10, {"q": a.final_q, "qdot": a.final_qdot, "phase": a.final_phase})
     c = run(40)
     np.testing.assert_allclose(b.force[:, 0], c.force[:, 0], atol=1e-9 * c.static_force[0])
+
+
+def test_steady_result_saves_and_offers_final_state(make, tmp_path):
+    from rotaflex.core.result import load_result
+    from rotaflex.system.case import run_steady
+
+    cfg = _quiet(make, te=(2e-6,))
+    cfg["steady"] = {"speed_rpm": 2800.0, "min_cycles": 10, "max_cycles": 10, "eval_cycles": 3}
+    res = run_steady(cfg)
+    res.save(tmp_path / "s", figures=False)
+    back = load_result(tmp_path / "s" / "result.nc")
+    a, b = res.final_state(), back.final_state()
+    np.testing.assert_allclose(b["q"], a["q"], rtol=0, atol=0)
+    assert set(back.plot()) == {"system", "time_series"}
+    s = back.summary()
+    assert s["mesh_frequency"]["unit"] == "Hz" and s["dynamic_factor"]["value"] > 1.0

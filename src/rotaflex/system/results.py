@@ -52,10 +52,10 @@ def system_figure(box):
     for m in box.meshes:
         for r, n in (m.driver, m.driven):
             gear_nodes.setdefault(r, []).append(n)
-    for k, i in enumerate(order):
+    for i in order:
         pr = box.rotors[i]
         z, e = pr.rotor.nodes, pr.rotor.elements
-        y0 = float(k) * 0.0 + pr.center[0] + 0 * k
+        y0 = pr.center[0]  # each shaft drawn at its x in the gearbox plane
         for j in range(e["L"].size):
             ro = e["do_l"][j] / 2
             bx.add_patch(Rectangle((z[j], y0 - ro), z[j + 1] - z[j], 2 * ro, fc="0.75", ec="0.3", lw=0.5))

@@ -41,8 +41,8 @@ class SteadySettings:
 class SteadyState:
     """Histories of the evaluated cycles and the run's figures of merit.
 
-    time (n,) [s]; dte, deflection, force (n, n_mesh) [m, m, N]; q (n_eval_dofs...) not kept;
-    bearing_force (n, n_bearing, 2) [N]; energy, power (n_all,) of the whole run [J, W];
+    time (n,) [s]; dte, deflection, force (n, n_mesh) [m, m, N]; bearing_force (n, n_bearing, 2)
+    [N]; energy, power (n_all,) of the whole run, every step [J, W];
     period (cycles, 0: none), change, cycles run, steps per cycle, static force (n_mesh,) [N],
     contact_loss (n_mesh,) fraction of evaluated samples without contact; final (q, qdot, phase).
     """
@@ -115,7 +115,6 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
 
     ``state``: dict with ``q``, ``qdot`` (full DOFs) and ``phase`` (per mesh, cycles) to start from.
     """
-    from rotaflex.gear import MeshTable  # noqa: F401  (public interface; tables come from GearMesh)
     from rotaflex.system.kernel import Meshes, Reduced, run_rk4
 
     st = settings or SteadySettings()
