@@ -78,4 +78,4 @@ def test_gear_package_sources(make, source):
     assert mesh.gear.torque == pytest.approx(50.0)  # 100 N m load on the 40-tooth wheel, 20-tooth pinion
     if source == "contact_pattern":
         # mean of single/double contact: k_pair (1 + (eps - 1)) = k_pair eps
-        assert mesh.k_mean == pytest.approx(2.5e8 * mesh.gear.contact_ratio, rel=2e-2)
+        assert mesh.k_mean == pytest.approx(2.5e8 * mesh.gear.contact_ratio, rel=5e-3)  # 1/256 cycle steps
