@@ -45,6 +45,7 @@ CASES: dict[str, str] = {
     "gear": "rotaflex.gear.case",
     "floating": "rotaflex.floating.case",
     "rotor_fe": "rotaflex.rotor.fe.case",  # finite-element rotor analyses; `analysis` key selects one
+    "system": "rotaflex.system.case",  # geared rotor systems (FE rotors + gear meshes); `analysis` selects
 }
 
 #: domain -> verb -> "module:function" with ``fn(config: dict, *, progress=False) -> Result``;
@@ -63,6 +64,12 @@ COMMANDS: dict[str, dict[str, str]] = {
         "static": "rotaflex.gear.static_case:run_static",
         "steady": "rotaflex.gear.torsional_case:run_torsional",
     },
+    "system": {
+        "modal": "rotaflex.system.case:run_modal",
+        "campbell": "rotaflex.system.case:run_campbell",
+        "response": "rotaflex.system.case:run_response",
+        "steady": "rotaflex.system.case:run_steady",
+    },
 }
 
 #: reproduce target -> module with ``run``; "all" runs every entry in this order
@@ -70,6 +77,7 @@ REPRODUCE: dict[str, str] = {
     "rotor": "rotaflex.reproduce.rotor",
     "gear": "rotaflex.reproduce.gear",
     "floating": "rotaflex.reproduce.floating",
+    "geared_rotor": "rotaflex.reproduce.geared_rotor",  # FE rotors coupled through a gear mesh
     "sweep": "rotaflex.reproduce.sweep",  # keep last: sweeps every domain above
 }
 

@@ -1,6 +1,7 @@
 """Re-run the seed papers' numerical examples and write the shared report.
 
-One module per paper (``rotor``, ``floating``, ``gear``) plus ``sweep``, each with
+One module per paper (``rotor``, ``floating``, ``gear``) plus ``geared_rotor`` (FE rotors coupled
+through a gear mesh) and ``sweep``, each with
 ``run(out_dir, *, fast, progress) -> Section``; :func:`reproduce` runs the requested ones, each
 into its own sub-directory, and writes ``report.md``, ``index.html``, ``checks.json`` and
 ``provenance.json``. A module reports its progress with :func:`rotaflex.core.report.step`.

@@ -1,0 +1,440 @@
+"""``rotaflex system modal|campbell|response|steady CONFIG.toml``: gearbox TOML -> analysis -> Result.
+
+A config holds the model tables (``[[rotor]]`` with ``[[rotor.shaft]]``/``[[rotor.disk]]``/
+``[[rotor.bearing]]``, ``[[gear_mesh]]``, ``[drive]``, ``[load]``; see :mod:`.model`) and one
+table per analysis (``[modal]``, ``[campbell]``, ``[response]``, ``[steady]``), defaults when
+absent. Speeds are the drive rotor's, in rpm (``speed_rpm``), converted to rad/s here, once.
+For sweeps, ``analysis = "steady"`` (etc.) at top level selects the analysis of :func:`run_case`
+(domain ``system``); ``rotaflex sweep --continuation steady.speed_rpm`` chains steady states.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+import xarray as xr
+
+from rotaflex.core.config import from_mapping, param
+from rotaflex.core.errors import InputError
+from rotaflex.system.model import MODEL_KEYS, RPM, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
+
+
+@dataclass(frozen=True)
+class Probe:
+    """A node whose lateral orbit is reported."""
+
+    rotor: str = param(doc="rotor name")
+    node: int = param(ge=0)
+
+
+@dataclass(frozen=True)
+class ModalSpec:
+    """Coupled modes at one drive speed (mean mesh stiffness)."""
+
+    speed_rpm: float | None = param(None, unit="rpm", ge=0, doc="drive speed (default: the nominal one)")
+    n_modes: int = param(12, ge=1, le=200)
+
+
+@dataclass(frozen=True)
+class CampbellSpec:
+    """Campbell diagram over drive speeds with mesh-order and 1X lines."""
+
+    speed_rpm: tuple[float, float] = param((0.0, 6000.0), unit="rpm", ge=0, doc="drive speed range")
+    n_speeds: int = param(50, ge=2, le=2000)
+    n_modes: int = param(12, ge=1, le=200)
+    harmonics: tuple[float, ...] = param((1.0, 2.0, 3.0), gt=0, doc="mesh orders drawn and crossed")
+    reduce: bool = param(True, doc="solve in a reduced basis (modes + load shapes); false: all DOFs")
+
+
+@dataclass(frozen=True)
+class ResponseSpec:
+    """Linear response to the TE harmonics vs drive speed (frequency domain)."""
+
+    speed_rpm: tuple[float, float] = param((100.0, 6000.0), unit="rpm", gt=0)
+    n_speeds: int = param(500, ge=2, le=100000)
+    harmonics: int = param(3, ge=1, le=50, doc="TE harmonics of the mesh frequency")
+    excitation: Literal["loaded_te", "unloaded_te"] = param("loaded_te")
+    probes: tuple[Probe, ...] = param((), doc="orbit nodes (default: the gear nodes)")
+    cutoff: float | None = param(2.0, gt=0, doc="keep modes below cutoff x highest excitation (none: all DOFs)")
+
+
+@dataclass(frozen=True)
+class SteadySpec:
+    """Nonlinear steady state at one drive speed (time domain, contact loss)."""
+
+    speed_rpm: float | None = param(None, unit="rpm", gt=0, doc="drive speed (default: the nominal one)")
+    steps_per_cycle: int = param(0, ge=0, le=100000, doc="RK4 steps per mesh cycle (0: automatic)")
+    min_cycles: int = param(20, ge=1)
+    max_cycles: int = param(400, ge=1, le=1000000)
+    eval_cycles: int = param(10, ge=2, le=10000)
+    tol: float = param(1e-5, gt=0, doc="periodicity: cycle-to-cycle DTE change / static deflection")
+    cutoff: float = param(4.0, gt=0, doc="keep modes below cutoff x the highest mesh harmonic")
+    harmonics: int = param(3, ge=1, doc="mesh harmonics the basis must carry")
+    stiffness: Literal["mesh", "mean", "varying"] = param("mesh", doc="mesh: each [[gear_mesh]]'s own setting")
+
+
+ANALYSES = {"modal": ModalSpec, "campbell": CampbellSpec, "response": ResponseSpec, "steady": SteadySpec}
+
+
+@dataclass(frozen=True)
+class SystemCase:
+    """Gearbox case file: rotors, gear meshes, drive, load, and one table per analysis.
+
+    Each [[gear_mesh]] also takes the pair keys of ``gear static`` ([pinion], [wheel],
+    center_distance, backlash, driver) or a ``pair_file``.
+    """
+
+    rotor: tuple[RotorSpec, ...] = param()
+    gear_mesh: tuple[MeshSpec, ...] = param(())
+    drive: DriveSpec | None = param(None)
+    load: LoadSpec | None = param(None)
+    analysis: Literal["modal", "campbell", "response", "steady"] | None = param(None)
+    modal: ModalSpec = field(default_factory=ModalSpec)
+    campbell: CampbellSpec = field(default_factory=CampbellSpec)
+    response: ResponseSpec = field(default_factory=ResponseSpec)
+    steady: SteadySpec = field(default_factory=SteadySpec)
+
+
+SCHEMA = SystemCase
+
+
+def parse(config: dict, analysis: str, base=None):
+    """Gearbox and the ``analysis`` spec of a parsed config (unknown top-level keys rejected)."""
+    allowed = (*MODEL_KEYS, *ANALYSES, "analysis")
+    for key in config:
+        if key not in allowed:
+            raise InputError(key, config[key], "no such key; allowed keys: " + ", ".join(allowed))
+    box = Gearbox.from_mapping({k: v for k, v in config.items() if k in MODEL_KEYS}, base)
+    spec = from_mapping(ANALYSES[analysis], config.get(analysis, {}), analysis)
+    return box, spec
+
+
+def _speed(box, value, where) -> float:
+    v = value if value is not None else drive_speed_rpm(box)
+    if v is None:
+        raise InputError(f"{where}.speed_rpm", "<missing>", "a drive speed [rpm] (or a rotor's speed_rpm)")
+    return float(v) * RPM
+
+
+def _range(rng, n, where):
+    if rng[1] <= rng[0]:
+        raise InputError(f"{where}.speed_rpm", list(rng), "[start, stop] with stop > start")
+    return np.linspace(rng[0], rng[1], n) * RPM
+
+
+def _attrs(config, t0, extra, message):
+    return {
+        "status": "success",
+        "message": message,
+        "wall_time": time.perf_counter() - t0,
+        "config": json.dumps(config, default=str),
+        "summary_extra": json.dumps(extra, default=float),
+    }
+
+
+def run_modal(config: dict, *, progress: bool = False):
+    """Coupled modes at ``[modal] speed_rpm`` with the energy split of each mode."""
+    from rotaflex.system.modal import modal
+    from rotaflex.system.results import SystemModalResult
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "modal")
+    w = _speed(box, spec.speed_rpm, "modal")
+    m = modal(box, w, spec.n_modes)
+    nm = m.eigenvalue.shape[1]
+    ds = xr.Dataset(
+        {
+            "natural_frequency": ("mode", m.wn[0], {"units": "rad/s"}),
+            "damped_frequency": ("mode", m.wd[0], {"units": "rad/s"}),
+            "damping_ratio": ("mode", m.damping_ratio[0], {"units": "1"}),
+            "energy": (("mode", "group"), m.energy[0], {"units": "1", "long_name": "kinetic-energy fraction"}),
+            "mesh_energy": ("mode", m.mesh_energy[0], {"units": "1", "long_name": "mesh strain-energy fraction"}),
+            "torsional_fraction": ("mode", m.torsional_fraction[0], {"units": "1"}),
+            "shape_real": (("mode", "dof"), m.shape[0].real, {"units": "1", "long_name": "v^H M v = 1"}),
+            "shape_imag": (("mode", "dof"), m.shape[0].imag, {"units": "1"}),
+            "speed": ((), w, {"units": "rad/s", "long_name": "drive speed"}),
+        },
+        coords={"mode": np.arange(nm), "group": m.groups, "dof": np.arange(box.n_dof)},
+    )
+    extra = {}
+    for k in range(nm):
+        extra[f"mode_{k}_frequency_hz"] = {"value": float(m.wn[0, k] / (2 * np.pi)), "unit": "Hz"}
+        extra[f"mode_{k}_mesh_energy"] = {"value": float(m.mesh_energy[0, k]), "unit": "1"}
+        extra[f"mode_{k}_torsional_fraction"] = {"value": float(m.torsional_fraction[0, k]), "unit": "1"}
+    k_mesh = int(np.argmax(m.mesh_energy[0]))
+    extra["mesh_mode"] = {"value": k_mesh, "unit": "", "frequency_hz": float(m.wn[0, k_mesh] / (2 * np.pi))}
+    msg = (
+        f"{nm} coupled modes at {w / RPM:g} rpm; lowest {m.wn[0, 0] / (2 * np.pi):.4g} Hz; "
+        f"largest mesh energy: mode {k_mesh} ({m.wn[0, k_mesh] / (2 * np.pi):.4g} Hz, "
+        f"{100 * m.mesh_energy[0, k_mesh]:.0f} %)"
+    )
+    ds.attrs.update(_attrs(config, t0, extra, msg))
+    return SystemModalResult(ds)
+
+
+def run_campbell(config: dict, *, progress: bool = False):
+    """Campbell diagram over ``[campbell] speed_rpm`` with mesh-order lines and crossings."""
+    from rotaflex.system.modal import campbell
+    from rotaflex.system.results import SystemCampbellResult
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "campbell")
+    speeds = _range(spec.speed_rpm, spec.n_speeds, "campbell")
+    c = campbell(box, speeds, spec.n_modes, spec.harmonics, reduce=spec.reduce)
+    m = c.modes
+    ds = xr.Dataset(
+        {
+            "damped_frequency": (("speed", "mode"), m.wd, {"units": "rad/s"}),
+            "natural_frequency": (("speed", "mode"), m.wn, {"units": "rad/s"}),
+            "damping_ratio": (("speed", "mode"), m.damping_ratio, {"units": "1"}),
+            "mesh_energy": (("speed", "mode"), m.mesh_energy, {"units": "1"}),
+            "torsional_fraction": (("speed", "mode"), m.torsional_fraction, {"units": "1"}),
+            "energy": (("speed", "mode", "group"), m.energy, {"units": "1"}),
+            "mac_min": ("speed", c.mac_min, {"units": "1"}),
+            "line_factor": ("line", [ln["factor"] for ln in c.lines], {"units": "1", "long_name": "omega / Omega"}),
+            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+        },
+        coords={
+            "speed": ("speed", speeds, {"units": "rad/s"}),
+            "mode": np.arange(spec.n_modes),
+            "group": m.groups,
+            "line": [ln["name"] for ln in c.lines],
+        },
+    )
+    mesh_x = [cr for cr in c.crossings if cr["line"].startswith("mesh")]
+    extra = {
+        f"crossing_{i}_rpm": {
+            "value": cr["speed"] / RPM,
+            "unit": "rpm",
+            "line": cr["line"],
+            "frequency_hz": cr["frequency"] / (2 * np.pi),
+            "mesh_energy": cr["mesh_energy"],
+        }
+        for i, cr in enumerate(mesh_x)
+    }
+    strong = [cr for cr in mesh_x if cr["mesh_energy"] > 0.05]
+    msg = f"{spec.n_modes} modes over {spec.n_speeds} speeds; mesh-order crossings of mesh modes [rpm]: " + (
+        ", ".join(f"{cr['speed'] / RPM:.0f} ({cr['line']})" for cr in strong[:8]) or "none"
+    )
+    ds.attrs.update(_attrs(config, t0, extra, msg))
+    ds.attrs["crossings"] = json.dumps(c.crossings)
+    return SystemCampbellResult(ds)
+
+
+def _probes(box, probes):
+    names = [pr.name for pr in box.rotors]
+    if not probes:
+        out = []
+        for m in box.meshes:
+            out += [m.driver, m.driven]
+        return out
+    out = []
+    for i, p in enumerate(probes):
+        if p.rotor not in names:
+            raise InputError(f"response.probes[{i}].rotor", p.rotor, "one of " + ", ".join(map(repr, names)))
+        r = names.index(p.rotor)
+        nn = box.rotors[r].rotor.n_nodes
+        if p.node >= nn:
+            raise InputError(f"response.probes[{i}].node", p.node, f"an existing node 0..{nn - 1}")
+        out.append((r, p.node))
+    return out
+
+
+def run_response(config: dict, *, progress: bool = False):
+    """TE-harmonic response vs ``[response] speed_rpm``: DTE, mesh force, bearing forces, orbits."""
+    from rotaflex.system.response import forced_response, orbit_semi_axes
+    from rotaflex.system.results import SystemResponseResult
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "response")
+    speeds = _range(spec.speed_rpm, spec.n_speeds, "response")
+    probes = _probes(box, spec.probes)
+    r = forced_response(
+        box, speeds, harmonics=spec.harmonics, probes=probes, excitation=spec.excitation, cutoff=spec.cutoff
+    )
+    major, _ = orbit_semi_axes(r.orbit[..., 0], r.orbit[..., 1])
+    dims = ("mesh", "speed", "harmonic")
+    fb = np.sqrt(np.sum(np.abs(r.bearing_force) ** 2, -1))
+    ds = xr.Dataset(
+        {
+            "frequency": (dims, r.frequency, {"units": "rad/s"}),
+            "excitation": (("mesh", "harmonic"), np.abs(r.excitation), {"units": "m", "long_name": "TE harmonic"}),
+            "dte": (dims, np.abs(r.dte), {"units": "m", "long_name": "DTE amplitude (twist part)"}),
+            "deflection": (dims, np.abs(r.deflection), {"units": "m", "long_name": "dynamic mesh deflection"}),
+            "mesh_force": (dims, np.abs(r.mesh_force), {"units": "N", "long_name": "dynamic mesh force amplitude"}),
+            "bearing_force": ((*dims, "bearing"), fb, {"units": "N", "long_name": "|(Fx, Fy)| amplitude"}),
+            "orbit_major": ((*dims, "probe"), major, {"units": "m", "long_name": "orbit semi-major axis"}),
+            "static_force": ("mesh", r.static_force, {"units": "N"}),
+            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+        },
+        coords={
+            "speed": ("speed", speeds, {"units": "rad/s"}),
+            "harmonic": np.arange(1, spec.harmonics + 1),
+            "mesh": np.arange(len(box.meshes)),
+            "bearing": [f"{n}:{k}" for n, k in r.bearings],
+            "probe": [f"{box.rotors[p[0]].name}:{p[1]}" for p in probes],
+        },
+    )
+    # rms over harmonics of the dynamic mesh force, and the dynamic factor bound 1 + sum |F_h| / F_0
+    f_sum = np.abs(r.mesh_force).sum(-1)
+    i = int(np.argmax(f_sum[0]))
+    extra = {
+        "peak_dynamic_force": {"value": float(f_sum[0, i]), "unit": "N", "speed_rpm": float(speeds[i] / RPM)},
+        "peak_dynamic_factor_bound": {"value": float(1 + f_sum[0, i] / r.static_force[0]), "unit": "1"},
+        "peak_bearing_force": {"value": float(fb.sum(2).max()), "unit": "N"},
+        "peak_dte": {"value": float(np.abs(r.dte).sum(-1).max()), "unit": "m"},
+    }
+    msg = (
+        f"{spec.n_speeds} speeds x {spec.harmonics} TE harmonics; largest dynamic mesh force "
+        f"{f_sum[0, i]:.4g} N (sum over harmonics) at {speeds[i] / RPM:.0f} rpm; static {r.static_force[0]:.4g} N"
+    )
+    ds.attrs.update(_attrs(config, t0, extra, msg))
+    return SystemResponseResult(ds)
+
+
+def run_steady(config: dict, *, progress: bool = False, initial_state: dict | None = None):
+    """Nonlinear steady state at ``[steady] speed_rpm`` (time domain); ``initial_state``: the
+    ``final_state()`` of an earlier point (continuation)."""
+    from rotaflex.system.results import SystemSteadyResult
+    from rotaflex.system.steady import SteadySettings, steady_state
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "steady")
+    w = _speed(box, spec.speed_rpm, "steady")
+    st = SteadySettings(
+        steps_per_cycle=spec.steps_per_cycle,
+        min_cycles=spec.min_cycles,
+        max_cycles=max(spec.max_cycles, spec.min_cycles),
+        eval_cycles=spec.eval_cycles,
+        tol=spec.tol,
+        cutoff=spec.cutoff,
+        harmonics=spec.harmonics,
+        stiffness=None if spec.stiffness == "mesh" else spec.stiffness,
+    )
+    s = steady_state(box, w, st, initial_state)
+    spc = s.steps_per_cycle
+    n = spc * (s.time.size // spc)
+    F = s.force[:, 0]
+    amp = _harmonics(F[-n:] if n else F, spc)
+    ds = xr.Dataset(
+        {
+            "dte": (("time", "mesh"), s.dte, {"units": "m", "long_name": "dynamic transmission error (twist)"}),
+            "deflection": (("time", "mesh"), s.deflection, {"units": "m"}),
+            "mesh_force": (("time", "mesh"), s.force, {"units": "N"}),
+            "bearing_force": (("time", "bearing", "axis"), s.bearing_force, {"units": "N"}),
+            "static_force": ("mesh", s.static_force, {"units": "N"}),
+            "state_q": ("dof", s.final_q, {"units": "m|rad"}),
+            "state_qdot": ("dof", s.final_qdot, {"units": "m/s|rad/s"}),
+            "state_phase": ("mesh", s.final_phase, {"units": "cycles"}),
+            "speed": ((), w, {"units": "rad/s", "long_name": "drive speed"}),
+        },
+        coords={
+            "time": ("time", s.time, {"units": "s"}),
+            "mesh": np.arange(len(box.meshes)),
+            "bearing": [f"{a}:{b}" for a, b in s.bearings],
+            "axis": ["x", "y"],
+            "dof": np.arange(box.n_dof),
+        },
+    )
+    f0 = float(s.static_force[0])
+    dte = s.dte[:, 0]
+    extra = {
+        "speed_rpm": {"value": w / RPM, "unit": "rpm"},
+        "mesh_frequency": {"value": s.mesh_frequency, "unit": "Hz"},
+        "dynamic_factor": {"value": float(F.max() / f0), "unit": "1", "long_name": "max mesh force / static"},
+        "force_max": {"value": float(F.max()), "unit": "N"},
+        "force_min": {"value": float(F.min()), "unit": "N"},
+        "force_h1": {"value": float(amp[0]), "unit": "N"},
+        "force_h2": {"value": float(amp[1]), "unit": "N"},
+        "force_h3": {"value": float(amp[2]), "unit": "N"},
+        "dte_pp": {"value": float(dte.max() - dte.min()), "unit": "m"},
+        "contact_loss_fraction": {"value": float(s.contact_loss[0]), "unit": "1"},
+        "bearing_force_max": {
+            "value": float(np.abs(s.bearing_force).max()) if s.bearing_force.size else 0.0,
+            "unit": "N",
+        },
+        "period_cycles": {"value": s.period, "unit": "mesh cycles", "long_name": "0: not periodic"},
+        "change": {"value": s.change, "unit": "1"},
+        "cycles": {"value": s.cycles, "unit": ""},
+        "steps_per_cycle": {"value": spc, "unit": ""},
+        "basis_size": {"value": s.basis_size, "unit": ""},
+        "energy_balance_error": {"value": s.energy_error, "unit": "1"},
+    }
+    msg = (
+        f"{w / RPM:g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss {100 * s.contact_loss[0]:.1f} % of the "
+        f"time, period {s.period} cycle(s) after {s.cycles} cycles ({spc} steps/cycle, basis {s.basis_size})"
+    )
+    ds.attrs.update(_attrs(config, t0, extra, msg))
+    ds.attrs["state_time"] = 0.0
+    ds.attrs["samples_per_cycle"] = spc
+    ds.attrs["mesh_frequency"] = s.mesh_frequency
+    return SystemSteadyResult(ds)
+
+
+def _harmonics(x, spc, orders=(1, 2, 3)):
+    """Amplitudes of x at multiples of the mesh frequency (whole cycles)."""
+    n = (x.size // spc) * spc
+    if n == 0:
+        return np.full(len(orders), np.nan)
+    seg = x[-n:]
+    sp = np.fft.rfft(seg)
+    nc = n // spc
+    return np.array([2 * abs(sp[k * nc]) / n if k * nc < sp.size else np.nan for k in orders])
+
+
+RUNNERS = {"modal": run_modal, "campbell": run_campbell, "response": run_response, "steady": run_steady}
+
+
+def run_case(config: dict, *, progress: bool = False):
+    """Sweep entry point (domain ``system``): runs the analysis named by ``analysis``."""
+    name = config.get("analysis")
+    if name not in RUNNERS:
+        raise InputError("analysis", name if name is not None else "<missing>", "one of " + ", ".join(RUNNERS))
+    return RUNNERS[name]({k: v for k, v in config.items() if k != "analysis"}, progress=progress)
+
+
+def validate_config(config: dict) -> None:
+    """Check a config without running it: the model (pairs, centres, stations, ratios) and every
+    analysis table present."""
+    name = config.get("analysis", "modal")
+    if name not in ANALYSES:
+        raise InputError("analysis", name, "one of " + ", ".join(ANALYSES))
+    body = {k: v for k, v in config.items() if k != "analysis"}
+    parse(body, name)
+    for other, spec in ANALYSES.items():
+        if other in body:
+            from_mapping(spec, body[other], other)
+
+
+def resolve_paths(config: dict, base) -> dict:
+    """``pair_file`` paths made relative to the case file's directory."""
+    meshes = config.get("gear_mesh")
+    if not isinstance(meshes, list):
+        return config
+    out = []
+    for m in meshes:
+        if isinstance(m, dict) and isinstance(m.get("pair_file"), str) and not Path(m["pair_file"]).is_absolute():
+            m = {**m, "pair_file": str(Path(base) / m["pair_file"])}
+        out.append(m)
+    return {**config, "gear_mesh": out}
+
+
+def schema_dict() -> dict:
+    return {k: asdict(v()) for k, v in ANALYSES.items()}
+
+
+def sweep_example(fast: bool) -> tuple[dict, dict]:
+    """Sweep hook (``rotaflex reproduce sweep``): steady states of the example gearbox vs speed."""
+    from rotaflex.core.config import load_toml
+
+    cfg = load_toml(Path(__file__).resolve().parents[3] / "examples" / "system" / "gearbox.toml")
+    cfg = {k: v for k, v in cfg.items() if k in MODEL_KEYS}
+    cfg["analysis"] = "steady"
+    speeds = [2000.0, 3500.0] if fast else [float(v) for v in np.linspace(1000.0, 6000.0, 11)]
+    cfg["steady"] = {"speed_rpm": speeds[0], "min_cycles": 20, "max_cycles": 40 if fast else 200, "eval_cycles": 4}
+    return cfg, {"steady.speed_rpm": speeds}

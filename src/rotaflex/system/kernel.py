@@ -1,0 +1,188 @@
+"""Compiled fixed-step RK4 of the reduced gearbox equations with one-sided gear meshes.
+
+Reduced coordinates eta (``q = P eta``, ``P^T M P = I``)::
+
+    eta'' = f - K eta - D eta' - sum_j g_j F_j
+    delta_j = g_j . eta - e_j(phi_j),  phi_j = phi0_j + nu_j t   (prescribed mesh phase, cycles)
+    F_j = k_j(phi_j) delta_j + c_j delta_j'          delta_j > 0           (drive flank)
+    F_j = k_j(phi_j) (delta_j + b_j) + c_j delta_j'  delta_j < -b_j, b_j >= 0 (back flank)
+    F_j = 0                                          otherwise             (contact loss)
+
+Tables are piecewise cubics on a uniform phase grid (``MeshTable.coefficients``). Each step
+records the DTE (twist part ``t_j . eta``), delta, F, the energy
+``E = eta'^2/2 + eta.Ks eta/2 - eta.f + sum V_j`` (``V_j = k (delta [+ b])^2 / 2`` in contact)
+and the power ``P`` of everything not in E (damping, non-symmetric stiffness, the explicit time
+dependence of k and e), so that ``E(t) - E(0) = int P dt`` checks the integration.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+
+class Reduced(NamedTuple):
+    """Reduced model arrays: K (r, r), D (r, r), Ks (symmetric part of K), Ka (skew part),
+    Ds (symmetric part of D), f (r,) [N-ish, reduced], g (nm, r), t (nm, r) twist part of g."""
+
+    K: np.ndarray
+    D: np.ndarray
+    Ks: np.ndarray
+    Ka: np.ndarray
+    Ds: np.ndarray
+    f: np.ndarray
+    g: np.ndarray
+    t: np.ndarray
+
+
+class Meshes(NamedTuple):
+    """Per mesh: stiffness and TE cubic coefficients (nm, 4, n), phase rate nu [cycles/s], phase
+    at t = 0 [cycles], damping c [N s/m], backlash b [m] (< 0: no back contact), mean stiffness
+    [N/m] and a flag ``varying`` (0: use the mean stiffness)."""
+
+    ck: np.ndarray
+    ce: np.ndarray
+    nu: np.ndarray
+    phase0: np.ndarray
+    c: np.ndarray
+    b: np.ndarray
+    kmean: np.ndarray
+    varying: np.ndarray
+
+
+@njit(cache=True)
+def _table(c, j, phase):
+    n = c.shape[2]
+    x = (phase - np.floor(phase)) * n
+    i = int(x)
+    if i >= n:
+        i = n - 1
+    u = x - i
+    y = c[j, 0, i] + u * (c[j, 1, i] + u * (c[j, 2, i] + u * c[j, 3, i]))
+    dy = n * (c[j, 1, i] + u * (2.0 * c[j, 2, i] + 3.0 * u * c[j, 3, i]))
+    return y, dy
+
+
+@njit(cache=True)
+def _mesh(ms, j, t, gx, gv):
+    """Force, deflection, and the energy/power terms of mesh j at time t (gx = g.eta, gv = g.eta')."""
+    ph = ms.phase0[j] + ms.nu[j] * t
+    e, de = _table(ms.ce, j, ph)
+    if ms.varying[j] > 0:
+        k, dk = _table(ms.ck, j, ph)
+    else:
+        k, dk = ms.kmean[j], 0.0
+    d = gx - e
+    dd = gv - de * ms.nu[j]
+    s = 0.0
+    on = False
+    if d > 0.0:
+        s, on = d, True
+    elif ms.b[j] >= 0.0 and d < -ms.b[j]:
+        s, on = d + ms.b[j], True
+    if not on:
+        return 0.0, d, 0.0, 0.0
+    F = k * s + ms.c[j] * dd
+    V = 0.5 * k * s * s
+    # explicit time dependence of V = k(phi(t)) s^2/2 with e(phi(t)) inside s, and the damper
+    P = 0.5 * dk * ms.nu[j] * s * s - k * s * de * ms.nu[j] - ms.c[j] * dd * gv
+    return F, d, V, P
+
+
+@njit(cache=True)
+def _accel(rd, ms, t, x, v, a):
+    r = x.size
+    for i in range(r):
+        acc = rd.f[i]
+        for k in range(r):
+            acc -= rd.K[i, k] * x[k] + rd.D[i, k] * v[k]
+        a[i] = acc
+    for j in range(ms.nu.size):
+        gx = 0.0
+        gv = 0.0
+        for i in range(r):
+            gx += rd.g[j, i] * x[i]
+            gv += rd.g[j, i] * v[i]
+        F, _, _, _ = _mesh(ms, j, t, gx, gv)
+        if F != 0.0:
+            for i in range(r):
+                a[i] -= rd.g[j, i] * F
+
+
+@njit(cache=True)
+def _record(rd, ms, t, x, v, out_dte, out_d, out_F, out_E, out_P, s):
+    r = x.size
+    E = 0.0
+    P = 0.0
+    for i in range(r):
+        kx = 0.0
+        ax = 0.0
+        dv = 0.0
+        for k in range(r):
+            kx += rd.Ks[i, k] * x[k]
+            ax += rd.Ka[i, k] * x[k]
+            dv += rd.Ds[i, k] * v[k]
+        E += 0.5 * v[i] * v[i] + 0.5 * x[i] * kx - x[i] * rd.f[i]
+        P -= v[i] * ax + v[i] * dv
+    for j in range(ms.nu.size):
+        gx = 0.0
+        gv = 0.0
+        tx = 0.0
+        for i in range(r):
+            gx += rd.g[j, i] * x[i]
+            gv += rd.g[j, i] * v[i]
+            tx += rd.t[j, i] * x[i]
+        F, d, V, Pm = _mesh(ms, j, t, gx, gv)
+        out_dte[s, j] = tx
+        out_d[s, j] = d
+        out_F[s, j] = F
+        E += V
+        P += Pm
+    out_E[s] = E
+    out_P[s] = P
+
+
+@njit(cache=True)
+def run_rk4(rd, ms, x, v, t0, dt, n_steps, out_x, out_v, out_dte, out_d, out_F, out_E, out_P):
+    """Advance (x, v) in place by ``n_steps`` RK4 steps from t0; record n_steps + 1 samples."""
+    r = x.size
+    k1x = np.empty(r)
+    k1v = np.empty(r)
+    k2x = np.empty(r)
+    k2v = np.empty(r)
+    k3x = np.empty(r)
+    k3v = np.empty(r)
+    k4x = np.empty(r)
+    k4v = np.empty(r)
+    xs = np.empty(r)
+    vs = np.empty(r)
+    _record(rd, ms, t0, x, v, out_dte, out_d, out_F, out_E, out_P, 0)
+    out_x[0] = x
+    out_v[0] = v
+    for s in range(n_steps):
+        t = t0 + s * dt
+        k1x[:] = v
+        _accel(rd, ms, t, x, v, k1v)
+        for i in range(r):
+            xs[i] = x[i] + 0.5 * dt * k1x[i]
+            vs[i] = v[i] + 0.5 * dt * k1v[i]
+        k2x[:] = vs
+        _accel(rd, ms, t + 0.5 * dt, xs, vs, k2v)
+        for i in range(r):
+            xs[i] = x[i] + 0.5 * dt * k2x[i]
+            vs[i] = v[i] + 0.5 * dt * k2v[i]
+        k3x[:] = vs
+        _accel(rd, ms, t + 0.5 * dt, xs, vs, k3v)
+        for i in range(r):
+            xs[i] = x[i] + dt * k3x[i]
+            vs[i] = v[i] + dt * k3v[i]
+        k4x[:] = vs
+        _accel(rd, ms, t + dt, xs, vs, k4v)
+        for i in range(r):
+            x[i] += dt / 6.0 * (k1x[i] + 2.0 * k2x[i] + 2.0 * k3x[i] + k4x[i])
+            v[i] += dt / 6.0 * (k1v[i] + 2.0 * k2v[i] + 2.0 * k3v[i] + k4v[i])
+        _record(rd, ms, t + dt, x, v, out_dte, out_d, out_F, out_E, out_P, s + 1)
+        out_x[s + 1] = x
+        out_v[s + 1] = v

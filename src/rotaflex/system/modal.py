@@ -1,0 +1,261 @@
+"""Coupled lateral-torsional modes and Campbell diagram of a gearbox (mean mesh stiffness).
+
+The first-order eigenproblem of ``A = [[0, I], [-M^-1 K, -M^-1 D]]`` on the free DOFs
+(:func:`~.assembly.system_matrices`), as rotor/fe does for one rotor. Each mode's kinetic-energy
+split over DOF groups (per rotor: lateral, torsional; exact, since M is block diagonal over these
+groups) and its mesh strain-energy fraction ``sum_m k_m |g_m^T v|^2 / v^H K v`` tell which modes
+are mesh modes. Excitation lines: ``h z_p Omega_p`` per mesh (the mesh order and harmonics) and
+``Omega_r`` per rotor (1X).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+from scipy.optimize import linear_sum_assignment
+
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.modal import mac
+from rotaflex.system.assembly import Matrices, matrices, reduced_basis, system_matrices, undamped_modes
+from rotaflex.system.model import Gearbox
+
+
+@dataclass(frozen=True)
+class SystemModes:
+    """Modes at one or more drive speeds (leading dim: speed).
+
+    Attributes
+    ----------
+    speed : (s,) drive speed [rad/s]
+    eigenvalue : (s, m) complex [1/s]
+    shape : (s, m, n_dof) complex, full DOF vector (constrained DOFs 0), v^H M v = 1
+    energy : (s, m, n_groups) kinetic-energy fractions per group (:attr:`groups`)
+    mesh_energy : (s, m) mesh strain-energy fraction
+    groups : list of str, ``"<rotor>.lateral"`` / ``"<rotor>.torsion"``
+    """
+
+    speed: np.ndarray
+    eigenvalue: np.ndarray
+    shape: np.ndarray
+    energy: np.ndarray
+    mesh_energy: np.ndarray
+    groups: list
+
+    @property
+    def wd(self) -> np.ndarray:
+        return self.eigenvalue.imag
+
+    @property
+    def wn(self) -> np.ndarray:
+        return np.abs(self.eigenvalue)
+
+    @property
+    def damping_ratio(self) -> np.ndarray:
+        return -self.eigenvalue.real / np.abs(self.eigenvalue)
+
+    @property
+    def torsional_fraction(self) -> np.ndarray:
+        """Kinetic-energy fraction in twist DOFs (s, m)."""
+        cols = [i for i, g in enumerate(self.groups) if g.endswith(".torsion")]
+        return self.energy[..., cols].sum(-1)
+
+
+def groups(box: Gearbox) -> tuple[list[str], list[np.ndarray]]:
+    """Names and DOF indices of the energy groups."""
+    names, idx = [], []
+    for i, pr in enumerate(box.rotors):
+        off, nl, nt = box.layout[i]
+        names.append(f"{pr.name}.lateral")
+        idx.append(np.arange(off, off + nl))
+        if nt:
+            names.append(f"{pr.name}.torsion")
+            idx.append(np.arange(off + nl, off + nl + nt))
+    return names, idx
+
+
+def _energy(box: Gearbox, mats: Matrices, K_full: np.ndarray, v: np.ndarray):
+    """Kinetic fractions per group (m, n_groups) and mesh strain fraction (m,) of full shapes v (m, n)."""
+    _, idx = groups(box)
+    Mv = v @ mats.M.T
+    e = np.stack([np.real(np.sum(np.conj(v[:, i]) * Mv[:, i], 1)) for i in idx], -1)
+    e /= np.maximum(e.sum(-1, keepdims=True), 1e-300)
+    strain = np.real(np.sum(np.conj(v) * (v @ K_full.T), 1))
+    if len(mats.k_mean):
+        gm = np.abs(v @ mats.g.T) ** 2 * mats.k_mean
+        mesh = gm.sum(-1) / np.maximum(strain, 1e-300)
+    else:
+        mesh = np.zeros(v.shape[0])
+    return e, mesh
+
+
+def _pencil(box, mats, basis):
+    """Function of the drive speed giving (M, D, K) on the free DOFs or in ``basis``; with
+    speed-independent bearings the projections are made once (D = D0 + Omega G_sum)."""
+    constant = all(el.speeds is None for pr in box.rotors for _, _, el in pr.rotor.bearings)
+    P = np.eye(mats.free.size) if basis is None else basis
+    if not constant:
+
+        def at(speed):
+            M, D, K = system_matrices(box, speed, mats)
+            return P.T @ M @ P, P.T @ D @ P, P.T @ K @ P
+
+        return at
+    M, D0, K = (P.T @ X @ P for X in system_matrices(box, 0.0, mats))
+    f = mats.free
+    Gs = sum(pr.sense * pr.ratio * G for pr, G in zip(box.rotors, mats.G, strict=True))
+    Gr = P.T @ Gs[np.ix_(f, f)] @ P
+    return lambda speed: (M, D0 + speed * Gr, K)
+
+
+def _solve(box, mats, speed, n_keep, basis, pencil=None):
+    M, D, K = (pencil or _pencil(box, mats, basis))(speed)
+    n = M.shape[0]
+    Minv = sla.inv(M)
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -Minv @ K
+    A[n:, n:] = -Minv @ D
+    lam, vec = sla.eig(A, check_finite=False, overwrite_a=True)
+    scale = np.max(np.abs(lam)) + 1.0
+    keep = np.flatnonzero(lam.imag > 1e-7 * scale)
+    keep = keep[np.argsort(lam.imag[keep], kind="stable")][:n_keep]
+    v = vec[:n, keep].T
+    if basis is not None:
+        v = v @ basis.T
+    full = np.zeros((v.shape[0], box.n_dof), complex)
+    full[:, mats.free] = v
+    norm = np.sqrt(np.real(np.sum(np.conj(full) * (full @ mats.M.T), 1)))
+    full /= norm[:, None]
+    # phase: largest component real
+    j = np.argmax(np.abs(full), 1)
+    ph = full[np.arange(full.shape[0]), j]
+    full *= (np.abs(ph) / ph)[:, None]
+    return lam[keep], full
+
+
+def _stiffness_full(box, mats, speed):
+    from rotaflex.system.assembly import bearing_matrices
+
+    Kb, _ = bearing_matrices(box, speed)
+    K = mats.K0 + Kb
+    if len(mats.k_mean):
+        K = K + (mats.g.T * mats.k_mean) @ mats.g
+    return 0.5 * (K + K.T)
+
+
+def modal(box: Gearbox, speed: float = 0.0, n_modes: int = 12) -> SystemModes:
+    """Damped modes of the coupled system at drive ``speed`` [rad/s], all DOFs (no reduction).
+
+    Examples
+    --------
+    >>> # box = Gearbox.from_toml("examples/system/gearbox.toml"); modal(box, 300.0).wn
+    """
+    mats = matrices(box)
+    lam, v = _solve(box, mats, float(speed), n_modes, None)
+    e, me = _energy(box, mats, _stiffness_full(box, mats, speed), v)
+    return SystemModes(np.array([speed]), lam[None], v[None], e[None], me[None], groups(box)[0])
+
+
+def reduction_basis(box: Gearbox, speed: float, n_modes: int, mats: Matrices | None = None) -> np.ndarray:
+    """Basis of :func:`~.assembly.reduced_basis` keeping the undamped modes below 1.2 x the
+    ``n_modes``-th undamped frequency at drive ``speed`` [rad/s]."""
+    mats = matrices(box) if mats is None else mats
+    M, _, K = system_matrices(box, speed, mats)
+    w = undamped_modes(M, K, n_modes)[0]
+    return reduced_basis(box, mats, speed, float(w[-1]), 1.2, bearings=False)
+
+
+@dataclass(frozen=True)
+class SystemCampbell:
+    """Tracked modes vs drive speed, excitation lines and their crossings."""
+
+    modes: SystemModes
+    mac_min: np.ndarray
+    lines: list  # {"name", "kind", "mesh"|"rotor", "order", "factor"}: omega = factor * Omega
+    crossings: list  # {"mode", "line", "speed", "frequency", "mesh_energy", "torsional_fraction"}
+
+
+def excitation_lines(box: Gearbox, harmonics=(1, 2, 3)) -> list[dict]:
+    """Excitation frequencies per unit drive speed: mesh orders and each rotor's 1X."""
+    out = []
+    for i in range(len(box.meshes)):
+        base = box.mesh_frequency(i, 1.0)
+        for h in harmonics:
+            out.append({"name": f"mesh{i} x{h:g}", "kind": "mesh", "mesh": i, "order": float(h), "factor": h * base})
+    for pr in box.rotors:
+        out.append({"name": f"{pr.name} 1X", "kind": "1X", "rotor": pr.name, "order": 1.0, "factor": pr.ratio})
+    return out
+
+
+def campbell(
+    box: Gearbox, speeds, n_modes: int = 12, harmonics=(1, 2, 3), reduce: bool = True, extra: int = 6
+) -> SystemCampbell:
+    """Campbell diagram over drive speeds [rad/s], modes tracked by MAC (Hungarian assignment).
+
+    ``reduce`` solves in the basis of :func:`reduction_basis` at the middle speed (the benchmark
+    prints the difference to the full solve); False: all DOFs.
+    """
+    speeds = np.asarray(speeds, float)
+    if speeds.ndim != 1 or speeds.size < 2 or np.any(np.diff(speeds) <= 0):
+        raise InputError("campbell.speed_rpm", list(np.round(speeds * 30 / np.pi, 6)), "increasing speeds (>= 2)")
+    mats = matrices(box)
+    nfree = mats.free.size
+    basis = None
+    n_cand = min(n_modes + extra, nfree)
+    if reduce:
+        basis = reduction_basis(box, float(speeds[speeds.size // 2]), n_cand, mats)
+        n_cand = min(n_cand, basis.shape[1])
+    ns = speeds.size
+    lam_t = np.full((ns, n_modes), np.nan + 0j)
+    v_t = np.zeros((ns, n_modes, box.n_dof), complex)
+    mac_min = np.ones(ns)
+    prev = None
+    pencil = _pencil(box, mats, basis)
+    for s in range(ns):
+        lam, v = _solve(box, mats, speeds[s], n_cand, basis, pencil)
+        if prev is None:
+            k = min(n_modes, lam.size)
+            lam_t[s, :k], v_t[s, :k] = lam[:k], v[:k]
+        else:
+            mm = mac(prev, v)
+            rows, cols = linear_sum_assignment(-mm)
+            lam_t[s, rows], v_t[s, rows] = lam[cols], v[cols]
+            mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
+        prev = v_t[s]
+    e = np.zeros((ns, n_modes, len(groups(box)[0])))
+    me = np.zeros((ns, n_modes))
+    for s in range(ns):
+        e[s], me[s] = _energy(box, mats, _stiffness_full(box, mats, speeds[s]), v_t[s])
+    modes = SystemModes(speeds, lam_t, v_t, e, me, groups(box)[0])
+    lines = excitation_lines(box, harmonics)
+    return SystemCampbell(modes, mac_min, lines, crossings(modes, lines))
+
+
+def crossings(modes: SystemModes, lines: list[dict]) -> list[dict]:
+    """Speeds where a tracked damped frequency crosses an excitation line (linear interpolation)."""
+    sp, wd = modes.speed, modes.wd
+    tf = modes.torsional_fraction
+    out = []
+    for li, line in enumerate(lines):
+        for k in range(wd.shape[1]):
+            d = wd[:, k] - line["factor"] * sp
+            for s in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
+                t = d[s] / (d[s] - d[s + 1])
+                x = sp[s] + t * (sp[s + 1] - sp[s])
+                out.append(
+                    {
+                        "mode": k,
+                        "line": line["name"],
+                        "line_index": li,
+                        "speed": float(x),
+                        "frequency": float(line["factor"] * x),
+                        "mesh_energy": float(
+                            modes.mesh_energy[s, k] + t * (modes.mesh_energy[s + 1, k] - modes.mesh_energy[s, k])
+                        ),
+                        "torsional_fraction": float(tf[s, k] + t * (tf[s + 1, k] - tf[s, k])),
+                    }
+                )
+    out.sort(key=lambda c: c["speed"])
+    return out

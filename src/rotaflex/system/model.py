@@ -1,0 +1,465 @@
+"""Geared rotor system: FE rotors placed in the gearbox plane and joined by gear meshes (frozen data).
+
+A config holds ``[[rotor]]`` tables (each an FE rotor of :mod:`rotaflex.rotor.fe` with its
+``[[rotor.shaft]]``, ``[[rotor.disk]]``, ``[[rotor.bearing]]`` and a ``center`` in the gearbox
+plane), ``[[gear_mesh]]`` tables joining a node of one rotor to a node of another through a
+gear pair (the ``[pinion]``/``[wheel]`` tables of ``gear static``, inline or from a pair file),
+a ``[drive]`` and a ``[load]``. Shafts are parallel to z; centres are (x, y) [m]. Speeds are
+given in rpm for the drive rotor and converted once, here; every other rotor's speed and sense
+of rotation follow from the gear ratios (external meshes reverse the sense).
+
+Conventions (derived in docs/geared-rotor.md): every node of a rotor with ``torsion = true``
+carries a twist ``theta_z`` (positive about +z) besides the lateral ``[x, y, theta_x,
+theta_y]`` of :mod:`rotaflex.rotor.fe`. For a mesh whose driving gear d turns in the sense
+``s_d`` (+1: counter-clockwise seen from +z) and drives gear f, the line of action is the unit
+vector ``n = R(gamma) (sin alpha', s_d cos alpha')`` (gamma: direction from the driver's centre to
+the driven gear's centre, alpha': working pressure angle) and the mesh deflection is
+
+    delta = (u_d - u_f) . n + s_d (r_bd theta_d + r_bf theta_f) - e(phi)
+
+(u: lateral displacement of the gear node); the mesh force ``F = k delta + c delta'`` acts as
+``+F n`` on the driven gear and ``-F n`` on the driver.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+
+from rotaflex.core.config import from_mapping, load_toml, param
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.model import ROTOR_KEYS, RPM, Bearing, Disk, Material, PointMass, Rotor, Shaft
+
+#: keys of a [[gear_mesh]] table that describe the gear pair (passed to pair_from_mapping)
+PAIR_KEYS = ("pinion", "wheel", "center_distance", "backlash", "driver")
+DEFAULT_DAMPING_RATIO = 0.07  #: mesh damping ratio, the default of ``gear steady``
+
+
+@dataclass(frozen=True)
+class RotorSpec:
+    """One FE rotor of the gearbox: the rotor tables of ``rotaflex rotor`` plus its placement."""
+
+    name: str = param(doc="label used by [[gear_mesh]], [drive] and [load]")
+    center: tuple[float, float] = param(unit="m", doc="(x, y) of the shaft axis in the gearbox plane")
+    shaft: tuple[Shaft, ...] = param()
+    speed_rpm: float | None = param(None, unit="rpm", gt=0, doc="nominal speed (checked against the gear ratios)")
+    rotation: Literal["ccw", "cw"] | None = param(None, doc="sense seen from +z (default: from the drive)")
+    torsion: bool = param(True, doc="give every node a twist DOF (needed under a gear)")
+    disk: tuple[Disk, ...] = param(())
+    point_mass: tuple[PointMass, ...] = param(())
+    bearing: tuple[Bearing, ...] = param(())
+    material: dict[str, Material] = param({})
+    free: bool = param(False, doc="allow lateral rigid-body modes (rotor/fe's free)")
+
+
+@dataclass(frozen=True)
+class MeshSpec:
+    """A gear mesh joining two rotors (pair keys: [pinion]/[wheel] tables or ``pair_file``)."""
+
+    pinion_rotor: str = param(doc="name of the rotor carrying the pinion")
+    wheel_rotor: str = param(doc="name of the rotor carrying the wheel")
+    pinion_node: int | None = param(None, ge=0, doc="node of the pinion (or pinion_position)")
+    pinion_position: float | None = param(None, unit="m")
+    wheel_node: int | None = param(None, ge=0)
+    wheel_position: float | None = param(None, unit="m")
+    pair_file: str | None = param(None, doc="TOML file with the [pinion]/[wheel] tables (instead of inline)")
+    source: Literal["loaded_te", "static_fe", "iso6336", "harmonic", "contact_pattern"] = param(
+        "iso6336", doc="mesh stiffness / TE table (rotaflex.gear.gear_mesh)"
+    )
+    torque: float | None = param(None, unit="N m", gt=0, doc="pinion torque of the table (default: from [load])")
+    table_points: int = param(256, ge=8, le=4096)
+    mesh_preset: Literal["coarse", "default", "fine"] = param("default")
+    k_mean: float | None = param(None, unit="N/m", gt=0, doc="harmonic source: mean stiffness")
+    k_harmonics: tuple[float, ...] = param((), unit="N/m", doc="harmonic source: cosine amplitudes")
+    te_harmonics: tuple[float, ...] = param((), unit="m", doc="harmonic source: TE sine amplitudes")
+    k_pair: float | None = param(None, unit="N/m", gt=0, doc="contact_pattern source: one pair's stiffness")
+    unloaded_te_pp: float = param(0.0, unit="m", ge=0, doc="contact_pattern source: TE peak-to-peak")
+    stiffness: Literal["mean", "varying"] = param("varying", doc="time-domain runs: k(phi) or its mean")
+    damping_ratio: float = param(DEFAULT_DAMPING_RATIO, ge=0, doc="c_m = 2 zeta sqrt(k_mean m_red)")
+    back_contact: bool = param(True, doc="back-flank contact after the backlash in time-domain runs")
+    blanks: bool = param(True, doc="add the gear blanks as disks on their nodes")
+
+
+@dataclass(frozen=True)
+class DriveSpec:
+    """Motor: constant speed (an infinitely stiff speed control) or a torque balancing the load."""
+
+    rotor: str = param(doc="rotor name")
+    node: int | None = param(None, ge=0)
+    position: float | None = param(None, unit="m")
+    kind: Literal["constant_speed", "torque"] = param("constant_speed")
+    inertia: float = param(0.0, unit="kg m^2", ge=0, doc="motor rotor inertia added at the node")
+    rotation: Literal["ccw", "cw"] = param("ccw", doc="sense of rotation seen from +z")
+
+
+@dataclass(frozen=True)
+class LoadSpec:
+    """Load: a constant torque resisting the rotation, and an inertia."""
+
+    rotor: str = param()
+    node: int | None = param(None, ge=0)
+    position: float | None = param(None, unit="m")
+    torque: float = param(0.0, unit="N m", ge=0)
+    inertia: float = param(0.0, unit="kg m^2", ge=0)
+    damping: float = param(0.0, unit="N m s/rad", ge=0, doc="torque-speed slope of the load (viscous)")
+
+
+@dataclass(frozen=True)
+class GearboxSpec:
+    """Model tables of a gearbox config (analysis tables are read by the verbs)."""
+
+    rotor: tuple[RotorSpec, ...] = param()
+    gear_mesh: tuple[MeshSpec, ...] = param(())
+    drive: DriveSpec | None = param(None)
+    load: LoadSpec | None = param(None)
+
+
+MODEL_KEYS = tuple(f.name for f in dataclasses.fields(GearboxSpec))
+
+
+@dataclass(frozen=True)
+class PlacedRotor:
+    """An FE rotor in the gearbox: model, centre [m], sense (+1 ccw), speed per drive speed."""
+
+    name: str
+    rotor: Rotor
+    center: np.ndarray
+    sense: int
+    ratio: float
+    torsion: bool
+
+
+@dataclass(frozen=True)
+class MeshElement:
+    """A built mesh: the two gear stations, the gear mesh data and the line of action.
+
+    ``driver``/``driven`` are (rotor index, node); ``normal`` is the line of action n (force on
+    the driven gear +F n); ``sense`` is s_d; ``radius`` = (r_bd, r_bf); ``backlash`` [m] along n.
+    """
+
+    gear: Any  # rotaflex.gear.GearMesh
+    driver: tuple[int, int]
+    driven: tuple[int, int]
+    pinion_is_driver: bool
+    normal: np.ndarray
+    sense: int
+    radius: tuple[float, float]
+    damping: float
+    backlash: float
+    spec: MeshSpec
+
+    @property
+    def k_mean(self) -> float:
+        return self.gear.mean_stiffness
+
+
+@dataclass(frozen=True)
+class Gearbox:
+    """Geared rotor system (frozen, SI): placed rotors, meshes, drive and load.
+
+    Build with :meth:`from_mapping` / :meth:`from_toml`. ``rotors[i].ratio`` is rotor i's speed
+    per unit drive-rotor speed; the drive rotor has ratio 1.
+    """
+
+    rotors: tuple[PlacedRotor, ...]
+    meshes: tuple[MeshElement, ...]
+    drive: tuple[int, int] | None
+    drive_kind: str
+    load: tuple[int, int] | None
+    load_torque: float
+    spec: GearboxSpec = field(repr=False)
+
+    @classmethod
+    def from_mapping(cls, data: Mapping[str, Any], base: str | Path | None = None) -> Gearbox:
+        """Build from parsed TOML (model keys only; ``base``: directory of relative pair files)."""
+        data = {k: v for k, v in data.items() if k in MODEL_KEYS}
+        rotors_raw = data.get("rotor")
+        if not isinstance(rotors_raw, list) or not rotors_raw:
+            raise InputError("rotor", "<missing>" if rotors_raw is None else rotors_raw, "one or more [[rotor]] tables")
+        pairs = []
+        meshes_raw = data.get("gear_mesh", [])
+        if not isinstance(meshes_raw, list):
+            raise InputError("gear_mesh", meshes_raw, "[[gear_mesh]] tables")
+        meshes_clean = []
+        for i, m in enumerate(meshes_raw):
+            if not isinstance(m, Mapping):
+                raise InputError(f"gear_mesh[{i}]", m, "a table")
+            pairs.append(_pair(m, f"gear_mesh[{i}]", base))
+            meshes_clean.append({k: v for k, v in m.items() if k not in PAIR_KEYS})
+        rotor_specs, rotor_models = [], []
+        for i, r in enumerate(rotors_raw):
+            if not isinstance(r, Mapping):
+                raise InputError(f"rotor[{i}]", r, "a table")
+            where = f"rotor[{i}]"
+            model = Rotor.from_mapping({k: v for k, v in r.items() if k in ROTOR_KEYS}, where)
+            rotor_models.append(model)
+            plain = dataclasses.asdict(model)  # the rotor tables as the FE reader normalised them
+            rotor_specs.append({**r, **{k: plain[k] for k in ROTOR_KEYS if k in r}})
+        spec = from_mapping(GearboxSpec, {**data, "rotor": rotor_specs, "gear_mesh": meshes_clean})
+        return _build(spec, rotor_models, pairs)
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Gearbox:
+        """Read the model tables of a gearbox TOML file."""
+        return cls.from_mapping(load_toml(path), Path(path).parent)
+
+    # -- derived ---------------------------------------------------------------------------
+    @functools.cached_property
+    def layout(self) -> list[tuple[int, int, int]]:
+        """Per rotor (offset, n lateral DOFs, n torsional DOFs) in the global DOF vector."""
+        out, off = [], 0
+        for pr in self.rotors:
+            nl, nt = pr.rotor.n_dof, pr.rotor.n_nodes if pr.torsion else 0
+            out.append((off, nl, nt))
+            off += nl + nt
+        return out
+
+    @property
+    def n_dof(self) -> int:
+        off, nl, nt = self.layout[-1]
+        return off + nl + nt
+
+    def lateral_dof(self, rotor: int, node: int, axis: int = 0) -> int:
+        """Global index of lateral DOF ``axis`` (0 x, 1 y, 2 theta_x, 3 theta_y) of a node."""
+        return self.layout[rotor][0] + 4 * node + axis
+
+    def torsion_dof(self, rotor: int, node: int) -> int:
+        """Global index of the twist of a node (the rotor must have torsion)."""
+        off, nl, nt = self.layout[rotor]
+        if not nt:
+            raise InputError(f"rotor[{rotor}].torsion", False, "true for a twist DOF")
+        return off + nl + node
+
+    def speeds(self, drive_speed: float) -> np.ndarray:
+        """Signed spin speeds [rad/s] of the rotors (+: counter-clockwise) at a drive speed [rad/s]."""
+        return np.array([pr.sense * pr.ratio * drive_speed for pr in self.rotors])
+
+    def mesh_frequency(self, mesh: int, drive_speed: float) -> float:
+        """Mesh angular frequency z_p |Omega_p| [rad/s] of a mesh at a drive speed [rad/s]."""
+        m = self.meshes[mesh]
+        rp = m.driver[0] if m.pinion_is_driver else m.driven[0]
+        return m.gear.teeth[0] * self.rotors[rp].ratio * drive_speed
+
+    def with_mesh_stiffness(self, factor: float) -> Gearbox:
+        """Copy with every mesh's stiffness table scaled by ``factor`` (0: meshes removed)."""
+        if factor == 0:
+            return dataclasses.replace(self, meshes=())
+        out = []
+        for m in self.meshes:
+            t = m.gear.table
+            table = dataclasses.replace(t, stiffness=t.stiffness * factor)
+            out.append(dataclasses.replace(m, gear=dataclasses.replace(m.gear, table=table)))
+        return dataclasses.replace(self, meshes=tuple(out))
+
+    def to_mapping(self) -> dict[str, Any]:
+        return dataclasses.asdict(self.spec)
+
+
+def _pair(m: Mapping, where: str, base):
+    """The PairSpec of a [[gear_mesh]] table: inline pair keys or ``pair_file``."""
+    from rotaflex.gear import pair_from_mapping
+
+    inline = {k: v for k, v in m.items() if k in PAIR_KEYS}
+    path = m.get("pair_file")
+    if path is not None:
+        if not isinstance(path, str):
+            raise InputError(f"{where}.pair_file", path, "a path to a TOML file with [pinion]/[wheel]")
+        p = Path(path)
+        if not p.is_absolute() and base is not None:
+            p = Path(base) / p
+        cfg = load_toml(p)
+        inline = {**{k: v for k, v in cfg.items() if k in PAIR_KEYS}, **inline}
+    if "pinion" not in inline or "wheel" not in inline:
+        raise InputError(f"{where}.pinion", "<missing>", "[pinion] and [wheel] tables (or pair_file)")
+    return pair_from_mapping(inline, where)
+
+
+def _station(rotor: Rotor, node, position, where, keys=("node", "position")) -> int:
+    return rotor.station(node, position, where, True, keys)
+
+
+def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
+    """Resolve names, stations, senses, speed ratios, line of action; check the geometry."""
+    from rotaflex.gear import gear_mesh
+
+    names = [r.name for r in spec.rotor]
+    for i, n in enumerate(names):
+        if n in names[:i]:
+            raise InputError(f"rotor[{i}].name", n, "a name not used by another rotor")
+
+    def index(name, where):
+        if name not in names:
+            raise InputError(where, name, "a rotor name, one of " + ", ".join(map(repr, names)))
+        return names.index(name)
+
+    models = list(models)
+    if spec.drive is None:
+        raise InputError("drive", "<missing>", "a [drive] table (rotor, node, kind)")
+    d_r = index(spec.drive.rotor, "drive.rotor")
+    d_n = _station(models[d_r], spec.drive.node, spec.drive.position, "drive")
+    load = None
+    if spec.load is not None:
+        l_r = index(spec.load.rotor, "load.rotor")
+        load = (l_r, _station(models[l_r], spec.load.node, spec.load.position, "load"))
+    # mesh stations and the rotor graph
+    stations = []
+    for i, m in enumerate(spec.gear_mesh):
+        w = f"gear_mesh[{i}]"
+        rp, rw = index(m.pinion_rotor, f"{w}.pinion_rotor"), index(m.wheel_rotor, f"{w}.wheel_rotor")
+        if rp == rw:
+            raise InputError(f"{w}.wheel_rotor", m.wheel_rotor, "a rotor other than the pinion's")
+        npn = _station(models[rp], m.pinion_node, m.pinion_position, w, ("pinion_node", "pinion_position"))
+        nwh = _station(models[rw], m.wheel_node, m.wheel_position, w, ("wheel_node", "wheel_position"))
+        for r, key in ((rp, "pinion"), (rw, "wheel")):
+            if not spec.rotor[r].torsion:
+                raise InputError(
+                    f"{w}.{key}_node",
+                    npn if key == "pinion" else nwh,
+                    f"a node with a torsional DOF (rotor {names[r]!r} has torsion = false)",
+                )
+        stations.append((rp, npn, rw, nwh))
+    # speeds and senses by walking the meshes from the drive rotor
+    sense = {d_r: 1 if spec.drive.rotation == "ccw" else -1}
+    ratio = {d_r: 1.0}
+    toward = {}  # mesh -> True if power flows pinion -> wheel
+    frontier = [d_r]
+    while frontier:
+        r = frontier.pop()
+        for i, (rp, _, rw, _) in enumerate(stations):
+            if i in toward or r not in (rp, rw):
+                continue
+            other = rw if r == rp else rp
+            z = pairs[i].wheel.teeth / pairs[i].pinion.teeth
+            rat = ratio[r] / z if r == rp else ratio[r] * z
+            toward[i] = r == rp
+            if other in ratio:
+                if abs(ratio[other] - rat) > 1e-9 * rat or sense[other] != -sense[r]:
+                    raise InputError(
+                        f"gear_mesh[{i}]", names[other], "a gear train without loops of conflicting ratios"
+                    )
+                continue
+            ratio[other], sense[other] = rat, -sense[r]
+            frontier.append(other)
+    for i, r in enumerate(spec.rotor):
+        if i not in ratio:
+            raise InputError(f"rotor[{i}].name", r.name, "a rotor joined to the drive rotor by gear meshes")
+    _check_speeds(spec, ratio, sense, d_r, names)
+    # load torque -> default pinion torque of each mesh's table
+    t_load = spec.load.torque if spec.load is not None else 0.0
+    built = []
+    for i, (m, pair, (rp, npn, rw, nwh)) in enumerate(zip(spec.gear_mesh, pairs, stations, strict=True)):
+        w = f"gear_mesh[{i}]"
+        want = "pinion" if toward[i] else "wheel"
+        if pair.driver != want:
+            raise InputError(
+                f"{w}.driver", pair.driver, f"{want!r}: the [drive] rotor {names[d_r]!r} turns the {want} of this pair"
+            )
+        torque = m.torque
+        if torque is None:
+            if load is None or t_load <= 0 or load[0] not in (rp, rw):
+                raise InputError(f"{w}.torque", "<missing>", "a pinion torque [N m] > 0 (or a [load] on this mesh)")
+            # the load torque seen at the pinion through this mesh (rigid gears, no losses)
+            torque = t_load if load[0] == rp else t_load / (pair.wheel.teeth / pair.pinion.teeth)
+        gm = gear_mesh(
+            pair,
+            torque,
+            source=m.source,
+            table_points=m.table_points,
+            mesh_preset=m.mesh_preset,
+            k_mean=m.k_mean,
+            k_harmonics=m.k_harmonics,
+            te_harmonics=m.te_harmonics,
+            k_pair=m.k_pair,
+            unloaded_te_pp=m.unloaded_te_pp,
+        )
+        cp, cw = np.asarray(spec.rotor[rp].center, float), np.asarray(spec.rotor[rw].center, float)
+        dist = float(np.hypot(*(cw - cp)))
+        a = gm.center_distance
+        if abs(dist - a) > 1e-6 * a:
+            raise InputError(
+                f"rotor[{rw}].center",
+                list(spec.rotor[rw].center),
+                f"a centre {a:.6g} m from rotor {names[rp]!r} (the working centre distance of "
+                f"gear_mesh[{i}]; the centres are {dist:.6g} m apart)",
+            )
+        d, f = ((rp, npn), (rw, nwh)) if toward[i] else ((rw, nwh), (rp, npn))
+        rb = gm.base_radius if toward[i] else gm.base_radius[::-1]
+        s = sense[d[0]]
+        cd, cf = np.asarray(spec.rotor[d[0]].center, float), np.asarray(spec.rotor[f[0]].center, float)
+        gam = math.atan2(*(cf - cd)[::-1])
+        alpha = gm.pressure_angle
+        loc = np.array([math.sin(alpha), s * math.cos(alpha)])
+        rot = np.array([[math.cos(gam), -math.sin(gam)], [math.sin(gam), math.cos(gam)]])
+        j1, j2 = gm.inertia
+        r1, r2 = gm.base_radius
+        m_red = j1 * j2 / (j1 * r2**2 + j2 * r1**2)
+        c_m = 2.0 * m.damping_ratio * math.sqrt(gm.mean_stiffness * m_red)
+        backlash = pair.normal_backlash_at(a) if m.back_contact else -1.0
+        if m.blanks:
+            for r, node, k, key in ((rp, npn, 0, "pinion"), (rw, nwh, 1, "wheel")):
+                mass = gm.mass[k]
+                if mass is None:
+                    raise InputError(
+                        f"{w}.{key}.blank.inertia",
+                        gm.inertia[k],
+                        "a blank given by geometry (for its mass) or blanks = false with a [[rotor.disk]]",
+                    )
+                ip = gm.inertia[k]
+                disk = Disk(node=node, mass=mass, Id=0.5 * ip, Ip=ip)  # thin disk: Id = Ip / 2
+                models[r] = dataclasses.replace(models[r], disk=(*models[r].disk, disk))
+        built.append(MeshElement(gm, d, f, toward[i], rot @ loc, s, (float(rb[0]), float(rb[1])), c_m, backlash, m))
+    extra = [((d_r, d_n), spec.drive.inertia), (load, spec.load.inertia if spec.load else 0.0)]
+    for st, j in extra:  # motor and load inertias as polar-only disks
+        if st is not None and j:
+            models[st[0]] = dataclasses.replace(
+                models[st[0]], disk=(*models[st[0]].disk, Disk(node=st[1], mass=0.0, Id=0.0, Ip=j))
+            )
+    if spec.drive is not None and not spec.rotor[d_r].torsion:
+        raise InputError("drive.rotor", spec.drive.rotor, "a rotor with torsion = true")
+    if load is not None and not spec.rotor[load[0]].torsion and spec.load.torque > 0:
+        raise InputError("load.rotor", spec.load.rotor, "a rotor with torsion = true (a load torque twists it)")
+    placed = tuple(
+        PlacedRotor(r.name, models[i], np.asarray(r.center, float), sense[i], ratio[i], r.torsion)
+        for i, r in enumerate(spec.rotor)
+    )
+    return Gearbox(placed, tuple(built), (d_r, d_n), spec.drive.kind, load, t_load, spec)
+
+
+def _check_speeds(spec, ratio, sense, d_r, names) -> None:
+    """Given rotor speeds and senses must agree with the gear ratios and the drive's sense."""
+    given = [(i, r.speed_rpm) for i, r in enumerate(spec.rotor) if r.speed_rpm is not None]
+    if given:
+        i0, s0 = given[0]
+        base = s0 / ratio[i0]
+        for i, s in given[1:]:
+            want = base * ratio[i]
+            if abs(s - want) > 1e-6 * want:
+                raise InputError(
+                    f"rotor[{i}].speed_rpm",
+                    s,
+                    f"{want:.6g} rpm: rotor {names[i0]!r} turns at {s0:g} rpm and the gear ratios fix the rest",
+                )
+    for i, r in enumerate(spec.rotor):
+        if r.rotation is not None and (1 if r.rotation == "ccw" else -1) != sense[i]:
+            want = "ccw" if sense[i] > 0 else "cw"
+            raise InputError(
+                f"rotor[{i}].rotation", r.rotation, f"{want!r}: set by the drive's sense and the external meshes"
+            )
+
+
+def drive_speed_rpm(box: Gearbox) -> float | None:
+    """Nominal drive-rotor speed [rpm] from the rotors' ``speed_rpm`` (None if none given)."""
+    for pr, r in zip(box.rotors, box.spec.rotor, strict=True):
+        if r.speed_rpm is not None:
+            return r.speed_rpm / pr.ratio
+    return None
+
+
+__all__ = ["RPM", "Gearbox", "GearboxSpec", "MeshElement", "PlacedRotor", "drive_speed_rpm"]

@@ -1,0 +1,241 @@
+"""Result objects and figures of the gearbox analyses (xarray datasets with units)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from rotaflex.core.result import Result, register_result
+
+HZ = 1 / (2 * np.pi)
+RPM = 30 / np.pi
+
+
+def system_figure(box):
+    """Plan view (gearbox plane: centres, base and pitch circles, line of action, sense of
+    rotation) and side view (shafts along z side by side, disks, bearings, gear nodes)."""
+    from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle
+
+    from rotaflex.core.plotting import new_figure
+
+    fig, (ax, bx) = new_figure(1, 2, figsize=(11, 4.5))
+    for m in box.meshes:
+        (rd, _), (rf, _) = m.driver, m.driven
+        for r, rb in ((rd, m.radius[0]), (rf, m.radius[1])):
+            c = box.rotors[r].center
+            ax.add_patch(Circle(c, rb, fill=False, ls="--", lw=0.8, ec="0.4"))
+            rp = rb / np.cos(m.gear.pressure_angle)
+            ax.add_patch(Circle(c, rp, fill=False, lw=1.2, ec="tab:blue"))
+        cd, cf = box.rotors[rd].center, box.rotors[rf].center
+        pitch = cd + (cf - cd) * m.radius[0] / sum(m.radius)
+        half = 1.2 * np.hypot(*(cf - cd)) * np.sin(m.gear.pressure_angle) + 0.3 * min(m.radius)
+        a, b = pitch - half * m.normal, pitch + half * m.normal
+        ax.add_patch(FancyArrowPatch(a, b, arrowstyle="-|>", mutation_scale=12, color="tab:red", lw=1.2))
+        ax.annotate("line of action (force on driven)", b, fontsize=7, color="tab:red")
+    for pr in box.rotors:
+        c = pr.center
+        ax.plot(*c, "k+", ms=8)
+        ax.annotate(
+            f"{pr.name} ({'ccw' if pr.sense > 0 else 'cw'}, x{pr.ratio:.3g})",
+            c,
+            fontsize=8,
+            xytext=(4, -12),
+            textcoords="offset points",
+        )
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.set(xlabel="x [m]", ylabel="y [m]", title="gearbox plane")
+    # side view: each rotor drawn at its x position, shaft along z
+    order = np.argsort([pr.center[0] for pr in box.rotors])
+    gear_nodes = {}
+    for m in box.meshes:
+        for r, n in (m.driver, m.driven):
+            gear_nodes.setdefault(r, []).append(n)
+    for i in order:
+        pr = box.rotors[i]
+        z, e = pr.rotor.nodes, pr.rotor.elements
+        y0 = pr.center[0]  # each shaft drawn at its x in the gearbox plane
+        for j in range(e["L"].size):
+            ro = e["do_l"][j] / 2
+            bx.add_patch(Rectangle((z[j], y0 - ro), z[j + 1] - z[j], 2 * ro, fc="0.75", ec="0.3", lw=0.5))
+        for node, d in pr.rotor.disks:
+            rd = np.sqrt(2 * d.Ip / d.mass) if d.mass > 0 and d.Ip > 0 else 0.02
+            col = "tab:blue" if node in gear_nodes.get(i, []) else "tab:gray"
+            bx.add_patch(Rectangle((z[node] - 0.004, y0 - rd), 0.008, 2 * rd, fc=col, alpha=0.6))
+        for node, _, _ in pr.rotor.bearings:
+            h = 0.01
+            yb = y0 - e["do_l"][min(node, e["L"].size - 1)] / 2
+            bx.add_patch(
+                Polygon(
+                    [[z[node], yb], [z[node] - 0.008, yb - h], [z[node] + 0.008, yb - h]],
+                    fc="tab:orange",
+                    ec="k",
+                    lw=0.5,
+                )
+            )
+        bx.annotate(pr.name, (z[0], y0), fontsize=8, xytext=(-30, 0), textcoords="offset points")
+    bx.autoscale_view()
+    bx.set(xlabel="z [m]", ylabel="x of the shaft axis [m]", title="shafts, gears (blue), bearings (orange)")
+    return fig
+
+
+def _box(result):
+    from rotaflex.system.model import MODEL_KEYS, Gearbox
+
+    cfg = result.config
+    try:
+        return Gearbox.from_mapping({k: v for k, v in cfg.items() if k in MODEL_KEYS})
+    except Exception:  # noqa: BLE001 - a figure is optional (e.g. a pair file moved since the run)
+        return None
+
+
+class _SystemResult(Result):
+    def summary(self) -> dict:
+        out = super().summary()
+        out.update(json.loads(self.dataset.attrs.get("summary_extra", "{}")))
+        return out
+
+    def _model(self) -> dict:
+        box = _box(self)
+        return {} if box is None else {"system": system_figure(box)}
+
+
+@register_result
+class SystemModalResult(_SystemResult):
+    """Coupled modes at one speed with the energy split of each mode."""
+
+    kind = "system_modal"
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        figs = self._model()
+        fig, ax = new_figure()
+        nm = ds.sizes["mode"]
+        bottom = np.zeros(nm)
+        x = np.arange(nm)
+        for gi, g in enumerate(ds["group"].values):
+            v = ds["energy"].values[:, gi]
+            ax.bar(x, v, bottom=bottom, label=str(g))
+            bottom += v
+        ax.plot(x, ds["mesh_energy"].values, "k^", label="mesh strain energy")
+        ax.set_xticks(x, [f"{f * HZ:.0f}" for f in ds["natural_frequency"].values], rotation=60, fontsize=7)
+        ax.set(xlabel="mode frequency [Hz]", ylabel="energy fraction")
+        ax.legend(fontsize=7)
+        figs["energy_split"] = fig
+        return figs
+
+
+@register_result
+class SystemCampbellResult(_SystemResult):
+    """Campbell diagram: tracked coupled modes, mesh-order and 1X lines, crossings."""
+
+    kind = "system_campbell"
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        figs = self._model()
+        fig, ax = new_figure(figsize=(7, 5))
+        sp = ds["speed"].values
+        me = ds["mesh_energy"].values
+        for k in range(ds.sizes["mode"]):
+            sc = ax.scatter(
+                sp * RPM,
+                ds["damped_frequency"].values[:, k] * HZ,
+                c=me[:, k],
+                s=6,
+                cmap="viridis",
+                vmin=0,
+                vmax=max(0.05, float(np.nanmax(me))),
+            )
+        fig.colorbar(sc, ax=ax, label="mesh strain-energy fraction")
+        ymax = float(np.nanmax(ds["damped_frequency"].values)) * HZ * 1.05
+        for name, f in zip(ds["line"].values, ds["line_factor"].values, strict=True):
+            style = "-" if str(name).startswith("mesh") else ":"
+            ax.plot(sp * RPM, f * sp * HZ, style, lw=0.8, c="tab:red" if style == "-" else "0.4")
+            xe = min(sp[-1], ymax / HZ / f if f > 0 else sp[-1])
+            ax.annotate(str(name), (xe * RPM, f * xe * HZ), fontsize=6)
+        for cr in json.loads(ds.attrs.get("crossings", "[]")):
+            if cr["line"].startswith("mesh") and cr["mesh_energy"] > 0.05:
+                ax.plot(cr["speed"] * RPM, cr["frequency"] * HZ, "ko", mfc="none", ms=6)
+        ax.set_ylim(0, ymax)
+        ax.set(xlabel="drive speed [rpm]", ylabel="damped natural frequency [Hz]")
+        figs["campbell"] = fig
+        return figs
+
+
+@register_result
+class SystemResponseResult(_SystemResult):
+    """TE-harmonic response vs speed."""
+
+    kind = "system_response"
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        figs = self._model()
+        rpm = ds["speed_rpm"].values
+        fig, ax = new_figure(3, 1, sharex=True, figsize=(7, 8))
+        for h in range(ds.sizes["harmonic"]):
+            ax[0].semilogy(rpm, ds["dte"].values[0, :, h] * 1e6, label=f"h = {h + 1}")
+            ax[1].semilogy(rpm, ds["mesh_force"].values[0, :, h], label=f"h = {h + 1}")
+        for b in range(ds.sizes["bearing"]):
+            ax[2].semilogy(rpm, ds["bearing_force"].values[0, :, :, b].sum(-1), label=str(ds["bearing"].values[b]))
+        ax[0].set_ylabel("DTE [µm]")
+        ax[1].set_ylabel("dynamic mesh force [N]")
+        ax[2].set(ylabel="bearing force, sum of h [N]", xlabel="drive speed [rpm]")
+        for a in ax:
+            a.legend(fontsize=6)
+            a.grid(alpha=0.3, which="both")
+        figs["response"] = fig
+        if ds.sizes.get("probe", 0):
+            fig2, a2 = new_figure()
+            for p in range(ds.sizes["probe"]):
+                a2.semilogy(rpm, ds["orbit_major"].values[0, :, :, p].sum(-1) * 1e6, label=str(ds["probe"].values[p]))
+            a2.set(xlabel="drive speed [rpm]", ylabel="orbit semi-major axis, sum of h [µm]")
+            a2.legend(fontsize=7)
+            figs["orbits"] = fig2
+        return figs
+
+
+@register_result
+class SystemSteadyResult(_SystemResult):
+    """One nonlinear steady-state point: DTE, mesh force, bearing forces over the last cycles."""
+
+    kind = "system_steady"
+
+    def final_state(self) -> dict | None:
+        """Physical state at the end (plain data) for ``initial_state`` of the next point."""
+        ds = self.dataset
+        if "state_q" not in ds:
+            return None
+        return {
+            "q": ds["state_q"].values.tolist(),
+            "qdot": ds["state_qdot"].values.tolist(),
+            "phase": ds["state_phase"].values.tolist(),
+        }
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        figs = self._model()
+        t = ds["time"].values
+        fig, ax = new_figure(3, 1, sharex=True, figsize=(7, 8))
+        ax[0].plot(t * 1e3, ds["dte"].values[:, 0] * 1e6)
+        ax[0].set_ylabel("DTE [µm]")
+        ax[1].plot(t * 1e3, ds["mesh_force"].values[:, 0])
+        ax[1].axhline(float(ds["static_force"].values[0]), ls="--", c="k", lw=0.8)
+        ax[1].set_ylabel("mesh force [N]")
+        for b in range(ds.sizes["bearing"]):
+            f = np.hypot(*ds["bearing_force"].values[:, b].T)
+            ax[2].plot(t * 1e3, f, label=str(ds["bearing"].values[b]), lw=0.8)
+        ax[2].set(xlabel="time [ms]", ylabel="|bearing force| [N]")
+        ax[2].legend(fontsize=6)
+        figs["time_series"] = fig
+        return figs
