@@ -80,7 +80,8 @@ GLOSSARY: dict[str, str] = {
     "K_123 / K_313 / K_q": "kinetic energy of the rotor computed from the inertial-frame angular "
     "velocity, with the 1-2-3 or 3-1-3 Euler-angle sequence or the quaternion",
     "K*_123 / K*_q": "the same kinetic energy computed from the body-frame angular velocity (the "
-    "star marks the body frame); physically K* = K, the paper's figures compare them",
+    "star marks the body frame); computed consistently both give the same energy, and the paper's "
+    "figures compare the two computations",
     "J_313": "the inertia matrix the paper prints for the 3-1-3 sequence",
     "M_q": "mass matrix of the quaternion (spherical-coordinate) equations of motion; where it "
     "vanishes the equations are singular",
