@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rotaflex.sweep.figures import generic_figures, uninformative
+from rotaflex.sweep.figures import display_scale, generic_figures, uninformative
 
 KEY = "operation.speed_rpm"
 
@@ -35,7 +35,7 @@ def _panels(fig):
 def test_constant_and_round_off_scalars_get_no_panel_but_are_named():
     figs = generic_figures(_ds())
     summary = _panels(figs["summary_vs_speed_rpm"])
-    assert set(summary) == {"dynamic factor K_v [-]", "dte peak to peak [m]"}
+    assert set(summary) == {"dynamic factor K_v [-]", "DTE peak to peak [µm]"}
     note = figs["summary_vs_speed_rpm"].rotaflex_dropped
     assert "constant: reduced_mass = 0.41 kg" in note
     assert "round-off only: normal_backlash)" in note
@@ -60,10 +60,10 @@ def test_labels_are_words_with_units_and_the_x_unit_is_always_shown():
 
 def test_drawn_data_are_the_dataset_values():
     ds = _ds()
-    ax = _panels(generic_figures(ds)["summary_vs_speed_rpm"])["dte peak to peak [m]"]
+    ax = _panels(generic_figures(ds)["summary_vs_speed_rpm"])["DTE peak to peak [µm]"]
     (line,) = ax.get_lines()
     np.testing.assert_array_equal(line.get_xdata(), ds["operation_speed_rpm"].values)
-    np.testing.assert_array_equal(line.get_ydata(), ds["dte_peak_to_peak"].values)
+    np.testing.assert_allclose(line.get_ydata(), ds["dte_peak_to_peak"].values * 1e6, rtol=1e-15)  # in um
 
 
 @pytest.mark.parametrize(
@@ -80,3 +80,17 @@ def test_drawn_data_are_the_dataset_values():
 )
 def test_uninformative_rule(values, units, why):
     assert uninformative(xr.DataArray(values, attrs={"units": units})) == why
+
+
+@pytest.mark.parametrize(
+    ("values", "units", "expected"),
+    [
+        ([2e-6, 5e-6], "m", (1e6, "um")),
+        ([0.2, 1.5], "m", (1.0, "m")),
+        ([7e7, 1.4e8], "Pa", (1e-6, "MPa")),
+        ([500.0, 900.0], "N", (1.0, "N")),
+        ([0.5, 2.0], "1", (1.0, "1")),
+    ],
+)
+def test_display_scale_picks_a_prefix_by_the_largest_magnitude(values, units, expected):
+    assert display_scale(xr.DataArray(values, attrs={"units": units})) == expected

@@ -58,6 +58,10 @@ def _x_dim(ds) -> str | None:
 _KEY_UNITS = {"rpm": "rpm", "deg": "deg", "hz": "Hz", "mm": "mm", "um": "um"}
 
 
+#: words written as acronyms in labels (``dte_peak_to_peak`` -> ``DTE peak to peak``)
+_ACRONYMS = {"dte", "ste", "rms", "iso", "fe", "mac"}
+
+
 def _words(name: str) -> str:
     """A readable name from a key or variable name: the last dotted part without its unit
     suffix, underscores as spaces (``operation.speed_rpm`` -> ``speed``)."""
@@ -65,7 +69,31 @@ def _words(name: str) -> str:
     head, _, suffix = leaf.rpartition("_")
     if head and suffix.lower() in _KEY_UNITS:
         leaf = head
-    return leaf.replace("_", " ")
+    return " ".join(w.upper() if w in _ACRONYMS else w for w in leaf.split("_"))
+
+
+#: SI units drawn with a prefix: (smallest magnitude, unit, factor), largest first; a
+#: magnitude below every threshold keeps the plain unit
+_PREFIXED = {
+    "m": ((1.0, "m", 1.0), (1e-3, "mm", 1e3), (1e-6, "um", 1e6), (1e-12, "nm", 1e9)),
+    "Pa": ((1e9, "GPa", 1e-9), (1e6, "MPa", 1e-6), (1e3, "kPa", 1e-3)),
+    "N": ((1e6, "MN", 1e-6), (1e4, "kN", 1e-3)),
+}
+
+
+def display_scale(var) -> tuple[float, str]:
+    """``(factor, unit)`` to draw ``var`` in a readable unit: a displacement of 3e-6 m as 3 um,
+    a stress of 7e7 Pa as 70 MPa (no axis offset like ``1e-6``); ``(1, unit)`` otherwise."""
+    unit = str(var.attrs.get("units", "")).strip()
+    v = np.asarray(var.values, dtype=float)
+    v = v[np.isfinite(v)]
+    if unit not in _PREFIXED or v.size == 0:
+        return 1.0, unit
+    big = float(np.max(np.abs(v)))
+    for threshold, name, factor in _PREFIXED[unit]:
+        if big >= threshold:
+            return factor, name
+    return 1.0, unit
 
 
 def _key_unit(name: str) -> str:
@@ -73,7 +101,7 @@ def _key_unit(name: str) -> str:
     return _KEY_UNITS.get(suffix, "")
 
 
-def _label(var, name: str | None = None) -> str:
+def _label(var, name: str | None = None, unit: str | None = None) -> str:
     """Axis label ``long name [unit]``: the variable's ``long_name`` if it has a short one, else
     words from its config key or name (not the raw key); the unit is always shown (``[-]`` for
     a dimensionless number) so that no axis leaves its unit to be guessed."""
@@ -83,7 +111,7 @@ def _label(var, name: str | None = None) -> str:
     long = str(var.attrs.get("long_name", ""))
     short_long = long if long and len(long) <= 40 and not var.attrs.get("config_key") and not name else ""
     text = short_long or _words(key)
-    units = str(var.attrs.get("units", "")) or _key_unit(key)
+    units = unit if unit is not None else (str(var.attrs.get("units", "")) or _key_unit(key))
     return f"{text} [{pretty_unit(units) or '-'}]"
 
 
@@ -213,11 +241,12 @@ def _panels(ds, x: str, names: list[str], stem: str, title: str, note: str = "")
         nrows = math.ceil(len(chunk) / ncols)
         fig, axes = new_figure(nrows, ncols, squeeze=False, figsize=(4.4 * ncols, 3.0 * nrows + 0.4))
         for ax, name in zip(axes.flat, chunk, strict=False):
+            factor, unit = display_scale(ds[name])
             for label, xv, yv in _lines(ds, name, x):
-                ax.plot(xv, yv, "o-", ms=3, label=label or None)
+                ax.plot(xv, np.asarray(yv, dtype=float) * factor, "o-", ms=3, label=label or None)
             ax.set_xlabel(_label(ds[x]))
             # wrapped, so that a long label never runs into the neighbouring panel
-            ax.set_ylabel("\n".join(textwrap.wrap(_label(ds[name]), 30)), fontsize=8)
+            ax.set_ylabel("\n".join(textwrap.wrap(_label(ds[name], unit=unit), 30)), fontsize=8)
             ax.grid(alpha=0.3)
         for ax in list(axes.flat)[len(chunk) :]:
             ax.set_visible(False)
