@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib
 import logging
+import os
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -26,9 +27,10 @@ log = logging.getLogger("rotaflex.reproduce")
 MEASURED_FAST_S: dict[str, float] = {"rotor": 5.4, "gear": 45.9, "floating": 11.8, "sweep": 15.4}
 #: full settings over ``--fast``, from the two measured totals on that machine (214 s / 75.2 s)
 FULL_OVER_FAST = 214.0 / 75.2
-#: extra time of the first run after install [s] per target: numba compiles and caches the gear
-#: kernels, sympy derives and caches the rotor equations (fresh install, same machine)
-FIRST_RUN_S: dict[str, float] = {"rotor": 62.0, "gear": 65.0}
+#: extra time of the first run after install [s]: sympy deriving the rotor equations, numba
+#: compiling the gear and floating kernels (all cached afterwards); measured in a fresh install
+#: on the same machine under a heavier load (load average about 15 on 2 cores)
+FIRST_RUN_S: dict[str, float] = {"rotor": 62.0, "gear": 540.0, "floating": 302.0}
 
 
 def expected_seconds(name: str, fast: bool) -> float:
@@ -37,14 +39,31 @@ def expected_seconds(name: str, fast: bool) -> float:
     return t if fast else t * FULL_OVER_FAST
 
 
-def estimate(names: list[str], fast: bool) -> str:
-    """The line ``reproduce`` prints at its start: the expected wall time, from measured numbers."""
+def _minutes(seconds: float) -> str:
+    return f"about {seconds / 60:.0f} min" if seconds >= 90 else f"about {seconds:.0f} s"
+
+
+def estimate(names: list[str], fast: bool, load: float | None = None, cores: int | None = None) -> str:
+    """The line ``reproduce`` prints at its start: the expected wall time, from measured numbers.
+
+    ``load`` and ``cores`` (default: this machine's 1-minute load average and CPU count) add a
+    warning when the machine is busy, since the times grow with the load.
+    """
     seconds = sum(expected_seconds(n, fast) for n in names)
-    first = sum(FIRST_RUN_S.get(n, 0.0) for n in names)
-    text = f"about {seconds / 60:.0f} min" if seconds >= 90 else f"about {seconds:.0f} s"
-    line = f"expected time: {text} on 2 cores{' with --fast' if fast else ''}"
+    # the sweep target runs every domain's example, so it compiles their kernels too
+    compiled = set(names) | (set(FIRST_RUN_S) if "sweep" in names else set())
+    first = sum(FIRST_RUN_S.get(n, 0.0) for n in compiled)
+    line = f"expected time: {_minutes(seconds)} on 2 cores{' with --fast' if fast else ''} once kernels are cached"
     if first:
-        line += f"; the first run after install adds about {first / 60:.0f} min (compiling and caching kernels)"
+        line += f"; the first run after install also compiles them ({_minutes(first)} measured on a busy machine)"
+    if load is None:
+        try:
+            load = os.getloadavg()[0]
+        except (AttributeError, OSError):  # pragma: no cover - not on every platform
+            load = 0.0
+    cores = cores or os.cpu_count() or 1
+    if load > 2 * cores:
+        line += f"; this machine is busy now (load average {load:.0f} on {cores} cores): expect longer"
     return line
 
 
