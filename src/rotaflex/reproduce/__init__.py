@@ -104,7 +104,7 @@ def reproduce(
         emit(estimate(names, fast))
     # overall progress in expected seconds (a line after each stage, with the time left)
     weights = [expected_seconds(nm, fast) for nm in names]
-    overall = Progress(sum(weights), "reproduce", "s of the estimate", enabled=bool(emit) and n > 1, tty=False)
+    overall = Progress(sum(weights), "reproduce", "expected s", enabled=bool(emit) and n > 1, tty=False)
     for i, name in enumerate(names, 1):
         prefix = f"[{i}/{n} {name}]"
         say = (lambda m, p=prefix: emit(f"{p} {m}")) if emit else None
