@@ -126,3 +126,15 @@ def test_arrays_of_tables_are_shown_with_their_keys():
     assert "array of Shaft tables" in text and "at least one required" in text
     assert "# [material.<name>]" in text
     assert "| `shaft[].outer_diameter` | `required` | m |" in config_reference()
+
+
+def test_a_mistyped_sweep_key_gets_a_did_you_mean():
+    from rotaflex.core.errors import InputError
+    from rotaflex.core.schema import default_of
+    from rotaflex.rotor.model import RotorModel
+
+    with pytest.raises(InputError, match=r"did you mean 'motion\.spin_speed'\?"):
+        default_of(RotorModel, "motion.spin_sped")
+    with pytest.raises(InputError) as info:
+        default_of(RotorModel, "zzz.qqq")
+    assert "did you mean" not in str(info.value)

@@ -8,6 +8,7 @@ metadata (unit, bounds, doc), so the template and the reference cannot drift fro
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import types
 import typing
 from collections.abc import Iterator
@@ -149,7 +150,10 @@ def default_of(schema: type, dotted: str) -> Any:
     known = {e.key: e for e in entries(schema) if not any(m in e.key for m in EACH.values())}
     base = dotted.split("[", 1)[0]
     if base not in known:
+        # the same leaf in another table first (``spin_speed`` -> ``motion.spin_speed``), else the
+        # closest spelling (``motion.spin_sped``), as for unknown keys in a config file
         close = [k for k in known if k.rsplit(".", 1)[-1] == base.rsplit(".", 1)[-1]]
+        close = close or difflib.get_close_matches(base, list(known), n=1, cutoff=0.6)
         hint = f"; did you mean {close[0]!r}?" if close else ""
         raise InputError(dotted, "<missing>", f"a key of the config schema{hint}")
     e = known[base]
