@@ -73,3 +73,11 @@ def test_introduction_and_glossary_of_the_terms_used(report):
     for term in ("K_123 / K_313 / K_q", "K*_123 / K*_q", "MAC", "DTE", "Fig. / eq."):
         assert f"| {term} |" in glossary and f"<dt>{term}</dt>" in page
     assert "| HHT / HHT-alpha |" not in glossary  # not used in this report
+
+
+def test_repeated_figure_labels_get_distinct_anchors(tmp_path):
+    sec = Section("Sweeps", figures=[FigureEntry("gear", "c", "a.png"), FigureEntry("gear", "c", "b.png")])
+    write_report(tmp_path, [sec], "t")
+    md = (tmp_path / "report.md").read_text()
+    ids = re.findall(r'<a id="([^"]+)"></a>', md)
+    assert len(ids) == len(set(ids)) and "sweeps-gear-1" in ids and "sweeps-gear-2" in ids

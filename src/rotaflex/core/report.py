@@ -159,7 +159,10 @@ def anchor(*parts: str) -> str:
 
 
 def _figure_id(s: Section, f: FigureEntry) -> str:
-    return anchor(s.title[:24], f.label)
+    """The figure's anchor: section and label, numbered when a label repeats in a section."""
+    base = anchor(s.title[:24], f.label)
+    same = [g for g in s.figures if anchor(s.title[:24], g.label) == base]
+    return base if len(same) == 1 else f"{base}-{next(i for i, g in enumerate(same, 1) if g is f)}"
 
 
 def _toc(sections: list[Section], has_intro: bool, has_glossary: bool) -> list[tuple[int, str, str]]:
