@@ -94,3 +94,19 @@ def test_uninformative_rule(values, units, why):
 )
 def test_display_scale_picks_a_prefix_by_the_largest_magnitude(values, units, expected):
     assert display_scale(xr.DataArray(values, attrs={"units": units})) == expected
+
+
+def test_an_indexed_sweep_key_gets_the_unit_of_its_schema_key():
+    from rotaflex.sweep.combine import param_units
+    from rotaflex.sweep.study import _schema_units
+
+    units = _schema_units("rotaflex.floating.case")
+    assert units["loads[].duration"] == "s"  # the schema lists the keys of one [[loads]] entry
+    assert param_units("loads[0].duration", units) == "s" and param_units("loads[3].start", units) == "s"
+
+
+def test_variable_labels_keep_every_part_of_the_name():
+    var = xr.DataArray([1e-3, 2e-3], name="perturbation.tip.max_deflection", attrs={"units": "m"})
+    fig = generic_figures(xr.Dataset({var.name: ("x", var.values, var.attrs)}, coords={"x": ("x", [1.0, 2.0])}))
+    labels = [a.get_ylabel().replace("\n", " ") for a in fig["summary_vs_x"].axes if a.get_visible()]
+    assert labels == ["perturbation tip max deflection [mm]"]

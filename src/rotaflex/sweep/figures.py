@@ -62,14 +62,15 @@ _KEY_UNITS = {"rpm": "rpm", "deg": "deg", "hz": "Hz", "mm": "mm", "um": "um"}
 _ACRONYMS = {"dte", "ste", "rms", "iso", "fe", "mac"}
 
 
-def _words(name: str) -> str:
-    """A readable name from a key or variable name: the last dotted part without its unit
-    suffix, underscores as spaces (``operation.speed_rpm`` -> ``speed``)."""
-    leaf = str(name).rsplit(".", 1)[-1]
+def _words(name: str, leaf_only: bool = True) -> str:
+    """A readable name from a config key (its last dotted part) or a variable name (every
+    part: ``full.tip.max_deflection`` -> ``full tip max deflection``), without a unit suffix,
+    underscores as spaces (``operation.speed_rpm`` -> ``speed``)."""
+    leaf = str(name).rsplit(".", 1)[-1] if leaf_only else str(name).replace(".", " ")
     head, _, suffix = leaf.rpartition("_")
     if head and suffix.lower() in _KEY_UNITS:
         leaf = head
-    return " ".join(w.upper() if w in _ACRONYMS else w for w in leaf.split("_"))
+    return " ".join(w.upper() if w in _ACRONYMS else w for w in leaf.replace(" ", "_").split("_") if w)
 
 
 #: SI units drawn with a prefix: (smallest magnitude, unit, factor), largest first; a
@@ -110,7 +111,7 @@ def _label(var, name: str | None = None, unit: str | None = None) -> str:
     key = var.attrs.get("config_key") or name or str(var.name)
     long = str(var.attrs.get("long_name", ""))
     short_long = long if long and len(long) <= 40 and not var.attrs.get("config_key") and not name else ""
-    text = short_long or _words(key)
+    text = short_long or _words(key, leaf_only=bool(var.attrs.get("config_key")))
     units = unit if unit is not None else (str(var.attrs.get("units", "")) or _key_unit(key))
     return f"{text} [{pretty_unit(units) or '-'}]"
 
