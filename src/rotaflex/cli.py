@@ -296,7 +296,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             say = None if quiet else (lambda m: typer.echo(m, err=True))
             with _limit_threads(), CompileTimer(say) as compiling:
                 # bars only on a terminal (a log would get every redraw)
-                result = command(domain, verb)(body, progress=not quiet and sys.stderr.isatty())
+                result = command(domain, verb)(body, progress=not quiet)  # bar or log lines
             if say and compiling.seconds >= 0.5:
                 say(f"numba kernels compiled in {compiling.seconds:.1f} s (first run only; cached afterwards)")
             # through the dataset and configure(): domain results may override save(out, figures=)

@@ -53,3 +53,22 @@ def test_set_dotted_copies():
     base = {"a": {"b": 1}}
     new = set_dotted(base, "a.b", 2)
     assert new["a"]["b"] == 2 and base["a"]["b"] == 1
+
+
+def test_unknown_key_suggests_the_closest_key():
+    with pytest.raises(InputError) as info:
+        from_mapping(Outer, {"name": "x", "inner": {"mas": 2.0}})
+    assert info.value.field == "inner.mas"
+    assert "did you mean 'mass'?" in str(info.value) and "allowed keys: mass, n" in str(info.value)
+    with pytest.raises(InputError) as info:  # nothing close: no guess, only the list
+        from_mapping(Outer, {"name": "x", "zzzz": 1})
+    assert "did you mean" not in str(info.value) and "allowed keys: name, inner, method, axis" in str(info.value)
+
+
+def test_unknown_key_in_an_array_of_tables_is_named_with_its_index():
+    from rotaflex.rotor.fe.model import Rotor
+
+    data = {"shaft": [{"outer_diameter": 0.05, "length": 1.0}, {"outer_diamter": 0.05, "length": 1.0}]}
+    with pytest.raises(InputError) as info:
+        Rotor.from_mapping(data)
+    assert "shaft[1].outer_diamter" in str(info.value) and "did you mean 'outer_diameter'?" in str(info.value)

@@ -194,8 +194,8 @@ def test_sweep_gear_figure_draws_dte_panel():
     fig = sweep_figures(ds)["gear_speed_sweep"]
     axes = [ax for ax in fig.axes if ax.get_ylabel()]
     labels = [ax.get_ylabel() for ax in axes]
-    assert any("dte_peak_to_peak" in lb for lb in labels)
-    dte_ax = axes[[i for i, lb in enumerate(labels) if "dte" in lb][0]]
+    assert any("DTE peak to peak" in lb for lb in labels)  # words, not the raw variable name
+    dte_ax = axes[[i for i, lb in enumerate(labels) if "DTE" in lb][0]]
     data = [ln for ln in dte_ax.get_lines() if ln.get_linestyle() == "-"][0]
     np.testing.assert_array_equal(data.get_ydata(), [2e-6, 3e-6, 5e-6])
 

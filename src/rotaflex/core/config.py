@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import difflib
 import math
 import tomllib
 import types
@@ -157,7 +158,7 @@ def from_mapping(cls: type[T], data: Any, where: str = "") -> T:
     prefix = f"{where}." if where else ""
     for key in data:
         if key not in fields:
-            raise InputError(f"{prefix}{key}", data[key], "no such key; allowed keys: " + ", ".join(fields))
+            raise unknown_key(f"{prefix}{key}", data[key], list(fields))
     kwargs = {}
     for name, f in fields.items():
         if name in data:
@@ -165,6 +166,25 @@ def from_mapping(cls: type[T], data: Any, where: str = "") -> T:
         elif f.default is _MISSING and f.default_factory is _MISSING:
             raise InputError(f"{prefix}{name}", "<missing>", f"a value{_range_text(f.metadata)} (required)")
     return cls(**kwargs)
+
+
+def unknown_key(field: str, value: Any, allowed: Sequence[str]) -> InputError:
+    """The error for a key that is not in ``allowed``: the closest allowed key as a "did you
+    mean" (as the CLI does for a mistyped command), then the full list.
+
+    Parameters
+    ----------
+    field : str
+        Dotted path of the unknown key as typed, e.g. ``"shaft[0].outer_diamter"``.
+    value : object
+        Its value as typed.
+    allowed : sequence of str
+        The keys allowed at that level.
+    """
+    name = str(field).rsplit(".", 1)[-1]
+    close = difflib.get_close_matches(name, list(allowed), n=1, cutoff=0.6)
+    hint = f"did you mean {close[0]!r}? " if close else ""
+    return InputError(field, value, f"no such key; {hint}allowed keys: " + ", ".join(allowed))
 
 
 def to_mapping(obj: Any) -> dict[str, Any]:

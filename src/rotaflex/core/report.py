@@ -10,6 +10,7 @@ from __future__ import annotations
 import html
 import logging
 import math
+import re
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
@@ -109,12 +110,29 @@ class Section:
         return self.checks + [c for f in self.figures for c in f.checks]
 
 
+#: how each outcome is shown: (marker in report.md, CSS class in index.html, meaning for the legend)
+OUTCOMES: dict[str, tuple[str, str, str]] = {
+    "pass": ("\U0001f7e2", "pass", "our check passed: the measured value meets the criterion"),
+    "FAIL": ("\U0001f534", "fail", "our check failed: the measured value misses the criterion (a defect to fix)"),
+    "claim holds": ("\U0001f7e2", "holds", "a statement of the paper that our measurement confirms"),
+    "claim does not hold": (
+        "\U0001f7e0",
+        "nothold",
+        "a statement of the paper that our measurement contradicts (the note says why); reported, "
+        "not counted as a failed check",
+    ),
+    "info": ("\u26aa", "info", "a measured number shown for information (no criterion)"),
+}
+
+
 def _md_checks(checks: list[Check]) -> list[str]:
     if not checks:
         return []
-    rows = ["| check | measured | criterion | result | note |", "|---|---|---|---|---|"]
+    rows = ["| | check | measured | criterion | result | note |", "|---|---|---|---|---|---|"]
     for c in checks:
-        rows.append(f"| {c.name} | {c.value_text()} | {c.criterion} | {c.outcome} | {c.note} |")
+        mark = OUTCOMES[c.outcome][0]
+        result = f"**{c.outcome}**" if c.outcome in ("FAIL", "claim does not hold") else c.outcome
+        rows.append(f"| {mark} | {c.name} | {c.value_text()} | {c.criterion} | {result} | {c.note} |")
     return rows + [""]
 
 
@@ -135,34 +153,120 @@ def _caption(caption: str) -> str:
     return f"Paper's caption: {c}"
 
 
-def render_markdown(sections: list[Section], title: str) -> str:
-    lines = [f"# {title}", ""]
+def anchor(*parts: str) -> str:
+    """An HTML id from words: lower case, runs of other characters as one hyphen."""
+    return "-".join(re.sub(r"[^a-z0-9]+", "-", p.lower()).strip("-") for p in parts if p)
+
+
+def _figure_id(s: Section, f: FigureEntry) -> str:
+    """The figure's anchor: section and label, numbered when a label repeats in a section."""
+    base = anchor(s.title[:24], f.label)
+    same = [g for g in s.figures if anchor(s.title[:24], g.label) == base]
+    return base if len(same) == 1 else f"{base}-{next(i for i, g in enumerate(same, 1) if g is f)}"
+
+
+def _toc(sections: list[Section], has_intro: bool, has_glossary: bool) -> list[tuple[int, str, str]]:
+    """``(level, text, id)`` of every entry of the table of contents."""
+    out: list[tuple[int, str, str]] = []
+    if has_intro:
+        out.append((0, "Introduction", "introduction"))
+    out.append((0, "How to read the check tables", "legend"))
+    for s in sections:
+        out.append((0, s.title, anchor(s.title)))
+        out += [(1, f.label, _figure_id(s, f)) for f in s.figures]
+    if has_glossary:
+        out.append((0, "Glossary of symbols and acronyms", "glossary"))
+    return out
+
+
+def _summary(sections: list[Section]) -> str:
     n_all = sum(len(s.all_checks()) for s in sections)
     n_ok = sum(c.passed for s in sections for c in s.all_checks())
     claims = [c for s in sections for c in s.claims()]
-    lines += [
+    held = sum(c.passed for c in claims)
+    return (
         f"Checks passed: **{n_ok} / {n_all}**. Paper claims examined: {len(claims)} "
-        f"({sum(c.passed for c in claims)} hold).",
-        "",
-    ]
+        f"({held} hold, {len(claims) - held} do not hold)."
+    )
+
+
+#: acronyms (two or more capitals/digits, e.g. ``MAC``, ``RK4``) and one-letter symbols with a
+#: subscript (``K_v``, ``K*_123``, ``n_E1``) in report text; code in backticks is not scanned
+_TERM = re.compile(r"(?<![\w.*/-])(?:[A-Z][A-Z0-9]*[A-Z][A-Z0-9]*|[A-Za-z]\*?_[A-Za-z0-9]+)(?![\w*])")
+
+
+def terms_used(text: str) -> set[str]:
+    """Acronyms and subscripted symbols in ``text`` (outside backtick code spans and links)."""
+    text = re.sub(r"`[^`]*`", " ", text)
+    text = re.sub(r"\]\([^)]*\)", "]", text)  # link targets are file names
+    return set(_TERM.findall(text))
+
+
+def undefined_terms(text: str, glossary: dict[str, str]) -> set[str]:
+    """Terms of :func:`terms_used` that no glossary entry names (an entry may list several
+    spellings separated by ``" / "``, e.g. ``"AF / SM"``)."""
+    known = {t.strip() for key in glossary for t in key.split(" / ")} | set(OUTCOMES)  # FAIL: the legend
+    return {t for t in terms_used(text) if t not in known}
+
+
+def used_glossary(text: str, glossary: dict[str, str]) -> dict[str, str]:
+    """The glossary entries of which a spelling occurs in ``text`` as a whole word (so ``SM``
+    is not found in ``SMALL``), in the glossary's order."""
+    text = re.sub(r"`[^`]*`", " ", text)
+
+    def occurs(term: str) -> bool:
+        return re.search(rf"(?<![\w*]){re.escape(term.strip())}(?![\w*])", text) is not None
+
+    return {k: v for k, v in glossary.items() if any(occurs(t) for t in k.split(" / "))}
+
+
+def render_markdown(
+    sections: list[Section], title: str, intro: list[str] | None = None, glossary: dict[str, str] | None = None
+) -> str:
+    """``report.md``: summary, legend, table of contents, introduction, sections, glossary.
+
+    Parameters
+    ----------
+    intro : list of str, optional
+        Paragraphs of the introduction (what each section shows and why it matters).
+    glossary : dict, optional
+        Term -> meaning; only the terms that occur in the report are listed.
+    """
+    lines = [f"# {title}", "", _summary(sections), ""]
+    body: list[str] = []
+    if intro:
+        body += ['<a id="introduction"></a>', "", "## Introduction", ""]
+        for p in intro:
+            body += [p, ""]
+    body += ['<a id="legend"></a>', "", "## How to read the check tables", ""]
+    body += ["| mark | result | meaning |", "|---|---|---|"]
+    body += [f"| {m} | {k} | {why} |" for k, (m, _c, why) in OUTCOMES.items()]
+    body += [""]
     for s in sections:
-        lines += [f"## {s.title}", ""]
+        body += [f'<a id="{anchor(s.title)}"></a>', "", f"## {s.title}", ""]
         if not math.isnan(s.wall_time):
-            lines += [f"Wall time: {_time_text(s)}.", ""]
+            body += [f"Wall time: {_time_text(s)}.", ""]
         if s.intro:
-            lines += [s.intro, ""]
-        lines += _md_checks(s.checks)
+            body += [s.intro, ""]
+        body += _md_checks(s.checks)
         for f in s.figures:
-            lines += [f"### {f.label}", "", f"> {_caption(f.caption)}", ""]
-            lines += [f"![{f.label}]({f.image})", ""]
+            body += [f'<a id="{_figure_id(s, f)}"></a>', "", f"### {f.label}", "", f"> {_caption(f.caption)}", ""]
+            body += [f"![{f.label}]({f.image})", ""]
             if f.description:
-                lines += [f.description, ""]
+                body += [f.description, ""]
             if f.data:
-                lines += [f"Data: [`{f.data}`]({f.data})", ""]
-            lines += _md_checks(f.checks)
+                body += [f"Data: [`{f.data}`]({f.data})", ""]
+            body += _md_checks(f.checks)
         if s.notes:
-            lines += ["### Notes", ""] + [f"- {n}" for n in s.notes] + [""]
-    return "\n".join(lines)
+            body += ["### Notes", ""] + [f"- {n}" for n in s.notes] + [""]
+    terms = used_glossary("\n".join(lines + body), glossary or {})
+    if terms:
+        body += ['<a id="glossary"></a>', "", "## Glossary of symbols and acronyms", ""]
+        body += ["| term | meaning |", "|---|---|"] + [f"| {k} | {v} |" for k, v in terms.items()] + [""]
+    toc = ["## Contents", ""] + [
+        f"{'  ' * level}- [{text}](#{ident})" for level, text, ident in _toc(sections, bool(intro), bool(terms))
+    ]
+    return "\n".join(lines + toc + [""] + body)
 
 
 def _html_checks(checks: list[Check]) -> str:
@@ -170,7 +274,7 @@ def _html_checks(checks: list[Check]) -> str:
         return ""
     e = html.escape
     rows = "".join(
-        f"<tr class='{'ok' if c.passed or c.claim or c.info else 'fail'}'><td>{e(c.name)}</td>"
+        f"<tr class='{OUTCOMES[c.outcome][1]}'><td>{e(c.name)}</td>"
         f"<td>{e(c.value_text())}</td><td>{e(c.criterion)}</td><td>{c.outcome}</td><td>{e(c.note)}</td></tr>"
         for c in checks
     )
@@ -179,51 +283,92 @@ def _html_checks(checks: list[Check]) -> str:
     )
 
 
-def render_html(sections: list[Section], title: str) -> str:
+#: row colours of index.html: green pass/holds, red FAIL, amber "does not hold", grey info
+_STYLE = (
+    "body{font-family:sans-serif;max-width:1200px;margin:auto;padding:1em}"
+    "img{max-width:640px;width:100%}.row{display:flex;gap:1em;align-items:flex-start}"
+    ".cap{flex:1}table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;"
+    "padding:3px 6px;font-size:90%}"
+    "tr.pass td:nth-child(4),tr.holds td:nth-child(4){color:#070}"
+    "tr.fail td{background:#fdd}tr.fail td:nth-child(4){color:#b00;font-weight:bold}"
+    "tr.nothold td{background:#ffe8cc}tr.nothold td:nth-child(4){color:#a50;font-weight:bold}"
+    "tr.info td:nth-child(4){color:#666}nav li{margin:.1em 0}dt{font-weight:bold}"
+)
+
+
+def render_html(
+    sections: list[Section], title: str, intro: list[str] | None = None, glossary: dict[str, str] | None = None
+) -> str:
+    """``index.html``: the same content as :func:`render_markdown`, one self-contained page."""
     e = html.escape
-    n_all = sum(len(s.all_checks()) for s in sections)
-    n_ok = sum(c.passed for s in sections for c in s.all_checks())
-    claims = [c for s in sections for c in s.claims()]
-    body = [
-        f"<h1>{e(title)}</h1><p>Checks passed: <b>{n_ok} / {n_all}</b>. Paper claims examined: "
-        f"{len(claims)} ({sum(c.passed for c in claims)} hold).</p>"
-    ]
+    body = [f"<h1>{e(title)}</h1><p>{_summary(sections).replace('**', '')}</p>"]
+    parts: list[str] = []
+    text_parts: list[str] = [title]  # the text a reader sees, for the glossary
+    if intro:
+        parts.append("<h2 id='introduction'>Introduction</h2>" + "".join(f"<p>{e(p)}</p>" for p in intro))
+        text_parts += intro
+    legend = "".join(
+        f"<tr class='{cls}'><td>example</td><td></td><td></td><td>{k}</td><td>{e(why)}</td></tr>"
+        for k, (_m, cls, why) in OUTCOMES.items()
+    )
+    parts.append(
+        "<h2 id='legend'>How to read the check tables</h2><p>Each row is one numerical check or one "
+        "claim of the paper; its colour and the result column say which:</p><table><tr><th>check</th>"
+        f"<th>measured</th><th>criterion</th><th>result</th><th>meaning</th></tr>{legend}</table>"
+    )
     for s in sections:
-        body.append(f"<h2>{e(s.title)}</h2>")
+        parts.append(f"<h2 id='{anchor(s.title)}'>{e(s.title)}</h2>")
         if not math.isnan(s.wall_time):
-            body.append(f"<p>Wall time: {e(_time_text(s))}.</p>")
+            parts.append(f"<p>Wall time: {e(_time_text(s))}.</p>")
         if s.intro:
-            body.append("".join(f"<p>{e(p)}</p>" for p in s.intro.split("\n\n")))
-        body.append(_html_checks(s.checks))
+            parts.append("".join(f"<p>{e(p)}</p>" for p in s.intro.split("\n\n")))
+        parts.append(_html_checks(s.checks))
         for f in s.figures:
             data = f"<p>Data: <a href='{e(f.data)}'>{e(f.data)}</a></p>" if f.data else ""
-            body.append(
-                f"<div class='fig'><h3>{e(f.label)}</h3><div class='row'>"
+            parts.append(
+                f"<div class='fig'><h3 id='{_figure_id(s, f)}'>{e(f.label)}</h3><div class='row'>"
                 f"<img src='{e(f.image)}' alt='{e(f.label)}'>"
                 f"<div class='cap'><p><i>{e(_caption(f.caption))}</i></p>"
                 f"<p>{e(f.description)}</p>{data}</div></div>{_html_checks(f.checks)}</div>"
             )
+            text_parts += [f.label, f.caption, f.description]
+            text_parts += [f"{c.name} {c.criterion} {c.note} {c.unit}" for c in f.checks]
         if s.notes:
-            body.append("<h3>Notes</h3><ul>" + "".join(f"<li>{e(n)}</li>" for n in s.notes) + "</ul>")
-    style = (
-        "body{font-family:sans-serif;max-width:1200px;margin:auto;padding:1em}"
-        "img{max-width:640px;width:100%}.row{display:flex;gap:1em;align-items:flex-start}"
-        ".cap{flex:1}table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;"
-        "padding:3px 6px;font-size:90%}tr.fail td{background:#fdd}tr.ok td:nth-child(4){color:#070}"
+            parts.append("<h3>Notes</h3><ul>" + "".join(f"<li>{e(n)}</li>" for n in s.notes) + "</ul>")
+        text_parts += [s.title, s.intro, *s.notes]
+        text_parts += [f"{c.name} {c.criterion} {c.note} {c.unit}" for c in s.checks]
+    terms = used_glossary("\n".join(text_parts), glossary or {})
+    if terms:
+        parts.append(
+            "<h2 id='glossary'>Glossary of symbols and acronyms</h2><dl>"
+            + "".join(f"<dt>{e(k)}</dt><dd>{e(v)}</dd>" for k, v in terms.items())
+            + "</dl>"
+        )
+    toc = "".join(
+        f"<li style='margin-left:{1.5 * level}em'><a href='#{ident}'>{e(text)}</a></li>"
+        for level, text, ident in _toc(sections, bool(intro), bool(terms))
     )
+    body.append(f"<nav><h2>Contents</h2><ul>{toc}</ul></nav>")
     return (
         f"<!doctype html><html><head><meta charset='utf-8'><title>{e(title)}</title>"
-        f"<style>{style}</style></head><body>{''.join(body)}</body></html>\n"
+        f"<style>{_STYLE}</style></head><body>{''.join(body + parts)}</body></html>\n"
     )
 
 
 def write_report(
-    out_dir: str | Path, sections: list[Section], title: str, provenance: dict | None = None
+    out_dir: str | Path,
+    sections: list[Section],
+    title: str,
+    provenance: dict | None = None,
+    *,
+    intro: list[str] | None = None,
+    glossary: dict[str, str] | None = None,
 ) -> list[Path]:
     """Write ``report.md``, ``index.html``, ``checks.json`` and ``provenance.json`` into ``out_dir``.
 
     Figure paths ending in ``.png`` follow the format chosen with
-    :func:`rotaflex.core.plotting.configure` (``--format``).
+    :func:`rotaflex.core.plotting.configure` (``--format``). ``intro`` (paragraphs) and
+    ``glossary`` (term -> meaning) are rendered as in :func:`render_markdown`.
     """
     from rotaflex.core.provenance import provenance as _prov
 
@@ -237,8 +382,9 @@ def write_report(
                     f.image = f.image[:-4] + "." + fmt
     stamp = f"rotaflex {prov['rotaflex_version']}" + (f", commit {prov['git_commit']}" if prov["git_commit"] else "")
     stamp += f", {prov['created_utc']}"
-    md = render_markdown(sections, title).replace("\n", f"\n\nGenerated by {stamp}.\n", 1)
-    page = render_html(sections, title).replace("</h1>", f"</h1><p>Generated by {html.escape(stamp)}.</p>", 1)
+    md = render_markdown(sections, title, intro, glossary).replace("\n", f"\n\nGenerated by {stamp}.\n", 1)
+    page = render_html(sections, title, intro, glossary)
+    page = page.replace("</h1>", f"</h1><p>Generated by {html.escape(stamp)}.</p>", 1)
     checks = {s.title: [asdict(c) for c in s._every()] for s in sections}
     return [
         write_text_atomic(out_dir / "report.md", md),
@@ -268,6 +414,11 @@ def step(message: str) -> None:
     """
     if _REPORTER:
         _REPORTER[-1](message)
+
+
+def reporter_active() -> bool:
+    """Whether :func:`step` messages go anywhere (inside :func:`reporting`)."""
+    return bool(_REPORTER)
 
 
 @contextmanager

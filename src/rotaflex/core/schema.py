@@ -8,6 +8,7 @@ metadata (unit, bounds, doc), so the template and the reference cannot drift fro
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import types
 import typing
 from collections.abc import Iterator
@@ -28,7 +29,12 @@ class Entry:
     unit: str
     allowed: str
     doc: str
-    table: bool  # a nested table (dataclass) rather than a value
+    table: bool  # a nested table (dataclass), an array of tables or a table of tables
+    kind: str = "value"  # "value", "table", "array" (``[[key]]``) or "map" (``[key.<name>]``)
+
+
+#: the dotted-key part that stands for "each entry" of an array of tables / a table of tables
+EACH = {"array": "[]", "map": ".<name>"}
 
 
 def _nested(tp: Any) -> type | None:
@@ -42,20 +48,39 @@ def _nested(tp: Any) -> type | None:
     return None
 
 
-def _type_text(tp: Any) -> str:
+def _collection(tp: Any) -> tuple[str, type] | None:
+    """``("array", X)`` for ``tuple[X, ...]`` and ``("map", X)`` for ``dict[str, X]`` with a
+    dataclass ``X`` (a TOML array of tables / a table of named tables), else None."""
     origin, args = get_origin(tp), get_args(tp)
+    if origin is tuple and len(args) == 2 and args[1] is Ellipsis and dataclasses.is_dataclass(args[0]):
+        return "array", args[0]
+    if origin is dict and len(args) == 2 and dataclasses.is_dataclass(args[1]):
+        return "map", args[1]
+    return None
+
+
+_WORDS = {float: "number", int: "integer", bool: "boolean", str: "string"}
+
+
+def _type_text(tp: Any, plural: bool = False) -> str:
+    """``tp`` in words: ``"array of 3 numbers"``, ``"arrays of 3 numbers"`` with ``plural``."""
+    origin, args = get_origin(tp), get_args(tp)
+    s = "s" if plural else ""
     if origin in (typing.Union, types.UnionType):
         inner = [a for a in args if a is not type(None)]
-        return " or ".join(_type_text(a) for a in inner) + (" (optional)" if len(inner) < len(args) else "")
+        text = " or ".join(_type_text(a, plural) for a in inner)
+        return text + (" (optional)" if len(inner) < len(args) else "")
     if origin is Literal:
-        return "one of " + ", ".join(repr(a) for a in args)
+        return ("values, each " if plural else "") + "one of " + ", ".join(repr(a) for a in args)
     if origin is tuple:
         if len(args) == 2 and args[1] is Ellipsis:
-            return f"array of {_type_text(args[0])}s"
-        return f"array of {len(args)} {_type_text(args[0])}s"
+            return f"array{s} of {_type_text(args[0], True)}"
+        return f"array{s} of {len(args)} {_type_text(args[0], True)}"
     if origin is dict:
-        return f"table of {_type_text(args[1])}"
-    return {float: "number", int: "integer", bool: "boolean", str: "string"}.get(tp, getattr(tp, "__name__", str(tp)))
+        return f"table{s} of {_type_text(args[1], True)}"
+    if dataclasses.is_dataclass(tp):
+        return f"{tp.__name__} table{s}"
+    return _WORDS.get(tp, getattr(tp, "__name__", str(tp))) + s
 
 
 def _bounds(meta) -> str:
@@ -96,8 +121,14 @@ def entries(schema: type, prefix: str = "") -> Iterator[Entry]:
         doc = meta.get("doc", "") or ""
         nested = _nested(tp)
         if nested is not None:
-            yield Entry(key, "table", _default(f), "", "", doc or title_of(nested), True)
+            yield Entry(key, "table", _default(f), "", "", doc or title_of(nested), True, "table")
             yield from entries(nested, key + ".")
+            continue
+        coll = _collection(tp)
+        if coll is not None:  # [[key]] or [key.<name>]: the keys of one entry follow
+            kind, item = coll
+            yield Entry(key, _type_text(tp), _default(f), "", _type_text(tp), doc or title_of(item), True, kind)
+            yield from entries(item, key + EACH[kind] + ".")
             continue
         allowed = _type_text(tp)
         b = _bounds(meta)
@@ -114,10 +145,15 @@ def default_of(schema: type, dotted: str) -> Any:
     InputError
         No such key, or the key is required (has no default).
     """
-    known = {e.key: e for e in entries(schema)}
+    # keys inside arrays/tables of tables are not addressed here (a sweep names an entry by
+    # index, and the entry's default is the array's)
+    known = {e.key: e for e in entries(schema) if not any(m in e.key for m in EACH.values())}
     base = dotted.split("[", 1)[0]
     if base not in known:
+        # the same leaf in another table first (``spin_speed`` -> ``motion.spin_speed``), else the
+        # closest spelling (``motion.spin_sped``), as for unknown keys in a config file
         close = [k for k in known if k.rsplit(".", 1)[-1] == base.rsplit(".", 1)[-1]]
+        close = close or difflib.get_close_matches(base, list(known), n=1, cutoff=0.6)
         hint = f"; did you mean {close[0]!r}?" if close else ""
         raise InputError(dotted, "<missing>", f"a key of the config schema{hint}")
     e = known[base]
@@ -154,10 +190,41 @@ def _toml_order(ents: list[Entry]) -> list[Entry]:
         for e in kids:
             if e.table:
                 out.append(e)
-                emit(e.key)
+                emit(_children(e))
 
     emit("")
     return out
+
+
+def _children(e: Entry) -> str:
+    """The dotted prefix (without the final dot) of the keys under the table entry ``e``."""
+    return e.key + EACH.get(e.kind, "")
+
+
+def _header(e: Entry, prefix: str) -> str:
+    """The TOML header of the table entry ``e``: ``[a.b]``, ``[[a.b]]`` or ``[a.b.<name>]``
+    (inside an array of tables a sub-table belongs to the last entry: ``[a.b]``)."""
+    path = prefix + e.key.replace("[]", "")
+    if e.kind == "array":
+        return f"[[{path}]]"
+    if e.kind == "map":
+        return f"[{path}.<name>]"
+    return f"[{path}]"
+
+
+def _info(e: Entry) -> str:
+    return " ".join(x for x in (f"[{e.unit}]" if e.unit else "", e.allowed + ".", e.doc) if x)
+
+
+def _collection_note(e: Entry, prefix: str) -> str:
+    one = f"one {_header(e, prefix)} table per " + ("entry" if e.kind == "array" else "name")
+    if e.default is _MISSING:
+        state = "at least one required"
+    elif not e.default:
+        state = "none by default"
+    else:
+        state = f"{len(e.default)} by default"
+    return f"# {e.allowed}: {one}, {state}; each has the keys below. {e.doc}".rstrip()
 
 
 def title_of(schema: type) -> str:
@@ -188,30 +255,34 @@ def template(schema: type, domain: str, *, table: str = "", verb: str = "") -> s
     prefix = f"{table}." if table else ""
     if table:
         lines += ["", f"[{table}]"]
-    # an optional table (default None, e.g. an alternative layout) is written commented out,
-    # with everything under it
+    # an optional table (default None, e.g. an alternative layout) and the entries of an array
+    # of tables or a table of tables are written commented out, with everything under them
     off: list[str] = []
-    ents = _toml_order(list(entries(schema)))
-    for e in ents:
+    for e in _toml_order(list(entries(schema))):
         if any(e.key.startswith(o + ".") for o in off):
             if e.table:
-                lines += ["", f"# [{prefix}{e.key}]"]
+                lines += ["", f"# {_header(e, prefix)}"]
+                lines += [_collection_note(e, prefix)] if e.kind in EACH else []
+                if e.kind in EACH:
+                    off.append(_children(e))
             else:
-                info = " ".join(x for x in (f"[{e.unit}]" if e.unit else "", e.allowed + ".", e.doc) if x)
                 val = "<required>" if e.default is _MISSING else _toml(e.default) or "  (not set by default)"
-                lines += [f"# {info}", f"# {e.key.rsplit('.', 1)[-1]} = {val}"]
+                lines += [f"# {_info(e)}", f"# {e.key.rsplit('.', 1)[-1]} = {val}"]
+            continue
+        if e.kind in EACH:
+            off.append(_children(e))
+            lines += ["", _collection_note(e, prefix), f"# {_header(e, prefix)}"]
             continue
         if e.table:
             if e.default is None:
                 off.append(e.key)
-                lines += ["", f"# [{prefix}{e.key}]   (optional table, not set by default)"]
+                lines += ["", f"# {_header(e, prefix)}   (optional table, not set by default)"]
                 lines += [f"# {e.doc}"] if e.doc else []
                 continue
-            lines += ["", f"[{prefix}{e.key}]"] + ([f"# {e.doc}"] if e.doc else [])
+            lines += ["", _header(e, prefix)] + ([f"# {e.doc}"] if e.doc else [])
             continue
         name = e.key.rsplit(".", 1)[-1]
-        info = " ".join(x for x in (f"[{e.unit}]" if e.unit else "", e.allowed + ".", e.doc) if x)
-        lines.append(f"# {info}")
+        lines.append(f"# {_info(e)}")
         if e.default is _MISSING:
             lines.append(f"# {name} = <required>")
         elif e.default is None:
@@ -230,7 +301,8 @@ def reference_markdown(schemas: dict[str, list[tuple[str, str, type]]]) -> str:
         "Generated from the code by `rotaflex docs config-reference` (do not edit by hand; a test checks",
         "that this file is up to date). `rotaflex <domain> template [--verb VERB]` prints the same keys as",
         "a commented TOML file. Values are SI unless the key's name says otherwise (`speed_rpm`,",
-        "`span_deg`).",
+        "`span_deg`). An array of tables (`[[shaft]]`, one table per entry) lists its keys as",
+        "`shaft[].key`; a table of named tables (`[material.<name>]`) as `material.<name>.key`.",
         "",
     ]
     for domain, roots in schemas.items():
@@ -240,7 +312,16 @@ def reference_markdown(schemas: dict[str, list[tuple[str, str, type]]]) -> str:
             out += ["| key | default | unit | allowed | description |", "|---|---|---|---|---|"]
             prefix = f"{table}." if table else ""
             for e in entries(schema):
-                if e.table:
+                if e.table and e.kind not in EACH:
+                    continue
+                if e.table:  # an array of tables / a table of tables: its keys follow
+                    if e.default is _MISSING:
+                        default = "`required`"
+                    else:
+                        empty = "`[]`" if e.kind == "array" else "`{}`"
+                        default = f"{len(e.default)} entries" if e.default else empty
+                    cells = [f"`{prefix}{e.key}`", default, "", e.allowed, e.doc]
+                    out.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
                     continue
                 default = (
                     "required" if e.default is _MISSING else ("not set" if e.default is None else _toml(e.default))

@@ -102,15 +102,13 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     if run.teeth_per_gear > 1:
         kw.update(window=run.window)
     bar = None
-    if progress:
-        from tqdm import tqdm
+    if progress:  # a bar on a terminal, one line per update in a log
+        from rotaflex.core.progress import Progress
 
-        bar = tqdm(total=1, unit="step", desc="gear")
+        bar = Progress(1, "gear", "step")
 
         def cb(done, total):
-            bar.total = total
-            bar.n = done
-            bar.refresh()
+            bar.update(done, total)
 
         kw["progress"] = cb
     try:

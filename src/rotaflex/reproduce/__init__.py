@@ -11,14 +11,61 @@ from __future__ import annotations
 
 import importlib
 import logging
+import os
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 from rotaflex.core.domains import REPRODUCE
-from rotaflex.core.report import CompileTimer, ExpectedWarnings, reporting, write_report
+from rotaflex.core.progress import Progress
+from rotaflex.core.report import CompileTimer, ExpectedWarnings, reporting, undefined_terms, write_report
+from rotaflex.reproduce.guide import GLOSSARY, introduction
 
 log = logging.getLogger("rotaflex.reproduce")
+
+#: ``--fast`` wall time of each target [s], kernels and equations already cached, measured on the
+#: 2-core development machine while other jobs ran (docs/user-guide.md, "First run")
+MEASURED_FAST_S: dict[str, float] = {"rotor": 5.4, "gear": 45.9, "floating": 11.8, "sweep": 15.4}
+#: full settings over ``--fast``, from the two measured totals on that machine (214 s / 75.2 s)
+FULL_OVER_FAST = 214.0 / 75.2
+#: extra time of the first run after install [s]: sympy deriving the rotor equations, numba
+#: compiling the gear and floating kernels (all cached afterwards); measured in a fresh install
+#: on the same machine under a heavier load (load average about 15 on 2 cores)
+FIRST_RUN_S: dict[str, float] = {"rotor": 62.0, "gear": 540.0, "floating": 302.0}
+
+
+def expected_seconds(name: str, fast: bool) -> float:
+    """Expected wall time of one reproduce target [s] (kernels cached)."""
+    t = MEASURED_FAST_S.get(name, 30.0)
+    return t if fast else t * FULL_OVER_FAST
+
+
+def _minutes(seconds: float) -> str:
+    return f"about {seconds / 60:.0f} min" if seconds >= 90 else f"about {seconds:.0f} s"
+
+
+def estimate(names: list[str], fast: bool, load: float | None = None, cores: int | None = None) -> str:
+    """The line ``reproduce`` prints at its start: the expected wall time, from measured numbers.
+
+    ``load`` and ``cores`` (default: this machine's 1-minute load average and CPU count) add a
+    warning when the machine is busy, since the times grow with the load.
+    """
+    seconds = sum(expected_seconds(n, fast) for n in names)
+    # the sweep target runs every domain's example, so it compiles their kernels too
+    compiled = set(names) | (set(FIRST_RUN_S) if "sweep" in names else set())
+    first = sum(FIRST_RUN_S.get(n, 0.0) for n in compiled)
+    line = f"expected time: {_minutes(seconds)} on 2 cores{' with --fast' if fast else ''} once kernels are cached"
+    if first:
+        line += f"; the first run after install also compiles them ({_minutes(first)} measured on a busy machine)"
+    if load is None:
+        try:
+            load = os.getloadavg()[0]
+        except (AttributeError, OSError):  # pragma: no cover - not on every platform
+            load = 0.0
+    cores = cores or os.cpu_count() or 1
+    if load > 2 * cores:
+        line += f"; this machine is busy now (load average {load:.0f} on {cores} cores): expect longer"
+    return line
 
 
 def reproduce(
@@ -54,6 +101,11 @@ def reproduce(
     sections = []
     n = len(names)
     compile_total = 0.0
+    if emit:
+        emit(estimate(names, fast))
+    # overall progress in expected seconds (a line after each stage, with the time left)
+    weights = [expected_seconds(nm, fast) for nm in names]
+    overall = Progress(sum(weights), "reproduce", "expected s", enabled=bool(emit) and n > 1, tty=False)
     for i, name in enumerate(names, 1):
         prefix = f"[{i}/{n} {name}]"
         say = (lambda m, p=prefix: emit(f"{p} {m}")) if emit else None
@@ -73,7 +125,12 @@ def reproduce(
             checks = section.all_checks()
             extra = f" + {compiling.seconds:.1f} s compiling kernels" if compiling.seconds >= 0.05 else ""
             say(f"done in {section.wall_time:.1f} s{extra}; {sum(c.passed for c in checks)}/{len(checks)} checks pass")
+            with reporting(emit):
+                overall.update(sum(weights[:i]))
     title = "rotaflex reproduction report" + (" (fast mode)" if fast else "")
-    write_report(out_dir, sections, title)
+    write_report(out_dir, sections, title, intro=introduction(names), glossary=GLOSSARY)
+    missing = undefined_terms((out_dir / "report.md").read_text(encoding="utf-8"), GLOSSARY)
+    if missing:  # a maintainer's reminder: tests/reproduce/test_report_glossary.py checks the texts
+        log.warning("report terms without a glossary entry: %s", ", ".join(sorted(missing)))
     checks = [c for s in sections for c in s.all_checks()]
     return {"checks": len(checks), "passed": sum(c.passed for c in checks), "compile_time": compile_total}

@@ -174,7 +174,10 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
     def tick(rec, done, total):
         report_step(f"{domain} case {done}/{total}: {rec.status}")
 
-    kw = dict(domain=domain, attrs=attrs, progress=progress if progress else tick)
+    from rotaflex.sweep.study import _schema_units
+
+    # units of the swept keys from the schema, so the figures' axes say them (as `rotaflex sweep`)
+    kw = dict(domain=domain, attrs=attrs, progress=progress if progress else tick, units=_schema_units(module))
     # serial reference on at most 4 cases (2 in fast mode) spread over the sweep (the pool runs them all)
     n_serial = 2 if fast else 4
     step = max(1, len(cases) // n_serial)

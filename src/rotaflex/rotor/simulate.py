@@ -162,10 +162,10 @@ class _Progress:
         self.t_end, self.bar, self.shown = t_end, None, 0.0
         self.evals, self.max_evals = 0, max_evals
         self.t_over = None  # time of the first evaluation past the budget
-        if enabled:
-            from tqdm import tqdm
+        if enabled:  # a bar on a terminal, one line per update in a log
+            from rotaflex.core.progress import Progress
 
-            self.bar = tqdm(total=100, unit="%", desc="simulating", leave=False)
+            self.bar = Progress(t_end, "simulating", "s")
 
     def __call__(self, t: float) -> None:
         self.evals += 1
@@ -174,8 +174,7 @@ class _Progress:
         if self.evals > 2 * self.max_evals:
             raise _StepBudget(t)  # last resort if one step alone runs away
         if self.bar is not None and t - self.shown >= self.t_end / 200:
-            self.bar.n = int(100 * min(t, self.t_end) / self.t_end)
-            self.bar.refresh()
+            self.bar.update(min(t, self.t_end))
             self.shown = t
 
     def close(self) -> None:

@@ -32,6 +32,9 @@ def param_units(key: str, units: dict[str, str] | None = None) -> str:
     its naming convention (``""`` when neither says)."""
     if units and units.get(key):
         return units[key]
+    each = re.sub(r"\[\d+\]", "[]", key)  # loads[0].duration: the schema lists loads[].duration
+    if units and units.get(each):
+        return units[each]
     leaf = key.rsplit(".", 1)[-1]
     return next((u for s, u in _SUFFIX_UNITS.items() if leaf.endswith(s)), "")
 

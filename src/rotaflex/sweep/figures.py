@@ -54,13 +54,66 @@ def _x_dim(ds) -> str | None:
     return None
 
 
-def _label(var, name: str | None = None) -> str:
-    """``name [units]`` of a variable; a swept dimension is named by its config key."""
-    name = name or var.attrs.get("config_key") or str(var.name)
-    if name == var.name and var.attrs.get("config_key"):
-        name = var.attrs["config_key"]
-    units = var.attrs.get("units", "")
-    return f"{name} [{units}]" if units else name
+#: unit suffixes of config keys (``speed_rpm``): the label says the unit in brackets instead
+_KEY_UNITS = {"rpm": "rpm", "deg": "deg", "hz": "Hz", "mm": "mm", "um": "um"}
+
+
+#: words written as acronyms in labels (``dte_peak_to_peak`` -> ``DTE peak to peak``)
+_ACRONYMS = {"dte", "ste", "rms", "iso", "fe", "mac"}
+
+
+def _words(name: str, leaf_only: bool = True) -> str:
+    """A readable name from a config key (its last dotted part) or a variable name (every
+    part: ``full.tip.max_deflection`` -> ``full tip max deflection``), without a unit suffix,
+    underscores as spaces (``operation.speed_rpm`` -> ``speed``)."""
+    leaf = str(name).rsplit(".", 1)[-1] if leaf_only else str(name).replace(".", " ")
+    head, _, suffix = leaf.rpartition("_")
+    if head and suffix.lower() in _KEY_UNITS:
+        leaf = head
+    return " ".join(w.upper() if w in _ACRONYMS else w for w in leaf.replace(" ", "_").split("_") if w)
+
+
+#: SI units drawn with a prefix: (smallest magnitude, unit, factor), largest first; a
+#: magnitude below every threshold keeps the plain unit
+_PREFIXED = {
+    "m": ((1.0, "m", 1.0), (1e-3, "mm", 1e3), (1e-6, "um", 1e6), (1e-12, "nm", 1e9)),
+    "Pa": ((1e9, "GPa", 1e-9), (1e6, "MPa", 1e-6), (1e3, "kPa", 1e-3)),
+    "N": ((1e6, "MN", 1e-6), (1e4, "kN", 1e-3)),
+}
+
+
+def display_scale(var) -> tuple[float, str]:
+    """``(factor, unit)`` to draw ``var`` in a readable unit: a displacement of 3e-6 m as 3 um,
+    a stress of 7e7 Pa as 70 MPa (no axis offset like ``1e-6``); ``(1, unit)`` otherwise."""
+    unit = str(var.attrs.get("units", "")).strip()
+    v = np.asarray(var.values, dtype=float)
+    v = v[np.isfinite(v)]
+    if unit not in _PREFIXED or v.size == 0:
+        return 1.0, unit
+    big = float(np.max(np.abs(v)))
+    for threshold, name, factor in _PREFIXED[unit]:
+        if big >= threshold:
+            return factor, name
+    return 1.0, unit
+
+
+def _key_unit(name: str) -> str:
+    suffix = str(name).rsplit(".", 1)[-1].rpartition("_")[2].lower()
+    return _KEY_UNITS.get(suffix, "")
+
+
+def _label(var, name: str | None = None, unit: str | None = None) -> str:
+    """Axis label ``long name [unit]``: the variable's ``long_name`` if it has a short one, else
+    words from its config key or name (not the raw key); the unit is always shown (``[-]`` for
+    a dimensionless number) so that no axis leaves its unit to be guessed."""
+    from rotaflex.core.plotting import pretty_unit
+
+    key = var.attrs.get("config_key") or name or str(var.name)
+    long = str(var.attrs.get("long_name", ""))
+    short_long = long if long and len(long) <= 40 and not var.attrs.get("config_key") and not name else ""
+    text = short_long or _words(key, leaf_only=bool(var.attrs.get("config_key")))
+    units = unit if unit is not None else (str(var.attrs.get("units", "")) or _key_unit(key))
+    return f"{text} [{pretty_unit(units) or '-'}]"
 
 
 def sweep_dim(ds, key: str) -> str | None:
@@ -98,9 +151,40 @@ def _lines(ds, var: str, x: str):
     return [("", ds[x].values, da.values)]
 
 
+#: a panel whose values spread less than this fraction of their largest magnitude is constant
+CONSTANT_RTOL = 1e-9
+#: magnitude below which every value of a panel is round-off, by unit: a picometre is below any
+#: displacement, gap or residual these models resolve (a 1e-18 m backlash, a tie residual of
+#: 1e-16 m); other units: 1e-12 of the unit
+ROUND_OFF = {"m": 1e-12, "mm": 1e-9, "um": 1e-6}
+
+
+def uninformative(var) -> str:
+    """Why the panel of ``var`` would tell nothing (``"constant"``, ``"round-off"``), or ``""``.
+
+    Constant: the finite values spread by less than :data:`CONSTANT_RTOL` of their largest
+    magnitude (all zeros included). Round-off: every value is smaller than :data:`ROUND_OFF` of
+    its unit (1e-12 for other units), so whatever it shows is floating-point noise.
+    """
+    v = np.asarray(var.values, dtype=float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return "constant"
+    big = float(np.max(np.abs(v)))
+    if float(np.ptp(v)) <= CONSTANT_RTOL * big:
+        return "constant"
+    if big < ROUND_OFF.get(str(var.attrs.get("units", "")).strip(), 1e-12):
+        return "round-off"
+    return ""
+
+
 def generic_figures(ds) -> dict[str, Any]:
     """Every numeric summary scalar against the first swept parameter (panels of 3 x 3):
-    ``summary_vs_<key>`` for results, ``diagnostics_vs_<key>`` for solver diagnostics."""
+    ``summary_vs_<key>`` for results, ``diagnostics_vs_<key>`` for solver diagnostics.
+
+    Constant and round-off-only scalars (:func:`uninformative`) get no panel; the figure's
+    footnote names them with their value, so nothing is hidden.
+    """
     x = _x_dim(ds)
     names = _numeric_vars(ds)
     if x is None or not names:
@@ -108,14 +192,34 @@ def generic_figures(ds) -> dict[str, Any]:
     key = ds[x].attrs.get("config_key", x)
     leaf = key.rsplit(".", 1)[-1]
     figs = {}
-    physics = [n for n in names if not _is_diagnostic(n)]
-    diagnostics = [n for n in names if _is_diagnostic(n)]
-    for stem, group, title in (
-        (f"summary_vs_{leaf}", physics, "Results"),
-        (f"diagnostics_vs_{leaf}", diagnostics, "Solver diagnostics"),
+    dropped = {n: uninformative(ds[n]) for n in names}
+    for stem, diagnostic, title in (
+        (f"summary_vs_{leaf}", False, "Results"),
+        (f"diagnostics_vs_{leaf}", True, "Solver diagnostics"),
     ):
-        figs.update(_panels(ds, x, group, stem, f"{title} vs {key}"))
+        group = [n for n in names if _is_diagnostic(n) == diagnostic]
+        shown = [n for n in group if not dropped[n]]
+        note = _dropped_note(ds, [n for n in group if dropped[n]], dropped)
+        figs.update(_panels(ds, x, shown, stem, f"{title} vs {_label(ds[x], key)}", note))
     return figs
+
+
+def _dropped_note(ds, names: list[str], why: dict[str, str]) -> str:
+    """``"Not drawn: constant: a = 3 m, ...; round-off only: b (< 1e-12 m)"``."""
+    parts = []
+    for kind in ("constant", "round-off"):
+        items = []
+        for n in (n for n in names if why[n] == kind):
+            unit = str(ds[n].attrs.get("units", ""))
+            v = np.asarray(ds[n].values, dtype=float)
+            v = v[np.isfinite(v)]
+            if kind == "constant" and v.size:
+                items.append(f"{n} = {v[0]:.4g}{' ' + unit if unit and unit != '1' else ''}")
+            else:
+                items.append(n)
+        if items:
+            parts.append(f"{'constant' if kind == 'constant' else 'round-off only'}: " + ", ".join(items))
+    return ("Not drawn (" + "; ".join(parts) + ")") if parts else ""
 
 
 #: summary names that describe the computation rather than the physics
@@ -126,7 +230,9 @@ def _is_diagnostic(name: str) -> bool:
     return any(w in name for w in _DIAGNOSTIC_WORDS)
 
 
-def _panels(ds, x: str, names: list[str], stem: str, title: str) -> dict[str, Any]:
+def _panels(ds, x: str, names: list[str], stem: str, title: str, note: str = "") -> dict[str, Any]:
+    import textwrap
+
     from rotaflex.core.plotting import new_figure
 
     figs = {}
@@ -134,12 +240,14 @@ def _panels(ds, x: str, names: list[str], stem: str, title: str) -> dict[str, An
         chunk = names[start : start + _PANELS_PER_FIGURE]
         ncols = min(3, len(chunk))
         nrows = math.ceil(len(chunk) / ncols)
-        fig, axes = new_figure(nrows, ncols, squeeze=False, figsize=(4.2 * ncols, 2.9 * nrows))
+        fig, axes = new_figure(nrows, ncols, squeeze=False, figsize=(4.4 * ncols, 3.0 * nrows + 0.4))
         for ax, name in zip(axes.flat, chunk, strict=False):
+            factor, unit = display_scale(ds[name])
             for label, xv, yv in _lines(ds, name, x):
-                ax.plot(xv, yv, "o-", ms=3, label=label or None)
+                ax.plot(xv, np.asarray(yv, dtype=float) * factor, "o-", ms=3, label=label or None)
             ax.set_xlabel(_label(ds[x]))
-            ax.set_ylabel(_label(ds[name]))
+            # wrapped, so that a long label never runs into the neighbouring panel
+            ax.set_ylabel("\n".join(textwrap.wrap(_label(ds[name], unit=unit), 30)), fontsize=8)
             ax.grid(alpha=0.3)
         for ax in list(axes.flat)[len(chunk) :]:
             ax.set_visible(False)
@@ -147,6 +255,9 @@ def _panels(ds, x: str, names: list[str], stem: str, title: str) -> dict[str, An
         if labels:  # one legend for all panels, outside the data
             fig.legend(handles, labels, loc="outside right upper", fontsize=7)
         fig.suptitle(title)
+        if note:
+            fig.supxlabel("\n".join(textwrap.wrap(note, 40 * ncols)), fontsize=7, ha="left", x=0.01)
+        fig.rotaflex_dropped = note  # for callers and tests: what the footnote says
         suffix = "" if start == 0 else f"_{start // _PANELS_PER_FIGURE + 1}"
         figs[f"{stem}{suffix}"] = fig
     return figs

@@ -441,18 +441,18 @@ def run_sweep(
         )
 
     bar = None
-    if progress is True:
-        from tqdm.auto import tqdm
+    if progress is True:  # a bar on a terminal, one line per update in a log
+        from rotaflex.core.progress import Progress
 
-        bar = tqdm(total=total, initial=total - len(todo), unit="case", desc="sweep", smoothing=0.1)
+        bar = Progress(total, "sweep", "case")
+        bar.update(total - len(todo))
     callback = progress if callable(progress) else None
 
     def finish(case: Case, outcome: Outcome, n_attempts: int) -> None:
         rec = _store(case, outcome, n_attempts, out, case_figures)
         records[case.id] = rec
         if bar is not None:
-            bar.update(1)
-            bar.set_postfix(failed=sum(not r.ok for r in records.values() if r.computed))
+            bar.update(len(records))
         if callback is not None:
             callback(rec, len(records), total)
 

@@ -18,7 +18,7 @@ from typing import Literal
 import numpy as np
 import xarray as xr
 
-from rotaflex.core.config import from_mapping, param
+from rotaflex.core.config import from_mapping, param, unknown_key
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import import_xarray
 from rotaflex.rotor.fe.modal import STABILITY_TOL
@@ -214,7 +214,7 @@ def parse(config: dict, analysis: str):
     allowed = (*ROTOR_KEYS, *ANALYSES, "analysis")
     for key in config:
         if key not in allowed:
-            raise InputError(key, config[key], "no such key; allowed keys: " + ", ".join(allowed))
+            raise unknown_key(key, config[key], allowed)
     rotor = Rotor.from_mapping({k: v for k, v in config.items() if k in ROTOR_KEYS})
     spec = from_mapping(ANALYSES[analysis], config.get(analysis, {}), analysis)
     _check_size(rotor, spec, analysis)
