@@ -37,6 +37,17 @@ SECTIONS: dict[str, str] = {
         "the perturbation equations. It matters because the perturbation method is fast but only "
         "valid for slow manoeuvres; the section shows where it stops being valid."
     ),
+    "geared_rotor": (
+        "**Geared rotor systems**. A gearbox is shafts, bearings and gears together: the gear mesh "
+        "couples the shafts' bending (lateral) motion to their twisting (torsional) motion, so a "
+        "mode can move the shafts in their bearings while the teeth deflect. The section builds "
+        "two finite-element shafts joined by a gear mesh whose stiffness and transmission error "
+        "come from the gear package, draws the Campbell diagram with the mesh modes marked, the "
+        "dynamic mesh and bearing forces against speed, and checks the coupled model against its "
+        "limits (no mesh: each shaft alone; rigid shafts: the torsional mesh model). It matters "
+        "because the bearing forces a mesh excites are what a gearbox designer sizes bearings and "
+        "housings for."
+    ),
     "sweep": (
         "**Parameter sweeps**. Each domain's example run over a range of one parameter, serially "
         "and in parallel, to show that a study of many cases gives the same numbers as the single "
@@ -109,6 +120,7 @@ GLOSSARY: dict[str, str] = {
     "n_E1": "ISO 6336-1 resonance speed of the pinion [rpm]",
     "f_n": "a natural frequency [Hz]",
     "r_b": "base-circle radius of a gear [m]; r_b times a rotation angle is a length along the line of action",
+    "k_s": "lateral stiffness of the shaft between its bearings [N/m] (Jeffcott rotor)",
     "k_pair": "stiffness of one tooth pair in contact [N/m]",
     "HHT / HHT-alpha": "the Hilber-Hughes-Taylor alpha method: an implicit time integrator that "
     "damps high frequencies, allowing large time steps",
