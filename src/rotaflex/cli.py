@@ -541,6 +541,11 @@ def main(argv: list[str] | None = None) -> int:
 def _hard_exit(code: int) -> None:
     """Flush what is buffered, then end the process without interpreter teardown."""
     try:
+        # what multiprocessing's exit hook does (pool queues' semaphores unlinked), else its
+        # resource tracker warns of leaked semaphores after a stopped sweep
+        mp_util = sys.modules.get("multiprocessing.util")
+        if mp_util is not None:
+            mp_util._exit_function()
         logging.shutdown()
         sys.stdout.flush()
         sys.stderr.flush()
