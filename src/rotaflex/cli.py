@@ -76,6 +76,8 @@ def _root(
     from rotaflex.core.limits import set_max_memory
 
     guarded(lambda: set_max_memory(max_memory), False)
+    if max_memory is not None:  # sweep workers (other processes) read the environment
+        os.environ["ROTAFLEX_MAX_MEMORY"] = max_memory
 
 
 # -- signals --------------------------------------------------------------------------------------
