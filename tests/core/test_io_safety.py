@@ -14,7 +14,7 @@ import xarray as xr
 
 from rotaflex.core import io
 from rotaflex.core.errors import InputError
-from rotaflex.core.io import WriteFailed, check_out_dir, check_out_file, claim_out_dir, recover_dir, replace_dir
+from rotaflex.core.io import WriteFailed, check_out_dir, check_out_file, claim_out_dir, recover_dir
 from rotaflex.core.result import Result
 
 
@@ -74,9 +74,7 @@ def test_device_nodes_are_refused_without_touching_one(tmp_path, monkeypatch):
     assert "not a device" in str(_refused(check_out_dir, target))
     # anything under /dev, /proc or /sys: refused from the path alone
     for p in ("/dev/rotaflex-test-node", "/dev/shm/x", "/proc/self/x"):
-        assert "system path" in str(_refused(check_out_file, p)) or "not a device" in str(
-            _refused(check_out_file, p)
-        )
+        assert "system path" in str(_refused(check_out_file, p)) or "not a device" in str(_refused(check_out_file, p))
 
 
 def test_pipes_are_refused(tmp_path):

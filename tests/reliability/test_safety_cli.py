@@ -163,7 +163,7 @@ def test_signal_while_an_hdf5_file_is_open_exits_cleanly(tmp_path, sig, code, wo
     assert sorted(p.name for p in tmp_path.iterdir()) == ["case.toml", "res"]
 
 
-_KERNEL_CASE = '''
+_KERNEL_CASE = """
 import numpy as np
 import xarray as xr
 from numba import njit
@@ -195,7 +195,7 @@ def run_case(config, *, progress=False):
         pass
     ds = xr.Dataset({"x": ("t", np.zeros(3), {"units": "m"})}, attrs={"status": "success", "message": "ok"})
     return Result(ds)
-'''
+"""
 
 
 def test_sigint_inside_a_compiled_kernel_is_exit_130_not_a_crash(tmp_path):
@@ -273,7 +273,7 @@ def test_text_outputs_refuse_unsafe_paths(tmp_path, capsys, verb):
 
 def test_result_verbs_refuse_the_current_directory_and_the_input_directory(tmp_path, capsys, monkeypatch):
     cfg = tmp_path / "c.toml"
-    cfg.write_text('[disk]\nmass = 1.0\n[solver]\nt_end = 0.01\n')
+    cfg.write_text("[disk]\nmass = 1.0\n[solver]\nt_end = 0.01\n")
     monkeypatch.chdir(tmp_path)
     for out in (".", "", str(tmp_path), "c.toml"):
         code, err = _main(["rotor", "simulate", cfg, "--out", out], capsys)
