@@ -215,3 +215,29 @@ def test_full_small_filesystem_keeps_the_earlier_result(small_fs):
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert sorted(p.name for p in small_fs.iterdir()) == ["res"]
     _result(3.0).save(out, figures=False)  # the space was given back: the next save works
+
+
+def test_full_small_filesystem_past_the_free_space_check(small_fs, monkeypatch):
+    """The disk fills while writing (the free-space check saw room): still one clean WriteFailed."""
+    import shutil
+
+    out = small_fs / "res"
+    _result(1.0).save(out, figures=False)
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(2**40, 0, 2**40))
+    big = xr.Dataset({"x": ("time", np.random.default_rng(1).random(400_000), {"units": "m"})})
+    with pytest.raises(WriteFailed, match=r"^no space left on device while writing result\.nc; the earlier result"):
+        Result(big).save(out, figures=False)
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert sorted(p.name for p in small_fs.iterdir()) == ["res"]
+
+
+def test_free_space_is_checked_before_hdf5_starts(tmp_path, monkeypatch):
+    import shutil
+
+    calls = []
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: shutil._ntuple_diskusage(2**30, 2**30 - 1000, 1000))
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", lambda *a, **k: calls.append(a))
+    with pytest.raises(WriteFailed, match=r"no space left on device while writing result\.nc"):
+        _result(1.0).save(tmp_path / "res", figures=False)
+    assert calls == [] and list(tmp_path.iterdir()) == []

@@ -121,6 +121,42 @@ def write_json_atomic(target: str | Path, data: Any) -> Path:
     return write_text_atomic(target, json.dumps(data, indent=2, default=_json_default) + "\n")
 
 
+#: datasets up to this size are encoded in memory and written as plain bytes [bytes]
+NETCDF_IN_MEMORY = 512 * 1024**2
+
+
+def write_netcdf(target: str | Path, dataset: Any) -> Path:
+    """Write an ``xarray.Dataset`` to NetCDF-4 (h5netcdf) at ``target`` atomically.
+
+    HDF5 does not survive a full disk: after a failed write its object teardown raises in
+    ``__dealloc__`` and the process can die with SIGSEGV (reproduced with ``rotor transient``
+    on a 40 KiB tmpfs). So the file is encoded in memory (datasets up to
+    :data:`NETCDF_IN_MEMORY`) and written as plain bytes, where a full disk is an ordinary
+    ``OSError``; larger datasets are checked against the free space first.
+
+    Raises
+    ------
+    WriteFailed
+        Not enough space (checked before HDF5 starts) or a failed write.
+    """
+    target = Path(target)
+    nbytes = float(getattr(dataset, "nbytes", 0))
+    need = 1.05 * nbytes + 64 * 1024  # data + HDF5 metadata (a few KiB per variable)
+    try:
+        free = shutil.disk_usage(target.parent).free
+    except OSError:
+        free = None
+    if free is not None and free < need:
+        intact = f"the earlier {target.name} in {target.parent} is intact" if target.exists() else ""
+        cause = OSError(
+            errno.ENOSPC, f"No space left on device (needs ~{need / 2**20:.3g} MiB, {free / 2**20:.3g} free)"
+        )
+        raise WriteFailed(target.name, cause, intact)
+    if nbytes <= NETCDF_IN_MEMORY:
+        return write_atomic(target, lambda p: p.write_bytes(dataset.to_netcdf(engine="h5netcdf")))
+    return write_atomic(target, lambda p: dataset.to_netcdf(p, engine="h5netcdf"))
+
+
 def _json_default(obj: Any) -> Any:
     import numpy as np
 

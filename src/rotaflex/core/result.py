@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from rotaflex.core.io import replace_dir, write_atomic, write_json_atomic
+from rotaflex.core.io import replace_dir, write_json_atomic, write_netcdf
 
 
 class Result:
@@ -52,8 +52,8 @@ class Result:
 
     # -- output -------------------------------------------------------------------------
     def to_netcdf(self, path: str | Path) -> Path:
-        """Write the dataset to NetCDF atomically (temporary file, then rename)."""
-        return write_atomic(path, lambda p: self.dataset.to_netcdf(p, engine="h5netcdf"))
+        """Write the dataset to NetCDF atomically (:func:`rotaflex.core.io.write_netcdf`)."""
+        return write_netcdf(path, self.dataset)
 
     def summary(self) -> dict[str, dict[str, Any]]:
         """Key scalars as ``{name: {"value": v, "unit": u}}``.
