@@ -13,6 +13,7 @@ import logging
 import os
 import signal
 import sys
+import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -75,7 +76,11 @@ def _root(
     """Dynamics of rotating and flexible machine elements (rotors, floating bodies, gears)."""
     from rotaflex.core.limits import set_max_memory
 
-    guarded(lambda: set_max_memory(max_memory), False)
+    try:  # not through guarded(): its logging setup belongs to the command and its --debug
+        set_max_memory(max_memory)
+    except InputError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2) from None
     if max_memory is not None:  # sweep workers (other processes) read the environment
         os.environ["ROTAFLEX_MAX_MEMORY"] = max_memory
 
@@ -135,6 +140,8 @@ def _install_signals() -> dict:
     global _received
     _received = 0
     old = {}
+    if threading.current_thread() is not threading.main_thread():  # handlers only from there
+        return old
     for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM):
         if signal.getsignal(sig) is signal.SIG_IGN:  # e.g. started with nohup / in the background
             continue
@@ -524,9 +531,8 @@ def main(argv: list[str] | None = None) -> int:
     SIGINT and SIGTERM are delivered as an exception at the next safe point (never inside a
     compiled kernel's or h5py's own code) and end with status 130 / 143. From the command
     line (``argv`` None) a failed or interrupted command then leaves with ``os._exit`` once its
-    output is flushed:
-    the interpreter's teardown of h5py and numba objects after an interrupted or failed
-    write could crash (SIGSEGV) and replace the exit status.
+    output is flushed: the interpreter's teardown of h5py and numba objects after an
+    interrupted or failed write could crash (SIGSEGV) and replace the exit status.
     """
     old = _install_signals()
     try:

@@ -112,13 +112,17 @@ def test_a_second_run_on_a_claimed_directory_is_refused_naming_the_owner(tmp_pat
         assert proc.stdout.readline().strip() == "HELD"
         err = _refused(lambda: claim_out_dir(out).__enter__())
         assert f"pid {proc.pid}" in str(err) and err.field == "--out"
+        (tmp_path / "link").symlink_to(out)
+        for other in (str(out) + "/", tmp_path / "sub" / ".." / "res", tmp_path / "link"):
+            (tmp_path / "sub").mkdir(exist_ok=True)
+            assert f"pid {proc.pid}" in str(_refused(lambda o=other: claim_out_dir(o).__enter__()))
     finally:
         proc.kill()
         proc.wait()
     # the owner died (SIGKILL, no cleanup): the kernel dropped its lock, the next run proceeds
     with claim_out_dir(out):
         pass
-    assert not list(tmp_path.glob(".res.rotaflex-lock"))
+    assert not list(tmp_path.glob(".res.rotaflex-lock*"))
 
 
 def test_working_directories_of_live_runs_are_kept(tmp_path):

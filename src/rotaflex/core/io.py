@@ -399,7 +399,8 @@ def claim_out_dir(path: str | Path, *, field: str = "--out") -> Iterator[Path]:
         Another live process holds the claim (names its pid).
     """
     p = Path(path)
-    lock = p.absolute().parent / f".{p.name}{_LOCK_TAG}"
+    real = p.resolve()  # one lock whatever the spelling (./out, out/, a link to it)
+    lock = real.parent / f".{real.name}{_LOCK_TAG}"
     while True:
         fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666 & ~_umask())
         try:
