@@ -153,8 +153,24 @@ def write_netcdf(target: str | Path, dataset: Any) -> Path:
         )
         raise WriteFailed(target.name, cause, intact)
     if nbytes <= NETCDF_IN_MEMORY:
-        return write_atomic(target, lambda p: p.write_bytes(dataset.to_netcdf(engine="h5netcdf")))
+        return write_atomic(target, lambda p: p.write_bytes(_netcdf_bytes(dataset)))
     return write_atomic(target, lambda p: dataset.to_netcdf(p, engine="h5netcdf"))
+
+
+def _netcdf_bytes(dataset: Any) -> bytes:
+    """The NetCDF-4 encoding of ``dataset`` in memory.
+
+    xarray picks its write lock from the active dask scheduler; with a Dask client open (a
+    ``--scheduler`` sweep writes its cases here) that is a distributed lock named by the
+    target, which cannot be named by an in-memory buffer. The data are numpy arrays, so the
+    local (synchronous) scheduler's thread lock is the right one.
+    """
+    try:
+        import dask
+    except ImportError:  # pragma: no cover - dask is a dependency of the sweeps only
+        return dataset.to_netcdf(engine="h5netcdf")
+    with dask.config.set(scheduler="synchronous"):
+        return dataset.to_netcdf(engine="h5netcdf")
 
 
 def _json_default(obj: Any) -> Any:
