@@ -131,15 +131,15 @@ def test_full_disk_is_one_line_exit_1_and_the_earlier_result_is_intact(tmp_path)
 
 # -- signals ---------------------------------------------------------------------------------
 _SLOW_WRITE = """
-import time, h5py, xarray
+import io, time, h5py, xarray
 real = xarray.Dataset.to_netcdf
-def slow(self, path, *a, **k):
-    with h5py.File(path, "w") as f:  # an HDF5 file open while the signal arrives
+def slow(self, *a, **k):
+    with h5py.File(io.BytesIO(), "w") as f:  # an HDF5 file open while the signal arrives
         f["partial"] = [1.0, 2.0]
         print("WRITING", flush=True)
         for _ in range(600):
             time.sleep(0.05)
-    return real(self, path, *a, **k)
+    return real(self, *a, **k)
 xarray.Dataset.to_netcdf = slow
 """
 
