@@ -2,14 +2,18 @@
 
 Every expected failure is one line on stderr: exit status 2 for bad input (the dotted field, the
 value as typed, what is allowed; also a missing or unknown option), 1 when the computation
-failed or a result failed its own checks, 130 when interrupted. Output directories and input
-files are checked before any computation starts.
+failed, a result failed its own checks or an output could not be written, 130 when interrupted
+(SIGINT, Ctrl-C), 143 when terminated (SIGTERM). Output directories and input files are checked
+before any computation starts, and a run holds its output directory until it ends.
 """
 
 from __future__ import annotations
 
 import logging
+import os
+import signal
 import sys
+import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -60,8 +64,99 @@ def _root(
     version: Annotated[
         bool, typer.Option("--version", callback=_version, is_eager=True, help="Print the version and exit.")
     ] = False,
+    max_memory: Annotated[
+        str | None,
+        typer.Option(
+            "--max-memory",
+            help="Largest memory a run may plan to use, e.g. 16GiB or 500MB (default 8GiB, or "
+            "ROTAFLEX_MAX_MEMORY); larger runs are refused before they start.",
+        ),
+    ] = None,
 ) -> None:
     """Dynamics of rotating and flexible machine elements (rotors, floating bodies, gears)."""
+    from rotaflex.core.limits import set_max_memory
+
+    try:  # not through guarded(): its logging setup belongs to the command and its --debug
+        set_max_memory(max_memory)
+    except InputError as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(2) from None
+    if max_memory is not None:  # sweep workers (other processes) read the environment
+        os.environ["ROTAFLEX_MAX_MEMORY"] = max_memory
+
+
+# -- signals --------------------------------------------------------------------------------------
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised like Ctrl-C so that every ``finally`` and ``except KeyboardInterrupt`` runs."""
+
+
+#: exit status per signal (128 + its number, as a shell reports a death by that signal)
+SIGNAL_EXIT = {signal.SIGINT: 130, signal.SIGTERM: 143}
+#: the signal received during this command (0: none); read after the command to catch an
+#: interrupt that a library swallowed (an exception raised in a weakref callback is only printed)
+_received = 0
+#: code whose frames must never see an exception appear: compiled numba kernels call back into
+#: Python (numba.core.serialize) and treat an exception there as impossible (SIGSEGV); h5py's
+#: object teardown likewise; weakref/__del__ callbacks only print exceptions
+_UNSAFE = tuple(f"{os.sep}{m}{os.sep}" for m in ("numba", "llvmlite", "h5py", "h5netcdf", "netCDF4")) + (
+    f"{os.sep}weakref.py",
+)
+#: seconds between attempts to deliver a deferred interrupt
+_RETRY = 0.02
+
+
+def _at_safe_point(frame) -> bool:
+    while frame is not None:
+        if frame.f_code.co_filename.endswith(_UNSAFE[-1]) or frame.f_code.co_name == "__del__":
+            return False
+        if any(u in frame.f_code.co_filename for u in _UNSAFE[:-1]):
+            return False
+        frame = frame.f_back
+    return True
+
+
+def _on_signal(signum, frame) -> None:
+    """Record the signal; raise it as KeyboardInterrupt at the next safe point.
+
+    Inside a compiled kernel the handler cannot run at all (the interpreter runs it when the
+    kernel returns); inside numba's or h5py's Python helpers it retries every 20 ms (SIGALRM)
+    until the stack is clear of them, so that an open HDF5 file is closed by its own code and
+    a kernel's callback never fails.
+    """
+    global _received
+    if signum != signal.SIGALRM:
+        _received = _received or signum
+    if not _received:
+        return
+    if not _at_safe_point(frame):
+        signal.setitimer(signal.ITIMER_REAL, _RETRY)
+        return
+    signal.setitimer(signal.ITIMER_REAL, 0)
+    raise Terminated() if _received == signal.SIGTERM else KeyboardInterrupt()
+
+
+def _install_signals() -> dict:
+    """Install :func:`_on_signal` for SIGINT, SIGTERM and the retry timer; return the old handlers."""
+    global _received
+    _received = 0
+    old = {}
+    if threading.current_thread() is not threading.main_thread():  # handlers only from there
+        return old
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGALRM):
+        if signal.getsignal(sig) is signal.SIG_IGN:  # e.g. started with nohup / in the background
+            continue
+        old[sig] = signal.signal(sig, _on_signal)
+    return old
+
+
+def _interrupt_exit() -> None:
+    """One line and the exit status for the signal received (SIGINT when none was recorded)."""
+    _quiet_shutdown()
+    if _received == signal.SIGTERM:
+        typer.echo("terminated (SIGTERM)", err=True)
+        raise typer.Exit(SIGNAL_EXIT[signal.SIGTERM])
+    typer.echo("interrupted", err=True)
+    raise typer.Exit(SIGNAL_EXIT[signal.SIGINT])
 
 
 def _quiet_shutdown() -> None:
@@ -75,18 +170,24 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
     """Run ``fn``; expected failures become one line on stderr and a non-zero exit status.
 
     Exit status 2: bad input (field, value, what is allowed). Exit status 1: the computation
-    failed (no convergence, singular parameterisation). 130: interrupted (Ctrl-C).
-    ``--debug`` re-raises with traceback.
+    failed (no convergence, singular parameterisation) or an output could not be written
+    (full disk). 130: interrupted (Ctrl-C), 143: terminated (SIGTERM); also when a library
+    swallowed the interrupt and the command went on. ``--debug`` re-raises with traceback.
     """
+    from rotaflex.core.io import WriteFailed
+
     logging.basicConfig(level=logging.DEBUG if debug else logging.WARNING, format="%(message)s")
     try:
-        return fn()
+        out = fn()
+        if _received in SIGNAL_EXIT:
+            raise Terminated() if _received == signal.SIGTERM else KeyboardInterrupt()
+        return out
     except InputError as exc:
         if debug:
             raise
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2) from None
-    except (ConvergenceError, DivergenceError, SingularityError) as exc:
+    except (ConvergenceError, DivergenceError, SingularityError, WriteFailed) as exc:
         if debug:
             raise
         typer.echo(f"error: {exc}", err=True)
@@ -94,9 +195,7 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
     except KeyboardInterrupt:
         if debug:
             raise
-        _quiet_shutdown()
-        typer.echo("interrupted", err=True)
-        raise typer.Exit(130) from None
+        _interrupt_exit()
     except (typer.Exit, typer.Abort):
         raise
     except Exception as exc:  # noqa: BLE001 - a bug: one line, the traceback with --debug
@@ -141,7 +240,7 @@ def reproduce(
 
     def go():
         from rotaflex.core import plotting
-        from rotaflex.core.io import check_out_dir
+        from rotaflex.core.io import check_out_dir, claim_out_dir
         from rotaflex.reproduce import reproduce as run_reproduce
 
         if target not in REPRODUCE and target != "all":
@@ -153,7 +252,7 @@ def reproduce(
         t0 = time.perf_counter()
         tty = sys.stderr.isatty()
         say = None if quiet else (lambda m: typer.echo(m, err=True))
-        with _limit_threads():
+        with claim_out_dir(out_dir), _limit_threads():
             report = run_reproduce(names, out_dir, fast=fast, progress=say or False, bars=not quiet and tty)
         typer.echo(
             f"{report['passed']}/{report['checks']} checks passed in "
@@ -216,7 +315,7 @@ def sweep(
 
         from rotaflex.core import plotting
         from rotaflex.core.config import load_toml
-        from rotaflex.core.io import check_out_dir
+        from rotaflex.core.io import check_out_dir, claim_out_dir
         from rotaflex.core.provenance import provenance
         from rotaflex.sweep import plan_study, sweep_config
         from rotaflex.sweep.backends import executor_for
@@ -224,7 +323,7 @@ def sweep(
         _figure_options(fmt, dpi)
         if jobs is not None and not 0 <= jobs <= MAX_JOBS:
             raise InputError("--jobs", jobs, f"an integer from 0 to {MAX_JOBS} (0 = serial in this process)")
-        out_dir = check_out_dir(out, marker=SWEEP_MARKERS)
+        out_dir = check_out_dir(out, marker=SWEEP_MARKERS, inputs=(config,))
         cfg = load_toml(config)
         plan_study(cfg, vary, continuation)  # validate every case before starting workers
         plotting.configure(fmt=fmt, dpi=dpi)
@@ -237,7 +336,12 @@ def sweep(
             def shown(rec, done, total):
                 typer.echo(f"case {done}/{total} {rec.id}: {rec.status}", err=True)
 
-        with executor_for(jobs, scheduler) as executor, logging_redirect_tqdm(), _limit_threads():
+        with (
+            claim_out_dir(out_dir),
+            executor_for(jobs, scheduler) as executor,
+            logging_redirect_tqdm(),
+            _limit_threads(),
+        ):
             try:
                 res = sweep_config(
                     cfg,
@@ -252,12 +356,13 @@ def sweep(
                 )
             except KeyboardInterrupt:
                 _quiet_shutdown()
+                term = _received == signal.SIGTERM
                 typer.echo(
-                    f"interrupted: finished cases are in {out_dir / 'cases'}; run the same "
-                    "command again to compute only the missing ones",
+                    f"{'terminated (SIGTERM)' if term else 'interrupted'}: finished cases are in "
+                    f"{out_dir / 'cases'}; run the same command again to compute only the missing ones",
                     err=True,
                 )
-                raise typer.Exit(130) from None
+                raise typer.Exit(SIGNAL_EXIT[signal.SIGTERM if term else signal.SIGINT]) from None
         typer.echo(f"{res.summary_text()} -> {out_dir / 'sweep.nc'}")
         for rec in res.failed[:10]:
             line = f"  failed {rec.id} {rec.params}: {rec.status} {rec.error}"
@@ -283,26 +388,27 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             from rotaflex.core import plotting
             from rotaflex.core.config import load_toml
             from rotaflex.core.domains import command, resolve_paths, split_config, validate
-            from rotaflex.core.io import check_out_dir
+            from rotaflex.core.io import check_out_dir, claim_out_dir
             from rotaflex.core.provenance import provenance
             from rotaflex.core.report import CompileTimer
 
             _figure_options(fmt, dpi)
-            out_dir = check_out_dir(out, marker=RESULT_MARKERS)
+            out_dir = check_out_dir(out, marker=RESULT_MARKERS, inputs=(config,))
             _, body = split_config(load_toml(config), domain=domain, verb=verb)
             body = resolve_paths(domain, body, Path(config).parent)  # paths inside: from the file
             if verb == "simulate":  # other verbs validate their own schema first thing
                 validate(domain, body)
             say = None if quiet else (lambda m: typer.echo(m, err=True))
-            with _limit_threads(), CompileTimer(say) as compiling:
-                # bars only on a terminal (a log would get every redraw)
-                result = command(domain, verb)(body, progress=not quiet)  # bar or log lines
-            if say and compiling.seconds >= 0.5:
-                say(f"numba kernels compiled in {compiling.seconds:.1f} s (first run only; cached afterwards)")
-            # through the dataset and configure(): domain results may override save(out, figures=)
-            result.dataset.attrs.update(provenance(config))
-            plotting.configure(fmt=fmt, dpi=dpi)
-            paths = result.save(out_dir, figures=not no_figures)
+            with claim_out_dir(out_dir):
+                with _limit_threads(), CompileTimer(say) as compiling:
+                    # bars only on a terminal (a log would get every redraw)
+                    result = command(domain, verb)(body, progress=not quiet)  # bar or log lines
+                if say and compiling.seconds >= 0.5:
+                    say(f"numba kernels compiled in {compiling.seconds:.1f} s (first run only; cached afterwards)")
+                # through the dataset and configure(): domain results may override save(out, figures=)
+                result.dataset.attrs.update(provenance(config))
+                plotting.configure(fmt=fmt, dpi=dpi)
+                paths = result.save(out_dir, figures=not no_figures)
             typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out_dir}")
             if result.status != "success":
                 raise typer.Exit(1)
@@ -325,9 +431,10 @@ def _template_command(domain: str) -> Callable[..., None]:
     def template(
         debug: Debug = False,
         verb: str = typer.Option("simulate", "--verb", help=f"The verb whose config to print: {verbs}."),
+        out: str | None = typer.Option(None, "--out", "-o", help="Write to this file instead of stdout."),
     ) -> None:
         def go():
-            typer.echo(domain_template(domain, verb), nl=False)
+            _print_or_write(domain_template(domain, verb), out)
 
         guarded(go, debug)
 
@@ -390,18 +497,23 @@ def config_reference() -> str:
     return reference_markdown(schemas)
 
 
-@docs_app.command("config-reference")
-def _config_reference_cmd(
-    out: Annotated[Path | None, typer.Option("--out", "-o", help="Write to this file instead of stdout.")] = None,
-) -> None:
-    """Print (or write) docs/config-reference.md, generated from the config schemas."""
-    text = config_reference()
+def _print_or_write(text: str, out: str | None) -> None:
+    """``text`` to stdout, or to the file ``out`` (checked first, written atomically)."""
     if out is None:
         typer.echo(text, nl=False)
-    else:
-        from rotaflex.core.io import write_text_atomic
+        return
+    from rotaflex.core.io import check_out_file, write_text_atomic
 
-        write_text_atomic(out, text)
+    write_text_atomic(check_out_file(out), text)
+
+
+@docs_app.command("config-reference")
+def _config_reference_cmd(
+    out: Annotated[str | None, typer.Option("--out", "-o", help="Write to this file instead of stdout.")] = None,
+    debug: Debug = False,
+) -> None:
+    """Print (or write) docs/config-reference.md, generated from the config schemas."""
+    guarded(lambda: _print_or_write(config_reference(), out), debug)
 
 
 for _domain in CASES:
@@ -414,7 +526,43 @@ for _domain in CASES:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Console-script entry point: usage errors are one line too (no boxed usage text)."""
+    """Console-script entry point: usage errors are one line too (no boxed usage text).
+
+    SIGINT and SIGTERM are delivered as an exception at the next safe point (never inside a
+    compiled kernel's or h5py's own code) and end with status 130 / 143. From the command
+    line (``argv`` None) a failed or interrupted command then leaves with ``os._exit`` once its
+    output is flushed: the interpreter's teardown of h5py and numba objects after an
+    interrupted or failed write could crash (SIGSEGV) and replace the exit status.
+    """
+    old = _install_signals()
+    try:
+        code = _main(argv)
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+        signal.setitimer(signal.ITIMER_REAL, 0)
+    if argv is None and code != 0:
+        _hard_exit(code)
+    sys.exit(code)
+
+
+def _hard_exit(code: int) -> None:
+    """Flush what is buffered, then end the process without interpreter teardown."""
+    try:
+        # what multiprocessing's exit hook does (pool queues' semaphores unlinked), else its
+        # resource tracker warns of leaked semaphores after a stopped sweep
+        mp_util = sys.modules.get("multiprocessing.util")
+        if mp_util is not None:
+            mp_util._exit_function()
+        logging.shutdown()
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except Exception:  # noqa: BLE001, S110 - a closed pipe: nothing more to say
+        pass
+    os._exit(code)
+
+
+def _main(argv: list[str] | None) -> int:
     try:  # recent typer vendors click
         from typer._click import exceptions as click
     except ImportError:  # pragma: no cover
@@ -431,11 +579,10 @@ def main(argv: list[str] | None = None) -> int:
     except click.ClickException as exc:
         typer.echo(f"error: {exc.format_message()}", err=True)
         code = exc.exit_code
-    except typer.Abort:
-        typer.echo("interrupted", err=True)
-        code = 130
-    code = code if isinstance(code, int) else 0
-    sys.exit(code)
+    except (typer.Abort, KeyboardInterrupt):  # an interrupt outside a command (while importing)
+        code = SIGNAL_EXIT[signal.SIGTERM] if _received == signal.SIGTERM else SIGNAL_EXIT[signal.SIGINT]
+        typer.echo("terminated (SIGTERM)" if code == 143 else "interrupted", err=True)
+    return code if isinstance(code, int) else 0
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -5,16 +5,25 @@ is written into a sibling temporary directory and swapped in as a whole (an atom
 the two names where the kernel offers it). A crash or an exception while writing never leaves a
 half-written file, and never a directory mixing new and old files. Files get the permissions
 the user's umask allows (``tempfile`` alone would make them 0600).
+
+Every ``--out`` goes through :func:`check_out_dir` or :func:`check_out_file` before any work
+starts, and a run holds :func:`claim_out_dir` while it writes: a second run on the same
+directory is refused while the first one lives. A write that fails for lack of space (or any
+other I/O error) raises :class:`WriteFailed`, one line that says what is intact.
 """
 
 from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import errno
+import fcntl
 import functools
 import json
 import os
 import shutil
+import stat
+import sys
 import tempfile
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -24,6 +33,38 @@ from typing import Any
 from rotaflex.core.errors import InputError
 
 _TMP_TAG = ".rotaflex-tmp-"
+_LOCK_TAG = ".rotaflex-lock"
+#: errors that mean the file system is full (space, quota, file size)
+_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
+
+
+class WriteFailed(RuntimeError):
+    """Writing an output failed (full disk, I/O error); the message says what is intact.
+
+    Parameters
+    ----------
+    name : str
+        The file being written (``"result.nc"``).
+    cause : OSError
+        The error the system gave.
+    intact : str
+        What the user still has, e.g. ``"the earlier result in out/ is intact"``.
+    """
+
+    def __init__(self, name: str, cause: OSError, intact: str = ""):
+        self.name, self.cause, self.intact = name, cause, intact
+        if _is_full(cause):
+            what = "no space left on device"
+        else:
+            what = f"could not write ({cause.strerror or type(cause).__name__})"
+        super().__init__(f"{what} while writing {name}" + (f"; {intact}" if intact else ""))
+
+    def with_intact(self, intact: str) -> WriteFailed:
+        return WriteFailed(self.name, self.cause, intact)
+
+
+def _is_full(exc: BaseException) -> bool:
+    return isinstance(exc, OSError) and (exc.errno in _FULL or "No space left on device" in str(exc))
 
 
 @functools.cache
@@ -40,18 +81,27 @@ def _chmod_default(path: Path, *, directory: bool = False) -> None:
 
 @contextmanager
 def atomic_path(target: str | Path) -> Iterator[Path]:
-    """Yield a temporary path; on success it is renamed to ``target``, on error removed."""
+    """Yield a temporary path; on success it is renamed to ``target``, on error removed.
+
+    An ``OSError`` while the temporary file is made, written or renamed becomes
+    :class:`WriteFailed` naming ``target`` (and saying that an earlier ``target`` is intact).
+    """
     target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    os.close(fd)
-    tmp_path = Path(tmp)
+    tmp_path: Path | None = None
     try:
-        yield tmp_path
-        _chmod_default(tmp_path)
-        os.replace(tmp_path, target)
+        try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+            os.close(fd)
+            tmp_path = Path(tmp)
+            yield tmp_path
+            _chmod_default(tmp_path)
+            os.replace(tmp_path, target)
+        except OSError as exc:
+            intact = f"the earlier {target.name} in {target.parent} is intact" if target.exists() else ""
+            raise WriteFailed(target.name, exc, intact) from exc
     finally:
-        if tmp_path.exists():
+        if tmp_path is not None and tmp_path.exists():
             tmp_path.unlink()
 
 
@@ -70,6 +120,89 @@ def write_text_atomic(target: str | Path, text: str) -> Path:
 def write_json_atomic(target: str | Path, data: Any) -> Path:
     """Write ``data`` as indented JSON to ``target`` atomically."""
     return write_text_atomic(target, json.dumps(data, indent=2, default=_json_default) + "\n")
+
+
+#: datasets up to this size are encoded in memory and written as plain bytes [bytes]
+NETCDF_IN_MEMORY = 512 * 1024**2
+
+
+def write_netcdf(target: str | Path, dataset: Any) -> Path:
+    """Write an ``xarray.Dataset`` to NetCDF-4 (h5netcdf) at ``target`` atomically.
+
+    HDF5 does not survive a full disk: after a failed write its object teardown raises in
+    ``__dealloc__`` and the process can die with SIGSEGV (reproduced with ``rotor transient``
+    on a 40 KiB tmpfs). So the file is encoded in memory (datasets up to
+    :data:`NETCDF_IN_MEMORY`) and written as plain bytes, where a full disk is an ordinary
+    ``OSError``; larger datasets are checked against the free space first.
+
+    Raises
+    ------
+    WriteFailed
+        Not enough space (checked before HDF5 starts) or a failed write.
+    """
+    target = Path(target)
+    nbytes = float(getattr(dataset, "nbytes", 0))
+    need = 1.05 * nbytes + 64 * 1024  # data + HDF5 metadata (a few KiB per variable)
+    try:
+        free = shutil.disk_usage(target.parent).free
+    except OSError:
+        free = None
+    if free is not None and free < need:
+        intact = f"the earlier {target.name} in {target.parent} is intact" if target.exists() else ""
+        cause = OSError(
+            errno.ENOSPC, f"No space left on device (needs ~{need / 2**20:.3g} MiB, {free / 2**20:.3g} free)"
+        )
+        raise WriteFailed(target.name, cause, intact)
+    with _no_distributed_import():
+        if nbytes <= NETCDF_IN_MEMORY:
+            return write_atomic(target, lambda p: p.write_bytes(_netcdf_bytes(dataset)))
+        return write_atomic(target, lambda p: dataset.to_netcdf(p, engine="h5netcdf"))
+
+
+def _netcdf_bytes(dataset: Any) -> bytes:
+    """The NetCDF-4 encoding of ``dataset`` in memory.
+
+    xarray picks its write lock from the active dask scheduler; with a Dask client open (a
+    ``--scheduler`` sweep writes its cases here) that is a distributed lock named by the
+    target, which cannot be named by an in-memory buffer. The data are numpy arrays, so the
+    local (synchronous) scheduler's thread lock is the right one.
+    """
+    try:
+        import dask
+    except ImportError:  # pragma: no cover - dask is a dependency of the sweeps only
+        return dataset.to_netcdf(engine="h5netcdf")
+    with dask.config.set(scheduler="synchronous"):
+        return dataset.to_netcdf(engine="h5netcdf")
+
+
+@contextmanager
+def _no_distributed_import():
+    """Keep ``to_netcdf`` from importing dask.distributed (0.3-0.6 s) only to find no client.
+
+    xarray asks dask which scheduler is active, and dask tries ``distributed.get_client()``. In
+    a process that has not imported distributed there can be no client, so the answer is the
+    same without the import: it fails fast here, which both libraries handle as "no client".
+    Left alone when distributed is loaded (a Dask sweep) or a dask scheduler is configured.
+    """
+    if "distributed" in sys.modules or _dask_scheduler_configured():
+        yield
+        return
+    sys.modules["distributed"] = None  # type: ignore[assignment] - makes `import distributed` fail
+    try:
+        yield
+    finally:
+        if sys.modules.get("distributed", 0) is None:
+            del sys.modules["distributed"]
+
+
+def _dask_scheduler_configured() -> bool:
+    """A dask ``scheduler`` set in its config (file, environment or code) leads dask to another
+    branch that caches whether distributed imports: never fake the answer then."""
+    try:
+        import dask
+    except ImportError:  # pragma: no cover - dask is a dependency
+        return False
+    return dask.config.get("scheduler", None) is not None
 
 
 def _json_default(obj: Any) -> Any:
@@ -105,15 +238,38 @@ def _stale_siblings(target: Path) -> list[Path]:
     return sorted(target.parent.glob(f".{target.name}{_TMP_TAG}*"))
 
 
+def _pid_alive(pid: int) -> bool:
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # alive, another user's
+        return True
+    return True
+
+
+def _owner(stale: Path) -> int:
+    """The pid in a working name ``.NAME.rotaflex-tmp-PID-XXXX`` (0 for older names)."""
+    rest = stale.name.rsplit(_TMP_TAG, 1)[-1]
+    head = rest.split("-", 1)[0].split(".", 1)[0]
+    return int(head) if head.isdigit() else 0
+
+
 def recover_dir(target: str | Path) -> None:
     """Finish or undo a directory swap that a killed process left half done.
 
     If ``target`` is missing but a complete previous version was parked beside it (the
     two-rename fallback was interrupted), that version is put back; leftover temporary
-    directories are removed.
+    directories of processes that no longer run are removed. Working directories of a live
+    process (another run writing the same target) are never touched.
     """
     target = Path(target)
     for stale in _stale_siblings(target):
+        owner = _owner(stale)
+        if owner and owner != os.getpid() and _pid_alive(owner):
+            continue
         if not target.exists() and stale.name.endswith(".old"):
             os.replace(stale, target)
         else:
@@ -136,11 +292,21 @@ def replace_dir(target: str | Path, writer: Callable[[Path], list[Path]]) -> lis
     -------
     list of Path
         The written paths, under ``target``.
+
+    Raises
+    ------
+    WriteFailed
+        An ``OSError`` while writing (full disk, ...): the message names the file and says
+        that the earlier ``target`` is intact (or that nothing was written); the working
+        directory is removed.
     """
     target = Path(target)
+    existed = target.exists()
+    intact = f"the earlier result in {target} is intact" if existed else f"nothing was written to {target}"
     recover_dir(target)
-    tmp = new = Path(tempfile.mkdtemp(prefix=f".{target.name}{_TMP_TAG}", dir=target.parent))
+    tmp = None
     try:
+        tmp = new = Path(tempfile.mkdtemp(prefix=f".{target.name}{_TMP_TAG}{os.getpid()}-", dir=target.parent))
         _chmod_default(tmp, directory=True)
         written = writer(tmp)
         if target.exists():
@@ -151,12 +317,57 @@ def replace_dir(target: str | Path, writer: Callable[[Path], list[Path]]) -> lis
                 tmp = parked
         else:
             os.replace(tmp, target)
+    except WriteFailed as exc:
+        raise exc.with_intact(intact) from exc.cause
+    except OSError as exc:
+        raise WriteFailed(target.name, exc, intact) from exc
     finally:
-        shutil.rmtree(tmp, ignore_errors=True)  # the old version, or the failed new one
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)  # the old version, or the failed new one
     return [target / Path(p).relative_to(new) for p in written]
 
 
-def check_out_dir(path: str | Path, *, marker: tuple[str, ...] = (), field: str = "--out") -> Path:
+# -- checked output paths -----------------------------------------------------------------------
+#: special files an output must never replace (character/block devices, pipes, sockets)
+_SPECIAL = {stat.S_IFCHR: "a device", stat.S_IFBLK: "a device", stat.S_IFIFO: "a pipe", stat.S_IFSOCK: "a socket"}
+
+
+def _special(p: Path) -> str:
+    """``"a device"`` etc. if ``p`` (followed through links) is a special file or lies under /dev."""
+    try:
+        mode = os.stat(p).st_mode
+    except OSError:
+        mode = 0
+    kind = _SPECIAL.get(stat.S_IFMT(mode), "")
+    if not kind and Path(os.path.abspath(p)).parts[1:2] in (("dev",), ("proc",), ("sys",)):
+        kind = "a system path (/dev, /proc or /sys)"
+    return kind
+
+
+def _common_checks(text: str, field: str, inputs: tuple[str | Path, ...], what: str) -> Path:
+    if text.strip() == "":
+        raise InputError(field, text, f"{what} path (an empty string would write into the current directory)")
+    p = Path(text).expanduser()
+    kind = _special(p)
+    if kind:
+        raise InputError(field, text, f"{what} path, not {kind}")
+    for parent in p.absolute().parents:
+        if parent.exists() and not parent.is_dir():
+            raise InputError(field, text, f"a path not under the file {str(parent)!r}")
+    parent = p.absolute().parent
+    if not parent.exists():
+        raise InputError(field, text, f"{what} whose parent exists ({str(parent)!r} does not)")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(field, text, f"{what} in a writable location ({str(parent)!r} is read-only)")
+    for inp in inputs:
+        if Path(inp).exists() and p.exists() and os.path.samefile(p, inp):
+            raise InputError(field, text, f"{what} other than the input file {str(inp)!r}")
+    return p
+
+
+def check_out_dir(
+    path: str | Path, *, marker: tuple[str, ...] = (), field: str = "--out", inputs: tuple[str | Path, ...] = ()
+) -> Path:
     """Refuse an unusable output directory before any computation starts.
 
     Parameters
@@ -168,27 +379,33 @@ def check_out_dir(path: str | Path, *, marker: tuple[str, ...] = (), field: str 
         directory of other files is never replaced or mixed with results); empty: no check.
     field : str
         Name of the option in messages.
+    inputs : tuple of path
+        Input files of the run: their directories (and any directory above) are refused, since
+        replacing the result directory would replace the input.
 
     Raises
     ------
     InputError
-        Empty path, an existing file, a path under a file, a missing or read-only parent, a
-        non-empty directory that is not an earlier result of this command.
+        Empty path, an existing file, a device, pipe or socket (or anything under /dev), a path
+        under a file, a missing or read-only parent, the current directory or one above it, a
+        directory holding an input, a non-empty directory that is not an earlier result of
+        this command.
     """
     text = str(path)
-    if text.strip() == "":
-        raise InputError(field, text, "a directory path (an empty string would write into the current directory)")
-    p = Path(text).expanduser()
+    p = _common_checks(text, field, inputs, "a directory")
     if p.exists() and not p.is_dir():
         raise InputError(field, text, "a directory, not an existing file")
-    for parent in p.absolute().parents:
-        if parent.exists() and not parent.is_dir():
-            raise InputError(field, text, f"a path not under the file {str(parent)!r}")
-    parent = p.absolute().parent
-    if not parent.exists():
-        raise InputError(field, text, f"a directory whose parent exists ({str(parent)!r} does not)")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(field, text, f"a directory in a writable location ({str(parent)!r} is read-only)")
+    here = Path.cwd().resolve()
+    full = p.resolve()
+    if full == here or full in here.parents:
+        raise InputError(field, text, "a directory other than the current one or one above it (it would be replaced)")
+    if full.parent == full:
+        raise InputError(field, text, "a directory other than the file-system root")
+    for inp in inputs:
+        if full in Path(inp).resolve().parents:
+            raise InputError(
+                field, text, f"a directory that does not hold the input {str(inp)!r} (it would be replaced)"
+            )
     if p.exists():
         if not os.access(p, os.W_OK | os.X_OK):
             raise InputError(field, text, "a writable directory")
@@ -201,3 +418,65 @@ def check_out_dir(path: str | Path, *, marker: tuple[str, ...] = (), field: str 
                 "which would be replaced)",
             )
     return p
+
+
+def check_out_file(path: str | Path, *, field: str = "--out", inputs: tuple[str | Path, ...] = ()) -> Path:
+    """Refuse an unusable output file before anything is written.
+
+    Refused: an empty path, an existing directory, a device, pipe or socket (or anything under
+    /dev), a path under a file, a missing or read-only parent directory, an input file.
+    """
+    text = str(path)
+    p = _common_checks(text, field, inputs, "a file")
+    if p.is_dir() or text.endswith(("/", os.sep)):
+        raise InputError(field, text, "a file path, not a directory")
+    return p
+
+
+@contextmanager
+def claim_out_dir(path: str | Path, *, field: str = "--out") -> Iterator[Path]:
+    """Hold ``path`` for this run: a second run on the same output is refused while this one lives.
+
+    The claim is an exclusive ``flock`` on ``.NAME.rotaflex-lock`` beside the directory, which
+    holds the owner's pid (for the message). The kernel drops the lock when the process dies,
+    so a killed run never blocks the next; the lock file is removed on exit.
+
+    Raises
+    ------
+    InputError
+        Another live process holds the claim (names its pid).
+    """
+    p = Path(path)
+    real = p.resolve()  # one lock whatever the spelling (./out, out/, a link to it)
+    lock = real.parent / f".{real.name}{_LOCK_TAG}"
+    while True:
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666 & ~_umask())
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            owner = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
+            os.close(fd)
+            raise InputError(
+                field,
+                str(path),
+                f"a directory no other run is writing (rotaflex pid {owner} is writing it now; wait for "
+                "it to finish or choose another directory)",
+            ) from None
+        # the file may have been removed by its previous owner between open and flock: retry
+        try:
+            same = os.fstat(fd).st_ino == os.stat(lock).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    try:
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        yield p
+    finally:
+        try:
+            os.unlink(lock)
+        except OSError:
+            pass
+        os.close(fd)

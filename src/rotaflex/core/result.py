@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 import json
-import sys
-from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from rotaflex.core.io import replace_dir, write_atomic, write_json_atomic
+from rotaflex.core.io import replace_dir, write_json_atomic, write_netcdf
 
 
 class Result:
@@ -54,8 +52,8 @@ class Result:
 
     # -- output -------------------------------------------------------------------------
     def to_netcdf(self, path: str | Path) -> Path:
-        """Write the dataset to NetCDF atomically (temporary file, then rename)."""
-        return write_netcdf(self.dataset, path)
+        """Write the dataset to NetCDF atomically (:func:`rotaflex.core.io.write_netcdf`)."""
+        return write_netcdf(path, self.dataset)
 
     def summary(self) -> dict[str, dict[str, Any]]:
         """Key scalars as ``{name: {"value": v, "unit": u}}``.
@@ -148,42 +146,6 @@ def import_xarray():
 
     xr.Variable("x", np.zeros(1))
     return xr
-
-
-def write_netcdf(dataset, path: str | Path) -> Path:
-    """Write an ``xarray.Dataset`` to NetCDF-4 (h5netcdf) atomically (temporary file, rename)."""
-    with _no_distributed_import():
-        return write_atomic(path, lambda p: dataset.to_netcdf(p, engine="h5netcdf"))
-
-
-@contextmanager
-def _no_distributed_import():
-    """Keep ``to_netcdf`` from importing dask.distributed (0.3-0.6 s) only to find no client.
-
-    xarray asks dask which scheduler is active, and dask tries ``distributed.get_client()``. In
-    a process that has not imported distributed there can be no client, so the answer is the
-    same without the import: it fails fast here, which both libraries handle as "no client".
-    Left alone when distributed is loaded (a Dask sweep) or a dask scheduler is configured.
-    """
-    if "distributed" in sys.modules or _dask_scheduler_configured():
-        yield
-        return
-    sys.modules["distributed"] = None  # type: ignore[assignment] - makes `import distributed` fail
-    try:
-        yield
-    finally:
-        if sys.modules.get("distributed", 0) is None:
-            del sys.modules["distributed"]
-
-
-def _dask_scheduler_configured() -> bool:
-    """A dask ``scheduler`` set in its config (file, environment or code) leads dask to another
-    branch that caches whether distributed imports: never fake the answer then."""
-    try:
-        import dask
-    except ImportError:  # pragma: no cover - dask is a dependency
-        return False
-    return dask.config.get("scheduler", None) is not None
 
 
 _KINDS: dict[str, type[Result]] = {}

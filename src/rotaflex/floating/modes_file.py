@@ -83,12 +83,24 @@ def load_modes(path, frame: str = "mean-axes", where: str = "body.file") -> Body
 
 
 def _read_npz(p: Path, where: str):
+    import zipfile
+    import zlib
+
+    if p.is_file() and p.stat().st_size == 0:
+        raise InputError(f"{where}.path", str(p), "a readable .npz file (this one is empty)")
     try:
-        with np.load(p, allow_pickle=False) as z:
+        z = np.load(p, allow_pickle=False)
+        if not hasattr(z, "files"):  # a bare .npy saved under an .npz name
+            raise ValueError("a single array, not an archive of named arrays")
+        with z:
             data = {k: np.asarray(z[k], dtype=float) for k in z.files if k in REQUIRED + OPTIONAL}
             extra = [k for k in z.files if k not in REQUIRED + OPTIONAL]
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{where}.path", str(p), f"a readable .npz file ({exc})") from None
+    # a truncated archive fails in zipfile (BadZipFile), zlib or with EOFError, depending on where it ends
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as exc:
+        why = (str(exc).splitlines() or [""])[0] or type(exc).__name__
+        if isinstance(exc, (EOFError, zipfile.BadZipFile, zlib.error)):
+            why = f"truncated or not a zip archive: {why}"
+        raise InputError(f"{where}.path", str(p), f"a readable .npz file ({why})") from None
     return data, extra
 
 

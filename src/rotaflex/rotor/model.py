@@ -21,6 +21,35 @@ from rotaflex.rotation.euler import SEQUENCES
 Parameterisation = Literal["euler", "quaternion_spherical", "quaternion"]
 
 
+#: relative slack of the triangle inequality: a thin disk (I_polar = 2 I_diametral) typed in
+#: decimals must pass
+_TRIANGLE_RTOL = 1e-9
+
+
+def check_principal_inertias(field: str, value: object, inertias) -> None:
+    """Refuse principal moments of inertia that no rigid body has.
+
+    For any mass distribution ``I_a + I_b >= I_c`` for every ordering (e.g. ``I_x + I_y =
+    integral (x^2 + y^2 + 2 z^2) dm >= I_z``); equality is a plane lamina. A body breaking it
+    would have negative mass somewhere, and the equations of motion would be meaningless.
+
+    Parameters
+    ----------
+    field, value : str, object
+        The config key and the value as typed, for the message.
+    inertias : (3,) float
+        Principal moments [kg m^2].
+    """
+    a, b, c = sorted(float(x) for x in inertias)
+    if a + b < c * (1.0 - _TRIANGLE_RTOL):
+        raise InputError(
+            field,
+            value,
+            f"principal inertias of a rigid body: each at most the sum of the other two (here {a:.6g} + "
+            f"{b:.6g} < {c:.6g})",
+        )
+
+
 @dataclass(frozen=True)
 class Disk:
     """Rigid disk: mass [kg] and principal moments of inertia [kg m^2] about the body axes.
@@ -149,6 +178,16 @@ class RotorModel:
     solver: Solver = param(Solver())
 
     def __post_init__(self):
+        d = self.disk
+        if d.inertia is not None:
+            check_principal_inertias("disk.inertia", list(d.inertia), d.inertia)
+        elif d.polar_inertia > 2.0 * d.diametral_inertia * (1.0 + _TRIANGLE_RTOL):
+            raise InputError(
+                "disk.polar_inertia",
+                d.polar_inertia,
+                f"a value at most 2 x disk.diametral_inertia = {2.0 * d.diametral_inertia:.6g} kg m^2 "
+                "(I_polar <= 2 I_diametral for any rigid disk; equality is a thin disk)",
+            )
         if self.formulation.parameterisation == "quaternion":
             raise InputError(
                 "formulation.parameterisation",
@@ -179,6 +218,7 @@ class FreeBody:
     solver: Solver = param(Solver())
 
     def __post_init__(self):
+        check_principal_inertias("free_body.inertia", list(self.inertia), self.inertia)
         f = self.formulation
         if f.parameterisation == "quaternion_spherical":
             raise InputError(

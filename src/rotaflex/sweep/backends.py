@@ -86,16 +86,24 @@ def dask_executor(address: str, *, n_workers: int | None = None, timeout: float 
             client.scheduler.address,
         )
         yield client.get_executor(pure=False)
+    except BaseException:
+        # Ctrl-C/SIGTERM or an error: the CLI says so in one line; the cluster's notes on
+        # cancelled tasks and on workers killed after its grace period are only noise now
+        logging.disable(logging.CRITICAL)
+        raise
     finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-        dlog.setLevel(level)
+        try:
+            if client is not None:
+                client.close()
+            if cluster is not None:
+                cluster.close()
+        finally:
+            logging.disable(logging.NOTSET)
+            dlog.setLevel(level)
 
 
 def _local_cluster(distributed, n_workers: int | None):
-    """A LocalCluster of single-threaded worker processes for simulations.
+    """A LocalCluster of single-threaded worker processes for simulations (logging errors only).
 
     Dask's nanny sets ``MALLOC_TRIM_THRESHOLD_=65536`` in its workers (to return memory to the
     OS). Setting it disables glibc's adaptive mmap threshold, so every numpy temporary above
@@ -106,6 +114,9 @@ def _local_cluster(distributed, n_workers: int | None):
 
     env = dict(dask.config.get("distributed.nanny.pre-spawn-environ", {}) or {})
     env.pop("MALLOC_TRIM_THRESHOLD_", None)
+    # the workers' own log lines (a task cancelled by Ctrl-C, ...) go to the user's terminal;
+    # errors are enough there (a case's failure reaches the client with its traceback)
+    env.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
     with dask.config.set({"distributed.nanny.pre-spawn-environ": env}):
         return distributed.LocalCluster(
             n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=":0"

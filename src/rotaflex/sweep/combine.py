@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from rotaflex.core.io import write_atomic, write_json_atomic, write_text_atomic
+from rotaflex.core.io import write_json_atomic, write_netcdf, write_text_atomic
 
 log = logging.getLogger("rotaflex.sweep")
 
@@ -213,7 +213,7 @@ def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[P
     """Write ``sweep.nc``, ``summary.csv``, ``sweep.json``, ``figures/*.png``; return the PNGs."""
     out = result.out_dir
     ds = result.dataset
-    write_atomic(out / "sweep.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    write_netcdf(out / "sweep.nc", ds)
     key_units = {
         str(c.attrs["config_key"]): str(c.attrs.get("units", "")) for c in ds.coords.values() if "config_key" in c.attrs
     }

@@ -97,6 +97,7 @@ def parse_vary(spec: str) -> tuple[str, list[Any]]:
     key, rhs = (s.strip() for s in spec.split("=", 1))
     if not key or any(not part for part in key.split(".")):
         raise InputError("--vary", spec, f"a dotted config key before '=' ({_VARY_FORMS})")
+    check_key(key)
     if not rhs:
         raise InputError(f"--vary {key}", rhs, _VARY_FORMS)
     if ":" in rhs and "," not in rhs:
@@ -171,6 +172,22 @@ def case_id(index: int, data: Any) -> str:
 
 
 _SEGMENT = re.compile(r"^(?P<name>[^\[\]]+)(?P<indices>(?:\[\d+\])*)$")
+#: characters a swept key may hold: config keys are TOML bare keys (letters, digits, _ and -)
+#: joined by dots, with [i] for array entries; '/' and the like would also break the names of
+#: case directories and sweep.nc variables
+_KEY_CHARS = re.compile(r"^[A-Za-z0-9_\-.\[\]]+$")
+
+
+def check_key(key: str) -> None:
+    """InputError unless ``key`` is a dotted config key of bare-key characters (no '/', spaces...)."""
+    if not isinstance(key, str) or not _KEY_CHARS.match(key):
+        bad = sorted({c for c in str(key) if not _KEY_CHARS.match(c)})
+        raise InputError(
+            "--vary",
+            key,
+            "a dotted config key of letters, digits, '_' and '-' with [i] for array entries"
+            + (f" (not {' '.join(repr(c) for c in bad)})" if bad else ""),
+        )
 
 
 def _split_key(key: str) -> list[str | int]:

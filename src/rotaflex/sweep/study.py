@@ -19,7 +19,7 @@ from typing import Any
 from rotaflex.core.errors import InputError, shown
 from rotaflex.sweep._worker import run_target
 from rotaflex.sweep.runner import SweepResult, run_sweep
-from rotaflex.sweep.spec import Case, grid_cases, parse_vary
+from rotaflex.sweep.spec import Case, check_key, grid_cases, parse_vary
 
 
 @dataclass
@@ -112,6 +112,8 @@ def plan_study(
         raise InputError("domain", domain, f"an installed domain ({exc})") from None
     typed: dict[str, list[str]] = {}  # the values as written in a list spec, echoed in errors
     if isinstance(vary, Mapping):
+        for k in vary:
+            check_key(k)
         axes = {k: list(v) for k, v in vary.items()}
     else:
         axes = {}
@@ -126,6 +128,8 @@ def plan_study(
     if "verb" in axes:
         raise InputError("--vary verb", axes["verb"], "a key inside the domain's config, not 'verb'")
     body = {k: v for k, v in config.items() if k not in TOP_KEYS}
+    if continuation is not None:
+        _check_continuation_base(body, continuation)
     cases = grid_cases(body, axes, defaults=_schema_defaults(module))
     # every case's values checked up front by the verb's own checks
     for case in cases:
@@ -147,6 +151,23 @@ def plan_study(
         study.cases, study.chains = chain_cases(cases, continuation)
         study.continuation = continuation
     return study
+
+
+def _check_continuation_base(body: Mapping[str, Any], continuation: str) -> None:
+    """Refuse, before any case runs, a continuation base file that keeps its own ``[sweep]`` table.
+
+    With one, the verb runs that table's inner sweep in every case (e.g. ``gear steady`` over
+    ``sweep.speeds_rpm``), and such a result has no single final state to continue from: every
+    case would fail after running.
+    """
+    inner = body.get("sweep")
+    if isinstance(inner, Mapping) and any(v not in (None, "", [], (), {}) for v in inner.values()):
+        raise InputError(
+            "sweep",
+            {k: v for k, v in inner.items() if v not in (None, "", [], (), {})},
+            f"no [sweep] table in the base file of --continuation {continuation} (each case would run "
+            "that inner sweep, which has no final state to continue from): remove the table",
+        )
 
 
 class _Typed(str):
