@@ -295,8 +295,10 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
                 validate(domain, body)
             say = None if quiet else (lambda m: typer.echo(m, err=True))
             with _limit_threads(), CompileTimer(say) as compiling:
-                # bars only on a terminal (a log would get every redraw)
-                result = command(domain, verb)(body, progress=not quiet and sys.stderr.isatty())
+                # bars only on a terminal (a log would get every redraw); floating prints one
+                # line per 10 % of simulated time into a log instead
+                shown = not quiet and (sys.stderr.isatty() or ("lines" if domain == "floating" else False))
+                result = command(domain, verb)(body, progress=shown)
             if say and compiling.seconds >= 0.5:
                 say(f"numba kernels compiled in {compiling.seconds:.1f} s (first run only; cached afterwards)")
             # through the dataset and configure(): domain results may override save(out, figures=)
