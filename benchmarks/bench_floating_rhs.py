@@ -25,10 +25,10 @@ from pathlib import Path
 
 #: case name -> (method, n_modes, t_end [s]); the spin-up cases run under prescribed motion
 CASES = {
-    "full, free-free beam 10 modes": ("full", 10, 10.0),
-    "perturbation, same": ("perturbation", 10, 10.0),
-    "prescribed spin-up, cantilever 6 modes": ("prescribed", 6, 20.0),
-    "inextensible spin-up, 6 modes": ("inextensible", 6, 20.0),
+    "full, free-free beam 10 modes": ("full", 10, 4.0),
+    "perturbation, same": ("perturbation", 10, 4.0),
+    "prescribed spin-up, cantilever 6 modes": ("prescribed", 6, 8.0),
+    "inextensible spin-up, 6 modes": ("inextensible", 6, 8.0),
 }
 
 
@@ -83,14 +83,16 @@ def _spawn(src: Path, repeat: int) -> dict:
     return json.loads(subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout)
 
 
-def compare(rev: str, rounds: int, repeat: int, here: Path | None = None) -> None:
+def compare(rev: str, rounds: int, repeat: int, here: Path | None = None, keep: Path | None = None) -> None:
     import numpy as np
 
     root = Path(__file__).resolve().parents[1]
     here = here or root / "src"
     with tempfile.TemporaryDirectory() as tmp:
-        old = _tree(rev, root, Path(tmp))
-        print(f"warm-up (compiles {rev} once into its temporary tree) ...", flush=True)
+        dest = keep or Path(tmp)
+        dest.mkdir(parents=True, exist_ok=True)
+        old = dest / "src" if (dest / "src").is_dir() else _tree(rev, root, dest)
+        print(f"warm-up (compiles {rev} once into {dest}) ...", flush=True)
         _spawn(old, 1), _spawn(here, 1)
         pairs = {}
         last = {}
@@ -101,6 +103,8 @@ def compare(rev: str, rounds: int, repeat: int, here: Path | None = None) -> Non
                 if name in res["rev"]:
                     pairs.setdefault(name, []).append((res["rev"][name]["us"], res["tree"][name]["us"]))
             last = res
+            ratios = {n: round(float(np.median([a / b for a, b in p])), 3) for n, p in pairs.items()}
+            print(f"round {r + 1}: median ratios so far {ratios}", flush=True)
     print(f"cost per right-hand-side evaluation [us], {rounds} interleaved rounds, best of {repeat} each")
     print(f"{'case':40s} {rev + ' [us]':>14s} {'tree [us]':>10s} {'ratio rev/tree':>15s}  evaluations rev / tree")
     for name, pr in pairs.items():
@@ -120,12 +124,13 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--worker", action="store_true", help="print this tree's numbers as JSON")
     ap.add_argument("--src", type=Path, help="the tree to compare (default: this checkout's src/)")
+    ap.add_argument("--keep", type=Path, help="extract REV here and reuse it next time (default: a temporary dir)")
     a = ap.parse_args()
     if a.worker:
         print(json.dumps(worker(a.repeat)))
         return
     try:
-        compare(a.rev, a.rounds, a.repeat, a.src)
+        compare(a.rev, a.rounds, a.repeat, a.src, a.keep)
     except (subprocess.CalledProcessError, FileNotFoundError) as exc:
         print(f"no comparison ({exc}); this tree only:")
         for name, v in worker(a.repeat).items():
