@@ -91,13 +91,15 @@ _B = np.array([35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0])
 _E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
 
 
-def _make_integrate(rhs):
-    """The compiled Dormand-Prince loop over one right-hand side ``rhs(mode, t, y, B, L, geo, pres)``.
+def _make_integrate(inextensible: bool):
+    """The compiled Dormand-Prince loop over one right-hand side.
 
     One loop, specialised at compile time for its right-hand side (no branch on the kinematics and
-    no unused argument arrays on every evaluation): :data:`integrate` for the linear-kinematics
-    modes 0-2 (``B`` = body tensors, ``L`` = loads), :data:`integrate_inextensible` for mode 3
-    (``B`` = the inextensible-kinematics arrays). Each is compiled only when a run needs it.
+    no unused argument arrays on every evaluation): :data:`integrate` calls :func:`rhs` (the
+    linear-kinematics modes 0-2, ``B`` = body tensors, ``L`` = loads), :data:`integrate_inextensible`
+    calls :func:`rhs_inextensible_mode` (mode 3, ``B`` = the inextensible-kinematics arrays). The
+    choice is a closure constant (a bool, so the compiled loop is cached on disk; the branch on it
+    is removed before typing). Each loop is compiled only when a run needs it.
     """
 
     @njit(cache=True)
@@ -144,7 +146,10 @@ def _make_integrate(rhs):
                 ts = t + _C[s] * h_try
                 if hit and _C[s] == 1.0:
                     ts = t_target - 1e-13 * span  # stay left of a load jump at t_target
-                K[s] = rhs(mode, ts, ys, B, L, geo, pres)
+                if inextensible:
+                    K[s] = rhs_inextensible_mode(mode, ts, ys, B, L, geo, pres)
+                else:
+                    K[s] = rhs(mode, ts, ys, B, L, geo, pres)
             nfev += 6
             y_new = ys  # stage 7 evaluates at the 5th-order solution (FSAL)
             en = 0.0
@@ -182,7 +187,11 @@ def _make_integrate(rhs):
                 if hit:
                     if i_brk < breaks.shape[0] and abs(t - breaks[i_brk]) <= 1e-12 * span:
                         i_brk += 1
-                        K[0] = rhs(mode, t, y, B, L, geo, pres)  # restart after a load jump
+                        # restart after a load jump
+                        if inextensible:
+                            K[0] = rhs_inextensible_mode(mode, t, y, B, L, geo, pres)
+                        else:
+                            K[0] = rhs(mode, t, y, B, L, geo, pres)
                         nfev += 1
                     while i_out < nt and abs(t - t_out[i_out]) <= 1e-12 * span:
                         Y[i_out] = y
@@ -214,9 +223,9 @@ def _make_integrate(rhs):
 
 
 #: Dormand-Prince loop of the linear-kinematics right-hand sides (modes 0-2)
-integrate = _make_integrate(rhs)
+integrate = _make_integrate(False)
 #: the same loop over the inextensible-kinematics right-hand side (mode 3)
-integrate_inextensible = _make_integrate(rhs_inextensible_mode)
+integrate_inextensible = _make_integrate(True)
 
 
 def start(mode, y0, t_out, breaks, B, L, geo, pres):
