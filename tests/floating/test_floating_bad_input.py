@@ -122,10 +122,42 @@ def test_validate_config_accepts_good_cases_without_running():
         cfg.pop("domain")
         cfg["solver"]["t_end"] = 1e5  # would take hours to integrate
         cfg["solver"]["dt_out"] = 1.0
+        cfg["solver"]["max_steps"] = 10**12  # a budget that allows it: validation still runs nothing
         t0 = time.perf_counter()
         assert validate_config(cfg) is None
         assert time.perf_counter() - t0 < 5.0
     assert SCHEMA is FloatingCase
+
+
+def test_step_budget_is_estimated_before_the_run():
+    """t_end = 1e5 s with the default budget: refused up front (one line naming
+    solver.max_steps, the estimate and how to raise it), not found exhausted after minutes."""
+    import tomllib
+
+    from rotaflex.floating.body import uniform_beam
+    from rotaflex.floating.hub import free_frequencies
+
+    cfg = tomllib.loads(BEAM)
+    cfg.pop("domain")
+    cfg["solver"]["t_end"] = 1e5
+    cfg["solver"]["dt_out"] = 1.0
+    t0 = time.perf_counter()
+    with pytest.raises(InputError) as err:
+        validate_config(cfg)
+    assert time.perf_counter() - t0 < 5.0
+    e = err.value
+    # the estimate: one step per radian of the fastest free-floating mode over t_end
+    w = free_frequencies(uniform_beam(2.0, 1.0, 10.0, 2)).max()
+    assert e.field == "solver.max_steps" and e.value == 2_000_000
+    assert f"~{w * 1e5:.3g}" in e.allowed and "raise solver.max_steps" in e.allowed
+    # the estimate is a lower bound: a short run of the same case needs more steps than it
+    from rotaflex.floating.model import Load, Settings
+    from rotaflex.floating.solve import simulate
+
+    ld = Load(kind="torque", vector=(0.0, 0.0, 1.0), profile="pulse", duration=0.05)
+    for method in ("full", "perturbation"):
+        sol = simulate(uniform_beam(2.0, 1.0, 10.0, 2), [ld], settings=Settings(t_end=1.0, dt_out=0.1), method=method)
+        assert sol.nstep > w * 1.0
 
 
 def test_early_stop_keeps_data_and_says_why(tmp_path):

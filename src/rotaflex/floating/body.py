@@ -82,6 +82,9 @@ class Body:
     inextensible : InextensibleBeam or None
         Quadrature data for the exact inextensible kinematics (``solver.kinematics =
         "inextensible"``, :mod:`rotaflex.floating.inextensible`); planar cantilever beams only.
+    damping : ndarray (n,) or None
+        Modal viscous damping ratios ``zeta_i`` (the modal equations get ``2 zeta_i omega_i
+        p_i``); None: undamped. Set with :func:`with_damping`.
     rigid : bool
         True only for :func:`rigid_body` (no elastic modes, for cross-checks against rigid-body
         solvers); a normal body must have at least one elastic mode.
@@ -106,6 +109,7 @@ class Body:
     load_geometric: Callable | None = field(default=None, repr=False)
     inextensible: object | None = field(default=None, repr=False)
     params: dict = field(default_factory=dict, repr=False)
+    damping: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         validate_body(self)
@@ -159,6 +163,12 @@ def validate_body(b: Body) -> None:
             f"eigenvalues min {ev.min():.6g}",
             "a symmetric positive definite modal stiffness (frequencies > 0)",
         )
+    if b.damping is not None:
+        z = np.asarray(b.damping, dtype=float)
+        if z.shape != (n,) or not np.all(np.isfinite(z)) or np.any(z < 0.0) or np.any(z >= 1.0):
+            raise InputError("body.damping_ratio", plain(z), f"{n} ratios (one per mode) or one ratio, each in [0, 1)")
+        if np.abs(K - np.diag(np.diag(K))).max() > 1e-9 * np.abs(K).max():
+            raise InputError("body.damping_ratio", plain(z), "none for a body whose modal stiffness is not diagonal")
     Mb = np.einsum("k,kai,kaj->ij", m, b.shapes, b.shapes)
     dev = float(np.abs(Mb - np.eye(n)).max())
     if dev > ORTHONORMAL_TOL:
@@ -167,6 +177,22 @@ def validate_body(b: Body) -> None:
             f"max |sum m Phi^T Phi - I| = {dev:.3e}",
             f"mass-orthonormal modes (deviation <= {ORTHONORMAL_TOL:g})",
         )
+
+
+def with_damping(body: Body, ratio) -> Body:
+    """``body`` with modal damping ratios (one number for every mode, or one per mode).
+
+    Examples
+    --------
+    >>> b = with_damping(uniform_beam(2.0, 1.0, 40.0, 3), 0.01)
+    >>> b.damping.tolist()
+    [0.01, 0.01, 0.01]
+    """
+    from dataclasses import replace
+
+    z = np.broadcast_to(np.asarray(ratio, dtype=float), (body.n_modes,)) if np.ndim(ratio) == 0 else ratio
+    z = np.asarray(z, dtype=float)
+    return replace(body, damping=z.copy(), params={**body.params, "damping_ratio": plain(z)})
 
 
 def record(body: Body) -> dict:

@@ -113,14 +113,46 @@ class FileConfig:
 
 
 @dataclass(frozen=True)
-class BodyConfig:
-    """The flexible body: an analytic beam, an FE frame, point masses with modes, or modes from a file."""
+class AppendageConfig:
+    """A flexible appendage clamped to the hub: a uniform beam from material and section, or an
+    attached-frame modes file (``file``)."""
 
-    type: Literal["beam", "frame", "points", "file"] = param("beam")
+    root: Vec3 = param(unit="m", doc="clamped root in hub axes")
+    direction: Vec3 = param((1.0, 0.0, 0.0), doc="appendage axis (local x) in hub axes")
+    length: float | None = param(None, unit="m", gt=0.0, doc="beam length")
+    e: float | None = param(None, unit="Pa", gt=0.0, doc="Young's modulus (aluminium 70e9)")
+    rho: float | None = param(None, unit="kg/m^3", gt=0.0, doc="density (aluminium 2700)")
+    width: float | None = param(None, unit="m", gt=0.0, doc="rectangular section width (out of the slew plane)")
+    thickness: float | None = param(None, unit="m", gt=0.0, doc="rectangular section thickness (in the slew plane)")
+    area: float | None = param(None, unit="m^2", gt=0.0, doc="or: section area")
+    second_moment: float | None = param(None, unit="m^4", gt=0.0, doc="or: section second moment of area")
+    n_modes: int = param(4, ge=1, le=MAX_BEAM_MODES, doc="clamped bending modes per plane")
+    spatial: bool = param(False, doc="bending in both planes (default: in the slew plane only)")
+    file: str | None = param(None, doc="instead of a beam: a modes file with frame 'attached' (local axes)")
+
+
+@dataclass(frozen=True)
+class HubConfig:
+    """A rigid hub (the body origin at its centre) carrying flexible appendages as one body."""
+
+    mass: float = param(unit="kg", gt=0.0)
+    inertia: tuple[float, float, float] = param(unit="kg m^2", doc="principal moments about hub x, y, z")
+    radius: float = param(0.0, unit="m", ge=0.0, doc="points with |r| <= radius are on the rigid hub")
+    appendages: tuple[AppendageConfig, ...] = param((), doc="[[body.hub.appendages]] tables")
+
+
+@dataclass(frozen=True)
+class BodyConfig:
+    """The flexible body: an analytic beam, an FE frame, point masses with modes, modes from a file,
+    or a rigid hub with flexible appendages."""
+
+    type: Literal["beam", "frame", "points", "file", "hub"] = param("beam")
     beam: BeamConfig | None = param(None)
     frame: FrameConfig | None = param(None)
     points: PointsConfig | None = param(None)
     file: FileConfig | None = param(None)
+    hub: HubConfig | None = param(None)
+    damping_ratio: float = param(0.0, ge=0.0, lt=1.0, doc="modal viscous damping ratio of every elastic mode")
     attachment_points: tuple[Vec3, ...] = param(
         (), unit="m", doc="load points for inertia-relief attachment modes (beam and frame)"
     )
@@ -146,6 +178,41 @@ class ParaviewConfig:
 
 
 @dataclass(frozen=True)
+class SlewConfig:
+    """A rest-to-rest slew by ``angle_deg`` in ``duration`` about ``axis``.
+
+    ``drive = "motion"``: the hub (body frame) follows the profile exactly (prescribed motion,
+    the appendages respond). ``drive = "torque"``: the body-axis torque at the hub centre that
+    would slew the rigid body along the profile (``J theta_ref''``, ``J`` about the centre of
+    mass); the flexible body then ends near, not exactly at, the target. Residual vibration
+    (after ``start + duration``) goes into the summary.
+    """
+
+    angle_deg: float = param(unit="deg", doc="slew angle")
+    duration: float = param(unit="s", gt=0.0, doc="manoeuvre time")
+    profile: Literal["bang-bang", "versine"] = param("versine", doc="bang-bang or versine (cycloidal)")
+    drive: Literal["motion", "torque"] = param("torque", doc="prescribed hub motion or open-loop torque")
+    axis: Vec3 = param((0.0, 0.0, 1.0), doc="slew axis (body frame)")
+    start: float = param(0.0, unit="s", ge=0.0)
+    settle_tolerance: float | None = param(
+        None,
+        unit="m",
+        gt=0.0,
+        doc="deflection band for the settling time (default 5 % of the largest deflection during the manoeuvre)",
+    )
+
+    @property
+    def angle(self) -> float:
+        """Slew angle [rad] (the config key is in degrees)."""
+        return float(np.radians(self.angle_deg))
+
+    @property
+    def end(self) -> float:
+        """End of the manoeuvre [s]."""
+        return self.start + self.duration
+
+
+@dataclass(frozen=True)
 class FloatingCase:
     """A floating flexible body case: body, loads, initial state, prescribed motion, solver, outputs, ParaView."""
 
@@ -153,6 +220,7 @@ class FloatingCase:
     loads: tuple[Load, ...] = param(())
     initial: Initial = param(Initial())
     prescribed: Prescribed | None = param(None)
+    slew: SlewConfig | None = param(None, doc="rest-to-rest slew manoeuvre (motion or torque)")
     solver: Settings = param(Settings())
     outputs: dict[str, Vec3] = param({}, unit="m", doc="named body points (undeformed, body frame)")
     paraview: ParaviewConfig | None = param(None, doc="write a ParaView series (an empty [paraview] table: defaults)")
@@ -169,7 +237,12 @@ def build_body(cfg: BodyConfig, loads=()):
     from rotaflex.floating.body import renamed
 
     try:
-        return _build_body(cfg, loads)
+        body = _build_body(cfg, loads)
+        if cfg.damping_ratio > 0 and not body.rigid:
+            from rotaflex.floating.body import with_damping
+
+            body = with_damping(body, cfg.damping_ratio)
+        return body
     except InputError as exc:
         if cfg.type == "frame":
             raise renamed(exc, _FRAME_FIELDS, "body.frame.") from None
@@ -244,6 +317,8 @@ def _build_body(cfg: BodyConfig, loads=()):
         from rotaflex.floating.modes_file import load_modes
 
         return load_modes(cfg.file.path, cfg.file.frame)
+    if cfg.type == "hub":
+        return _hub(cfg.hub)
     p = cfg.points
     return point_body(
         p.masses,
@@ -254,6 +329,36 @@ def _build_body(cfg: BodyConfig, loads=()):
         rotary_inertias=p.rotary_inertias,
         geometric=p.geometric,
     )
+
+
+def _hub(h: HubConfig):
+    from rotaflex.floating.hub import beam_appendage, hub_body
+
+    apps = []
+    for i, a in enumerate(h.appendages):
+        where = f"body.hub.appendages[{i}]"
+        if a.file is not None:
+            from rotaflex.floating.modes_file import load_modes
+
+            app = load_modes(a.file, "attached", where=where + ".file")
+        else:
+            for key in ("length", "e", "rho"):
+                if getattr(a, key) is None:
+                    raise InputError(f"{where}.{key}", "<missing>", "a number > 0 for a beam appendage (or file = ...)")
+            app = beam_appendage(
+                a.length,
+                a.e,
+                a.rho,
+                a.n_modes,
+                width=a.width,
+                thickness=a.thickness,
+                area=a.area,
+                second_moment=a.second_moment,
+                spatial=a.spatial,
+                where=where,
+            )
+        apps.append((app, a.root, a.direction))
+    return hub_body(h.mass, h.inertia, apps, radius=h.radius)
 
 
 #: root schema of a floating case file (for templates and generated config docs)
@@ -283,17 +388,19 @@ def _parse(config: dict) -> FloatingCase:
 
 
 def prepare(config: dict):
-    """Parse and check a case without integrating: ``(case, body, methods)``.
+    """Parse and check a case without integrating: ``(case, body, methods)``; ``case`` has the
+    slew (if any) applied: its torque among the loads or its motion as ``prescribed``.
 
     Raises
     ------
     InputError
         Bad input (one line naming field, value and what is allowed).
     """
-    from rotaflex.floating.solve import check_inputs
+    from rotaflex.floating.solve import check_inputs, check_step_budget
 
     case = _parse(config)
     body = build_body(case.body, case.loads)
+    case = _with_slew(case, body)
     for name, pt in case.outputs.items():
         try:
             body.shape_fn(np.array([pt], dtype=float))
@@ -311,6 +418,7 @@ def prepare(config: dict):
         methods = ["full"]
     for m in methods:
         check_inputs(body, case.loads, case.initial, case.solver, m, case.prescribed is not None)
+        check_step_budget(body, case.solver, m, case.prescribed)
     pv = case.paraview
     if pv is not None and pv.solution is not None:
         computed = ["prescribed"] if case.prescribed is not None else methods
@@ -319,16 +427,47 @@ def prepare(config: dict):
     return case, body, methods
 
 
+def _with_slew(case: FloatingCase, body) -> FloatingCase:
+    """The case with its ``[slew]`` turned into a load (drive = torque) or prescribed motion."""
+    sl = case.slew
+    if sl is None:
+        return case
+    if float(np.linalg.norm(sl.axis)) == 0.0:
+        raise InputError("slew.axis", list(sl.axis), "a non-zero vector")
+    if sl.drive == "motion":
+        if case.prescribed is not None:
+            raise InputError("slew.drive", "motion", "'torque' with a [prescribed] table (one prescribed motion)")
+        pres = Prescribed(axis=sl.axis, profile=sl.profile, angle=sl.angle, duration=sl.duration, start=sl.start)
+        return dataclasses.replace(case, prescribed=pres)
+    if case.prescribed is not None:
+        raise InputError("slew.drive", "torque", "no [prescribed] table with a torque slew (the motion is computed)")
+    from rotaflex.floating.hub import slew_torque
+
+    ld = slew_torque(body, sl.angle, sl.duration, sl.profile, axis=sl.axis, start=sl.start)
+    return dataclasses.replace(case, loads=(*case.loads, ld))
+
+
 def resolve_paths(config: dict, base) -> dict:
     """A copy of ``config`` with a relative ``body.file.path`` joined to ``base`` (the directory
     of the case file), so a case runs the same from any working directory."""
     body = config.get("body")
-    file = body.get("file") if isinstance(body, dict) else None
-    path = file.get("path") if isinstance(file, dict) else None
-    if not isinstance(path, str) or Path(path).is_absolute():
+    if not isinstance(body, dict):
         return config  # absent or malformed: the schema check reports it
-    body = dict(config["body"])
-    body["file"] = {**body["file"], "path": str(Path(base) / path)}
+    body = dict(body)
+    file = body.get("file")
+    path = file.get("path") if isinstance(file, dict) else None
+    if isinstance(path, str) and not Path(path).is_absolute():
+        body["file"] = {**file, "path": str(Path(base) / path)}
+    hub = body.get("hub")
+    apps = hub.get("appendages") if isinstance(hub, dict) else None
+    if isinstance(apps, list):
+        apps = [
+            {**a, "file": str(Path(base) / a["file"])}
+            if isinstance(a, dict) and isinstance(a.get("file"), str) and not Path(a["file"]).is_absolute()
+            else a
+            for a in apps
+        ]
+        body["hub"] = {**hub, "appendages": apps}
     return {**config, "body": body}
 
 
@@ -344,8 +483,51 @@ def validate_config(config: dict) -> None:
     prepare(config)
 
 
-def run_case(config: dict, *, progress: bool = False):
+class _progress_for:
+    """Progress of one solver run over simulated time: a bar on a terminal, one line per 10 %
+    otherwise (``progress``: False, True, or ``"lines"``)."""
+
+    def __init__(self, progress, label: str, t_end: float):
+        self.mode = progress if progress in ("lines", "bar") else ("bar" if progress else None)
+        if self.mode == "bar":
+            import sys
+
+            self.mode = "bar" if sys.stderr.isatty() else "lines"
+        self.label, self.t_end, self.bar, self.next = label, t_end, None, 0.1
+
+    def __enter__(self):
+        if self.mode == "bar":
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=100, unit="%", desc=f"simulating {self.label}".strip(), leave=False)
+        return self if self.mode else None
+
+    def __call__(self, t: float) -> None:
+        frac = min(1.0, t / self.t_end) if self.t_end > 0 else 1.0
+        if self.bar is not None:
+            self.bar.n = int(100 * frac)
+            self.bar.refresh()
+        elif frac >= self.next - 1e-12:
+            import sys
+
+            print(
+                f"simulating {self.label} t = {t:.4g} s of {self.t_end:.4g} s ({frac:.0%})".replace("  ", " "),
+                file=sys.stderr,
+                flush=True,
+            )
+            self.next = np.floor(frac * 10 + 1e-9) / 10 + 0.1
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            self.bar.close()
+        return False
+
+
+def run_case(config: dict, *, progress: bool | str = False):
     """Validate a parsed TOML config and simulate it; returns a ``FloatingResult``.
+
+    ``progress``: True shows a bar over simulated time on a terminal and one line per 10 % of
+    it otherwise; ``"lines"`` always lines; False nothing.
 
     Raises
     ------
@@ -357,9 +539,25 @@ def run_case(config: dict, *, progress: bool = False):
 
     t0 = time.perf_counter()
     case, body, methods = prepare(config)
-    sols = [simulate(body, case.loads, case.initial, case.solver, m, case.prescribed) for m in methods]
+    sols = []
+    for m in methods:
+        with _progress_for(progress, m if len(methods) > 1 else "", case.solver.t_end) as bar:
+            sols.append(simulate(body, case.loads, case.initial, case.solver, m, case.prescribed, progress=bar))
     resolved = json.loads(json.dumps(dataclasses.asdict(case)))
     result = build_result(body, sols, dict(case.outputs), resolved, time.perf_counter() - t0)
+    if case.slew is not None:
+        sl = case.slew
+        result.dataset.attrs["manoeuvre"] = json.dumps(
+            {
+                "profile": sl.profile,
+                "drive": sl.drive,
+                "angle": sl.angle,
+                "axis": list(np.asarray(sl.axis) / np.linalg.norm(sl.axis)),
+                "start": sl.start,
+                "end": sl.end,
+                "settle_tolerance": sl.settle_tolerance,
+            }
+        )
     if case.paraview is not None:
         from rotaflex.floating.paraview import frames
 

@@ -2,7 +2,9 @@
 
 Attitude from the state and Euler 1-2-3 angles unwrapped after every accepted step (never from
 output samples), step control landing on output times and load breakpoints, divergence guard.
-The right-hand sides are :func:`rotaflex.floating.kernels.rhs` (``mode`` 0-3).
+The right-hand sides are :func:`rotaflex.floating.kernels.rhs` (``mode`` 0-2) and
+:func:`rotaflex.floating.kernels.rhs_inextensible_mode` (``mode`` 3), each with its own compiled loop.
+A run can be advanced in chunks (progress output) with the same steps as in one call.
 """
 
 from __future__ import annotations
@@ -10,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rotaflex.floating.kernels import quat_matrix, rhs, spin_profile
+from rotaflex.floating.kernels import motion_profile, quat_matrix, rhs, rhs_inextensible_mode
 
 # ----------------------------------------------------------------------------------------
 # attitude from the state, and Euler 1-2-3 angles unwrapped step by step (never from samples)
@@ -26,7 +28,7 @@ def attitude(mode, t, y, pres, zero_order):
     the zero-order attitude ``e0`` of the perturbation method)."""
     e = np.empty(4)
     if mode >= 2:
-        ang = spin_profile(pres[3], pres[4], t)[0]
+        ang = motion_profile(pres, t)[0]
         e[0] = np.cos(0.5 * ang)
         for i in range(3):
             e[i + 1] = np.sin(0.5 * ang) * pres[i]
@@ -89,118 +91,161 @@ _B = np.array([35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0])
 _E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
 
 
-@njit(cache=True)
-def integrate(mode, y0, t_out, breaks, rtol, atol, max_steps, limit, n_lim0, n_lim1, B, L, geo, pres, kin):
-    """Integrate ``rhs(mode, ...)`` from ``t_out[0]``; return states at ``t_out``.
+def _make_integrate(inextensible: bool):
+    """The compiled Dormand-Prince loop over one right-hand side.
 
-    Returns ``(Y, EUL, status, t_stop, nfev, nstep)``; ``EUL`` (nt, 6) are the Euler 1-2-3
-    angles of the attitude, unwrapped after every accepted step (each step turns the body by at
-    most ``MAX_STEP_ROTATION``), so they do not depend on the output interval. Status 0 ok,
-    1 step budget exhausted, 2 step size underflow / non-finite state, 3 ``|y[n_lim0:n_lim1]|``
-    exceeded ``limit`` (divergence guard). Rows after a failure are NaN.
+    One loop, specialised at compile time for its right-hand side (no branch on the kinematics and
+    no unused argument arrays on every evaluation): :data:`integrate` calls :func:`rhs` (the
+    linear-kinematics modes 0-2, ``B`` = body tensors, ``L`` = loads), :data:`integrate_inextensible`
+    calls :func:`rhs_inextensible_mode` (mode 3, ``B`` = the inextensible-kinematics arrays). The
+    choice is a closure constant (a bool, so the compiled loop is cached on disk; the branch on it
+    is removed before typing). Each loop is compiled only when a run needs it.
     """
-    nt = t_out.shape[0]
-    ny = y0.shape[0]
+
+    @njit(cache=True)
+    def run(
+        mode, t_out, i_end, Y, EUL, y, K0, att, cnt, hs, breaks, rtol, atol, max_steps, limit, n_lim, B, L, geo, pres
+    ):
+        """Advance from output row ``cnt[2] - 1`` until row ``i_end`` is written (or a stop).
+
+        State carried between calls (updated in place, so a run in chunks is identical to one
+        call): ``y`` state, ``K0`` the first stage (FSAL), ``att`` = (previous attitude quaternion,
+        Euler angles, zero-order Euler angles), ``cnt`` = (nfev, nstep, i_out, i_brk), ``hs`` =
+        (step size, time). Rows ``Y``/``EUL`` are written as they are reached. Returns the status:
+        0 ok, 1 step budget exhausted, 2 step size underflow / non-finite state, 3
+        ``|y[n_lim[0]:n_lim[1]]|`` exceeded ``limit`` (divergence guard).
+        """
+        nt = t_out.shape[0]
+        ny = y.shape[0]
+        K = np.zeros((7, ny))
+        K[0] = K0
+        e_prev = att[0:4].copy()
+        eul = att[4:7].copy()
+        eul0 = att[7:10].copy()
+        nfev, nstep, i_out, i_brk = cnt[0], cnt[1], cnt[2], cnt[3]
+        h, t = hs[0], hs[1]
+        span = t_out[-1] - t_out[0]
+        status = 0
+        while i_out < min(i_end, nt):
+            t_target = t_out[i_out]
+            if i_brk < breaks.shape[0] and breaks[i_brk] < t_target:
+                t_target = breaks[i_brk]
+            hit = False
+            if t + h >= t_target - 1e-12 * span:
+                h_try = t_target - t
+                hit = True
+            else:
+                h_try = h
+            ys = np.empty(ny)
+            for s in range(1, 7):
+                for i in range(ny):
+                    acc = y[i]
+                    for j in range(s):
+                        acc += h_try * _A[s, j] * K[j, i]
+                    ys[i] = acc
+                ts = t + _C[s] * h_try
+                if hit and _C[s] == 1.0:
+                    ts = t_target - 1e-13 * span  # stay left of a load jump at t_target
+                if inextensible:
+                    K[s] = rhs_inextensible_mode(mode, ts, ys, B, L, geo, pres)
+                else:
+                    K[s] = rhs(mode, ts, ys, B, L, geo, pres)
+            nfev += 6
+            y_new = ys  # stage 7 evaluates at the 5th-order solution (FSAL)
+            en = 0.0
+            for i in range(ny):
+                er = 0.0
+                for j in range(7):
+                    er += _E[j] * K[j, i]
+                sc = atol + rtol * max(abs(y[i]), abs(y_new[i]))
+                en += (h_try * er / sc) ** 2
+            en = np.sqrt(en / ny)
+            if not np.isfinite(en):
+                en = 1e10
+            e_new = attitude(mode, t + h_try, y_new, pres, False)
+            rot = step_rotation(e_prev, e_new)
+            if not rot <= MAX_STEP_ROTATION:
+                en = max(en, 2.0)
+            nstep += 1
+            if en <= 1.0:
+                e_prev = e_new
+                euler123(e_new, eul, eul)
+                if mode == 1:  # zero-order attitude; it turns by less than the total per step
+                    euler123(attitude(mode, t + h_try, y_new, pres, True), eul0, eul0)
+                else:
+                    eul0[:] = eul
+                t = t_target if hit else t + h_try
+                y[:] = y_new
+                K[0] = K[6]
+                fac = 0.9 * en ** (-0.2) if en > 0 else 5.0
+                if fac > 5.0:
+                    fac = 5.0
+                if not hit:
+                    h = h_try * fac
+                elif fac > 1.0:
+                    h = max(h, h_try * fac)
+                if hit:
+                    if i_brk < breaks.shape[0] and abs(t - breaks[i_brk]) <= 1e-12 * span:
+                        i_brk += 1
+                        # restart after a load jump
+                        if inextensible:
+                            K[0] = rhs_inextensible_mode(mode, t, y, B, L, geo, pres)
+                        else:
+                            K[0] = rhs(mode, t, y, B, L, geo, pres)
+                        nfev += 1
+                    while i_out < nt and abs(t - t_out[i_out]) <= 1e-12 * span:
+                        Y[i_out] = y
+                        EUL[i_out, :3], EUL[i_out, 3:] = eul, eul0
+                        i_out += 1
+                    while i_brk < breaks.shape[0] and breaks[i_brk] <= t + 1e-12 * span:
+                        i_brk += 1
+                if n_lim[1] > n_lim[0] and np.max(np.abs(y[n_lim[0] : n_lim[1]])) > limit:
+                    status = 3
+                    break
+            else:
+                fac = 0.9 * en ** (-0.2)
+                if fac < 0.2:
+                    fac = 0.2
+                h = h_try * fac
+                if h < 1e-14 * span:
+                    status = 2
+                    break
+            if nstep >= max_steps:
+                status = 1
+                break
+        K0[:] = K[0]
+        att[0:4], att[4:7], att[7:10] = e_prev, eul, eul0
+        cnt[0], cnt[1], cnt[2], cnt[3] = nfev, nstep, i_out, i_brk
+        hs[0], hs[1] = h, t
+        return status
+
+    return run
+
+
+#: Dormand-Prince loop of the linear-kinematics right-hand sides (modes 0-2)
+integrate = _make_integrate(False)
+#: the same loop over the inextensible-kinematics right-hand side (mode 3)
+integrate_inextensible = _make_integrate(True)
+
+
+def start(mode, y0, t_out, breaks, B, L, geo, pres):
+    """Initial carried state of :func:`_make_integrate`'s loop: ``(Y, EUL, y, K0, att, cnt, hs)``
+    with row 0 written (the initial state and its Euler angles)."""
+    nt, ny = t_out.shape[0], y0.shape[0]
     Y = np.full((nt, ny), np.nan)
     EUL = np.full((nt, 6), np.nan)
     Y[0] = y0
-    y = y0.copy()
-    t = t_out[0]
-    e_prev = attitude(mode, t, y, pres, False)
-    eul = np.zeros(3)
-    eul0 = np.zeros(3)
-    euler123(e_prev, eul, eul)
-    euler123(attitude(mode, t, y, pres, True), eul0, eul0)
+    t = float(t_out[0])
+    att = np.zeros(10)
+    att[0:4] = attitude(mode, t, y0, pres, False)
+    eul, eul0 = np.zeros(3), np.zeros(3)
+    euler123(att[0:4], eul, eul)
+    euler123(attitude(mode, t, y0, pres, True), eul0, eul0)
+    att[4:7], att[7:10] = eul, eul0
     EUL[0, :3], EUL[0, 3:] = eul, eul0
-    K = np.zeros((7, ny))
-    K[0] = rhs(mode, t, y, B, L, geo, pres, kin)
-    nfev = 1
-    span = t_out[-1] - t_out[0]
-    h = 1e-4 * span
-    nstep = 0
-    i_out = 1
-    i_brk = 0
-    while i_brk < breaks.shape[0] and breaks[i_brk] <= t:
-        i_brk += 1
-    status = 0
-    while i_out < nt:
-        t_target = t_out[i_out]
-        if i_brk < breaks.shape[0] and breaks[i_brk] < t_target:
-            t_target = breaks[i_brk]
-        hit = False
-        if t + h >= t_target - 1e-12 * span:
-            h_try = t_target - t
-            hit = True
-        else:
-            h_try = h
-        ys = np.empty(ny)
-        for s in range(1, 7):
-            for i in range(ny):
-                acc = y[i]
-                for j in range(s):
-                    acc += h_try * _A[s, j] * K[j, i]
-                ys[i] = acc
-            ts = t + _C[s] * h_try
-            if hit and _C[s] == 1.0:
-                ts = t_target - 1e-13 * span  # stay left of a load jump at t_target
-            K[s] = rhs(mode, ts, ys, B, L, geo, pres, kin)
-        nfev += 6
-        y_new = ys  # stage 7 evaluates at the 5th-order solution (FSAL)
-        en = 0.0
-        for i in range(ny):
-            er = 0.0
-            for j in range(7):
-                er += _E[j] * K[j, i]
-            sc = atol + rtol * max(abs(y[i]), abs(y_new[i]))
-            en += (h_try * er / sc) ** 2
-        en = np.sqrt(en / ny)
-        if not np.isfinite(en):
-            en = 1e10
-        e_new = attitude(mode, t + h_try, y_new, pres, False)
-        rot = step_rotation(e_prev, e_new)
-        if not rot <= MAX_STEP_ROTATION:
-            en = max(en, 2.0)
-        nstep += 1
-        if en <= 1.0:
-            e_prev = e_new
-            euler123(e_new, eul, eul)
-            if mode == 1:  # zero-order attitude; it turns by less than the total per step
-                euler123(attitude(mode, t + h_try, y_new, pres, True), eul0, eul0)
-            else:
-                eul0[:] = eul
-            t = t_target if hit else t + h_try
-            y = y_new
-            K[0] = K[6]
-            fac = 0.9 * en ** (-0.2) if en > 0 else 5.0
-            if fac > 5.0:
-                fac = 5.0
-            if not hit:
-                h = h_try * fac
-            elif fac > 1.0:
-                h = max(h, h_try * fac)
-            if hit:
-                if i_brk < breaks.shape[0] and abs(t - breaks[i_brk]) <= 1e-12 * span:
-                    i_brk += 1
-                    K[0] = rhs(mode, t, y, B, L, geo, pres, kin)  # restart after a load jump
-                    nfev += 1
-                while i_out < nt and abs(t - t_out[i_out]) <= 1e-12 * span:
-                    Y[i_out] = y
-                    EUL[i_out, :3], EUL[i_out, 3:] = eul, eul0
-                    i_out += 1
-                while i_brk < breaks.shape[0] and breaks[i_brk] <= t + 1e-12 * span:
-                    i_brk += 1
-            if n_lim1 > n_lim0 and np.max(np.abs(y[n_lim0:n_lim1])) > limit:
-                status = 3
-                break
-        else:
-            fac = 0.9 * en ** (-0.2)
-            if fac < 0.2:
-                fac = 0.2
-            h = h_try * fac
-            if h < 1e-14 * span:
-                status = 2
-                break
-        if nstep >= max_steps:
-            status = 1
-            break
-    return Y, EUL, status, t, nfev, nstep
+    fn = rhs_inextensible_mode if mode == 3 else rhs
+    K0 = np.asarray(fn(mode, t, y0.copy(), B, L, geo, pres), dtype=float)
+    i_brk = int(np.searchsorted(breaks, t, side="right"))
+    cnt = np.array([1, 0, 1, i_brk], dtype=np.int64)
+    hs = np.array([1e-4 * (t_out[-1] - t_out[0]), t])
+    return Y, EUL, y0.astype(float).copy(), K0, att, cnt, hs

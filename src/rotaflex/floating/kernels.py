@@ -70,6 +70,42 @@ def spin_profile(rate, t_up, t):
     return ang_up + rate * (t - t_up), rate, 0.0
 
 
+#: prescribed motion profiles (``pres[5]``; keep in step with model.Prescribed.profile)
+MOTIONS = ("spin-up", "bang-bang", "versine")
+
+
+@njit(cache=True)
+def motion_profile(pres, t):
+    """Angle [rad], rate [rad/s] and acceleration [rad/s^2] of the prescribed rotation.
+
+    ``pres = (axis (3), a, b, kind, start)``: kind 0 Kane-Ryan-Banerjee spin-up to rate ``a`` in
+    ``b`` seconds (:func:`spin_profile`); kind 1 rest-to-rest bang-bang slew by angle ``a`` in
+    ``b`` seconds from ``start`` (constant acceleration ``4 a / b^2``, then the same
+    deceleration); kind 2 versine (cycloidal) slew ``a (s - sin(2 pi s) / (2 pi))``, ``s = (t -
+    start) / b``, whose acceleration is a full sine period (no jumps)."""
+    kind = pres[5]
+    if kind == 0.0:
+        return spin_profile(pres[3], pres[4], t)
+    ang, dur = pres[3], pres[4]
+    tau = t - pres[6]
+    if tau <= 0.0:
+        return 0.0, 0.0, 0.0
+    if tau >= dur:
+        return ang, 0.0, 0.0
+    if kind == 1.0:
+        acc = 4.0 * ang / (dur * dur)
+        if tau < 0.5 * dur:
+            return 0.5 * acc * tau * tau, acc * tau, acc
+        r = dur - tau
+        return ang - 0.5 * acc * r * r, acc * r, -acc
+    c = 2.0 * np.pi / dur
+    return (
+        ang * (tau / dur - np.sin(c * tau) / (2.0 * np.pi)),
+        ang / dur * (1.0 - np.cos(c * tau)),
+        ang * c / dur * np.sin(c * tau),
+    )
+
+
 @njit(cache=True)
 def quat_matrix(e):
     """Active rotation matrix ``R = I + 2 e0 e~ + 2 e~ e~`` of a (normalised) quaternion."""
@@ -190,6 +226,13 @@ def sub_mat(f, off, K, q):
         for j in range(n):
             s += K[i, j] * q[j]
         f[off + i] -= s
+
+
+@njit(cache=True)
+def sub_damping(f, off, cd, p):
+    """``f[off:] -= cd * p``: modal viscous damping ``2 zeta_i omega_i p_i`` (``cd`` empty: none)."""
+    for i in range(cd.shape[0]):
+        f[off + i] -= cd[i] * p[i]
 
 
 @njit(cache=True)
@@ -379,7 +422,7 @@ def solve_spd(M, f):
 
 @njit(cache=True)
 def rhs_full(t, y, B, L, geo):
-    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv = B
+    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv, cd = B
     n = Kb.shape[0]
     dy = np.empty_like(y)
     e = y[3:7]
@@ -392,6 +435,7 @@ def rhs_full(t, y, B, L, geo):
     quat_rate(e, w, dy[3:7])
     f = loads_full(t, A, q, L)
     sub_mat(f, 6, Kb, q)
+    sub_damping(f, 6, cd, p)
     Pq = np.empty((3, 3, n))
     Pp = np.empty((3, 3, n))
     contract(P, q, Pq)
@@ -475,7 +519,7 @@ def rhs_full(t, y, B, L, geo):
 @njit(cache=True)
 def zero_order_accel(t, y, B, L):
     """Zero-order rigid accelerations ``(Vdot0, wdot0)`` of eq. 27 and the load split."""
-    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv = B
+    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv, cd = B
     n = Kb.shape[0]
     A0 = quat_matrix(y[3:7])
     V0, w0 = y[7:10], y[10:13]
@@ -495,7 +539,7 @@ def zero_order_accel(t, y, B, L):
 @njit(cache=True)
 def rhs_perturbation(t, y, B, L, geo):
     """Zero order + exact linearisation of :func:`rhs_full` about ``(x0(t), q = p = 0)``."""
-    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv = B
+    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv, cd = B
     n = Kb.shape[0]
     dy = np.empty_like(y)
     V0, w0 = y[7:10], y[10:13]
@@ -508,6 +552,7 @@ def rhs_perturbation(t, y, B, L, geo):
     dy[7:13] = acc
     f = H1.copy()
     sub_mat(f, 6, Kb, q1)
+    sub_damping(f, 6, cd, p1)
     Pq = np.empty((3, 3, n))
     Pp = np.empty((3, 3, n))
     contract(P, q1, Pq)
@@ -577,14 +622,16 @@ def rhs_perturbation(t, y, B, L, geo):
 
 
 @njit(cache=True)
-def rhs_prescribed(t, y, B, L, geo, axis, rate, t_up):
-    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv = B
+def rhs_prescribed(t, y, B, L, geo, pres):
+    mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv, cd = B
     n = Kb.shape[0]
     q, p = y[0:n], y[n:]
-    _, om, al = spin_profile(rate, t_up, t)
+    axis = pres[0:3]
+    _, om, al = motion_profile(pres, t)
     w = om * axis
     f = loads_full(t, np.eye(3), q, L)
     sub_mat(f, 6, Kb, q)
+    sub_damping(f, 6, cd, p)
     if geo:
         Smat = np.empty((3, 3))
         Sdot = np.empty((3, 3))
@@ -608,7 +655,7 @@ def rhs_prescribed(t, y, B, L, geo, axis, rate, t_up):
 
 
 @njit(cache=True)
-def rhs_inextensible(t, y, kin, axis, rate, t_up):
+def rhs_inextensible(t, y, kin, pres):
     """Prescribed frame motion with the exact inextensible kinematics of a planar cantilever
     (:mod:`rotaflex.floating.inextensible`): ``M(q) qddot = -K(q) - sum m J^T c``, where
     ``J = Phi + e_x du/dq`` and ``c = alpha x r + w x (w x r) + 2 w x J p + e_x p^T u_qq p``.
@@ -617,7 +664,8 @@ def rhs_inextensible(t, y, kin, axis, rate, t_up):
     m, X, Phi, Dp, wp, pend, D1, D2, wq, ei = kin
     n = Phi.shape[2]
     q, p = y[0:n], y[n:]
-    _, om, al = spin_profile(rate, t_up, t)
+    axis = pres[0:3]
+    _, om, al = motion_profile(pres, t)
     w = om * axis
     W = skew3(al * axis) + outer3(w, w)
     ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
@@ -689,17 +737,16 @@ def rhs_inextensible(t, y, kin, axis, rate, t_up):
 
 
 @njit(cache=True)
-def rhs(mode, t, y, B, L, geo, pres, kin):
+def rhs(mode, t, y, B, L, geo, pres):
+    """Right-hand side of the linear-kinematics modes 0 (full), 1 (perturbation), 2 (prescribed)."""
     if mode == 0:
         return rhs_full(t, y, B, L, geo)
     if mode == 1:
         return rhs_perturbation(t, y, B, L, geo)
-    if mode == 3:
-        return rhs_inextensible(t, y, kin, pres[0:3], pres[3], pres[4])
-    return rhs_prescribed(t, y, B, L, geo, pres[0:3], pres[3], pres[4])
+    return rhs_prescribed(t, y, B, L, geo, pres)
 
 
-def no_kinematics() -> tuple:
-    """Placeholder of the inextensible-kinematics arrays for the other modes (same types)."""
-    z1, z2 = np.zeros(0), np.zeros((0, 0))
-    return (z1, np.zeros((0, 3)), np.zeros((0, 3, 0)), z2, z1, np.zeros(0, np.int64), z2, z2, z1, np.zeros(1))
+@njit(cache=True)
+def rhs_inextensible_mode(mode, t, y, kin, L, geo, pres):
+    """Mode 3 with the argument list of :func:`rhs` (``kin`` in the place of the body tensors)."""
+    return rhs_inextensible(t, y, kin, pres)

@@ -119,19 +119,42 @@ class Initial:
 
 @dataclass(frozen=True)
 class Prescribed:
-    """Prescribed rigid rotation about a body-fixed axis through the body origin.
+    """Prescribed rigid rotation about a body-fixed axis through the body origin (the origin is
+    held; only the elastic coordinates are integrated).
 
-    The Kane-Ryan-Banerjee spin-up: ``Omega(t) = rate/T (t - T/(2 pi) sin(2 pi t/T))`` for
-    ``t < T = spin_up_time``, then ``rate``.
+    ``profile``: ``spin-up`` (Kane-Ryan-Banerjee: ``Omega(t) = rate/T (t - T/(2 pi) sin(2 pi
+    t/T))`` for ``t < T = spin_up_time``, then ``rate``); ``bang-bang`` (rest-to-rest slew by
+    ``angle`` in ``duration`` from ``start``: constant acceleration ``4 angle / duration^2`` for
+    the first half, the same deceleration for the second); ``versine`` (cycloidal rest-to-rest
+    slew ``angle (s - sin(2 pi s) / (2 pi))``, ``s = (t - start) / duration``: smooth
+    acceleration, a full sine period).
     """
 
     axis: Vec3 = param((0.0, 0.0, 1.0), doc="rotation axis (body frame, normalised)")
-    rate: float = param(6.0, unit="rad/s", doc="final spin rate")
-    spin_up_time: float = param(15.0, unit="s", gt=0.0)
+    rate: float = param(6.0, unit="rad/s", doc="final spin rate (spin-up)")
+    spin_up_time: float = param(15.0, unit="s", gt=0.0, doc="spin-up time T (spin-up)")
+    profile: Literal["spin-up", "bang-bang", "versine"] = param("spin-up")
+    angle: float = param(0.0, unit="rad", doc="slew angle (bang-bang, versine)")
+    duration: float = param(1.0, unit="s", gt=0.0, doc="slew duration (bang-bang, versine)")
+    start: float = param(0.0, unit="s", ge=0.0, doc="slew start time (bang-bang, versine)")
 
     def __post_init__(self):
         if float(np.linalg.norm(self.axis)) == 0.0:
             raise InputError("prescribed.axis", list(self.axis), "a non-zero vector")
+
+    def packed(self) -> np.ndarray:
+        """``(axis (3, unit), a, b, kind, start)`` for :func:`rotaflex.floating.kernels.motion_profile`."""
+        ax = np.asarray(self.axis, dtype=float)
+        kind = ("spin-up", "bang-bang", "versine").index(self.profile)
+        a, b = (self.rate, self.spin_up_time) if kind == 0 else (self.angle, self.duration)
+        return np.array([*(ax / np.linalg.norm(ax)), a, b, float(kind), self.start if kind else 0.0])
+
+    def breakpoints(self) -> list[float]:
+        """Times [s] where the angular acceleration jumps (the integrator steps onto them)."""
+        if self.profile == "spin-up":
+            return [self.spin_up_time]
+        t0, d = self.start, self.duration
+        return [t0, t0 + 0.5 * d, t0 + d] if self.profile == "bang-bang" else [t0, t0 + d]
 
 
 @dataclass(frozen=True)

@@ -50,6 +50,12 @@ class FloatingResult(Result):
                 "value": sel["euler_123"].values[-1].tolist(),
                 "unit": "rad",
             }
+            out[f"{s}.final_euler_123_deg"] = {
+                "value": np.degrees(sel["euler_123"].values[-1]).tolist(),
+                "unit": "deg",
+            }
+        if "manoeuvre" in ds.attrs:
+            out.update(residual_vibration(ds))
         if {"full", "perturbation"} <= set(ds["solution"].values) and ds.sizes["point"]:
             d = ds["point_position"].sel(solution="perturbation") - ds["point_position"].sel(solution="full")
             out["max_point_difference_perturbation_vs_full"] = {
@@ -58,7 +64,7 @@ class FloatingResult(Result):
             }
         return out
 
-    def plot(self):
+    def plot(self):  # noqa: C901 - one panel after the other
         from rotaflex.core.plotting import new_figure
 
         ds = self.dataset
@@ -86,13 +92,36 @@ class FloatingResult(Result):
         figs["attitude"] = fig
         if ds.sizes["point"]:
             fig, ax = new_figure()
-            for s in ds["solution"].values:
-                for pt in ds["point"].values:
-                    u = ds["point_deflection"].sel(solution=s, point=pt).values
-                    k = int(np.argmax(np.nan_to_num(np.abs(u)).max(axis=0)))
-                    ax.plot(t, u[:, k], label=f"{s} {pt} {'xyz'[k]}")
+            u_all = ds["point_deflection"].values
+            scale, unit = _length_unit(np.nanmax(np.abs(u_all)) if np.isfinite(u_all).any() else 0.0)
+            sols = list(ds["solution"].values)
+            styles = {"full": "-", "prescribed": "-", "perturbation": "--"}
+            notes = []
+            for i_pt, pt in enumerate(ds["point"].values):
+                u0 = ds["point_deflection"].sel(solution=sols[0], point=pt).values
+                k = int(np.argmax(np.nan_to_num(np.abs(u0)).max(axis=0)))
+                for s in sols:
+                    u = ds["point_deflection"].sel(solution=s, point=pt).values[:, k]
+                    # solution -> line style (dashed on top of solid), point -> colour: lines that
+                    # coincide stay visible as a dashed line over a solid one
+                    ax.plot(
+                        t,
+                        u / scale,
+                        ls=styles.get(str(s), "-"),
+                        lw=2.2 if styles.get(str(s), "-") == "-" and len(sols) > 1 else 1.2,
+                        color=f"C{i_pt}",
+                        label=f"{pt} {'xyz'[k]} ({s})",
+                    )
+                if len(sols) > 1:
+                    d = ds["point_deflection"].sel(point=pt).values[:, :, k]
+                    diff = np.nanmax(np.abs(d[1:] - d[0]))
+                    notes.append(f"{pt}: max |{sols[1]} - {sols[0]}| = {diff / scale:.3g} {unit}")
+            if "manoeuvre" in ds.attrs:
+                ax.axvline(json.loads(ds.attrs["manoeuvre"])["end"], color="0.5", lw=0.8, ls=":")
+            if notes:
+                ax.set_title("; ".join(notes), fontsize=8)
             ax.set_xlabel("time [s]")
-            ax.set_ylabel("elastic deflection (body axes) [m]")
+            ax.set_ylabel(f"elastic deflection (body axes) [{unit}]")
             ax.legend(fontsize=7)
             ax.grid(alpha=0.3)
             figs["deflection"] = fig
@@ -107,6 +136,70 @@ class FloatingResult(Result):
         ax.grid(alpha=0.3)
         figs["modal"] = fig
         return figs
+
+
+def _length_unit(peak: float) -> tuple[float, str]:
+    """Scale [m] and unit label for lengths whose largest magnitude is ``peak`` [m]."""
+    from rotaflex.core.plotting import pretty_unit
+
+    for scale, unit in ((1.0, "m"), (1e-3, "mm"), (1e-6, "um")):
+        if peak >= scale:
+            return scale, pretty_unit(unit)
+    return 1e-6, pretty_unit("um")
+
+
+def residual_vibration(ds) -> dict:
+    """Residual vibration after a slew (``attrs["manoeuvre"]``), per solution and output point.
+
+    ``<s>.<pt>.residual_amplitude`` [m]: largest elastic deflection after the manoeuvre;
+    ``<s>.<pt>.settling_time`` [s]: time after the manoeuvre's end from which the deflection
+    stays inside the band (``slew.settle_tolerance``, default 5 % of its largest value during
+    the manoeuvre), null if it leaves the band at the last sample; ``<s>.slew_angle_deg``: the
+    final rotation about the slew axis and ``<s>.slew_angle_error_deg`` its difference from the
+    target; ``<s>.residual_angle_error_deg``: the largest difference after the manoeuvre.
+    """
+    man = json.loads(ds.attrs["manoeuvre"])
+    t = ds["time"].values
+    after = t >= man["end"] - 1e-12 * max(1.0, abs(man["end"]))
+    during = ~after
+    axis = np.asarray(man["axis"], dtype=float)
+    out = {}
+    for s in ds["solution"].values:
+        sel = ds.sel(solution=s)
+        e = sel["quaternion"].values
+        ang = np.unwrap(2.0 * np.arctan2(e[:, 1:] @ axis, e[:, 0]))
+        ok = np.isfinite(ang)
+        if ok.any() and after.any():
+            err = ang - man["angle"]
+            final = ang[ok][-1]
+            out[f"{s}.slew_angle_deg"] = {"value": float(np.degrees(final)), "unit": "deg"}
+            out[f"{s}.slew_angle_error_deg"] = {"value": float(np.degrees(final - man["angle"])), "unit": "deg"}
+            out[f"{s}.residual_angle_error_deg"] = {
+                "value": float(np.degrees(np.nanmax(np.abs(err[after])))),
+                "unit": "deg",
+            }
+        for pt in ds["point"].values:
+            d = np.linalg.norm(sel["point_deflection"].sel(point=pt).values, axis=-1)
+            if not after.any() or not np.isfinite(d[after]).any():
+                continue
+            amp = float(np.nanmax(d[after]))
+            peak = float(np.nanmax(d[during])) if during.any() and np.isfinite(d[during]).any() else amp
+            tol = man["settle_tolerance"] or 0.05 * peak
+            outside = np.nonzero(after & ~(d <= tol))[0]
+            if outside.size == 0:
+                settle = 0.0
+            elif outside[-1] == len(t) - 1:
+                settle = None  # still outside the band at the end of the run
+            else:
+                settle = float(t[outside[-1] + 1] - man["end"])
+            out[f"{s}.{pt}.residual_amplitude"] = {"value": amp, "unit": "m"}
+            out[f"{s}.{pt}.settling_time"] = {
+                "value": settle,
+                "unit": "s",
+                "note": f"after the manoeuvre's end at {man['end']:g} s, band {tol:.3g} m"
+                + ("; not settled by t_end" if settle is None else ""),
+            }
+    return out
 
 
 def build_result(body, solutions, points: dict, config: dict | None = None, wall_time: float = 0.0):
