@@ -24,7 +24,7 @@ from numba import njit
 
 
 class Reduced(NamedTuple):
-    """Reduced model arrays: K (r, r), D (r, r), Ks (symmetric part of K), Ka (skew part),
+    """Reduced model arrays: K (r, r), D (r, r), Ks (symmetric part of K), Ka (skew part; (0, 0) when K is symmetric),
     Ds (symmetric part of D), f (r,) [N-ish, reduced], g (nm, r), t (nm, r) twist part of g."""
 
     K: np.ndarray
@@ -92,13 +92,19 @@ def _mesh(ms, j, t, gx, gv):
 
 
 @njit(cache=True)
-def _accel(rd, ms, t, x, v, a):
+def _accel(rd, ms, t, x, v, a, kx, dv):
+    """Acceleration ``a`` at (t, x, v); also stores ``kx = K x`` and ``dv = D v`` for
+    :func:`_record` at the same state (one pass over K and D per state, not two)."""
     r = x.size
     for i in range(r):
-        acc = rd.f[i]
+        sk = 0.0
+        sd = 0.0
         for k in range(r):
-            acc -= rd.K[i, k] * x[k] + rd.D[i, k] * v[k]
-        a[i] = acc
+            sk += rd.K[i, k] * x[k]
+            sd += rd.D[i, k] * v[k]
+        kx[i] = sk
+        dv[i] = sd
+        a[i] = rd.f[i] - sk - sd
     for j in range(ms.nu.size):
         gx = 0.0
         gv = 0.0
@@ -112,20 +118,22 @@ def _accel(rd, ms, t, x, v, a):
 
 
 @njit(cache=True)
-def _record(rd, ms, t, x, v, out_dte, out_d, out_F, out_E, out_P, s):
+def _record(rd, ms, t, x, v, kx, dv, out_dte, out_d, out_F, out_E, out_P, s):
+    """Energy and power at (t, x, v) with ``kx = K x``, ``dv = D v`` from :func:`_accel`:
+    ``x.Ks x = x.K x`` and ``v.Ds v = v.D v`` (skew parts drop out of quadratic forms); the
+    skew stiffness' power ``v.Ka x`` needs its own product, skipped when Ka is empty (symmetric K)."""
     r = x.size
     E = 0.0
     P = 0.0
+    skew = rd.Ka.shape[0] > 0
     for i in range(r):
-        kx = 0.0
-        ax = 0.0
-        dv = 0.0
-        for k in range(r):
-            kx += rd.Ks[i, k] * x[k]
-            ax += rd.Ka[i, k] * x[k]
-            dv += rd.Ds[i, k] * v[k]
-        E += 0.5 * v[i] * v[i] + 0.5 * x[i] * kx - x[i] * rd.f[i]
-        P -= v[i] * ax + v[i] * dv
+        E += 0.5 * v[i] * v[i] + 0.5 * x[i] * kx[i] - x[i] * rd.f[i]
+        P -= v[i] * dv[i]
+        if skew:
+            ax = 0.0
+            for k in range(r):
+                ax += rd.Ka[i, k] * x[k]
+            P -= v[i] * ax
     for j in range(ms.nu.size):
         gx = 0.0
         gv = 0.0
@@ -158,31 +166,37 @@ def run_rk4(rd, ms, x, v, t0, dt, n_steps, out_x, out_v, out_dte, out_d, out_F, 
     k4v = np.empty(r)
     xs = np.empty(r)
     vs = np.empty(r)
-    _record(rd, ms, t0, x, v, out_dte, out_d, out_F, out_E, out_P, 0)
+    kx = np.empty(r)
+    dv = np.empty(r)
+    kw = np.empty(r)
+    dw = np.empty(r)
+    _accel(rd, ms, t0, x, v, k1v, kx, dv)
+    _record(rd, ms, t0, x, v, kx, dv, out_dte, out_d, out_F, out_E, out_P, 0)
     out_x[0] = x
     out_v[0] = v
     for s in range(n_steps):
         t = t0 + s * dt
-        k1x[:] = v
-        _accel(rd, ms, t, x, v, k1v)
+        k1x[:] = v  # k1v: the acceleration computed with the last record
         for i in range(r):
             xs[i] = x[i] + 0.5 * dt * k1x[i]
             vs[i] = v[i] + 0.5 * dt * k1v[i]
         k2x[:] = vs
-        _accel(rd, ms, t + 0.5 * dt, xs, vs, k2v)
+        _accel(rd, ms, t + 0.5 * dt, xs, vs, k2v, kw, dw)
         for i in range(r):
             xs[i] = x[i] + 0.5 * dt * k2x[i]
             vs[i] = v[i] + 0.5 * dt * k2v[i]
         k3x[:] = vs
-        _accel(rd, ms, t + 0.5 * dt, xs, vs, k3v)
+        _accel(rd, ms, t + 0.5 * dt, xs, vs, k3v, kw, dw)
         for i in range(r):
             xs[i] = x[i] + dt * k3x[i]
             vs[i] = v[i] + dt * k3v[i]
         k4x[:] = vs
-        _accel(rd, ms, t + dt, xs, vs, k4v)
+        _accel(rd, ms, t + dt, xs, vs, k4v, kw, dw)
         for i in range(r):
             x[i] += dt / 6.0 * (k1x[i] + 2.0 * k2x[i] + 2.0 * k3x[i] + k4x[i])
             v[i] += dt / 6.0 * (k1v[i] + 2.0 * k2v[i] + 2.0 * k3v[i] + k4v[i])
-        _record(rd, ms, t + dt, x, v, out_dte, out_d, out_F, out_E, out_P, s + 1)
+        # the next step's k1 and this sample's energy terms from one pass over K and D
+        _accel(rd, ms, t + dt, x, v, k1v, kx, dv)
+        _record(rd, ms, t + dt, x, v, kx, dv, out_dte, out_d, out_F, out_E, out_P, s + 1)
         out_x[s + 1] = x
         out_v[s + 1] = v

@@ -145,7 +145,10 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         tors[j, idx] = mats.g[j, idx]
     tr = tors[:, free] @ P
     Kss, Dss = 0.5 * (Kr + Kr.T), 0.5 * (Dr + Dr.T)
-    rd = Reduced(Kr, Dr, Kss, Kr - Kss, Dss, fr, gr, tr)
+    Ka = Kr - Kss
+    if np.max(np.abs(Ka)) <= 1e-14 * np.max(np.abs(Kr)):  # symmetric up to round-off: no skew power
+        Ka = np.zeros((0, 0))
+    rd = Reduced(Kr, Dr, Kss, Ka, Dss, fr, gr, tr)
     varying = np.array([(st.stiffness or m.spec.stiffness) == "varying" for m in box.meshes], dtype=np.int64)
     tabs = [m.gear.table for m in box.meshes]
     n_tab = max(len(t.stiffness) for t in tabs)
