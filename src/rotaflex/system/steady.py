@@ -42,7 +42,8 @@ class SteadyState:
     """Histories of the evaluated cycles and the run's figures of merit.
 
     time (n,) [s]; dte, deflection, force (n, n_mesh) [m, m, N]; bearing_force (n, n_bearing, 2)
-    [N]; energy, power (n_all,) of the whole run, every step [J, W];
+    [N]; energy (n_all,), power (n_all, 2) of the whole run, every step [J, W] (power: limits
+    from after / before the sample, equal unless a table has a kink there);
     period (cycles, 0: none), change, cycles run, steps per cycle, static force (n_mesh,) [N],
     contact_loss (n_mesh,) fraction of evaluated samples without contact; final (q, qdot, phase).
     """
@@ -74,10 +75,13 @@ class SteadyState:
     @property
     def energy_error(self) -> float:
         """|E(t) - E(0) - int P dt| max over the run, relative to the largest of |E - E(0)| and
-        int |P| dt (trapezoidal integral of the recorded power)."""
-        w = np.concatenate([[0.0], np.cumsum(0.5 * (self.power[1:] + self.power[:-1]) * self.dt)])
+        int |P| dt (trapezoidal integral of the recorded power over each step, from the power's
+        limit at the step's start to its limit at the step's end: piecewise-linear tables have a
+        kink at every grid point, where the steps fall)."""
+        p = self.power
+        w = np.concatenate([[0.0], np.cumsum(0.5 * (p[:-1, 0] + p[1:, 1]) * self.dt)])
         res = self.energy - self.energy[0] - w
-        ref = max(np.max(np.abs(self.energy - self.energy[0])), np.sum(np.abs(self.power)) * self.dt, 1e-300)
+        ref = max(np.max(np.abs(self.energy - self.energy[0])), np.sum(np.abs(p[:, 0])) * self.dt, 1e-300)
         return float(np.max(np.abs(res)) / ref)
 
 
@@ -271,5 +275,5 @@ def _buffers(n: int, r: int, nm: int):
         np.empty((n + 1, nm)),
         np.empty((n + 1, nm)),
         np.empty(n + 1),
-        np.empty(n + 1),
+        np.empty((n + 1, 2)),
     )
