@@ -392,6 +392,11 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
         "steps_per_cycle": {"value": spc, "unit": ""},
         "basis_size": {"value": s.basis_size, "unit": ""},
         "energy_balance_error": {"value": s.energy_error, "unit": "1"},
+        "phase_shift_pp": {
+            "value": float(np.ptp(s.phase_shift[:, 0])),
+            "unit": "mesh cycles",
+            "long_name": "pinion twist as mesh phase, peak-to-peak (left out by the nominal phase)",
+        },
     }
     msg = (
         f"{w / RPM:g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss {100 * s.contact_loss[0]:.1f} % of the "

@@ -45,7 +45,10 @@ class SteadyState:
     [N]; energy (n_all,), power (n_all, 2) of the whole run, every step [J, W] (power: limits
     from after / before the sample, equal unless a table has a kink there);
     period (cycles, 0: none), change, cycles run, steps per cycle, static force (n_mesh,) [N],
-    contact_loss (n_mesh,) fraction of evaluated samples without contact; final (q, qdot, phase).
+    contact_loss (n_mesh,) fraction of evaluated samples without contact; final (q, qdot, phase);
+    phase_shift (n, n_mesh) [cycles]: the pinion's twist as mesh phase, z_p s_p theta_p / (2 pi),
+    which the nominal phase of the run leaves out (its peak-to-peak bounds the difference to a
+    phase that follows the actual pinion angle).
     """
 
     time: np.ndarray
@@ -67,6 +70,7 @@ class SteadyState:
     final_qdot: np.ndarray
     final_phase: np.ndarray
     basis_size: int
+    phase_shift: np.ndarray
 
     @property
     def contact_loss(self) -> np.ndarray:
@@ -241,6 +245,12 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
             bf.append(-(u @ Kb[np.ix_(rows, rows)].T + ud @ Cb[np.ix_(rows, rows)].T))
             brg.append((pr.name, node))
     bf = np.stack(bf, 1) if bf else np.zeros((n + 1, 0, 2))
+    # what the nominal mesh phase leaves out: the pinion's own twist in mesh cycles,
+    # z_p s_p theta_p / (2 pi) (gear steady's phase follows the actual pinion angle)
+    shift = np.zeros((n + 1, nm))
+    for j, m in enumerate(box.meshes):
+        rp, node = m.driver if m.pinion_is_driver else m.driven
+        shift[:, j] = m.gear.teeth[0] * box.rotors[rp].sense * (xs @ Tfull[box.torsion_dof(rp, node)]) / (2 * np.pi)
     t_eval = t0 + dt * np.arange(n + 1)
     q_end = Tfull @ x
     qd_end = Tfull @ v
@@ -264,6 +274,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         qd_end,
         (phase0 + nu * (t0 + n * dt)) % 1.0,
         r,
+        shift,
     )
 
 
