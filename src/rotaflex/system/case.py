@@ -109,9 +109,37 @@ def parse(config: dict, analysis: str, base=None):
     for key in config:
         if key not in allowed:
             raise InputError(key, config[key], "no such key; allowed keys: " + ", ".join(allowed))
-    box = Gearbox.from_mapping({k: v for k, v in config.items() if k in MODEL_KEYS}, base)
+    box = _gearbox({k: v for k, v in config.items() if k in MODEL_KEYS}, base)
     spec = from_mapping(ANALYSES[analysis], config.get(analysis, {}), analysis)
     return box, spec
+
+
+#: models built in this process, by content (a sweep's cases differ mostly in the analysis table)
+_MODELS: dict[str, Gearbox] = {}
+
+
+def _gearbox(model: dict, base) -> Gearbox:
+    """:meth:`Gearbox.from_mapping`, reused when the same model (keys, values, base directory and
+    the modification times of its pair files) was built before in this process. Gearbox is
+    frozen, so a sweep's workers build each distinct model once instead of once per case."""
+    try:
+        text = json.dumps(model, sort_keys=True, default=repr)
+    except (TypeError, ValueError):  # not plain data: no caching
+        return Gearbox.from_mapping(model, base)
+    stamps = []
+    for m in model.get("gear_mesh", []) if isinstance(model.get("gear_mesh"), list) else []:
+        f = m.get("pair_file") if isinstance(m, dict) else None
+        if isinstance(f, str):
+            path = Path(base or ".") / f
+            stamps.append(path.stat().st_mtime_ns if path.exists() else None)
+    key = f"{text}|{base}|{stamps}"
+    box = _MODELS.get(key)
+    if box is None:
+        box = Gearbox.from_mapping(model, base)
+        if len(_MODELS) >= 8:
+            _MODELS.pop(next(iter(_MODELS)))
+        _MODELS[key] = box
+    return box
 
 
 def _speed(box, value, where) -> float:
@@ -364,6 +392,11 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
         "steps_per_cycle": {"value": spc, "unit": ""},
         "basis_size": {"value": s.basis_size, "unit": ""},
         "energy_balance_error": {"value": s.energy_error, "unit": "1"},
+        "phase_shift_pp": {
+            "value": float(np.ptp(s.phase_shift[:, 0])),
+            "unit": "mesh cycles",
+            "long_name": "pinion twist as mesh phase, peak-to-peak (left out by the nominal phase)",
+        },
     }
     msg = (
         f"{w / RPM:g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss {100 * s.contact_loss[0]:.1f} % of the "

@@ -112,22 +112,25 @@ def _pencil(box, mats, basis):
 def _solve(box, mats, speed, n_keep, basis, pencil=None):
     M, D, K = (pencil or _pencil(box, mats, basis))(speed)
     n = M.shape[0]
-    Minv = sla.inv(M)
-    A = np.zeros((2 * n, 2 * n))
+    # A = [[0, I], [-M^-1 K, -M^-1 D]] written in place; one LAPACK geev (right vectors only)
+    A = np.empty((2 * n, 2 * n))
+    A[:n, :n] = 0.0
     A[:n, n:] = np.eye(n)
-    A[n:, :n] = -Minv @ K
-    A[n:, n:] = -Minv @ D
+    MinvKD = sla.solve(M, np.concatenate([K, D], 1), check_finite=False)
+    A[n:, :n] = -MinvKD[:, :n]
+    A[n:, n:] = -MinvKD[:, n:]
     lam, vec = sla.eig(A, check_finite=False, overwrite_a=True)
     scale = np.max(np.abs(lam)) + 1.0
     keep = np.flatnonzero(lam.imag > 1e-7 * scale)
     keep = keep[np.argsort(lam.imag[keep], kind="stable")][:n_keep]
     v = vec[:n, keep].T
+    # M-normalise where M is small (M_free = P^T M P in the basis): v^H M v is basis-invariant
+    norm = np.sqrt(np.real(np.sum(np.conj(v) * (v @ M.T), 1)))
+    v = v / norm[:, None]
     if basis is not None:
         v = v @ basis.T
     full = np.zeros((v.shape[0], box.n_dof), complex)
     full[:, mats.free] = v
-    norm = np.sqrt(np.real(np.sum(np.conj(full) * (full @ mats.M.T), 1)))
-    full /= norm[:, None]
     # phase: largest component real
     j = np.argmax(np.abs(full), 1)
     ph = full[np.arange(full.shape[0]), j]
@@ -224,10 +227,15 @@ def campbell(
             lam_t[s, rows], v_t[s, rows] = lam[cols], v[cols]
             mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
         prev = v_t[s]
-    e = np.zeros((ns, n_modes, len(groups(box)[0])))
-    me = np.zeros((ns, n_modes))
-    for s in range(ns):
-        e[s], me[s] = _energy(box, mats, _stiffness_full(box, mats, speeds[s]), v_t[s])
+    if all(el.speeds is None for pr in box.rotors for _, _, el in pr.rotor.bearings):
+        # speed-independent bearings: one stiffness matrix, energies of all speeds in one product
+        e, me = _energy(box, mats, _stiffness_full(box, mats, 0.0), v_t.reshape(ns * n_modes, -1))
+        e, me = e.reshape(ns, n_modes, -1), me.reshape(ns, n_modes)
+    else:
+        e = np.zeros((ns, n_modes, len(groups(box)[0])))
+        me = np.zeros((ns, n_modes))
+        for s in range(ns):
+            e[s], me[s] = _energy(box, mats, _stiffness_full(box, mats, speeds[s]), v_t[s])
     modes = SystemModes(speeds, lam_t, v_t, e, me, groups(box)[0])
     lines = excitation_lines(box, harmonics)
     return SystemCampbell(modes, mac_min, lines, crossings(modes, lines))

@@ -26,6 +26,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import typing
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -35,6 +36,7 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
+from rotaflex.gear import PairSpec
 from rotaflex.rotor.fe.model import ROTOR_KEYS, RPM, Bearing, Disk, Material, PointMass, Rotor, Shaft
 
 #: keys of a [[gear_mesh]] table that describe the gear pair (passed to pair_from_mapping)
@@ -57,6 +59,11 @@ class RotorSpec:
     bearing: tuple[Bearing, ...] = param(())
     material: dict[str, Material] = param({})
     free: bool = param(False, doc="allow lateral rigid-body modes (rotor/fe's free)")
+
+
+#: the [pinion]/[wheel] table type of gear static, taken from the gear package's PairSpec (so the
+#: template of ``rotaflex system`` lists a pair's keys under [[gear_mesh]] without a copy here)
+GearTable = typing.get_type_hints(PairSpec)["pinion"]
 
 
 @dataclass(frozen=True)
@@ -85,6 +92,12 @@ class MeshSpec:
     damping_ratio: float = param(DEFAULT_DAMPING_RATIO, ge=0, doc="c_m = 2 zeta sqrt(k_mean m_red)")
     back_contact: bool = param(True, doc="back-flank contact after the backlash in time-domain runs")
     blanks: bool = param(True, doc="add the gear blanks as disks on their nodes")
+    # the pair, as in `gear static` (read by rotaflex.gear.pair_from_mapping, here for the template)
+    pinion: GearTable | None = param(None, doc="the pinion as gear static's [pinion] (or pair_file)")
+    wheel: GearTable | None = param(None, doc="the wheel as gear static's [wheel] (or pair_file)")
+    center_distance: float | None = param(None, unit="m", gt=0, doc="working centre distance (default: no backlash)")
+    backlash: float | None = param(None, unit="m", ge=0, doc="normal backlash (alternative to center_distance)")
+    driver: Literal["pinion", "wheel"] = param("pinion", doc="gear that drives (must be on the drive side)")
 
 
 @dataclass(frozen=True)

@@ -42,9 +42,13 @@ class SteadyState:
     """Histories of the evaluated cycles and the run's figures of merit.
 
     time (n,) [s]; dte, deflection, force (n, n_mesh) [m, m, N]; bearing_force (n, n_bearing, 2)
-    [N]; energy, power (n_all,) of the whole run, every step [J, W];
+    [N]; energy (n_all,), power (n_all, 2) of the whole run, every step [J, W] (power: limits
+    from after / before the sample, equal unless a table has a kink there);
     period (cycles, 0: none), change, cycles run, steps per cycle, static force (n_mesh,) [N],
-    contact_loss (n_mesh,) fraction of evaluated samples without contact; final (q, qdot, phase).
+    contact_loss (n_mesh,) fraction of evaluated samples without contact; final (q, qdot, phase);
+    phase_shift (n, n_mesh) [cycles]: the pinion's twist as mesh phase, z_p s_p theta_p / (2 pi),
+    which the nominal phase of the run leaves out (its peak-to-peak bounds the difference to a
+    phase that follows the actual pinion angle).
     """
 
     time: np.ndarray
@@ -66,6 +70,7 @@ class SteadyState:
     final_qdot: np.ndarray
     final_phase: np.ndarray
     basis_size: int
+    phase_shift: np.ndarray
 
     @property
     def contact_loss(self) -> np.ndarray:
@@ -74,10 +79,13 @@ class SteadyState:
     @property
     def energy_error(self) -> float:
         """|E(t) - E(0) - int P dt| max over the run, relative to the largest of |E - E(0)| and
-        int |P| dt (trapezoidal integral of the recorded power)."""
-        w = np.concatenate([[0.0], np.cumsum(0.5 * (self.power[1:] + self.power[:-1]) * self.dt)])
+        int |P| dt (trapezoidal integral of the recorded power over each step, from the power's
+        limit at the step's start to its limit at the step's end: piecewise-linear tables have a
+        kink at every grid point, where the steps fall)."""
+        p = self.power
+        w = np.concatenate([[0.0], np.cumsum(0.5 * (p[:-1, 0] + p[1:, 1]) * self.dt)])
         res = self.energy - self.energy[0] - w
-        ref = max(np.max(np.abs(self.energy - self.energy[0])), np.sum(np.abs(self.power)) * self.dt, 1e-300)
+        ref = max(np.max(np.abs(self.energy - self.energy[0])), np.sum(np.abs(p[:, 0])) * self.dt, 1e-300)
         return float(np.max(np.abs(res)) / ref)
 
 
@@ -145,7 +153,10 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         tors[j, idx] = mats.g[j, idx]
     tr = tors[:, free] @ P
     Kss, Dss = 0.5 * (Kr + Kr.T), 0.5 * (Dr + Dr.T)
-    rd = Reduced(Kr, Dr, Kss, Kr - Kss, Dss, fr, gr, tr)
+    Ka = Kr - Kss
+    if np.max(np.abs(Ka)) <= 1e-14 * np.max(np.abs(Kr)):  # symmetric up to round-off: no skew power
+        Ka = np.zeros((0, 0))
+    rd = Reduced(Kr, Dr, Kss, Ka, Dss, fr, gr, tr)
     varying = np.array([(st.stiffness or m.spec.stiffness) == "varying" for m in box.meshes], dtype=np.int64)
     tabs = [m.gear.table for m in box.meshes]
     n_tab = max(len(t.stiffness) for t in tabs)
@@ -234,6 +245,12 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
             bf.append(-(u @ Kb[np.ix_(rows, rows)].T + ud @ Cb[np.ix_(rows, rows)].T))
             brg.append((pr.name, node))
     bf = np.stack(bf, 1) if bf else np.zeros((n + 1, 0, 2))
+    # what the nominal mesh phase leaves out: the pinion's own twist in mesh cycles,
+    # z_p s_p theta_p / (2 pi) (gear steady's phase follows the actual pinion angle)
+    shift = np.zeros((n + 1, nm))
+    for j, m in enumerate(box.meshes):
+        rp, node = m.driver if m.pinion_is_driver else m.driven
+        shift[:, j] = m.gear.teeth[0] * box.rotors[rp].sense * (xs @ Tfull[box.torsion_dof(rp, node)]) / (2 * np.pi)
     t_eval = t0 + dt * np.arange(n + 1)
     q_end = Tfull @ x
     qd_end = Tfull @ v
@@ -257,6 +274,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         qd_end,
         (phase0 + nu * (t0 + n * dt)) % 1.0,
         r,
+        shift,
     )
 
 
@@ -268,5 +286,5 @@ def _buffers(n: int, r: int, nm: int):
         np.empty((n + 1, nm)),
         np.empty((n + 1, nm)),
         np.empty(n + 1),
-        np.empty(n + 1),
+        np.empty((n + 1, 2)),
     )
