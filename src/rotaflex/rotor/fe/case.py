@@ -213,9 +213,22 @@ def parse(config: dict, analysis: str):
         if key not in allowed:
             raise InputError(key, config[key], "no such key; allowed keys: " + ", ".join(allowed))
     rotor = Rotor.from_mapping({k: v for k, v in config.items() if k in ROTOR_KEYS})
+    if rotor.static_load_bearings:  # fluid-film load = "static": from [static] (gravity, point loads)
+        rotor = _resolve_static_loads(rotor, from_mapping(StaticSpec, config.get("static", {}), "static"))
     spec = from_mapping(ANALYSES[analysis], config.get(analysis, {}), analysis)
     _check_size(rotor, spec, analysis)
     return rotor, spec
+
+
+def _resolve_static_loads(rotor: Rotor, st: StaticSpec) -> Rotor:
+    """The rotor with its ``load = "static"`` bearings loaded as the static analysis of ``st`` says."""
+    from rotaflex.rotor.fe.bearings.static_load import resolve_static_loads
+
+    loads = [(rotor.station(ld.node, ld.position, f"static.load[{i}]"), ld.fx, ld.fy) for i, ld in enumerate(st.load)]
+    speed = None if st.speed_rpm is None else st.speed_rpm * RPM
+    return resolve_static_loads(
+        rotor, gravity=st.gravity, direction=st.gravity_direction, loads=loads, speed=speed
+    ).rotor
 
 
 #: largest counts accepted (speeds, output points, steps); memory is checked separately against --max-memory
