@@ -285,6 +285,42 @@ def _unbalances(rotor, masses, where):
     ]
 
 
+def add_fluid_film_tables(ds: xr.Dataset, rotor: Rotor) -> xr.Dataset:
+    """``ds`` with the coefficient table of every fluid-film bearing of ``rotor`` (variables ``ff_*``).
+
+    Dimensions ``fluid_film`` (bearing names) and ``ff_speed`` (table index; a shorter table is
+    padded with NaN): speed, eccentricity ratio, attitude angle, journal position, Sommerfeld
+    number and the 8 coefficients with units (:meth:`FluidFilmTable.to_dataset`), plus the static
+    load each bearing carries (``ff_load_x``, ``ff_load_y`` [N]) and its node.
+    """
+    parts, names = [], []
+    for i, (b, (node, _, el)) in enumerate(zip(rotor.resolved.bearing, rotor.bearings, strict=True)):
+        if el.table is None:
+            continue
+        t = el.table.to_dataset().drop_vars("speed").rename({"speed": "ff_speed"})
+        t = t.rename({k: f"ff_{k}" for k in t.data_vars})
+        t["ff_node"] = node
+        t["ff_load_x"] = xr.DataArray(b.fluid_film.load[0], attrs={"units": "N"})
+        t["ff_load_y"] = xr.DataArray(b.fluid_film.load[1], attrs={"units": "N"})
+        parts.append(t)
+        names.append(b.name or f"bearing[{i}]")
+    if not parts:
+        return ds
+    tables = xr.concat(parts, dim="fluid_film", join="outer", combine_attrs="override")
+    tables = tables.assign_coords(fluid_film=names)
+    for k in tables.data_vars:  # concat keeps the first part's attributes; make sure of the units
+        tables[k].attrs = parts[0][k].attrs
+    return ds.merge(tables)
+
+
+def _oil_whip(rotor: Rotor, unstable: list[dict]) -> dict:
+    """Summary entry of the oil-whip onset (lowest speed at which a mode goes unstable) on fluid film."""
+    if not unstable or not any(el.table is not None for _, _, el in rotor.bearings):
+        return {}
+    first = min(unstable, key=lambda u: u["speed"])
+    return {"oil_whip_onset_rpm": {"value": first["speed"] / RPM, "unit": "rpm", "mode": first["mode"]}}
+
+
 def _attrs(config, t0, extra, message):
     return {
         "status": "success",
@@ -358,7 +394,7 @@ def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
         f"(log dec {m.log_dec[0, 0]:.3g}); {unstable} unstable" + (f"; {note}" if note else "")
     )
     ds.attrs.update(_attrs(config, t0, extra, msg))
-    return ModalResult(ds)
+    return ModalResult(add_fluid_film_tables(ds, rotor))
 
 
 def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
@@ -405,6 +441,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
         for i, cr in enumerate(critical)
     }
     extra["unstable_modes"] = {"value": len(c.unstable), "unit": ""}
+    extra |= _oil_whip(rotor, c.unstable)
     extra.update(
         {f"unstable_mode_{u['mode']}_onset_rpm": {"value": u["speed"] / RPM, "unit": "rpm"} for u in c.unstable}
     )
@@ -422,7 +459,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
         ds.attrs["bands"] = json.dumps(check_bands([spec.operating_range_rpm], "campbell.operating_range_rpm"))
     ds.attrs["unstable"] = json.dumps(c.unstable)
     ds.attrs["harmonics"] = json.dumps(list(spec.harmonics))
-    return CampbellResult(ds)
+    return CampbellResult(add_fluid_film_tables(ds, rotor))
 
 
 def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
@@ -445,7 +482,7 @@ def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
     extra = {"note": {"value": note, "unit": ""}} if note else {}
     msg = f"{spec.n_points} stiffness values, {n_modes} critical speeds each" + (f"; {note}" if note else "")
     ds.attrs.update(_attrs(config, t0, extra, msg))
-    return UCSResult(ds)
+    return UCSResult(add_fluid_film_tables(ds, rotor))
 
 
 def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
@@ -539,7 +576,7 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
     ds.attrs.update(_attrs(config, t0, extra, msg))
     ds.attrs["peaks"] = json.dumps(pk)
     ds.attrs["bands"] = json.dumps(bands)
-    return UnbalanceResult(ds)
+    return UnbalanceResult(add_fluid_film_tables(ds, rotor))
 
 
 def _bands(spec) -> tuple[list[tuple[float, float]], float | None]:
@@ -657,7 +694,7 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
         extra["note"] = {"value": note, "unit": ""}
     ds.attrs.update(_attrs(config, t0, extra, tr.message + (f"; {note}" if note else "")))
     ds.attrs["nfev"] = tr.nfev
-    return TransientResult(ds)
+    return TransientResult(add_fluid_film_tables(ds, rotor))
 
 
 def run_static(config: dict, *, progress: bool = False):
