@@ -11,7 +11,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from rotaflex.rotor.fe.case import add_fluid_film_tables, _attrs, parse
+from rotaflex.rotor.fe.case import _attrs, add_fluid_film_tables, parse
 from rotaflex.rotor.fe.model import RPM
 from rotaflex.rotor.fe.results import FRFResult, StaticResult
 
