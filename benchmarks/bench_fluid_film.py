@@ -13,7 +13,7 @@ import time
 import numpy as np
 from bench_rotor_fe import bench_rotor
 
-from rotaflex.rotor.fe import Bearing
+from rotaflex.rotor.fe import Bearing, modal
 from rotaflex.rotor.fe.bearings import FluidFilm, coefficients_from_reaction
 from rotaflex.rotor.fe.modal import campbell
 
@@ -78,6 +78,13 @@ def main() -> None:
     print(f"rotor {rotor.n_dof} DOF on 2 fluid-film bearings:")
     row("   build (2 coefficient tables)", best(build, 3))
     row("   Campbell, 50 speeds", best(lambda: campbell(rotor, speeds, 8), 3))
+    threaded = modal.batched_eig
+    modal.batched_eig = lambda A: threaded(A, 1)  # the solve as it was: one dgeev after another
+    row("   Campbell, 50 speeds, eig on one thread", best(lambda: campbell(rotor, speeds, 8), 3))
+    before = campbell(rotor, speeds, 8).modes.eigenvalue
+    modal.batched_eig = threaded
+    same = np.array_equal(before, campbell(rotor, speeds, 8).modes.eigenvalue, equal_nan=True)
+    print(f"   eigenvalues threaded == one thread (bitwise): {same}")
     row("   build + Campbell", best(lambda: campbell(build(), speeds, 8), 3), False, "(target 1 s)")
     row("   Campbell, 50 speeds, 40-mode basis", best(lambda: campbell(rotor, speeds, 8, reduce=40), 3))
     row("   build + Campbell, 40-mode basis", best(lambda: campbell(build(), speeds, 8, reduce=40), 3), False, "(1 s)")
