@@ -213,8 +213,17 @@ def parse(config: dict, analysis: str):
         if key not in allowed:
             raise InputError(key, config[key], "no such key; allowed keys: " + ", ".join(allowed))
     rotor = Rotor.from_mapping({k: v for k, v in config.items() if k in ROTOR_KEYS})
+    st = from_mapping(StaticSpec, config.get("static", {}), "static")
     if rotor.static_load_bearings:  # fluid-film load = "static": from [static] (gravity, point loads)
-        rotor = _resolve_static_loads(rotor, from_mapping(StaticSpec, config.get("static", {}), "static"))
+        default = StaticSpec()
+        same = (st.gravity, tuple(st.gravity_direction), st.speed_rpm, st.load) == (
+            default.gravity,
+            tuple(default.gravity_direction),
+            None,
+            (),
+        )
+        # the rotor resolved itself under standard gravity when it was built; redo only if [static] differs
+        rotor = rotor.resolved if same else _resolve_static_loads(rotor, st)
     spec = from_mapping(ANALYSES[analysis], config.get(analysis, {}), analysis)
     _check_size(rotor, spec, analysis)
     return rotor, spec

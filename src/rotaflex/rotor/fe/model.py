@@ -194,13 +194,8 @@ class Rotor:
         if not self.shaft:
             raise InputError("shaft", "<missing>", "at least one [[shaft]] section")
         self._check_size()
-        _ = self.nodes, self.elements, self.disks, self.point_masses  # validate now
-        if self.static_load_bearings:  # resolved (and then checked) on first use of .bearings
-            for i, b in enumerate(self.bearing):
-                self.station(b.node, b.position, f"bearing[{i}]")
-                self.station(b.to_node, b.to_position, f"bearing[{i}]", False, ("to_node", "to_position"))
-            return
-        _ = self.bearings
+        # validate now (load = "static" is resolved here under standard gravity, see `resolved`)
+        _ = self.nodes, self.elements, self.disks, self.point_masses, self.bearings
         if not self.free:
             self._check_supported()
 
