@@ -330,6 +330,26 @@ def _oil_whip(rotor: Rotor, unstable: list[dict]) -> dict:
     return {"oil_whip_onset_rpm": {"value": first["speed"] / RPM, "unit": "rpm", "mode": first["mode"]}}
 
 
+def _pinned(run):
+    """Run an analysis with the BLAS/OpenMP pools pinned to one thread (``ROTAFLEX_BLAS_THREADS``
+    overrides), as the CLI and the sweep workers do, so that library calls get the same speed:
+    the matrices are small and idle pool threads spinning between calls cost far more than
+    they gain on a shared machine (the example's Campbell with direct critical speeds: 13.2 s
+    CPU unpinned, see docs/fluid-film-bearings.md)."""
+    import functools
+
+    @functools.wraps(run)
+    def wrapper(config: dict, *, progress: bool = False):
+        import os
+
+        from threadpoolctl import threadpool_limits
+
+        with threadpool_limits(limits=int(os.environ.get("ROTAFLEX_BLAS_THREADS", "1"))):
+            return run(config, progress=progress)
+
+    return wrapper
+
+
 def _attrs(config, t0, extra, message):
     return {
         "status": "success",
@@ -340,6 +360,7 @@ def _attrs(config, t0, extra, message):
     }
 
 
+@_pinned
 def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
     """Modes at ``[modal] speed_rpm``."""
     from rotaflex.rotor.fe.modal import modal
@@ -406,6 +427,7 @@ def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
     return ModalResult(add_fluid_film_tables(ds, rotor))
 
 
+@_pinned
 def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     """Campbell diagram over ``[campbell] speed_rpm`` with MAC tracking."""
     from rotaflex.rotor.fe.modal import campbell
@@ -471,6 +493,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     return CampbellResult(add_fluid_film_tables(ds, rotor))
 
 
+@_pinned
 def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
     """Undamped critical speed map over ``[ucs] stiffness``."""
     from rotaflex.rotor.fe.modal import ucs_map
@@ -494,6 +517,7 @@ def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
     return UCSResult(add_fluid_film_tables(ds, rotor))
 
 
+@_pinned
 def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
     """Unbalance response (Bode) at the probes; peaks with AF and API separation-margin verdicts."""
     from rotaflex.rotor.fe.api import vibration_limit
@@ -651,6 +675,7 @@ def _unbalance_planes(rotor, spec, n_max):
     return ub + [(p, u * 1e-6, a) for p, u, a in zip(planes, U, ph, strict=True)], made
 
 
+@_pinned
 def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
     """Time response: constant speed or linear run-up, with unbalance."""
     from rotaflex.rotor.fe.transient import transient
@@ -706,6 +731,7 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
     return TransientResult(add_fluid_film_tables(ds, rotor))
 
 
+@_pinned
 def run_static(config: dict, *, progress: bool = False):
     """Static deflection, bearing reactions, shear force and bending moment (``[static]``)."""
     from rotaflex.rotor.fe.verbs import run_static as _run
@@ -713,6 +739,7 @@ def run_static(config: dict, *, progress: bool = False):
     return _run(config, progress=progress)
 
 
+@_pinned
 def run_frf(config: dict, *, progress: bool = False):
     """Frequency response functions of ``[frf]`` (receptance, mobility or accelerance)."""
     from rotaflex.rotor.fe.verbs import run_frf as _run
