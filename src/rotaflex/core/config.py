@@ -86,7 +86,15 @@ def _convert(value: Any, tp: Any, meta: Mapping[str, Any], where: str) -> Any:
         inner = [a for a in args if a is not type(None)]
         if value is None:
             return None
-        return _convert(value, inner[0], meta, where)
+        errors = []
+        for alt in inner:  # first alternative that accepts the value (e.g. [Fx, Fy] or "static")
+            try:
+                return _convert(value, alt, meta, where)
+            except InputError as err:
+                errors.append(err)
+        if len(errors) == 1:
+            raise errors[0]
+        raise InputError(where, value, " or ".join(e.allowed for e in errors))
     if origin is Literal:
         if value not in args:
             raise InputError(where, value, "one of " + ", ".join(repr(a) for a in args))

@@ -105,7 +105,8 @@ def test_bad_inputs_are_refused():
 def test_cli_static_writes_reactions_and_figure(tmp_path: Path):
     from rotaflex.cli import app
 
-    res = CliRunner().invoke(app, ["rotor", "static", str(EXAMPLE), "--out", str(tmp_path), "-q"])
+    out = ["--out", str(tmp_path), "-q", "--dpi", "40"]  # low resolution: drawing dominates the run time
+    res = CliRunner().invoke(app, ["rotor", "static", str(EXAMPLE), *out])
     assert res.exit_code == 0, res.output
     summ = json.loads((tmp_path / "summary.json").read_text())
     total = summ["load_drive_end"]["value"] + summ["load_non_drive_end"]["value"]

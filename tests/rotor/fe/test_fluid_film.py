@@ -237,7 +237,9 @@ EXAMPLE = Path(__file__).parents[3] / "examples" / "rotor" / "fe_fluid_film.toml
 
 def test_example_config_feeds_the_bearing_table_to_the_rotor():
     rotor = Rotor.from_toml(EXAMPLE)
-    ff = rotor.bearing[0].fluid_film
+    assert rotor.bearing[0].fluid_film.load == "static"
+    ff = rotor.resolved.bearing[0].fluid_film  # the load from the static analysis (lever rule, 419.1 N)
+    assert ff.load[0] == pytest.approx(0.0, abs=1e-9) and ff.load[1] == pytest.approx(-419.12, abs=0.01)
     w = ff.speeds[7]  # a table speed: no interpolation
     ref = coefficients_from_reaction(ff, -np.asarray(ff.load), [w])
     K, C = rotor.KC(w)

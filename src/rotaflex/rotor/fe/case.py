@@ -216,9 +216,31 @@ def parse(config: dict, analysis: str):
         if key not in allowed:
             raise unknown_key(key, config[key], allowed)
     rotor = Rotor.from_mapping({k: v for k, v in config.items() if k in ROTOR_KEYS})
+    st = from_mapping(StaticSpec, config.get("static", {}), "static")
+    if rotor.static_load_bearings:  # fluid-film load = "static": from [static] (gravity, point loads)
+        default = StaticSpec()
+        same = (st.gravity, tuple(st.gravity_direction), st.speed_rpm, st.load) == (
+            default.gravity,
+            tuple(default.gravity_direction),
+            None,
+            (),
+        )
+        # the rotor resolved itself under standard gravity when it was built; redo only if [static] differs
+        rotor = rotor.resolved if same else _resolve_static_loads(rotor, st)
     spec = from_mapping(ANALYSES[analysis], config.get(analysis, {}), analysis)
     _check_size(rotor, spec, analysis)
     return rotor, spec
+
+
+def _resolve_static_loads(rotor: Rotor, st: StaticSpec) -> Rotor:
+    """The rotor with its ``load = "static"`` bearings loaded as the static analysis of ``st`` says."""
+    from rotaflex.rotor.fe.bearings.static_load import resolve_static_loads
+
+    loads = [(rotor.station(ld.node, ld.position, f"static.load[{i}]"), ld.fx, ld.fy) for i, ld in enumerate(st.load)]
+    speed = None if st.speed_rpm is None else st.speed_rpm * RPM
+    return resolve_static_loads(
+        rotor, gravity=st.gravity, direction=st.gravity_direction, loads=loads, speed=speed
+    ).rotor
 
 
 #: largest counts accepted (speeds, output points, steps); memory is checked separately against --max-memory
@@ -275,6 +297,62 @@ def _unbalances(rotor, masses, where):
     ]
 
 
+def add_fluid_film_tables(ds: xr.Dataset, rotor: Rotor) -> xr.Dataset:
+    """``ds`` with the coefficient table of every fluid-film bearing of ``rotor`` (variables ``ff_*``).
+
+    Dimensions ``fluid_film`` (bearing names) and ``ff_speed`` (table index; a shorter table is
+    padded with NaN): speed, eccentricity ratio, attitude angle, journal position, Sommerfeld
+    number and the 8 coefficients with units (:meth:`FluidFilmTable.to_dataset`), plus the static
+    load each bearing carries (``ff_load_x``, ``ff_load_y`` [N]) and its node.
+    """
+    parts, names = [], []
+    for i, (b, (node, _, el)) in enumerate(zip(rotor.resolved.bearing, rotor.bearings, strict=True)):
+        if el.table is None:
+            continue
+        t = el.table.to_dataset().drop_vars("speed").rename({"speed": "ff_speed"})
+        t = t.rename({k: f"ff_{k}" for k in t.data_vars})
+        t["ff_node"] = node
+        t["ff_load_x"] = xr.DataArray(b.fluid_film.load[0], attrs={"units": "N"})
+        t["ff_load_y"] = xr.DataArray(b.fluid_film.load[1], attrs={"units": "N"})
+        parts.append(t)
+        names.append(b.name or f"bearing[{i}]")
+    if not parts:
+        return ds
+    tables = xr.concat(parts, dim="fluid_film", join="outer", combine_attrs="override")
+    tables = tables.assign_coords(fluid_film=names)
+    for k in tables.data_vars:  # concat keeps the first part's attributes; make sure of the units
+        tables[k].attrs = parts[0][k].attrs
+    return ds.merge(tables)
+
+
+def _oil_whip(rotor: Rotor, unstable: list[dict]) -> dict:
+    """Summary entry of the oil-whip onset (lowest speed at which a mode goes unstable) on fluid film."""
+    if not unstable or not any(el.table is not None for _, _, el in rotor.bearings):
+        return {}
+    first = min(unstable, key=lambda u: u["speed"])
+    return {"oil_whip_onset_rpm": {"value": first["speed"] / RPM, "unit": "rpm", "mode": first["mode"]}}
+
+
+def _pinned(run):
+    """Run an analysis with the BLAS/OpenMP pools pinned to one thread (``ROTAFLEX_BLAS_THREADS``
+    overrides), as the CLI and the sweep workers do, so that library calls get the same speed:
+    the matrices are small and idle pool threads spinning between calls cost far more than
+    they gain on a shared machine (the example's Campbell with direct critical speeds: 13.2 s
+    CPU unpinned, see docs/fluid-film-bearings.md)."""
+    import functools
+
+    @functools.wraps(run)
+    def wrapper(config: dict, *, progress: bool = False):
+        import os
+
+        from threadpoolctl import threadpool_limits
+
+        with threadpool_limits(limits=int(os.environ.get("ROTAFLEX_BLAS_THREADS", "1"))):
+            return run(config, progress=progress)
+
+    return wrapper
+
+
 def _attrs(config, t0, extra, message):
     return {
         "status": "success",
@@ -285,6 +363,7 @@ def _attrs(config, t0, extra, message):
     }
 
 
+@_pinned
 def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
     """Modes at ``[modal] speed_rpm``."""
     from rotaflex.rotor.fe.modal import modal
@@ -348,9 +427,10 @@ def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
         f"(log dec {m.log_dec[0, 0]:.3g}); {unstable} unstable" + (f"; {note}" if note else "")
     )
     ds.attrs.update(_attrs(config, t0, extra, msg))
-    return ModalResult(ds)
+    return ModalResult(add_fluid_film_tables(ds, rotor))
 
 
+@_pinned
 def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     """Campbell diagram over ``[campbell] speed_rpm`` with MAC tracking."""
     from rotaflex.rotor.fe.modal import campbell
@@ -395,6 +475,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
         for i, cr in enumerate(critical)
     }
     extra["unstable_modes"] = {"value": len(c.unstable), "unit": ""}
+    extra |= _oil_whip(rotor, c.unstable)
     extra.update(
         {f"unstable_mode_{u['mode']}_onset_rpm": {"value": u["speed"] / RPM, "unit": "rpm"} for u in c.unstable}
     )
@@ -412,9 +493,10 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
         ds.attrs["bands"] = json.dumps(check_bands([spec.operating_range_rpm], "campbell.operating_range_rpm"))
     ds.attrs["unstable"] = json.dumps(c.unstable)
     ds.attrs["harmonics"] = json.dumps(list(spec.harmonics))
-    return CampbellResult(ds)
+    return CampbellResult(add_fluid_film_tables(ds, rotor))
 
 
+@_pinned
 def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
     """Undamped critical speed map over ``[ucs] stiffness``."""
     from rotaflex.rotor.fe.modal import ucs_map
@@ -435,9 +517,10 @@ def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
     extra = {"note": {"value": note, "unit": ""}} if note else {}
     msg = f"{spec.n_points} stiffness values, {n_modes} critical speeds each" + (f"; {note}" if note else "")
     ds.attrs.update(_attrs(config, t0, extra, msg))
-    return UCSResult(ds)
+    return UCSResult(add_fluid_film_tables(ds, rotor))
 
 
+@_pinned
 def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
     """Unbalance response (Bode) at the probes; peaks with AF and API separation-margin verdicts."""
     from rotaflex.rotor.fe.api import vibration_limit
@@ -529,7 +612,7 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
     ds.attrs.update(_attrs(config, t0, extra, msg))
     ds.attrs["peaks"] = json.dumps(pk)
     ds.attrs["bands"] = json.dumps(bands)
-    return UnbalanceResult(ds)
+    return UnbalanceResult(add_fluid_film_tables(ds, rotor))
 
 
 def _bands(spec) -> tuple[list[tuple[float, float]], float | None]:
@@ -595,6 +678,7 @@ def _unbalance_planes(rotor, spec, n_max):
     return ub + [(p, u * 1e-6, a) for p, u, a in zip(planes, U, ph, strict=True)], made
 
 
+@_pinned
 def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
     """Time response: constant speed or linear run-up, with unbalance."""
     from rotaflex.rotor.fe.transient import transient
@@ -647,9 +731,10 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
         extra["note"] = {"value": note, "unit": ""}
     ds.attrs.update(_attrs(config, t0, extra, tr.message + (f"; {note}" if note else "")))
     ds.attrs["nfev"] = tr.nfev
-    return TransientResult(ds)
+    return TransientResult(add_fluid_film_tables(ds, rotor))
 
 
+@_pinned
 def run_static(config: dict, *, progress: bool = False):
     """Static deflection, bearing reactions, shear force and bending moment (``[static]``)."""
     from rotaflex.rotor.fe.verbs import run_static as _run
@@ -657,6 +742,7 @@ def run_static(config: dict, *, progress: bool = False):
     return _run(config, progress=progress)
 
 
+@_pinned
 def run_frf(config: dict, *, progress: bool = False):
     """Frequency response functions of ``[frf]`` (receptance, mobility or accelerance)."""
     from rotaflex.rotor.fe.verbs import run_frf as _run

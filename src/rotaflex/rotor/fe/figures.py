@@ -41,7 +41,11 @@ def model_figure(rotor: Rotor):
         rmax = max(rmax, rd)
     for node, _ in rotor.point_masses:
         ax.plot(z[node], 0, "ks", ms=6)
-    for node, other, _ in rotor.bearings:
+    stations = [  # from the stations alone: no bearing tables are needed to draw the supports
+        (rotor.station(b.node, b.position, "bearing"), rotor.station(b.to_node, b.to_position, "bearing", False))
+        for b in rotor.bearing
+    ]
+    for node, other in stations:
         h = 0.6 * rmax
         y0 = -float(e["do_l"][min(node, e["L"].size - 1)]) / 2
         ax.add_patch(
@@ -355,4 +359,34 @@ def ucs_figure(ds, bearings=()):
     ax.set_title("undamped critical speed map with the bearings' stiffness", fontsize=9)
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7, loc="upper left")
+    return fig
+
+
+def fluid_film_figure(ds):
+    """Fluid-film bearing tables (``ff_*`` variables of a result) vs speed: the 8 coefficients,
+    eccentricity ratio and attitude angle; one line style per bearing."""
+    from rotaflex.core.plotting import new_figure
+
+    fig, axes = new_figure(2, 2, sharex=True, figsize=(10.0, 6.6))
+    colors = {"xx": "tab:blue", "xy": "tab:orange", "yx": "tab:green", "yy": "tab:red"}
+    styles = ("-", "--", ":", "-.")
+    for b, name in enumerate(ds["fluid_film"].values):
+        t = ds.isel(fluid_film=b)
+        rpm, ls = t["ff_speed_rpm"].values, styles[b % len(styles)]
+        load = np.hypot(float(t["ff_load_x"]), float(t["ff_load_y"]))
+        for ij, color in colors.items():
+            axes[0, 0].plot(rpm, t[f"ff_k{ij}"].values / 1e6, ls, color=color, label=f"k{ij} {name}")
+            axes[0, 1].plot(rpm, t[f"ff_c{ij}"].values / 1e3, ls, color=color, label=f"c{ij} {name}")
+        axes[1, 0].plot(rpm, t["ff_eccentricity_ratio"].values, ls, color="k", label=f"{name} ({load:.4g} N)")
+        axes[1, 1].plot(rpm, t["ff_attitude_angle"].values, ls, color="k", label=name)
+    labels = ("stiffness [MN/m]", "damping [kN s/m]", "eccentricity ratio e/c [-]", "attitude angle [deg]")
+    for ax, lab in zip(axes.flat, labels, strict=True):
+        ax.set_ylabel(lab)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, ncol=2 if lab[0] in "sd" else 1)
+    for ax in axes[1]:
+        ax.set_xlabel("speed [rpm]")
+    axes[0, 0].axhline(0, color="k", lw=0.5)
+    axes[0, 1].axhline(0, color="k", lw=0.5)
+    fig.suptitle("fluid-film bearing coefficients (linearised about the static equilibrium)", fontsize=10)
     return fig

@@ -194,9 +194,26 @@ class Rotor:
         if not self.shaft:
             raise InputError("shaft", "<missing>", "at least one [[shaft]] section")
         self._check_size()
-        _ = self.nodes, self.elements, self.disks, self.point_masses, self.bearings  # validate now
+        # validate now (load = "static" is resolved here under standard gravity, see `resolved`)
+        _ = self.nodes, self.elements, self.disks, self.point_masses, self.bearings
         if not self.free:
             self._check_supported()
+
+    @property
+    def static_load_bearings(self) -> list[int]:
+        """Indices of the fluid-film bearings whose load is ``"static"`` (from the static analysis)."""
+        return [i for i, b in enumerate(self.bearing) if b.fluid_film is not None and b.fluid_film.load == "static"]
+
+    @functools.cached_property
+    def resolved(self) -> Rotor:
+        """This rotor with every ``load = "static"`` replaced by the converged static bearing load
+        under standard gravity along -y (:func:`rotaflex.rotor.fe.bearings.static_load.resolve_static_loads`
+        for other loads); the rotor itself when there is none."""
+        if not self.static_load_bearings:
+            return self
+        from rotaflex.rotor.fe.bearings.static_load import resolve_static_loads
+
+        return resolve_static_loads(self).rotor
 
     def _check_size(self) -> None:
         """Refuse, before anything is assembled, a mesh beyond ``max_dof`` or the memory limit."""
@@ -395,6 +412,8 @@ class Rotor:
     @functools.cached_property
     def bearings(self) -> list[tuple[int, int | None, BearingElement]]:
         """(node, other node or None for ground, element) per bearing."""
+        if self.static_load_bearings:
+            return self.resolved.bearings
         out = []
         for i, b in enumerate(self.bearing):
             where = f"bearing[{i}]"

@@ -16,7 +16,13 @@ def _model_fig(result):
     cfg = result.config
     if "shaft" not in cfg:
         return {}
-    return {"model": model_figure(Rotor.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS}))}
+    figs = {}
+    if "ff_kxx" in result.dataset:  # fluid-film bearings: their coefficient tables vs speed
+        from rotaflex.rotor.fe.figures import fluid_film_figure
+
+        figs["bearing_coefficients"] = fluid_film_figure(result.dataset)
+    rotor = Rotor.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS})
+    return {"model": model_figure(rotor), **figs}
 
 
 def json_safe(obj):

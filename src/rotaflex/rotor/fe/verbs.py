@@ -11,7 +11,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from rotaflex.rotor.fe.case import _attrs, parse
+from rotaflex.rotor.fe.case import _attrs, add_fluid_film_tables, parse
 from rotaflex.rotor.fe.model import RPM
 from rotaflex.rotor.fe.results import FRFResult, StaticResult
 
@@ -70,7 +70,7 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
         + f"; max deflection {r[jd] * 1e6:.4g} um at node {jd}; max moment {mm[jm]:.4g} N m at z = {s.z[jm]:.4g} m"
     )
     ds.attrs.update(_attrs(config, t0, extra, msg))
-    return StaticResult(ds)
+    return StaticResult(add_fluid_film_tables(ds, rotor))
 
 
 def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
@@ -125,4 +125,4 @@ def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
                 shown.append(f"{p['frequency'] / (2 * np.pi):.4g} Hz")
     msg = f"{len(labels)} FRFs at {spec.speed_rpm:g} rpm; peaks of {labels[0]}: " + (", ".join(shown) or "none")
     ds.attrs.update(_attrs(config, t0, extra, msg))
-    return FRFResult(ds)
+    return FRFResult(add_fluid_film_tables(ds, rotor))

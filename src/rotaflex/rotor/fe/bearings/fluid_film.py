@@ -52,8 +52,9 @@ class FluidFilm:
     length: float = param(unit="m", gt=0, doc="bearing length L")
     clearance: float = param(unit="m", gt=0, doc="radial clearance c (tilting pads: the pad clearance C_p)")
     viscosity: float = param(unit="Pa s", gt=0, doc="dynamic viscosity mu of the lubricant")
-    load: tuple[float, float] = param(
-        unit="N", doc="static load [Fx, Fy] the journal puts on the bearing (e.g. [0, -m g / 2]); required"
+    load: tuple[float, float] | Literal["static"] = param(
+        unit="N",
+        doc='static load [Fx, Fy] the journal puts on the bearing, or "static": from the rotor\'s static analysis',
     )
     speed_rpm: tuple[float, float] = param(unit="rpm", gt=0, doc="speed range of the coefficient table")
     n_speeds: int = param(50, ge=2, doc="speeds in the coefficient table")
@@ -80,7 +81,7 @@ class FluidFilm:
             raise InputError(
                 f"{where}.clearance", self.clearance, f"a radial clearance < 0.05 D = {0.05 * self.diameter:g} m"
             )
-        if np.hypot(*self.load) <= 0:
+        if self.load != "static" and np.hypot(*self.load) <= 0:
             raise InputError(f"{where}.load", list(self.load), "[Fx, Fy] in N, not both zero")
         if not self.speed_rpm[1] > self.speed_rpm[0]:
             raise InputError(f"{where}.speed_rpm", list(self.speed_rpm), "[start, stop] in rpm with stop > start > 0")
@@ -299,5 +300,11 @@ def _tilting_pad_table(ff: FluidFilm, reaction, speeds, where, out) -> FluidFilm
 
 
 def fluid_film_table(ff: FluidFilm, where: str = "fluid_film") -> FluidFilmTable:
-    """Table over ``ff.speeds`` for the explicit ``ff.load`` (reaction = -load)."""
+    """Table over ``ff.speeds`` for the explicit ``ff.load`` (reaction = -load).
+
+    ``load = "static"`` is resolved by the rotor (:func:`.static_load.resolve_static_loads`),
+    which replaces it by the converged load before the table is computed.
+    """
+    if ff.load == "static":
+        raise InputError(f"{where}.load", "static", "[Fx, Fy] in N here (the rotor resolves 'static' first)")
     return coefficients_from_reaction(ff, -np.asarray(ff.load, float), None, where)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -36,6 +36,7 @@ class BearingElement:
     c: np.ndarray
     speeds: np.ndarray | None = None
     name: str = "bearing"
+    table: object = field(default=None, compare=False, repr=False)  #: FluidFilmTable of a fluid-film bearing
 
     @classmethod
     def constant(
@@ -95,4 +96,4 @@ class BearingElement:
         if bearing.speed_rpm is not None:
             raise InputError(f"{where}.speed_rpm", list(bearing.speed_rpm), "fluid_film.speed_rpm instead")
         table = fluid_film_table(bearing.fluid_film, f"{where}.fluid_film")
-        return cls(table.k, table.c, table.speed, f"{where}.fluid_film")
+        return cls(table.k, table.c, table.speed, f"{where}.fluid_film", table)
