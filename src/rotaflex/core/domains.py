@@ -42,7 +42,7 @@ from typing import Any
 #: domain name -> module with ``run_case``
 CASES: dict[str, str] = {
     "rotor": "rotaflex.rotor.case",
-    "gear": "rotaflex.gear.case",
+    "gear": "rotaflex.gear.cases.simulate",
     "floating": "rotaflex.floating.case",
     "rotor_fe": "rotaflex.rotor.fe.case",  # finite-element rotor analyses; `analysis` key selects one
 }
@@ -58,8 +58,8 @@ COMMANDS: dict[str, dict[str, str]] = {
         "transient": "rotaflex.rotor.fe.case:run_transient",
     },
     "gear": {
-        "static": "rotaflex.gear.static_case:run_static",
-        "steady": "rotaflex.gear.torsional_case:run_torsional",
+        "static": "rotaflex.gear.cases.static:run_static",
+        "steady": "rotaflex.gear.cases.steady:run_torsional",
     },
 }
 
