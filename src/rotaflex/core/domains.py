@@ -63,6 +63,12 @@ COMMANDS: dict[str, dict[str, str]] = {
     },
 }
 
+#: domain -> verb -> "module:function" with ``fn() -> str``: verbs that print a listing and
+#: read no config (``rotaflex gear methods``)
+LISTINGS: dict[str, dict[str, str]] = {
+    "gear": {"methods": "rotaflex.gear.solvers.registry:methods_table"},
+}
+
 #: reproduce target -> module with ``run``; "all" runs every entry in this order
 REPRODUCE: dict[str, str] = {
     "rotor": "rotaflex.reproduce.rotor",

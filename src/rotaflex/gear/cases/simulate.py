@@ -38,6 +38,15 @@ __all__ = [
 ]
 
 
+#: the last :func:`prepare` of :func:`validate_config`, by config content, handed to the
+#: :func:`run_case` of the same config once (the CLI validates, then runs: one model build)
+_VALIDATED: dict[str, tuple] = {}
+
+
+def _key(config: dict) -> str:
+    return json.dumps(config, sort_keys=True, default=repr)
+
+
 def prepare(config: dict):
     """Validated configuration, geometry, mesh, model (with the static preload of several teeth)
     and the SI run description, without integrating."""
@@ -55,13 +64,16 @@ def validate_config(config: dict) -> None:
     from rotaflex.core.errors import InputError
     from rotaflex.gear.models.fe_pair import tie_eigen_bounds
 
-    cfg, _, _, model, run = prepare(config)
+    prepared = prepare(config)
+    cfg, _, _, model, run = prepared
     if run.method == "paper_rk4":
         if run.dt > model.dt_limit:
             raise InputError(
                 "solver.dt", cfg.solver.dt, f"a step <= the RK4 stability limit of the mesh, {model.dt_limit:.4g} s"
             )
         tie_eigen_bounds(model, run.dt)
+    _VALIDATED.clear()  # one entry: a sweep validates every case before any runs
+    _VALIDATED[_key(config)] = prepared
 
 
 def _preload(cfg, model, run):
@@ -78,7 +90,8 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     from rotaflex.gear.solvers.registry import METHODS
 
     t_wall = time.perf_counter()
-    cfg, geo, _, model, run = prepare(config)
+    prepared = _VALIDATED.pop(_key(config), None)
+    cfg, geo, _, model, run = prepare(config) if prepared is None else prepared
     model = _preload(cfg, model, run)
     probe = None
     # reduced_hht eliminates the fillet nodes' FE field (Craig-Bampton): no root stress there
@@ -114,7 +127,7 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
 
         kw["progress"] = cb
     try:
-        out = METHODS[run.method](model, **kw)
+        out = METHODS[run.method](model, kw)
     finally:
         if bar is not None:
             bar.close()

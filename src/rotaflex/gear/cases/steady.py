@@ -56,12 +56,12 @@ from rotaflex.gear.models.chain import (
     State,
     TorsionalSystem,
     natural_frequencies,
-    steady_state,
 )
 from rotaflex.gear.models.mesh_stiffness import contact_pattern_mesh, mesh_table_from_static
 from rotaflex.gear.pair.drawing import GearSpec as DrawingGearSpec
 from rotaflex.gear.pair.drawing import PairSpec
 from rotaflex.gear.pair.geometry import GearGeometry, center_distance_no_backlash, contact_ratio
+from rotaflex.gear.solvers.registry import METHODS
 from rotaflex.gear.solvers.speed_sweep import iso_input, speed_sweep
 from rotaflex.gear.static.iso6336_kv import iso_kv
 
@@ -574,10 +574,9 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
     state = None if initial_state is None else _state_of(initial_state)
     sys, eps = build_system(cfg)
     face_width = cfg.gear.face_width if cfg.pair is None else pair_data(cfg).face_width
-    model, run = sys, steady_state
+    model = sys
     if cfg.model.method == "elastic_teeth":
         from rotaflex.gear.models.window import build_window_model
-        from rotaflex.gear.solvers.window_run import steady_state as run
 
         pd = pair_data(cfg)
         m = cfg.model
@@ -610,7 +609,8 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
         iso = _iso_data(cfg, sys, eps, face_width)
         res = speed_sweep(model, op.torque, cfg.sweep.speeds_rpm, directions=cfg.sweep.directions, iso=iso, **kw)
     else:
-        res, st = run(model, OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state, **kw)
+        settings = dict(kw, op=OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state)
+        res, st = METHODS[cfg.model.method](model, settings)
         _point_extras(res, sys, st, cfg, eps, face_width)
         ds = res.dataset
         kv, n_res = float(ds["dynamic_factor"]), float(ds["resonance_speed"])

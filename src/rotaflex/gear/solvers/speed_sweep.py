@@ -21,9 +21,9 @@ from rotaflex.gear.models.chain import (
     TorsionalSystem,
     natural_frequencies,
     resonance_speeds_rpm,
-    steady_state,
 )
 from rotaflex.gear.results.steady import METRIC_UNITS
+from rotaflex.gear.solvers.registry import METHODS
 from rotaflex.gear.static.iso6336_kv import IsoKvInput, iso_kv, reduced_mass_per_width
 
 __all__ = ["SpeedSweepResult", "iso_input", "speed_sweep"]
@@ -115,11 +115,9 @@ def speed_sweep(
         if d not in ("up", "down"):
             raise InputError("directions", d, "'up' or 'down'")
     t0 = time.perf_counter()
-    model, run = sys, steady_state
+    model, run = sys, METHODS["lumped"]
     if not isinstance(sys, TorsionalSystem):  # the elastic-tooth window model
-        from rotaflex.gear.solvers.window_run import steady_state as run
-
-        sys = model.system
+        model, run, sys = sys, METHODS["elastic_teeth"], sys.system
     names = list(METRIC_UNITS) + ["change", "period_cycles", "cycles_run"]
     data = {k: np.full((len(directions), len(speeds)), np.nan) for k in names}
 
@@ -128,7 +126,7 @@ def speed_sweep(
         order = range(len(speeds)) if d == "up" else range(len(speeds) - 1, -1, -1)
         for j in order:
             op = OperatingPoint(speed_rpm=float(speeds[j]), torque=torque)
-            res, state = run(model, op, state=state, **steady_kw)
+            res, state = run(model, dict(steady_kw, op=op, state=state))
             for k in names:
                 data[k][di, j] = res.dataset[k].item()
             for k in FILLET:
