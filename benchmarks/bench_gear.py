@@ -22,7 +22,7 @@ import time
 
 import numpy as np
 
-from rotaflex.gear.cases.simulate_config import rpm_to_rad_s
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.kernels import contact as kernels
 from rotaflex.gear.kernels.rk4 import elastic_force
 from rotaflex.gear.models import fe_pair as dynamics

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from rotaflex.gear.cases.simulate_config import rpm_to_rad_s
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.kernels.passes import direct_pass, factor_tie_blocks
 from rotaflex.gear.models import fe_pair as dynamics
 from rotaflex.gear.pair.geometry import GearGeometry, contact_angles

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.cases.simulate_config import rpm_to_rad_s
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.models import fe_pair as dynamics
 from rotaflex.gear.pair.geometry import GearGeometry, contact_angles
 from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from rotaflex.core.config import from_mapping
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.cases.simulate import GearCaseConfig, build, run_case
-from rotaflex.gear.cases.simulate_config import rpm_to_rad_s
 from rotaflex.gear.models.lumped import lumped_pair, simulate_lumped
 from rotaflex.gear.pair.geometry import contact_angles
 

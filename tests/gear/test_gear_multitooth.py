@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.cases.simulate import run_case
-from rotaflex.gear.cases.simulate_config import rpm_to_rad_s
 from rotaflex.gear.models import fe_pair as dynamics
 from rotaflex.gear.models import multitooth
 from rotaflex.gear.pair.geometry import GearGeometry, contact_angles

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry, Section
-from rotaflex.gear.cases.simulate_config import rpm_to_rad_s
+from rotaflex.core.units import rpm_to_rad_s
 
 CASES = (
     ("fig8", "Fig. 8", "Variations of the contact force (4,000 rpm)", (4000.0, 4000.0)),

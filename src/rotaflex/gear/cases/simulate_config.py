@@ -32,10 +32,9 @@ import math
 from dataclasses import dataclass, field
 from typing import Literal
 
-import numpy as np
-
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import deg_to_rad, rad_to_deg, rpm_to_rad_s
 from rotaflex.gear.pair import paper
 from rotaflex.gear.pair.drawing import GearSpec
 
@@ -56,11 +55,6 @@ MAX_ENERGY_BALANCE_ERROR = 0.25
 #: tie residual above which a finished run has status "failed_check" [m] (1 um: the size of the
 #: tooth deflection; the paper cases stay below 1e-11 m)
 MAX_TIE_RESIDUAL = 1e-6
-
-
-def rpm_to_rad_s(rpm):
-    """Speed in rpm -> rad/s (array). The single conversion of the gear domain."""
-    return np.asarray(rpm, dtype=float) * 2 * math.pi / 60
 
 
 @dataclass(frozen=True)
@@ -143,6 +137,18 @@ class OperationConfig:
         gt=0.0,
         doc="[pinion]/[wheel] pairs (required there): initial speed of the driver; the driven "
         "gear starts at driver speed / ratio",
+    )
+    driven_speed_rpm: float | None = param(
+        None,
+        unit="rpm",
+        gt=0.0,
+        doc="[pinion]/[wheel] pairs: initial speed of the driven gear (default driver speed / ratio; "
+        "another value is a speed mismatch: the teeth separate and strike, rattling)",
+    )
+    torque_on: Literal["pinion", "wheel"] | None = param(
+        None,
+        doc="[pinion]/[wheel] pairs: the gear 'torque' acts on (default the driver); the other "
+        "gear's torque is this one times its tooth ratio (the convention of every gear verb)",
     )
     direction: Literal["forward", "reverse"] = param(
         "forward",
@@ -339,7 +345,20 @@ class GearCaseConfig:
 
 
 #: tables and keys only ``gear static`` reads (a file may carry both verbs' tables)
-STATIC_ONLY = {"load": None, "analysis": None, "mesh": ("n_radii",)}
+STATIC_ONLY = {
+    "load": None,
+    "analysis": None,
+    "mesh": ("n_radii",),
+    # gear steady's tables and keys (a [pinion]/[wheel] file may serve every verb)
+    "mesh_stiffness": None,
+    "train": None,
+    "bearings": None,
+    "steady": None,
+    "sweep": None,
+    "iso": None,
+    "model": ("method", "n_modes", "tooth_damping_ratio", "corner_contact", "mesh_preset", "relief"),
+    "operation": ("ramp_cycles",),
+}
 #: keys that belong to one pair layout only: (table, key or None for the whole table)
 PAPER_ONLY = (
     ("gear", None),
@@ -348,7 +367,14 @@ PAPER_ONLY = (
     ("operation", "speed_rpm"),
     ("operation", "driver"),
 )
-DRAWING_ONLY = (("center_distance", None), ("backlash", None), ("driver", None), ("operation", "driver_speed_rpm"))
+DRAWING_ONLY = (
+    ("center_distance", None),
+    ("backlash", None),
+    ("driver", None),
+    ("operation", "driver_speed_rpm"),
+    ("operation", "driven_speed_rpm"),
+    ("operation", "torque_on"),
+)
 
 
 def without(config: dict, drop: dict) -> dict:
@@ -364,6 +390,23 @@ def without(config: dict, drop: dict) -> dict:
     return out
 
 
+def _pinion_speed(config: dict) -> dict:
+    """A drawing pair's ``operation.speed_rpm = N`` (the pinion speed, as ``gear steady`` reads
+    it) as ``driver_speed_rpm`` when the pinion drives."""
+    op = config.get("operation")
+    if not isinstance(op, dict) or "speed_rpm" not in op or isinstance(op["speed_rpm"], (list, tuple)):
+        return config
+    n = op["speed_rpm"]
+    if config.get("driver", "pinion") != "pinion":
+        return config  # refused below: a wheel driver's speed is operation.driver_speed_rpm
+    if op.get("driver_speed_rpm", n) != n:
+        raise InputError(
+            "operation.speed_rpm", n, f"omitted, or equal to operation.driver_speed_rpm = {op['driver_speed_rpm']}"
+        )
+    op = {k: v for k, v in op.items() if k != "speed_rpm"}
+    return {**config, "operation": {**op, "driver_speed_rpm": n}}
+
+
 def load_config(config: dict) -> GearCaseConfig:
     """The validated :class:`GearCaseConfig` of a parsed TOML mapping (no ``domain`` key).
 
@@ -377,6 +420,8 @@ def load_config(config: dict) -> GearCaseConfig:
 
     config = without({k: v for k, v in config.items() if k != "domain"}, STATIC_ONLY)
     drawing = "pinion" in config or "wheel" in config
+    if drawing:
+        config = _pinion_speed(config)
     for table, key in PAPER_ONLY if drawing else DRAWING_ONLY:
         sub = config.get(table)
         if key is None and table in config or key is not None and isinstance(sub, dict) and key in sub:
@@ -492,7 +537,7 @@ def build(cfg: GearCaseConfig):
     if n_teeth > 1:
         from rotaflex.gear.models.multitooth import build_multi_model
 
-        start = math.radians(cfg.model.start_angle_deg)
+        start = deg_to_rad(cfg.model.start_angle_deg)
         model = build_multi_model(geo, mesh, n_teeth, start_angle=start, **common)
     else:
         model = dynamics.build_model(*geo, *mesh, **common)
@@ -525,20 +570,21 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
         raise InputError(f"gear.{exc.field}", exc.value, exc.allowed) from None
     del eps
     if op.theta_s_deg is not None:
-        ths = math.radians(op.theta_s_deg)
+        ths = deg_to_rad(op.theta_s_deg)
     if op.theta_2_deg is not None:
-        th2 = math.radians(op.theta_2_deg)
+        th2 = deg_to_rad(op.theta_2_deg)
     if 2 * th2 > ths:
         raise InputError(
             "operation.theta_2_deg",
-            op.theta_2_deg if op.theta_2_deg is not None else round(math.degrees(th2), 6),
-            f"<= theta_s / 2 = {math.degrees(ths) / 2:g} deg",
+            op.theta_2_deg if op.theta_2_deg is not None else round(rad_to_deg(th2), 6),
+            f"<= theta_s / 2 = {rad_to_deg(ths) / 2:g} deg",
         )
     # kernel gear A is always the driver (driver = "B": mirror image, see rotaflex.gear.results.transient)
     if drawing:
         # u = z_driven / z_driver: the driven gear turns u times slower and carries u x the torque
         ratio = g_b.teeth / g_a.teeth
-        rpm = (op.driver_speed_rpm, op.driver_speed_rpm / ratio)
+        driven = op.driven_speed_rpm if op.driven_speed_rpm is not None else op.driver_speed_rpm / ratio
+        rpm = (op.driver_speed_rpm, driven)
         driver = "B" if cfg.driver == "wheel" else "A"
         gain = (1.0, ratio)
     else:
@@ -547,10 +593,10 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
         gain = (1.0, 1.0)
     speeds = rpm_to_rad_s(rpm)
     n = cfg.model.teeth_per_gear
-    start = math.radians(cfg.model.start_angle_deg)
-    window = math.radians(cfg.model.mesh_window_deg)
+    start = deg_to_rad(cfg.model.start_angle_deg)
+    window = deg_to_rad(cfg.model.mesh_window_deg)
     if op.span_deg is not None:
-        span = math.radians(op.span_deg)
+        span = deg_to_rad(op.span_deg)
     elif n > 1:
         span = default_span(n, 2 * math.pi / geo.teeth, ths, start)
     else:
@@ -561,7 +607,7 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
             raise InputError(
                 "operation.span_deg",
                 op.span_deg,
-                f"<= {math.degrees(limit):.4g} deg with {n} teeth per gear (beyond "
+                f"<= {rad_to_deg(limit):.4g} deg with {n} teeth per gear (beyond "
                 "it a pair of teeth that is not modelled would be in contact)",
             )
     if sol.dt is not None:
@@ -578,8 +624,8 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
         raise InputError(
             "operation.span_deg",
             op.span_deg,
-            f">= {math.degrees(every * step_angle):.3g} deg: at least one output "
-            f"record ({every} steps of {math.degrees(step_angle):.3g} deg)",
+            f">= {rad_to_deg(every * step_angle):.3g} deg: at least one output "
+            f"record ({every} steps of {rad_to_deg(step_angle):.3g} deg)",
         )
     if n_steps > MAX_STEPS:
         key, value = (
@@ -589,7 +635,7 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
             key,
             value,
             f"a run of <= {MAX_STEPS:.0e} steps (this one: {n_steps:.3g} steps of "
-            f"dt = {dt:g} s over {math.degrees(span):.4g} deg; raise solver.dt or "
+            f"dt = {dt:g} s over {rad_to_deg(span):.4g} deg; raise solver.dt or "
             "shorten operation.span_deg)",
         )
     nn = int(model.n_nodes)
@@ -617,10 +663,13 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
             smoothing=contact_smoothing(cfg),
             gain=gain,
         )
+    torque = op.torque
+    if drawing and op.torque_on is not None and op.torque_on != (cfg.driver or "pinion"):
+        torque = op.torque / ratio  # given on the driven gear: tau_0 on the driver
     return Run(
         method=sol.method,
         speeds=(float(speeds[0]), float(speeds[1])),
-        torque=op.torque,
+        torque=torque,
         theta_2=th2,
         theta_s=ths,
         span=span,

@@ -19,8 +19,9 @@ import numpy as np
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result, register_result
+from rotaflex.core.units import rad_to_deg
 from rotaflex.gear.cases.simulate_config import without
-from rotaflex.gear.pair.drawing import GearSpec, PairSpec, pair_meshes
+from rotaflex.gear.pair.drawing import SUMMARY_UNITS, GearSpec, PairSpec, pair_meshes
 from rotaflex.gear.pair.tooth_mesh import COARSE, DEFAULT, build_tooth_mesh
 from rotaflex.gear.static.loaded_te import loaded_te, pair_line
 from rotaflex.gear.static.tooth_analysis import iso6336_stiffness, weber_contact_compliance
@@ -39,7 +40,10 @@ MESH_PRESETS = {
 class LoadConfig:
     """Transmitted (design) torque."""
 
-    torque: float = param(unit="N m", gt=0.0, doc="design torque on the pinion")
+    torque: float = param(unit="N m", gt=0.0, doc="design torque on the gear named by torque_on")
+    torque_on: Literal["pinion", "wheel"] = param(
+        "pinion", doc="the gear 'torque' acts on; the other carries it times the tooth ratio"
+    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -102,7 +106,28 @@ DYNAMIC_ONLY = {
     "output": None,
     "model": None,
     "mesh": ("n_points", "contact_smoothing"),
+    # gear steady's tables
+    "mesh_stiffness": None,
+    "train": None,
+    "bearings": None,
+    "steady": None,
+    "sweep": None,
+    "iso": None,
 }
+
+
+def _with_load(config: dict) -> dict:
+    """``config`` with a [load] table: as written, or from ``[operation] torque`` and
+    ``torque_on`` of a file shared with the dynamic verbs (``torque_on`` required there: the
+    dynamic verbs' defaults differ)."""
+    op = config.get("operation")
+    if "load" in config or not isinstance(op, dict) or "torque" not in op:
+        return config
+    if "torque_on" not in op:
+        raise InputError(
+            "operation.torque_on", None, "'pinion' or 'wheel' when [operation] torque is gear static's load (no [load])"
+        )
+    return {**config, "load": {"torque": op["torque"], "torque_on": op["torque_on"]}}
 
 
 def gear_meshes(pair: PairSpec, preset: str | dict = "default", refine: int = 1, *, relief: bool = True):
@@ -151,6 +176,10 @@ def _compliance_study(cfg: StaticConfig, pair: PairSpec, force: float) -> dict:
     return out
 
 
+#: units of the ISO 6336-1 entries of the static summary (the others are factors, "1")
+ISO_UNITS = {"q": "mm um/N", "k_single": "N/m", "k_gamma": "N/m"}
+
+
 @register_result
 class StaticResult(Result):
     """Static pair analysis (dims ``cycle``, ``engagement``, ``gear``, ``radius``, ``level``)."""
@@ -160,8 +189,11 @@ class StaticResult(Result):
     def summary(self):
         out = super().summary()
         geo = json.loads(self.dataset.attrs.get("pair_geometry", "{}"))
+        iso = geo.pop("iso", {})
         for key, val in geo.items():
-            out[f"geometry_{key}"] = {"value": val, "unit": ""}
+            out[f"geometry_{key}"] = {"value": val, "unit": SUMMARY_UNITS[key]}
+        for key, val in iso.items():  # ISO 6336-1 factors and stiffnesses of c', c_gamma
+            out[f"geometry_iso_{key}"] = {"value": val, "unit": ISO_UNITS.get(key, "1")}
         return out
 
     def plot(self):
@@ -169,7 +201,7 @@ class StaticResult(Result):
 
         ds = self.dataset
         figs = {}
-        x = np.degrees(ds["cycle"].values)
+        x = rad_to_deg(ds["cycle"].values)
         fig, ax = new_figure(2, 1, sharex=True)
         ax[0].plot(x, ds["mesh_stiffness"] * 1e-6, label="with relief")
         ax[0].plot(x, ds["mesh_stiffness_unrelieved"] * 1e-6, "--", label="without relief")
@@ -180,7 +212,7 @@ class StaticResult(Result):
         ax[1].set_ylabel("loaded STE along LoA [um]")
         ax[1].set_xlabel(f"{ds.attrs['driver']} roll angle over one mesh cycle [deg]")
         figs["mesh_stiffness_ste"] = fig
-        xe = np.degrees(ds["engagement"].values)
+        xe = rad_to_deg(ds["engagement"].values)
         fig, ax = new_figure(2, 1, sharex=True)
         ax[0].plot(xe, ds["load_share"], label="with relief")
         ax[0].plot(xe, ds["load_share_unrelieved"], "--", label="without relief")
@@ -204,8 +236,13 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     import xarray as xr
 
     t0 = time.perf_counter()
-    config = without({k: v for k, v in config.items() if k != "domain"}, DYNAMIC_ONLY)
+    config = _with_load({k: v for k, v in config.items() if k != "domain"})
+    config = without(config, DYNAMIC_ONLY)
     cfg = from_mapping(StaticConfig, config)
+    if cfg.load.torque_on == "wheel":  # the pinion torque, once, where the config is read
+        g1, g2 = cfg.pair.gears
+        load = dataclasses.replace(cfg.load, torque=cfg.load.torque * g1.teeth / g2.teeth, torque_on="pinion")
+        cfg = dataclasses.replace(cfg, load=load)
     pair = cfg.pair
     g1, g2 = pair.gears
     a = pair.working_center_distance

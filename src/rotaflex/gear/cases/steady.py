@@ -156,7 +156,10 @@ class OperationSpec:
     """Operating point: pinion speed, output torque, start-up ramp."""
 
     speed_rpm: float = param(10000.0, unit="rpm", gt=0.0, doc="pinion (mean) speed")
-    torque: float = param(22.25, unit="N m", gt=0.0, doc="output torque on the wheel")
+    torque: float = param(22.25, unit="N m", gt=0.0, doc="torque on the gear named by torque_on")
+    torque_on: Literal["pinion", "wheel"] = param(
+        "wheel", doc="the gear 'torque' acts on; the other carries it times the tooth ratio"
+    )
     ramp_cycles: float = param(0.0, ge=0.0, doc="start-up torque ramp in mesh cycles; 0: start from statics")
 
 
@@ -260,7 +263,7 @@ class TorsionalCaseConfig:
     gear: GearSpec | None = param(
         None, doc="the paper's 28:28 pair, keys changeable; default when no [pinion]/[wheel] is given"
     )
-    mesh: MeshSpec = param(MeshSpec())
+    mesh_stiffness: MeshSpec = param(MeshSpec(), doc="the mesh-spring model (was [mesh]; [mesh] is the FE tooth mesh)")
     train: TrainSpec = param(TrainSpec())
     bearings: BearingSpec | None = param(None, doc="omitted: rigid bearings")
     operation: OperationSpec = param(OperationSpec())
@@ -390,14 +393,14 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
     inertia = PAPER_INERTIA if t.inertia is None else tuple(t.inertia)
     if cfg.pair is None and cfg.model.method == "lumped":
         g1, g2 = cfg.gear.geometry()
-        mesh, eps = _mesh_table(cfg.gear, cfg.mesh, cfg.operation.torque)
+        mesh, eps = _mesh_table(cfg.gear, cfg.mesh_stiffness, cfg.operation.torque)
     else:
         from rotaflex.gear.models.mesh_stiffness import loaded_mesh_table
 
         pd = pair_data(cfg)
         g1, g2 = pd.gears
         line = pair_line_of(cfg)
-        mesh = loaded_mesh_table(line, line.force, cfg.mesh.table_points)
+        mesh = loaded_mesh_table(line, line.force, cfg.mesh_stiffness.table_points)
         eps = contact_ratio(g1, g2, pd.center_distance)
         if pd.inertias is not None and t.inertia is None:
             inertia = pd.inertias
@@ -412,8 +415,8 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
         input_shaft_damping=t.input_shaft_damping,
         output_shaft_stiffness=t.output_shaft_stiffness or math.inf,
         output_shaft_damping=t.output_shaft_damping,
-        mesh_damping_ratio=cfg.mesh.damping_ratio,
-        backlash=-1.0 if cfg.mesh.backlash is None else cfg.mesh.backlash,
+        mesh_damping_ratio=cfg.mesh_stiffness.damping_ratio,
+        backlash=-1.0 if cfg.mesh_stiffness.backlash is None else cfg.mesh_stiffness.backlash,
         drive=t.drive,
         motor_slope=t.motor_slope,
         **_bearing_keys(cfg),
@@ -432,7 +435,77 @@ def _bearing_keys(cfg: TorsionalCaseConfig) -> dict:
     return {"bearing_stiffness": tuple(b.stiffness), "bearing_damping": tuple(b.damping), "gear_mass": tuple(mass)}
 
 
+#: keys of the other gear verbs a shared [pinion]/[wheel] file may carry; ``gear steady`` ignores
+#: them: (table, key) or (table, None) for the whole table
+OTHER_VERBS = (
+    ("load", None),
+    ("analysis", None),
+    ("solver", None),
+    ("output", None),
+    ("driver", None),
+    ("operation", "driver_speed_rpm"),
+    ("operation", "driven_speed_rpm"),
+    ("operation", "direction"),
+    ("operation", "theta_2_deg"),
+    ("operation", "theta_s_deg"),
+    ("operation", "span_deg"),
+    ("model", "teeth_per_gear"),
+    ("model", "start_angle_deg"),
+    ("model", "mesh_window_deg"),
+    ("mesh", "n_points"),
+    ("mesh", "contact_smoothing"),
+)
+#: [mesh] keys of the FE tooth mesh (as in gear static) -> their [model] key here
+FE_MESH_KEYS = {"preset": "mesh_preset", "n_radii": "n_radii"}
+
+
+def _mesh_table_name(config: dict) -> str:
+    """'mesh' for a file that gives the mesh-spring model in [mesh] (the old spelling)."""
+    return (
+        "mesh" if set(config.get("mesh") or {}) & {f.name for f in dataclasses.fields(MeshSpec)} else "mesh_stiffness"
+    )
+
+
+def _normalised(config: dict) -> dict:
+    """``config`` in this verb's spelling: other verbs' keys dropped, [mesh] FE keys moved to
+    [model], mesh-spring keys of an old [mesh] table moved to [mesh_stiffness]."""
+    out = {k: dict(v) if isinstance(v, dict) else v for k, v in config.items()}
+    for table, key in OTHER_VERBS:
+        if key is None:
+            out.pop(table, None)
+        elif isinstance(out.get(table), dict):
+            out[table].pop(key, None)
+    mesh = out.pop("mesh", None)
+    if isinstance(mesh, dict):
+        spring = {f.name for f in dataclasses.fields(MeshSpec)}
+        for key, value in mesh.items():
+            table, name = ("model", FE_MESH_KEYS[key]) if key in FE_MESH_KEYS else ("mesh_stiffness", key)
+            if key not in FE_MESH_KEYS and key not in spring:
+                allowed = "a key of [mesh] (" + ", ".join([*FE_MESH_KEYS, *sorted(spring)]) + ")"
+                raise InputError(f"mesh.{key}", value, allowed)
+            dest = out.setdefault(table, {})
+            if not isinstance(dest, dict):
+                raise InputError(table, dest, "a table")
+            if name in dest and dest[name] != value:
+                raise InputError(f"mesh.{key}", value, f"omitted, or equal to {table}.{name} = {dest[name]!r}")
+            dest[name] = value
+    elif mesh is not None:
+        raise InputError("mesh", mesh, "a table")
+    return out
+
+
+def _wheel_torque(cfg: TorsionalCaseConfig) -> TorsionalCaseConfig:
+    """``cfg`` with the operating torque on the wheel (the chain's convention)."""
+    op = cfg.operation
+    if op.torque_on == "wheel":
+        return cfg
+    g1, g2 = cfg.gear.geometry() if cfg.pair is None else cfg.pair.gears
+    wheel = dataclasses.replace(op, torque=op.torque * g2.teeth / g1.teeth, torque_on="wheel")
+    return dataclasses.replace(cfg, operation=wheel)
+
+
 def _checked(config: dict) -> TorsionalCaseConfig:
+    written, config = config, _normalised(config)
     cfg = from_mapping(TorsionalCaseConfig, config)
     if (cfg.pinion is None) != (cfg.wheel is None):
         missing = "wheel" if cfg.wheel is None else "pinion"
@@ -443,12 +516,22 @@ def _checked(config: dict) -> TorsionalCaseConfig:
         raise InputError("center_distance", cfg.center_distance, "only with [pinion]/[wheel]")
     if cfg.pinion is None and cfg.backlash is not None:
         raise InputError("backlash", cfg.backlash, "only with [pinion]/[wheel]")
-    if cfg.model.method == "elastic_teeth" and cfg.mesh.source != "static_fe":
-        raise InputError("mesh.source", cfg.mesh.source, "'static_fe' with model.method = 'elastic_teeth'")
-    if cfg.pinion is not None and cfg.mesh.source != "static_fe":
-        raise InputError("mesh.source", cfg.mesh.source, "'static_fe' with [pinion]/[wheel]")
-    if cfg.model.method == "elastic_teeth" and cfg.mesh.backlash is not None:
-        raise InputError("mesh.backlash", cfg.mesh.backlash, "omitted with model.method = 'elastic_teeth'")
+    if cfg.model.method == "elastic_teeth" and cfg.mesh_stiffness.source != "static_fe":
+        raise InputError(
+            f"{_mesh_table_name(written)}.source",
+            cfg.mesh_stiffness.source,
+            "'static_fe' with model.method = 'elastic_teeth'",
+        )
+    if cfg.pinion is not None and cfg.mesh_stiffness.source != "static_fe":
+        raise InputError(
+            f"{_mesh_table_name(written)}.source", cfg.mesh_stiffness.source, "'static_fe' with [pinion]/[wheel]"
+        )
+    if cfg.model.method == "elastic_teeth" and cfg.mesh_stiffness.backlash is not None:
+        raise InputError(
+            f"{_mesh_table_name(written)}.backlash",
+            cfg.mesh_stiffness.backlash,
+            "omitted with model.method = 'elastic_teeth'",
+        )
     cfg.pair  # noqa: B018  (checks the drawing pair)
     if cfg.bearings is not None and cfg.bearings.mass is None:
         if cfg.pinion is None:
@@ -471,9 +554,9 @@ def _checked(config: dict) -> TorsionalCaseConfig:
             raise InputError("sweep.directions", d, "'up' or 'down'")
     g1, g2 = cfg.gear.geometry() if cfg.pair is None else cfg.pair.gears
     eps = contact_ratio(g1, g2) if cfg.pair is None else cfg.pair.contact_ratio
-    if cfg.mesh.source == "contact_pattern" and not 1.0 < eps < 2.0:
+    if cfg.mesh_stiffness.source == "contact_pattern" and not 1.0 < eps < 2.0:
         raise InputError("gear", f"contact ratio {eps:.3f}", "1 < eps < 2 for mesh.source = 'contact_pattern'")
-    return cfg
+    return _wheel_torque(cfg)
 
 
 def validate_config(config: dict) -> None:

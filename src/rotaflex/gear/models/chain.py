@@ -43,6 +43,7 @@ import numpy as np
 
 from rotaflex.core.config import param
 from rotaflex.core.errors import DivergenceError, InputError
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.kernels.chain import ChainArgs, MeshArgs, run_rk4
 from rotaflex.gear.models.mesh_stiffness import (
     MeshTable,
@@ -130,7 +131,7 @@ class OperatingPoint:
     @property
     def omega(self) -> float:
         """Pinion speed [rad/s]."""
-        return self.speed_rpm * math.pi / 30.0
+        return rpm_to_rad_s(self.speed_rpm)
 
 
 @dataclass

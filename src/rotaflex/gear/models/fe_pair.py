@@ -388,7 +388,7 @@ def integrate(
         One contact pair per tooth (see :meth:`GearPairModel.pair_layout`).
     speeds : (float, float)
         Initial speeds of A (counter-clockwise) and B (clockwise) [rad/s]
-        (:func:`rotaflex.gear.cases.simulate_config.rpm_to_rad_s`).
+        (:func:`rotaflex.core.units.rpm_to_rad_s`).
     torque : float
         tau_0 [N m]; drive torque on A and (times ``gain[1]``) load torque on B.
     theta_2, theta_s : float

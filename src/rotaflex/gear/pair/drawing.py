@@ -49,6 +49,26 @@ __all__ = [
 
 #: smallest allowed tip thickness / module (pointed-tip check; common design practice 0.2-0.4)
 MIN_TIP_THICKNESS_COEF = 0.2
+#: unit of every :meth:`PairSpec.summary` entry (and of ``gear static``'s ``geometry_*`` rows)
+SUMMARY_UNITS = {
+    "ratio": "1",
+    "center_distance": "m",
+    "center_distance_no_backlash": "m",
+    "normal_backlash": "m",
+    "operating_pressure_angle_deg": "deg",
+    "contact_ratio": "1",
+    "path_of_contact": "m",
+    "pinion_tip_thickness": "m",
+    "wheel_tip_thickness": "m",
+    "pinion_inertia": "kg m^2",
+    "wheel_inertia": "kg m^2",
+    **{
+        f"{g}_{r}": "m"
+        for g in ("pinion", "wheel")
+        for r in ("tip_radius", "root_radius", "form_radius", "start_of_active_profile_radius")
+    },
+}
+
 #: largest root relief / tooth thickness at the form circle
 MAX_ROOT_RELIEF_FRACTION = 0.1
 
@@ -368,10 +388,24 @@ class PairSpec:
         """Transverse contact ratio eps_alpha = g_alpha / p_b."""
         return self.path_of_contact / self.pinion._plain("pinion").base_pitch
 
-    def summary(self) -> dict:
-        """Pair geometry numbers (SI; angles in degrees where named so)."""
+    def start_of_active_profile(self) -> tuple[float, float]:
+        """(pinion, wheel) radius [m] where the mate's tip circle meets the line of action: the
+        lowest flank point in contact, r_SAP = sqrt(r_b^2 + (a' sin(alpha') - sqrt(r_a,mate^2
+        - r_b,mate^2))^2)."""
         g1, g2 = self.gears
-        return {
+        length = self.working_center_distance * math.sin(self.operating_pressure_angle)
+        out = []
+        for g, mate in ((g1, g2), (g2, g1)):
+            s = length - math.sqrt(mate.tip_radius_**2 - mate.base_radius**2)
+            out.append(math.hypot(g.base_radius, s))
+        return out[0], out[1]
+
+    def summary(self) -> dict:
+        """Pair geometry numbers (SI; angles in degrees where named so); units in
+        :data:`SUMMARY_UNITS`."""
+        g1, g2 = self.gears
+        sap = self.start_of_active_profile()
+        out = {
             "ratio": self.ratio,
             "center_distance": self.working_center_distance,
             "center_distance_no_backlash": self.center_distance_no_backlash,
@@ -384,6 +418,12 @@ class PairSpec:
             "pinion_inertia": self.pinion.inertia("pinion"),
             "wheel_inertia": self.wheel.inertia("wheel"),
         }
+        for name, g, r_sap in (("pinion", g1, sap[0]), ("wheel", g2, sap[1])):
+            out[f"{name}_tip_radius"] = g.tip_radius_
+            out[f"{name}_root_radius"] = g.root_radius_
+            out[f"{name}_form_radius"] = g.form_radius
+            out[f"{name}_start_of_active_profile_radius"] = r_sap
+        return out
 
     # ------------------------------------------------------------------ checks
     def check(self) -> PairSpec:
