@@ -4,15 +4,16 @@ TOML tables (SI unless the key names its unit; all optional, defaults = the pape
 
     [gear]       module, teeth = [z1, z2], pressure_angle_deg, face_width, tip_radius,
                  root_radius (radii of both gears; omitted: derived), youngs_modulus, poisson_ratio
-    [mesh]       source = "static_fe" | "contact_pattern", pair_stiffness (contact_pattern),
+    [mesh_stiffness]  source = "static_fe" | "contact_pattern", pair_stiffness (contact_pattern),
                  unloaded_te_pp, damping_ratio = 0.07, backlash (omitted: no back-side contact),
-                 table_points
+                 table_points (the old spelling [mesh] for these keys still works)
+    [mesh]       the FE tooth mesh as in gear static: preset, n_radii (= model.mesh_preset, n_radii)
     [train]      inertia = [J1, J2], motor_inertia, load_inertia, input_shaft_stiffness,
                  output_shaft_stiffness (omitted: rigid), input_shaft_damping,
                  output_shaft_damping, drive = "motor" | "constant_speed", motor_slope
     [bearings]   stiffness = [k_b1, k_b2], damping, mass: support of the gear centres along the
                  line of action (omitted: rigid)
-    [operation]  speed_rpm, torque (output, N m), ramp_cycles
+    [operation]  speed_rpm (pinion), torque [N m] on torque_on = "wheel" | "pinion", ramp_cycles
     [steady]     tol, min_cycles, max_cycles, eval_cycles, fixed_cycles, steps_per_cycle
     [sweep]      speeds_rpm = [...] (two or more: an up-and-down sweep instead of one point),
                  directions = ["up", "down"]
