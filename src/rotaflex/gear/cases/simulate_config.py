@@ -36,12 +36,8 @@ from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import deg_to_rad, rad_to_deg, rpm_to_rad_s
 from rotaflex.gear.pair import paper
-from rotaflex.gear.pair.drawing import GearSpec
+from rotaflex.gear.pair.drawing import MIN_YOUNGS_MODULUS, GearSpec
 
-#: smallest Young's modulus accepted [Pa]. Engineering gear materials start at about 1 GPa
-#: (moulded polymers; steels 210 GPa); below 0.1 GPa the teeth deflect by a sizeable fraction of
-#: the module under any useful torque, outside the small-strain co-rotational model.
-MIN_YOUNGS_MODULUS = 1e8
 #: displacement tolerance range [m]: above 1e-6 m the constraint error is comparable to the tooth
 #: deflection (~1e-6 m at the paper's load), below 1e-16 m it is under round-off of the positions
 TOLERANCE_RANGE = (1e-16, 1e-6)

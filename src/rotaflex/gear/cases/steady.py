@@ -59,8 +59,8 @@ from rotaflex.gear.models.chain import (
     natural_frequencies,
 )
 from rotaflex.gear.models.mesh_stiffness import contact_pattern_mesh, mesh_table_from_static
+from rotaflex.gear.pair.drawing import MIN_YOUNGS_MODULUS, PairSpec
 from rotaflex.gear.pair.drawing import GearSpec as DrawingGearSpec
-from rotaflex.gear.pair.drawing import PairSpec
 from rotaflex.gear.pair.geometry import GearGeometry, center_distance_no_backlash, contact_ratio
 from rotaflex.gear.solvers.registry import METHODS
 from rotaflex.gear.solvers.speed_sweep import iso_input, speed_sweep
@@ -79,7 +79,7 @@ class GearSpec:
     face_width: float = param(6.35e-3, unit="m", gt=0.0)
     tip_radius: tuple[float, float] | None = param(None, unit="m", doc="omitted: derived")
     root_radius: tuple[float, float] | None = param(None, unit="m", doc="omitted: derived")
-    youngs_modulus: float = param(210e9, unit="Pa", gt=0.0)
+    youngs_modulus: float = param(210e9, unit="Pa", gt=MIN_YOUNGS_MODULUS, doc="> 1e8 Pa: engineering gear materials")
     poisson_ratio: float = param(0.3, gt=0.0, lt=0.5)
     density: float = param(7800.0, unit="kg/m^3", gt=0.0, doc="tooth mass (elastic_teeth with n_modes > 0)")
 
@@ -118,6 +118,7 @@ class TrainSpec:
     inertia: tuple[float, float] | None = param(
         None,
         unit="kg m^2",
+        gt=0.0,
         doc="(pinion, wheel); default: from the [pinion]/[wheel] blanks, or the paper's 2.965e-4 each",
     )
     motor_inertia: float = param(0.0, unit="kg m^2", ge=0.0, doc="motor rotor (drive = 'motor')")

@@ -49,6 +49,11 @@ __all__ = [
 
 #: smallest allowed tip thickness / module (pointed-tip check; common design practice 0.2-0.4)
 MIN_TIP_THICKNESS_COEF = 0.2
+#: smallest Young's modulus accepted [Pa], in every gear verb: 0.1 GPa admits the stiffest
+#: polymers (moulded polymers; steels 210 GPa); below it the teeth deflect by a sizeable fraction
+#: of the module under any useful torque, outside the small-strain co-rotational model
+MIN_YOUNGS_MODULUS = 1e8
+
 #: unit of every :meth:`PairSpec.summary` entry (and of ``gear static``'s ``geometry_*`` rows)
 SUMMARY_UNITS = {
     "ratio": "1",
@@ -100,7 +105,9 @@ class MaterialSpec:
     """Material by name (``MATERIALS``) or by values; values override the name's."""
 
     name: Literal["steel", "cast_iron", "bronze", "aluminium"] = param("steel")
-    youngs_modulus: float | None = param(None, unit="Pa", gt=0.0)
+    youngs_modulus: float | None = param(
+        None, unit="Pa", gt=MIN_YOUNGS_MODULUS, doc="> 1e8 Pa: engineering gear materials"
+    )
     poisson_ratio: float | None = param(None, gt=0.0, lt=0.5)
     density: float | None = param(None, unit="kg/m^3", gt=0.0)
 
@@ -479,6 +486,8 @@ class PairSpec:
                 )
         eps = self.contact_ratio
         if eps < 1.0:
+            if self.center_distance is None and self.backlash:  # the centre distance came from it
+                raise InputError("backlash", self.backlash, f"a backlash leaving contact ratio >= 1 (got {eps:.4f})")
             raise InputError("center_distance", a, f"a pair with contact ratio >= 1 (got {eps:.4f})")
         return self
 
