@@ -231,18 +231,24 @@ def _ptp(x):
     return float(np.max(x) - np.min(x))
 
 
+def load_config(config: dict) -> StaticConfig:
+    """The validated :class:`StaticConfig` of a parsed TOML mapping: the other verbs' tables
+    dropped, [load] from [operation] of a shared file, the torque on the pinion (SI, once)."""
+    config = _with_load({k: v for k, v in config.items() if k != "domain"})
+    cfg = from_mapping(StaticConfig, without(config, DYNAMIC_ONLY))
+    if cfg.load.torque_on == "wheel":
+        g1, g2 = cfg.pair.gears
+        load = dataclasses.replace(cfg.load, torque=cfg.load.torque * g1.teeth / g2.teeth, torque_on="pinion")
+        cfg = dataclasses.replace(cfg, load=load)
+    return cfg
+
+
 def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     """Static analysis of the pair in ``config`` (parsed TOML, no ``domain`` key)."""
     import xarray as xr
 
     t0 = time.perf_counter()
-    config = _with_load({k: v for k, v in config.items() if k != "domain"})
-    config = without(config, DYNAMIC_ONLY)
-    cfg = from_mapping(StaticConfig, config)
-    if cfg.load.torque_on == "wheel":  # the pinion torque, once, where the config is read
-        g1, g2 = cfg.pair.gears
-        load = dataclasses.replace(cfg.load, torque=cfg.load.torque * g1.teeth / g2.teeth, torque_on="pinion")
-        cfg = dataclasses.replace(cfg, load=load)
+    cfg = load_config(config)
     pair = cfg.pair
     g1, g2 = pair.gears
     a = pair.working_center_distance
