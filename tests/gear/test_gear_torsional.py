@@ -223,7 +223,7 @@ def test_case_from_toml_point_and_sweep():
     path = Path(__file__).parents[2] / "examples" / "gear" / "steady" / "torsional_dynamic_factor.toml"
     cfg = load_toml(path)
     cfg.pop("domain")
-    cfg["mesh"] = {"source": "contact_pattern", "pair_stiffness": 1.2e8}  # skip the FE statics
+    cfg["mesh_stiffness"] = {"source": "contact_pattern", "pair_stiffness": 1.2e8}  # skip the FE statics
     cfg["sweep"]["speeds_rpm"] = cfg["sweep"]["speeds_rpm"][:4]
     sw = run_torsional(cfg)
     assert sw.dataset["dynamic_factor"].shape == (2, 4) and "iso_kv" in sw.dataset

@@ -508,7 +508,12 @@ def _wheel_torque(cfg: TorsionalCaseConfig) -> TorsionalCaseConfig:
 
 def _checked(config: dict) -> TorsionalCaseConfig:
     written, config = config, _normalised(config)
-    cfg = from_mapping(TorsionalCaseConfig, config)
+    try:
+        cfg = from_mapping(TorsionalCaseConfig, config)
+    except InputError as exc:  # name the table written: an old file's [mesh]
+        if _mesh_table_name(written) == "mesh" and exc.field.startswith("mesh_stiffness."):
+            raise InputError("mesh." + exc.field.partition(".")[2], exc.value, exc.allowed) from None
+        raise
     if (cfg.pinion is None) != (cfg.wheel is None):
         missing = "wheel" if cfg.wheel is None else "pinion"
         raise InputError(missing, None, f"a [{missing}] table together with the other gear's")
