@@ -22,12 +22,13 @@ import time
 
 import numpy as np
 
-from rotaflex.gear import dynamics, paper
-from rotaflex.gear.config import rpm_to_rad_s
-from rotaflex.gear.geometry import contact_angles
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.kernels import contact as kernels
 from rotaflex.gear.kernels.rk4 import elastic_force
-from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
+from rotaflex.gear.models import fe_pair as dynamics
+from rotaflex.gear.pair import paper
+from rotaflex.gear.pair.geometry import contact_angles
+from rotaflex.gear.pair.tooth_mesh import COARSE, DEFAULT, build_tooth_mesh
 
 
 def main() -> None:
@@ -125,7 +126,7 @@ def unequal(span_deg: float) -> None:
     import tomllib
     from pathlib import Path
 
-    from rotaflex.gear.case import prepare, run_case
+    from rotaflex.gear.cases.simulate import prepare, run_case
 
     path = Path(__file__).resolve().parents[1] / "examples" / "gear" / "unequal_shifted_relief.toml"
     cfg = tomllib.loads(path.read_text())
@@ -145,7 +146,7 @@ def unequal(span_deg: float) -> None:
 
 def compare(model, ref, rpm, th2, ths, span):
     """Rows for the direct multiplier solve and the large-step method vs paper_rk4."""
-    from rotaflex.gear import reduced
+    from rotaflex.gear.models import reduced
 
     tr, fr = ref.records["time"], ref.records["force"]
     rows = [("paper_rk4 iterative", 3e-8, ref.steps, ref.wall_time, 0.0, 0.0, fr.max())]

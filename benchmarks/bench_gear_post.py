@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rotaflex.gear.case import run_case
+from rotaflex.gear.cases.simulate import run_case
 
 
 def _losses(ds, frac=0.01):

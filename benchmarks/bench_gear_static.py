@@ -10,16 +10,17 @@ import time
 
 import numpy as np
 
-from rotaflex.gear import paper
-from rotaflex.gear.fe import lumped_mass, stable_time_step, stiffness_matrix
-from rotaflex.gear.geometry import (
+from rotaflex.gear.pair import paper
+from rotaflex.gear.pair.geometry import (
     center_distance_no_backlash,
     contact_angles,
     contact_ratio,
     path_of_contact,
 )
-from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh, mesh_quality
-from rotaflex.gear.static import (
+from rotaflex.gear.pair.plane_stress import lumped_mass, stable_time_step, stiffness_matrix
+from rotaflex.gear.pair.tooth_mesh import COARSE, DEFAULT, build_tooth_mesh, mesh_quality
+from rotaflex.gear.static.loaded_te import loaded_te, pair_line
+from rotaflex.gear.static.tooth_analysis import (
     iso6336_stiffness,
     mesh_stiffness,
     root_stress,
@@ -27,7 +28,6 @@ from rotaflex.gear.static import (
     surface_load,
     tooth_compliance,
 )
-from rotaflex.gear.static_pair import loaded_te, pair_line
 
 E, NU, RHO = paper.YOUNGS_MODULUS, paper.POISSON_RATIO, paper.DENSITY
 G = paper.geometry()
@@ -136,7 +136,7 @@ def static_command():
     from pathlib import Path
 
     from rotaflex.core.config import load_toml
-    from rotaflex.gear.static_case import run_static
+    from rotaflex.gear.cases.static import run_static
 
     cfg = load_toml(Path(__file__).resolve().parents[1] / "examples/gear/unequal_shifted_relief.toml")
     print("\ngear static, examples/gear/unequal_shifted_relief.toml (20/40, x 0.25/0.1, tip relief)")

@@ -1,7 +1,7 @@
 """Steady-state torsional gear dynamics: timings and the paper pair's K_v / DTE vs speed.
 
 The paper's 28:28 pair (tip radius 47.625 mm) with the mesh stiffness of the static FE analysis
-(`rotaflex.gear.static.mesh_stiffness`, E = 210 GPa, nu = 0.3, one mesh cycle), disk inertias
+(`rotaflex.gear.static.tooth_analysis.mesh_stiffness`, E = 210 GPa, nu = 0.3, one mesh cycle), disk inertias
 2.965e-4 kg m^2, torque 22.25 N m, mesh damping ratio 0.07, motor torque-speed slope
 0.5 N m s/rad, rigid shafts.
 Prints the time of one 50-mesh-cycle steady-state point and of a 40-speed up-and-down sweep
@@ -27,16 +27,16 @@ from pathlib import Path
 
 import numpy as np
 
-from rotaflex.gear.geometry import GearGeometry, contact_ratio
-from rotaflex.gear.mesh_stiffness import mesh_table_from_static
-from rotaflex.gear.static import iso6336_stiffness, mesh_stiffness
-from rotaflex.gear.torsional import (
+from rotaflex.gear.models.chain import (
     OperatingPoint,
     TorsionalSystem,
     natural_frequencies,
     steady_state,
 )
-from rotaflex.gear.torsional_sweep import iso_input, speed_sweep
+from rotaflex.gear.models.mesh_stiffness import mesh_table_from_static
+from rotaflex.gear.pair.geometry import GearGeometry, contact_ratio
+from rotaflex.gear.solvers.speed_sweep import iso_input, speed_sweep
+from rotaflex.gear.static.tooth_analysis import iso6336_stiffness, mesh_stiffness
 
 G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
 TORQUE = 22.25

@@ -21,14 +21,14 @@ from pathlib import Path
 
 import numpy as np
 
-from rotaflex.gear.elastic_window import build_window_model
-from rotaflex.gear.geometry import GearGeometry, center_distance_no_backlash
-from rotaflex.gear.mesh import build_tooth_mesh
-from rotaflex.gear.mesh_stiffness import loaded_mesh_table
-from rotaflex.gear.static_pair import pair_line
-from rotaflex.gear.torsional import OperatingPoint, TorsionalSystem
-from rotaflex.gear.torsional_sweep import speed_sweep
-from rotaflex.gear.window_run import steady_state
+from rotaflex.gear.models.chain import OperatingPoint, TorsionalSystem
+from rotaflex.gear.models.mesh_stiffness import loaded_mesh_table
+from rotaflex.gear.models.window import build_window_model
+from rotaflex.gear.pair.geometry import GearGeometry, center_distance_no_backlash
+from rotaflex.gear.pair.tooth_mesh import build_tooth_mesh
+from rotaflex.gear.solvers.speed_sweep import speed_sweep
+from rotaflex.gear.solvers.window_run import steady_state
+from rotaflex.gear.static.loaded_te import pair_line
 
 G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
 TORQUE = 22.25

@@ -21,7 +21,7 @@ from typing import Annotated, Any
 
 import typer
 
-from rotaflex.core.domains import CASES, COMMANDS, REPRODUCE
+from rotaflex.core.domains import CASES, COMMANDS, LISTINGS, REPRODUCE
 from rotaflex.core.errors import ConvergenceError, DivergenceError, InputError, SingularityError
 
 app = typer.Typer(
@@ -442,6 +442,19 @@ def _template_command(domain: str) -> Callable[..., None]:
     return template
 
 
+def _listing_command(target: str) -> Callable[..., None]:
+    def listing(debug: Debug = False) -> None:
+        def go():
+            from rotaflex.core.domains import resolve
+
+            typer.echo(resolve(target)(), nl=False)
+
+        guarded(go, debug)
+
+    listing.__doc__ = "Print what is registered (no config): " + target.rpartition(":")[2].replace("_", " ") + "."
+    return listing
+
+
 def domain_template(domain: str, verb: str = "simulate") -> str:
     """The generated TOML template of ``rotaflex <domain> <verb>`` (InputError for an unknown
     verb or a module without ``SCHEMA``)."""
@@ -522,6 +535,8 @@ for _domain in CASES:
     _sub.command("template")(_template_command(_domain))
     for _verb in COMMANDS.get(_domain, {}):
         _sub.command(_verb)(_run_command(_domain, _verb))
+    for _verb, _target in LISTINGS.get(_domain, {}).items():
+        _sub.command(_verb)(_listing_command(_target))
     app.add_typer(_sub, name=_domain)
 
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from rotaflex.gear.contact import normal_rates, search, spline_point
+from rotaflex.gear.pair.contact_geometry import normal_rates, search, spline_point
 
 
 def arc(centre, radius, a0, a1, n=61):

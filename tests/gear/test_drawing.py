@@ -10,9 +10,9 @@ from scipy.optimize import brentq
 
 from rotaflex.core.config import from_mapping
 from rotaflex.core.errors import InputError
-from rotaflex.gear.drawing import GearSpec, pair_from_mapping
-from rotaflex.gear.geometry import GearGeometry
-from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
+from rotaflex.gear.pair.drawing import GearSpec, pair_from_mapping
+from rotaflex.gear.pair.geometry import GearGeometry
+from rotaflex.gear.pair.tooth_mesh import COARSE, DEFAULT, build_tooth_mesh
 
 PAIR = {
     "pinion": {"teeth": 19, "module": 2.5e-3, "face_width": 0.02, "profile_shift": 0.3},
@@ -194,7 +194,7 @@ def test_relief_is_in_the_mesh_flank_nodes():
 
 
 def test_paper_gear_through_the_drawing_spec_is_bit_identical():
-    from rotaflex.gear.config import GearConfig  # defaults: the paper data of gear/paper.py
+    from rotaflex.gear.cases.simulate_config import GearConfig  # defaults: the paper data of gear/paper.py
 
     paper = GearConfig()
     spec = GearSpec(
@@ -213,7 +213,7 @@ def test_paper_gear_through_the_drawing_spec_is_bit_identical():
 
 
 def test_root_clamp_is_stiffer_than_the_default_rim():
-    from rotaflex.gear.static import tooth_compliance
+    from rotaflex.gear.static.tooth_analysis import tooth_compliance
 
     g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
     r = np.array([0.04445, 0.0470])

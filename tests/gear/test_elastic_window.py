@@ -6,14 +6,14 @@ import math
 import numpy as np
 import pytest
 
-from rotaflex.gear import torsional as tor
-from rotaflex.gear import window_run as wr
-from rotaflex.gear.elastic_window import build_window_model, corner_gap
-from rotaflex.gear.geometry import GearGeometry, ProfileRelief, center_distance_no_backlash
-from rotaflex.gear.mesh import build_tooth_mesh
-from rotaflex.gear.mesh_stiffness import loaded_mesh_table, mesh_table_from_static
-from rotaflex.gear.static import mesh_stiffness
-from rotaflex.gear.static_pair import loaded_te, pair_line
+from rotaflex.gear.models import chain as tor
+from rotaflex.gear.models.mesh_stiffness import loaded_mesh_table, mesh_table_from_static
+from rotaflex.gear.models.window import build_window_model, corner_gap
+from rotaflex.gear.pair.geometry import GearGeometry, ProfileRelief, center_distance_no_backlash
+from rotaflex.gear.pair.tooth_mesh import build_tooth_mesh
+from rotaflex.gear.solvers import window_run as wr
+from rotaflex.gear.static.loaded_te import loaded_te, pair_line
+from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
 E, NU, RHO = 210e9, 0.3, 7800.0
 G0 = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, pressure_angle_deg=20.0)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.torsional_case import run_torsional, validate_config
+from rotaflex.gear.cases.steady import run_torsional, validate_config
 
 EXAMPLE = Path(__file__).parents[2] / "examples" / "gear" / "steady" / "elastic_teeth_relief.toml"
 
@@ -112,7 +112,7 @@ def test_tooth_mesh_refinement_converges(config):
     ],
 )
 def test_iso_tip_relief_follows_the_drawing(config, tables, expected):
-    from rotaflex.gear.torsional_case import _checked, _iso_tip_relief
+    from rotaflex.gear.cases.steady import _checked, _iso_tip_relief
 
     assert _iso_tip_relief(_checked(_with(config, **tables))) == expected
 
@@ -120,8 +120,8 @@ def test_iso_tip_relief_follows_the_drawing(config, tables, expected):
 def test_iso_overlay_uses_the_standards_own_stiffness_and_reference_circle_load(config):
     import math
 
-    from rotaflex.gear.static import iso6336_stiffness
-    from rotaflex.gear.torsional_case import _checked, pair_data
+    from rotaflex.gear.cases.steady import _checked, pair_data
+    from rotaflex.gear.static.tooth_analysis import iso6336_stiffness
 
     cfg_point = {k: v for k, v in config.items() if k != "sweep"}
     res = run_torsional(_with(cfg_point, steady={"fixed_cycles": 4, "eval_cycles": 2}))
@@ -146,7 +146,7 @@ def test_iso_overlay_uses_the_standards_own_stiffness_and_reference_circle_load(
 def test_sweep_figure_marks_points_that_did_not_settle():
     import xarray as xr
 
-    from rotaflex.gear.sweep_figures import steady_sweep_figure
+    from rotaflex.gear.results.sweep_figures import steady_sweep_figure
 
     speeds = np.array([1000.0, 2000.0, 3000.0])
     status = np.array([["success", "success"], ["not_periodic", "success"], ["success", "success"]])
@@ -172,7 +172,7 @@ def test_a_drawing_pair_case_records_what_it_used(config):
     stored = json.loads(ds.attrs["config"])
     # no paper [gear] table and no default inertia pretend to describe this pair
     assert stored["gear"] is None and stored["train"]["inertia"] is None
-    from rotaflex.gear.torsional_case import _checked, pair_data
+    from rotaflex.gear.cases.steady import _checked, pair_data
 
     j1, j2 = pair_data(_checked(config)).inertias
     assert float(ds["inertia_pinion"]) == j1 and float(ds["inertia_wheel"]) == j2
@@ -182,7 +182,7 @@ def test_a_drawing_pair_case_records_what_it_used(config):
 
 
 def test_backlash_sets_the_centre_distance_as_in_gear_static(config):
-    from rotaflex.gear.torsional_case import _checked
+    from rotaflex.gear.cases.steady import _checked
 
     cfg = _checked(_with(config, **{}) | {"backlash": 50e-6})
     a0 = cfg.pair.center_distance_no_backlash

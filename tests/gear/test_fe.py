@@ -7,7 +7,8 @@ import pytest
 import scipy.sparse.linalg as spla
 import sympy as sym
 
-from rotaflex.gear.fe import (
+from rotaflex.gear.pair.geometry import GearGeometry
+from rotaflex.gear.pair.plane_stress import (
     consistent_mass,
     elasticity_matrix,
     lumped_mass,
@@ -17,8 +18,7 @@ from rotaflex.gear.fe import (
     stiffness_matrix,
     stress_operator,
 )
-from rotaflex.gear.geometry import GearGeometry
-from rotaflex.gear.mesh import COARSE, build_tooth_mesh
+from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
 
 E, NU, RHO = 210e9, 0.3, 7800.0
 

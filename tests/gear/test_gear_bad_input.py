@@ -26,7 +26,7 @@ def _run(tmp_path, text):
         ("[gear]\nteeth = 6\n", "error: gear.teeth = 6 is invalid", ("26..29",)),
         # contact ratio < 1 (tip radius 45.8 mm: eps_alpha = 0.77)
         ("[gear]\ntip_radius = 0.0458\n", "error: gear.tip_radius = 0.0458 is invalid", ("contact ratio >= 1",)),
-        # E = 1 Pa: physically meaningless (bound 1e8 Pa, see rotaflex.gear.config)
+        # E = 1 Pa: physically meaningless (bound 1e8 Pa, see rotaflex.gear.cases.simulate_config)
         ("[material]\nyoungs_modulus = 1\n", "error: material.youngs_modulus = 1", ("> 1e+08",)),
         ("[solver]\ntolerance = 1.0\n", "error: solver.tolerance = 1.0", ("<= 1e-06", ">= 1e-16")),
         ('[solver]\nmethod = "reduced_hht"\nmodes = 0\n', "error: solver.modes = 0", (">= 1",)),
@@ -69,7 +69,7 @@ def test_result_failing_its_own_check_exits_1_and_names_the_check(tmp_path, monk
 
     The threshold is lowered to 0 m here (the paper cases stay below 1e-11 m, far under the
     1 um default) to exercise the status, the message and the exit code on a short run."""
-    from rotaflex.gear import config
+    from rotaflex.gear.cases import simulate_config as config
 
     monkeypatch.setattr(config, "MAX_TIE_RESIDUAL", 0.0)
     res = _run(tmp_path, "[operation]\nspan_deg = 0.05\n")
@@ -90,7 +90,7 @@ def test_result_failing_its_own_check_exits_1_and_names_the_check(tmp_path, monk
 def test_validate_config_refuses_without_running(config, field):
     """validate_config raises the same InputError as a run, without integrating."""
     from rotaflex.core.errors import InputError
-    from rotaflex.gear.case import validate_config
+    from rotaflex.gear.cases.simulate import validate_config
 
     with pytest.raises(InputError) as exc:
         validate_config({"mesh": {"preset": "coarse"}, **config})
@@ -101,7 +101,7 @@ def test_validate_config_accepts_every_shipped_example():
     import tomllib
     from pathlib import Path
 
-    from rotaflex.gear.case import validate_config
+    from rotaflex.gear.cases.simulate import validate_config
 
     for path in sorted((Path(__file__).resolve().parents[2] / "examples" / "gear").glob("*.toml")):
         cfg = {k: v for k, v in tomllib.loads(path.read_text()).items() if k != "domain"}

@@ -8,8 +8,7 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.mesh_stiffness import harmonic_mesh
-from rotaflex.gear.torsional import (
+from rotaflex.gear.models.chain import (
     OperatingPoint,
     TorsionalSystem,
     energy_balance,
@@ -17,6 +16,7 @@ from rotaflex.gear.torsional import (
     simulate,
     steady_state,
 )
+from rotaflex.gear.models.mesh_stiffness import harmonic_mesh
 
 RB = 0.04177  # base radius [m]
 J = 2.965e-4  # gear inertia [kg m^2]
@@ -159,9 +159,9 @@ def test_bad_bearing_input_names_the_field():
 # ------------------------------------------------------------------ elastic-tooth window model
 @pytest.fixture(scope="module")
 def paper_pair():
-    from rotaflex.gear.geometry import GearGeometry, center_distance_no_backlash
-    from rotaflex.gear.mesh import build_tooth_mesh
-    from rotaflex.gear.static_pair import pair_line
+    from rotaflex.gear.pair.geometry import GearGeometry, center_distance_no_backlash
+    from rotaflex.gear.pair.tooth_mesh import build_tooth_mesh
+    from rotaflex.gear.static.loaded_te import pair_line
 
     g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, pressure_angle_deg=20.0)
     mesh = build_tooth_mesh(g)
@@ -188,10 +188,10 @@ def _pair_system(g, table, **kw):
 def test_window_model_with_bearings_is_the_lumped_model_with_bearings(paper_pair):
     """Massless FE teeth without corner contact = the lumped model driven by gear static's
     k(phi): the bearing nodes enter both kernels the same way."""
-    from rotaflex.gear import window_run as wr
-    from rotaflex.gear.elastic_window import build_window_model
-    from rotaflex.gear.mesh_stiffness import loaded_mesh_table, mesh_table_from_static
-    from rotaflex.gear.static import mesh_stiffness
+    from rotaflex.gear.models.mesh_stiffness import loaded_mesh_table, mesh_table_from_static
+    from rotaflex.gear.models.window import build_window_model
+    from rotaflex.gear.solvers import window_run as wr
+    from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
     g, mesh, line, torque = paper_pair
     lumped = _pair_system(g, mesh_table_from_static(mesh_stiffness(g, g, 210e9, 0.3, torque=torque), 28))
@@ -210,9 +210,9 @@ def test_window_model_with_bearings_is_the_lumped_model_with_bearings(paper_pair
 
 
 def test_window_model_energy_with_bearings_and_tooth_modes(paper_pair):
-    from rotaflex.gear import window_run as wr
-    from rotaflex.gear.elastic_window import build_window_model
-    from rotaflex.gear.mesh_stiffness import loaded_mesh_table
+    from rotaflex.gear.models.mesh_stiffness import loaded_mesh_table
+    from rotaflex.gear.models.window import build_window_model
+    from rotaflex.gear.solvers import window_run as wr
 
     g, mesh, line, torque = paper_pair
     model = build_window_model(
@@ -234,7 +234,7 @@ def _fast_case(speed=9000.0, **extra):
 
 
 def test_case_with_bearings_runs_and_reports_the_nodes():
-    from rotaflex.gear.torsional_case import run_torsional
+    from rotaflex.gear.cases.steady import run_torsional
 
     bearings = {"stiffness": [3e8, 5e8], "damping": [400.0, 700.0], "mass": [0.35, 0.5]}
     soft = run_torsional(_fast_case(bearings=bearings))
@@ -252,7 +252,7 @@ def test_bearing_masses_default_to_the_drawing_blanks():
     from pathlib import Path
 
     from rotaflex.core.config import load_toml
-    from rotaflex.gear.torsional_case import _bearing_keys, _checked
+    from rotaflex.gear.cases.steady import _bearing_keys, _checked
 
     path = Path(__file__).parents[2] / "examples" / "gear" / "steady" / "bearings.toml"
     cfg = load_toml(path)
@@ -262,7 +262,7 @@ def test_bearing_masses_default_to_the_drawing_blanks():
     pin = cfg["pinion"]
     # solid steel pinion: disk to the root circle minus the bore, teeth annulus at half density
     from rotaflex.core.config import from_mapping
-    from rotaflex.gear.drawing import GearSpec
+    from rotaflex.gear.pair.drawing import GearSpec
 
     g = from_mapping(GearSpec, pin)._plain("pinion")
     rho, b = 7800.0, pin["face_width"]
@@ -273,7 +273,7 @@ def test_bearing_masses_default_to_the_drawing_blanks():
 
 
 def test_bad_bearing_config():
-    from rotaflex.gear.torsional_case import run_torsional
+    from rotaflex.gear.cases.steady import run_torsional
 
     with pytest.raises(InputError, match="bearings.mass"):
         run_torsional(_fast_case(bearings={"stiffness": [3e8, 5e8]}))
@@ -309,7 +309,7 @@ def test_an_unstable_step_is_reported_with_its_time():
     8 kHz mesh mode, limit 2.8):
     the run stops with the time of the first non-finite state instead of returning NaNs."""
     from rotaflex.core.errors import DivergenceError
-    from rotaflex.gear.torsional import _chain, _initial_state, _run
+    from rotaflex.gear.models.chain import _chain, _initial_state, _run
 
     sys = _held_pinion()
     op = OperatingPoint(4000.0, 50.0)

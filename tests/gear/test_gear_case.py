@@ -6,7 +6,7 @@ import pytest
 
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import load_result
-from rotaflex.gear.case import run_case
+from rotaflex.gear.cases.simulate import run_case
 
 FAST = {"operation": {"span_deg": 0.3}, "mesh": {"preset": "coarse"}, "output": {"every": 5}}
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.case import run_case
+from rotaflex.gear.cases.simulate import run_case
 
 #: Fig. 11 with the faster gear driving, up to just past the window (7.55-7.75 deg of the
 #: driver) where the paper's point contact alternates between two common-normal roots
@@ -48,9 +48,9 @@ def test_smoothing_weights_reproduce_the_undeformed_flank():
     """The smoothed surface of the undeformed tooth is the FE edge (misfit term), and the
     node weights sum to one (a rigid translation moves the surface rigidly)."""
     from rotaflex.core.config import from_mapping
-    from rotaflex.gear.case import GearCaseConfig, build
-    from rotaflex.gear.dynamics import smoothing_tables
+    from rotaflex.gear.cases.simulate import GearCaseConfig, build
     from rotaflex.gear.kernels.contact import sample_flank, sample_smooth
+    from rotaflex.gear.models.fe_pair import smoothing_tables
 
     cfg = from_mapping(GearCaseConfig, {"mesh": {"preset": "default"}}, "t")
     _, _, model = build(cfg)

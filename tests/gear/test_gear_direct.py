@@ -5,11 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from rotaflex.gear import dynamics
-from rotaflex.gear.config import rpm_to_rad_s
-from rotaflex.gear.geometry import GearGeometry, contact_angles
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.kernels.passes import direct_pass, factor_tie_blocks
-from rotaflex.gear.mesh import COARSE, build_tooth_mesh
+from rotaflex.gear.models import fe_pair as dynamics
+from rotaflex.gear.pair.geometry import GearGeometry, contact_angles
+from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
 
 DT = 3e-8
 

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear import dynamics
-from rotaflex.gear.config import rpm_to_rad_s
-from rotaflex.gear.geometry import GearGeometry, contact_angles
-from rotaflex.gear.mesh import COARSE, build_tooth_mesh
+from rotaflex.core.units import rpm_to_rad_s
+from rotaflex.gear.models import fe_pair as dynamics
+from rotaflex.gear.pair.geometry import GearGeometry, contact_angles
+from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
 
 TAU0 = 22.25
 
@@ -51,7 +51,7 @@ def balance(out):
 
 def test_initial_placement_touches_at_start_of_contact(model):
     g, mod = model
-    from rotaflex.gear.contact import search
+    from rotaflex.gear.pair.contact_geometry import search
 
     pts = dynamics._flank_points(mod, mod.reference_positions())
     pair = search(pts[0], pts[1], 1.0, 1.0, start=(0.3, 0.99))

@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear import dynamics, reduced
-from rotaflex.gear.config import rpm_to_rad_s
-from rotaflex.gear.geometry import GearGeometry, contact_angles
-from rotaflex.gear.mesh import COARSE, build_tooth_mesh
+from rotaflex.core.units import rpm_to_rad_s
+from rotaflex.gear.models import fe_pair as dynamics
+from rotaflex.gear.models import reduced
+from rotaflex.gear.pair.geometry import GearGeometry, contact_angles
+from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
 
 TAU0 = 22.25
 
@@ -133,7 +134,7 @@ def test_time_step_check_refuses_too_large_steps(setup):
 
 
 def test_case_options_for_both_fast_methods():
-    from rotaflex.gear.case import run_case
+    from rotaflex.gear.cases.simulate import run_case
 
     base = {"operation": {"span_deg": 0.5}, "mesh": {"preset": "coarse"}}
     res = run_case({**base, "solver": {"method": "reduced_hht"}})

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from rotaflex.core.config import from_mapping
-from rotaflex.gear.case import GearCaseConfig, build, run_case
-from rotaflex.gear.config import rpm_to_rad_s
-from rotaflex.gear.geometry import contact_angles
-from rotaflex.gear.lumped import lumped_pair, simulate_lumped
+from rotaflex.core.units import rpm_to_rad_s
+from rotaflex.gear.cases.simulate import GearCaseConfig, build, run_case
+from rotaflex.gear.models.lumped import lumped_pair, simulate_lumped
+from rotaflex.gear.pair.geometry import contact_angles
 
 NOMINAL = 22.25 / 0.041770  # tau_0 / r_b [N]
 

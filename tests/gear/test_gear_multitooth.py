@@ -1,4 +1,4 @@
-"""Several elastic teeth per gear: several contact pairs (rotaflex.gear.multitooth)."""
+"""Several elastic teeth per gear: several contact pairs (rotaflex.gear.models.multitooth)."""
 
 import math
 
@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear import dynamics, multitooth
-from rotaflex.gear.case import run_case
-from rotaflex.gear.config import rpm_to_rad_s
-from rotaflex.gear.geometry import GearGeometry, contact_angles
-from rotaflex.gear.mesh import COARSE, build_tooth_mesh
+from rotaflex.core.units import rpm_to_rad_s
+from rotaflex.gear.cases.simulate import run_case
+from rotaflex.gear.models import fe_pair as dynamics
+from rotaflex.gear.models import multitooth
+from rotaflex.gear.pair.geometry import GearGeometry, contact_angles
+from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
 
 TAU0 = 22.25
 KW = dict(youngs_modulus=210e9, poisson_ratio=0.3, density=7800.0, inertia=(2.965e-4, 2.965e-4))

@@ -1,4 +1,4 @@
-"""Several elastic teeth per gear on drawing pairs ([pinion]/[wheel], rotaflex.gear.multitooth):
+"""Several elastic teeth per gear on drawing pairs ([pinion]/[wheel], rotaflex.gear.models.multitooth):
 two copies of the paper's gear reproduce the [gear] path bit for bit; the 20/40 pair of
 examples/gear/unequal_shifted_relief.toml (no reliefs, coarse mesh) with three teeth per gear
 meshes at the driver's pitch, carries tau_0 / r_b,driver on average with the disks in the tooth
@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rotaflex.gear import multitooth
-from rotaflex.gear.case import run_case
-from rotaflex.gear.config import build, elastic_constants, load_config, to_run
-from rotaflex.gear.static_case import run_static
+from rotaflex.gear.cases.simulate import run_case
+from rotaflex.gear.cases.simulate_config import build, elastic_constants, load_config, to_run
+from rotaflex.gear.cases.static import run_static
+from rotaflex.gear.models import multitooth
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "gear"
 PAPER_SPEC = {

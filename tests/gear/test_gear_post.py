@@ -8,12 +8,13 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear import dynamics, post
-from rotaflex.gear.config import rpm_to_rad_s
-from rotaflex.gear.geometry import GearGeometry, contact_angles
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.kernels.contact import flank_weights
-from rotaflex.gear.mesh import COARSE, build_tooth_mesh
-from rotaflex.gear.static import flank_contact_point
+from rotaflex.gear.models import fe_pair as dynamics
+from rotaflex.gear.pair.geometry import GearGeometry, contact_angles
+from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
+from rotaflex.gear.results import post
+from rotaflex.gear.static.tooth_analysis import flank_contact_point
 
 E, NU = 210e9, 0.3
 
@@ -125,7 +126,7 @@ def test_restitution_velocity_jump_and_energy_loss(gear, e):
 
 
 def test_restitution_out_of_range_is_refused(gear):
-    from rotaflex.gear.case import run_case
+    from rotaflex.gear.cases.simulate import run_case
 
     with pytest.raises(InputError, match="solver.restitution"):
         run_case({"solver": {"restitution": 1.5}})
@@ -134,7 +135,7 @@ def test_restitution_out_of_range_is_refused(gear):
 def test_driver_sign_logic_and_mirror(gear):
     """The driven gear lags under load: DTE (> 0 when B lags) changes sign with the driver;
     driver B is the mirror image of driver A with the speeds swapped."""
-    from rotaflex.gear.case import run_case
+    from rotaflex.gear.cases.simulate import run_case
 
     base = {
         "operation": {"span_deg": 3.0, "speed_rpm": [4000.0, 4000.0]},
@@ -162,7 +163,7 @@ def test_driver_sign_logic_and_mirror(gear):
 
 
 def test_summary_has_dte_and_root_stress(gear):
-    from rotaflex.gear.case import run_case
+    from rotaflex.gear.cases.simulate import run_case
 
     res = run_case({"operation": {"span_deg": 0.5}, "mesh": {"preset": "coarse"}, "output": {"every": 5}})
     s = res.summary()
@@ -179,7 +180,7 @@ def test_summary_has_dte_and_root_stress(gear):
 def test_sweep_gear_figure_draws_dte_panel():
     import xarray as xr
 
-    from rotaflex.gear.sweep_figures import sweep_figures
+    from rotaflex.gear.results.sweep_figures import sweep_figures
 
     speed = np.array([2000.0, 4000.0, 8000.0])
     ds = xr.Dataset(

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.steady import cycle_change, detect_period, harmonic_amplitudes, steady_metrics
+from rotaflex.gear.results.steady import cycle_change, detect_period, harmonic_amplitudes, steady_metrics
 
 SPC = 64
 

@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.mesh_stiffness import contact_pattern_mesh, harmonic_mesh
-from rotaflex.gear.torsional import (
+from rotaflex.gear.models.chain import (
     OperatingPoint,
     TorsionalSystem,
     energy_balance,
@@ -15,7 +14,8 @@ from rotaflex.gear.torsional import (
     simulate,
     steady_state,
 )
-from rotaflex.gear.torsional_sweep import iso_input, speed_sweep
+from rotaflex.gear.models.mesh_stiffness import contact_pattern_mesh, harmonic_mesh
+from rotaflex.gear.solvers.speed_sweep import iso_input, speed_sweep
 
 RB = 0.04177  # base radius of the paper's 28-tooth gears [m]
 J = 2.965e-4  # disk inertia [kg m^2]
@@ -218,12 +218,12 @@ def test_case_from_toml_point_and_sweep():
     from pathlib import Path
 
     from rotaflex.core.config import load_toml
-    from rotaflex.gear.torsional_case import run_torsional
+    from rotaflex.gear.cases.steady import run_torsional
 
     path = Path(__file__).parents[2] / "examples" / "gear" / "steady" / "torsional_dynamic_factor.toml"
     cfg = load_toml(path)
     cfg.pop("domain")
-    cfg["mesh"] = {"source": "contact_pattern", "pair_stiffness": 1.2e8}  # skip the FE statics
+    cfg["mesh_stiffness"] = {"source": "contact_pattern", "pair_stiffness": 1.2e8}  # skip the FE statics
     cfg["sweep"]["speeds_rpm"] = cfg["sweep"]["speeds_rpm"][:4]
     sw = run_torsional(cfg)
     assert sw.dataset["dynamic_factor"].shape == (2, 4) and "iso_kv" in sw.dataset

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.case import run_case, validate_config
-from rotaflex.gear.config import GearConfig
+from rotaflex.gear.cases.simulate import run_case, validate_config
+from rotaflex.gear.cases.simulate_config import GearConfig
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "gear" / "unequal_shifted_relief.toml"
 PAPER = GearConfig()  # defaults: the paper's gear (gear/paper.py)
@@ -225,7 +225,7 @@ def test_gear_template_loads_with_the_drawing_tables_commented_out():
     import tomllib
 
     from rotaflex.cli import domain_template
-    from rotaflex.gear.config import load_config
+    from rotaflex.gear.cases.simulate_config import load_config
 
     text = domain_template("gear")
     assert "# [pinion]" in text and "\n[pinion]" not in text

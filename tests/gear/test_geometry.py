@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.geometry import (
+from rotaflex.gear.pair.geometry import (
     GearGeometry,
     center_distance_no_backlash,
     contact_angles,

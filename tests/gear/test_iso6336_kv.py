@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.iso6336_kv import IsoKvInput, cv_coefficients, iso_kv, reduced_mass_per_width
+from rotaflex.gear.static.iso6336_kv import IsoKvInput, cv_coefficients, iso_kv, reduced_mass_per_width
 
 # c' = 14, c_gamma_alpha = 20 N/(mm um); m_red = 0.01 kg/mm; K_A F_t/b = 200 N/mm;
 # f_pb,eff = 10 um, f_f,eff = 8 um, no relief; z1 = 28, eps = 1.6

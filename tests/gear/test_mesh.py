@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.fe import jacobian_determinants, stable_time_step
-from rotaflex.gear.geometry import GearGeometry
-from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh, mesh_quality
+from rotaflex.gear.pair.geometry import GearGeometry
+from rotaflex.gear.pair.plane_stress import jacobian_determinants, stable_time_step
+from rotaflex.gear.pair.tooth_mesh import COARSE, DEFAULT, build_tooth_mesh, mesh_quality
 
 G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
 
@@ -54,7 +54,7 @@ def test_topology_and_quality(kw):
 
 def test_area_matches_sector_area():
     # area of the modelled sector from the analytic profile (shoelace), independent of the mesh
-    from rotaflex.gear.fe import GAUSS_WEIGHTS
+    from rotaflex.gear.pair.plane_stress import GAUSS_WEIGHTS
 
     m = build_tooth_mesh(G, **DEFAULT)
     fine = build_tooth_mesh(G, n_flank=40, n_through=20, n_fillet=8, n_rim=12)
@@ -127,7 +127,7 @@ def test_bad_mesh_parameters():
 def test_write_vtu_round_trip(tmp_path):
     import meshio
 
-    from rotaflex.gear.export import write_vtu
+    from rotaflex.gear.results.export import write_vtu
 
     m = build_tooth_mesh(G, **COARSE)
     u = np.arange(2 * m.n_nodes, dtype=float) * 1e-9

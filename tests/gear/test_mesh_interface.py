@@ -32,7 +32,7 @@ def test_geometry_of_the_mesh_is_the_drawing(pair):
 
 
 def test_iso_source_is_c_gamma_times_face_width(pair):
-    from rotaflex.gear.static import iso6336_stiffness
+    from rotaflex.gear.static.tooth_analysis import iso6336_stiffness
 
     m = gear_mesh(pair, 50.0, source="iso6336")
     g1, g2 = pair.gears

@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from rotaflex.gear.geometry import GearGeometry, contact_angles
-from rotaflex.gear.mesh import COARSE, DEFAULT, build_tooth_mesh
-from rotaflex.gear.static import (
+from rotaflex.gear.pair.geometry import GearGeometry, contact_angles
+from rotaflex.gear.pair.tooth_mesh import COARSE, DEFAULT, build_tooth_mesh
+from rotaflex.gear.static.tooth_analysis import (
     flank_contact_point,
     iso6336_stiffness,
     mesh_stiffness,

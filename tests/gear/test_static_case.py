@@ -12,10 +12,10 @@ import pytest
 from typer.testing import CliRunner
 
 from rotaflex.cli import app
-from rotaflex.gear.config import GearConfig
-from rotaflex.gear.mesh import COARSE, build_tooth_mesh
-from rotaflex.gear.static import mesh_stiffness
-from rotaflex.gear.static_case import run_static
+from rotaflex.gear.cases.simulate_config import GearConfig
+from rotaflex.gear.cases.static import run_static
+from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
+from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "gear" / "unequal_shifted_relief.toml"
 PAPER = GearConfig()  # defaults: the paper data of gear/paper.py
@@ -204,8 +204,8 @@ def test_compliance_diameters_outside_the_flank_name_the_field():
 
 
 def test_unequal_materials_reduce_to_the_identical_formulas_and_scale_with_e():
-    from rotaflex.gear.static import hertz_half_width, weber_contact_compliance
-    from rotaflex.gear.static_pair import contact_compliance, contact_half_width
+    from rotaflex.gear.static.loaded_te import contact_compliance, contact_half_width
+    from rotaflex.gear.static.tooth_analysis import hertz_half_width, weber_contact_compliance
 
     e, nu, b = 210e9, 0.3, 0.02
     e2 = e * (1 + 1e-12)  # forces the general (unequal-material) branch

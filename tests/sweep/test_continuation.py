@@ -17,7 +17,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from rotaflex.cli import app
-from rotaflex.gear.geometry import GearGeometry, contact_ratio
+from rotaflex.gear.pair.geometry import GearGeometry, contact_ratio
 
 runner = CliRunner()
 ROOT = Path(__file__).resolve().parents[2]

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rotaflex.gear.sweep_figures import gear_mesh_estimate, sweep_figures
+from rotaflex.gear.results.sweep_figures import gear_mesh_estimate, sweep_figures
 from rotaflex.sweep.figures import floating_figures
 
 

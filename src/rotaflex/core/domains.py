@@ -42,7 +42,7 @@ from typing import Any
 #: domain name -> module with ``run_case``
 CASES: dict[str, str] = {
     "rotor": "rotaflex.rotor.case",
-    "gear": "rotaflex.gear.case",
+    "gear": "rotaflex.gear.cases.simulate",
     "floating": "rotaflex.floating.case",
     "rotor_fe": "rotaflex.rotor.fe.case",  # finite-element rotor analyses; `analysis` key selects one
     "system": "rotaflex.system.case",  # geared rotor systems (FE rotors + gear meshes); `analysis` selects
@@ -61,8 +61,8 @@ COMMANDS: dict[str, dict[str, str]] = {
         "frf": "rotaflex.rotor.fe.case:run_frf",
     },
     "gear": {
-        "static": "rotaflex.gear.static_case:run_static",
-        "steady": "rotaflex.gear.torsional_case:run_torsional",
+        "static": "rotaflex.gear.cases.static:run_static",
+        "steady": "rotaflex.gear.cases.steady:run_torsional",
     },
     "system": {
         "modal": "rotaflex.system.case:run_modal",
@@ -70,6 +70,12 @@ COMMANDS: dict[str, dict[str, str]] = {
         "response": "rotaflex.system.case:run_response",
         "steady": "rotaflex.system.case:run_steady",
     },
+}
+
+#: domain -> verb -> "module:function" with ``fn() -> str``: verbs that print a listing and
+#: read no config (``rotaflex gear methods``)
+LISTINGS: dict[str, dict[str, str]] = {
+    "gear": {"methods": "rotaflex.gear.solvers.registry:methods_table"},
 }
 
 #: reproduce target -> module with ``run``; "all" runs every entry in this order

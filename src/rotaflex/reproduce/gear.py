@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry, Section
-from rotaflex.gear.config import rpm_to_rad_s
+from rotaflex.core.units import rpm_to_rad_s
 
 CASES = (
     ("fig8", "Fig. 8", "Variations of the contact force (4,000 rpm)", (4000.0, 4000.0)),
@@ -44,7 +44,7 @@ SMOOTHING = 12
 
 def _smoothed_rerun(ds, preset: str):
     """The same case with ``[mesh] contact_smoothing = SMOOTHING``."""
-    from rotaflex.gear.case import run_case
+    from rotaflex.gear.cases.simulate import run_case
 
     rpm = ds["angular_velocity"].isel(time=0).values * 30.0 / math.pi
     return run_case(
@@ -94,7 +94,7 @@ def _energy_checks(ds, preset: str, tol: float = 0.02):
 
 
 def _run(speeds, preset, span_deg=None, every=10):
-    from rotaflex.gear.case import run_case
+    from rotaflex.gear.cases.simulate import run_case
 
     cfg = {"operation": {"speed_rpm": list(speeds)}, "mesh": {"preset": preset}, "output": {"every": every}}
     if span_deg is not None:
@@ -165,11 +165,11 @@ def _common_checks(ds, tol_energy=0.02) -> list[Check]:
 
 
 def _lumped(preset: str):
-    """Lumped torsional model of the same meshes (:mod:`rotaflex.gear.lumped`) and the angles."""
+    """Lumped torsional model of the same meshes (:mod:`rotaflex.gear.models.lumped`) and the angles."""
     from rotaflex.core.config import from_mapping
-    from rotaflex.gear.case import GearCaseConfig, build
-    from rotaflex.gear.geometry import contact_angles
-    from rotaflex.gear.lumped import lumped_pair
+    from rotaflex.gear.cases.simulate import GearCaseConfig, build
+    from rotaflex.gear.models.lumped import lumped_pair
+    from rotaflex.gear.pair.geometry import contact_angles
 
     cfg = from_mapping(GearCaseConfig, {"mesh": {"preset": preset}})
     geo, _, model = build(cfg)
@@ -181,7 +181,7 @@ def _lumped(preset: str):
 
 def _lumped_checks(ds, lumped, rattling: bool) -> tuple[list[Check], dict, str]:
     """Compare a run with the lumped model (same driver, same speeds); checks + curve."""
-    from rotaflex.gear.lumped import simulate_lumped
+    from rotaflex.gear.models.lumped import simulate_lumped
 
     pair, th2, ths, torque = lumped
     drv = ds.attrs.get("driver", "A")

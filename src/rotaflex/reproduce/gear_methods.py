@@ -20,7 +20,7 @@ REDUCED_RMS_LIMIT = {4000.0: 0.03, 20000.0: 0.08}
 
 
 def _rerun(reference, preset: str, **solver):
-    from rotaflex.gear.case import run_case
+    from rotaflex.gear.cases.simulate import run_case
 
     rpm = reference.dataset["angular_velocity"].isel(time=0).values * 30.0 / np.pi
     return run_case({"operation": {"speed_rpm": [float(v) for v in rpm]}, "mesh": {"preset": preset}, "solver": solver})

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry
-from rotaflex.gear import paper
+from rotaflex.gear.pair import paper
 
 E_DEFAULT, NU_DEFAULT = paper.YOUNGS_MODULUS, paper.POISSON_RATIO
 
@@ -29,7 +29,7 @@ def contact_changes(force: np.ndarray, threshold: float) -> tuple[int, int]:
 
 def run_both_drivers(speeds, preset: str, every: int = 10) -> dict:
     """Run a case with driver A and with driver B; returns driver -> (result, losses, regains)."""
-    from rotaflex.gear.case import run_case
+    from rotaflex.gear.cases.simulate import run_case
 
     out = {}
     for drv in ("A", "B"):
@@ -66,7 +66,7 @@ def driver_summary(runs: dict) -> str:
 
 
 def _normals(model, g, ds, i):
-    from rotaflex.gear.static import flank_contact_point
+    from rotaflex.gear.static.tooth_analysis import flank_contact_point
 
     cp = ds["contact_point"].values[i]
     out = []
@@ -81,7 +81,7 @@ def quasi_static_entry(res, dom: Path, preset: str) -> FigureEntry:
 
     * DTE vs (static FE deflection of the same point load on both teeth + unloaded kinematic
       error of the discretised profiles): must agree within 2 %;
-    * DTE vs the static pair deflection F / k_pair of :func:`rotaflex.gear.static.mesh_stiffness`
+    * DTE vs the static pair deflection F / k_pair of :func:`rotaflex.gear.static.tooth_analysis.mesh_stiffness`
       (structural compliance + Weber's contact formula, Hertzian load patch; equal to the static
       TE in the single-pair zone) at the instantaneous force: reported, must agree within 35 %
       (the contact models differ);
@@ -89,9 +89,9 @@ def quasi_static_entry(res, dom: Path, preset: str) -> FigureEntry:
     """
     from rotaflex.core.config import from_mapping
     from rotaflex.core.plotting import new_figure, save_figure
-    from rotaflex.gear import post
-    from rotaflex.gear.case import GearCaseConfig, build
-    from rotaflex.gear.static import mesh_stiffness
+    from rotaflex.gear.cases.simulate import GearCaseConfig, build
+    from rotaflex.gear.results import post
+    from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
     ds = res.dataset
     import json
@@ -157,7 +157,7 @@ def quasi_static_entry(res, dom: Path, preset: str) -> FigureEntry:
             f"discretised profiles {kin.min() * 1e9:.0f} to {kin.max() * 1e9:.0f} nm",
         ),
         Check(
-            "mean (DTE - kinematic) / (F / k_pair of rotaflex.gear.static)",
+            "mean (DTE - kinematic) / (F / k_pair of rotaflex.gear.static.tooth_analysis)",
             ratio,
             "",
             "0.65 - 1.35",

@@ -20,14 +20,14 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry
-from rotaflex.gear import paper
+from rotaflex.gear.pair import paper
 
 E, NU = paper.YOUNGS_MODULUS, paper.POISSON_RATIO
 RHO = 7800.0
 
 
 def _system(table, g, zeta=0.07, drive="motor"):
-    from rotaflex.gear.torsional import TorsionalSystem
+    from rotaflex.gear.models.chain import TorsionalSystem
 
     return TorsionalSystem(
         mesh=table,
@@ -51,15 +51,15 @@ def comparison(dom: Path, *, fast: bool = False) -> FigureEntry:
     import xarray as xr
 
     from rotaflex.core.plotting import new_figure, save_figure
-    from rotaflex.gear import torsional as tor
-    from rotaflex.gear import window_run as wr
-    from rotaflex.gear.elastic_window import build_window_model
-    from rotaflex.gear.geometry import ProfileRelief, center_distance_no_backlash
-    from rotaflex.gear.mesh import build_tooth_mesh
-    from rotaflex.gear.mesh_stiffness import loaded_mesh_table, mesh_table_from_static
-    from rotaflex.gear.static import mesh_stiffness
-    from rotaflex.gear.static_pair import loaded_te, pair_line
-    from rotaflex.gear.torsional_sweep import speed_sweep
+    from rotaflex.gear.models import chain as tor
+    from rotaflex.gear.models.mesh_stiffness import loaded_mesh_table, mesh_table_from_static
+    from rotaflex.gear.models.window import build_window_model
+    from rotaflex.gear.pair.geometry import ProfileRelief, center_distance_no_backlash
+    from rotaflex.gear.pair.tooth_mesh import build_tooth_mesh
+    from rotaflex.gear.solvers import window_run as wr
+    from rotaflex.gear.solvers.speed_sweep import speed_sweep
+    from rotaflex.gear.static.loaded_te import loaded_te, pair_line
+    from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
     g = paper.geometry()
     a = center_distance_no_backlash(g, g)

@@ -6,9 +6,9 @@ Used by ``rotaflex reproduce gear`` (one FigureEntry) and by the tests. Quantiti
   ramps, ``tau(angle) / r_b``, and against the single-tooth run;
 * sum of the pair forces vs tau_0 / r_b (time mean);
 * load share of the entering pair over its first two-pair zone, against (a) the linear FE
-  statics of the same model (:func:`rotaflex.gear.multitooth.static_preload` at fixed angles,
+  statics of the same model (:func:`rotaflex.gear.models.multitooth.static_preload` at fixed angles,
   same point-force contact and spline surfaces) and (b) the static mesh-stiffness analysis
-  :func:`rotaflex.gear.static.mesh_stiffness` (structural compliance + Weber contact);
+  :func:`rotaflex.gear.static.tooth_analysis.mesh_stiffness` (structural compliance + Weber contact);
 * the measured two-pair zone (both pairs loaded) against theta_2 of the involute geometry.
 """
 
@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry
-from rotaflex.gear import paper
+from rotaflex.gear.pair import paper
 
 E, NU, RHO, J = paper.YOUNGS_MODULUS, paper.POISSON_RATIO, paper.DENSITY, paper.DISK_INERTIA
 _gear = paper.geometry
@@ -29,9 +29,9 @@ _gear = paper.geometry
 def static_share(mesh, angles, torque=paper.TORQUE) -> np.ndarray:
     """Load share of the entering pair at contact angles ``angles`` [rad] from the static FE
     preload of the three-tooth model (pairs 0 and 1 in mesh,
-    :func:`rotaflex.gear.multitooth.static_pair_forces`)."""
-    from rotaflex.gear.geometry import contact_angles
-    from rotaflex.gear.multitooth import build_multi_model, static_pair_forces
+    :func:`rotaflex.gear.models.multitooth.static_pair_forces`)."""
+    from rotaflex.gear.models.multitooth import build_multi_model, static_pair_forces
+    from rotaflex.gear.pair.geometry import contact_angles
 
     g = _gear()
     ths, _ = contact_angles(g, g)
@@ -63,9 +63,9 @@ def comparison(dom: Path, *, fast: bool, single=None) -> FigureEntry:
     mesh (Fig. 8 in fast mode); it is run here when not given.
     """
     from rotaflex.core.plotting import new_figure, save_figure
-    from rotaflex.gear.case import run_case
-    from rotaflex.gear.mesh import COARSE, build_tooth_mesh
-    from rotaflex.gear.static import mesh_stiffness
+    from rotaflex.gear.cases.simulate import run_case
+    from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
+    from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
     rpm = 4000.0 if fast else 1000.0
     multi = run_case(
@@ -130,7 +130,7 @@ def comparison(dom: Path, *, fast: bool, single=None) -> FigureEntry:
     ax = axs[1]
     ax.plot(np.degrees(pa[:, 1]), share, lw=0.6, label="3 teeth, dynamic: pair 1")
     ax.plot(np.degrees(fine), st_fe, "o-", ms=3, label="static FE (same model)")
-    ax.plot(np.degrees(ms.angle), ms.load_share, "--", label="rotaflex.gear.static")
+    ax.plot(np.degrees(ms.angle), ms.load_share, "--", label="rotaflex.gear.static.tooth_analysis")
     ax.plot(
         np.degrees(ms.angle),
         np.clip(ms.angle / th2, 0, 1) * (ms.angle <= th2) + (ms.angle > th2),
@@ -166,7 +166,7 @@ def comparison(dom: Path, *, fast: bool, single=None) -> FigureEntry:
             + ", ".join(f"{v:.3f}" for v in fe_zone),
         ),
         Check(
-            "load share: max |dynamic - rotaflex.gear.static (structural + Weber)|",
+            "load share: max |dynamic - rotaflex.gear.static.tooth_analysis (structural + Weber)|",
             dev_ms,
             "",
             "reported (< 0.25)",

@@ -40,7 +40,7 @@ def _rotor_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]:
 
 
 def _gear_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]:
-    from rotaflex.gear import paper
+    from rotaflex.gear.pair import paper
 
     config = {
         "operation": {"speed_rpm": [paper.SPEED_RPM] * 2, "torque": paper.TORQUE},

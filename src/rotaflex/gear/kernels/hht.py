@@ -1,5 +1,5 @@
 """Compiled kernels of the large-step method: Craig-Bampton teeth + HHT-alpha (see
-:mod:`rotaflex.gear.reduced` for the model and the equations).
+:mod:`rotaflex.gear.models.reduced` for the model and the equations).
 
 Per gear g the unknowns are the reduced tooth coordinates ``z`` (first the disk-frame
 displacements of the working-flank nodes, then fixed-interface modal amplitudes) and the disk

@@ -1,0 +1,521 @@
+"""Gears and gear pairs as specified on a drawing (ISO 21771 quantities), with checks.
+
+A :class:`GearSpec` is one gear as a drawing gives it (``[pinion]`` or ``[wheel]`` TOML table);
+a :class:`PairSpec` is the pair with its centre distance or backlash. Both are frozen data built
+with :func:`rotaflex.core.config.from_mapping`; derived quantities are properties, and
+:meth:`PairSpec.check` raises :class:`~rotaflex.core.errors.InputError` naming the dotted field
+(``pinion.profile_shift``, ``wheel.tip_relief.amount`` ...) for a pair that cannot run.
+
+Formulas (ISO 21771, external spur gears, SI inside)
+---------------------------------------------------
+* reference radius ``r = m z / 2``, base radius ``r_b = r cos(alpha)``, base pitch
+  ``p_b = pi m cos(alpha)``;
+* tip / root radius ``r_a = r + (h_a* + x) m``, ``r_f = r + (x - h_f*) m`` unless given;
+* tooth thickness at radius ``r_y``: ``s_y = 2 r_y (s / (2 r) + inv(alpha) - inv(alpha_y))``,
+  ``s = m (pi/2 + 2 x tan(alpha))``, ``cos(alpha_y) = r_b / r_y``;
+* no-backlash operating pressure angle
+  ``inv(alpha_w) = inv(alpha) + 2 tan(alpha) (x1 + x2) / (z1 + z2)``, centre distance
+  ``a_w = (r_b1 + r_b2) / cos(alpha_w)``;
+* at a larger centre distance ``a'``: ``cos(alpha') = (r_b1 + r_b2) / a'``, circumferential
+  backlash on the operating pitch circles ``j_wt = 2 pi r_w1 / z1 - s_w1 - s_w2``, normal
+  backlash ``j_bn = j_wt cos(alpha')``;
+* transverse contact ratio
+  ``eps = (sqrt(r_a1^2 - r_b1^2) + sqrt(r_a2^2 - r_b2^2) - a' sin(alpha')) / p_b``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Literal
+
+import numpy as np
+
+from rotaflex.core.config import from_mapping, param
+from rotaflex.core.errors import InputError
+from rotaflex.gear.pair.geometry import GearGeometry, ProfileRelief, _inv_inverse, involute
+
+__all__ = [
+    "ReliefSpec",
+    "MaterialSpec",
+    "BlankSpec",
+    "GearSpec",
+    "PairSpec",
+    "MATERIALS",
+    "MIN_TIP_THICKNESS_COEF",
+    "pair_from_mapping",
+    "pair_meshes",
+]
+
+#: smallest allowed tip thickness / module (pointed-tip check; common design practice 0.2-0.4)
+MIN_TIP_THICKNESS_COEF = 0.2
+#: smallest Young's modulus accepted [Pa], in every gear verb: 0.1 GPa admits the stiffest
+#: polymers (moulded polymers; steels 210 GPa); below it the teeth deflect by a sizeable fraction
+#: of the module under any useful torque, outside the small-strain co-rotational model
+MIN_YOUNGS_MODULUS = 1e8
+
+#: unit of every :meth:`PairSpec.summary` entry (and of ``gear static``'s ``geometry_*`` rows)
+SUMMARY_UNITS = {
+    "ratio": "1",
+    "center_distance": "m",
+    "center_distance_no_backlash": "m",
+    "normal_backlash": "m",
+    "operating_pressure_angle_deg": "deg",
+    "contact_ratio": "1",
+    "path_of_contact": "m",
+    "pinion_tip_thickness": "m",
+    "wheel_tip_thickness": "m",
+    "pinion_inertia": "kg m^2",
+    "wheel_inertia": "kg m^2",
+    **{
+        f"{g}_{r}": "m"
+        for g in ("pinion", "wheel")
+        for r in ("tip_radius", "root_radius", "form_radius", "start_of_active_profile_radius")
+    },
+}
+
+#: largest root relief / tooth thickness at the form circle
+MAX_ROOT_RELIEF_FRACTION = 0.1
+
+#: named materials: (Young's modulus [Pa], Poisson ratio, density [kg/m^3])
+MATERIALS = {
+    "steel": (210e9, 0.3, 7800.0),
+    "cast_iron": (110e9, 0.28, 7200.0),
+    "bronze": (110e9, 0.34, 8800.0),
+    "aluminium": (70e9, 0.33, 2700.0),
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class ReliefSpec:
+    """Tip or root relief on a drawing: amount and where it starts (diameter or roll angle)."""
+
+    amount: float = param(unit="m", gt=0.0, doc="depth along the involute normal at its end")
+    start_diameter: float | None = param(
+        None, unit="m", gt=0.0, doc="diameter where it starts (give this or start_roll_deg)"
+    )
+    start_roll_deg: float | None = param(
+        None, unit="deg", gt=0.0, doc="roll angle tan(alpha_y) where it starts (or give start_diameter)"
+    )
+    shape: Literal["linear", "parabolic"] = param("linear", doc="depth ~ t (linear) or t^2")
+
+
+@dataclasses.dataclass(frozen=True)
+class MaterialSpec:
+    """Material by name (``MATERIALS``) or by values; values override the name's."""
+
+    name: Literal["steel", "cast_iron", "bronze", "aluminium"] = param("steel")
+    youngs_modulus: float | None = param(
+        None, unit="Pa", gt=MIN_YOUNGS_MODULUS, doc="> 1e8 Pa: engineering gear materials"
+    )
+    poisson_ratio: float | None = param(None, gt=0.0, lt=0.5)
+    density: float | None = param(None, unit="kg/m^3", gt=0.0)
+
+    @property
+    def values(self) -> tuple[float, float, float]:
+        """(E [Pa], nu, rho [kg/m^3])."""
+        e, nu, rho = MATERIALS[self.name]
+        return (
+            e if self.youngs_modulus is None else self.youngs_modulus,
+            nu if self.poisson_ratio is None else self.poisson_ratio,
+            rho if self.density is None else self.density,
+        )
+
+
+@dataclasses.dataclass(frozen=True)
+class BlankSpec:
+    """Gear blank: polar inertia given, or computed from a solid or rimmed (web) blank.
+
+    The inertia of the teeth is that of the annulus between root and tip circles with half its
+    density (a tooth fills about half of the pitch); ``solid``: full disk to the root circle
+    minus the bore; ``rimmed``: rim ring of ``rim_thickness`` under the root circle, web of
+    ``web_thickness`` down to the hub of ``hub_diameter``, hub over the face width.
+    """
+
+    kind: Literal["solid", "rimmed"] = param("solid")
+    inertia: float | None = param(None, unit="kg m^2", gt=0.0, doc="given polar inertia")
+    bore_diameter: float = param(0.0, unit="m", ge=0.0)
+    rim_thickness: float | None = param(None, unit="m", gt=0.0, doc="rimmed: rim depth")
+    web_thickness: float | None = param(None, unit="m", gt=0.0, doc="rimmed: web axial width")
+    hub_diameter: float | None = param(None, unit="m", gt=0.0, doc="rimmed: hub outer diameter")
+
+
+def _annulus(rho: float, width: float, r_in: float, r_out: float) -> float:
+    return 0.5 * math.pi * rho * width * (r_out**4 - r_in**4)
+
+
+@dataclasses.dataclass(frozen=True)
+class GearSpec:
+    """One external spur gear as on a drawing."""
+
+    teeth: int = param(gt=5, doc="number of teeth z")
+    module: float = param(unit="m", gt=0.0, le=0.1, doc="module m in metres (3 mm: 3e-3)")
+    face_width: float = param(unit="m", gt=0.0, le=2.0, doc="face width b in metres")
+    pressure_angle_deg: float = param(20.0, unit="deg", gt=5.0, lt=45.0)
+    addendum_coef: float = param(1.0, gt=0.0, le=2.0, doc="h_a / m")
+    dedendum_coef: float = param(1.25, gt=0.0, le=2.5, doc="h_f / m (= rack addendum)")
+    profile_shift: float = param(0.0, ge=-1.0, le=1.5, doc="profile shift coefficient x")
+    rack_tip_radius_coef: float = param(0.38, ge=0.0, le=0.6, doc="tool tip radius / m")
+    tip_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit r_a (else ISO)")
+    root_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit r_f (else ISO)")
+    material: MaterialSpec = param(MaterialSpec())
+    blank: BlankSpec = param(BlankSpec())
+    tip_relief: ReliefSpec | None = param(None)
+    root_relief: ReliefSpec | None = param(None)
+    support: Literal["root_clamp", "rim"] = param(
+        "rim", doc="tooth tied to the rigid disk at the root circle, or through a rim sector"
+    )
+    rim_depth_coef: float = param(2.0, gt=0.0, le=6.0, doc="rim depth below r_f / m ('rim')")
+
+    # ------------------------------------------------------------------ geometry
+    def _plain(self, where: str) -> GearGeometry:
+        try:
+            return GearGeometry(
+                module=self.module,
+                teeth=self.teeth,
+                face_width=self.face_width,
+                pressure_angle_deg=self.pressure_angle_deg,
+                addendum_coef=self.addendum_coef,
+                dedendum_coef=self.dedendum_coef,
+                profile_shift=self.profile_shift,
+                rack_tip_radius_coef=self.rack_tip_radius_coef,
+                tip_radius=self.tip_radius,
+                root_radius=self.root_radius,
+            )
+        except InputError as exc:
+            raise InputError(f"{where}.{exc.field}", exc.value, exc.allowed) from None
+
+    def _relief(self, rel: ReliefSpec | None, g: GearGeometry, where: str):
+        if rel is None:
+            return None
+        if (rel.start_diameter is None) == (rel.start_roll_deg is None):
+            raise InputError(
+                f"{where}.start_diameter", rel.start_diameter, "exactly one of start_diameter and start_roll_deg"
+            )
+        if rel.start_diameter is not None:
+            r0 = 0.5 * rel.start_diameter
+        else:  # roll angle xi_y = tan(alpha_y): r_y = r_b sqrt(1 + xi^2)
+            r0 = g.base_radius * math.sqrt(1.0 + math.radians(rel.start_roll_deg) ** 2)
+        if not g.form_radius < r0 < g.tip_radius_:
+            key = "start_diameter" if rel.start_diameter is not None else "start_roll_deg"
+            raise InputError(
+                f"{where}.{key}",
+                getattr(rel, key),
+                f"a start radius between the form radius {g.form_radius:.6g} m "
+                f"and the tip radius {g.tip_radius_:.6g} m (got {r0:.6g} m)",
+            )
+        return ProfileRelief(amount=rel.amount, start_radius=r0, shape=rel.shape)
+
+    def geometry(self, where: str = "gear") -> GearGeometry:
+        """The :class:`GearGeometry` with its reliefs (InputError fields prefixed by ``where``)."""
+        g = self._plain(where)
+        tip = self._relief(self.tip_relief, g, f"{where}.tip_relief")
+        root = self._relief(self.root_relief, g, f"{where}.root_relief")
+        if tip is None and root is None:
+            return g
+        g = dataclasses.replace(g, tip_relief=tip, root_relief=root)
+        if tip is not None:
+            s_a = relieved_tip_thickness(g)
+            lim = MIN_TIP_THICKNESS_COEF * g.module
+            if s_a < lim:
+                raise InputError(
+                    f"{where}.tip_relief.amount",
+                    tip.amount,
+                    f"a relief leaving a tip thickness >= {lim:.4g} m "
+                    f"({MIN_TIP_THICKNESS_COEF} x module); it leaves {s_a:.4g} m",
+                )
+        if root is not None:
+            s_f = thickness_at(g, g.form_radius)
+            if root.amount > MAX_ROOT_RELIEF_FRACTION * s_f:
+                raise InputError(
+                    f"{where}.root_relief.amount",
+                    root.amount,
+                    f"<= {MAX_ROOT_RELIEF_FRACTION * s_f:.4g} m "
+                    f"({MAX_ROOT_RELIEF_FRACTION} x the tooth thickness at the "
+                    "form circle)",
+                )
+        return g
+
+    @property
+    def elastic(self) -> tuple[float, float]:
+        """(E [Pa], nu)."""
+        e, nu, _ = self.material.values
+        return e, nu
+
+    def _annuli(self, where: str) -> list[tuple[float, float, float, float]]:
+        """The gear body as coaxial annuli (density [kg/m^3], axial width, inner and outer
+        radius [m]); teeth: the root-tip annulus at half density (BlankSpec)."""
+        b = self.blank
+        g = self._plain(where)
+        rho = self.material.values[2]
+        rf, ra, w = g.root_radius_, g.tip_radius_, self.face_width
+        r_bore = 0.5 * b.bore_diameter
+        teeth = (0.5 * rho, w, rf, ra)
+        if r_bore >= rf:
+            raise InputError(f"{where}.blank.bore_diameter", b.bore_diameter, f"< root diameter {2 * rf:.6g} m")
+        if b.kind == "solid":
+            return [(rho, w, r_bore, rf), teeth]
+        for key in ("rim_thickness", "web_thickness", "hub_diameter"):
+            if getattr(b, key) is None:
+                raise InputError(f"{where}.blank.{key}", None, "a value for kind = 'rimmed'")
+        r_rim, r_hub = rf - b.rim_thickness, 0.5 * b.hub_diameter
+        if not r_bore < r_hub < r_rim:
+            raise InputError(
+                f"{where}.blank.hub_diameter",
+                b.hub_diameter,
+                f"between the bore {2 * r_bore:.6g} and the rim's inner diameter {2 * r_rim:.6g} m",
+            )
+        if b.web_thickness > w:
+            raise InputError(f"{where}.blank.web_thickness", b.web_thickness, f"<= face width {w:.6g} m")
+        return [(rho, w, r_rim, rf), (rho, b.web_thickness, r_hub, r_rim), (rho, w, r_bore, r_hub), teeth]
+
+    def inertia(self, where: str = "gear") -> float:
+        """Polar inertia of the gear body (blank + teeth) [kg m^2]."""
+        if self.blank.inertia is not None:
+            return self.blank.inertia
+        return sum(_annulus(*a) for a in self._annuli(where))
+
+    def mass(self, where: str = "gear") -> float | None:
+        """Mass of the gear body (blank + teeth) [kg]; None when the blank is given by its
+        inertia alone."""
+        if self.blank.inertia is not None:
+            return None
+        return sum(math.pi * rho * w * (r_out**2 - r_in**2) for rho, w, r_in, r_out in self._annuli(where))
+
+    def blank_factor(self) -> float:
+        """ISO 6336-1 gear-blank factor C_R: 1 for solid blanks; rimmed (web) blanks
+        ``1 + ln(b_s / b) / (5 exp(s_R / (5 m)))`` with web width b_s and rim thickness s_R,
+        b_s/b clipped to [0.2, 1.2] and s_R/m to >= 1 (the standard's range)."""
+        b = self.blank
+        if b.kind == "solid" or b.web_thickness is None or b.rim_thickness is None:
+            return 1.0
+        bs = min(max(b.web_thickness / self.face_width, 0.2), 1.2)
+        sr = max(b.rim_thickness / self.module, 1.0)
+        return 1.0 + math.log(bs) / (5.0 * math.exp(sr / 5.0))
+
+    def mesh_options(self) -> dict:
+        """Keyword options of :func:`rotaflex.gear.pair.tooth_mesh.build_tooth_mesh` for the support."""
+        if self.support == "root_clamp":
+            return {"support": "root_circle"}
+        return {"support": "bottom_and_sides", "rim_depth_coef": self.rim_depth_coef}
+
+
+def thickness_at(g: GearGeometry, radius: float) -> float:
+    """Arc tooth thickness of the true involute at ``radius`` [m] (ISO 21771 s_y)."""
+    return 2.0 * radius * float(g.flank_half_angle(np.array([radius]))[0])
+
+
+def relieved_tip_thickness(g: GearGeometry) -> float:
+    """Chordal tooth thickness across the relieved tip corners [m]."""
+    p = g.involute_points(np.array([g.tip_radius_]))[0]
+    return 2.0 * float(p[0])
+
+
+@dataclasses.dataclass(frozen=True)
+class PairSpec:
+    """A pinion-wheel pair: the two gears, centre distance or backlash, and the driver."""
+
+    pinion: GearSpec = param(doc="gear 1")
+    wheel: GearSpec = param(doc="gear 2")
+    center_distance: float | None = param(None, unit="m", gt=0.0, doc="working centre distance (default: no backlash)")
+    backlash: float | None = param(None, unit="m", ge=0.0, doc="normal backlash j_bn (alternative to center_distance)")
+    driver: Literal["pinion", "wheel"] = param("pinion", doc="gear that drives")
+
+    # ---------------------------------------------------------------- derived
+    @property
+    def gears(self) -> tuple[GearGeometry, GearGeometry]:
+        """(pinion, wheel) geometries with their reliefs."""
+        return self.pinion.geometry("pinion"), self.wheel.geometry("wheel")
+
+    @property
+    def ratio(self) -> float:
+        """Gear ratio z_wheel / z_pinion."""
+        return self.wheel.teeth / self.pinion.teeth
+
+    @property
+    def operating_pressure_angle_no_backlash(self) -> float:
+        """alpha_w from inv(alpha_w) = inv(alpha) + 2 tan(alpha) (x1 + x2)/(z1 + z2) [rad]."""
+        a = math.radians(self.pinion.pressure_angle_deg)
+        inv_w = float(involute(a)) + 2.0 * (self.pinion.profile_shift + self.wheel.profile_shift) * math.tan(a) / (
+            self.pinion.teeth + self.wheel.teeth
+        )
+        return _inv_inverse(inv_w)
+
+    @property
+    def center_distance_no_backlash(self) -> float:
+        """a_w = (r_b1 + r_b2) / cos(alpha_w) [m]."""
+        g1, g2 = self.pinion._plain("pinion"), self.wheel._plain("wheel")
+        return (g1.base_radius + g2.base_radius) / math.cos(self.operating_pressure_angle_no_backlash)
+
+    def normal_backlash_at(self, a: float) -> float:
+        """Normal backlash j_bn at centre distance ``a`` [m] (ISO 21771, unrelieved teeth)."""
+        g1, g2 = self.pinion._plain("pinion"), self.wheel._plain("wheel")
+        aw = math.acos((g1.base_radius + g2.base_radius) / a)
+        rw1, rw2 = g1.base_radius / math.cos(aw), g2.base_radius / math.cos(aw)
+        j_wt = 2.0 * math.pi * rw1 / g1.teeth - thickness_at(g1, rw1) - thickness_at(g2, rw2)
+        return j_wt * math.cos(aw)
+
+    @property
+    def working_center_distance(self) -> float:
+        """Centre distance used [m]: given, from the backlash, or the no-backlash one."""
+        if self.center_distance is not None and self.backlash is not None:
+            raise InputError("backlash", self.backlash, "omitted when center_distance is given")
+        if self.center_distance is not None:
+            return self.center_distance
+        a0 = self.center_distance_no_backlash
+        if not self.backlash:
+            return a0
+        from scipy.optimize import brentq
+
+        return float(brentq(lambda a: self.normal_backlash_at(a) - self.backlash, a0, a0 * 1.2, xtol=1e-15))
+
+    @property
+    def operating_pressure_angle(self) -> float:
+        """alpha' at the working centre distance [rad]."""
+        g1, g2 = self.pinion._plain("pinion"), self.wheel._plain("wheel")
+        return math.acos((g1.base_radius + g2.base_radius) / self.working_center_distance)
+
+    @property
+    def line_of_action_length(self) -> float:
+        """Distance T1T2 between the base-circle tangency points, a' sin(alpha') [m]."""
+        return self.working_center_distance * math.sin(self.operating_pressure_angle)
+
+    @property
+    def path_of_contact(self) -> float:
+        """g_alpha along the line of action [m]."""
+        g1, g2 = self.pinion._plain("pinion"), self.wheel._plain("wheel")
+        return (
+            math.sqrt(g1.tip_radius_**2 - g1.base_radius**2)
+            + math.sqrt(g2.tip_radius_**2 - g2.base_radius**2)
+            - self.line_of_action_length
+        )
+
+    @property
+    def contact_ratio(self) -> float:
+        """Transverse contact ratio eps_alpha = g_alpha / p_b."""
+        return self.path_of_contact / self.pinion._plain("pinion").base_pitch
+
+    def start_of_active_profile(self) -> tuple[float, float]:
+        """(pinion, wheel) radius [m] where the mate's tip circle meets the line of action: the
+        lowest flank point in contact, r_SAP = sqrt(r_b^2 + (a' sin(alpha') - sqrt(r_a,mate^2
+        - r_b,mate^2))^2)."""
+        g1, g2 = self.gears
+        length = self.working_center_distance * math.sin(self.operating_pressure_angle)
+        out = []
+        for g, mate in ((g1, g2), (g2, g1)):
+            s = length - math.sqrt(mate.tip_radius_**2 - mate.base_radius**2)
+            out.append(math.hypot(g.base_radius, s))
+        return out[0], out[1]
+
+    def summary(self) -> dict:
+        """Pair geometry numbers (SI; angles in degrees where named so); units in
+        :data:`SUMMARY_UNITS`."""
+        g1, g2 = self.gears
+        sap = self.start_of_active_profile()
+        out = {
+            "ratio": self.ratio,
+            "center_distance": self.working_center_distance,
+            "center_distance_no_backlash": self.center_distance_no_backlash,
+            "normal_backlash": self.normal_backlash_at(self.working_center_distance),
+            "operating_pressure_angle_deg": math.degrees(self.operating_pressure_angle),
+            "contact_ratio": self.contact_ratio,
+            "path_of_contact": self.path_of_contact,
+            "pinion_tip_thickness": g1.tip_thickness,
+            "wheel_tip_thickness": g2.tip_thickness,
+            "pinion_inertia": self.pinion.inertia("pinion"),
+            "wheel_inertia": self.wheel.inertia("wheel"),
+        }
+        for name, g, r_sap in (("pinion", g1, sap[0]), ("wheel", g2, sap[1])):
+            out[f"{name}_tip_radius"] = g.tip_radius_
+            out[f"{name}_root_radius"] = g.root_radius_
+            out[f"{name}_form_radius"] = g.form_radius
+            out[f"{name}_start_of_active_profile_radius"] = r_sap
+        return out
+
+    # ------------------------------------------------------------------ checks
+    def check(self) -> PairSpec:
+        """Raise InputError (one line, dotted field) if the pair cannot run; return self."""
+        p, w = self.pinion, self.wheel
+        if not math.isclose(p.module, w.module, rel_tol=1e-9):
+            raise InputError("wheel.module", w.module, f"equal to pinion.module = {p.module}")
+        if not math.isclose(p.pressure_angle_deg, w.pressure_angle_deg, rel_tol=1e-9):
+            raise InputError(
+                "wheel.pressure_angle_deg",
+                w.pressure_angle_deg,
+                f"equal to pinion.pressure_angle_deg = {p.pressure_angle_deg}",
+            )
+        g1, g2 = self.gears  # undercut, relief limits (GearGeometry / geometry())
+        for g, name in ((g1, "pinion"), (g2, "wheel")):
+            lim = MIN_TIP_THICKNESS_COEF * g.module
+            if g.tip_thickness < lim:
+                key = "profile_shift" if getattr(self, name).tip_radius is None else "tip_radius"
+                raise InputError(
+                    f"{name}.{key}",
+                    getattr(getattr(self, name), key),
+                    f"a tooth whose tip thickness is >= {lim:.4g} m "
+                    f"({MIN_TIP_THICKNESS_COEF} x module); this profile shift leaves "
+                    f"{g.tip_thickness:.4g} m",
+                )
+        a0 = self.center_distance_no_backlash
+        a = self.working_center_distance
+        if a < a0 * (1.0 - 1e-12):
+            raise InputError(
+                "center_distance",
+                a,
+                f">= {a0:.6g} m (the no-backlash centre distance; smaller gives negative backlash)",
+            )
+        length = self.line_of_action_length
+        for gi, go, name, mate in ((g1, g2, "pinion", "wheel"), (g2, g1, "wheel", "pinion")):
+            reach = math.sqrt(gi.tip_radius_**2 - gi.base_radius**2)
+            if reach > length:
+                raise InputError(
+                    f"{name}.tip_radius",
+                    gi.tip_radius_,
+                    f"a tip radius whose contact ends before the {mate}'s base-circle "
+                    f"tangency point (tip interference: reach {reach:.6g} m > "
+                    f"{length:.6g} m)",
+                )
+            lowest = math.hypot(go.base_radius, length - reach)
+            if lowest < go.form_radius * (1.0 - 1e-9):
+                raise InputError(
+                    f"{name}.tip_radius",
+                    gi.tip_radius_,
+                    f"a tip whose contact stays above the {mate}'s form radius "
+                    f"{go.form_radius:.6g} m (reaches {lowest:.6g} m: fillet "
+                    "interference)",
+                )
+        eps = self.contact_ratio
+        if eps < 1.0:
+            if self.center_distance is None and self.backlash:  # the centre distance came from it
+                raise InputError("backlash", self.backlash, f"a backlash leaving contact ratio >= 1 (got {eps:.4f})")
+            raise InputError("center_distance", a, f"a pair with contact ratio >= 1 (got {eps:.4f})")
+        return self
+
+
+def pair_meshes(pair: PairSpec, mesh_kw: dict, *, relief: bool = True):
+    """Tooth meshes (pinion, wheel), each on its own geometry, reliefs and tooth support.
+
+    The one way to build per-gear meshes of an unequal pair (static and dynamic analyses).
+
+    Parameters
+    ----------
+    pair : PairSpec
+    mesh_kw : dict
+        Element counts of :func:`rotaflex.gear.pair.tooth_mesh.build_tooth_mesh` (n_flank, n_through,
+        n_fillet, n_rim, e.g. ``mesh.DEFAULT``).
+    relief : bool
+        False: the same gears without their profile reliefs.
+    """
+    from rotaflex.gear.pair.tooth_mesh import build_tooth_mesh
+
+    out = []
+    for g, spec in zip(pair.gears, (pair.pinion, pair.wheel), strict=True):
+        if not relief:
+            g = dataclasses.replace(g, tip_relief=None, root_relief=None)
+        out.append(build_tooth_mesh(g, **mesh_kw, **spec.mesh_options()))
+    return tuple(out)
+
+
+def pair_from_mapping(data: dict, where: str = "") -> PairSpec:
+    """Build and check a :class:`PairSpec` from its TOML tables (``pinion``, ``wheel``, ...)."""
+    return from_mapping(PairSpec, data, where).check()
