@@ -52,7 +52,7 @@ import numpy as np
 from rotaflex.core.config import from_mapping, param, to_mapping
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result
-from rotaflex.gear.cases.steady_size import check_model_size, check_size
+from rotaflex.gear.cases.steady_size import announce_kernels, check_model_size, check_size
 from rotaflex.gear.models.chain import (
     OperatingPoint,
     State,
@@ -688,6 +688,7 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
             "initial_state", f"{len(state.theta)} chain nodes", f"{len(names)} ({', '.join(names)}): the same train"
         )
     check_model_size(model, cfg)
+    announce_kernels(cfg.model.method)
     s = cfg.steady
     kw = dict(
         tol=s.tol,
