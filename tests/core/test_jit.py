@@ -74,3 +74,80 @@ def test_announcement_only_while_the_disk_cache_is_cold(tmp_path):
     assert one["count"] == 1 and not one["cold_after"]  # compiled and written to the cache
     two = _run(code, tmp_path)  # a new process: numba loads the kernel from the cache
     assert not two["cold"] and not two["first"] and two["said"] == [] and two["count"] == 0
+
+
+class _Reached(Exception):
+    """Raised by a stand-in for a verb's first kernel call."""
+
+
+def _cold(monkeypatch, cold: bool) -> list:
+    """Pretend numba's disk cache is cold (or warm) for every kernel; a fresh announcement state."""
+    import rotaflex.core.jit as jit
+
+    monkeypatch.setattr(jit, "cache_is_cold", lambda kernels: cold)
+    monkeypatch.setattr(jit, "_ANNOUNCED", set())
+    return []
+
+
+def _announced_before_kernels(monkeypatch, cold: bool, run, stand_in: tuple) -> list:
+    """Lines written by the verb ``run`` before ``stand_in`` (module, name: its first kernel
+    call) is reached; the stand-in records them and stops the run."""
+    from rotaflex.core.jit import CompileTimer
+
+    said = _cold(monkeypatch, cold)
+    before = []
+
+    def reached(*args, **kwargs):
+        before.append(list(said))
+        raise _Reached
+
+    monkeypatch.setattr(*stand_in, reached)
+    with CompileTimer(said.append):
+        for _ in range(2):  # twice in one process: said once
+            try:
+                run()
+            except _Reached:
+                pass
+    assert len(before) == 2  # the stand-in was reached both times
+    assert before[0] == before[1] == said  # said before the first kernel call, not after
+    return said
+
+
+def test_gear_simulate_announces_its_kernels_once_before_the_first_kernel_call(monkeypatch):
+    from rotaflex.gear.cases import simulate
+
+    def run():
+        simulate.run_case({"mesh": {"preset": "coarse"}, "operation": {"span_deg": 0.05}})
+
+    said = _announced_before_kernels(monkeypatch, True, run, (simulate, "_preload"))
+    assert said == [
+        f"compiling the gear kernels once, ~{simulate.COMPILE_SECONDS:.0f} s; later runs load them from the cache"
+    ]
+    assert _announced_before_kernels(monkeypatch, False, run, (simulate, "_preload")) == []
+
+
+def test_gear_steady_announces_its_kernels_once_before_the_first_kernel_call(monkeypatch):
+    from rotaflex.gear.cases import steady, steady_size
+    from rotaflex.gear.models import chain  # the chain model calls its kernel as chain.run_rk4
+
+    cfg = {"mesh_stiffness": {"source": "contact_pattern", "table_points": 64}, "steady": {"fixed_cycles": 12}}
+
+    said = _announced_before_kernels(monkeypatch, True, lambda: steady.run_torsional(cfg), (chain, "run_rk4"))
+    seconds = steady_size.COMPILE_SECONDS["lumped"]
+    assert said == [f"compiling the gear steady kernels once, ~{seconds:.0f} s; later runs load them from the cache"]
+    assert _announced_before_kernels(monkeypatch, False, lambda: steady.run_torsional(cfg), (chain, "run_rk4")) == []
+
+
+def test_floating_simulate_announces_its_kernels_once_before_the_first_kernel_call(monkeypatch):
+    import tomllib
+
+    from rotaflex.floating import case, solve
+
+    example = Path(__file__).resolve().parents[2] / "examples" / "floating" / "planar_slew.toml"
+    cfg = tomllib.loads(example.read_text())
+    cfg.pop("domain", None)
+    said = _announced_before_kernels(monkeypatch, True, lambda: case.run_case(cfg), (solve, "simulate"))
+    assert said == [
+        f"compiling the floating-body kernels once, ~{case.COMPILE_SECONDS:.0f} s; later runs load them from the cache"
+    ]
+    assert _announced_before_kernels(monkeypatch, False, lambda: case.run_case(cfg), (solve, "simulate")) == []

@@ -85,6 +85,23 @@ def _preload(cfg, model, run):
     return static_preload(model, run.torque, *elastic_constants(cfg), run.theta_s, run.window, smoothing=smoothing)
 
 
+#: measured first-run compilation before the first result of `gear simulate` [s] (41-44 s on the
+#: 2-core machine, issue 25; docs/performance.md)
+COMPILE_SECONDS = 42.0
+
+
+def announce_kernels(method: str) -> bool:
+    """Say once, before the first kernel call, that ``method``'s kernels compile now (cold numba
+    cache only). The entry kernel is checked: the kernels it calls are compiled into it."""
+    from rotaflex.core.jit import announce_compilation
+
+    if method == "reduced_hht":
+        from rotaflex.gear.kernels.hht import run_hht as entry
+    else:
+        from rotaflex.gear.kernels.rk4 import run_steps as entry
+    return announce_compilation("gear", [entry], COMPILE_SECONDS)
+
+
 def run_case(config: dict, *, progress: bool = False) -> GearResult:
     """Validate ``config`` (see :mod:`rotaflex.gear.cases.simulate_config`), simulate, and wrap the histories."""
     from rotaflex.gear.solvers.registry import METHODS
@@ -92,6 +109,7 @@ def run_case(config: dict, *, progress: bool = False) -> GearResult:
     t_wall = time.perf_counter()
     prepared = _VALIDATED.pop(_key(config), None)
     cfg, geo, _, model, run = prepare(config) if prepared is None else prepared
+    announce_kernels(run.method)
     model = _preload(cfg, model, run)
     probe = None
     # reduced_hht eliminates the fillet nodes' FE field (Craig-Bampton): no root stress there

@@ -34,6 +34,7 @@ from typing import Literal
 
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
+from rotaflex.core.limits import require, require_memory
 from rotaflex.core.units import deg_to_rad, rad_to_deg, rpm_to_rad_s
 from rotaflex.gear.pair import paper
 from rotaflex.gear.pair.drawing import MIN_YOUNGS_MODULUS, GearSpec
@@ -45,6 +46,9 @@ TOLERANCE_RANGE = (1e-16, 1e-6)
 MAX_STEPS = 10_000_000
 #: largest memory of the recorded histories of one run [bytes]
 MAX_OUTPUT_BYTES = 2_000_000_000
+#: largest contact iterations per step (the paper cases converge in ~11; a step that needs more
+#: than a few hundred does not converge, and a huge cap only delays the failure by hours)
+MAX_ITER = 100_000
 #: energy-balance error above which a finished run has status "failed_check"
 #: (|E_kin + E_strain - W_ext + D - E_0| / max E_strain; the paper cases stay below 0.5 %)
 MAX_ENERGY_BALANCE_ERROR = 0.25
@@ -432,7 +436,10 @@ def load_config(config: dict) -> GearCaseConfig:
                 else "omitted with a paper-style [gear] pair (it belongs to a [pinion]/[wheel] pair)"
             )
             raise InputError(name, value, allowed)
-    return from_mapping(GearCaseConfig, config)
+    cfg = from_mapping(GearCaseConfig, config)
+    it = cfg.solver.max_iter
+    require("solver.max_iter", it, it, MAX_ITER, "iterations per step", "fixed (gear simulate MAX_ITER)")
+    return cfg
 
 
 #: 2x the default tooth mesh (1125 nodes; RK4 limit 1.74e-8 s, see docs/gear-fe.md)
@@ -645,6 +652,7 @@ def to_run(cfg: GearCaseConfig, geo, model) -> Run:
             f"a decimation with recorded histories <= {MAX_OUTPUT_BYTES / 1e9:g} GB "
             f"(this one: {n_rec:.3g} records, {mem / 1e9:.3g} GB)",
         )
+    require_memory("output.every", cfg.output.every, mem, "the recorded histories")
     if sol.method == "reduced_hht":
         options = dict(
             alpha=sol.hht_alpha, tol=sol.tolerance, max_iter=min(sol.max_iter, 100), modes=sol.modes, gain=gain

@@ -18,6 +18,7 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
+from rotaflex.core.limits import require
 from rotaflex.core.result import Result, register_result
 from rotaflex.core.units import rad_to_deg
 from rotaflex.gear.cases.simulate_config import without
@@ -176,6 +177,38 @@ def _compliance_study(cfg: StaticConfig, pair: PairSpec, force: float) -> dict:
     return out
 
 
+#: refinement levels of the compliance study (each level <= 4 x the preset by the schema, so one
+#: FE tooth mesh has at most 5,504 elements; the number of levels is what is unbounded)
+MAX_REFINEMENT_LEVELS = 8
+#: diameters per gear of the compliance table (one FE load case each)
+MAX_COMPLIANCE_POINTS = 1_000
+
+
+def _check_size(cfg: StaticConfig) -> None:
+    """Refuse list lengths beyond the limits above (the other sizes are bounded by the schema:
+    ``analysis.n_angles`` <= 5,000, ``mesh.n_radii`` <= 40, presets and refinement <= 4)."""
+    a = cfg.analysis
+    n = len(a.refinement)
+    require(
+        "analysis.refinement",
+        list(a.refinement),
+        n,
+        MAX_REFINEMENT_LEVELS,
+        "refinement levels",
+        "fixed (gear static MAX_REFINEMENT_LEVELS)",
+    )
+    for name in ("pinion", "wheel"):
+        diam = getattr(a, f"compliance_diameters_{name}")
+        require(
+            f"analysis.compliance_diameters_{name}",
+            f"{len(diam)} diameters",
+            len(diam),
+            MAX_COMPLIANCE_POINTS,
+            "diameters",
+            "fixed (gear static MAX_COMPLIANCE_POINTS)",
+        )
+
+
 #: units of the ISO 6336-1 entries of the static summary (the others are factors, "1")
 ISO_UNITS = {"q": "mm um/N", "k_single": "N/m", "k_gamma": "N/m"}
 
@@ -236,6 +269,7 @@ def load_config(config: dict) -> StaticConfig:
     dropped, [load] from [operation] of a shared file, the torque on the pinion (SI, once)."""
     config = _with_load({k: v for k, v in config.items() if k != "domain"})
     cfg = from_mapping(StaticConfig, without(config, DYNAMIC_ONLY))
+    _check_size(cfg)
     if cfg.load.torque_on == "wheel":
         g1, g2 = cfg.pair.gears
         load = dataclasses.replace(cfg.load, torque=cfg.load.torque * g1.teeth / g2.teeth, torque_on="pinion")

@@ -52,6 +52,7 @@ import numpy as np
 from rotaflex.core.config import from_mapping, param, to_mapping
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result
+from rotaflex.gear.cases.steady_size import announce_kernels, check_model_size, check_size
 from rotaflex.gear.models.chain import (
     OperatingPoint,
     State,
@@ -563,6 +564,7 @@ def _checked(config: dict) -> TorsionalCaseConfig:
     eps = contact_ratio(g1, g2) if cfg.pair is None else cfg.pair.contact_ratio
     if cfg.mesh_stiffness.source == "contact_pattern" and not 1.0 < eps < 2.0:
         raise InputError("gear", f"contact ratio {eps:.3f}", "1 < eps < 2 for mesh.source = 'contact_pattern'")
+    check_size(cfg, _mesh_table_name(written))
     return _wheel_torque(cfg)
 
 
@@ -685,6 +687,8 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
         raise InputError(
             "initial_state", f"{len(state.theta)} chain nodes", f"{len(names)} ({', '.join(names)}): the same train"
         )
+    check_model_size(model, cfg)
+    announce_kernels(cfg.model.method)
     s = cfg.steady
     kw = dict(
         tol=s.tol,
