@@ -48,7 +48,7 @@ def check_continuable(fn: Callable, target: str) -> None:
         raise InputError("--continuation", target, "a verb whose function accepts initial_state (e.g. gear steady)")
 
 
-def chain_cases(cases: Sequence[Case], key: str) -> tuple[list[Case], list[list[str]]]:
+def chain_cases(cases: Sequence[Case], key: str, split: bool = False) -> tuple[list[Case], list[list[str]]]:
     """The cases of a continuation along ``key`` and the chains of case ids in run order.
 
     Parameters
@@ -57,6 +57,11 @@ def chain_cases(cases: Sequence[Case], key: str) -> tuple[list[Case], list[list[
         Grid cases (:func:`~rotaflex.sweep.spec.grid_cases`) whose params include ``key``.
     key : str
         The continued config key: numeric values, at least two.
+    split : bool
+        Two chains per combination: ``up`` from the verb's own start at the lowest value, and
+        ``down`` from the verb's own start at the highest value (instead of from the top ``up``
+        case's state), so the halves run on two workers at once. Right only where the response
+        at the highest value has one branch (see the module notes).
 
     Returns
     -------
@@ -66,7 +71,7 @@ def chain_cases(cases: Sequence[Case], key: str) -> tuple[list[Case], list[list[
         predecessor's value of ``key``, None for a chain's first case).
     chains : list of list of str
         Per combination of the other swept keys, the case ids: ``key`` ascending, then
-        descending.
+        descending (with ``split``: the ascending and the descending ones as two chains).
     """
     if not cases or key not in cases[0].params:
         swept = ", ".join(cases[0].params) if cases else "none"
@@ -88,6 +93,9 @@ def chain_cases(cases: Sequence[Case], key: str) -> tuple[list[Case], list[list[
         chain: list[str] = []
         prev = None
         for d in DIRECTIONS:
+            if split and chain:
+                chains.append(chain)
+                chain, prev = [], None
             for c in legs[d]:
                 data = {"config": c.data, "continuation": {"key": key, "direction": d, "after": prev}}
                 case = Case(case_id(len(out), data), {**c.params, "direction": d}, data)
@@ -135,6 +143,9 @@ def drive_chains(
     """
     ready = deque(i for i, ch in enumerate(chains) if ch)
     inflight: dict[Any, int] = {}
+    # finished cases whose files are still to be written: written after the next cases of
+    # their chains were submitted, so the workers compute while the client writes
+    unwritten: list[tuple[Case, Outcome, int]] = []
     attempts: dict[str, int] = {}
     deaths: dict[str, int] = {}
 
@@ -170,14 +181,20 @@ def drive_chains(
             state = fs() if fs is not None else None
             if state is None:
                 outcome.error = "TypeError: the result has no final_state() to continue from"
-        finish(case, outcome, attempts[case.id])
         chains[i].popleft()
         if outcome.error:
+            finish(case, outcome, attempts[case.id])
             stop_chain(i, f"case {case.id} before it in the continuation failed")
-        elif chains[i]:
-            states[i] = state
-            ready.append(i)
+        else:
+            unwritten.append((case, outcome, attempts[case.id]))
+            if chains[i]:
+                states[i] = state
+                ready.append(i)
         return False
+
+    def write_finished() -> None:
+        while unwritten:
+            finish(*unwritten.pop(0))
 
     while ready or inflight:
         broken = False
@@ -192,6 +209,8 @@ def drive_chains(
                 break
             attempts[case.id] = attempts.get(case.id, 0) + 1
             inflight[fut] = i
+        if not broken:
+            write_finished()
         if inflight:
             done, _ = wait(list(inflight), return_when=FIRST_COMPLETED)
             for fut in done:
@@ -200,4 +219,6 @@ def drive_chains(
             rest, _ = wait(list(inflight))
             for fut in rest:
                 collect(fut)
+            write_finished()
             backend.rebuild()
+    write_finished()
