@@ -4,12 +4,14 @@
 
 ``gear``: examples/sweep/gear_dynamic_factor.toml over operation.speed_rpm 2000-22000 rpm;
 ``system``: examples/system/gearbox.toml with the ``steady`` verb over steady.speed_rpm
-1000-5000 rpm (docs/geared-rotor.md). Each runs twice on ``-j`` local processes: whole chains
+1000-5000 rpm, ``max_cycles = 50`` (docs/geared-rotor.md). Each runs twice on ``-j`` local processes: whole chains
 (the down half from the top up case's state) and split ones (``split_down``: the down half from
 the verb's own start at the top speed, next to the up half). Printed: wall time, CPU time of the
 client and its worker processes, the runner's breakdown (logged by ``rotaflex.sweep``), and
 the largest difference of each summary scalar between the two down branches, beside the
 largest cycle-to-cycle change of the cases (their distance from an exact steady state).
+
+``selftest``: the parallel efficiency of split chains on CPU-bound cases of a test verb.
 
 Numbers depend on the machine's load: the load average is printed beside them.
 """
@@ -31,6 +33,9 @@ EXAMPLES = {
     "gear": (ROOT / "examples/sweep/gear_dynamic_factor.toml", "operation.speed_rpm", 2000.0, 22000.0),
     "system": (ROOT / "examples/system/gearbox.toml", "steady.speed_rpm", 1000.0, 5000.0),
 }
+
+#: fixed overrides (as in docs/geared-rotor.md's measurement: 50 mesh cycles per steady state)
+EXTRA = {"system": ["steady.max_cycles=50"]}
 
 
 def _config(example: str) -> dict:
@@ -78,7 +83,7 @@ def _child(example, speeds, jobs, split, out, q) -> None:
     t0, c0 = time.perf_counter(), _cpu()
     res = sweep_config(
         _config(example),
-        [f"{key}={lo:g}:{hi:g}:{speeds}"],
+        [f"{key}={lo:g}:{hi:g}:{speeds}", *EXTRA.get(example, [])],
         out,
         jobs,
         continuation=key,
@@ -94,13 +99,43 @@ def _child(example, speeds, jobs, split, out, q) -> None:
     q.put((wall, cpu, res.n_failed, breakdown, busy, down))
 
 
+def _efficiency(values: int, work: int, root: Path) -> None:
+    """Parallel efficiency T_1 / (2 T_2) of split chains (one chain per worker) on selftest cases
+    burning CPU (``work`` 150 x 150 matrix products per case), pool start-up included."""
+    import functools
+
+    from rotaflex.sweep import grid_cases, run_sweep
+    from rotaflex.sweep.continuation import chain_cases, run_link
+
+    grid = grid_cases({"x": 1.0, "y": 0.5, "work": work}, {"x": [float(i + 1) for i in range(values)]})
+    fn = functools.partial(run_link, "rotaflex.sweep._selftest_case:run_chain")
+    times = {}
+    for tag, split, jobs in (("whole, 1 process", False, 1), ("whole, 2", False, 2), ("split, 2", True, 2)):
+        cases, chains = chain_cases(grid, "x", split=split)
+        load = os.getloadavg()[0]
+        t0 = time.perf_counter()
+        res = run_sweep(fn, cases, jobs, out_dir=root / tag.replace(", ", "_"), figures=False, chains=chains)
+        times[tag] = time.perf_counter() - t0
+        busy = sum(r.wall_time for r in res.records)
+        assert res.n_failed == 0, res.summary_text()
+        print(f"  {tag:17s}: {times[tag]:6.2f} s wall, sum of case times {busy:6.2f} s (load {load:.1f})")
+    t1 = times["whole, 1 process"]
+    for tag in ("whole, 2", "split, 2"):
+        print(f"  efficiency {tag:9s} T_1 / (2 T_2) = {t1 / (2 * times[tag]):.0%}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--example", choices=sorted(EXAMPLES), default="gear")
+    ap.add_argument("--example", choices=[*sorted(EXAMPLES), "selftest"], default="gear")
     ap.add_argument("--speeds", type=int, default=40)
     ap.add_argument("-j", "--jobs", type=int, default=2)
+    ap.add_argument("--work", type=int, default=300, help="selftest: matrix products per case")
     args = ap.parse_args()
     root = Path(tempfile.mkdtemp(prefix="bench_chains_"))
+    if args.example == "selftest":
+        print(f"selftest: {args.speeds} values up and down ({2 * args.speeds} cases), work {args.work}")
+        _efficiency(args.speeds, args.work, root)
+        return
     print(f"{args.example}: {args.speeds} speeds up and down ({2 * args.speeds} cases), -j {args.jobs}")
     runs = {}
     for split in (False, True):
