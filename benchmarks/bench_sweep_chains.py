@@ -101,7 +101,8 @@ def _child(example, speeds, jobs, split, out, q) -> None:
 
 def _efficiency(values: int, work: int, root: Path) -> None:
     """Parallel efficiency T_1 / (2 T_2) of split chains (one chain per worker) on selftest cases
-    burning CPU (``work`` 150 x 150 matrix products per case), pool start-up included."""
+        burning CPU (``work`` 150 x 150 matrix products per case), pool start-up included (the fork
+    server itself is started by an untimed warm-up sweep first)."""
     import functools
 
     from rotaflex.sweep import grid_cases, run_sweep
@@ -109,6 +110,9 @@ def _efficiency(values: int, work: int, root: Path) -> None:
 
     grid = grid_cases({"x": 1.0, "y": 0.5, "work": work}, {"x": [float(i + 1) for i in range(values)]})
     fn = functools.partial(run_link, "rotaflex.sweep._selftest_case:run_chain")
+    # warm-up: this process's fork server starts (and imports its preload) once, untimed
+    warm, warm_chains = chain_cases(grid[:2], "x")
+    run_sweep(fn, warm, 2, figures=False, chains=warm_chains)
     times = {}
     for tag, split, jobs in (("whole, 1 process", False, 1), ("whole, 2", False, 2), ("split, 2", True, 2)):
         cases, chains = chain_cases(grid, "x", split=split)
