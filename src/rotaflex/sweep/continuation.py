@@ -7,7 +7,19 @@ the other swept keys. A chain runs the values of ``KEY`` upwards (ascending), th
 down; the hysteresis shows in ``sweep.nc`` along the extra dimension ``direction`` = up/down.
 
 The cases of one chain run one after the other (each needs its predecessor's final state);
-different chains run in parallel on the workers. Every case is written as it finishes.
+different chains run in parallel on the workers. Every case is written as it finishes, by the
+client, after the next case of its chain was submitted (the worker computes meanwhile); a case
+whose files cannot be written (e.g. its ``summary()`` raises) is recorded as an error, and as
+its successor already started from its state, a re-run recomputes from it on.
+
+``split=True`` (``--split-down``) makes the down half a chain of its own that starts from the
+verb's own start at the highest value, so up and down run on two workers at once. Physically
+this is the same down branch only when the highest value has a single steady state (e.g. far
+above a resonance): both starts settle on that one orbit and the down half then follows the
+branch it leads to, the hysteresis included. Measured on the paper pair's 40-speed example
+(docs/sweep.md): the down K_v within 9.1e-5 of the whole chain's, the contact-loss fraction
+identical. Inside a multi-valued band the cold start may pick the other branch: the default
+keeps each chain whole.
 
 Resume: a re-run keeps each chain's longest prefix of finished cases and continues from the
 final state saved in the ``result.nc`` of the last one; every case after the first missing or
