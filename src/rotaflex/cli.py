@@ -296,6 +296,14 @@ def sweep(
             "state (verbs that accept it, e.g. gear steady); adds the direction dimension.",
         ),
     ] = None,
+    split_down: Annotated[
+        bool,
+        typer.Option(
+            "--split-down",
+            help="With --continuation: start the down half from its own run at the highest value, in "
+            "parallel with the up half (right only if the response there has one branch; docs/sweep.md).",
+        ),
+    ] = False,
     no_figures: NoFigures = False,
     fmt: Format = "png",
     dpi: Dpi = 150,
@@ -325,7 +333,7 @@ def sweep(
             raise InputError("--jobs", jobs, f"an integer from 0 to {MAX_JOBS} (0 = serial in this process)")
         out_dir = check_out_dir(out, marker=SWEEP_MARKERS, inputs=(config,))
         cfg = load_toml(config)
-        plan_study(cfg, vary, continuation)  # validate every case before starting workers
+        plan_study(cfg, vary, continuation, split_down)  # validate every case before starting workers
         plotting.configure(fmt=fmt, dpi=dpi)
         if quiet:
             shown: Any = False
@@ -351,6 +359,7 @@ def sweep(
                     progress=shown,
                     max_retries=retries,
                     continuation=continuation,
+                    split_down=split_down,
                     figures=not no_figures,
                     attrs=provenance(config),
                 )

@@ -249,3 +249,47 @@ def test_a_failing_case_stops_its_chain(tmp_path, monkeypatch, selftest_domain):
     # the chain's first case (x = 1, up) raises; the 5 after it are not run
     assert sum(e.startswith("RuntimeError") for e in errors) == 1
     assert sum(e.startswith("ContinuationStopped") for e in errors) == 5
+
+
+def test_split_down_chains_keep_the_up_half_and_start_down_cold():
+    from rotaflex.sweep.continuation import chain_cases
+    from rotaflex.sweep.spec import grid_cases
+
+    grid = grid_cases({"a": {"x": 1.0, "y": 0.0}}, {"a.x": [1.0, 2.0, 3.0], "a.y": [0.0, 1.0]})
+    whole_cases, whole = chain_cases(grid, "a.x")
+    split_cases, split = chain_cases(grid, "a.x", split=True)
+    assert len(whole) == 2 and len(split) == 4
+    by_id = {c.id: c for c in split_cases}
+    for up, down in zip(split[::2], split[1::2], strict=True):
+        assert [by_id[i].params["direction"] for i in up] == ["up"] * 3
+        assert [by_id[i].params["a.x"] for i in down] == [3.0, 2.0, 1.0]
+        assert by_id[down[0]].data["continuation"]["after"] is None  # its own start at the top
+    # the up halves are the same cases (same ids and hashes): a split re-run reuses them
+    assert [ch[:3] for ch in whole] == split[::2]
+    # the first down case differs from the whole chain's (it does not start from the top state)
+    assert {ch[3] for ch in whole}.isdisjoint({ch[0] for ch in split[1::2]})
+
+
+def test_split_down_follows_the_same_down_branch_from_a_single_branch_top(swept, tmp_path):
+    """At 21000 rpm (far above resonance) there is one branch: the down half started from its own
+    run there follows the same branch as from the up half's last state, hysteresis included."""
+    cfg, out, _ = swept
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(tmp_path / "s"), *ARGS, "--split-down"])
+    assert res.exit_code == 0, res.output
+    with xr.open_dataset(out / "sweep.nc") as a, xr.open_dataset(tmp_path / "s" / "sweep.nc") as b:
+        np.testing.assert_array_equal(b["dynamic_factor"].sel(direction="up"), a["dynamic_factor"].sel(direction="up"))
+        down_a, down_b = (d["dynamic_factor"].sel(direction="down").values for d in (a, b))
+        # steady-state tolerance scale: the two runs reach the same periodic orbit from different
+        # starts, so they differ by about the cycle-to-cycle change they stop at
+        np.testing.assert_allclose(down_b, down_a, atol=1e-2)
+        low = b["dynamic_factor"].sel(operation_speed_rpm=10000.0)
+        assert float(low.sel(direction="down") - low.sel(direction="up")) > 1.0
+
+
+def test_split_down_needs_a_continuation(tmp_path):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(BASE)
+    res = runner.invoke(
+        app, ["sweep", str(cfg), "--out", str(tmp_path / "o"), "--vary", "operation.torque=10,20", "--split-down"]
+    )
+    assert res.exit_code == 2 and "--split-down" in res.output

@@ -7,7 +7,19 @@ the other swept keys. A chain runs the values of ``KEY`` upwards (ascending), th
 down; the hysteresis shows in ``sweep.nc`` along the extra dimension ``direction`` = up/down.
 
 The cases of one chain run one after the other (each needs its predecessor's final state);
-different chains run in parallel on the workers. Every case is written as it finishes.
+different chains run in parallel on the workers. Every case is written as it finishes, by the
+client, after the next case of its chain was submitted (the worker computes meanwhile); a case
+whose files cannot be written (e.g. its ``summary()`` raises) is recorded as an error, and as
+its successor already started from its state, a re-run recomputes from it on.
+
+``split=True`` (``--split-down``) makes the down half a chain of its own that starts from the
+verb's own start at the highest value, so up and down run on two workers at once. Physically
+this is the same down branch only when the highest value has a single steady state (e.g. far
+above a resonance): both starts settle on that one orbit and the down half then follows the
+branch it leads to, the hysteresis included. Measured on the paper pair's 40-speed example
+(docs/sweep.md): the down K_v within 9.1e-5 of the whole chain's, the contact-loss fraction
+identical. Inside a multi-valued band the cold start may pick the other branch: the default
+keeps each chain whole.
 
 Resume: a re-run keeps each chain's longest prefix of finished cases and continues from the
 final state saved in the ``result.nc`` of the last one; every case after the first missing or
@@ -48,7 +60,7 @@ def check_continuable(fn: Callable, target: str) -> None:
         raise InputError("--continuation", target, "a verb whose function accepts initial_state (e.g. gear steady)")
 
 
-def chain_cases(cases: Sequence[Case], key: str) -> tuple[list[Case], list[list[str]]]:
+def chain_cases(cases: Sequence[Case], key: str, split: bool = False) -> tuple[list[Case], list[list[str]]]:
     """The cases of a continuation along ``key`` and the chains of case ids in run order.
 
     Parameters
@@ -57,6 +69,11 @@ def chain_cases(cases: Sequence[Case], key: str) -> tuple[list[Case], list[list[
         Grid cases (:func:`~rotaflex.sweep.spec.grid_cases`) whose params include ``key``.
     key : str
         The continued config key: numeric values, at least two.
+    split : bool
+        Two chains per combination: ``up`` from the verb's own start at the lowest value, and
+        ``down`` from the verb's own start at the highest value (instead of from the top ``up``
+        case's state), so the halves run on two workers at once. Right only where the response
+        at the highest value has one branch (see the module notes).
 
     Returns
     -------
@@ -66,7 +83,7 @@ def chain_cases(cases: Sequence[Case], key: str) -> tuple[list[Case], list[list[
         predecessor's value of ``key``, None for a chain's first case).
     chains : list of list of str
         Per combination of the other swept keys, the case ids: ``key`` ascending, then
-        descending.
+        descending (with ``split``: the ascending and the descending ones as two chains).
     """
     if not cases or key not in cases[0].params:
         swept = ", ".join(cases[0].params) if cases else "none"
@@ -88,6 +105,9 @@ def chain_cases(cases: Sequence[Case], key: str) -> tuple[list[Case], list[list[
         chain: list[str] = []
         prev = None
         for d in DIRECTIONS:
+            if split and chain:
+                chains.append(chain)
+                chain, prev = [], None
             for c in legs[d]:
                 data = {"config": c.data, "continuation": {"key": key, "direction": d, "after": prev}}
                 case = Case(case_id(len(out), data), {**c.params, "direction": d}, data)
@@ -135,6 +155,9 @@ def drive_chains(
     """
     ready = deque(i for i, ch in enumerate(chains) if ch)
     inflight: dict[Any, int] = {}
+    # finished cases whose files are still to be written: written after the next cases of
+    # their chains were submitted, so the workers compute while the client writes
+    unwritten: list[tuple[Case, Outcome, int]] = []
     attempts: dict[str, int] = {}
     deaths: dict[str, int] = {}
 
@@ -170,14 +193,20 @@ def drive_chains(
             state = fs() if fs is not None else None
             if state is None:
                 outcome.error = "TypeError: the result has no final_state() to continue from"
-        finish(case, outcome, attempts[case.id])
         chains[i].popleft()
         if outcome.error:
+            finish(case, outcome, attempts[case.id])
             stop_chain(i, f"case {case.id} before it in the continuation failed")
-        elif chains[i]:
-            states[i] = state
-            ready.append(i)
+        else:
+            unwritten.append((case, outcome, attempts[case.id]))
+            if chains[i]:
+                states[i] = state
+                ready.append(i)
         return False
+
+    def write_finished() -> None:
+        while unwritten:
+            finish(*unwritten.pop(0))
 
     while ready or inflight:
         broken = False
@@ -192,6 +221,8 @@ def drive_chains(
                 break
             attempts[case.id] = attempts.get(case.id, 0) + 1
             inflight[fut] = i
+        if not broken:
+            write_finished()
         if inflight:
             done, _ = wait(list(inflight), return_when=FIRST_COMPLETED)
             for fut in done:
@@ -200,4 +231,6 @@ def drive_chains(
             rest, _ = wait(list(inflight))
             for fut in rest:
                 collect(fut)
+            write_finished()
             backend.rebuild()
+    write_finished()

@@ -144,18 +144,26 @@ THREAD_VARS = (
 )
 
 
-def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
+#: modules every local worker needs, imported once in the fork server (``dask.array``: xarray
+#: imports it when it builds its first Dataset, ~1 s per worker otherwise; skipped if absent)
+PRELOAD = ("numpy", "xarray", "dask.array", "rotaflex.sweep._worker", "rotaflex.core.result")
+
+
+def process_pool(max_workers: int | None = None, preload: tuple[str, ...] = ()) -> ProcessPoolExecutor:
     """A local process pool whose workers start from a clean interpreter, one thread each.
 
-    POSIX uses the ``forkserver`` start method with numpy, xarray and the worker module
-    preloaded (fast worker start, no fork of a threaded client); elsewhere ``spawn``. The
+    POSIX uses the ``forkserver`` start method with :data:`PRELOAD` and ``preload`` (e.g. the
+    module of the case function) imported once in the fork server, so each worker starts with
+    them imported (fast worker start, no fork of a threaded client; a module that fails to
+    import is skipped there and imported by the worker as usual); elsewhere ``spawn``. The
+    preload applies when this process starts its fork server, i.e. for its first pool. The
     variables of :data:`THREAD_VARS` are 1 in the workers unless already set. The pool is
     started (and probed) before it is returned.
     """
     methods = multiprocessing.get_all_start_methods()
     if "forkserver" in methods:
         ctx = multiprocessing.get_context("forkserver")
-        ctx.set_forkserver_preload(["numpy", "xarray", "rotaflex.sweep._worker"])
+        ctx.set_forkserver_preload(list(dict.fromkeys([*PRELOAD, *preload])))
     else:  # pragma: no cover - Windows
         ctx = multiprocessing.get_context("spawn")
     pool = ProcessPoolExecutor(
@@ -184,17 +192,17 @@ def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
 class _Backend:
     """The executor a sweep runs on, and whether it can be rebuilt after it breaks."""
 
-    def __init__(self, executor: Any):
+    def __init__(self, executor: Any, preload: tuple[str, ...] = ()):
         self.factory: Callable[[], Executor] | None = None
         self.owned = False
         if executor is None:
-            self.factory, self.owned = process_pool, True
+            self.factory, self.owned = (lambda: process_pool(preload=preload)), True
         elif executor == "serial":
             self.factory, self.owned = SerialExecutor, True
         elif isinstance(executor, int) and not isinstance(executor, bool):
             if executor < 1:
                 raise ValueError(f"executor = {executor}: a number of processes must be >= 1")
-            self.factory, self.owned = (lambda: process_pool(executor)), True
+            self.factory, self.owned = (lambda: process_pool(executor, preload)), True
         elif isinstance(executor, Executor):
             self.executor = executor
         elif callable(executor):
@@ -231,6 +239,19 @@ class _Backend:
                     p.terminate()
         else:
             ex.shutdown(wait=wait)
+
+
+def _modules_of(case_fn: Any) -> tuple[str, ...]:
+    """Modules a case function runs: its own and, for a ``partial`` of a ``"module:function"``
+    target (:func:`~rotaflex.sweep._worker.run_target`), the target's module."""
+    mods = []
+    fn = getattr(case_fn, "func", case_fn)
+    if isinstance(getattr(fn, "__module__", None), str) and fn.__module__ != "__main__":
+        mods.append(fn.__module__)
+    for arg in getattr(case_fn, "args", ()):
+        if isinstance(arg, str) and ":" in arg:
+            mods.append(arg.partition(":")[0])
+    return tuple(mods)
 
 
 def _n_workers(executor: Executor) -> int:
@@ -448,8 +469,14 @@ def run_sweep(
         bar.update(total - len(todo))
     callback = progress if callable(progress) else None
 
+    # where the wall time goes, logged at the end: [pool start, running cases, of which the
+    # client writing case files, combining + figures] [s]
+    spent = {"start": 0.0, "cases": 0.0, "writing": 0.0, "outputs": 0.0}
+
     def finish(case: Case, outcome: Outcome, n_attempts: int) -> None:
+        tw = time.perf_counter()
         rec = _store(case, outcome, n_attempts, out, case_figures)
+        spent["writing"] += time.perf_counter() - tw
         records[case.id] = rec
         if bar is not None:
             bar.update(len(records))
@@ -457,7 +484,9 @@ def run_sweep(
             callback(rec, len(records), total)
 
     if todo:
-        backend = _Backend(executor)
+        ts = time.perf_counter()
+        backend = _Backend(executor, _modules_of(case_fn))
+        spent["start"] = time.perf_counter() - ts
         try:
             if chains is None:
                 _drive(backend, case_fn, todo, finish, max_retries)
@@ -471,6 +500,7 @@ def run_sweep(
         else:
             backend.shutdown(wait=True)
         finally:
+            spent["cases"] = time.perf_counter() - ts - spent["start"]
             if bar is not None:
                 bar.close()
     elif bar is not None:
@@ -479,12 +509,22 @@ def run_sweep(
     ordered = [records.get(c.id) or CaseRecord(c.id, dict(c.params)) for c in cases]
     from rotaflex.core.provenance import provenance
 
+    to = time.perf_counter()
     meta = {"domain": domain or "", **provenance(), **(attrs or {})}
     dataset = combine(ordered, attrs=meta, units=dict(units or {}))
     result = SweepResult(ordered, dataset, out, time.perf_counter() - t0)
     if out is not None:
         result.figures = write_outputs(result, domain=domain, figures=figures)
     result.wall_time = time.perf_counter() - t0
+    spent["outputs"] = time.perf_counter() - to
+    log.info(
+        "wall time: %.2f s starting workers, %.2f s running cases (of which %.2f s writing case "
+        "files), %.2f s combining and figures",
+        spent["start"],
+        spent["cases"],
+        spent["writing"],
+        spent["outputs"],
+    )
     log.info("%s", result.summary_text())
     return result
 

@@ -67,6 +67,7 @@ def plan_study(
     config: Mapping[str, Any],
     vary: Sequence[str] | Mapping[str, Sequence[Any]],
     continuation: str | None = None,
+    split_down: bool = False,
 ) -> Study:
     """Validate a config sweep before anything runs.
 
@@ -81,6 +82,9 @@ def plan_study(
     continuation : str, optional
         A swept numeric key to run as continuation chains, up then down
         (:mod:`rotaflex.sweep.continuation`); the verb must accept ``initial_state``.
+    split_down : bool
+        Run each down chain from the verb's own start at the highest value, as a chain of its
+        own next to the up chain (see :func:`~rotaflex.sweep.continuation.chain_cases`).
 
     Returns
     -------
@@ -128,6 +132,8 @@ def plan_study(
     if "verb" in axes:
         raise InputError("--vary verb", axes["verb"], "a key inside the domain's config, not 'verb'")
     body = {k: v for k, v in config.items() if k not in TOP_KEYS}
+    if split_down and continuation is None:
+        raise InputError("--split-down", True, "only together with --continuation KEY")
     if continuation is not None:
         _check_continuation_base(body, continuation)
     cases = grid_cases(body, axes, defaults=_schema_defaults(module))
@@ -148,7 +154,7 @@ def plan_study(
         from rotaflex.sweep.continuation import chain_cases, check_continuable
 
         check_continuable(fn, target)
-        study.cases, study.chains = chain_cases(cases, continuation)
+        study.cases, study.chains = chain_cases(cases, continuation, split_down)
         study.continuation = continuation
     return study
 
@@ -227,20 +233,21 @@ def sweep_config(
     executor: Any = None,
     *,
     continuation: str | None = None,
+    split_down: bool = False,
     **kwargs: Any,
 ) -> SweepResult:
     """Sweep a domain config: :func:`plan_study`, then :func:`run_sweep` with the verb's function.
 
     ``continuation``: a swept key to run as up/down continuation chains (see
-    :mod:`rotaflex.sweep.continuation`). Extra keyword arguments go to :func:`run_sweep`
-    (``progress``, ``max_retries``, ...).
+    :mod:`rotaflex.sweep.continuation`); ``split_down``: see :func:`plan_study`. Extra keyword
+    arguments go to :func:`run_sweep` (``progress``, ``max_retries``, ...).
 
     Examples
     --------
     >>> from rotaflex.core.config import load_toml                     # doctest: +SKIP
     >>> res = sweep_config(load_toml("rotor.toml"), ["spin.omega=0:100:11"], "out/sweep")
     """
-    study = plan_study(config, vary, continuation)
+    study = plan_study(config, vary, continuation, split_down)
     kwargs.setdefault("units", _schema_units(study.module))
     attrs = {
         "base_config": json.dumps(dict(config), sort_keys=True, default=str),

@@ -1,0 +1,165 @@
+"""Continuation sweeps: wall and CPU time, whole up/down chains vs split ones, and the down branch.
+
+    PYTHONPATH=src python benchmarks/bench_sweep_chains.py [--example gear|system] [--speeds 40] [-j 2]
+
+``gear``: examples/sweep/gear_dynamic_factor.toml over operation.speed_rpm 2000-22000 rpm;
+``system``: examples/system/gearbox.toml with the ``steady`` verb over steady.speed_rpm
+1000-5000 rpm, ``max_cycles = 50`` (docs/geared-rotor.md). Each runs twice on ``-j`` local processes: whole chains
+(the down half from the top up case's state) and split ones (``split_down``: the down half from
+the verb's own start at the top speed, next to the up half). Printed: wall time, CPU time of the
+client and its worker processes, the runner's breakdown (logged by ``rotaflex.sweep``), and
+the largest difference of each summary scalar between the two down branches, beside the
+largest cycle-to-cycle change of the cases (their distance from an exact steady state).
+
+``selftest``: the parallel efficiency of split chains on CPU-bound cases of a test verb.
+
+Numbers depend on the machine's load: the load average is printed beside them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import os
+import resource
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = {
+    "gear": (ROOT / "examples/sweep/gear_dynamic_factor.toml", "operation.speed_rpm", 2000.0, 22000.0),
+    "system": (ROOT / "examples/system/gearbox.toml", "steady.speed_rpm", 1000.0, 5000.0),
+}
+
+#: fixed overrides (as in docs/geared-rotor.md's measurement: 50 mesh cycles per steady state)
+EXTRA = {"system": ["steady.max_cycles=50"]}
+
+
+def _config(example: str) -> dict:
+    from rotaflex.core.config import load_toml
+
+    path = EXAMPLES[example][0]
+    cfg = dict(load_toml(path))
+    if example == "system":
+        cfg = {"domain": "system", "verb": "steady", **cfg}
+    return cfg
+
+
+def _cpu() -> float:
+    me = resource.getrusage(resource.RUSAGE_SELF)
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + kids.ru_utime + kids.ru_stime
+
+
+def _run(example: str, speeds: int, jobs: int, split: bool, out: Path):
+    """One sweep in a fresh process (CPU of its workers counted once they exit)."""
+    import multiprocessing as mp
+
+    ctx = mp.get_context("spawn")
+    q = ctx.Queue()
+    p = ctx.Process(target=_child, args=(example, speeds, jobs, split, str(out), q))
+    p.start()
+    res = q.get()
+    p.join()
+    return res
+
+
+def _child(example, speeds, jobs, split, out, q) -> None:
+    from rotaflex.sweep import sweep_config
+
+    lines: list[str] = []
+
+    class Keep(logging.Handler):
+        def emit(self, record):
+            lines.append(record.getMessage())
+
+    log = logging.getLogger("rotaflex.sweep")
+    log.setLevel(logging.INFO)
+    log.addHandler(Keep())
+    _, key, lo, hi = EXAMPLES[example]
+    t0, c0 = time.perf_counter(), _cpu()
+    res = sweep_config(
+        _config(example),
+        [f"{key}={lo:g}:{hi:g}:{speeds}", *EXTRA.get(example, [])],
+        out,
+        jobs,
+        continuation=key,
+        split_down=split,
+        figures=True,
+    )
+    wall = time.perf_counter() - t0
+    cpu = _cpu() - c0  # the pool's workers exited at its shutdown: their CPU is in RUSAGE_CHILDREN
+    ds = res.dataset
+    down = {k: ds[k].sel(direction="down").values.astype(float) for k in ds.data_vars if ds[k].dtype.kind == "f"}
+    breakdown = next((s for s in lines if s.startswith("wall time:")), "")
+    busy = sum(r.wall_time for r in res.records)
+    q.put((wall, cpu, res.n_failed, breakdown, busy, down))
+
+
+def _efficiency(values: int, work: int, root: Path) -> None:
+    """Parallel efficiency T_1 / (2 T_2) of split chains (one chain per worker) on selftest cases
+        burning CPU (``work`` 150 x 150 matrix products per case), pool start-up included (the fork
+    server itself is started by an untimed warm-up sweep first)."""
+    import functools
+
+    from rotaflex.sweep import grid_cases, run_sweep
+    from rotaflex.sweep.continuation import chain_cases, run_link
+
+    grid = grid_cases({"x": 1.0, "y": 0.5, "work": work}, {"x": [float(i + 1) for i in range(values)]})
+    fn = functools.partial(run_link, "rotaflex.sweep._selftest_case:run_chain")
+    # warm-up: this process's fork server starts (and imports its preload) once, untimed
+    warm, warm_chains = chain_cases(grid[:2], "x")
+    run_sweep(fn, warm, 2, figures=False, chains=warm_chains)
+    times = {}
+    for tag, split, jobs in (("whole, 1 process", False, 1), ("whole, 2", False, 2), ("split, 2", True, 2)):
+        cases, chains = chain_cases(grid, "x", split=split)
+        load = os.getloadavg()[0]
+        t0 = time.perf_counter()
+        res = run_sweep(fn, cases, jobs, out_dir=root / tag.replace(", ", "_"), figures=False, chains=chains)
+        times[tag] = time.perf_counter() - t0
+        busy = sum(r.wall_time for r in res.records)
+        assert res.n_failed == 0, res.summary_text()
+        print(f"  {tag:17s}: {times[tag]:6.2f} s wall, sum of case times {busy:6.2f} s (load {load:.1f})")
+    t1 = times["whole, 1 process"]
+    for tag in ("whole, 2", "split, 2"):
+        print(f"  efficiency {tag:9s} T_1 / (2 T_2) = {t1 / (2 * times[tag]):.0%}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--example", choices=[*sorted(EXAMPLES), "selftest"], default="gear")
+    ap.add_argument("--speeds", type=int, default=40)
+    ap.add_argument("-j", "--jobs", type=int, default=2)
+    ap.add_argument("--work", type=int, default=300, help="selftest: matrix products per case")
+    args = ap.parse_args()
+    root = Path(tempfile.mkdtemp(prefix="bench_chains_"))
+    if args.example == "selftest":
+        print(f"selftest: {args.speeds} values up and down ({2 * args.speeds} cases), work {args.work}")
+        _efficiency(args.speeds, args.work, root)
+        return
+    print(f"{args.example}: {args.speeds} speeds up and down ({2 * args.speeds} cases), -j {args.jobs}")
+    runs = {}
+    for split in (False, True):
+        tag = "split" if split else "whole"
+        load = os.getloadavg()[0]
+        wall, cpu, failed, breakdown, busy, down = _run(args.example, args.speeds, args.jobs, split, root / tag)
+        runs[tag] = down
+        print(
+            f"  {tag:5s}: {wall:6.1f} s wall, {cpu:6.1f} s CPU, sum of case times {busy:6.1f} s, "
+            f"{failed} failed (load {load:.1f})\n         {breakdown}"
+        )
+    a, b = runs["whole"], runs["split"]
+    change = np.nanmax(np.abs(a.get("change", np.array([np.nan]))))
+    print(f"  down branch, whole vs split (largest case cycle-to-cycle change {change:.2e}):")
+    for k in sorted(a):
+        if k in b and a[k].shape == b[k].shape:
+            d = np.nanmax(np.abs(a[k] - b[k])) if np.isfinite(a[k]).any() else float("nan")
+            scale = np.nanmax(np.abs(a[k])) if np.isfinite(a[k]).any() else float("nan")
+            print(f"    {k:28s} max |diff| {d:.3e}  (max |value| {scale:.3e})")
+
+
+if __name__ == "__main__":
+    main()
