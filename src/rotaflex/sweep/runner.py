@@ -149,6 +149,19 @@ THREAD_VARS = (
 PRELOAD = ("numpy", "xarray", "dask.array", "rotaflex.sweep._worker", "rotaflex.core.result")
 
 
+def _quiet_resource_tracker() -> None:
+    """Keep multiprocessing's resource tracker from printing warnings after an interrupt.
+
+    Ctrl-C ends a sweep with one line and ``os._exit``; the tracker (a separate process started
+    with this process's environment) then unlinks the pool's semaphores, which is its job, and
+    warns about each one. The cleanup is right; the warnings only bury the one line.
+    """
+    rule = "ignore:resource_tracker:UserWarning"
+    current = os.environ.get("PYTHONWARNINGS", "")
+    if rule not in current.split(","):
+        os.environ["PYTHONWARNINGS"] = f"{current},{rule}" if current else rule
+
+
 def process_pool(max_workers: int | None = None, preload: tuple[str, ...] = ()) -> ProcessPoolExecutor:
     """A local process pool whose workers start from a clean interpreter, one thread each.
 
@@ -160,6 +173,7 @@ def process_pool(max_workers: int | None = None, preload: tuple[str, ...] = ()) 
     variables of :data:`THREAD_VARS` are 1 in the workers unless already set. The pool is
     started (and probed) before it is returned.
     """
+    _quiet_resource_tracker()
     methods = multiprocessing.get_all_start_methods()
     if "forkserver" in methods:
         ctx = multiprocessing.get_context("forkserver")
