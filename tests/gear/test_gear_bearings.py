@@ -309,10 +309,10 @@ def test_an_unstable_step_is_reported_with_its_time():
     8 kHz mesh mode, limit 2.8):
     the run stops with the time of the first non-finite state instead of returning NaNs."""
     from rotaflex.core.errors import DivergenceError
-    from rotaflex.gear.models.chain import _chain, _initial_state, _run
+    from rotaflex.gear.models.chain import build_chain, initial_state, run_cycles
 
     sys = _held_pinion()
     op = OperatingPoint(4000.0, 50.0)
-    ch = _chain(sys, op)
+    ch = build_chain(sys, op)
     with pytest.raises(DivergenceError, match=r"torsional mesh model \(RK4\) diverged at t = [0-9.e-]+ s"):
-        _run(sys, op, ch, _initial_state(sys, op, ch), 200, 2)
+        run_cycles(sys, op, ch, initial_state(sys, op, ch), 200, 2)

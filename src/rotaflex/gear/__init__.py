@@ -17,8 +17,8 @@ registry) -> ``results`` (xarray dataset, figures, files).
 ``kernels/``   compiled (numba) kernels: ``contact``, ``passes``, ``rk4`` (paper scheme), ``hht``
                (reduced), ``chain`` and ``window`` (steady models), ``arrays`` (named tuples)
 ``solvers/``   ``registry`` (METHODS: name -> integrator; ``rotaflex gear methods`` lists it),
-               ``drive_loop`` (chunked loop, status -> error, SolverOutput), ``window_run``,
-               ``speed_sweep``
+               ``drive_loop`` (chunked loop, status -> error, SolverOutput), ``steady_driver``
+               (the run-until-periodic loop of both steady methods), ``window_run``, ``speed_sweep``
 ``results/``   ``transient`` (gear simulate dataset + figures), ``steady`` (periodicity, cycle
                metrics), ``post`` (TE, fillet stress), ``export`` (VTU), ``sweep_figures``
 ``cases/``     thin verbs: ``simulate`` (+ ``simulate_config``), ``static``, ``steady``

@@ -643,10 +643,10 @@ def _point_extras(res, sys: TorsionalSystem, st, cfg: TorsionalCaseConfig, eps: 
 
 def _node_names(sys: TorsionalSystem, cfg: TorsionalCaseConfig) -> list[str]:
     """Chain nodes of the model (motor, pinion, wheel, load as present; lateral nodes)."""
-    from rotaflex.gear.models.chain import _chain
+    from rotaflex.gear.models.chain import build_chain
 
     op = cfg.operation
-    return _chain(sys, OperatingPoint(op.speed_rpm, op.torque)).names
+    return build_chain(sys, OperatingPoint(op.speed_rpm, op.torque)).names
 
 
 def run_torsional(config: dict, *, progress: bool = False, initial_state: dict | None = None) -> Result:

@@ -33,9 +33,7 @@ whole number of steps per mesh cycle, so the histories sample each mesh cycle id
 
 from __future__ import annotations
 
-import json
 import math
-import time
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -48,14 +46,20 @@ from rotaflex.gear.kernels.chain import ChainArgs, MeshArgs, run_rk4
 from rotaflex.gear.models.mesh_stiffness import (
     MeshTable,
 )
-from rotaflex.gear.results.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
 
 __all__ = [
+    "Chain",
+    "ChainSteady",
     "OperatingPoint",
+    "State",
     "TorsionalSystem",
+    "build_chain",
+    "continue_from",
     "energy_balance",
+    "initial_state",
     "natural_frequencies",
     "resonance_speeds_rpm",
+    "run_cycles",
     "simulate",
     "steady_state",
 ]
@@ -135,7 +139,7 @@ class OperatingPoint:
 
 
 @dataclass
-class _Chain:
+class Chain:
     jinv: np.ndarray
     inertia: np.ndarray
     ks: np.ndarray
@@ -157,8 +161,40 @@ class _Chain:
         c = self
         return ChainArgs(c.jinv, c.ks, c.cs, c.torque, c.slope, c.nominal, c.presc, float(ramp_time), c.kg, c.cg)
 
+    def add_strain_and_dissipation(self, th: np.ndarray, om: np.ndarray, energy: np.ndarray, diss: np.ndarray):
+        """Add the shafts' strain energy and dissipation ``c_s domega^2`` and the bearings'
+        ``k_b y^2 / 2`` and ``c_b y'^2`` of histories ``th`` [rad], ``om`` [rad/s] to ``energy``
+        [J] and ``diss`` [W] (returns new arrays)."""
+        for i in range(len(self.inertia) - 1):
+            energy = energy + 0.5 * self.ks[i] * (th[:, i] - th[:, i + 1]) ** 2
+            diss = diss + self.cs[i] * (om[:, i] - om[:, i + 1]) ** 2
+        energy = energy + 0.5 * th**2 @ self.kg
+        diss = diss + om**2 @ self.cg
+        return energy, diss
 
-def _chain(sys: TorsionalSystem, op: OperatingPoint) -> _Chain:
+    def drive_power(self, op, teeth: int, th, om, t, force, rb1: float) -> np.ndarray:
+        """Power [W] into the chain from drive and load: at a speed-controlled node the torque
+        that holds its speed (shaft and, at the pinion, mesh ``r_b1 F``), elsewhere the applied
+        torque (ramped over ``op.ramp_cycles`` mesh cycles) plus the torque-speed slope term."""
+        c = self
+        p_in = np.zeros(len(t))
+        ramp = op.ramp_cycles * 2 * np.pi / (op.omega * teeth)
+        scale = np.clip(t / ramp, 0.0, 1.0) if ramp > 0 else np.ones(len(t))
+        for i in range(len(c.inertia)):
+            if c.presc[i]:
+                # torque the speed control applies to keep node i at its speed
+                tq = np.zeros(len(t))
+                if i + 1 < len(c.inertia):
+                    tq += c.ks[i] * (th[:, i] - th[:, i + 1]) + c.cs[i] * (om[:, i] - om[:, i + 1])
+                if i == c.ip:
+                    tq += rb1 * force
+                p_in += tq * om[:, i]
+            else:
+                p_in += (scale * c.torque[i] + c.slope[i] * (c.nominal[i] - om[:, i])) * om[:, i]
+        return p_in
+
+
+def build_chain(sys: TorsionalSystem, op: OperatingPoint) -> Chain:
     """Nodes after merging rigid shafts; pinion-side nodes turn at Omega, wheel side at Omega i."""
     (j1, j2), (r1, r2) = sys.inertia, sys.base_radius
     w1 = op.omega
@@ -201,7 +237,7 @@ def _chain(sys: TorsionalSystem, op: OperatingPoint) -> _Chain:
     inertia = np.array([v[1] for v in nodes], dtype=float)
     presc = np.array([v[5] for v in nodes], dtype=np.bool_)
     jinv = np.where(presc | (inertia <= 0), 0.0, 1.0 / np.where(inertia > 0, inertia, 1.0))
-    return _Chain(
+    return Chain(
         jinv,
         inertia,
         ks,
@@ -222,7 +258,7 @@ def _chain(sys: TorsionalSystem, op: OperatingPoint) -> _Chain:
 
 # ------------------------------------------------------------------------- linear analysis
 def _linear_matrices(sys: TorsionalSystem, op: OperatingPoint):
-    ch = _chain(sys, op)
+    ch = build_chain(sys, op)
     n = len(ch.inertia)
     K = np.zeros((n, n))
     for i in range(n - 1):
@@ -305,7 +341,7 @@ class State:
     nominal: np.ndarray
 
 
-def _initial_state(sys, op, ch: _Chain) -> State:
+def initial_state(sys, op, ch: Chain) -> State:
     """Static equilibrium at mesh phase 0 (or unloaded contact with a ramp), nominal speeds."""
     n = len(ch.inertia)
     th = np.zeros(n)
@@ -328,7 +364,7 @@ def _initial_state(sys, op, ch: _Chain) -> State:
     return State(th, ch.nominal.copy(), 0.0, ch.nominal.copy())
 
 
-def _continue_from(state: State, ch: _Chain) -> State:
+def continue_from(state: State, ch: Chain) -> State:
     """Keep angles and vibration velocities, move the mean speeds to the new nominal ones."""
     return State(state.theta.copy(), state.omega - state.nominal + ch.nominal, state.time, ch.nominal.copy())
 
@@ -339,7 +375,7 @@ def _steps_per_cycle(sys, op, steps_per_cycle: int, points_per_period: int) -> i
     return int(max(steps_per_cycle, math.ceil(points_per_period * f_max / f_mesh)))
 
 
-def _run(sys, op, ch, st: State, n_cycles: int, spc: int):
+def run_cycles(sys, op, ch, st: State, n_cycles: int, spc: int):
     """Advance ``n_cycles`` mesh cycles in place; histories of those cycles (spc per cycle)."""
     t_mesh = 2 * np.pi / (op.omega * sys.teeth[0])
     dt = t_mesh / spc
@@ -403,10 +439,10 @@ def simulate(
         ``time`` [s], ``theta`` [rad], ``omega`` [rad/s] (per chain node), ``force`` [N],
         ``delta`` [m], ``ddelta`` [m/s], ``dte`` [m], ``spc``, ``state``, ``names``.
     """
-    ch = _chain(sys, op)
-    st = _initial_state(sys, op, ch) if state is None else _continue_from(state, ch)
+    ch = build_chain(sys, op)
+    st = initial_state(sys, op, ch) if state is None else continue_from(state, ch)
     spc = _steps_per_cycle(sys, op, steps_per_cycle, points_per_period)
-    h = _run(sys, op, ch, st, n_cycles, spc)
+    h = run_cycles(sys, op, ch, st, n_cycles, spc)
     r1, r2 = sys.base_radius
     h.update(dte=r1 * h["theta"][:, ch.ip] - r2 * h["theta"][:, ch.iw], spc=spc, state=st, names=ch.names)
     return h
@@ -430,7 +466,7 @@ def energy_balance(sys: TorsionalSystem, op: OperatingPoint, hist: dict) -> dict
     """
     from scipy.integrate import simpson
 
-    ch = _chain(sys, op)
+    ch = build_chain(sys, op)
     th, om, t = hist["theta"], hist["omega"], hist["time"]
     r1, _ = sys.base_radius
     phase = sys.teeth[0] * th[:, ch.ip] / (2 * np.pi)
@@ -442,28 +478,8 @@ def energy_balance(sys: TorsionalSystem, op: OperatingPoint, hist: dict) -> dict
     contact = dc != 0
     free = ~ch.presc
     kin = 0.5 * np.sum(ch.inertia[free] * om[:, free] ** 2, axis=1)
-    pot = 0.5 * k * dc**2
-    diss = sys.mesh_damping * dd**2 * contact
-    p_in = np.zeros(len(t))
-    for i in range(len(ch.inertia) - 1):
-        tw, rate = th[:, i] - th[:, i + 1], om[:, i] - om[:, i + 1]
-        pot = pot + 0.5 * ch.ks[i] * tw**2
-        diss = diss + ch.cs[i] * rate**2
-    pot = pot + 0.5 * th**2 @ ch.kg
-    diss = diss + om**2 @ ch.cg
-    ramp = op.ramp_cycles * 2 * np.pi / (op.omega * sys.teeth[0])
-    scale = np.clip(t / ramp, 0.0, 1.0) if ramp > 0 else np.ones(len(t))
-    for i in range(len(ch.inertia)):
-        if ch.presc[i]:
-            # torque the speed control applies to keep node i at its speed
-            tq = np.zeros(len(t))
-            if i + 1 < len(ch.inertia):
-                tq += ch.ks[i] * (th[:, i] - th[:, i + 1]) + ch.cs[i] * (om[:, i] - om[:, i + 1])
-            if i == ch.ip:
-                tq += r1 * f
-            p_in += tq * om[:, i]
-        else:
-            p_in += (scale * ch.torque[i] + ch.slope[i] * (ch.nominal[i] - om[:, i])) * om[:, i]
+    pot, diss = ch.add_strain_and_dissipation(th, om, 0.5 * k * dc**2, sys.mesh_damping * dd**2 * contact)
+    p_in = ch.drive_power(op, sys.teeth[0], th, om, t, f, r1)
     p_par = dphase * (0.5 * dk * dc**2 - f * de)
     e_tot = kin + pot
 
@@ -481,45 +497,44 @@ def energy_balance(sys: TorsionalSystem, op: OperatingPoint, hist: dict) -> dict
 
 
 # ----------------------------------------------------------------------------- steady state
-def _periodicity(buf, ch, sys, spc, tol, max_period, f_static) -> Periodicity:
-    """Period at which both the mesh force (scale F_static) and the DTE (scale the static
-    deflection F_static / k_mean) repeat within ``tol``; the force alone is blind while the
-    flanks are apart (F = 0 in both cycles)."""
-    r1, r2 = sys.base_radius
-    dte = r1 * buf["theta"][:, ch.ip] - r2 * buf["theta"][:, ch.iw]
-    pf = detect_period(buf["force"], spc, tol, max_period=max_period, scale=f_static)
-    pd = detect_period(dte, spc, tol, max_period=max_period, scale=f_static / sys.mesh.mean_stiffness)
-    changes = tuple(max(a, b) for a, b in zip(pf.changes, pd.changes, strict=True))
-    for p, c in enumerate(changes, start=1):
-        if c <= tol:
-            return Periodicity(p, c, changes)
-    return Periodicity(0, min(changes), changes)
+@dataclass
+class ChainSteady:
+    """The lumped chain as a :class:`~rotaflex.gear.solvers.steady_driver.SteadyMethod`."""
+
+    system: TorsionalSystem
+    op: OperatingPoint
+    chain: Chain = field(init=False)
+    keep: tuple = ("time", "force", "dte")
+    attrs: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        self.chain = build_chain(self.system, self.op)
+
+    def start(self, state: State | None) -> State:
+        sys, op, ch = self.system, self.op, self.chain
+        return initial_state(sys, op, ch) if state is None else continue_from(state, ch)
+
+    def steps_per_cycle(self, steps: int, points_per_period: int) -> int:
+        return _steps_per_cycle(self.system, self.op, steps, points_per_period)
+
+    def run(self, state: State, n_cycles: int, spc: int) -> dict:
+        ch = self.chain
+        h = run_cycles(self.system, self.op, ch, state, n_cycles, spc)
+        r1, r2 = self.system.base_radius
+        h["dte"] = r1 * h["theta"][:, ch.ip] - r2 * h["theta"][:, ch.iw]
+        return h
+
+    def annotate(self, ds, buf: dict, sl: slice) -> None:
+        """Nothing beyond the common variables."""
 
 
-def steady_state(
-    sys: TorsionalSystem,
-    op: OperatingPoint,
-    *,
-    tol: float = 1e-4,
-    min_cycles: int = 20,
-    max_cycles: int = 400,
-    eval_cycles: int = 10,
-    fixed_cycles: int | None = None,
-    max_period: int = 4,
-    steps_per_cycle: int = 100,
-    points_per_period: int = 40,
-    state: State | None = None,
-    config: dict | None = None,
-):
+def steady_state(sys: TorsionalSystem, op: OperatingPoint, *, state: State | None = None, **kw):
     """Run until periodic, then evaluate the last ``eval_cycles`` mesh cycles.
 
-    Periodicity: the cycle-to-cycle changes (:func:`~.steady.cycle_change`) of the mesh force
-    (``scale`` = static mesh force ``T_out / r_b2``) and of the DTE (``scale`` = static
-    deflection ``F_static / k_mean``) at a period of 1 ... ``max_period`` cycles must both fall
-    below ``tol``; checked after each block of ``eval_cycles`` cycles once
-    ``min_cycles`` have run. ``fixed_cycles`` runs exactly that many cycles instead. Either
-    way ``status = "not_periodic"`` (with the change in the message) when the tolerance is not
-    met.
+    The procedure, tolerances and keywords of
+    :func:`rotaflex.gear.solvers.steady_driver.run_steady` (``tol``, ``min_cycles``,
+    ``max_cycles``, ``eval_cycles``, ``fixed_cycles``, ``max_period``, ``steps_per_cycle``,
+    ``points_per_period``, ``config``).
 
     Returns
     -------
@@ -527,66 +542,6 @@ def steady_state(
         The result (histories of the evaluated cycles, metrics, natural frequencies) and the
         final state for continuation.
     """
-    import xarray as xr
+    from rotaflex.gear.solvers.steady_driver import run_steady
 
-    if fixed_cycles is not None and fixed_cycles < max(eval_cycles, 2):
-        raise InputError("fixed_cycles", fixed_cycles, f">= {max(eval_cycles, 2)}")
-    t0 = time.perf_counter()
-    ch = _chain(sys, op)
-    st = _initial_state(sys, op, ch) if state is None else _continue_from(state, ch)
-    spc = _steps_per_cycle(sys, op, steps_per_cycle, points_per_period)
-    f_static = op.torque / sys.base_radius[1]
-    r1, r2 = sys.base_radius
-    keep = max(eval_cycles, 2 * max_period)
-    done, buf, per = 0, None, None
-    target = fixed_cycles if fixed_cycles is not None else max_cycles
-    while done < target:
-        block = min(eval_cycles, target - done)
-        h = _run(sys, op, ch, st, block, spc)
-        done += block
-        rows = {k: v[:-1] for k, v in h.items()}  # drop the next cycle's first sample
-        buf = rows if buf is None else {k: np.concatenate([buf[k], rows[k]])[-keep * spc :] for k in rows}
-        if fixed_cycles is None and done >= min_cycles:
-            per = _periodicity(buf, ch, sys, spc, tol, max_period, f_static)
-            if per.period:
-                break
-    if per is None or fixed_cycles is not None:
-        per = _periodicity(buf, ch, sys, spc, tol, max_period, f_static)
-    n_eval = eval_cycles
-    if per.period > 1:
-        n_eval = max(per.period, eval_cycles // per.period * per.period)
-    sl = slice(len(buf["time"]) - n_eval * spc, None)
-    dte = r1 * buf["theta"][:, ch.ip] - r2 * buf["theta"][:, ch.iw]
-    met = steady_metrics(dte[sl], buf["force"][sl], f_static, spc, n_eval)
-    nf = natural_frequencies(sys, op)
-    status = "success" if per.period else "not_periodic"
-    msg = (
-        f"periodic with period {per.period} mesh cycle(s) after {done} cycles, change {per.change:.2e} <= {tol:g}"
-        if per.period
-        else f"not periodic after {done} mesh cycles: smallest cycle-to-cycle change "
-        f"{per.change:.2e} > tol {tol:g} (periods 1-{max_period})"
-    )
-    ds = xr.Dataset(
-        coords={"time": ("time", buf["time"][sl], {"units": "s"}), "mode": ("mode", np.arange(len(nf["frequency"])))}
-    )
-    ds["dte"] = ("time", dte[sl], {"units": "m", "long_name": "dynamic transmission error"})
-    ds["mesh_force"] = ("time", buf["force"][sl], {"units": "N", "long_name": "mesh force"})
-    for k, v in met.items():
-        ds[k] = ((), v, {"units": METRIC_UNITS[k]})
-    ds["change"] = ((), per.change, {"units": "1", "long_name": "cycle-to-cycle change"})
-    ds["period_cycles"] = ((), per.period, {"units": "1"})
-    ds["cycles_run"] = ((), done, {"units": "1"})
-    ds["natural_frequency"] = ("mode", nf["frequency"], {"units": "Hz"})
-    ds["mesh_energy_share"] = ("mode", nf["mesh_energy"], {"units": "1"})
-
-    ds.attrs.update(
-        status=status,
-        message=msg,
-        wall_time=time.perf_counter() - t0,
-        samples_per_cycle=spc,
-        static_force=f_static,
-        speed_rpm=op.speed_rpm,
-        mesh_frequency=op.omega * sys.teeth[0] / (2 * np.pi),
-        config=json.dumps(config or {}),
-    )
-    return SteadyStateResult(ds), st
+    return run_steady(ChainSteady(sys, op), op, state=state, **kw)

@@ -1,28 +1,26 @@
 """Time integration, energy balance and steady state of the travelling-window model.
 
 Same chain, drive laws, step-size rule and steady-state procedure as the lumped torsional model
-(:func:`rotaflex.gear.models.chain.steady_state`), so the two give directly comparable results;
+(both through :func:`rotaflex.gear.solvers.steady_driver.run_steady`), so the two give directly comparable results;
 here the step also resolves the highest tooth frequency in contact
 (:attr:`WindowModel.highest_frequency`).
 """
 
 from __future__ import annotations
 
-import json
 import math
-import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from rotaflex.core.errors import DivergenceError, InputError
+from rotaflex.core.errors import DivergenceError
 from rotaflex.gear.kernels.window import WindowArgs, run_window_rk4
-from rotaflex.gear.models.chain import OperatingPoint, _chain, _initial_state, natural_frequencies
+from rotaflex.gear.models.chain import OperatingPoint, build_chain, initial_state, natural_frequencies
 from rotaflex.gear.models.window import WindowModel
-from rotaflex.gear.results.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
+from rotaflex.gear.solvers.steady_driver import run_steady
 from rotaflex.gear.static.loaded_te import loaded_te
 
-__all__ = ["WindowState", "cycle_steps", "simulate", "energy_balance", "steady_state"]
+__all__ = ["WindowState", "WindowSteady", "cycle_steps", "simulate", "energy_balance", "steady_state"]
 
 
 @dataclass
@@ -72,7 +70,7 @@ def _args(model: WindowModel, ch) -> WindowArgs:
 def _initial(model: WindowModel, op: OperatingPoint, ch) -> WindowState:
     """Static equilibrium at phase 0 (pair 0 entering): chain as the lumped model with the
     loaded table, each tooth mode at its static deflection under the loaded TE's pair loads."""
-    st = _initial_state(model.system, op, ch)
+    st = initial_state(model.system, op, ch)
     line, w, m = model.line, model.window, model.n_modes
     modal = np.zeros(2 * w * 2 * m)
     n_hi = int(math.floor((line.s_start - model.s_low) / line.base_pitch))
@@ -164,7 +162,7 @@ def simulate(
         ``dte`` [m], ``fillet_stress`` (pinion, wheel maxima) [Pa], ``n_contact``, the power
         and energy records of :func:`energy_balance`, ``spc``, ``state``, ``names``.
     """
-    ch = _chain(model.system, op)
+    ch = build_chain(model.system, op)
     st = _initial(model, op, ch) if state is None else _continue_from(state, ch)
     spc = cycle_steps(model, op, steps_per_cycle, points_per_period)
     h = _run(model, op, ch, st, n_cycles, spc)
@@ -189,30 +187,13 @@ def energy_balance(model: WindowModel, op: OperatingPoint, hist: dict) -> dict:
     """
     from scipy.integrate import simpson
 
-    ch = _chain(model.system, op)
+    ch = build_chain(model.system, op)
     th, om, t = hist["theta"], hist["omega"], hist["time"]
     free = ~ch.presc
     e = 0.5 * np.sum(ch.inertia[free] * om[:, free] ** 2, axis=1) + hist["elastic_energy"]
-    diss = np.zeros(len(t))
-    p_in = np.zeros(len(t))
-    for i in range(len(ch.inertia) - 1):
-        e = e + 0.5 * ch.ks[i] * (th[:, i] - th[:, i + 1]) ** 2
-        diss = diss + ch.cs[i] * (om[:, i] - om[:, i + 1]) ** 2
-    e = e + 0.5 * th**2 @ ch.kg
-    diss = diss + om**2 @ ch.cg
+    e, diss = ch.add_strain_and_dissipation(th, om, e, np.zeros(len(t)))
     rb1 = model.line.g1.base_radius
-    ramp = op.ramp_cycles * 2 * np.pi / (op.omega * model.system.teeth[0])
-    scale = np.clip(t / ramp, 0.0, 1.0) if ramp > 0 else np.ones(len(t))
-    for i in range(len(ch.inertia)):
-        if ch.presc[i]:
-            tq = np.zeros(len(t))
-            if i + 1 < len(ch.inertia):
-                tq += ch.ks[i] * (th[:, i] - th[:, i + 1]) + ch.cs[i] * (om[:, i] - om[:, i + 1])
-            if i == ch.ip:
-                tq += rb1 * hist["force"]
-            p_in += tq * om[:, i]
-        else:
-            p_in += (scale * ch.torque[i] + ch.slope[i] * (ch.nominal[i] - om[:, i])) * om[:, i]
+    p_in = ch.drive_power(op, model.system.teeth[0], th, om, t, hist["force"], rb1)
     out = {
         "energy_change": float(e[-1] - e[0]),
         "work_in": float(simpson(p_in, x=t)),
@@ -225,38 +206,50 @@ def energy_balance(model: WindowModel, op: OperatingPoint, hist: dict) -> dict:
     return out
 
 
-def _periodicity(buf, model, spc, tol, max_period, f_static) -> Periodicity:
-    k_mean = model.system.mesh.mean_stiffness
-    pf = detect_period(buf["force"], spc, tol, max_period=max_period, scale=f_static)
-    pd = detect_period(buf["dte"], spc, tol, max_period=max_period, scale=f_static / k_mean)
-    changes = tuple(max(a, b) for a, b in zip(pf.changes, pd.changes, strict=True))
-    for p, c in enumerate(changes, start=1):
-        if c <= tol:
-            return Periodicity(p, c, changes)
-    return Periodicity(0, min(changes), changes)
+@dataclass
+class WindowSteady:
+    """The window model as a :class:`~rotaflex.gear.solvers.steady_driver.SteadyMethod`."""
+
+    model: WindowModel
+    op: OperatingPoint
+    keep: tuple = ("time", "force", "dte", "fillet_stress", "n_contact")
+    attrs: dict = field(default_factory=lambda: {"method": "elastic_teeth"})
+
+    def __post_init__(self):
+        self.system = self.model.system
+        self.chain = build_chain(self.system, self.op)
+
+    def start(self, state: WindowState | None) -> WindowState:
+        return _initial(self.model, self.op, self.chain) if state is None else _continue_from(state, self.chain)
+
+    def steps_per_cycle(self, steps: int, points_per_period: int) -> int:
+        return cycle_steps(self.model, self.op, steps, points_per_period)
+
+    def run(self, state: WindowState, n_cycles: int, spc: int) -> dict:
+        return _run(self.model, self.op, self.chain, state, n_cycles, spc)
+
+    def annotate(self, ds, buf: dict, sl: slice) -> None:
+        """Fillet stress histories and maxima, pairs in contact."""
+        ds.coords["gear"] = ("gear", ["pinion", "wheel"])
+        ds["fillet_stress"] = (
+            ("time", "gear"),
+            buf["fillet_stress"][sl],
+            {"units": "Pa", "long_name": "tension-side fillet stress (quasi-static, most loaded tooth)"},
+        )
+        ds["pairs_in_contact"] = ("time", buf["n_contact"][sl], {"units": "1"})
+        for i, name in enumerate(("pinion", "wheel")):
+            ds[f"fillet_stress_max_{name}"] = (
+                (),
+                float(buf["fillet_stress"][sl, i].max()),
+                {"units": "Pa", "long_name": f"largest tension-side fillet stress of the {name}"},
+            )
 
 
-_KEEP = ("time", "force", "dte", "fillet_stress", "n_contact")
-
-
-def steady_state(
-    model: WindowModel,
-    op: OperatingPoint,
-    *,
-    tol: float = 1e-4,
-    min_cycles: int = 20,
-    max_cycles: int = 400,
-    eval_cycles: int = 10,
-    fixed_cycles: int | None = None,
-    max_period: int = 4,
-    steps_per_cycle: int = 100,
-    points_per_period: int = 40,
-    state: WindowState | None = None,
-    config: dict | None = None,
-):
+def steady_state(model: WindowModel, op: OperatingPoint, *, state: WindowState | None = None, **kw):
     """Run until periodic, then evaluate the last ``eval_cycles`` mesh cycles.
 
-    The procedure, tolerances and metrics of :func:`rotaflex.gear.models.chain.steady_state`, plus
+    The procedure, tolerances, keywords and metrics of
+    :func:`rotaflex.gear.solvers.steady_driver.run_steady` (as the lumped model), plus
     ``fillet_stress_max_pinion`` / ``_wheel`` [Pa] (quasi-static: the FE tooth's stress per
     newton times the pair's spring force) and the ``pairs_in_contact`` history.
 
@@ -264,81 +257,4 @@ def steady_state(
     -------
     (SteadyStateResult, WindowState)
     """
-    import xarray as xr
-
-    if fixed_cycles is not None and fixed_cycles < max(eval_cycles, 2):
-        raise InputError("fixed_cycles", fixed_cycles, f">= {max(eval_cycles, 2)}")
-    t0 = time.perf_counter()
-    sys = model.system
-    ch = _chain(sys, op)
-    st = _initial(model, op, ch) if state is None else _continue_from(state, ch)
-    spc = cycle_steps(model, op, steps_per_cycle, points_per_period)
-    f_static = op.torque / sys.base_radius[1]
-    keep = max(eval_cycles, 2 * max_period)
-    done, buf, per = 0, None, None
-    target = fixed_cycles if fixed_cycles is not None else max_cycles
-    while done < target:
-        block = min(eval_cycles, target - done)
-        h = _run(model, op, ch, st, block, spc)
-        done += block
-        rows = {k: h[k][:-1] for k in _KEEP}
-        buf = rows if buf is None else {k: np.concatenate([buf[k], rows[k]])[-keep * spc :] for k in rows}
-        if fixed_cycles is None and done >= min_cycles:
-            per = _periodicity(buf, model, spc, tol, max_period, f_static)
-            if per.period:
-                break
-    if per is None or fixed_cycles is not None:
-        per = _periodicity(buf, model, spc, tol, max_period, f_static)
-    n_eval = eval_cycles
-    if per.period > 1:
-        n_eval = max(per.period, eval_cycles // per.period * per.period)
-    sl = slice(len(buf["time"]) - n_eval * spc, None)
-    met = steady_metrics(buf["dte"][sl], buf["force"][sl], f_static, spc, n_eval)
-    nf = natural_frequencies(sys, op)
-    status = "success" if per.period else "not_periodic"
-    msg = (
-        f"periodic with period {per.period} mesh cycle(s) after {done} cycles, change {per.change:.2e} <= {tol:g}"
-        if per.period
-        else f"not periodic after {done} mesh cycles: smallest cycle-to-cycle change "
-        f"{per.change:.2e} > tol {tol:g} (periods 1-{max_period})"
-    )
-    ds = xr.Dataset(
-        coords={
-            "time": ("time", buf["time"][sl], {"units": "s"}),
-            "mode": ("mode", np.arange(len(nf["frequency"]))),
-            "gear": ("gear", ["pinion", "wheel"]),
-        }
-    )
-    ds["dte"] = ("time", buf["dte"][sl], {"units": "m", "long_name": "dynamic transmission error"})
-    ds["mesh_force"] = ("time", buf["force"][sl], {"units": "N", "long_name": "mesh force"})
-    ds["fillet_stress"] = (
-        ("time", "gear"),
-        buf["fillet_stress"][sl],
-        {"units": "Pa", "long_name": "tension-side fillet stress (quasi-static, most loaded tooth)"},
-    )
-    ds["pairs_in_contact"] = ("time", buf["n_contact"][sl], {"units": "1"})
-    for k, v in met.items():
-        ds[k] = ((), v, {"units": METRIC_UNITS[k]})
-    for i, name in enumerate(("pinion", "wheel")):
-        ds[f"fillet_stress_max_{name}"] = (
-            (),
-            float(buf["fillet_stress"][sl, i].max()),
-            {"units": "Pa", "long_name": f"largest tension-side fillet stress of the {name}"},
-        )
-    ds["change"] = ((), per.change, {"units": "1", "long_name": "cycle-to-cycle change"})
-    ds["period_cycles"] = ((), per.period, {"units": "1"})
-    ds["cycles_run"] = ((), done, {"units": "1"})
-    ds["natural_frequency"] = ("mode", nf["frequency"], {"units": "Hz"})
-    ds["mesh_energy_share"] = ("mode", nf["mesh_energy"], {"units": "1"})
-    ds.attrs.update(
-        status=status,
-        message=msg,
-        wall_time=time.perf_counter() - t0,
-        samples_per_cycle=spc,
-        static_force=f_static,
-        speed_rpm=op.speed_rpm,
-        mesh_frequency=op.omega * sys.teeth[0] / (2 * np.pi),
-        method="elastic_teeth",
-        config=json.dumps(config or {}),
-    )
-    return SteadyStateResult(ds), st
+    return run_steady(WindowSteady(model, op), op, state=state, **kw)
