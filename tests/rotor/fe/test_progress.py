@@ -57,3 +57,10 @@ def test_progress_lines_at_every_tenth_when_not_on_a_terminal(capsys, verb, run,
     for name, var in quiet.dataset.data_vars.items():
         if np.issubdtype(var.dtype, np.number):
             np.testing.assert_array_equal(shown.dataset[name].values, var.values, err_msg=name)
+
+
+def test_direct_critical_speeds_report_each_crossing(capsys):
+    res = run_campbell(_config(campbell={"n_speeds": 20, "critical_solve": "direct"}), progress=True)
+    n = len([k for k in res.summary() if k.startswith("critical_") and k.endswith("_rpm")])
+    lines = re.findall(r"^critical speeds: (\d+) % \((\d+)/(\d+) crossing\)", capsys.readouterr().err, flags=re.M)
+    assert n >= 2 and lines[-1] == ("100", str(n), str(n))  # one root search per crossing listed

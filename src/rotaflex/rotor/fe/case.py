@@ -462,7 +462,8 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     if spec.critical_solve == "direct" and reduce is None:
         from rotaflex.rotor.fe.critical import critical_speeds
 
-        critical = critical_speeds(rotor, speeds, n_modes, spec.harmonics, data=c)
+        with _progress(progress, 1, "critical speeds", "crossing") as report:
+            critical = critical_speeds(rotor, speeds, n_modes, spec.harmonics, data=c, progress=report)
     m = c.modes
     ds = xr.Dataset(
         {
