@@ -7,9 +7,6 @@ failed, a result failed its own checks or an output could not be written, 130 wh
 before any computation starts, and a run holds its output directory until it ends.
 """
 
-from __future__ import annotations
-
-import logging
 import os
 import signal
 import sys
@@ -24,7 +21,12 @@ import typer
 from rotaflex.core.domains import CASES, COMMANDS, LISTINGS, REPRODUCE
 from rotaflex.core.errors import ConvergenceError, DivergenceError, InputError, SingularityError
 
+#: plain help and error text: typer's rich formatter costs ~0.3 s of imports (rich, markdown_it) on
+#: every ``--help`` and usage error, more than the whole start-up budget (issue 25: <= 0.2 s)
+PLAIN = {"rich_markup_mode": None}
+
 app = typer.Typer(
+    **PLAIN,
     add_completion=False,
     no_args_is_help=True,
     pretty_exceptions_enable=False,
@@ -174,6 +176,8 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
     (full disk). 130: interrupted (Ctrl-C), 143: terminated (SIGTERM); also when a library
     swallowed the interrupt and the command went on. ``--debug`` re-raises with traceback.
     """
+    import logging  # here, not at the top: ~20 ms that --help and usage errors do not need
+
     from rotaflex.core.io import WriteFailed
 
     logging.basicConfig(level=logging.DEBUG if debug else logging.WARNING, format="%(message)s")
@@ -487,7 +491,7 @@ def domain_template(domain: str, verb: str = "simulate") -> str:
     return text
 
 
-docs_app = typer.Typer(no_args_is_help=True, help="Generated documentation.")
+docs_app = typer.Typer(**PLAIN, no_args_is_help=True, help="Generated documentation.")
 app.add_typer(docs_app, name="docs")
 
 
@@ -539,7 +543,7 @@ def _config_reference_cmd(
 
 
 for _domain in CASES:
-    _sub = typer.Typer(no_args_is_help=True, help=f"{_domain.capitalize()} cases.")
+    _sub = typer.Typer(**PLAIN, no_args_is_help=True, help=f"{_domain.capitalize()} cases.")
     _sub.command("simulate")(_run_command(_domain, "simulate"))
     _sub.command("template")(_template_command(_domain))
     for _verb in COMMANDS.get(_domain, {}):
@@ -578,7 +582,9 @@ def _hard_exit(code: int) -> None:
         mp_util = sys.modules.get("multiprocessing.util")
         if mp_util is not None:
             mp_util._exit_function()
-        logging.shutdown()
+        logging = sys.modules.get("logging")
+        if logging is not None:
+            logging.shutdown()
         sys.stdout.flush()
         sys.stderr.flush()
     except Exception:  # noqa: BLE001, S110 - a closed pipe: nothing more to say

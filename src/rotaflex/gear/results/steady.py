@@ -197,6 +197,15 @@ class SteadyStateResult(Result):
 
     kind = "gear_steady"
 
+    def summary(self) -> dict:
+        """Base scalars; ``iso_resonance_speed`` [rpm] says that it is ISO 6336-1's n_E1."""
+        out = super().summary()
+        if "iso_resonance_speed" in out:
+            out["iso_resonance_speed"]["long_name"] = (
+                "ISO 6336-1 main resonance speed n_E1 of the pinion, 30000/(pi z1) sqrt(c_gamma_alpha/m_red)"
+            )
+        return out
+
     def final_state(self) -> dict | None:
         """The model state at the end of the run (``state_*`` variables, attr ``state_time``) as
         plain data for ``initial_state`` of the next point of a continuation; None if absent."""

@@ -70,8 +70,11 @@ def steady_sweep_figure(ds) -> dict[str, Any]:
     Up and down directions of a continuation (dimension ``direction``) in distinct markers and
     line styles, one colour per value of any other swept key (e.g. a tip relief: with and
     without); the linear resonance speed of the mesh mode (summary ``resonance_speed``, mesh
-    order 1, and ``resonance_speed / 2`` for order 2) as vertical lines; the ISO 6336-1
-    method B K_v (summary ``iso_kv``) as a black line per other-key value. DTE in µm.
+    order 1, and ``resonance_speed / 2`` for order 2) of each variant, and ISO 6336-1's main
+    resonance speed n_E1 (summary ``iso_resonance_speed``), as vertical lines with their numbers
+    in the legend and short tags above the top panel (:func:`_resonance_marks`,
+    :func:`_place_tags`); the ISO 6336-1 method B K_v (summary ``iso_kv``) as a black line per
+    other-key value. DTE in µm. The title gives f_n only when every variant has the same one.
     """
     from rotaflex.core.plotting import new_figure
 
@@ -119,49 +122,132 @@ def steady_sweep_figure(ds) -> dict[str, Any]:
                 lw=1.2,
                 label=lab,
             )
-    if "resonance_speed" in ds:
-        res = np.unique(np.round(np.asarray(ds["resonance_speed"].values, dtype=float), 3))
-        res = res[np.isfinite(res)]
-        # resonances of the swept variants within 2 % of each other share one line and label
-        groups = []
-        for r in res:
-            if groups and r <= 1.02 * groups[-1][0]:
-                groups[-1].append(r)
-            else:
-                groups.append([r])
-        for grp in groups:
-            for h in (1, 2):
-                speed = float(np.mean(grp)) / h
-                text = f"{grp[0] / h:.0f}" + (f"-{grp[-1] / h:.0f}" if len(grp) > 1 else "")
-                if xs.min() <= speed <= xs.max():
-                    for a in ax:
-                        a.axvline(speed, color="gray", ls=":", lw=1)
-                    ax[1].annotate(
-                        f"{h}x f_mesh = f_n ({text} rpm)",
-                        (speed, 0.97),
-                        xycoords=("data", "axes fraction"),
-                        xytext=(2, 0),
-                        textcoords="offset points",
-                        fontsize=7,
-                        color="gray",
-                        rotation=90,
-                        va="top",
-                    )
+    marks = _resonance_marks(ds, groups, float(xs.min()), float(xs.max()))
+    for m in marks:
+        for a in ax:
+            a.axvline(m["speed"], color=m["colour"], ls=m["ls"], lw=1.0, label=m["legend"] if a is ax[0] else None)
     ax[0].set_ylabel("dynamic factor F_max / F_static [-]")
     ax[1].set_ylabel("DTE peak-to-peak [µm]")
-    ax[1].set_xlabel(_label(ds[x], x))
+    ax[1].set_xlabel(_speed_label(ds, x))
     for a in ax:
         a.grid(alpha=0.3)
-    # one legend under the panels: the curves and the resonance labels stay readable
+    # one legend under the panels (the curves and every vertical line with its number); the
+    # lines' short tags go above the top panel, staggered so that none overlaps another or a curve
     ax[1].legend(
         *ax[0].get_legend_handles_labels(), fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2
     )
-    fn = float(np.nanmedian(ds["mesh_natural_frequency"].values)) if "mesh_natural_frequency" in ds else math.nan
+    _place_tags(fig, ax[0], marks)
+    fns = {round(g["fn"], 0) for g in _variant_resonances(ds, groups) if math.isfinite(g["fn"])}
     title = "Gear steady state vs speed"
-    if math.isfinite(fn):
-        title += f" (linear mesh mode f_n = {fn:.0f} Hz)"
+    if len(fns) == 1:  # one mesh mode for every variant; else each variant's f_n is in the legend
+        title += f" (linear mesh mode f_n = {fns.pop():.0f} Hz)"
     fig.suptitle(title)
     return {"gear_steady_sweep": fig}
+
+
+#: tag rows above the top panel, and their height [points]
+_TAG_ROWS, _TAG_STEP = 4, 9.0
+
+
+def _value(sub, name: str) -> float:
+    """The one value of a per-case scalar over a variant (its median; nan if absent)."""
+    if name not in sub:
+        return math.nan
+    v = np.asarray(sub[name].values, dtype=float)
+    v = v[np.isfinite(v)]
+    return float(np.median(v)) if v.size else math.nan
+
+
+def _variant_resonances(ds, groups) -> list[dict]:
+    """Per variant (value of the other swept key): its label, the model's linear resonance speed
+    n_res [rpm] and mesh-mode f_n [Hz], and ISO 6336-1's main resonance speed n_E1 [rpm] (the
+    case's ``iso_resonance_speed``, from :func:`rotaflex.gear.static.iso6336_kv.resonance_speed_rpm`)."""
+    return [
+        {
+            "label": glabel,
+            "colour": f"C{gi}",
+            "n_res": _value(ds.isel(sel), "resonance_speed"),
+            "fn": _value(ds.isel(sel), "mesh_natural_frequency"),
+            "n_e1": _value(ds.isel(sel), "iso_resonance_speed"),
+        }
+        for gi, (glabel, sel) in enumerate(groups)
+    ]
+
+
+def _resonance_marks(ds, groups, lo: float, hi: float) -> list[dict]:
+    """Vertical lines within [lo, hi] rpm: the model's linear resonances ``h f_mesh = f_n``
+    (h = 1, 2) of each variant in its colour (grey when every variant has the same one), and
+    ISO's n_E1 (black dash-dot; one line per distinct value). Each with a short ``tag`` and a
+    ``legend`` text that carries the numbers."""
+    rows = _variant_resonances(ds, groups)
+    marks: list[dict] = []
+    same = len({round(r["n_res"], 1) for r in rows}) == 1
+    for r in rows[:1] if same else rows:
+        if not math.isfinite(r["n_res"]):
+            continue
+        who = "" if same or not r["label"] else f", {r['label']}"
+        for h in (1, 2):
+            speed = r["n_res"] / h
+            if lo <= speed <= hi:
+                marks.append(
+                    {
+                        "speed": speed,
+                        "colour": "gray" if same else r["colour"],
+                        "ls": ":",
+                        "tag": f"{h}x",
+                        "legend": f"{h}x f_mesh = f_n ({r['fn']:.0f} Hz{who}): {speed:,.0f} rpm",
+                    }
+                )
+    n_e1 = sorted({round(r["n_e1"], 1) for r in rows if math.isfinite(r["n_e1"])})
+    for v in n_e1:
+        if lo <= v <= hi:
+            whose = [r["label"] for r in rows if round(r["n_e1"], 1) == v and r["label"]]
+            who = f" ({'; '.join(whose)})" if len(n_e1) > 1 and whose else ""
+            marks.append(
+                {
+                    "speed": v,
+                    "colour": "k",
+                    "ls": "-.",
+                    "tag": "n_E1",
+                    "legend": f"ISO 6336-1 main resonance n_E1{who}: {v:,.0f} rpm",
+                }
+            )
+    return sorted(marks, key=lambda m: m["speed"])
+
+
+def _place_tags(fig, ax, marks: list[dict]) -> list:
+    """Short tags of the vertical lines above ``ax``, each in the lowest row where it overlaps
+    no tag already placed (rows of :data:`_TAG_STEP` points, at most :data:`_TAG_ROWS`; measured
+    with the renderer, so any font and dpi); returns the text artists."""
+    renderer = fig.canvas.get_renderer()
+    placed: list = []
+    for m in marks:
+        for row in range(_TAG_ROWS):
+            t = ax.annotate(
+                m["tag"],
+                (m["speed"], 1.0),
+                xycoords=("data", "axes fraction"),
+                xytext=(0, 2 + _TAG_STEP * row),
+                textcoords="offset points",
+                ha="center",
+                va="bottom",
+                fontsize=7,
+                color=m["colour"],
+                annotation_clip=False,
+            )
+            box = t.get_window_extent(renderer).expanded(1.1, 1.0)
+            if not any(box.overlaps(o.get_window_extent(renderer)) for o in placed) or row == _TAG_ROWS - 1:
+                placed.append(t)
+                break
+            t.remove()
+    return placed
+
+
+def _speed_label(ds, x: str) -> str:
+    """x label: ``operation.speed_rpm`` is the pinion's speed (the gear domain's convention)."""
+    if ds[x].attrs.get("config_key", x) in ("operation.speed_rpm", "operation_speed_rpm"):
+        return _label(ds[x], x).replace("speed", "pinion speed", 1)
+    return _label(ds[x], x)
 
 
 def dynamics_sweep_figure(ds) -> dict[str, Any]:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import time
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 from typing import Literal
 
@@ -353,6 +354,19 @@ def _pinned(run):
     return wrapper
 
 
+@contextmanager
+def _progress(enabled: bool, total: float, desc: str, unit: str):
+    """``progress(done, total)`` for a solver: a :class:`~rotaflex.core.progress.Progress` bar on a
+    terminal, one line per 10 % when stderr is not one; None (nothing shown) when disabled."""
+    if not enabled:
+        yield None
+        return
+    from rotaflex.core.progress import Progress
+
+    with Progress(total, desc, unit) as bar:
+        yield bar.update
+
+
 def _attrs(config, t0, extra, message):
     return {
         "status": "success",
@@ -442,12 +456,14 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     reduce = spec.reduce if spec.reduce is None or spec.reduce < rotor.n_dof else None
     if reduce is None and spec.reduce is not None:
         note = (note + "; " if note else "") + f"campbell.reduce = {spec.reduce} >= the {rotor.n_dof} DOFs: full solve"
-    c = campbell(rotor, speeds, n_modes, spec.harmonics, reduce=reduce)
+    with _progress(progress, speeds.size, "campbell", "speed") as report:
+        c = campbell(rotor, speeds, n_modes, spec.harmonics, reduce=reduce, progress=report)
     critical = c.critical
     if spec.critical_solve == "direct" and reduce is None:
         from rotaflex.rotor.fe.critical import critical_speeds
 
-        critical = critical_speeds(rotor, speeds, n_modes, spec.harmonics, data=c)
+        with _progress(progress, 1, "critical speeds", "crossing") as report:
+            critical = critical_speeds(rotor, speeds, n_modes, spec.harmonics, data=c, progress=report)
     m = c.modes
     ds = xr.Dataset(
         {
@@ -509,7 +525,8 @@ def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
     n_modes, note = spec.n_modes, ""
     if n_modes > rotor.n_dof // 2:  # the one-plane UCS problem has n_dof / 2 DOFs
         n_modes, note = rotor.n_dof // 2, f"ucs.n_modes = {spec.n_modes} clamped to {rotor.n_dof // 2} (one-plane DOFs)"
-    w = ucs_map(rotor, k, n_modes)
+    with _progress(progress, k.size, "ucs", "stiffness") as report:
+        w = ucs_map(rotor, k, n_modes, progress=report)
     ds = xr.Dataset(
         {"critical_speed": (("stiffness", "mode"), w, {"units": "rad/s"})},
         coords={"stiffness": ("stiffness", k, {"units": "N/m"}), "mode": np.arange(n_modes)},
@@ -539,7 +556,8 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
         if p >= rotor.n_nodes:
             raise InputError("unbalance.probes", p, f"existing nodes 0..{rotor.n_nodes - 1}")
     speeds = _speeds(spec.speed_rpm, spec.n_speeds, "unbalance")
-    r = unbalance_response(rotor, speeds, ub)
+    with _progress(progress, speeds.size, "unbalance", "speed") as report:
+        r = unbalance_response(rotor, speeds, ub, progress=report)
     X = np.stack([r.at(p)[0] for p in probes], 1)
     Y = np.stack([r.at(p)[1] for p in probes], 1)
     major = np.stack([r.major_axis(p) for p in probes], 1)
@@ -691,20 +709,22 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
     for p in probes:
         if p >= rotor.n_nodes:
             raise InputError("transient.probes", p, f"existing nodes 0..{rotor.n_nodes - 1}")
-    tr = transient(
-        rotor,
-        spec.duration,
-        speed_start=spec.speed_rpm[0] * RPM,
-        speed_end=spec.speed_rpm[1] * RPM,
-        unbalance=ub,
-        n_output=spec.n_output,
-        method=spec.method,
-        n_modes=n_modes,
-        steps_per_output=spec.steps_per_output,
-        large_rotation=spec.large_rotation,
-        large_rotation_model=spec.large_rotation_model,
-        hub_stiffness=spec.hub_stiffness,
-    )
+    with _progress(progress, spec.duration, "transient", "s") as report:
+        tr = transient(
+            rotor,
+            spec.duration,
+            speed_start=spec.speed_rpm[0] * RPM,
+            speed_end=spec.speed_rpm[1] * RPM,
+            unbalance=ub,
+            n_output=spec.n_output,
+            method=spec.method,
+            n_modes=n_modes,
+            steps_per_output=spec.steps_per_output,
+            large_rotation=spec.large_rotation,
+            large_rotation_model=spec.large_rotation_model,
+            hub_stiffness=spec.hub_stiffness,
+            progress=report,
+        )
     disp = np.stack([tr.q[:, 4 * p : 4 * p + 2] for p in probes], 1)
     ds = xr.Dataset(
         {

@@ -18,7 +18,13 @@ from rotaflex.rotor.fe.model import Rotor
 
 
 def critical_speeds(
-    rotor: Rotor, scan, n_modes: int = 6, harmonics=(1,), xtol: float = 1e-12, data: CampbellData | None = None
+    rotor: Rotor,
+    scan,
+    n_modes: int = 6,
+    harmonics=(1,),
+    xtol: float = 1e-12,
+    data: CampbellData | None = None,
+    progress=None,
 ) -> list[dict]:
     """Critical speeds [rad/s] within the scan speeds ``scan`` [rad/s] (increasing), solved directly.
 
@@ -29,6 +35,8 @@ def critical_speeds(
         mode crossing h Omega twice between neighbours is missed, so keep the scan moderate).
     data : CampbellData, optional
         The Campbell result at ``scan`` if already computed (with the same n_modes, harmonics).
+    progress : callable ``progress(done, total)``, optional
+        Called with the crossings solved so far (each a root search of ~10-20 eigenproblems).
 
     Returns
     -------
@@ -41,10 +49,16 @@ def critical_speeds(
     wd = c.modes.wd
     n_cand = min(n_modes + 6, rotor.n_dof)
     out = []
+
+    def crossings(h, k):  # speed steps where mode k's damped frequency crosses h Omega
+        d = wd[:, k] - h * scan
+        return np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)
+
+    total = sum(crossings(h, k).size for h in harmonics for k in range(n_modes))
     for h in harmonics:
         for k in range(n_modes):
             d = wd[:, k] - h * scan
-            for s in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
+            for s in crossings(h, k):
                 ref = c.modes.shape[s, k]
                 count = [0]
 
@@ -74,5 +88,7 @@ def critical_speeds(
                         "solve": how,
                     }
                 )
+                if progress is not None:
+                    progress(len(out), total)
     out.sort(key=lambda x: x["speed"])
     return out

@@ -22,6 +22,7 @@ undamped rotor with real parts of order 1e-12 |lambda| of either sign, which are
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -118,26 +119,43 @@ def _minv(rotor: Rotor) -> np.ndarray:
         raise InputError("disk", "<rotary inertia>", "a non-singular mass matrix (every node needs inertia)") from None
 
 
-def batched_eig(A: np.ndarray, workers: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+def batched_eig(
+    A: np.ndarray, workers: int | None = None, progress: Callable[[float, float], None] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """``np.linalg.eig`` of a stack (s, m, m), the stack split over threads.
 
     LAPACK's dgeev is ~98 % of a Campbell diagram's time and runs one matrix per call on one
     core; numpy releases the GIL around it, so chunks of the stack run in parallel. Each matrix
     still goes through the same dgeev call (BLAS pinned to one thread meanwhile), so the result is bitwise that of one
     ``np.linalg.eig(A)`` (tested). ``workers``: threads (default: the usable CPUs, at most 8).
+    ``progress(done, total)``: called with the matrices done after each chunk; with it the stack
+    is cut into at least 10 chunks (whole 10 % steps of progress; the same dgeev per matrix).
     """
     import os
     from concurrent.futures import ThreadPoolExecutor
 
     cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     workers = min(cpus, 8) if workers is None else workers
-    if workers <= 1 or A.shape[0] < 2 * workers:
+    s = A.shape[0]
+    if progress is None and (workers <= 1 or s < 2 * workers):
         return np.linalg.eig(A)
-    from threadpoolctl import threadpool_limits
+    chunks = np.array_split(np.arange(s), max(workers, 10) if progress is not None else workers)
+    chunks = [c for c in chunks if c.size]
+    parts, done = [], 0
+    if workers <= 1 or s < 2 * workers:
+        for idx in chunks:
+            parts.append(np.linalg.eig(A[idx]))
+            done += idx.size
+            progress(done, s)
+    else:
+        from threadpoolctl import threadpool_limits
 
-    chunks = np.array_split(np.arange(A.shape[0]), workers)
-    with threadpool_limits(limits=1), ThreadPoolExecutor(workers) as pool:  # no BLAS threads on top
-        parts = list(pool.map(lambda idx: np.linalg.eig(A[idx]), chunks))
+        with threadpool_limits(limits=1), ThreadPoolExecutor(workers) as pool:  # no BLAS threads on top
+            for idx, part in zip(chunks, pool.map(lambda idx: np.linalg.eig(A[idx]), chunks), strict=True):
+                parts.append(part)
+                done += idx.size
+                if progress is not None:
+                    progress(done, s)
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
@@ -205,7 +223,13 @@ def _reduced_state_matrices(rotor: Rotor, speeds: np.ndarray, n_basis: int) -> t
 
 
 def campbell(
-    rotor: Rotor, speeds, n_modes: int = 8, harmonics=(1,), extra: int = 6, reduce: int | None = None
+    rotor: Rotor,
+    speeds,
+    n_modes: int = 8,
+    harmonics=(1,),
+    extra: int = 6,
+    reduce: int | None = None,
+    progress: Callable[[float, float], None] | None = None,
 ) -> CampbellData:
     """Campbell diagram: modes at each speed [rad/s], tracked by MAC through crossings.
 
@@ -216,7 +240,8 @@ def campbell(
     Critical speeds are where a tracked damped frequency crosses ``h * Omega`` for each
     harmonic ``h`` (linear interpolation between speeds). ``reduce = m`` solves in the basis of
     the lowest ``m`` undamped modes (symmetric stiffness at the middle speed) instead of all DOFs:
-    faster, approximate (the benchmark prints the frequency difference).
+    faster, approximate (the benchmark prints the frequency difference). ``progress(done, total)``
+    is called with the speeds whose eigenproblem is solved (see :func:`batched_eig`).
     """
     speeds = np.asarray(speeds, float)
     if speeds.ndim != 1 or speeds.size < 2 or np.any(np.diff(speeds) <= 0):
@@ -224,11 +249,11 @@ def campbell(
     n = rotor.n_dof
     if reduce is not None and reduce < n:
         A, T = _reduced_state_matrices(rotor, speeds, reduce)
-        lams, vecs = batched_eig(A)
+        lams, vecs = batched_eig(A, progress=progress)
         vecs = np.concatenate([T @ vecs[:, :reduce], T @ vecs[:, reduce:]], 1)
     else:
         A = _state_matrices(rotor, speeds)
-        lams, vecs = batched_eig(A)
+        lams, vecs = batched_eig(A, progress=progress)
     n_cand = min(n_modes + extra, n)
     lam_t = np.full((speeds.size, n_modes), np.nan + 0j)
     v_t = np.zeros((speeds.size, n_modes, n), complex)
@@ -290,7 +315,9 @@ def plane_dofs(n_nodes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return ia, ib, sb
 
 
-def ucs_map(rotor: Rotor, stiffness, n_modes: int = 4) -> np.ndarray:
+def ucs_map(
+    rotor: Rotor, stiffness, n_modes: int = 4, progress: Callable[[float, float], None] | None = None
+) -> np.ndarray:
     """Undamped synchronous forward critical speeds [rad/s] vs isotropic bearing stiffness [N/m].
 
     Every bearing's coefficients are replaced by kxx = kyy = ``stiffness`` (no damping, no
@@ -303,6 +330,8 @@ def ucs_map(rotor: Rotor, stiffness, n_modes: int = 4) -> np.ndarray:
     -------
     ndarray (n_stiffness, n_modes)
         Critical speeds [rad/s] (nan where fewer than ``n_modes`` exist).
+
+    ``progress(done, total)`` is called with the stiffness values done.
     """
     stiffness = np.atleast_1d(np.asarray(stiffness, float))
     ia, ib, sb = plane_dofs(rotor.n_nodes)
@@ -327,4 +356,6 @@ def ucs_map(rotor: Rotor, stiffness, n_modes: int = 4) -> np.ndarray:
         mu = np.sort(mu[mu > 0])[::-1]
         w = 1.0 / np.sqrt(mu[:n_modes])
         out[s, : w.size] = w
+        if progress is not None:
+            progress(s + 1, stiffness.size)
     return out

@@ -17,6 +17,7 @@ speed N_op is SM = |N_op - N_c| / N_op * 100 %.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,12 +60,17 @@ class UnbalanceData:
         return (X[speed_index] * e).real, (Y[speed_index] * e).real
 
 
-def unbalance_response(rotor: Rotor, speeds, unbalance) -> UnbalanceData:
+def unbalance_response(
+    rotor: Rotor, speeds, unbalance, progress: Callable[[float, float], None] | None = None
+) -> UnbalanceData:
     """Steady response to unbalances at spin ``speeds`` [rad/s].
 
     Parameters
     ----------
     unbalance : sequence of (node, magnitude [kg m], phase [rad])
+    progress : callable ``progress(done, total)``, optional
+        Called with the speeds solved; the speeds are then solved in 10 chunks (each speed's
+        solve is the same LAPACK call as without it).
 
     Examples
     --------
@@ -83,10 +89,15 @@ def unbalance_response(rotor: Rotor, speeds, unbalance) -> UnbalanceData:
         fx = u * speeds**2 * np.exp(1j * phase)
         F[:, NDOF_NODE * node] += fx
         F[:, NDOF_NODE * node + 1] += -1j * fx
-    K, C = rotor.KC(speeds)
-    w = speeds[:, None, None]
-    D = K - w**2 * rotor.M[None] + 1j * w * (C + w * rotor.G[None])
-    Q = np.linalg.solve(D, F[..., None])[..., 0]
+    Q = np.empty_like(F)
+    chunks = [np.arange(speeds.size)] if progress is None else np.array_split(np.arange(speeds.size), 10)
+    for idx in (c for c in chunks if c.size):
+        K, C = rotor.KC(speeds[idx])
+        w = speeds[idx, None, None]
+        D = K - w**2 * rotor.M[None] + 1j * w * (C + w * rotor.G[None])
+        Q[idx] = np.linalg.solve(D, F[idx, :, None])[..., 0]
+        if progress is not None:
+            progress(idx[-1] + 1, speeds.size)
     return UnbalanceData(speeds, Q)
 
 

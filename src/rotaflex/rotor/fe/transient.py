@@ -113,6 +113,7 @@ def transient(
     large_rotation_model: str = "euler_123",
     hub_stiffness: float | None = None,
     disk_state0=None,
+    progress: Callable[[float, float], None] | None = None,
 ) -> TransientData:
     """Integrate the rotor's motion from 0 to ``t_end`` [s].
 
@@ -136,6 +137,9 @@ def transient(
     disk_state0 : dict node -> (quaternion (4,), body rates (3,) [rad/s]), optional
         Initial state of quaternion disks; default from the node's initial tilt and tilt rate
         and ``speed_start`` (:meth:`QuaternionDisk.initial_state`).
+    progress : callable ``progress(t, t_end)``, optional
+        Called with the simulated time reached [s]: from the right-hand side at most every
+        ``t_end / 200`` of simulated time (adaptive integrator), after each output (Newmark).
     """
     t0 = time.perf_counter()
     speed_end = speed_start if speed_end is None else speed_end
@@ -262,10 +266,12 @@ def transient(
     z0 = np.concatenate([Pb @ q0, Pb @ v0, *z_disk])
     t_eval = np.linspace(0.0, t_end, n_output)
     if method == "direct":
-        return _newmark(mats, rhs, M, Mi, z0, t_eval, steps_per_output, force is not None or bool(large), rtol, t0)
+        nonlinear = force is not None or bool(large)
+        return _newmark(mats, rhs, M, Mi, z0, t_eval, steps_per_output, nonlinear, rtol, t0, progress)
     from scipy.integrate import solve_ivp  # here: importing it costs every rotor verb ~0.15 s
 
-    sol = solve_ivp(rhs, (0.0, t_end), z0, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
+    f = rhs if progress is None else _reporting(rhs, t_end, progress)
+    sol = solve_ivp(f, (0.0, t_end), z0, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
     if not sol.success:
         tt = float(sol.t[-1]) if sol.t.size else 0.0
         raise ConvergenceError(f"time integration ({method}): {sol.message}", tt, float("nan"), rtol)
@@ -287,7 +293,22 @@ def transient(
     )
 
 
-def _newmark(mats, rhs, M, Mi, z0, t_eval, sub, nonlinear, tol, t_start) -> TransientData:
+def _reporting(rhs, t_end: float, progress: Callable[[float, float], None]):
+    """``rhs`` that also reports the time it is evaluated at, at most 200 times over the run
+    (the integrator's trial stages run slightly ahead of the accepted time; that is enough for
+    a progress line)."""
+    shown = [-t_end]
+
+    def f(t, z):
+        if t - shown[0] >= t_end / 200:
+            shown[0] = t
+            progress(min(t, t_end), t_end)
+        return rhs(t, z)
+
+    return f
+
+
+def _newmark(mats, rhs, M, Mi, z0, t_eval, sub, nonlinear, tol, t_start, progress=None) -> TransientData:
     """Newmark average acceleration (beta = 1/4, gamma = 1/2) on the full system."""
     n = M.shape[0]
     h = (t_eval[1] - t_eval[0]) / sub
@@ -320,6 +341,8 @@ def _newmark(mats, rhs, M, Mi, z0, t_eval, sub, nonlinear, tol, t_start) -> Tran
                 raise ConvergenceError("Newmark step (nonlinear force)", t1, float(change), tol)
             q, v, a, t = q1, v1, a1, t1
         Q[k], V[k], S[k] = q, v, mats(t)[0]
+        if progress is not None:
+            progress(t, t_eval[-1])
     return TransientData(
         t_eval,
         Q,
