@@ -404,7 +404,7 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
     figures += post_entries
     from rotaflex.reproduce.gear_methods import methods_entry
 
-    figures.append(methods_entry(references, dom, preset))
+    figures.append(methods_entry(references, dom, preset, fast=fast))
     from rotaflex.reproduce.gear_teeth import comparison
 
     # fast mode: Fig. 8 (4000 rpm, coarse mesh) is the single-tooth run the comparison needs

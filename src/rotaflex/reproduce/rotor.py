@@ -100,7 +100,7 @@ def _save(
     step(f"Fig. {n}")
     import xarray as xr
 
-    from rotaflex.core.io import write_atomic
+    from rotaflex.core.io import write_netcdf
     from rotaflex.core.plotting import new_figure, save_figure
 
     d = out / "rotor"
@@ -125,7 +125,7 @@ def _save(
         },
         coords={"time": ("time", t, {"units": "s"})},
     )
-    write_atomic(d / f"fig{n:02d}.nc", lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    write_netcdf(d / f"fig{n:02d}.nc", ds)
     return f"rotor/fig{n:02d}.png", f"rotor/fig{n:02d}.nc"
 
 
@@ -153,10 +153,32 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     """Recompute Fig. 3-13 into ``out_dir/rotor`` and return the report section."""
     out = Path(out_dir)
     t = np.linspace(0.0, 10.0, 1001 if fast else 4001)
+    n_out = 1001 if fast else 2001
+    figs = _prescribed_figures(out, t)
+    figs.append(_fig9(out, n_out))
+    figs += _figs_313(out, n_out)
+    figs.append(_fig13(out, n_out))
+    notes = [
+        "3-1-3: the unbounded angles of Fig. 10-12 come from (i) J_313 = diag(1,2,1) as printed, "
+        "which makes the spin axis a minimum-inertia axis, and (ii) psi being a precession angle "
+        "that winds up. The linearised 3-1-3 equations expand about phi = 0, where 3-1-3 angles "
+        "are polar coordinates of the tilt and the expansion is not valid."
+    ]
+    intro = (
+        "Yun & Ren (2008), 'Formulation and analysis of rotor-system rotational motion'. Inputs as printed "
+        "(I = 1 kg m^2, Omega = 10 rad/s, prescribed sin(t)/10 motions, zero initial angles and 1 rad/s rates); "
+        "the time window is not printed and is taken as 0-10 s. The paper's curves did not survive in the text, "
+        "so each figure is judged by its stated claim and by independent checks."
+    )
+    section = Section("Rotor rotation: Euler angles vs quaternions (Yun & Ren 2008)", intro, figs, [], notes)
+    return _with_fe_section(section, out, fast)
+
+
+def _prescribed_figures(out: Path, t: np.ndarray) -> list[FigureEntry]:
+    """Fig. 3-8: energies and angular velocities of the prescribed motions at times ``t`` [s]."""
     w = prescribed_kinematics(t)
     s, c = np.sin(t) / 10, np.cos(t) / 10
     figs: list[FigureEntry] = []
-    notes: list[str] = []
 
     # ---- Fig. 3: body-frame energy, 1-2-3 truncated (eq. 27a) vs full vs quaternion
     K123s = _energy(J123, w["123_body"])
@@ -298,9 +320,12 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
             claim=True,
         )
     )
+    return figs
 
+
+def _fig9(out: Path, n_out: int) -> FigureEntry:
+    """Fig. 9: linear 1-2-3 EOM against its closed form, with ``n_out`` output times."""
     # ---- Fig. 9: linear 1-2-3 EOM (paper truncation, paper convention), body frame
-    n_out = 1001 if fast else 2001
     r9 = _simulate({"sequence": "123", "convention": "paper", "expansion": "paper_truncated"}, n_output=n_out)
     r9x = _simulate({"sequence": "123", "expansion": "second_order"}, n_output=n_out)
     r9n = _simulate({"sequence": "123", "expansion": "nonlinear"}, n_output=n_out)
@@ -323,34 +348,36 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
         "Fig. 9",
         {"theta nonlinear (right-handed)": "--"},
     )
-    figs.append(
-        FigureEntry(
-            "Fig. 9",
-            CAPTIONS[9],
-            img,
-            data,
-            "Linear 1-2-3 EOM in the body frame (eq. 33-34: theta'' = -2 Omega psi', psi'' = 2 Omega theta'), "
-            "initial angles 0, rates 1 rad/s; with the exact second-order and the nonlinear equations for comparison.",
-            [
-                Check(
-                    "linear 1-2-3 vs closed form (theta + i psi)",
-                    err9,
-                    "rad",
-                    "< 1e-7",
-                    err9 < 1e-7,
-                    "z = z'(0) (exp(2 i Omega t) - 1) / (2 i Omega): periodic, amplitude sqrt(2)/Omega",
-                ),
-                Check(
-                    "max |angle| (periodic, bounded)",
-                    float(np.max(np.abs(q9))),
-                    "rad",
-                    "<= sqrt(2)/Omega + 1e-9",
-                    float(np.max(np.abs(q9))) <= np.sqrt(2) / OMEGA + 1e-9,
-                ),
-            ],
-        )
+    return FigureEntry(
+        "Fig. 9",
+        CAPTIONS[9],
+        img,
+        data,
+        "Linear 1-2-3 EOM in the body frame (eq. 33-34: theta'' = -2 Omega psi', psi'' = 2 Omega theta'), "
+        "initial angles 0, rates 1 rad/s; with the exact second-order and the nonlinear equations for comparison.",
+        [
+            Check(
+                "linear 1-2-3 vs closed form (theta + i psi)",
+                err9,
+                "rad",
+                "< 1e-7",
+                err9 < 1e-7,
+                "z = z'(0) (exp(2 i Omega t) - 1) / (2 i Omega): periodic, amplitude sqrt(2)/Omega",
+            ),
+            Check(
+                "max |angle| (periodic, bounded)",
+                float(np.max(np.abs(q9))),
+                "rad",
+                "<= sqrt(2)/Omega + 1e-9",
+                float(np.max(np.abs(q9))) <= np.sqrt(2) / OMEGA + 1e-9,
+            ),
+        ],
     )
 
+
+def _figs_313(out: Path, n_out: int) -> list[FigureEntry]:
+    """Fig. 10-12: 3-1-3 EOM with J as printed and with the polar moment on the spin axis."""
+    figs: list[FigureEntry] = []
     # ---- Fig. 10-12: 3-1-3
     runs313 = {
         10: ({"sequence": "313", "expansion": "nonlinear"}, "nonlinear, body frame"),
@@ -425,13 +452,11 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
                 ),
             )
         )
-    notes.append(
-        "3-1-3: the unbounded angles of Fig. 10-12 come from (i) J_313 = diag(1,2,1) as printed, "
-        "which makes the spin axis a minimum-inertia axis, and (ii) psi being a precession angle "
-        "that winds up. The linearised 3-1-3 equations expand about phi = 0, where 3-1-3 angles "
-        "are polar coordinates of the tilt and the expansion is not valid."
-    )
+    return figs
 
+
+def _fig13(out: Path, n_out: int) -> FigureEntry:
+    """Fig. 13: spherical-coordinate quaternion EOM, which stops at its singular instant."""
     # ---- Fig. 13: quaternion EOM (M_q singular whenever phi = 2 k pi)
     spin0 = np.pi / 2
     rb = _simulate({"parameterisation": "quaternion_spherical", "energy": "body"}, n_output=n_out, spin0=spin0)
@@ -459,44 +484,33 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
         "Fig. 13",
     )
     t_sing = (2 * np.pi - spin0) / OMEGA
-    figs.append(
-        FigureEntry(
-            "Fig. 13",
-            CAPTIONS[13],
-            img,
-            data,
-            "Spherical-coordinate quaternion EOM (eq. 38). M_q = 4 sin^2(phi/2) (...) vanishes at phi = 2 k pi, "
-            "so the paper's start (phi = 0) is singular: we start at phi = pi/2 and integration stops at the "
-            f"first singular instant phi = 2 pi (t = {t_sing:.4f} s). {rb.message}",
-            [
-                Check(
-                    "start at phi = 0 refused as singular",
-                    float(r0.status == "singular"),
-                    "",
-                    "status 'singular' at t = 0",
-                    r0.status == "singular",
-                    r0.message,
-                ),
-                Check(
-                    "integration stops at the singular time (body energy)",
-                    float(tb[-1]),
-                    "s",
-                    f"within 0.01 s before {t_sing:.4f} s",
-                    t_sing - 0.01 < tb[-1] <= t_sing + 1e-9,
-                    "the singular mass matrix is detected by an event, not integrated through",
-                ),
-            ],
-        )
+    return FigureEntry(
+        "Fig. 13",
+        CAPTIONS[13],
+        img,
+        data,
+        "Spherical-coordinate quaternion EOM (eq. 38). M_q = 4 sin^2(phi/2) (...) vanishes at phi = 2 k pi, "
+        "so the paper's start (phi = 0) is singular: we start at phi = pi/2 and integration stops at the "
+        f"first singular instant phi = 2 pi (t = {t_sing:.4f} s). {rb.message}",
+        [
+            Check(
+                "start at phi = 0 refused as singular",
+                float(r0.status == "singular"),
+                "",
+                "status 'singular' at t = 0",
+                r0.status == "singular",
+                r0.message,
+            ),
+            Check(
+                "integration stops at the singular time (body energy)",
+                float(tb[-1]),
+                "s",
+                f"within 0.01 s before {t_sing:.4f} s",
+                t_sing - 0.01 < tb[-1] <= t_sing + 1e-9,
+                "the singular mass matrix is detected by an event, not integrated through",
+            ),
+        ],
     )
-
-    intro = (
-        "Yun & Ren (2008), 'Formulation and analysis of rotor-system rotational motion'. Inputs as printed "
-        "(I = 1 kg m^2, Omega = 10 rad/s, prescribed sin(t)/10 motions, zero initial angles and 1 rad/s rates); "
-        "the time window is not printed and is taken as 0-10 s. The paper's curves did not survive in the text, "
-        "so each figure is judged by its stated claim and by independent checks."
-    )
-    section = Section("Rotor rotation: Euler angles vs quaternions (Yun & Ren 2008)", intro, figs, [], notes)
-    return _with_fe_section(section, out, fast)
 
 
 def _with_fe_section(section: Section, out: Path, fast: bool) -> Section:
