@@ -1,7 +1,9 @@
 """Floating-body cost per right-hand-side evaluation, working tree vs a git revision.
 
-Cost per evaluation = integrator wall time / number of right-hand-side evaluations (the
-integrator's own work per evaluation is included; it is the same in both trees). Each round runs
+Cost per evaluation = integrator time / number of right-hand-side evaluations (the
+integrator's own work per evaluation is included; it is the same in both trees). The time is
+the process CPU time of the integrator section (``--wall``: its wall time), so that other
+processes on a shared machine do not count. Each round runs
 one worker process per tree, alternating which goes first, and each worker reports the best of
 ``--repeat`` runs per case; the printed ratio is the median over rounds of the paired ratios
 (revision / working tree, > 1 = the working tree is faster). Step and evaluation counts are
@@ -50,8 +52,15 @@ def _run(method: str, n: int, t_end: float):
     return simulate(body, loads, settings=Settings(t_end=t_end), method=method)
 
 
-def worker(repeat: int) -> dict:
+def worker(repeat: int, wall: bool = False) -> dict:
     """Best-of-``repeat`` cost per evaluation [us] of each case this tree supports."""
+    if not wall:  # simulate() times its integrator section with time.perf_counter: CPU time instead
+        import time
+        import types
+
+        from rotaflex.floating import solve
+
+        solve.time = types.SimpleNamespace(perf_counter=time.process_time)
     out = {}
     for name, (method, n, t_end) in CASES.items():
         try:
@@ -77,13 +86,15 @@ def _tree(rev: str, root: Path, dest: Path) -> Path:
     return dest / "src"
 
 
-def _spawn(src: Path, repeat: int) -> dict:
+def _spawn(src: Path, repeat: int, wall: bool = False) -> dict:
     env = {**os.environ, "PYTHONPATH": str(src)}
-    cmd = [sys.executable, __file__, "--worker", "--repeat", str(repeat)]
+    cmd = [sys.executable, __file__, "--worker", "--repeat", str(repeat)] + (["--wall"] if wall else [])
     return json.loads(subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout)
 
 
-def compare(rev: str, rounds: int, repeat: int, here: Path | None = None, keep: Path | None = None) -> None:
+def compare(
+    rev: str, rounds: int, repeat: int, here: Path | None = None, keep: Path | None = None, wall: bool = False
+) -> None:
     import numpy as np
 
     root = Path(__file__).resolve().parents[1]
@@ -93,19 +104,20 @@ def compare(rev: str, rounds: int, repeat: int, here: Path | None = None, keep: 
         dest.mkdir(parents=True, exist_ok=True)
         old = dest / "src" if (dest / "src").is_dir() else _tree(rev, root, dest)
         print(f"warm-up (compiles {rev} once into {dest}) ...", flush=True)
-        _spawn(old, 1), _spawn(here, 1)
+        _spawn(old, 1, wall), _spawn(here, 1, wall)
         pairs = {}
         last = {}
         for r in range(rounds):
             order = [("rev", old), ("tree", here)] if r % 2 == 0 else [("tree", here), ("rev", old)]
-            res = {k: _spawn(src, repeat) for k, src in order}
+            res = {k: _spawn(src, repeat, wall) for k, src in order}
             for name in res["tree"]:
                 if name in res["rev"]:
                     pairs.setdefault(name, []).append((res["rev"][name]["us"], res["tree"][name]["us"]))
             last = res
             ratios = {n: round(float(np.median([a / b for a, b in p])), 3) for n, p in pairs.items()}
             print(f"round {r + 1}: median ratios so far {ratios}", flush=True)
-    print(f"cost per right-hand-side evaluation [us], {rounds} interleaved rounds, best of {repeat} each")
+    clock = "wall" if wall else "CPU"
+    print(f"cost per right-hand-side evaluation [us, {clock}], {rounds} interleaved rounds, best of {repeat} each")
     print(f"{'case':40s} {rev + ' [us]':>14s} {'tree [us]':>10s} {'ratio rev/tree':>15s}  evaluations rev / tree")
     for name, pr in pairs.items():
         a = np.array(pr)
@@ -123,17 +135,18 @@ def main() -> None:
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--worker", action="store_true", help="print this tree's numbers as JSON")
+    ap.add_argument("--wall", action="store_true", help="wall time instead of the process CPU time")
     ap.add_argument("--src", type=Path, help="the tree to compare (default: this checkout's src/)")
     ap.add_argument("--keep", type=Path, help="extract REV here and reuse it next time (default: a temporary dir)")
     a = ap.parse_args()
     if a.worker:
-        print(json.dumps(worker(a.repeat)))
+        print(json.dumps(worker(a.repeat, a.wall)))
         return
     try:
-        compare(a.rev, a.rounds, a.repeat, a.src, a.keep)
+        compare(a.rev, a.rounds, a.repeat, a.src, a.keep, a.wall)
     except (subprocess.CalledProcessError, FileNotFoundError) as exc:
         print(f"no comparison ({exc}); this tree only:")
-        for name, v in worker(a.repeat).items():
+        for name, v in worker(a.repeat, a.wall).items():
             print(f"{name:40s} {v['us']:8.3f} us/evaluation, {v['nfev']} evaluations")
 
 

@@ -117,10 +117,14 @@ STIFF = dict(n0=64, levels=3)
 
 
 def test_stiff_beam_end_force_model_error():
-    # EI 100, 20 N end force in a fixed direction (tip 0.161 m, 4 % of L); measured on 1.489e-2,
-    # off 1.532e-1, reference order 1.98, error 9.1e-5
-    ref, err = _errors(PlanarCase(4.0, 2.0, 100.0, force=20.0), **STIFF)
-    assert 1.8 < ref.order < 2.2 and ref.error < 2e-4
+    # EI 100, 20 N end force in a fixed direction (tip 0.161 m, 4 % of L). Reference from 32, 64,
+    # 128 links (4.9 s CPU; 64..256 took 17.6 s): order 1.81, error estimate 1.1e-3; model error
+    # on 1.492e-2, off 1.533e-1 (against 64..256, error 9.1e-5: 1.489e-2 and 1.532e-1, the same
+    # to 3 digits). The coarser chain is just short of the asymptotic range (order 1.81 instead
+    # of 1.98), hence the wider order bound; second order itself is checked on the soft beam.
+    # The model-error band stays 2.7 x the reference error away from the measured value.
+    ref, err = _errors(PlanarCase(4.0, 2.0, 100.0, force=20.0), n0=32, levels=3)
+    assert 1.7 < ref.order < 2.2 and ref.error < 2e-3
     assert 1.2e-2 < err[True] < 1.8e-2  # the geometric stiffness of the load state makes it 10x smaller
     assert err[False] > 0.12
 
@@ -134,6 +138,34 @@ def test_stiff_beam_torque_pulse_model_error():
     assert err[False] > 8e-2
 
 
+SPINUP = PlanarCase(10.0, 1.2, 1.4e4, support="clamped-spin", rate=6.0, spin_up_time=15.0)
+
+
+def _spinup_errors(t_end: float):
+    """Reference (16, 32, 64 links) and the modal model's max tip errors over ``t_end``: the
+    inextensible kinematics relative to the peak, the linear one in metres."""
+    ref = converged(SPINUP, t_end, 0.05, n0=16, levels=3, check_dt=False)
+    ext, _ = modal_counterpart(SPINUP, t_end, 0.05, n_modes=6, kinematics="inextensible")
+    lin, _ = modal_counterpart(SPINUP, t_end, 0.05, n_modes=6)
+    peak = np.abs(ref.tip).max()
+    return ref, peak, np.abs(ext - ref.tip).max() / peak, np.abs(lin - ref.tip).max()
+
+
+def test_spinup_beam_tip_within_1e3_of_the_reference_through_the_peak():
+    # the Kane-Ryan-Banerjee spin-up beam over its first 10 s, which hold the tip's peak (0.574 m
+    # at t = 6.75 s) and both maxima of the error over 20 s (next test): measured inextensible
+    # 1.46e-4 of the peak (1.46e-4 over 20 s), linear 5.95e-4 m = 1.037e-3 of the peak at t = 6.8 s
+    # (5.9e-4 m = 1.04e-3 over 20 s); reference order 2.000, error estimate 1.4e-5 (1.3e-4 over
+    # 20 s). Half the span, half the cost (reference 15 s CPU instead of ~30 s on the loaded machine)
+    ref, peak, err_ext, err_lin = _spinup_errors(10.0)
+    assert 1.8 < ref.order < 2.2 and ref.error < 2e-4 and 0.55 < peak < 0.6
+    assert err_ext < 1e-3  # the issue's acceptance number, relative to the peak
+    assert err_ext < 3e-4  # measured 1.46e-4
+    assert err_lin < 1e-3  # [m]
+    assert 1e-3 < err_lin / peak < 1.1e-3 and err_lin / peak > 3 * err_ext
+
+
+@pytest.mark.slow  # ~25 s; the 10 s twin above runs by default
 def test_spinup_beam_tip_within_1e3_of_the_reference_over_20_s():
     # the Kane-Ryan-Banerjee spin-up beam over 20 s (peak 0.574 m at t = 6.8-7.2 s) against the
     # reference from 16, 32, 64 links (~10 s; order 2.00, error estimate 1.3e-4 of the peak; the
@@ -142,14 +174,8 @@ def test_spinup_beam_tip_within_1e3_of_the_reference_over_20_s():
     # geometric stiffness is off by 5.9e-4 m = 1.04e-3 of the peak: within 1e-3 m absolute, just
     # above 1e-3 relative (converged in modes: 4 to 12 give 0.98e-3 to 1.05e-3), its own
     # O((u/L)^2) error (docs/floating.md)
-    case = PlanarCase(10.0, 1.2, 1.4e4, support="clamped-spin", rate=6.0, spin_up_time=15.0)
-    ref = converged(case, 20.0, 0.05, n0=16, levels=3, check_dt=False)
-    peak = np.abs(ref.tip).max()
+    ref, peak, err_ext, err_lin = _spinup_errors(20.0)
     assert 1.8 < ref.order < 2.2 and ref.error < 2e-4 and 0.55 < peak < 0.6
-    ext, _ = modal_counterpart(case, 20.0, 0.05, n_modes=6, kinematics="inextensible")
-    lin, _ = modal_counterpart(case, 20.0, 0.05, n_modes=6)
-    err_ext = np.abs(ext - ref.tip).max() / peak
-    err_lin = np.abs(lin - ref.tip).max()
     assert err_ext < 1e-3  # the issue's acceptance number, relative to the peak
     assert err_ext < 3e-4  # measured 1.46e-4 (the reference's own estimate: 1.3e-4)
     assert err_lin < 1e-3  # [m]

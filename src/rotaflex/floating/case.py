@@ -483,58 +483,31 @@ def validate_config(config: dict) -> None:
     prepare(config)
 
 
-class _progress_for:
-    """Progress of one solver run over simulated time: a bar on a terminal, one line per 10 %
-    otherwise (``progress``: False, True, or ``"lines"``)."""
+def _progress_for(progress, label: str, t_end: float):
+    """Progress over simulated time of one solver run (:class:`rotaflex.core.progress.Progress`:
+    a bar on a terminal, one line per 10 % otherwise); ``progress``: False, True, or
+    ``"lines"`` (lines even on a terminal)."""
+    from rotaflex.core.progress import Progress
 
-    def __init__(self, progress, label: str, t_end: float):
-        self.mode = progress if progress in ("lines", "bar") else ("bar" if progress else None)
-        if self.mode == "bar":
-            import sys
-
-            self.mode = "bar" if sys.stderr.isatty() else "lines"
-        self.label, self.t_end, self.bar, self.next = label, t_end, None, 0.1
-
-    def __enter__(self):
-        if self.mode == "bar":
-            from tqdm import tqdm
-
-            self.bar = tqdm(total=100, unit="%", desc=f"simulating {self.label}".strip(), leave=False)
-        return self if self.mode else None
-
-    def __call__(self, t: float) -> None:
-        frac = min(1.0, t / self.t_end) if self.t_end > 0 else 1.0
-        if self.bar is not None:
-            self.bar.n = int(100 * frac)
-            self.bar.refresh()
-        elif frac >= self.next - 1e-12:
-            import sys
-
-            print(
-                f"simulating {self.label} t = {t:.4g} s of {self.t_end:.4g} s ({frac:.0%})".replace("  ", " "),
-                file=sys.stderr,
-                flush=True,
-            )
-            self.next = np.floor(frac * 10 + 1e-9) / 10 + 0.1
-
-    def __exit__(self, *exc):
-        if self.bar is not None:
-            self.bar.close()
-        return False
+    desc = f"simulating {label}".strip()
+    return Progress(t_end, desc, "s", enabled=bool(progress), tty=False if progress == "lines" else None)
 
 
-#: measured first-run compilation of the floating kernels [s] (28.6 s on the 2-core machine, issue 25)
+#: first-run compilation of the floating kernels [s]: the largest cold compile of any one
+#: examples/floating case (benchmarks/bench_floating_compile.py; a run compiles only the
+#: integrator loop and right-hand side of its method)
 COMPILE_SECONDS = 29.0
 
 
-def _announce_kernels() -> bool:
-    """Say once, before the first kernel call, that the floating kernels compile now (cold numba
-    cache only). ``integrator.start`` is checked: every run calls it first, with the right-hand
-    side compiled into it."""
+def _announce_kernels(case, methods) -> bool:
+    """Say once, before the first kernel call, that the kernels this run uses compile now (cold
+    numba cache only): the integrator loop and right-hand side of each of its methods."""
     from rotaflex.core.jit import announce_compilation
-    from rotaflex.floating.integrator import start
+    from rotaflex.floating.integrator import kernels
+    from rotaflex.floating.solve import run_mode
 
-    return announce_compilation("floating-body", [start], COMPILE_SECONDS)
+    used = [k for m in methods for k in kernels(run_mode(m, case.prescribed, case.solver))]
+    return announce_compilation("floating-body", used, COMPILE_SECONDS)
 
 
 def run_case(config: dict, *, progress: bool | str = False):
@@ -553,11 +526,12 @@ def run_case(config: dict, *, progress: bool | str = False):
 
     t0 = time.perf_counter()
     case, body, methods = prepare(config)
-    _announce_kernels()
+    _announce_kernels(case, methods)
     sols = []
     for m in methods:
         with _progress_for(progress, m if len(methods) > 1 else "", case.solver.t_end) as bar:
-            sols.append(simulate(body, case.loads, case.initial, case.solver, m, case.prescribed, progress=bar))
+            call = bar.update if progress else None
+            sols.append(simulate(body, case.loads, case.initial, case.solver, m, case.prescribed, progress=call))
     resolved = json.loads(json.dumps(dataclasses.asdict(case)))
     result = build_result(body, sols, dict(case.outputs), resolved, time.perf_counter() - t0)
     if case.slew is not None:

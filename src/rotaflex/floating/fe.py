@@ -150,96 +150,20 @@ def frame_body(
     ndof = 6 * nn
     if n_modes < 1 or n_modes > ndof - 6:
         raise InputError("body.n_modes", n_modes, f"an integer in [1, {ndof - 6}]")
-    T = np.zeros((len(El), 12, 12))
-    for b in range(4):
-        T[:, 3 * b : 3 * b + 3, 3 * b : 3 * b + 3] = Lam
-    kl = _local_stiffness(L, e * area, g * j, e * iy, e * iz)
-    kg = np.einsum("eji,ejk,ekl->eil", T, kl, T)
-    dofs = np.concatenate([6 * El[:, :1] + np.arange(6), 6 * El[:, 1:] + np.arange(6)], axis=1)
-    K = np.zeros((ndof, ndof))
-    np.add.at(K, (dofs[:, :, None], dofs[:, None, :]), kg)
-    # mass points: element e, Gauss point gp, section point sp
-    a, b_ = np.sqrt(2 * iz / area), np.sqrt(2 * iy / area)
-    offs = np.array([[0, a, 0], [0, -a, 0], [0, 0, b_], [0, 0, -b_]], float)
-    E_, G_, S_ = np.meshgrid(np.arange(len(El)), np.arange(3), np.arange(4), indexing="ij")
-    E_, G_, S_ = E_.ravel(), G_.ravel(), S_.ravel()
-    s = _GP[G_]
-    Nu, Nt = _interp(s, L[E_])
-    Npt = Nu - np.einsum("pab,pbc->pac", skew(offs[S_]), Nt)  # u + th x s = u - s~ th
-    Nglob = np.einsum("pba,pbc,pcd->pad", Lam[E_], Npt, T[E_])  # global 3 x 12 per point
-    mass = rho * area * L[E_] * _GW[G_] / 4.0
-    pos = X[El[E_, 0]] + s[:, None] * (X[El[E_, 1]] - X[El[E_, 0]]) + np.einsum("pba,pb->pa", Lam[E_], offs[S_])
-    Me = np.einsum("p,pai,paj->pij", mass, Nglob, Nglob)
-    M = np.zeros((ndof, ndof))
-    np.add.at(M, (dofs[E_][:, :, None], dofs[E_][:, None, :]), Me)
+    T, K, dofs = _stiffness(L, Lam, El, ndof, e, g, area, iy, iz, j)
+    mass, pos, Nglob, E_, M = _mass_points(X, El, L, Lam, T, dofs, ndof, rho, area, iy, iz)
+    _require_connected(El, nn)
     from scipy.linalg import eigh
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
 
-    graph = coo_matrix((np.ones(len(El)), (El[:, 0], El[:, 1])), shape=(nn, nn))
-    n_comp = connected_components(graph, directed=False)[0]
-    if n_comp != 1:
-        raise InputError(
-            "body.elements",
-            f"{n_comp} disconnected parts",
-            "one connected structure (free-free: exactly 6 rigid-body modes)",
-        )
     w2, V = eigh(K, M, subset_by_index=[0, min(ndof - 1, 6 + n_modes - 1)])
     keep = slice(6, 6 + n_modes)
-    modes, om2 = V[:, keep], w2[keep]
-    # exact mean axes: remove the (round-off) rigid-body content, then mass-normalise
-    rel = X - X.mean(axis=0)
-    Rg = np.zeros((ndof, 6))
-    for a in range(3):
-        Rg[a::6, a] = 1.0
-        Rg[3 + a :: 6, 3 + a] = 1.0
-        e_a = np.eye(3)[a]
-        Rg[np.arange(nn)[:, None] * 6 + np.arange(3), 3 + a] = np.cross(e_a, rel)
-    MR = M @ Rg
-    modes = modes - Rg @ np.linalg.solve(Rg.T @ MR, MR.T @ modes)
-    modes = modes / np.sqrt(np.einsum("ij,ik,kj->j", modes, M, modes))
+    Rg, modes = _mean_axes(X, M, V[:, keep])
+    om2 = w2[keep]
     size = float(np.ptp(X, axis=0).max())
-
-    def interp(pts):
-        """Global displacement/rotation interpolation (P, 3, ndof-columns) and DOF indices."""
-        pts = np.atleast_2d(np.asarray(pts, dtype=float))
-        A0 = X[El[:, 0]]
-        dvec = X[El[:, 1]] - A0
-        t = np.einsum("pea,ea->pe", pts[:, None, :] - A0[None], dvec) / (L**2)[None]
-        tc = np.clip(t, 0.0, 1.0)
-        dist = np.linalg.norm(pts[:, None, :] - (A0[None] + tc[..., None] * dvec[None]), axis=2)
-        ie = np.argmin(dist, axis=1)
-        bad = dist[np.arange(len(pts)), ie] > 1e-9 * size
-        if np.any(bad):
-            k = int(np.argmax(bad))
-            raise InputError("point", pts[k].tolist(), "a point on an element axis of the FE body")
-        sp = tc[np.arange(len(pts)), ie]
-        nu, nt = _interp(sp, L[ie])
-        Tg = T[ie]
-        Ng = np.einsum("pba,pbc,pcd->pad", Lam[ie], nu, Tg)
-        Nr = np.einsum("pba,pbc,pcd->pad", Lam[ie], nt, Tg)
-        return Ng, Nr, dofs[ie]
-
+    interp = _interpolator(X, El, L, Lam, T, dofs, size)
     labels = [f"fe{k + 1}" for k in range(n_modes)]
     if len(attachment_points) or len(moment_points):
-        Fs = []
-        for pts, where, use_rot in (
-            (attachment_points, "body.attachment_points", False),
-            (moment_points, "body.moment_points", True),
-        ):
-            if not len(pts):
-                continue
-            Pa = np.asarray(pts, dtype=float).reshape(-1, 3)
-            try:
-                Ng, Nr, dd = interp(Pa)
-            except InputError as exc:
-                raise InputError(where, exc.value, exc.allowed) from None
-            Nu = Nr if use_rot else Ng  # unit moments act through the rotation interpolation
-            F = np.zeros((ndof, 3 * len(Pa)))
-            for i in range(len(Pa)):
-                np.add.at(F, (dd[i], slice(3 * i, 3 * i + 3)), Nu[i].T)
-            Fs.append(F)
-        U = inertia_relief_solve(K, M, Rg, np.hstack(Fs))
+        U = inertia_relief_solve(K, M, Rg, _unit_loads(interp, ndof, attachment_points, moment_points))
         modes, om2, n_att = augment_ritz(modes, U, M, K)
         labels += [f"attach{k + 1}" for k in range(n_att)]
     G = load_geometric = None
@@ -281,6 +205,122 @@ def frame_body(
         },
     )
     return body
+
+
+def _stiffness(L, Lam, El, ndof, e, g, area, iy, iz, j):
+    """Element transformations ``T`` (E, 12, 12), the global stiffness ``K`` and the element
+    DOF indices (E, 12)."""
+    T = np.zeros((len(El), 12, 12))
+    for b in range(4):
+        T[:, 3 * b : 3 * b + 3, 3 * b : 3 * b + 3] = Lam
+    kl = _local_stiffness(L, e * area, g * j, e * iy, e * iz)
+    kg = np.einsum("eji,ejk,ekl->eil", T, kl, T)
+    dofs = np.concatenate([6 * El[:, :1] + np.arange(6), 6 * El[:, 1:] + np.arange(6)], axis=1)
+    K = np.zeros((ndof, ndof))
+    np.add.at(K, (dofs[:, :, None], dofs[:, None, :]), kg)
+    return T, K, dofs
+
+
+def _mass_points(X, El, L, Lam, T, dofs, ndof, rho, area, iy, iz):
+    """Mass points (element e, Gauss point gp, section point sp: 12 per element) and the mass
+    matrix they give: ``(mass, pos, Nglob, E_, M)`` with ``Nglob`` the global 3 x 12
+    interpolation of each point and ``E_`` its element."""
+    a, b_ = np.sqrt(2 * iz / area), np.sqrt(2 * iy / area)
+    offs = np.array([[0, a, 0], [0, -a, 0], [0, 0, b_], [0, 0, -b_]], float)
+    E_, G_, S_ = np.meshgrid(np.arange(len(El)), np.arange(3), np.arange(4), indexing="ij")
+    E_, G_, S_ = E_.ravel(), G_.ravel(), S_.ravel()
+    s = _GP[G_]
+    Nu, Nt = _interp(s, L[E_])
+    Npt = Nu - np.einsum("pab,pbc->pac", skew(offs[S_]), Nt)  # u + th x s = u - s~ th
+    Nglob = np.einsum("pba,pbc,pcd->pad", Lam[E_], Npt, T[E_])  # global 3 x 12 per point
+    mass = rho * area * L[E_] * _GW[G_] / 4.0
+    pos = X[El[E_, 0]] + s[:, None] * (X[El[E_, 1]] - X[El[E_, 0]]) + np.einsum("pba,pb->pa", Lam[E_], offs[S_])
+    Me = np.einsum("p,pai,paj->pij", mass, Nglob, Nglob)
+    M = np.zeros((ndof, ndof))
+    np.add.at(M, (dofs[E_][:, :, None], dofs[E_][:, None, :]), Me)
+    return mass, pos, Nglob, E_, M
+
+
+def _require_connected(El, nn: int) -> None:
+    """One connected structure (a free-free body has exactly 6 rigid-body modes)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    graph = coo_matrix((np.ones(len(El)), (El[:, 0], El[:, 1])), shape=(nn, nn))
+    n_comp = connected_components(graph, directed=False)[0]
+    if n_comp != 1:
+        raise InputError(
+            "body.elements",
+            f"{n_comp} disconnected parts",
+            "one connected structure (free-free: exactly 6 rigid-body modes)",
+        )
+
+
+def _mean_axes(X, M, modes):
+    """Rigid-body modes ``Rg`` (ndof, 6) about the nodes' centroid, and ``modes`` in exact mean
+    axes: the (round-off) rigid-body content removed, then mass-normalised."""
+    nn = len(X)
+    ndof = 6 * nn
+    rel = X - X.mean(axis=0)
+    Rg = np.zeros((ndof, 6))
+    for a in range(3):
+        Rg[a::6, a] = 1.0
+        Rg[3 + a :: 6, 3 + a] = 1.0
+        e_a = np.eye(3)[a]
+        Rg[np.arange(nn)[:, None] * 6 + np.arange(3), 3 + a] = np.cross(e_a, rel)
+    MR = M @ Rg
+    modes = modes - Rg @ np.linalg.solve(Rg.T @ MR, MR.T @ modes)
+    return Rg, modes / np.sqrt(np.einsum("ij,ik,kj->j", modes, M, modes))
+
+
+def _interpolator(X, El, L, Lam, T, dofs, size):
+    """``interp(points) -> (Ng, Nr, dofs)``: global displacement and rotation interpolation
+    (P, 3, 12) of points on an element axis and the element DOF indices (InputError elsewhere)."""
+
+    def interp(pts):
+        pts = np.atleast_2d(np.asarray(pts, dtype=float))
+        A0 = X[El[:, 0]]
+        dvec = X[El[:, 1]] - A0
+        t = np.einsum("pea,ea->pe", pts[:, None, :] - A0[None], dvec) / (L**2)[None]
+        tc = np.clip(t, 0.0, 1.0)
+        dist = np.linalg.norm(pts[:, None, :] - (A0[None] + tc[..., None] * dvec[None]), axis=2)
+        ie = np.argmin(dist, axis=1)
+        bad = dist[np.arange(len(pts)), ie] > 1e-9 * size
+        if np.any(bad):
+            k = int(np.argmax(bad))
+            raise InputError("point", pts[k].tolist(), "a point on an element axis of the FE body")
+        sp = tc[np.arange(len(pts)), ie]
+        nu, nt = _interp(sp, L[ie])
+        Tg = T[ie]
+        Ng = np.einsum("pba,pbc,pcd->pad", Lam[ie], nu, Tg)
+        Nr = np.einsum("pba,pbc,pcd->pad", Lam[ie], nt, Tg)
+        return Ng, Nr, dofs[ie]
+
+    return interp
+
+
+def _unit_loads(interp, ndof: int, attachment_points, moment_points) -> np.ndarray:
+    """Consistent nodal loads (ndof, 3 per point) of unit forces along x, y, z at the
+    attachment points, then unit moments at the moment points (through the rotation
+    interpolation)."""
+    Fs = []
+    for pts, where, use_rot in (
+        (attachment_points, "body.attachment_points", False),
+        (moment_points, "body.moment_points", True),
+    ):
+        if not len(pts):
+            continue
+        Pa = np.asarray(pts, dtype=float).reshape(-1, 3)
+        try:
+            Ng, Nr, dd = interp(Pa)
+        except InputError as exc:
+            raise InputError(where, exc.value, exc.allowed) from None
+        Nu = Nr if use_rot else Ng  # unit moments act through the rotation interpolation
+        F = np.zeros((ndof, 3 * len(Pa)))
+        for i in range(len(Pa)):
+            np.add.at(F, (dd[i], slice(3 * i, 3 * i + 3)), Nu[i].T)
+        Fs.append(F)
+    return np.hstack(Fs)
 
 
 def inertia_relief_solve(K, M, Rg, F):

@@ -2,9 +2,10 @@
 
 Attitude from the state and Euler 1-2-3 angles unwrapped after every accepted step (never from
 output samples), step control landing on output times and load breakpoints, divergence guard.
-The right-hand sides are :func:`rotaflex.floating.kernels.rhs` (``mode`` 0-2) and
-:func:`rotaflex.floating.kernels.rhs_inextensible_mode` (``mode`` 3), each with its own compiled loop.
-A run can be advanced in chunks (progress output) with the same steps as in one call.
+Each right-hand side of :mod:`rotaflex.floating.kernels` (``mode`` 0 full, 1 perturbation, 2
+prescribed, 3 inextensible) has its own compiled loop (:data:`LOOPS`), chosen once per run in
+Python: a run compiles only the loop and right-hand side it uses, and no evaluation branches on
+the mode. A run can be advanced in chunks (progress output) with the same steps as in one call.
 """
 
 from __future__ import annotations
@@ -12,7 +13,14 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rotaflex.floating.kernels import motion_profile, quat_matrix, rhs, rhs_inextensible_mode
+from rotaflex.floating.kernels import (
+    motion_profile,
+    quat_matrix,
+    rhs_full,
+    rhs_inextensible,
+    rhs_perturbation,
+    rhs_prescribed,
+)
 
 # ----------------------------------------------------------------------------------------
 # attitude from the state, and Euler 1-2-3 angles unwrapped step by step (never from samples)
@@ -91,18 +99,20 @@ _B = np.array([35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84, 0])
 _E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
 
 
-def _make_integrate(inextensible: bool):
-    """The compiled Dormand-Prince loop over one right-hand side.
+def _make_integrate(mode: int):
+    """The compiled Dormand-Prince loop over the right-hand side of ``mode``.
 
-    One loop, specialised at compile time for its right-hand side (no branch on the kinematics and
-    no unused argument arrays on every evaluation): :data:`integrate` calls :func:`rhs` (the
-    linear-kinematics modes 0-2, ``B`` = body tensors, ``L`` = loads), :data:`integrate_inextensible`
-    calls :func:`rhs_inextensible_mode` (mode 3, ``B`` = the inextensible-kinematics arrays). The
-    choice is a closure constant (a bool, so the compiled loop is cached on disk; the branch on it
-    is removed before typing). Each loop is compiled only when a run needs it.
+    One loop per right-hand side, specialised at compile time (no branch on the mode and no
+    unused argument arrays on any evaluation): 0 :func:`rhs_full`, 1 :func:`rhs_perturbation`, 2
+    :func:`rhs_prescribed` (``B`` = body tensors, ``L`` = loads), 3 :func:`rhs_inextensible`
+    (``B`` = the inextensible-kinematics arrays; ``L`` and ``geo`` unused). The choice is made by
+    bool closure constants (so the loop is cached on disk, and numba removes the branches on them
+    before typing: only the chosen right-hand side is compiled). Each loop has its own name, so
+    its cache index is its own and :func:`rotaflex.core.jit.cache_is_cold` sees whether *this*
+    loop is compiled. A loop compiles when a run first calls it.
     """
+    full, pert, presc = mode == 0, mode == 1, mode == 2
 
-    @njit(cache=True)
     def run(
         mode, t_out, i_end, Y, EUL, y, K0, att, cnt, hs, breaks, rtol, atol, max_steps, limit, n_lim, B, L, geo, pres
     ):
@@ -146,10 +156,14 @@ def _make_integrate(inextensible: bool):
                 ts = t + _C[s] * h_try
                 if hit and _C[s] == 1.0:
                     ts = t_target - 1e-13 * span  # stay left of a load jump at t_target
-                if inextensible:
-                    K[s] = rhs_inextensible_mode(mode, ts, ys, B, L, geo, pres)
+                if full:
+                    K[s] = rhs_full(ts, ys, B, L, geo)
+                elif pert:
+                    K[s] = rhs_perturbation(ts, ys, B, L, geo)
+                elif presc:
+                    K[s] = rhs_prescribed(ts, ys, B, L, geo, pres)
                 else:
-                    K[s] = rhs(mode, ts, ys, B, L, geo, pres)
+                    K[s] = rhs_inextensible(ts, ys, B, pres)
             nfev += 6
             y_new = ys  # stage 7 evaluates at the 5th-order solution (FSAL)
             en = 0.0
@@ -188,10 +202,14 @@ def _make_integrate(inextensible: bool):
                     if i_brk < breaks.shape[0] and abs(t - breaks[i_brk]) <= 1e-12 * span:
                         i_brk += 1
                         # restart after a load jump
-                        if inextensible:
-                            K[0] = rhs_inextensible_mode(mode, t, y, B, L, geo, pres)
+                        if full:
+                            K[0] = rhs_full(t, y, B, L, geo)
+                        elif pert:
+                            K[0] = rhs_perturbation(t, y, B, L, geo)
+                        elif presc:
+                            K[0] = rhs_prescribed(t, y, B, L, geo, pres)
                         else:
-                            K[0] = rhs(mode, t, y, B, L, geo, pres)
+                            K[0] = rhs_inextensible(t, y, B, pres)
                         nfev += 1
                     while i_out < nt and abs(t - t_out[i_out]) <= 1e-12 * span:
                         Y[i_out] = y
@@ -219,13 +237,31 @@ def _make_integrate(inextensible: bool):
         hs[0], hs[1] = h, t
         return status
 
-    return run
+    run.__name__ = run.__qualname__ = f"integrate_{MODES[mode]}"
+    return njit(cache=True)(run)
 
 
-#: Dormand-Prince loop of the linear-kinematics right-hand sides (modes 0-2)
-integrate = _make_integrate(False)
-#: the same loop over the inextensible-kinematics right-hand side (mode 3)
-integrate_inextensible = _make_integrate(True)
+#: right-hand sides by mode (the integrator's ``mode`` argument)
+MODES = ("full", "perturbation", "prescribed", "inextensible")
+#: the compiled loop of each mode; a run calls exactly one of them
+LOOPS = tuple(_make_integrate(m) for m in range(len(MODES)))
+#: the compiled right-hand side of each mode
+RHS = (rhs_full, rhs_perturbation, rhs_prescribed, rhs_inextensible)
+
+
+def kernels(mode: int) -> list:
+    """The numba dispatchers a run of ``mode`` calls first (for the compile announcement)."""
+    return [LOOPS[mode], RHS[mode]]
+
+
+#: the right-hand side of each mode with the argument list ``(t, y, B, L, geo, pres)``, for the
+#: first stage evaluated in Python (:func:`start`)
+_FIRST_STAGE = (
+    lambda t, y, B, L, geo, pres: rhs_full(t, y, B, L, geo),
+    lambda t, y, B, L, geo, pres: rhs_perturbation(t, y, B, L, geo),
+    rhs_prescribed,
+    lambda t, y, B, L, geo, pres: rhs_inextensible(t, y, B, pres),
+)
 
 
 def start(mode, y0, t_out, breaks, B, L, geo, pres):
@@ -243,8 +279,7 @@ def start(mode, y0, t_out, breaks, B, L, geo, pres):
     euler123(attitude(mode, t, y0, pres, True), eul0, eul0)
     att[4:7], att[7:10] = eul, eul0
     EUL[0, :3], EUL[0, 3:] = eul, eul0
-    fn = rhs_inextensible_mode if mode == 3 else rhs
-    K0 = np.asarray(fn(mode, t, y0.copy(), B, L, geo, pres), dtype=float)
+    K0 = np.asarray(_FIRST_STAGE[mode](t, y0.copy(), B, L, geo, pres), dtype=float)
     i_brk = int(np.searchsorted(breaks, t, side="right"))
     cnt = np.array([1, 0, 1, i_brk], dtype=np.int64)
     hs = np.array([1e-4 * (t_out[-1] - t_out[0]), t])

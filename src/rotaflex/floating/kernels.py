@@ -734,19 +734,3 @@ def rhs_inextensible(t, y, kin, pres):
             f[i] -= a2 * D2[k, i] + a1 * D1[k, i]
     dy[n:] = solve_lu(M, f)
     return dy
-
-
-@njit(cache=True)
-def rhs(mode, t, y, B, L, geo, pres):
-    """Right-hand side of the linear-kinematics modes 0 (full), 1 (perturbation), 2 (prescribed)."""
-    if mode == 0:
-        return rhs_full(t, y, B, L, geo)
-    if mode == 1:
-        return rhs_perturbation(t, y, B, L, geo)
-    return rhs_prescribed(t, y, B, L, geo, pres)
-
-
-@njit(cache=True)
-def rhs_inextensible_mode(mode, t, y, kin, L, geo, pres):
-    """Mode 3 with the argument list of :func:`rhs` (``kin`` in the place of the body tensors)."""
-    return rhs_inextensible(t, y, kin, pres)

@@ -334,6 +334,14 @@ def check_step_budget(body: Body, settings: Settings, method: str = "full", pres
     )
 
 
+def run_mode(method: str, prescribed: Prescribed | None, settings: Settings) -> int:
+    """The integrator mode (:data:`rotaflex.floating.integrator.MODES`) of a run: 0 full, 1
+    perturbation, 2 prescribed motion, 3 prescribed motion with inextensible kinematics."""
+    if prescribed is not None:
+        return 3 if settings.kinematics == "inextensible" else 2
+    return 0 if method == "full" else 1
+
+
 def simulate(
     body: Body,
     loads=(),
@@ -389,19 +397,15 @@ def simulate(
     e0 = np.asarray(initial.quaternion, float) / np.linalg.norm(initial.quaternion)
     rigid0 = np.concatenate([initial.position, e0, initial.velocity, initial.angular_velocity])
     pres = np.zeros(7)
+    mode = run_mode(method, prescribed, settings)
     if prescribed is not None:
-        mode = 2
-        if settings.kinematics == "inextensible":
-            mode = 3
         pres = prescribed.packed()
         y0 = np.concatenate([q0, p0])
         lim = (0, n)
-    elif method == "full":
-        mode = 0
+    elif mode == 0:
         y0 = np.concatenate([rigid0, q0, p0])
         lim = (13, 13 + n)
     else:
-        mode = 1
         y0 = np.concatenate([rigid0, np.zeros(12), q0, p0])
         lim = (25, 25 + n)
     phimax = float(np.abs(body.shapes).max(initial=0.0))
@@ -410,9 +414,7 @@ def simulate(
     if mode == 3:  # the inextensible kinematics arrays take the place of the body tensors
         B = (np.asarray(body.masses, float), np.asarray(body.points, float), np.asarray(body.shapes, float))
         B = B + tuple(body.inextensible.packed())
-        run = integrator.integrate_inextensible
-    else:
-        run = integrator.integrate
+    run = integrator.LOOPS[mode]  # the one compiled loop (and right-hand side) this run uses
     t0 = time.perf_counter()
     Y, EUL, y, K0, att, cnt, hs = integrator.start(mode, y0, t_out, breaks, B, Lp, geo, pres)
     # in chunks of output rows when progress is shown (the carried state makes this identical
