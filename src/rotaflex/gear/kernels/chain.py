@@ -27,7 +27,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-__all__ = ["ChainArgs", "MeshArgs", "run_rk4"]
+__all__ = ["ChainArgs", "MeshArgs", "chain_rhs", "rk4_stage", "rk4_update", "run_rk4"]
 
 
 class ChainArgs(NamedTuple):
@@ -105,19 +105,17 @@ def _mesh(mesh, th, om):
 
 
 @njit(cache=True)
-def _rhs(
-    t,
-    th,
-    om,
-    out_th,
-    out_om,
-    chain,
-    mesh,
-):
+def chain_rhs(t, th, om, out_th, out_om, chain, f, ip, iw, rb1, rb2, iy1, iy2):
+    """The chain's equations of motion, written once for both steady kernels.
+
+    ``out_th = om`` and ``out_om`` = the nodes' accelerations at time ``t`` [s] under the
+    applied torques (ramped over ``chain.ramp_time``), the motor slope, the shafts, the
+    supports to ground and the mesh force ``f`` [N] acting at the pinion node ``ip`` (``-r_b1
+    f``), the wheel node ``iw`` (``+r_b2 f``) and the lateral nodes ``iy1`` (``-f``) and ``iy2``
+    (``+f``; < 0: none). Speed-prescribed nodes get zero acceleration.
+    """
     jinv, ks, cs, torque, slope, nominal, presc, ramp_time, kg, cg = chain
     n = th.shape[0]
-    f, _, _, _ = _mesh(mesh, th, om)
-    ip, iw, rb1, rb2 = mesh.ip, mesh.iw, mesh.rb1, mesh.rb2
     scale = 1.0
     if ramp_time > 0.0 and t < ramp_time:
         scale = t / ramp_time
@@ -135,24 +133,38 @@ def _rhs(
             q -= rb1 * f
         if i == iw:
             q += rb2 * f
-        if i == mesh.iy1:
+        if i == iy1:
             q -= f
-        if i == mesh.iy2:
+        if i == iy2:
             q += f
         out_om[i] = q * jinv[i]
 
 
 @njit(cache=True)
-def run_rk4(
-    th,
-    om,
-    t0,
-    dt,
-    n_steps,
-    record_every,
-    chain,
-    mesh,
-):
+def rk4_stage(y, k, h, out):
+    """One RK4 stage point ``out = y + h k`` (``h``: the stage's step [s])."""
+    for i in range(y.shape[0]):
+        out[i] = y[i] + h * k[i]
+
+
+@njit(cache=True)
+def rk4_update(y, k1, k2, k3, k4, dt):
+    """The RK4 step ``y += dt / 6 (k1 + 2 k2 + 2 k3 + k4)`` in place."""
+    for i in range(y.shape[0]):
+        y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+@njit(cache=True)
+def _rhs(t, y, dy, chain, mesh):
+    """``dy/dt`` of the chain state ``y = [theta (n), omega (n)]`` with the mesh spring."""
+    n = y.shape[0] // 2
+    th, om = y[:n], y[n:]
+    f, _, _, _ = _mesh(mesh, th, om)
+    chain_rhs(t, th, om, dy[:n], dy[n:], chain, f, mesh.ip, mesh.iw, mesh.rb1, mesh.rb2, mesh.iy1, mesh.iy2)
+
+
+@njit(cache=True)
+def run_rk4(th, om, t0, dt, n_steps, record_every, chain, mesh):
     """Advance ``n_steps`` RK4 steps of size ``dt`` [s] from (th, om) at time t0 [s].
 
     ``th``/``om`` are updated in place. Every ``record_every`` steps (and at the start) the
@@ -171,77 +183,37 @@ def run_rk4(
     f_rec = np.empty(n_rec)
     d_rec = np.empty(n_rec)
     dd_rec = np.empty(n_rec)
-    k1t = np.empty(n)
-    k1o = np.empty(n)
-    k2t = np.empty(n)
-    k2o = np.empty(n)
-    k3t = np.empty(n)
-    k3o = np.empty(n)
-    k4t = np.empty(n)
-    k4o = np.empty(n)
-    yt = np.empty(n)
-    yo = np.empty(n)
+    y = np.empty(2 * n)
+    y[:n] = th
+    y[n:] = om
+    k1 = np.empty(2 * n)
+    k2 = np.empty(2 * n)
+    k3 = np.empty(2 * n)
+    k4 = np.empty(2 * n)
+    yt = np.empty(2 * n)
     r = 0
     t = t0
     for step in range(n_steps + 1):
         if step % record_every == 0:
-            f, d, dd, _ = _mesh(mesh, th, om)
+            f, d, dd, _ = _mesh(mesh, y[:n], y[n:])
             t_rec[r] = t
-            th_rec[r, :] = th
-            om_rec[r, :] = om
+            th_rec[r, :] = y[:n]
+            om_rec[r, :] = y[n:]
             f_rec[r] = f
             d_rec[r] = d
             dd_rec[r] = dd
             r += 1
         if step == n_steps:
             break
-        _rhs(
-            t,
-            th,
-            om,
-            k1t,
-            k1o,
-            chain,
-            mesh,
-        )
-        for i in range(n):
-            yt[i] = th[i] + 0.5 * dt * k1t[i]
-            yo[i] = om[i] + 0.5 * dt * k1o[i]
-        _rhs(
-            t + 0.5 * dt,
-            yt,
-            yo,
-            k2t,
-            k2o,
-            chain,
-            mesh,
-        )
-        for i in range(n):
-            yt[i] = th[i] + 0.5 * dt * k2t[i]
-            yo[i] = om[i] + 0.5 * dt * k2o[i]
-        _rhs(
-            t + 0.5 * dt,
-            yt,
-            yo,
-            k3t,
-            k3o,
-            chain,
-            mesh,
-        )
-        for i in range(n):
-            yt[i] = th[i] + dt * k3t[i]
-            yo[i] = om[i] + dt * k3o[i]
-        _rhs(
-            t + dt,
-            yt,
-            yo,
-            k4t,
-            k4o,
-            chain,
-            mesh,
-        )
-        for i in range(n):
-            th[i] += dt / 6.0 * (k1t[i] + 2.0 * k2t[i] + 2.0 * k3t[i] + k4t[i])
-            om[i] += dt / 6.0 * (k1o[i] + 2.0 * k2o[i] + 2.0 * k3o[i] + k4o[i])
+        _rhs(t, y, k1, chain, mesh)
+        rk4_stage(y, k1, 0.5 * dt, yt)
+        _rhs(t + 0.5 * dt, yt, k2, chain, mesh)
+        rk4_stage(y, k2, 0.5 * dt, yt)
+        _rhs(t + 0.5 * dt, yt, k3, chain, mesh)
+        rk4_stage(y, k3, dt, yt)
+        _rhs(t + dt, yt, k4, chain, mesh)
+        rk4_update(y, k1, k2, k3, k4, dt)
         t = t0 + (step + 1) * dt
+    th[:] = y[:n]
+    om[:] = y[n:]
     return t_rec, th_rec, om_rec, f_rec, d_rec, dd_rec

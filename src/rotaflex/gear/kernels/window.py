@@ -17,6 +17,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from rotaflex.gear.kernels.chain import chain_rhs, rk4_stage, rk4_update
+
 __all__ = ["WindowArgs", "run_window_rk4"]
 
 
@@ -155,33 +157,10 @@ def _pairs(y, n_chain, n_hi, win, gen, rec):
 
 @njit(cache=True)
 def _rhs(t, y, dy, n_hi, chain, win, gen, rec):
-    jinv, ks, cs, torque, slope, nominal, presc, ramp_time, kg, cg = chain
-    n = jinv.shape[0]
+    n = chain.jinv.shape[0]
     _pairs(y, n, n_hi, win, gen, rec)
-    f = rec[0]
-    scale = 1.0
-    if ramp_time > 0.0 and t < ramp_time:
-        scale = t / ramp_time
-    for i in range(n):
-        th, om = y[i], y[n + i]
-        dy[i] = om
-        if presc[i]:
-            dy[n + i] = 0.0
-            continue
-        q = scale * torque[i] + slope[i] * (nominal[i] - om) - kg[i] * th - cg[i] * om
-        if i > 0:
-            q -= ks[i - 1] * (th - y[i - 1]) + cs[i - 1] * (om - y[n + i - 1])
-        if i < n - 1:
-            q -= ks[i] * (th - y[i + 1]) + cs[i] * (om - y[n + i + 1])
-        if i == win.ip:
-            q -= win.rb1 * f
-        if i == win.iw:
-            q += win.rb2 * f
-        if i == win.iy1:
-            q -= f
-        if i == win.iy2:
-            q += f
-        dy[n + i] = q * jinv[i]
+    th, om = y[:n], y[n : 2 * n]
+    chain_rhs(t, th, om, dy[:n], dy[n : 2 * n], chain, rec[0], win.ip, win.iw, win.rb1, win.rb2, win.iy1, win.iy2)
     m = win.n_modes
     nm2 = win.window * 2 * m
     base = 2 * n
@@ -262,20 +241,16 @@ def run_window_rk4(y, n_hi0, t0, dt, n_steps, chain, win):
         if step == n_steps:
             break
         p1, d1 = rec[4], rec[5] + rec[7]
-        for i in range(size):
-            yt[i] = y[i] + 0.5 * dt * k1[i]
+        rk4_stage(y, k1, 0.5 * dt, yt)
         _rhs(t + 0.5 * dt, yt, k2, n_hi, chain, win, gen, rec)
         p2, d2 = rec[4], rec[5] + rec[7]
-        for i in range(size):
-            yt[i] = y[i] + 0.5 * dt * k2[i]
+        rk4_stage(y, k2, 0.5 * dt, yt)
         _rhs(t + 0.5 * dt, yt, k3, n_hi, chain, win, gen, rec)
         p3, d3 = rec[4], rec[5] + rec[7]
-        for i in range(size):
-            yt[i] = y[i] + dt * k3[i]
+        rk4_stage(y, k3, dt, yt)
         _rhs(t + dt, yt, k4, n_hi, chain, win, gen, rec)
         p4, d4 = rec[4], rec[5] + rec[7]
-        for i in range(size):
-            y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        rk4_update(y, k1, k2, k3, k4, dt)
         w_par += dt / 6.0 * (p1 + 2.0 * p2 + 2.0 * p3 + p4)
         w_diss += dt / 6.0 * (d1 + 2.0 * d2 + 2.0 * d3 + d4)
         t = t0 + (step + 1) * dt
