@@ -85,7 +85,7 @@ def test_continuation_checks_speeds_before_running():
 def test_progress_lines_for_a_long_run(monkeypatch, capsys):
     """Past a few seconds `gear steady` reports progress (one line per update off a terminal):
     mesh cycles for one point, speeds for a sweep."""
-    monkeypatch.setattr(steady._LateProgress, "AFTER", 0.0)
+    monkeypatch.setattr(steady.LateProgress, "AFTER", 0.0)
     steady.run_torsional(_at(9000.0), progress=True)
     err = capsys.readouterr().err
     assert "gear steady:" in err and "mesh cycle" in err

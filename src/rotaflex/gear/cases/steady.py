@@ -67,7 +67,7 @@ from rotaflex.gear.pair.drawing import GearSpec as DrawingGearSpec
 from rotaflex.gear.pair.geometry import GearGeometry, center_distance_no_backlash, contact_ratio
 from rotaflex.gear.results.steady_sweep import sweep_dataset
 from rotaflex.gear.solvers.registry import METHODS
-from rotaflex.gear.solvers.steady_driver import continuation
+from rotaflex.gear.solvers.steady_driver import LateProgress, continuation
 from rotaflex.gear.static.iso6336_kv import iso_kv
 
 __all__ = ["SCHEMA", "TorsionalCaseConfig", "build_model", "build_system", "run_torsional", "validate_config"]
@@ -752,7 +752,7 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
         steps_per_cycle=s.steps_per_cycle,
     )
     op = cfg.operation
-    bar = _LateProgress(enabled=progress)
+    bar = LateProgress("gear steady", enabled=progress)
     if len(cfg.sweep.speeds_rpm) >= 2:
         t0 = time.perf_counter()
         speeds, directions = np.asarray(cfg.sweep.speeds_rpm, dtype=float), cfg.sweep.directions
@@ -799,28 +799,3 @@ def _steady_point(cfg: TorsionalCaseConfig, sys, eps, model, face_width, state, 
             "model.method = 'elastic_teeth' resolves each pair's engagement (docs/gear-steady-state.md)"
         )
     return res, st
-
-
-class _LateProgress:
-    """A :class:`~rotaflex.core.progress.Progress` that appears only once a run has taken
-    :attr:`AFTER` seconds (a run of a second or two shows nothing)."""
-
-    #: seconds before the first progress line
-    AFTER = 3.0
-
-    def __init__(self, enabled: bool):
-        self.enabled, self.done, self.bar = enabled, 0, None
-        self.t0 = time.perf_counter()
-
-    def update(self, done: float, total: float, unit: str) -> None:
-        self.done = done
-        if self.bar is None and self.enabled and time.perf_counter() - self.t0 >= self.AFTER:
-            from rotaflex.core.progress import Progress
-
-            self.bar = Progress(total, "gear steady", unit)
-        if self.bar is not None:
-            self.bar.update(done, total)
-
-    def close(self) -> None:
-        if self.bar is not None:
-            self.bar.close()

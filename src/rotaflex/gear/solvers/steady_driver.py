@@ -19,7 +19,7 @@ import numpy as np
 from rotaflex.core.errors import InputError
 from rotaflex.gear.results.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
 
-__all__ = ["DIRECTIONS", "SteadyMethod", "continuation", "periodicity", "run_steady", "sweep_steady"]
+__all__ = ["DIRECTIONS", "LateProgress", "SteadyMethod", "continuation", "periodicity", "run_steady", "sweep_steady"]
 
 #: the legs of a continuation, in run order (as ``rotaflex sweep --continuation``)
 DIRECTIONS = ("up", "down")
@@ -272,3 +272,28 @@ def sweep_steady(model, torque: float, speeds_rpm, *, directions=DIRECTIONS, iso
 
     points = continuation(point, speeds, directions)
     return sweep_dataset(points, speeds, directions, system, torque, iso=iso, started=t0)
+
+
+class LateProgress:
+    """A :class:`~rotaflex.core.progress.Progress` that appears only once a run has taken
+    :attr:`AFTER` seconds (a run of a second or two shows nothing)."""
+
+    #: seconds before the first progress line
+    AFTER = 3.0
+
+    def __init__(self, desc: str, enabled: bool = True):
+        self.desc, self.enabled, self.done, self.bar = desc, enabled, 0, None
+        self.t0 = time.perf_counter()
+
+    def update(self, done: float, total: float, unit: str) -> None:
+        self.done = done
+        if self.bar is None and self.enabled and time.perf_counter() - self.t0 >= self.AFTER:
+            from rotaflex.core.progress import Progress
+
+            self.bar = Progress(total, self.desc, unit)
+        if self.bar is not None:
+            self.bar.update(done, total)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
