@@ -30,12 +30,13 @@ import numpy as np
 from rotaflex.gear.models.chain import (
     OperatingPoint,
     TorsionalSystem,
+    iso_input,
     natural_frequencies,
     steady_state,
 )
 from rotaflex.gear.models.mesh_stiffness import mesh_table_from_static
 from rotaflex.gear.pair.geometry import GearGeometry, contact_ratio
-from rotaflex.gear.solvers.speed_sweep import iso_input, speed_sweep
+from rotaflex.gear.solvers.steady_driver import sweep_steady
 from rotaflex.gear.static.tooth_analysis import iso6336_stiffness, mesh_stiffness
 
 G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047625, root_radius=0.04048)
@@ -80,7 +81,7 @@ def main(out_dir=None):
     iso = iso_input(system, TORQUE, G.face_width, eps, c_single=iso_c["c_single"] * 1e9, f_pb_eff=5e-6, f_f_eff=4e-6)
     speeds = np.linspace(2000.0, 22000.0, 40)
     t = time.perf_counter()
-    sw = speed_sweep(system, TORQUE, speeds, iso=iso)
+    sw = sweep_steady(system, TORQUE, speeds, iso=iso)
     wall = time.perf_counter() - t
     ds = sw.dataset
     print(

@@ -26,7 +26,7 @@ from rotaflex.gear.models.mesh_stiffness import loaded_mesh_table
 from rotaflex.gear.models.window import build_window_model
 from rotaflex.gear.pair.geometry import GearGeometry, center_distance_no_backlash
 from rotaflex.gear.pair.tooth_mesh import build_tooth_mesh
-from rotaflex.gear.solvers.speed_sweep import speed_sweep
+from rotaflex.gear.solvers.steady_driver import sweep_steady
 from rotaflex.gear.solvers.window_run import steady_state
 from rotaflex.gear.static.loaded_te import pair_line
 
@@ -59,9 +59,9 @@ def main():
         )
     speeds = np.linspace(2000.0, 22000.0, 40)
     t = time.perf_counter()
-    sw = speed_sweep(models[0], TORQUE, speeds)
+    sw = sweep_steady(models[0], TORQUE, speeds)
     wall = time.perf_counter() - t
-    lumped = speed_sweep(system, TORQUE, speeds).dataset
+    lumped = sweep_steady(system, TORQUE, speeds).dataset
     print(f"40-speed up-and-down sweep, massless teeth: {wall:.2f} s (target 180 s); {sw.message}")
     ds = sw.dataset
     print(" speed  Kv_up Kv_down  lumped_up  DTEpp_up[um] lumped  loss_up  sigma_F1max[MPa]")

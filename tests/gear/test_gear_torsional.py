@@ -10,12 +10,13 @@ from rotaflex.gear.models.chain import (
     OperatingPoint,
     TorsionalSystem,
     energy_balance,
+    iso_input,
     natural_frequencies,
     simulate,
     steady_state,
 )
 from rotaflex.gear.models.mesh_stiffness import contact_pattern_mesh, harmonic_mesh
-from rotaflex.gear.solvers.speed_sweep import iso_input, speed_sweep
+from rotaflex.gear.solvers.steady_driver import sweep_steady
 
 RB = 0.04177  # base radius of the paper's 28-tooth gears [m]
 J = 2.965e-4  # disk inertia [kg m^2]
@@ -87,7 +88,7 @@ def test_resonance_peak_at_sqrt_k_over_m():
     )
     n_res = 60 * math.sqrt(K * RB**2 / J) / (2 * math.pi) / 28
     speeds = n_res * np.linspace(0.97, 1.03, 31)
-    sw = speed_sweep(sys, 300.0, speeds, directions=("up",), tol=1e-6, max_cycles=3000)
+    sw = sweep_steady(sys, 300.0, speeds, directions=("up",), tol=1e-6, max_cycles=3000)
     assert sw.dataset["contact_loss_fraction"].values.max() == 0.0
     peak = speeds[int(np.argmax(sw.dataset["dte_h1"].values[0]))]
     assert peak == pytest.approx(n_res, rel=0.0021)  # within one 0.2 % grid step
@@ -156,12 +157,12 @@ def test_contact_loss_jump_at_resonance_and_no_jump_when_load_dominates():
     (25 um) the response stays in contact and both sweeps agree."""
     sys = TorsionalSystem(mesh=harmonic_mesh(K, (), (1e-6,)), base_radius=(RB, RB))
     speeds = np.linspace(8000.0, 14000.0, 16)
-    light = speed_sweep(sys, 20.0, speeds)
+    light = sweep_steady(sys, 20.0, speeds)
     kv = light.dataset["dynamic_factor"].values
     assert light.hysteresis() > 0.5
     assert np.max(np.diff(kv[0])) > 0.5  # the up sweep jumps up onto the contact-loss branch
     assert light.dataset["contact_loss_fraction"].values.max() > 0.3
-    heavy = speed_sweep(sys, 200.0, speeds)
+    heavy = sweep_steady(sys, 200.0, speeds)
     assert heavy.hysteresis() < 0.01
     assert heavy.dataset["contact_loss_fraction"].values.max() == 0.0
 
@@ -189,7 +190,7 @@ def test_not_periodic_is_reported_with_the_change():
 def test_iso_overlay_and_figures():
     sys = TorsionalSystem(mesh=contact_pattern_mesh(1.2e8, 1.64), base_radius=(RB, RB))
     iso = iso_input(sys, 22.25, 6.35e-3, 1.64, f_pb_eff=5e-6)
-    sw = speed_sweep(sys, 22.25, [4000.0, 6000.0], iso=iso)
+    sw = sweep_steady(sys, 22.25, [4000.0, 6000.0], iso=iso)
     assert np.all(sw.dataset["iso_kv"].values > 1.0)
     figs = sw.plot()
     line = figs["speed_sweep"].axes[0].lines[0]
@@ -211,7 +212,7 @@ def test_bad_input():
     with pytest.raises(InputError, match="mesh.stiffness"):
         harmonic_mesh(-1.0)
     with pytest.raises(InputError, match="speeds_rpm"):
-        speed_sweep(_one_dof(), 10.0, [3000.0, 2000.0])
+        sweep_steady(_one_dof(), 10.0, [3000.0, 2000.0])
 
 
 def test_case_from_toml_point_and_sweep():

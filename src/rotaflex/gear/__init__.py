@@ -18,9 +18,11 @@ registry) -> ``results`` (xarray dataset, figures, files).
                (reduced), ``chain`` and ``window`` (steady models), ``arrays`` (named tuples)
 ``solvers/``   ``registry`` (METHODS: name -> integrator; ``rotaflex gear methods`` lists it),
                ``drive_loop`` (chunked loop, status -> error, SolverOutput), ``steady_driver``
-               (the run-until-periodic loop of both steady methods), ``window_run``, ``speed_sweep``
+               (the run-until-periodic loop of both steady methods, the continuation loop of
+               speed sweeps), ``window_run``
 ``results/``   ``transient`` (gear simulate dataset + figures), ``steady`` (periodicity, cycle
-               metrics), ``post`` (TE, fillet stress), ``export`` (VTU), ``sweep_figures``
+               metrics), ``steady_sweep`` (speed-sweep dataset and figure), ``post`` (TE, fillet
+               stress), ``export`` (VTU), ``sweep_figures``
 ``cases/``     thin verbs: ``simulate`` (+ ``simulate_config``), ``static``, ``steady``
 
 Public names (lazy; ``import rotaflex`` does not import this package): :class:`GearMesh`,

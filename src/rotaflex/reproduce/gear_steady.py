@@ -57,7 +57,7 @@ def comparison(dom: Path, *, fast: bool = False) -> FigureEntry:
     from rotaflex.gear.pair.geometry import ProfileRelief, center_distance_no_backlash
     from rotaflex.gear.pair.tooth_mesh import build_tooth_mesh
     from rotaflex.gear.solvers import window_run as wr
-    from rotaflex.gear.solvers.speed_sweep import speed_sweep
+    from rotaflex.gear.solvers.steady_driver import sweep_steady
     from rotaflex.gear.static.loaded_te import loaded_te, pair_line
     from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
@@ -72,11 +72,11 @@ def comparison(dom: Path, *, fast: bool = False) -> FigureEntry:
     window = build_window_model(own, line, (mesh, mesh), (RHO, RHO))
     speeds = np.linspace(2000.0, 22000.0, 20 if fast else 40)
     sw = {
-        "lumped (gear static table)": speed_sweep(lumped, torque, speeds).dataset,
-        "elastic teeth, massless": speed_sweep(window, torque, speeds).dataset,
+        "lumped (gear static table)": sweep_steady(lumped, torque, speeds).dataset,
+        "elastic teeth, massless": sweep_steady(window, torque, speeds).dataset,
     }
     if not fast:
-        sw["elastic teeth, 3 tooth modes"] = speed_sweep(
+        sw["elastic teeth, 3 tooth modes"] = sweep_steady(
             build_window_model(own, line, (mesh, mesh), (RHO, RHO), n_modes=3), torque, speeds
         ).dataset
 
@@ -103,7 +103,10 @@ def comparison(dom: Path, *, fast: bool = False) -> FigureEntry:
     )
     sp = np.arange(11000.0, 20001.0, 500.0 if not fast else 1000.0)
     up = ("up",)
-    dl, dw = speed_sweep(lin_l, light, sp, directions=up).dataset, speed_sweep(lin_w, light, sp, directions=up).dataset
+    dl, dw = (
+        sweep_steady(lin_l, light, sp, directions=up).dataset,
+        sweep_steady(lin_w, light, sp, directions=up).dataset,
+    )
     plain = build_window_model(
         _system(loaded_mesh_table(ll, light / g.base_radius), g, zeta=0.25),
         ll,
@@ -111,7 +114,7 @@ def comparison(dom: Path, *, fast: bool = False) -> FigureEntry:
         (RHO, RHO),
         corner_contact=False,
     )
-    same = speed_sweep(plain, light, sp, directions=up).dataset
+    same = sweep_steady(plain, light, sp, directions=up).dataset
     kv_same = float(np.abs(same.dynamic_factor / dl.dynamic_factor - 1).max())
     peak_l, peak_w = _peak(sp, dl.dte_h1.values[0]), _peak(sp, dw.dte_h1.values[0])
     loss = float(max(dl.contact_loss_fraction.max(), dw.contact_loss_fraction.max()))

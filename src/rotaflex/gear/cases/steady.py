@@ -44,6 +44,7 @@ import dataclasses
 import functools
 import json
 import math
+import time
 from dataclasses import dataclass
 from typing import Literal
 
@@ -57,17 +58,19 @@ from rotaflex.gear.models.chain import (
     OperatingPoint,
     State,
     TorsionalSystem,
+    iso_input,
     natural_frequencies,
 )
 from rotaflex.gear.models.mesh_stiffness import contact_pattern_mesh, mesh_table_from_static
 from rotaflex.gear.pair.drawing import MIN_YOUNGS_MODULUS, PairSpec
 from rotaflex.gear.pair.drawing import GearSpec as DrawingGearSpec
 from rotaflex.gear.pair.geometry import GearGeometry, center_distance_no_backlash, contact_ratio
+from rotaflex.gear.results.steady_sweep import sweep_dataset
 from rotaflex.gear.solvers.registry import METHODS
-from rotaflex.gear.solvers.speed_sweep import iso_input, speed_sweep
+from rotaflex.gear.solvers.steady_driver import LateProgress, continuation
 from rotaflex.gear.static.iso6336_kv import iso_kv
 
-__all__ = ["SCHEMA", "TorsionalCaseConfig", "build_system", "run_torsional", "validate_config"]
+__all__ = ["SCHEMA", "TorsionalCaseConfig", "build_model", "build_system", "run_torsional", "validate_config"]
 
 
 @dataclass(frozen=True)
@@ -316,9 +319,30 @@ class PairData:
     face_width: float
 
 
-@functools.lru_cache(maxsize=8)
+# The caches below are keyed by content: each by a copy of the config that keeps only the parts
+# its data depends on (frozen dataclasses hash and compare by value), so the cases of a sweep
+# over the speed (or any key the data does not depend on) build it once per process.
+def _pair_part(cfg: TorsionalCaseConfig) -> TorsionalCaseConfig:
+    """``cfg`` reduced to what :func:`pair_data` reads: the pair, the FE mesh preset, reliefs."""
+    m = cfg.model
+    return TorsionalCaseConfig(
+        gear=cfg.gear,
+        pinion=cfg.pinion,
+        wheel=cfg.wheel,
+        center_distance=cfg.center_distance,
+        backlash=cfg.backlash,
+        model=ModelSpec(mesh_preset=m.mesh_preset, relief=m.relief),
+    )
+
+
 def pair_data(cfg: TorsionalCaseConfig) -> PairData:
-    """Geometry, meshes and materials of ``cfg``'s pair ([gear] or [pinion]/[wheel])."""
+    """Geometry, meshes and materials of ``cfg``'s pair ([gear] or [pinion]/[wheel]); built once
+    per process for each pair (cached by content)."""
+    return _pair_data(_pair_part(cfg))
+
+
+@functools.lru_cache(maxsize=8)
+def _pair_data(cfg: TorsionalCaseConfig) -> PairData:
     from rotaflex.gear.pair.tooth_mesh import build_tooth_mesh
 
     pair = cfg.pair
@@ -348,15 +372,20 @@ def pair_data(cfg: TorsionalCaseConfig) -> PairData:
     )
 
 
-@functools.lru_cache(maxsize=8)
 def pair_line_of(cfg: TorsionalCaseConfig):
-    """FE pair data along the line of action at the operating torque."""
+    """FE pair data along the line of action at the operating torque (cached by content: the
+    pair, the torque and ``model.n_radii``)."""
+    return _pair_line(_pair_part(cfg), cfg.operation.torque, cfg.model.n_radii)
+
+
+@functools.lru_cache(maxsize=8)
+def _pair_line(pair_cfg: TorsionalCaseConfig, torque: float, n_radii: int):
     from rotaflex.gear.static.loaded_te import pair_line
 
-    pd = pair_data(cfg)
+    pd = _pair_data(pair_cfg)
     g1, g2 = pd.gears
-    force = cfg.operation.torque / g2.base_radius
-    return pair_line(g1, g2, *pd.meshes, pd.center_distance, force, pd.elastic, cfg.model.n_radii)
+    force = torque / g2.base_radius
+    return pair_line(g1, g2, *pd.meshes, pd.center_distance, force, pd.elastic, n_radii)
 
 
 @functools.lru_cache(maxsize=8)
@@ -425,6 +454,45 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
         **_bearing_keys(cfg),
     )
     return sys, eps
+
+
+def build_model(cfg: TorsionalCaseConfig):
+    """``(system, contact ratio, model)`` of ``cfg``: the torsional system and the model the
+    method runs (the system itself, or the elastic-tooth window model around it). Built once per
+    process for each model (cached by content: ``cfg`` without the operating speed, start-up
+    ramp, [steady], [sweep] and [iso], which the model does not depend on), so the cases of a
+    speed sweep share it."""
+    op = cfg.operation
+    default = OperationSpec()
+    key = dataclasses.replace(
+        cfg,
+        operation=dataclasses.replace(op, speed_rpm=default.speed_rpm, ramp_cycles=default.ramp_cycles),
+        steady=SteadySpec(),
+        sweep=SweepSpec(),
+        iso=IsoSpec(),
+    )
+    return _built_model(key)
+
+
+@functools.lru_cache(maxsize=4)
+def _built_model(cfg: TorsionalCaseConfig):
+    sys, eps = build_system(cfg)
+    if cfg.model.method != "elastic_teeth":
+        return sys, eps, sys
+    from rotaflex.gear.models.window import build_window_model
+
+    pd = pair_data(cfg)
+    m = cfg.model
+    model = build_window_model(
+        sys,
+        pair_line_of(cfg),
+        pd.meshes,
+        pd.densities,
+        n_modes=m.n_modes,
+        tooth_damping_ratio=m.tooth_damping_ratio,
+        corner_contact=m.corner_contact,
+    )
+    return sys, eps, model
 
 
 def _bearing_keys(cfg: TorsionalCaseConfig) -> dict:
@@ -664,23 +732,8 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
             "empty when a case continues from a previous state (sweep operation.speed_rpm instead)",
         )
     state = None if initial_state is None else _state_of(initial_state)
-    sys, eps = build_system(cfg)
+    sys, eps, model = build_model(cfg)
     face_width = cfg.gear.face_width if cfg.pair is None else pair_data(cfg).face_width
-    model = sys
-    if cfg.model.method == "elastic_teeth":
-        from rotaflex.gear.models.window import build_window_model
-
-        pd = pair_data(cfg)
-        m = cfg.model
-        model = build_window_model(
-            sys,
-            pair_line_of(cfg),
-            pd.meshes,
-            pd.densities,
-            n_modes=m.n_modes,
-            tooth_damping_ratio=m.tooth_damping_ratio,
-            corner_contact=m.corner_contact,
-        )
     if state is not None and isinstance(model, TorsionalSystem) == hasattr(state, "modal"):
         raise InputError("initial_state", "a final_state()", f"one of the same model.method ({cfg.model.method})")
     if state is not None and len(state.theta) != len(names := _node_names(sys, cfg)):
@@ -699,21 +752,24 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
         steps_per_cycle=s.steps_per_cycle,
     )
     op = cfg.operation
+    bar = LateProgress("gear steady", enabled=progress)
     if len(cfg.sweep.speeds_rpm) >= 2:
+        t0 = time.perf_counter()
+        speeds, directions = np.asarray(cfg.sweep.speeds_rpm, dtype=float), cfg.sweep.directions
+        n_points = len(speeds) * len(directions)
+
+        def point(rpm, st):  # the steady state a `rotaflex sweep --continuation` case runs
+            at = dataclasses.replace(cfg, operation=dataclasses.replace(op, speed_rpm=rpm), sweep=SweepSpec())
+            out = _steady_point(at, sys, eps, model, face_width, st, kw)
+            bar.update(bar.done + 1, n_points, "speed")
+            return out
+
         iso = _iso_data(cfg, sys, eps, face_width)
-        res = speed_sweep(model, op.torque, cfg.sweep.speeds_rpm, directions=cfg.sweep.directions, iso=iso, **kw)
+        points = continuation(point, speeds, directions)
+        res = sweep_dataset(points, speeds, directions, sys, op.torque, iso=iso, started=t0)
     else:
-        settings = dict(kw, op=OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state)
-        res, st = METHODS[cfg.model.method](model, settings)
-        _point_extras(res, sys, st, cfg, eps, face_width)
-        ds = res.dataset
-        kv, n_res = float(ds["dynamic_factor"]), float(ds["resonance_speed"])
-        if cfg.model.method == "lumped" and op.speed_rpm < 0.25 * n_res and kv > LOW_SPEED_KV:
-            ds.attrs["message"] += (
-                f"; note: K_v {kv:.3f} far below the resonance ({n_res:.0f} rpm) comes from the lumped "
-                "mesh spring's step response where the stiffness changes between one and two pairs; "
-                "model.method = 'elastic_teeth' resolves each pair's engagement (docs/gear-steady-state.md)"
-            )
+        res, _ = _steady_point(cfg, sys, eps, model, face_width, state, kw, progress=bar)
+    bar.close()
     res.dataset["iso_tip_relief"] = (
         (),
         _iso_tip_relief(cfg),
@@ -722,3 +778,24 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
     res.dataset.attrs["config"] = json.dumps(to_mapping(cfg))
     res.dataset.attrs["method"] = cfg.model.method
     return res
+
+
+def _steady_point(cfg: TorsionalCaseConfig, sys, eps, model, face_width, state, kw, progress=None):
+    """One steady state of ``cfg`` from ``state`` (None: static equilibrium): the one path of a
+    single point, of each case of ``rotaflex sweep --continuation`` and of each speed of an
+    in-process ``[sweep]``. Returns the result and its final state."""
+    op = cfg.operation
+    settings = dict(kw, op=OperatingPoint(op.speed_rpm, op.torque, op.ramp_cycles), state=state)
+    if progress is not None:
+        settings["progress"] = lambda done, total: progress.update(done, total, "mesh cycle")
+    res, st = METHODS[cfg.model.method](model, settings)
+    _point_extras(res, sys, st, cfg, eps, face_width)
+    ds = res.dataset
+    kv, n_res = float(ds["dynamic_factor"]), float(ds["resonance_speed"])
+    if cfg.model.method == "lumped" and op.speed_rpm < 0.25 * n_res and kv > LOW_SPEED_KV:
+        ds.attrs["message"] += (
+            f"; note: K_v {kv:.3f} far below the resonance ({n_res:.0f} rpm) comes from the lumped "
+            "mesh spring's step response where the stiffness changes between one and two pairs; "
+            "model.method = 'elastic_teeth' resolves each pair's engagement (docs/gear-steady-state.md)"
+        )
+    return res, st

@@ -43,9 +43,8 @@ from rotaflex.core.config import param
 from rotaflex.core.errors import DivergenceError, InputError
 from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.kernels.chain import ChainArgs, MeshArgs, run_rk4
-from rotaflex.gear.models.mesh_stiffness import (
-    MeshTable,
-)
+from rotaflex.gear.models.mesh_stiffness import MeshTable
+from rotaflex.gear.static.iso6336_kv import IsoKvInput, reduced_mass_per_width
 
 __all__ = [
     "Chain",
@@ -57,6 +56,7 @@ __all__ = [
     "continue_from",
     "energy_balance",
     "initial_state",
+    "iso_input",
     "natural_frequencies",
     "resonance_speeds_rpm",
     "run_cycles",
@@ -328,6 +328,46 @@ def resonance_speeds_rpm(sys: TorsionalSystem, orders=(1, 2, 3), min_mesh_energy
         if max(en, de) >= min_mesh_energy:
             out += [(h, float(f), 60.0 * f / (h * sys.teeth[0])) for h in orders]
     return out
+
+
+def iso_input(
+    sys: TorsionalSystem,
+    torque: float,
+    face_width: float,
+    contact_ratio: float,
+    *,
+    c_single: float | None = None,
+    c_gamma_alpha: float | None = None,
+    reference_radius: float | None = None,
+    f_pb_eff: float = 0.0,
+    f_f_eff: float = 0.0,
+    tip_relief: float = 0.0,
+    application_factor: float = 1.0,
+) -> IsoKvInput:
+    """ISO 6336-1 method B data for the torsional model's pair.
+
+    ``m_red`` from the gears' inertias and base radii; ``K_A F_t / b`` with ISO's nominal
+    tangential load at the wheel's *reference* circle, ``F_t = T_out / r_2``
+    (``reference_radius``; default ``r_b2 / cos 20 deg``). The stiffnesses [N/m^2] are ISO's own
+    when given (``c_single``, ``c_gamma_alpha``, e.g. from
+    :func:`rotaflex.gear.static.tooth_analysis.iso6336_stiffness`); otherwise ``c_gamma_alpha = k_mean / b``
+    (the model's mean mesh stiffness) and ``c' = c_gamma_alpha / (0.75 eps_alpha + 0.25)``
+    (ISO's relation between the two).
+    """
+    c_g = sys.mesh.mean_stiffness / face_width if c_gamma_alpha is None else c_gamma_alpha
+    c1 = c_g / (0.75 * contact_ratio + 0.25) if c_single is None else c_single
+    r2 = sys.base_radius[1] / np.cos(np.radians(20.0)) if reference_radius is None else reference_radius
+    return IsoKvInput(
+        z1=int(sys.teeth[0]),
+        c_single=c1,
+        c_gamma_alpha=c_g,
+        m_red=reduced_mass_per_width(sys.inertia, sys.base_radius, face_width),
+        load_per_width=application_factor * torque / r2 / face_width,
+        eps_gamma=contact_ratio,
+        f_pb_eff=f_pb_eff,
+        f_f_eff=f_f_eff,
+        tip_relief=tip_relief,
+    )
 
 
 # ------------------------------------------------------------------------------ integration

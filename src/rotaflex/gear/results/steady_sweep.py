@@ -1,10 +1,14 @@
-"""Speed sweeps of the torsional gear model with continuation, and the K_v / DTE figure.
+"""Speed sweeps of the steady gear models: the dataset of a continuation and its figure.
 
-Each speed starts from the previous speed's steady state (angles and vibration velocities
-kept, mean speeds moved to the new value), first upwards through ``speeds_rpm``, then
-downwards from the top state. Where contact loss makes the response multi-valued (a softening
-resonance), the two directions follow different branches: the hysteresis and the jumps show
-as the difference between ``direction = "up"`` and ``"down"``.
+:func:`sweep_dataset` turns the steady states of a continuation
+(:func:`rotaflex.gear.solvers.steady_driver.continuation`: up through the speeds, then down from
+the top state) into one dataset, dims ``direction`` x ``speed`` [rpm]: every steady-state metric,
+``change``, ``period_cycles``, ``converged`` (periodic within tol), the natural frequencies
+``natural_frequency`` [Hz], the resonance speeds ``resonance_speed`` [rpm] (mesh orders 1-3 of
+the mesh modes), ``n_not_periodic``, and with an ISO input the ISO 6336-1 method B ``iso_kv``.
+Where contact loss makes the response multi-valued (a softening resonance) the two directions
+follow different branches: the hysteresis and the jumps show as the difference between ``up``
+and ``down``.
 """
 
 from __future__ import annotations
@@ -14,126 +18,57 @@ import time
 
 import numpy as np
 
-from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result, register_result
-from rotaflex.gear.models.chain import (
-    OperatingPoint,
-    TorsionalSystem,
-    natural_frequencies,
-    resonance_speeds_rpm,
-)
 from rotaflex.gear.results.steady import METRIC_UNITS
-from rotaflex.gear.solvers.registry import METHODS
-from rotaflex.gear.static.iso6336_kv import IsoKvInput, iso_kv, reduced_mass_per_width
 
-__all__ = ["SpeedSweepResult", "iso_input", "speed_sweep"]
+__all__ = ["SpeedSweepResult", "sweep_dataset"]
 
+#: per-point scalars of the elastic-teeth model kept in a sweep [Pa]
 FILLET = ("fillet_stress_max_pinion", "fillet_stress_max_wheel")
 
 
-def iso_input(
-    sys: TorsionalSystem,
-    torque: float,
-    face_width: float,
-    contact_ratio: float,
-    *,
-    c_single: float | None = None,
-    c_gamma_alpha: float | None = None,
-    reference_radius: float | None = None,
-    f_pb_eff: float = 0.0,
-    f_f_eff: float = 0.0,
-    tip_relief: float = 0.0,
-    application_factor: float = 1.0,
-) -> IsoKvInput:
-    """ISO 6336-1 method B data for the torsional model's pair.
-
-    ``m_red`` from the gears' inertias and base radii; ``K_A F_t / b`` with ISO's nominal
-    tangential load at the wheel's *reference* circle, ``F_t = T_out / r_2``
-    (``reference_radius``; default ``r_b2 / cos 20 deg``). The stiffnesses [N/m^2] are ISO's own
-    when given (``c_single``, ``c_gamma_alpha``, e.g. from
-    :func:`rotaflex.gear.static.tooth_analysis.iso6336_stiffness`); otherwise ``c_gamma_alpha = k_mean / b``
-    (the model's mean mesh stiffness) and ``c' = c_gamma_alpha / (0.75 eps_alpha + 0.25)``
-    (ISO's relation between the two).
-    """
-    c_g = sys.mesh.mean_stiffness / face_width if c_gamma_alpha is None else c_gamma_alpha
-    c1 = c_g / (0.75 * contact_ratio + 0.25) if c_single is None else c_single
-    r2 = sys.base_radius[1] / np.cos(np.radians(20.0)) if reference_radius is None else reference_radius
-    return IsoKvInput(
-        z1=int(sys.teeth[0]),
-        c_single=c1,
-        c_gamma_alpha=c_g,
-        m_red=reduced_mass_per_width(sys.inertia, sys.base_radius, face_width),
-        load_per_width=application_factor * torque / r2 / face_width,
-        eps_gamma=contact_ratio,
-        f_pb_eff=f_pb_eff,
-        f_f_eff=f_f_eff,
-        tip_relief=tip_relief,
-    )
-
-
-def speed_sweep(
-    sys: TorsionalSystem,
-    torque: float,
-    speeds_rpm,
-    *,
-    directions=("up", "down"),
-    iso: IsoKvInput | None = None,
-    **steady_kw,
-):
-    """Steady state at each speed, with continuation, up and then down.
+def sweep_dataset(points, speeds, directions, system, torque: float, *, iso=None, started: float | None = None):
+    """The :class:`SpeedSweepResult` of a continuation's steady states.
 
     Parameters
     ----------
-    sys : TorsionalSystem or WindowModel
-        The lumped model, or the elastic-tooth window model (:mod:`~.window`; adds
-        ``fillet_stress_max_pinion`` / ``_wheel``).
+    points : iterable of (int, int, SteadyStateResult)
+        ``(direction index, speed index, result)`` as
+        :func:`~rotaflex.gear.solvers.steady_driver.continuation` yields them.
+    speeds : ndarray
+        Pinion speeds [rpm], ascending.
+    directions : sequence of {"up", "down"}
+    system : TorsionalSystem
+        The chain (natural frequencies and resonance speeds).
     torque : float
         Output torque [N m].
-    speeds_rpm : array_like
-        Pinion speeds [rpm], ascending, > 0.
-    directions : sequence of {"up", "down"}
     iso : IsoKvInput, optional
         Adds the ISO 6336-1 method B K_v at each speed (``iso_kv``) for the figure.
-    **steady_kw
-        Passed to :func:`rotaflex.gear.models.chain.steady_state` (tol, eval_cycles, ...).
+    started : float, optional
+        ``time.perf_counter()`` at the start of the sweep (``wall_time`` attribute; else 0).
 
     Returns
     -------
     SpeedSweepResult
-        dims ``direction`` x ``speed`` [rpm]; every steady-state metric, ``change``,
-        ``period_cycles``, ``converged`` (periodic within tol); ``natural_frequency`` [Hz] and
-        the resonance speeds ``resonance_speed`` [rpm] (mesh orders 1-3 of the mesh modes),
-        ``n_not_periodic``. Status "success" once every point ran; points that did not become
-        periodic are named in the message and flagged by ``converged``.
+        Status "success" once every point ran; points that did not become periodic are named
+        in the message and flagged by ``converged``.
     """
     import xarray as xr
 
-    speeds = np.asarray(speeds_rpm, dtype=float)
-    if speeds.ndim != 1 or len(speeds) < 2 or np.any(np.diff(speeds) <= 0) or speeds[0] <= 0:
-        raise InputError("speeds_rpm", list(speeds), "ascending speeds > 0 (at least two)")
-    for d in directions:
-        if d not in ("up", "down"):
-            raise InputError("directions", d, "'up' or 'down'")
-    t0 = time.perf_counter()
-    model, run = sys, METHODS["lumped"]
-    if not isinstance(sys, TorsionalSystem):  # the elastic-tooth window model
-        model, run, sys = sys, METHODS["elastic_teeth"], sys.system
-    names = list(METRIC_UNITS) + ["change", "period_cycles", "cycles_run"]
-    data = {k: np.full((len(directions), len(speeds)), np.nan) for k in names}
+    from rotaflex.gear.models.chain import natural_frequencies, resonance_speeds_rpm
+    from rotaflex.gear.static.iso6336_kv import iso_kv
 
-    state = None
-    for di, d in enumerate(directions):
-        order = range(len(speeds)) if d == "up" else range(len(speeds) - 1, -1, -1)
-        for j in order:
-            op = OperatingPoint(speed_rpm=float(speeds[j]), torque=torque)
-            res, state = run(model, dict(steady_kw, op=op, state=state))
-            for k in names:
-                data[k][di, j] = res.dataset[k].item()
-            for k in FILLET:
-                if k in res.dataset:
-                    data.setdefault(k, np.full((len(directions), len(speeds)), np.nan))[di, j] = res.dataset[k].item()
-    nf = natural_frequencies(sys)
-    res_speeds = resonance_speeds_rpm(sys)
+    shape = (len(directions), len(speeds))
+    names = list(METRIC_UNITS) + ["change", "period_cycles", "cycles_run"]
+    data = {k: np.full(shape, np.nan) for k in names}
+    for di, j, res in points:
+        for k in names:
+            data[k][di, j] = res.dataset[k].item()
+        for k in FILLET:
+            if k in res.dataset:
+                data.setdefault(k, np.full(shape, np.nan))[di, j] = res.dataset[k].item()
+    nf = natural_frequencies(system)
+    res_speeds = resonance_speeds_rpm(system)
     ds = xr.Dataset(
         coords={
             "direction": ("direction", list(directions)),
@@ -172,9 +107,9 @@ def speed_sweep(
     ds.attrs.update(
         status="success",
         message=msg,
-        wall_time=time.perf_counter() - t0,
+        wall_time=0.0 if started is None else time.perf_counter() - started,
         torque=torque,
-        config=json.dumps({"torque": torque, "speeds_rpm": speeds.tolist()}),
+        config=json.dumps({"torque": torque, "speeds_rpm": np.asarray(speeds).tolist()}),
     )
     return SpeedSweepResult(ds)
 
