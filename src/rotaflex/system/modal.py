@@ -17,14 +17,15 @@ import scipy.linalg as sla
 from scipy.optimize import linear_sum_assignment
 
 from rotaflex.core.errors import InputError
-from rotaflex.rotor.fe.modal import mac
+from rotaflex.rotor.fe.modal import EigenvalueView, mac
 from rotaflex.system.assembly import Matrices, matrices, reduced_basis, system_matrices, undamped_modes
 from rotaflex.system.model import Gearbox
 
 
 @dataclass(frozen=True)
-class SystemModes:
-    """Modes at one or more drive speeds (leading dim: speed).
+class SystemModes(EigenvalueView):
+    """Modes at one or more drive speeds (leading dim: speed); frequencies, damping ratio and log
+    decrement from :class:`~rotaflex.rotor.fe.modal.EigenvalueView`.
 
     Attributes
     ----------
@@ -42,18 +43,6 @@ class SystemModes:
     energy: np.ndarray
     mesh_energy: np.ndarray
     groups: list
-
-    @property
-    def wd(self) -> np.ndarray:
-        return self.eigenvalue.imag
-
-    @property
-    def wn(self) -> np.ndarray:
-        return np.abs(self.eigenvalue)
-
-    @property
-    def damping_ratio(self) -> np.ndarray:
-        return -self.eigenvalue.real / np.abs(self.eigenvalue)
 
     @property
     def torsional_fraction(self) -> np.ndarray:

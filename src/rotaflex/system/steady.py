@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.gear.results.steady import detect_period
 from rotaflex.system.assembly import matrices, reduced_basis, system_matrices
 from rotaflex.system.model import Gearbox
 
@@ -103,19 +104,12 @@ def _loads(box: Gearbox, n: int) -> np.ndarray:
     return f
 
 
-def _periodicity(x: np.ndarray, spc: int, scale: float, tol: float) -> tuple[int, float]:
-    """Smallest p in 1..4 with max |x(last cycle) - x(p cycles before)| / scale <= tol, and that
-    change (p = 0 and the smallest change if none)."""
-    changes = []
-    for p in range(1, 5):
-        if x.shape[0] < (p + 1) * spc:
-            break
-        a, b = x[-spc:], x[-(p + 1) * spc : -p * spc]
-        changes.append(float(np.max(np.abs(a - b)) / scale))
-    for p, c in enumerate(changes, 1):
-        if c <= tol:
-            return p, c
-    return 0, (min(changes) if changes else np.inf)
+def _periodicity(dte: np.ndarray, spc: int, scale: float, tol: float) -> tuple[int, float]:
+    """(period, change) of the DTE history (whole cycles, oldest first) by the cycle comparison
+    of gear steady (:func:`rotaflex.gear.results.steady.detect_period`, periods 1 ... 4, the last
+    p cycles against the p before, relative to ``scale``); only the last 8 cycles are read."""
+    per = detect_period(dte[-8 * spc :], spc, tol, max_period=4, scale=scale)
+    return per.period, per.change
 
 
 def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = None, state=None) -> SteadyState:
@@ -201,7 +195,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     nu = wm / (2 * np.pi)
     ms = Meshes(ck, ce, nu, phase0, mats.c_mesh.copy(), np.array([m.backlash for m in box.meshes]), kmean, varying)
     static_force = np.array([m.gear.torque / m.gear.base_radius[0] for m in box.meshes])
-    scale = float(np.max(static_force / kmean))
+    scale = float(np.max(static_force / kmean))  # the largest static deflection
     hist = {k: [] for k in ("dte", "d", "F", "E", "P")}
     t0, cycles, period, change = 0.0, 0, 0, np.inf
     block = st.check_every
@@ -227,7 +221,8 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     energy = np.concatenate([*hist["E"], E_e])
     power = np.concatenate([*hist["P"], P_e])
     if period == 0:  # the evaluated cycles may show a period the last block did not
-        period, change = _periodicity(np.concatenate([dte, dte_e[1:, 0]]), spc, scale, st.tol)
+        # dte_e[0] is the state the last block ended in (not in ``dte``): whole cycles, no gap
+        period, change = _periodicity(np.concatenate([dte, dte_e[:-1, 0]]), spc, scale, st.tol)
     # bearing forces from the physical displacements of the evaluated cycles
     Tfull = np.zeros((box.n_dof, r))
     Tfull[free] = P
