@@ -21,6 +21,7 @@ from rotaflex.core.errors import InputError
 from rotaflex.gear.results.steady import detect_period
 from rotaflex.system.assembly import matrices, reduced_basis, system_matrices
 from rotaflex.system.model import Gearbox
+from rotaflex.system.size import DEFAULT_MAX_STEPS, check_assembly, check_steady
 
 
 @dataclass(frozen=True)
@@ -36,6 +37,7 @@ class SteadySettings:
     cutoff: float = 4.0
     harmonics: int = 3
     stiffness: str | None = None  # None: each mesh's own setting; "mean" / "varying" for all
+    max_steps: int = DEFAULT_MAX_STEPS  # refuse runs that may take more RK4 steps
 
 
 @dataclass(frozen=True)
@@ -124,6 +126,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         raise InputError("gear_mesh", [], "at least one [[gear_mesh]] for a steady state")
     if not speed > 0:
         raise InputError("steady.speed_rpm", speed * 30 / np.pi, "a drive speed > 0 rpm")
+    check_assembly(box)
     mats = matrices(box)
     free = mats.free
     nm = len(box.meshes)
@@ -172,6 +175,8 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     if not st.steps_per_cycle and any(t.interpolation == "linear" for t in tabs):
         spc = int(np.ceil(spc / n_tab)) * n_tab  # steps on the table's points: its jumps resolved
     dt = T / spc
+    n_brg = sum(len(pr.rotor.bearings) for pr in box.rotors)
+    check_steady(st, spc, r, nm, n_brg, st.max_steps)
     kmean = mats.k_mean.copy()
     # initial state: static under the load with the mean stiffness and mean TE, or the given one
     if state is None:
@@ -209,7 +214,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         cycles += block
         if not np.all(np.isfinite(x)):
             raise InputError("steady.steps_per_cycle", spc, "more steps per cycle (the integration diverged)")
-        dte = np.concatenate(hist["dte"])[:, 0]
+        dte = np.concatenate(hist["dte"][-(8 // block + 2) :])[:, 0]  # >= the 8 cycles the test reads
         period, change = _periodicity(dte, spc, scale, st.tol)
         if (cycles >= st.min_cycles and change <= st.tol) or cycles >= st.max_cycles:
             break
