@@ -182,8 +182,9 @@ def _timed_case(log, config, **kw):
 
 
 def test_case_files_are_written_while_the_next_case_runs(tmp_path, monkeypatch):
-    """The writer thread: with writes slowed to 0.3 s, the next case starts before the
-    previous case's files are written, and every case is written, in the order it finished."""
+    """The writer thread: with writes slowed to 0.3 s, case 3 (handed out once cases 1 and 2,
+    the serial executor's window, came back) starts before case 2's files are written; every
+    case is written."""
     import functools
 
     from rotaflex.sweep import runner
@@ -203,11 +204,12 @@ def test_case_files_are_written_while_the_next_case_runs(tmp_path, monkeypatch):
     assert res.n_failed == 0
     t = {(kind, x): when for kind, x, when in log}
     assert t[("case", 2.0)] < t[("written", 1.0)] and t[("case", 3.0)] < t[("written", 2.0)]
-    assert [x for kind, x, _ in log if kind == "written"] == [1.0, 2.0, 3.0]
+    assert sorted(x for kind, x, _ in log if kind == "written") == [1.0, 2.0, 3.0]
     assert all((tmp_path / "cases" / c.id / "case.json").exists() for c in cases)
 
 
 def test_a_failed_write_ends_the_sweep_with_its_error(tmp_path, monkeypatch):
+    """A write error on the writer thread ends the sweep with that error; nothing queued after it is written."""
     from rotaflex.sweep import runner
 
     store = runner._store
@@ -221,5 +223,5 @@ def test_a_failed_write_ends_the_sweep_with_its_error(tmp_path, monkeypatch):
     cases = grid_cases({"x": 1.0, "y": 0.5}, {"x": [1.0, 2.0, 3.0, 4.0]})
     with pytest.raises(OSError, match="No space left"):
         run_sweep(run_case, cases, "serial", out_dir=tmp_path, figures=False)
-    assert (tmp_path / "cases" / cases[0].id / "case.json").exists()
-    assert not (tmp_path / "cases" / cases[1].id / "case.json").exists()
+    # the serial executor hands out 2 cases at a time: 3 and 4 are queued after the failure
+    assert not any((tmp_path / "cases" / c.id / "case.json").exists() for c in cases[1:])

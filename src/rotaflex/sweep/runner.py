@@ -1,7 +1,7 @@
 """Run the cases of a sweep over a ``concurrent.futures.Executor``; write one directory per case.
 
 The client (this process) submits ``execute_case(case_fn, case.data)`` to the executor, and
-a writer thread of the client writes every finished case, in the order they finished, to
+a writer thread of the client writes every finished case, in the order the client collects them, to
 ``out_dir/cases/<id>/`` (``result.nc`` and ``summary.json`` via :meth:`Result.save`, then
 ``case.json``, the marker that the case is done) while the next cases are handed out.
 A re-run skips the cases whose marker says done; cases that raised are recorded in
@@ -379,7 +379,7 @@ def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, ca
 
 class _Writer:
     """Writes finished cases (``store(case, outcome, attempts)``) on one background thread, in
-    the order they finished, so that the client hands a chain its next case at once instead of
+    the order the client collected them, so that the client hands a chain its next case at once instead of
     after ~0.3-1 s of NetCDF encoding and file writes per case (the workers wait for the client
     otherwise). The first error of a write (e.g. a full disk) is raised in the client at its next
     :meth:`put` or at :meth:`close`; the cases after it are not written, as before."""
