@@ -105,10 +105,15 @@ def matrices(box: Gearbox) -> Matrices:
     if box.load is not None and box.spec.load is not None and box.spec.load.damping > 0:
         i = box.torsion_dof(*box.load)
         C0[i, i] = box.spec.load.damping
-    free = np.arange(n)
+    return Matrices(M, K0, C0, Gs, g, k, c, free_dofs(box))
+
+
+def free_dofs(box: Gearbox) -> np.ndarray:
+    """Indices of the DOFs solved for: all but the drive node's twist under a constant-speed drive."""
+    free = np.arange(box.n_dof)
     if box.drive_kind == "constant_speed" and box.drive is not None:
         free = np.delete(free, box.torsion_dof(*box.drive))
-    return Matrices(M, K0, C0, Gs, g, k, c, free)
+    return free
 
 
 def bearing_matrices(box: Gearbox, drive_speed: float) -> tuple[np.ndarray, np.ndarray]:

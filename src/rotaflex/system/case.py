@@ -22,6 +22,7 @@ import xarray as xr
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
 from rotaflex.system.model import MODEL_KEYS, RPM, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
+from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
 
 
 @dataclass(frozen=True)
@@ -76,6 +77,9 @@ class SteadySpec:
     cutoff: float = param(4.0, gt=0, doc="keep modes below cutoff x the highest mesh harmonic")
     harmonics: int = param(3, ge=1, doc="mesh harmonics the basis must carry")
     stiffness: Literal["mesh", "mean", "varying"] = param("mesh", doc="mesh: each [[gear_mesh]]'s own setting")
+    max_steps: int = param(
+        DEFAULT_MAX_STEPS, ge=1, doc="refuse a run that may take more RK4 steps ((max_cycles + eval_cycles) x steps)"
+    )
 
 
 ANALYSES = {"modal": ModalSpec, "campbell": CampbellSpec, "response": ResponseSpec, "steady": SteadySpec}
@@ -167,13 +171,15 @@ def _attrs(config, t0, extra, message):
 
 def run_modal(config: dict, *, progress: bool = False):
     """Coupled modes at ``[modal] speed_rpm`` with the energy split of each mode."""
+    from rotaflex.system.assembly import free_dofs
     from rotaflex.system.modal import modal
     from rotaflex.system.results import SystemModalResult
 
     t0 = time.perf_counter()
     box, spec = parse(config, "modal")
     w = _speed(box, spec.speed_rpm, "modal")
-    m = modal(box, w, spec.n_modes)
+    n_modes, note = clamp_modes(spec.n_modes, free_dofs(box).size, "modal.n_modes")
+    m = modal(box, w, n_modes)
     nm = m.eigenvalue.shape[1]
     ds = xr.Dataset(
         {
@@ -196,10 +202,12 @@ def run_modal(config: dict, *, progress: bool = False):
         extra[f"mode_{k}_torsional_fraction"] = {"value": float(m.torsional_fraction[0, k]), "unit": "1"}
     k_mesh = int(np.argmax(m.mesh_energy[0]))
     extra["mesh_mode"] = {"value": k_mesh, "unit": "", "frequency_hz": float(m.wn[0, k_mesh] / (2 * np.pi))}
+    if note:
+        extra["note"] = {"value": note, "unit": ""}
     msg = (
         f"{nm} coupled modes at {w / RPM:g} rpm; lowest {m.wn[0, 0] / (2 * np.pi):.4g} Hz; "
         f"largest mesh energy: mode {k_mesh} ({m.wn[0, k_mesh] / (2 * np.pi):.4g} Hz, "
-        f"{100 * m.mesh_energy[0, k_mesh]:.0f} %)"
+        f"{100 * m.mesh_energy[0, k_mesh]:.0f} %)" + (f"; {note}" if note else "")
     )
     ds.attrs.update(_attrs(config, t0, extra, msg))
     return SystemModalResult(ds)
@@ -207,13 +215,15 @@ def run_modal(config: dict, *, progress: bool = False):
 
 def run_campbell(config: dict, *, progress: bool = False):
     """Campbell diagram over ``[campbell] speed_rpm`` with mesh-order lines and crossings."""
+    from rotaflex.system.assembly import free_dofs
     from rotaflex.system.modal import campbell
     from rotaflex.system.results import SystemCampbellResult
 
     t0 = time.perf_counter()
     box, spec = parse(config, "campbell")
     speeds = _range(spec.speed_rpm, spec.n_speeds, "campbell")
-    c = campbell(box, speeds, spec.n_modes, spec.harmonics, reduce=spec.reduce)
+    n_modes, note = clamp_modes(spec.n_modes, free_dofs(box).size, "campbell.n_modes")
+    c = campbell(box, speeds, n_modes, spec.harmonics, reduce=spec.reduce)
     m = c.modes
     ds = xr.Dataset(
         {
@@ -229,7 +239,7 @@ def run_campbell(config: dict, *, progress: bool = False):
         },
         coords={
             "speed": ("speed", speeds, {"units": "rad/s"}),
-            "mode": np.arange(spec.n_modes),
+            "mode": np.arange(n_modes),
             "group": m.groups,
             "line": [ln["name"] for ln in c.lines],
         },
@@ -245,10 +255,13 @@ def run_campbell(config: dict, *, progress: bool = False):
         }
         for i, cr in enumerate(mesh_x)
     }
+    if note:
+        extra["note"] = {"value": note, "unit": ""}
     strong = [cr for cr in mesh_x if cr["mesh_energy"] > 0.05]
-    msg = f"{spec.n_modes} modes over {spec.n_speeds} speeds; mesh-order crossings of mesh modes [rpm]: " + (
+    msg = f"{n_modes} modes over {spec.n_speeds} speeds; mesh-order crossings of mesh modes [rpm]: " + (
         ", ".join(f"{cr['speed'] / RPM:.0f} ({cr['line']})" for cr in strong[:8]) or "none"
     )
+    msg += f"; {note}" if note else ""
     ds.attrs.update(_attrs(config, t0, extra, msg))
     ds.attrs["crossings"] = json.dumps(c.crossings)
     return SystemCampbellResult(ds)
@@ -343,6 +356,7 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
         cutoff=spec.cutoff,
         harmonics=spec.harmonics,
         stiffness=None if spec.stiffness == "mesh" else spec.stiffness,
+        max_steps=spec.max_steps,
     )
     s = steady_state(box, w, st, initial_state)
     spc = s.steps_per_cycle

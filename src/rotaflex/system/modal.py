@@ -17,14 +17,23 @@ import scipy.linalg as sla
 from scipy.optimize import linear_sum_assignment
 
 from rotaflex.core.errors import InputError
-from rotaflex.rotor.fe.modal import mac
-from rotaflex.system.assembly import Matrices, matrices, reduced_basis, system_matrices, undamped_modes
+from rotaflex.rotor.fe.modal import EigenvalueView, mac
+from rotaflex.system.assembly import (
+    Matrices,
+    free_dofs,
+    matrices,
+    reduced_basis,
+    system_matrices,
+    undamped_modes,
+)
 from rotaflex.system.model import Gearbox
+from rotaflex.system.size import check_campbell, check_modal
 
 
 @dataclass(frozen=True)
-class SystemModes:
-    """Modes at one or more drive speeds (leading dim: speed).
+class SystemModes(EigenvalueView):
+    """Modes at one or more drive speeds (leading dim: speed); frequencies, damping ratio and log
+    decrement from :class:`~rotaflex.rotor.fe.modal.EigenvalueView`.
 
     Attributes
     ----------
@@ -42,18 +51,6 @@ class SystemModes:
     energy: np.ndarray
     mesh_energy: np.ndarray
     groups: list
-
-    @property
-    def wd(self) -> np.ndarray:
-        return self.eigenvalue.imag
-
-    @property
-    def wn(self) -> np.ndarray:
-        return np.abs(self.eigenvalue)
-
-    @property
-    def damping_ratio(self) -> np.ndarray:
-        return -self.eigenvalue.real / np.abs(self.eigenvalue)
 
     @property
     def torsional_fraction(self) -> np.ndarray:
@@ -155,6 +152,8 @@ def modal(box: Gearbox, speed: float = 0.0, n_modes: int = 12) -> SystemModes:
     --------
     >>> # box = Gearbox.from_toml("examples/system/gearbox.toml"); modal(box, 300.0).wn
     """
+    n_free = free_dofs(box).size
+    check_modal(box.n_dof, n_free, len(box.rotors), "modal.n_modes", n_modes)
     mats = matrices(box)
     lam, v = _solve(box, mats, float(speed), n_modes, None)
     e, me = _energy(box, mats, _stiffness_full(box, mats, speed), v)
@@ -203,8 +202,9 @@ def campbell(
     speeds = np.asarray(speeds, float)
     if speeds.ndim != 1 or speeds.size < 2 or np.any(np.diff(speeds) <= 0):
         raise InputError("campbell.speed_rpm", list(np.round(speeds * 30 / np.pi, 6)), "increasing speeds (>= 2)")
+    nfree = free_dofs(box).size
+    check_campbell(box.n_dof, nfree, len(box.rotors), speeds.size, n_modes, nfree)
     mats = matrices(box)
-    nfree = mats.free.size
     basis = None
     n_cand = min(n_modes + extra, nfree)
     if reduce:

@@ -24,6 +24,7 @@ import numpy as np
 from rotaflex.core.errors import InputError
 from rotaflex.system.assembly import bearing_matrices, matrices, reduced_basis
 from rotaflex.system.model import Gearbox
+from rotaflex.system.size import check_assembly, check_response
 
 
 def te_harmonics(box: Gearbox, mesh: int, n_harmonics: int, excitation: str = "loaded_te") -> np.ndarray:
@@ -89,12 +90,15 @@ def forced_response(
     speeds = np.atleast_1d(np.asarray(speeds, float))
     if not len(box.meshes):
         raise InputError("gear_mesh", [], "at least one [[gear_mesh]] for a TE response")
+    check_assembly(box)
     mats = matrices(box)
     free = mats.free
     nf = free.size
     ns, nm, nh = speeds.size, len(box.meshes), harmonics
     w_max = nh * max(box.mesh_frequency(j, float(np.max(np.abs(speeds)))) for j in range(nm))
     P = np.eye(nf) if cutoff is None else reduced_basis(box, mats, float(np.median(speeds)), w_max, cutoff)
+    n_brg = sum(len(pr.rotor.bearings) for pr in box.rotors)
+    check_response(ns, nh, P.shape[1], nm, n_brg, len(probes), cutoff)
     Tfull = np.zeros((box.n_dof, P.shape[1]))
     Tfull[free] = P
     M = P.T @ mats.M[np.ix_(free, free)] @ P

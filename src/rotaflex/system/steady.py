@@ -18,8 +18,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.gear.results.steady import detect_period
 from rotaflex.system.assembly import matrices, reduced_basis, system_matrices
 from rotaflex.system.model import Gearbox
+from rotaflex.system.size import DEFAULT_MAX_STEPS, check_assembly, check_steady
 
 
 @dataclass(frozen=True)
@@ -35,6 +37,7 @@ class SteadySettings:
     cutoff: float = 4.0
     harmonics: int = 3
     stiffness: str | None = None  # None: each mesh's own setting; "mean" / "varying" for all
+    max_steps: int = DEFAULT_MAX_STEPS  # refuse runs that may take more RK4 steps
 
 
 @dataclass(frozen=True)
@@ -103,19 +106,12 @@ def _loads(box: Gearbox, n: int) -> np.ndarray:
     return f
 
 
-def _periodicity(x: np.ndarray, spc: int, scale: float, tol: float) -> tuple[int, float]:
-    """Smallest p in 1..4 with max |x(last cycle) - x(p cycles before)| / scale <= tol, and that
-    change (p = 0 and the smallest change if none)."""
-    changes = []
-    for p in range(1, 5):
-        if x.shape[0] < (p + 1) * spc:
-            break
-        a, b = x[-spc:], x[-(p + 1) * spc : -p * spc]
-        changes.append(float(np.max(np.abs(a - b)) / scale))
-    for p, c in enumerate(changes, 1):
-        if c <= tol:
-            return p, c
-    return 0, (min(changes) if changes else np.inf)
+def _periodicity(dte: np.ndarray, spc: int, scale: float, tol: float) -> tuple[int, float]:
+    """(period, change) of the DTE history (whole cycles, oldest first) by the cycle comparison
+    of gear steady (:func:`rotaflex.gear.results.steady.detect_period`, periods 1 ... 4, the last
+    p cycles against the p before, relative to ``scale``); only the last 8 cycles are read."""
+    per = detect_period(dte[-8 * spc :], spc, tol, max_period=4, scale=scale)
+    return per.period, per.change
 
 
 def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = None, state=None) -> SteadyState:
@@ -130,6 +126,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         raise InputError("gear_mesh", [], "at least one [[gear_mesh]] for a steady state")
     if not speed > 0:
         raise InputError("steady.speed_rpm", speed * 30 / np.pi, "a drive speed > 0 rpm")
+    check_assembly(box)
     mats = matrices(box)
     free = mats.free
     nm = len(box.meshes)
@@ -178,6 +175,8 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     if not st.steps_per_cycle and any(t.interpolation == "linear" for t in tabs):
         spc = int(np.ceil(spc / n_tab)) * n_tab  # steps on the table's points: its jumps resolved
     dt = T / spc
+    n_brg = sum(len(pr.rotor.bearings) for pr in box.rotors)
+    check_steady(st, spc, r, nm, n_brg, st.max_steps)
     kmean = mats.k_mean.copy()
     # initial state: static under the load with the mean stiffness and mean TE, or the given one
     if state is None:
@@ -201,7 +200,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     nu = wm / (2 * np.pi)
     ms = Meshes(ck, ce, nu, phase0, mats.c_mesh.copy(), np.array([m.backlash for m in box.meshes]), kmean, varying)
     static_force = np.array([m.gear.torque / m.gear.base_radius[0] for m in box.meshes])
-    scale = float(np.max(static_force / kmean))
+    scale = float(np.max(static_force / kmean))  # the largest static deflection
     hist = {k: [] for k in ("dte", "d", "F", "E", "P")}
     t0, cycles, period, change = 0.0, 0, 0, np.inf
     block = st.check_every
@@ -215,7 +214,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         cycles += block
         if not np.all(np.isfinite(x)):
             raise InputError("steady.steps_per_cycle", spc, "more steps per cycle (the integration diverged)")
-        dte = np.concatenate(hist["dte"])[:, 0]
+        dte = np.concatenate(hist["dte"][-(8 // block + 2) :])[:, 0]  # >= the 8 cycles the test reads
         period, change = _periodicity(dte, spc, scale, st.tol)
         if (cycles >= st.min_cycles and change <= st.tol) or cycles >= st.max_cycles:
             break
@@ -227,7 +226,8 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     energy = np.concatenate([*hist["E"], E_e])
     power = np.concatenate([*hist["P"], P_e])
     if period == 0:  # the evaluated cycles may show a period the last block did not
-        period, change = _periodicity(np.concatenate([dte, dte_e[1:, 0]]), spc, scale, st.tol)
+        # dte_e[0] is the state the last block ended in (not in ``dte``): whole cycles, no gap
+        period, change = _periodicity(np.concatenate([dte, dte_e[:-1, 0]]), spc, scale, st.tol)
     # bearing forces from the physical displacements of the evaluated cycles
     Tfull = np.zeros((box.n_dof, r))
     Tfull[free] = P

@@ -40,20 +40,11 @@ WHIRL_NODE_FRACTION = 0.01
 WHIRL_LINE_FRACTION = 1e-3
 
 
-@dataclass(frozen=True)
-class Modes:
-    """Modes at one or more speeds (leading dimension: speed).
+class EigenvalueView:
+    """Frequencies and damping of an ``eigenvalue`` array (complex [1/s], any shape) of
+    eigenvalues with omega_d > 0; the modes of a rotor and of a gearbox share them."""
 
-    Attributes
-    ----------
-    speed : ndarray (s,)  [rad/s]
-    eigenvalue : ndarray (s, m) complex  [1/s]
-    shape : ndarray (s, m, n_dof) complex; displacement part, largest translation = 1
-    """
-
-    speed: np.ndarray
     eigenvalue: np.ndarray
-    shape: np.ndarray
 
     @property
     def wd(self) -> np.ndarray:
@@ -73,6 +64,22 @@ class Modes:
     def log_dec(self) -> np.ndarray:
         """Logarithmic decrement -2 pi sigma / omega_d [-]."""
         return -2 * np.pi * self.eigenvalue.real / self.eigenvalue.imag
+
+
+@dataclass(frozen=True)
+class Modes(EigenvalueView):
+    """Modes at one or more speeds (leading dimension: speed).
+
+    Attributes
+    ----------
+    speed : ndarray (s,)  [rad/s]
+    eigenvalue : ndarray (s, m) complex  [1/s]
+    shape : ndarray (s, m, n_dof) complex; displacement part, largest translation = 1
+    """
+
+    speed: np.ndarray
+    eigenvalue: np.ndarray
+    shape: np.ndarray
 
     @property
     def forward_fraction(self) -> np.ndarray:
