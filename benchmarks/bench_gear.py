@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from rotaflex.core.units import rpm_to_rad_s
-from rotaflex.gear.kernels import rk4
+from rotaflex.gear.kernels import forces, rk4
 from rotaflex.gear.models import fe_pair as dynamics
 from rotaflex.gear.pair import paper
 from rotaflex.gear.pair.geometry import contact_angles
@@ -126,12 +126,10 @@ def _pieces(upto, nrep, p, tpar, m, s, w, r, snap):
 @njit(cache=True)
 def _products(nrep, m, x, w):
     """``nrep`` elastic-force evaluations (rotation + stiffness product + torques)."""
-    rk4.set_rotation(np.zeros(2), m.theta0, w.rot)
+    forces.set_rotation(np.zeros(2), m.theta0, w.rot)
     e = 0.0
     for _ in range(nrep):
-        e += rk4.elastic_force(
-            x, m.xloc, m.gid, m.centres, w.rot, m.indptr, m.indices, m.data, w.wbuf, w.floc, w.fglob, w.tel
-        )
+        e += forces.elastic_force(x, w.rot, m, w.wbuf, w.fglob, w.tel)
     return e
 
 
@@ -174,8 +172,10 @@ def step_split(model, th2, ths, rpm, warm_steps=6000, nrep=2000):
     cum = [_per_call(_pieces, nrep, k, p, tpar, m, s, w, r, snap) for k in range(6)]
     piece = np.diff(cum)  # stages, search, pass 1, pass 2, pass 3 + close
     prod = _per_call(_products, nrep, m, snap.x, w)
-    u = np.ones(len(m.indptr) - 1)
-    bare = _per_call(_bare_product, nrep, m.indptr, m.indices, m.data, u, np.empty_like(u))
+    k = model.stiffness
+    u = np.ones(k.shape[0])
+    csr = (k.indptr.astype(np.int64), k.indices.astype(np.int64), k.data)
+    bare = _per_call(_bare_product, nrep, *csr, u, np.empty_like(u))
     total = cum[-1] - cum[0]
     passes = piece[2] + piece[3] + piece[4] - prod
     contact = piece[1]

@@ -24,9 +24,9 @@ class ModelArrays(NamedTuple):
     """Assembled two-gear model with ``npair`` contact pairs (SI units)."""
 
     gid: np.ndarray  # (N,) int64, gear of each node
-    indptr: np.ndarray  # CSR of the block-diagonal stiffness in the tooth frames
-    indices: np.ndarray
-    data: np.ndarray  # [N/m]
+    kptr: np.ndarray  # (N + 1,) int64 block-row pointers of the stiffness in the tooth frames
+    kcol: np.ndarray  # (nb,) int64 node column of each 2 x 2 block
+    kblk: np.ndarray  # (nb, 4) blocks (K_xx, K_xy, K_yx, K_yy) [N/m]
     xloc: np.ndarray  # (N, 2) node coordinates in the disk frames [m]
     minv: np.ndarray  # (N,) inverse lumped nodal mass [1/kg]
     centres: np.ndarray  # (2, 2) disk centres [m]
@@ -68,9 +68,8 @@ class StepParams(NamedTuple):
     max_iter: int
     n_points: int  # spline points per flank
     torque_mode: int  # 0: Fig. 7 ramps; 1: constant tau0
-    direct: bool  # direct multiplier solve
-    dfac: np.ndarray  # (3, n + 1, bw + 3) tie-block factors (direct); else (3, 1, 1)
-    dperm: np.ndarray  # (n,) row order of the factors
+    dfac: np.ndarray | None  # (3, n + 1, bw + 3) tie-block factors of the direct solve; None: iteration
+    dperm: np.ndarray | None  # (n,) row order of the factors
     gain: np.ndarray  # (2,) gear-ratio factor u_g of each disk: torque u_g tau(u_g theta_g) (1 for the driver)
 
 
@@ -170,7 +169,6 @@ class StepScratch(NamedTuple):
     bvec: np.ndarray  # (nt, 2) disk-angle derivative of the tie constraints
     rx: np.ndarray  # (nt, 2) tie-node positions in the disk frame [m]
     wbuf: np.ndarray  # (2N,) co-rotational displacement [m]
-    floc: np.ndarray  # (2N,) elastic force in the disk frames [N]
     fglob: np.ndarray  # (2N,) elastic force, global frame [N]
     fc: np.ndarray  # (2N,) constraint force on the nodes [N]
     tel: np.ndarray  # (2,) elastic torque on the disks [N m]

@@ -17,7 +17,7 @@ from numba import njit
 
 from rotaflex.gear.kernels.arrays import HHTScratch
 from rotaflex.gear.kernels.contact import contact_geometry
-from rotaflex.gear.kernels.rk4 import ramp_torque
+from rotaflex.gear.kernels.forces import ramp_torque
 
 #: columns of the per-record output array written by :func:`run_hht`
 RECORD_COLUMNS = (

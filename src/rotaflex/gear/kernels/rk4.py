@@ -21,20 +21,25 @@ search failed.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
 from rotaflex.gear.kernels.arrays import StepScratch
 from rotaflex.gear.kernels.contact import (
-    flank_weights,
     sample_flank,
     sample_smooth,
     search_pairs,
     sliding_terms,
-    smooth_weights,
     spline_second,
+)
+from rotaflex.gear.kernels.forces import (
+    accelerations,
+    elastic_force,
+    kinetic_energy,
+    normal_velocity,
+    set_rotation,
+    tie_vectors,
+    torque_of,
 )
 from rotaflex.gear.kernels.passes import (
     contact_columns,
@@ -85,195 +90,6 @@ PAIR_COLUMNS = (
 
 
 @njit(cache=True)
-def elastic_force(x, xloc, gid, cen, rot, indptr, indices, data, wbuf, floc, fglob, tel):
-    """Co-rotational elastic force (eq. 4-5) and strain energy.
-
-    ``w = R^T (x - c) - X`` (exact co-rotational form), ``f = -R K w`` on the nodes, and the
-    disk torque ``sum f_loc . J (X + w)`` = -dE/dphi, which makes the force conservative.
-    """
-    nn = xloc.shape[0]
-    for i in range(nn):
-        g = gid[i]
-        c = rot[g, 0]
-        s = rot[g, 1]
-        dx = x[2 * i] - cen[g, 0]
-        dy = x[2 * i + 1] - cen[g, 1]
-        wbuf[2 * i] = c * dx + s * dy - xloc[i, 0]
-        wbuf[2 * i + 1] = -s * dx + c * dy - xloc[i, 1]
-    nd = 2 * nn
-    energy = 0.0
-    for r in range(nd):
-        acc = 0.0
-        for j in range(indptr[r], indptr[r + 1]):
-            acc += data[j] * wbuf[indices[j]]
-        floc[r] = acc
-        energy += 0.5 * acc * wbuf[r]
-    tel[0] = 0.0
-    tel[1] = 0.0
-    for i in range(nn):
-        g = gid[i]
-        c = rot[g, 0]
-        s = rot[g, 1]
-        f0 = floc[2 * i]
-        f1 = floc[2 * i + 1]
-        fglob[2 * i] = -(c * f0 - s * f1)
-        fglob[2 * i + 1] = -(s * f0 + c * f1)
-        # J (X + w) = (-(Y + w_y), X + w_x)
-        tel[g] += f0 * (-(xloc[i, 1] + wbuf[2 * i + 1])) + f1 * (xloc[i, 0] + wbuf[2 * i])
-    return energy
-
-
-@njit(cache=True)
-def ramp_torque(theta, tau0, th2, ths):
-    """Torque of Fig. 7: 0 -> tau0 over [0, th2], tau0, tau0 -> 0 over [ths - th2, ths]."""
-    if theta <= 0.0 or theta >= ths:
-        return 0.0
-    f = 1.0
-    if theta < th2:
-        f = theta / th2
-    if theta > ths - th2:
-        f = min(f, (ths - theta) / th2)
-    return tau0 * f
-
-
-@njit(cache=True)
-def set_rotation(phi, theta0, rot):
-    for g in range(2):
-        ang = theta0[g] + phi[g]
-        rot[g, 0] = math.cos(ang)
-        rot[g, 1] = math.sin(ang)
-
-
-@njit(cache=True)
-def tie_vectors(x, cen, tie_node, tie_gear, rot, bvec, rx):
-    """Disk-frame tie quantities of every tie node k (constraint ``R^T (x_k - c) - X_k = 0``).
-
-    ``rx[k] = R^T (x_k - c)`` (current position in the disk frame) and
-    ``bvec[k] = J rx[k]``, the derivative of ``-Phi_k`` with respect to the disk angle.
-    """
-    for k in range(tie_node.shape[0]):
-        i = tie_node[k]
-        g = tie_gear[k]
-        c = rot[g, 0]
-        s = rot[g, 1]
-        dx = x[2 * i] - cen[g, 0]
-        dy = x[2 * i + 1] - cen[g, 1]
-        r0 = c * dx + s * dy
-        r1 = -s * dx + c * dy
-        rx[k, 0] = r0
-        rx[k, 1] = r1
-        bvec[k, 0] = -r1
-        bvec[k, 1] = r0
-
-
-@njit(cache=True)
-def kinetic_energy(v, om, minv, jd):
-    e = 0.5 * (jd[0] * om[0] ** 2 + jd[1] * om[1] ** 2)
-    for i in range(minv.shape[0]):
-        e += 0.5 * (v[2 * i] ** 2 + v[2 * i + 1] ** 2) / minv[i]
-    return e
-
-
-@njit(cache=True)
-def torque_of(g, phi_g, rsgn_g, tpar, mode):
-    """External torque on disk ``g`` (counter-clockwise positive): ramp of Fig. 7 or constant.
-
-    ``tpar`` = (tau0, theta_2, theta_s, u_0, u_1): disk ``g`` gets ``u_g tau(u_g theta_g)``, the
-    driver's ramp in the driver's rotation ``u_g theta_g`` scaled by the gear ratio ``u_g``
-    (1 for the driver, z_driven / z_driver for the driven gear; u = 1 multiplies exactly).
-    """
-    u = tpar[3] if g == 0 else tpar[4]
-    if mode == 1:
-        return u * tpar[0]
-    return u * ramp_torque(u * rsgn_g * phi_g, tpar[0], tpar[1], tpar[2])
-
-
-@njit(cache=True)
-def accelerations(
-    x,
-    phi,
-    mu,
-    tau_off,
-    ct,
-    rates,
-    m,
-    tpar,
-    tmode,
-    cnod,
-    cw,
-    rot,
-    bvec,
-    rx,
-    wbuf,
-    floc,
-    fglob,
-    tel,
-    fc,
-    fth,
-    cn_s,
-    a,
-    alp,
-):
-    """Accelerations at a (stage) state for multipliers ``mu``; returns the strain energy.
-
-    The constraint force is ``G(q)^T mu`` with the Jacobian at the stage state: tie forces
-    ``-R(phi) lambda`` turn with the disk; each contact force follows its contact point, whose
-    parameters and normal at the step start (``ct[j]`` = a, b, n_x, n_y) advance with their
-    rates (``rates[j]`` = da/dt, db/dt, dn_x/dt, dn_y/dt, appendix A) over ``tau_off`` seconds.
-    ``m`` is the :class:`~rotaflex.gear.kernels.arrays.ModelArrays`; ``tpar`` = (tau0, theta_2,
-    theta_s, u_A, u_B).
-    """
-    set_rotation(phi, m.theta0, rot)
-    tie_vectors(x, m.centres, m.tie_node, m.tie_gear, rot, bvec, rx)
-    nw = cnod.shape[2]
-    nodes = np.empty(3, np.int64)
-    w = np.empty(3)
-    ws = np.empty(nw if nw != 3 else 0)
-    for jp in range(ct.shape[0]):
-        n0 = ct[jp, 2] + rates[jp, 2] * tau_off
-        n1 = ct[jp, 3] + rates[jp, 3] * tau_off
-        ln = math.hypot(n0, n1)
-        cn_s[jp, 0] = n0 / ln
-        cn_s[jp, 1] = n1 / ln
-        for side in range(2):
-            s = ct[jp, side] + rates[jp, side] * tau_off
-            if nw == 3:
-                flank_weights(m.flank[jp, side], m.nedge[jp, side], s, nodes, w)
-                for j in range(3):
-                    cnod[jp, side, j] = nodes[j]
-                    cw[jp, side, j] = w[j]
-            else:
-                smooth_weights(m.tab[jp, side], s, ws)
-                for j in range(nw):
-                    cnod[jp, side, j] = m.flank[jp, side, j]
-                    cw[jp, side, j] = ws[j]
-    fc[:] = 0.0
-    fth[:] = 0.0
-    gt_apply(mu, m.tie_node, m.tie_gear, bvec, rot, cnod, cw, cn_s, fc, fth)
-    energy = elastic_force(x, m.xloc, m.gid, m.centres, rot, m.indptr, m.indices, m.data, wbuf, floc, fglob, tel)
-    nn = m.xloc.shape[0]
-    for i in range(nn):
-        a[2 * i] = m.minv[i] * (fglob[2 * i] + fc[2 * i])
-        a[2 * i + 1] = m.minv[i] * (fglob[2 * i + 1] + fc[2 * i + 1])
-    for g in range(2):
-        tau = torque_of(g, phi[g], m.rsgn[g], tpar, tmode)
-        alp[g] = (tau + tel[g] + fth[g]) / m.inertia[g]
-    return energy
-
-
-@njit(cache=True)
-def _normal_velocity(v, cnod, cw, cn, jp):
-    """Relative normal velocity of the contact row of pair ``jp`` (> 0: approaching)."""
-    sh = 0.0
-    for j in range(cnod.shape[2]):
-        i = cnod[jp, 0, j]
-        sh += cw[jp, 0, j] * (cn[jp, 0] * v[2 * i] + cn[jp, 1] * v[2 * i + 1])
-        i = cnod[jp, 1, j]
-        sh -= cw[jp, 1, j] * (cn[jp, 0] * v[2 * i] + cn[jp, 1] * v[2 * i + 1])
-    return sh
-
-
-@njit(cache=True)
 def new_scratch(m, s, mpts):
     """Work arrays of :func:`run_steps` for the model ``m`` and state ``s``."""
     npair = s.cres.shape[0]
@@ -286,7 +102,6 @@ def new_scratch(m, s, mpts):
         bvec=np.empty((nt, 2)),
         rx=np.empty((nt, 2)),
         wbuf=np.empty(nd),
-        floc=np.empty(nd),
         fglob=np.empty(nd),
         fc=np.zeros(nd),
         tel=np.empty(2),
@@ -362,7 +177,6 @@ def _stage(x, phi, mu, tau_off, rates, m, tpar, tmode, w, a, alp):
         w.bvec,
         w.rx,
         w.wbuf,
-        w.floc,
         w.fglob,
         w.tel,
         w.fc,
@@ -432,9 +246,7 @@ def _pass_change(m, s, w):
 
 @njit(cache=True)
 def _columns(c1, c2, m, s, w):
-    contact_columns(
-        c1, c2, m.minv, m.gid, w.rot, m.indptr, m.indices, m.data, m.tie_node, s.cnod, s.cw, w.cn, w.gsc, w.zk, w.ccol
-    )
+    contact_columns(c1, c2, m, w.rot, s.cnod, s.cw, w.cn, w.gsc, w.zk, w.ccol)
 
 
 @njit(cache=True)
@@ -471,7 +283,7 @@ def predicted_contact(t, p, m, s, w, r):
         w.cn[jp, 0] = s.cres[jp, 3]
         w.cn[jp, 1] = s.cres[jp, 4]
         # approach velocity of the predicted state (before the passes): impact reference
-        w.sh_pred[jp] = _normal_velocity(s.v, s.cnod, s.cw, w.cn, jp)
+        w.sh_pred[jp] = normal_velocity(s.v, s.cnod, s.cw, w.cn, jp)
     ke_pred = kinetic_energy(s.v, s.om, m.minv, m.inertia)
     for q in range(s.x.shape[0]):
         w.xsum[q] = s.x[q]  # predicted state (strain energy of a closing step)
@@ -507,9 +319,8 @@ def displacement_pass(t, p, m, s, w, r):
     _columns(c11, c12, m, s, w)
     w.mu0[:] = mu
     res, its, ok = solve_pass(
-        p.direct,
         p,
-        1,
+        np.int64(1),
         e0,
         mu,
         w.pbar,
@@ -534,7 +345,7 @@ def displacement_pass(t, p, m, s, w, r):
         spair[jp, 0] = e0[ic + jp] + w.work[0, ic + jp]
     _pass_change(m, s, w)
     # RK4 positions and velocities with the new multipliers (affine response)
-    k_local_product(gsc, minv, m.gid, rot, m.indptr, m.indices, m.data, zk)
+    k_local_product(gsc, m, rot, zk)
     for i in range(minv.shape[0]):
         gg = m.gid[i]
         cc = rot[gg, 0]
@@ -582,9 +393,7 @@ def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
         # over the step, i.e. it takes part in the impact; its change of kinetic + strain
         # energy is counted in D (strain part added after pass 3)
         set_rotation(w.psum, m.theta0, rot)
-        se_pred = elastic_force(
-            w.xsum, m.xloc, m.gid, m.centres, rot, m.indptr, m.indices, m.data, w.wbuf, w.floc, w.fglob, w.tel
-        )
+        se_pred = elastic_force(w.xsum, rot, m, w.wbuf, w.fglob, w.tel)
         set_rotation(phi, m.theta0, rot)
         sc[2] += ke_pred + se_pred - ke0
     for k in range(nt):
@@ -595,7 +404,7 @@ def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
         e0[2 * k] = -(cc * v[2 * i] + ss * v[2 * i + 1]) + bvec[k, 0] * om[g]
         e0[2 * k + 1] = -(-ss * v[2 * i] + cc * v[2 * i + 1]) + bvec[k, 1] * om[g]
     for jp in range(npair):
-        sh = _normal_velocity(v, s.cnod, s.cw, w.cn, jp)
+        sh = normal_velocity(v, s.cnod, s.cw, w.cn, jp)
         w.vtgt[jp] = 0.0
         if w.pbar[jp] < 0.0 and sh > tol2 and w.mu0[ic + jp] == 0.0:
             sc[14] += 1.0
@@ -607,9 +416,8 @@ def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
     _columns(c21, c22, m, s, w)
     w.mu0[:] = mu
     res, its, ok = solve_pass(
-        p.direct,
         p,
-        2,
+        np.int64(2),
         e0,
         mu,
         w.pbar,
@@ -634,7 +442,7 @@ def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
         spair[jp, 1] = e0[ic + jp] + w.work[0, ic + jp] + w.vtgt[jp]
         spair[jp, 3] = mu[ic + jp]
     _pass_change(m, s, w)
-    respond(w.gsc, w.gth, c21, c22, minv, m.gid, rot, jd, m.indptr, m.indices, m.data, w.zk, v, om, 1.0)
+    respond(w.gsc, w.gth, c21, c22, m, rot, w.zk, v, om, 1.0)
     w.zk[:] = 0.0
     w.gsc[:] = 0.0
     sc[2] += ke0 - kinetic_energy(v, om, minv, jd)
@@ -645,8 +453,8 @@ def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
 def _external_work(tpar, tmode, m, s, w, tau_old0, tau_old1):
     """Trapezoidal external work over the step (disk angles ``w.phi_t`` -> ``s.phi``)."""
     phi, sc = s.phi, s.sc
-    tau_new0 = torque_of(0, phi[0], m.rsgn[0], tpar, tmode)
-    tau_new1 = torque_of(1, phi[1], m.rsgn[1], tpar, tmode)
+    tau_new0 = torque_of(np.int64(0), phi[0], m.rsgn[0], tpar, tmode)
+    tau_new1 = torque_of(np.int64(1), phi[1], m.rsgn[1], tpar, tmode)
     sc[1] += 0.5 * (tau_old0 + tau_new0) * (phi[0] - w.phi_t[0])
     sc[1] += 0.5 * (tau_old1 + tau_new1) * (phi[1] - w.phi_t[1])
     sc[18] = tau_new0
@@ -685,8 +493,12 @@ def acceleration_errors(m, s, w):
             sample_flank(v, m.flank[jp, 0], m.nedge[jp, 0], w.va)
             sample_flank(v, m.flank[jp, 1], m.nedge[jp, 1], w.vb)
         else:
-            sample_smooth(v, m.flank[jp, 0], m.tab[jp, 0], m.mloc[jp, 0], m.theta0[0] + phi[0], om[0], True, w.va)
-            sample_smooth(v, m.flank[jp, 1], m.tab[jp, 1], m.mloc[jp, 1], m.theta0[1] + phi[1], om[1], True, w.vb)
+            sample_smooth(
+                v, m.flank[jp, 0], m.tab[jp, 0], m.mloc[jp, 0], m.theta0[0] + phi[0], om[0], np.bool_(True), w.va
+            )
+            sample_smooth(
+                v, m.flank[jp, 1], m.tab[jp, 1], m.mloc[jp, 1], m.theta0[1] + phi[1], om[1], np.bool_(True), w.vb
+            )
         spline_second(w.va, w.mva)
         spline_second(w.vb, w.mvb)
         hs, _ad, _bd = sliding_terms(
@@ -726,7 +538,6 @@ def acceleration_pass(t, p, tpar, tmode, m, s, w, r):
         w.bvec,
         w.rx,
         w.wbuf,
-        w.floc,
         w.fglob,
         w.tel,
         w.fc,
@@ -739,9 +550,8 @@ def acceleration_pass(t, p, tpar, tmode, m, s, w, r):
     _columns(1.0, 0.0, m, s, w)
     w.mu0[:] = mu
     res, its, ok = solve_pass(
-        p.direct,
         p,
-        3,
+        np.int64(3),
         w.e0,
         mu,
         w.pbar,
@@ -854,8 +664,8 @@ def advance(p, tpar, m, s, w, r):
     hold_contact(s, w)
     w.phi_t[0] = s.phi[0]
     w.phi_t[1] = s.phi[1]
-    tau_old0 = torque_of(0, s.phi[0], m.rsgn[0], tpar, p.torque_mode)
-    tau_old1 = torque_of(1, s.phi[1], m.rsgn[1], tpar, p.torque_mode)
+    tau_old0 = torque_of(np.int64(0), s.phi[0], m.rsgn[0], tpar, p.torque_mode)
+    tau_old1 = torque_of(np.int64(1), s.phi[1], m.rsgn[1], tpar, p.torque_mode)
     rk4_predict(p.dt, m, tpar, p.torque_mode, s, w)
     t = t + p.dt
     ok, ke_pred = predicted_contact(t, p, m, s, w, r)

@@ -356,17 +356,28 @@ def rigid_velocities(model, x: np.ndarray, om: np.ndarray) -> np.ndarray:
     return v
 
 
+def node_blocks(k: sp.csr_matrix):
+    """The stiffness (2N x 2N, DOFs ``[x0, y0, x1, ...]``) as 2 x 2 node blocks: block-row
+    pointers (N + 1,), node columns (nb,) and blocks (nb, 4) = (K_xx, K_xy, K_yx, K_yy) [N/m]
+    (blocks in ascending column order; a block absent from the pattern of K is absent here,
+    an entry missing inside a present block is stored as 0)."""
+    bsr = sp.bsr_matrix(k, blocksize=(2, 2))
+    bsr.sort_indices()
+    kblk = np.ascontiguousarray(bsr.data.reshape(-1, 4), dtype=float)
+    return bsr.indptr.astype(np.int64), bsr.indices.astype(np.int64), kblk
+
+
 def _kernel_arrays(model, flank, nedge, psi, warm_start, tab, mloc):
     """:class:`~rotaflex.gear.kernels.arrays.ModelArrays` of ``model`` with its contact-pair
     layout (``flank, nedge, psi``), warm-start table and smoothed-surface tables."""
     from rotaflex.gear.kernels.arrays import ModelArrays
 
-    k = model.stiffness
+    kptr, kcol, kblk = node_blocks(model.stiffness)
     return ModelArrays(
         gid=model.gid,
-        indptr=k.indptr.astype(np.int64),
-        indices=k.indices.astype(np.int64),
-        data=k.data.astype(float),
+        kptr=kptr,
+        kcol=kcol,
+        kblk=kblk,
         xloc=model.xloc,
         minv=model.minv,
         centres=model.centres,
@@ -423,7 +434,8 @@ def kernel_inputs(
 ):
     """Kernel arguments of a run of :func:`integrate` (same parameters; checked here)."""
     from rotaflex.gear.kernels.arrays import Records, State, StepParams
-    from rotaflex.gear.kernels.rk4 import GLOBAL_COLUMNS, PAIR_COLUMNS, kinetic_energy
+    from rotaflex.gear.kernels.forces import kinetic_energy
+    from rotaflex.gear.kernels.rk4 import GLOBAL_COLUMNS, PAIR_COLUMNS
 
     if dt > model.dt_limit:
         raise InputError(
@@ -461,7 +473,7 @@ def kernel_inputs(
 
         dfac, dperm, _ = factor_tie_blocks(model, dt)
     else:
-        dfac, dperm = np.ones((3, 1, 1)), np.zeros(1, dtype=np.int64)
+        dfac, dperm = None, None  # the iteration: its run compiles without the direct solve
     params = StepParams(
         dt=float(dt),
         tau0=float(torque),
@@ -481,7 +493,6 @@ def kernel_inputs(
         max_iter=int(max_iter),
         n_points=int(model.n_points),
         torque_mode=int(torque_mode),
-        direct=multipliers == "direct",
         dfac=dfac,
         dperm=dperm,
         gain=np.asarray(gain, dtype=float),
