@@ -93,7 +93,7 @@ def _restore(s, snap):
 
 
 @njit(cache=True)
-def _pieces(upto, nrep, p, tpar, m, s, w, r, snap):
+def _pieces(nrep, upto, p, tpar, m, s, w, r, snap):
     """``nrep`` times: restore the saved state, then run the pieces of one step up to ``upto``
     (0 restore only, 1 RK4 stages, 2 contact search, 3 displacement pass, 4 velocity pass,
     5 acceleration pass and step close)."""
