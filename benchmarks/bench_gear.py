@@ -21,10 +21,10 @@ import math
 import time
 
 import numpy as np
+from numba import njit
 
 from rotaflex.core.units import rpm_to_rad_s
-from rotaflex.gear.kernels import contact as kernels
-from rotaflex.gear.kernels.rk4 import elastic_force
+from rotaflex.gear.kernels import forces, rk4
 from rotaflex.gear.models import fe_pair as dynamics
 from rotaflex.gear.pair import paper
 from rotaflex.gear.pair.geometry import contact_angles
@@ -72,52 +72,125 @@ def main() -> None:
         f"  mean iterations per pass (disp/vel/acc, max per record): {r['iter_disp'].mean():.2f}"
         f" / {r['iter_vel'].mean():.2f} / {r['iter_acc'].mean():.2f}"
     )
-    # --- pieces in isolation, on the final state of the run
-    x = model.reference_positions()
-    n = 2000
-    pa = np.empty((model.n_points, 2))
-    ma = np.empty_like(pa)
-    pb = np.empty_like(pa)
-    mb = np.empty_like(pa)
-    cres = np.zeros(8)
-    cres[:2] = 0.3, 0.99
-    cnod = np.zeros((2, 3), np.int64)
-    cw = np.zeros((2, 3))
-    kernels.contact_geometry(x, model.flank, model.nedge, model.sig, model.n_points, pa, ma, pb, mb, cres, cnod, cw)
-    t0 = time.perf_counter()
-    for _ in range(n):
-        kernels.contact_geometry(x, model.flank, model.nedge, model.sig, model.n_points, pa, ma, pb, mb, cres, cnod, cw)
-    t_search = (time.perf_counter() - t0) / n
-    # elastic force (one of four per step)
-    nd = 2 * model.n_nodes
-    rot = np.array([[1.0, 0.0], [1.0, 0.0]])
-    bufs = [np.zeros(nd) for _ in range(3)]
-    tel = np.zeros(2)
-    idx = (k.indptr.astype(np.int64), k.indices.astype(np.int64), k.data)
-    elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
-    t0 = time.perf_counter()
-    for _ in range(n):
-        elastic_force(x, model.xloc, model.gid, model.centres, rot, *idx, *bufs, tel)
-    t_force = (time.perf_counter() - t0) / n
-    print(
-        f"  contact search (sampling + 2 splines + search), Python-called: "
-        f"{t_search * 1e6:.1f} us ({t_search / per:.1%} of a step)"
-    )
-    print(
-        f"  elastic force (CSR matvec), Python-called: {t_force * 1e6:.1f} us; 4 per step = "
-        f"{4 * t_force / per:.1%} of a step"
-    )
-    rest = 1.0 - (t_search + 4 * t_force) / per
-    print(
-        f"  remainder (multiplier iterations of the three passes, RK4 vector updates, "
-        f"sliding terms, bookkeeping): {rest:.1%}"
-    )
     print(f"  peak contact force {r['force_peak'].max():.1f} N")
-    # the multiplier passes run inside the compiled step and are not timed separately: their
-    # share is at most the remainder above; the direct-solve row below shows what replacing the
-    # iteration by the exact solve changes per step.
+    step_split(model, th2, ths, rpm)
     compare(model, out, rpm, th2, ths, span)
     unequal(args.span or 2.0)
+
+
+@njit(cache=True)
+def _restore(s, snap):
+    """Copy the saved state ``snap`` into ``s`` (both :class:`State`)."""
+    for dst, src in ((s.x, snap.x), (s.v, snap.v), (s.a, snap.a), (s.mu, snap.mu), (s.sc, snap.sc)):
+        dst[:] = src
+    for dst, src in ((s.phi, snap.phi), (s.om, snap.om), (s.alp, snap.alp)):
+        dst[:] = src
+    s.cres[:] = snap.cres
+    s.cnod[:] = snap.cnod
+    s.cw[:] = snap.cw
+    s.spair[:] = snap.spair
+    s.rates[:] = snap.rates
+
+
+@njit(cache=True)
+def _pieces(nrep, upto, p, tpar, m, s, w, r, snap):
+    """``nrep`` times: restore the saved state, then run the pieces of one step up to ``upto``
+    (0 restore only, 1 RK4 stages, 2 contact search, 3 displacement pass, 4 velocity pass,
+    5 acceleration pass and step close)."""
+    for _ in range(nrep):
+        _restore(s, snap)
+        for jp in range(s.cres.shape[0]):
+            w.cn[jp, 0] = s.cres[jp, 3]
+            w.cn[jp, 1] = s.cres[jp, 4]
+        if upto == 0:
+            continue
+        t = s.sc[0]
+        rk4.hold_contact(s, w)
+        rk4.rk4_predict(p.dt, m, tpar, p.torque_mode, s, w)
+        if upto == 1:
+            continue
+        t += p.dt
+        _, ke_pred = rk4.predicted_contact(t, p, m, s, w, r)
+        if upto == 2:
+            continue
+        _, closing = rk4.displacement_pass(t, p, m, s, w, r)
+        if upto == 3:
+            continue
+        rk4.velocity_pass(t, p, m, s, w, r, ke_pred, closing)
+        if upto == 4:
+            continue
+        _, eel = rk4.acceleration_pass(t, p, tpar, p.torque_mode, m, s, w, r)
+        rk4.close_step(t, eel, closing, False, m, s, w)
+
+
+@njit(cache=True)
+def _products(nrep, m, x, w):
+    """``nrep`` elastic-force evaluations (rotation + stiffness product + torques)."""
+    forces.set_rotation(np.zeros(2), m.theta0, w.rot)
+    e = 0.0
+    for _ in range(nrep):
+        e += forces.elastic_force(x, w.rot, m, w.wbuf, w.fglob, w.tel)
+    return e
+
+
+@njit(cache=True)
+def _bare_product(nrep, indptr, indices, data, u, out):
+    """``nrep`` plain CSR products out = K u (the floor of one stiffness product)."""
+    for _ in range(nrep):
+        for r in range(out.shape[0]):
+            acc = 0.0
+            for j in range(indptr[r], indptr[r + 1]):
+                acc += data[j] * u[indices[j]]
+            out[r] = acc
+
+
+def _per_call(fn, nrep, *args) -> float:
+    """Best of 5 of the time per repetition [s] of ``fn(nrep, *args)`` (compiled loop)."""
+    fn(2, *args)
+    best = math.inf
+    for _ in range(5):
+        t0 = time.perf_counter()
+        fn(nrep, *args)
+        best = min(best, (time.perf_counter() - t0) / nrep)
+    return best
+
+
+def step_split(model, th2, ths, rpm, warm_steps=6000, nrep=2000):
+    """Per-step split of the paper_rk4 step on an in-mesh state (after ``warm_steps`` steps):
+    the four stiffness products, the three multiplier passes (without their product),
+    the contact search, and the rest (RK4 vector updates, sliding terms, bookkeeping), against
+    the bare CSR product; each piece timed in a compiled loop, best of 5."""
+    ki = dynamics.kernel_inputs(
+        model, speeds=rpm_to_rad_s(rpm), torque=paper.TORQUE, theta_2=th2, theta_s=ths, span=1.0, dt=3e-8
+    )
+    m, p, s, r = ki.arrays, ki.params, ki.state, ki.rec
+    status, _ = rk4.run_steps(warm_steps, 10, 0, True, m, p, s, r)
+    assert status == 0
+    snap = type(s)(*[a.copy() for a in s])
+    w = rk4.new_scratch(m, s, p.n_points)
+    tpar = (p.tau0, p.theta_2, p.theta_s, p.gain[0], p.gain[1])
+    cum = [_per_call(_pieces, nrep, k, p, tpar, m, s, w, r, snap) for k in range(6)]
+    piece = np.diff(cum)  # stages, search, pass 1, pass 2, pass 3 + close
+    prod = _per_call(_products, nrep, m, snap.x, w)
+    k = model.stiffness
+    u = np.ones(k.shape[0])
+    csr = (k.indptr.astype(np.int64), k.indices.astype(np.int64), k.data)
+    bare = _per_call(_bare_product, nrep, *csr, u, np.empty_like(u))
+    total = cum[-1] - cum[0]
+    passes = piece[2] + piece[3] + piece[4] - prod
+    contact = piece[1]
+    rest = total - 4 * prod - passes - contact
+    us = 1e6
+    print(
+        f"  step split on an in-mesh state (compiled loops, best of 5): total {total * us:.1f} us = "
+        f"products 4 x {prod * us:.1f} = {4 * prod * us:.1f} us + passes {passes * us:.1f} us "
+        f"+ contact search {contact * us:.1f} us + rest (RK4 updates, sliding terms) {rest * us:.1f} us"
+    )
+    print(
+        f"    passes: displacement {piece[2] * us:.1f}, velocity {piece[3] * us:.1f}, "
+        f"acceleration {(piece[4] - prod) * us:.1f} us; bare CSR product K u {bare * us:.1f} us "
+        f"(floor of the four products {4 * bare * us:.1f} us; step / floor {total / (4 * bare):.2f})"
+    )
 
 
 def unequal(span_deg: float) -> None:

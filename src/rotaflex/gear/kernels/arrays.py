@@ -24,9 +24,9 @@ class ModelArrays(NamedTuple):
     """Assembled two-gear model with ``npair`` contact pairs (SI units)."""
 
     gid: np.ndarray  # (N,) int64, gear of each node
-    indptr: np.ndarray  # CSR of the block-diagonal stiffness in the tooth frames
-    indices: np.ndarray
-    data: np.ndarray  # [N/m]
+    kptr: np.ndarray  # (N + 1,) int64 block-row pointers of the stiffness in the tooth frames
+    kcol: np.ndarray  # (nb,) int64 node column of each 2 x 2 block
+    kblk: np.ndarray  # (nb, 4) blocks (K_xx, K_xy, K_yx, K_yy) [N/m]
     xloc: np.ndarray  # (N, 2) node coordinates in the disk frames [m]
     minv: np.ndarray  # (N,) inverse lumped nodal mass [1/kg]
     centres: np.ndarray  # (2, 2) disk centres [m]
@@ -68,9 +68,8 @@ class StepParams(NamedTuple):
     max_iter: int
     n_points: int  # spline points per flank
     torque_mode: int  # 0: Fig. 7 ramps; 1: constant tau0
-    direct: bool  # direct multiplier solve
-    dfac: np.ndarray  # (3, n + 1, bw + 3) tie-block factors (direct); else (3, 1, 1)
-    dperm: np.ndarray  # (n,) row order of the factors
+    dfac: np.ndarray | None  # (3, n + 1, bw + 3) tie-block factors of the direct solve; None: iteration
+    dperm: np.ndarray | None  # (n,) row order of the factors
     gain: np.ndarray  # (2,) gear-ratio factor u_g of each disk: torque u_g tau(u_g theta_g) (1 for the driver)
 
 
@@ -160,3 +159,91 @@ class HHTRecords(NamedTuple):
     out: np.ndarray  # (n_rec, len(RECORD_COLUMNS of kernels.hht))
     outp: np.ndarray  # (n_rec, npair)
     info: np.ndarray  # (4,)
+
+
+class StepScratch(NamedTuple):
+    """Work arrays of one call of :func:`rotaflex.gear.kernels.rk4.run_steps` (made by
+    :func:`rotaflex.gear.kernels.rk4.new_scratch`; nothing in them is carried between calls)."""
+
+    rot: np.ndarray  # (2, 2) cos, sin of each disk frame
+    bvec: np.ndarray  # (nt, 2) disk-angle derivative of the tie constraints
+    rx: np.ndarray  # (nt, 2) tie-node positions in the disk frame [m]
+    wbuf: np.ndarray  # (2N,) co-rotational displacement [m]
+    fglob: np.ndarray  # (2N,) elastic force, global frame [N]
+    fc: np.ndarray  # (2N,) constraint force on the nodes [N]
+    tel: np.ndarray  # (2,) elastic torque on the disks [N m]
+    fth: np.ndarray  # (2,) constraint torque on the disks [N m]
+    gsc: np.ndarray  # (2N,) G^T dmu (kept zero between uses)
+    gth: np.ndarray  # (2,)
+    zk: np.ndarray  # (2N,) K R^T M^-1 g (kept zero between uses)
+    xs: np.ndarray  # (2N,) RK4 stage positions
+    vs: np.ndarray  # (2N,) RK4 stage velocities
+    ak: np.ndarray  # (2N,) RK4 stage accelerations
+    xsum: np.ndarray  # (2N,) RK4 velocity sum; then the predicted positions
+    asum: np.ndarray  # (2N,) RK4 acceleration sum
+    ps: np.ndarray  # (2,) stage disk angles
+    os_: np.ndarray  # (2,) stage disk speeds
+    alk: np.ndarray  # (2,) stage disk accelerations
+    psum: np.ndarray  # (2,) RK4 speed sum; then the predicted angles
+    osum: np.ndarray  # (2,) RK4 acceleration sum
+    phi_t: np.ndarray  # (2,) disk angles of the step start
+    pa: np.ndarray  # (npair, mpts, 2) spline points of flank A
+    ma: np.ndarray  # (npair, mpts, 2) spline second derivatives of flank A
+    pb: np.ndarray
+    mb: np.ndarray
+    va: np.ndarray  # (mpts, 2) flank velocities of A
+    mva: np.ndarray
+    vb: np.ndarray
+    mvb: np.ndarray
+    cn: np.ndarray  # (npair, 2) contact normals of the current state
+    cn_s: np.ndarray  # (npair, 2) contact normals of a stage
+    cnod_t: np.ndarray  # (npair, 2, nw) int64 contact-row nodes of a stage
+    cw_t: np.ndarray  # (npair, 2, nw) contact-row weights of a stage
+    ct: np.ndarray  # (npair, 4) contact parameters and normal of the step start
+    zero4: np.ndarray  # (npair, 4) zero rates
+    rate1: np.ndarray  # (4,) rates of one pair
+    ccol: np.ndarray  # (npair, nc) contact columns of C
+    e0: np.ndarray  # (nc,) error vector of a pass
+    mu0: np.ndarray  # (nc,) multipliers before a pass
+    dmu: np.ndarray  # (nc,) multiplier change of a pass
+    pbar: np.ndarray  # (npair,) contact force after the displacement pass [N]
+    sh_pred: np.ndarray  # (npair,) approach velocity of the predicted state [m/s]
+    vtgt: np.ndarray  # (npair,) target normal velocity of the velocity pass [m/s]
+    work: np.ndarray  # (13, nc) scratch of the passes
+    stats: np.ndarray  # (2,) residual, iterations of the last pass
+
+
+class HHTScratch(NamedTuple):
+    """Work arrays of one call of :func:`rotaflex.gear.kernels.hht.run_hht` (made by
+    :func:`rotaflex.gear.kernels.hht.new_hht_scratch`)."""
+
+    xf: np.ndarray  # (2 nf,) flank-node positions [m]
+    flid: np.ndarray  # (2, max flank length) int64 flank node ids of a pair
+    nedge2: np.ndarray  # (2,) int64 quadratic edges of the two flanks
+    pa: np.ndarray  # (mpts, 2) spline points of flank A
+    ma: np.ndarray
+    pb: np.ndarray
+    mb: np.ndarray
+    grow: np.ndarray  # (npair, 2, n + 1) gradients of the penetrations
+    sgap: np.ndarray  # (npair,) penetrations [m]
+    fz: np.ndarray  # (2, n) F at the iterate
+    fphi: np.ndarray  # (2,)
+    tau: np.ndarray  # (2,) external torques at the iterate [N m]
+    taun: np.ndarray  # (2,) external torques of the step start [N m]
+    ok: np.ndarray  # (1,) int64 contact search flag
+    zn: np.ndarray  # (2, n) state of the step start
+    zdn: np.ndarray
+    zan: np.ndarray
+    phin: np.ndarray  # (2,)
+    phidn: np.ndarray
+    phian: np.ndarray
+    mz: np.ndarray  # (2, n) M a
+    mphi: np.ndarray  # (2,)
+    rhs: np.ndarray  # (n + 1,)
+    y: np.ndarray  # (2, n + 1) S^-1 rhs per gear
+    wcol: np.ndarray  # (npair, 2, n + 1) S^-1 gradients
+    amat: np.ndarray  # (npair, npair) Schur matrix of the contact rows
+    bvec: np.ndarray  # (npair,)
+    dp: np.ndarray  # (npair,) contact-force change [N]
+    act: np.ndarray  # (npair,) bool active pairs
+    act_old: np.ndarray  # (npair,) bool

@@ -496,8 +496,8 @@ def contact_geometry_smooth(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cre
     """
     if cnod.shape[1] == 3:
         return contact_geometry(x, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw)
-    sample_smooth(x, flank[0], tab[0], mloc[0], theta0[0] + phi[0], 1.0, False, pa)
-    sample_smooth(x, flank[1], tab[1], mloc[1], theta0[1] + phi[1], 1.0, False, pb)
+    sample_smooth(x, flank[0], tab[0], mloc[0], theta0[0] + phi[0], 1.0, np.bool_(False), pa)
+    sample_smooth(x, flank[1], tab[1], mloc[1], theta0[1] + phi[1], 1.0, np.bool_(False), pb)
     spline_second(pa, ma)
     spline_second(pb, mb)
     contact_search(pa, ma, pb, mb, sig[0], sig[1], cres[0], cres[1], cres)
@@ -593,8 +593,8 @@ def pair_contact(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw
         sample_flank(x, flank[0], nedge[0], pa)
         sample_flank(x, flank[1], nedge[1], pb)
     else:
-        sample_smooth(x, flank[0], tab[0], mloc[0], theta0[0] + phi[0], 1.0, False, pa)
-        sample_smooth(x, flank[1], tab[1], mloc[1], theta0[1] + phi[1], 1.0, False, pb)
+        sample_smooth(x, flank[0], tab[0], mloc[0], theta0[0] + phi[0], 1.0, np.bool_(False), pa)
+        sample_smooth(x, flank[1], tab[1], mloc[1], theta0[1] + phi[1], 1.0, np.bool_(False), pb)
     spline_second(pa, ma)
     spline_second(pb, mb)
     corner_contact(pa, ma, pb, mb, sig[0], sig[1], mode, cres[0], cres[1], cres)

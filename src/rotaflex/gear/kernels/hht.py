@@ -15,8 +15,9 @@ import math
 import numpy as np
 from numba import njit
 
+from rotaflex.gear.kernels.arrays import HHTScratch
 from rotaflex.gear.kernels.contact import contact_geometry
-from rotaflex.gear.kernels.rk4 import ramp_torque
+from rotaflex.gear.kernels.forces import ramp_torque
 
 #: columns of the per-record output array written by :func:`run_hht`
 RECORD_COLUMNS = (
@@ -272,6 +273,401 @@ def small_solve(a, b, n):
 
 
 @njit(cache=True)
+def new_hht_scratch(hm, hs, mpts):
+    """Work arrays of :func:`run_hht` for the model ``hm`` and state ``hs``."""
+    ng = hs.z.shape[0]
+    n = hs.z.shape[1]
+    npair = hm.pairs.shape[0]
+    nf = hm.fl_xref.shape[0]
+    maxfl = 0
+    for f in range(hm.fl_len.shape[0]):
+        maxfl = max(maxfl, hm.fl_len[f])
+    return HHTScratch(
+        xf=np.empty(2 * nf),
+        flid=np.zeros((2, maxfl), np.int64),
+        nedge2=np.zeros(2, np.int64),
+        pa=np.empty((mpts, 2)),
+        ma=np.empty((mpts, 2)),
+        pb=np.empty((mpts, 2)),
+        mb=np.empty((mpts, 2)),
+        grow=np.zeros((npair, ng, n + 1)),
+        sgap=np.zeros(npair),
+        fz=np.zeros((ng, n)),
+        fphi=np.zeros(ng),
+        tau=np.zeros(ng),
+        taun=np.zeros(ng),
+        ok=np.zeros(1, np.int64),
+        zn=np.empty((ng, n)),
+        zdn=np.empty((ng, n)),
+        zan=np.empty((ng, n)),
+        phin=np.empty(ng),
+        phidn=np.empty(ng),
+        phian=np.empty(ng),
+        mz=np.zeros((ng, n)),
+        mphi=np.zeros(ng),
+        rhs=np.zeros(n + 1),
+        y=np.zeros((ng, n + 1)),
+        wcol=np.zeros((npair, ng, n + 1)),
+        amat=np.zeros((npair, npair)),
+        bvec=np.zeros(npair),
+        dp=np.zeros(npair),
+        act=np.zeros(npair, np.bool_),
+        act_old=np.zeros(npair, np.bool_),
+    )
+
+
+@njit(cache=True)
+def _evaluate_state(hm, hs, w, tpar, mpts):
+    """:func:`evaluate` at the current iterate of ``hs``; F into ``w.fz, w.fphi``."""
+    return evaluate(
+        hs.z,
+        hs.zd,
+        hs.phi,
+        hs.phid,
+        hs.p,
+        hm.nr,
+        hm.fl_map,
+        hm.mr,
+        hm.kr,
+        hm.gr,
+        hm.cx,
+        hm.fl_gear,
+        hm.fl_start,
+        hm.fl_len,
+        hm.fl_xref,
+        hm.centres,
+        hm.theta0,
+        hm.sig,
+        hm.pairs,
+        mpts,
+        hm.rsgn,
+        tpar,
+        w.xf,
+        w.flid,
+        w.nedge2,
+        w.pa,
+        w.ma,
+        w.pb,
+        w.mb,
+        hs.cres,
+        hs.cnod,
+        hs.cw,
+        w.grow,
+        w.sgap,
+        w.fz,
+        w.fphi,
+        w.tau,
+        w.ok,
+    )
+
+
+@njit(cache=True)
+def _step_start(hm, hs, w, tpar):
+    """Keep the state of the step start (``w.zn`` ...) and its external torques."""
+    z, zd, za, phi, phid, phia = hs.z, hs.zd, hs.za, hs.phi, hs.phid, hs.phia
+    for g in range(z.shape[0]):
+        for i in range(z.shape[1]):
+            w.zn[g, i] = z[g, i]
+            w.zdn[g, i] = zd[g, i]
+            w.zan[g, i] = za[g, i]
+        w.phin[g] = phi[g]
+        w.phidn[g] = phid[g]
+        w.phian[g] = phia[g]
+        w.taun[g] = tpar[3 + g] * ramp_torque(tpar[3 + g] * hm.rsgn[g] * phi[g], tpar[0], tpar[1], tpar[2])
+    for k in range(hs.p.shape[0]):
+        w.act_old[k] = hs.p[k] < 0.0
+
+
+@njit(cache=True)
+def _newmark(hm, hs, w, h, beta, gam):
+    """Positions and velocities of the iterate from its accelerations (Newmark formulas)."""
+    z, zd, za, phi, phid, phia = hs.z, hs.zd, hs.za, hs.phi, hs.phid, hs.phia
+    zn, zdn, zan = w.zn, w.zdn, w.zan
+    for g in range(z.shape[0]):
+        for i in range(hm.nr[g]):
+            z[g, i] = zn[g, i] + h * zdn[g, i] + h * h * ((0.5 - beta) * zan[g, i] + beta * za[g, i])
+            zd[g, i] = zdn[g, i] + h * ((1.0 - gam) * zan[g, i] + gam * za[g, i])
+        phi[g] = w.phin[g] + h * w.phidn[g] + h * h * ((0.5 - beta) * w.phian[g] + beta * phia[g])
+        phid[g] = w.phidn[g] + h * ((1.0 - gam) * w.phian[g] + gam * phia[g])
+
+
+@njit(cache=True)
+def _contact_schur(hm, hs, w, alpha, bh2):
+    """One Newton correction's linear solves: ``w.y`` = S^-1 (residual), ``w.wcol`` = S^-1 of
+    each gradient, then the Schur system of the contact pairs with the active set
+    p = min(0, p - c s); the force change into ``w.dp``."""
+    nr, grow, y, wcol, amat, bvec, dp, act = hm.nr, w.grow, w.y, w.wcol, w.amat, w.bvec, w.dp, w.act
+    p = hs.p
+    ng = hs.z.shape[0]
+    npair = p.shape[0]
+    mass_product(hs.z, hs.za, hs.phia, nr, hm.mr, hm.gr, hm.hx, hm.cx, hm.ix, hm.inertia, w.mz, w.mphi)
+    for g in range(ng):
+        m = nr[g]
+        for i in range(m):
+            w.rhs[i] = w.mz[g, i] / (1.0 + alpha) + w.fz[g, i] - alpha / (1.0 + alpha) * hs.fz[g, i]
+        w.rhs[m] = w.mphi[g] / (1.0 + alpha) + w.fphi[g] - alpha / (1.0 + alpha) * hs.fphi[g]
+        chol_solve(hm.sfac[g], w.rhs[: m + 1], y[g, : m + 1])
+        for k in range(npair):
+            chol_solve(hm.sfac[g], grow[k, g, : m + 1], wcol[k, g, : m + 1])
+    for k in range(npair):
+        gy = 0.0
+        for g in range(ng):
+            for i in range(nr[g] + 1):
+                gy += grow[k, g, i] * y[g, i]
+        for l in range(npair):
+            acc = 0.0
+            for g in range(ng):
+                for i in range(nr[g] + 1):
+                    acc += grow[k, g, i] * wcol[l, g, i]
+            amat[k, l] = acc
+        bvec[k] = gy - w.sgap[k] / bh2
+    for k in range(npair):
+        ck = 1.0 / (bh2 * amat[k, k])
+        act[k] = p[k] - ck * w.sgap[k] < 0.0
+    na = 0
+    idx = np.empty(npair, np.int64)
+    for k in range(npair):
+        if act[k]:
+            idx[na] = k
+            na += 1
+        else:
+            dp[k] = -p[k]
+    if na > 0:
+        asub = np.empty((na, na))
+        bsub = np.empty(na)
+        for r in range(na):
+            k = idx[r]
+            bsub[r] = bvec[k]
+            for l in range(npair):
+                if not act[l]:
+                    bsub[r] -= amat[k, l] * dp[l]
+            for c in range(na):
+                asub[r, c] = amat[k, idx[c]]
+        small_solve(asub, bsub, na)
+        for r in range(na):
+            dp[idx[r]] = bsub[r]
+
+
+@njit(cache=True)
+def _newton_update(hm, hs, w, alpha, bh2, rref):
+    """Apply one Newton correction (:func:`_contact_schur`) to the accelerations and contact
+    forces. Returns (residual, active set unchanged)."""
+    nr, wcol, dp, act, act_old = hm.nr, w.wcol, w.dp, w.act, w.act_old
+    za, phia, p = hs.za, hs.phia, hs.p
+    npair = p.shape[0]
+    _contact_schur(hm, hs, w, alpha, bh2)
+    res = 0.0
+    for g in range(hs.z.shape[0]):
+        m = nr[g]
+        for i in range(m + 1):
+            d = -w.y[g, i]
+            for k in range(npair):
+                d += wcol[k, g, i] * dp[k]
+            if i < m:
+                za[g, i] += d
+                res = max(res, bh2 * abs(d))
+            else:
+                phia[g] += d
+                res = max(res, bh2 * abs(d) * rref)
+    same = True
+    for k in range(npair):
+        p[k] += dp[k]
+        if act[k]:
+            res = max(res, abs(w.sgap[k]))
+        if act[k] != act_old[k]:
+            same = False
+        act_old[k] = act[k]
+    return res, same
+
+
+@njit(cache=True)
+def _impact_projection(hm, hs, w):
+    """No approaching normal velocity at active pairs: a plastic impulse per approaching pair;
+    the kinetic energy removed goes to ``hs.sc[7]``."""
+    nr, grow, wcol, bvec, act = hm.nr, w.grow, w.wcol, w.bvec, w.act
+    z, zd, phid, p = hs.z, hs.zd, hs.phid, hs.p
+    mr, gr, hx, cx, ix, jd = hm.mr, hm.gr, hm.hx, hm.cx, hm.ix, hm.inertia
+    ng = z.shape[0]
+    npair = p.shape[0]
+    nimp = 0
+    for k in range(npair):
+        sdk = 0.0
+        for g in range(ng):
+            for i in range(nr[g]):
+                sdk += grow[k, g, i] * zd[g, i]
+            sdk += grow[k, g, nr[g]] * phid[g]
+        bvec[k] = sdk
+        act[k] = p[k] < 0.0 and sdk > 0.0
+        if act[k]:
+            nimp += 1
+    if nimp == 0:
+        return
+    ke0 = kinetic(z, zd, phid, nr, mr, gr, hx, cx, ix, jd)
+    for g in range(ng):
+        for k in range(npair):
+            chol_solve(hm.m0fac[g], grow[k, g, : nr[g] + 1], wcol[k, g, : nr[g] + 1])
+    idx = np.empty(npair, np.int64)
+    na = 0
+    for k in range(npair):
+        if act[k]:
+            idx[na] = k
+            na += 1
+    asub = np.empty((na, na))
+    bsub = np.empty(na)
+    for r in range(na):
+        bsub[r] = -bvec[idx[r]]
+        for c in range(na):
+            acc = 0.0
+            for g in range(ng):
+                for i in range(nr[g] + 1):
+                    acc += grow[idx[r], g, i] * wcol[idx[c], g, i]
+            asub[r, c] = acc
+    small_solve(asub, bsub, na)
+    for r in range(na):
+        k = idx[r]
+        for g in range(ng):
+            for i in range(nr[g]):
+                zd[g, i] += wcol[k, g, i] * bsub[r]
+            phid[g] += wcol[k, g, nr[g]] * bsub[r]
+    hs.sc[7] += ke0 - kinetic(z, zd, phid, nr, mr, gr, hx, cx, ix, jd)
+
+
+@njit(cache=True)
+def _record_hht(row, t, energy, hm, hs, w, hr):
+    """Write record ``row`` (:data:`RECORD_COLUMNS`; pair 0 in the pair columns, every pair's
+    force in ``hr.outp``)."""
+    nr, grow = hm.nr, w.grow
+    z, zd, phi, phid, p, sc, cres, cnod, cw = hs.z, hs.zd, hs.phi, hs.phid, hs.p, hs.sc, hs.cres, hs.cnod, hs.cw
+    out = hr.out
+    force = -p[0]
+    out[row, 0] = t
+    out[row, 1] = phi[0]
+    out[row, 2] = phi[1]
+    out[row, 3] = phid[0]
+    out[row, 4] = phid[1]
+    out[row, 5] = force
+    out[row, 6] = force
+    out[row, 7] = force
+    out[row, 8] = -w.sgap[0]
+    for side in range(2):
+        px = 0.0
+        py = 0.0
+        for j in range(3):
+            kk = cnod[0, side, j]
+            px += cw[0, side, j] * w.xf[2 * kk]
+            py += cw[0, side, j] * w.xf[2 * kk + 1]
+        out[row, 9 + 2 * side] = px
+        out[row, 10 + 2 * side] = py
+    out[row, 13] = cres[0, 0]
+    out[row, 14] = cres[0, 1]
+    out[row, 15] = kinetic(z, zd, phid, nr, hm.mr, hm.gr, hm.hx, hm.cx, hm.ix, hm.inertia)
+    out[row, 16] = energy
+    out[row, 17] = sc[1]
+    out[row, 18] = sc[7]
+    out[row, 19] = sc[3]
+    out[row, 22] = sc[4]
+    out[row, 25] = sc[2]
+    out[row, 26] = w.tau[0]
+    out[row, 27] = w.tau[1]
+    out[row, 28] = cres[0, 5]
+    sd = 0.0
+    for g in range(z.shape[0]):
+        for i in range(nr[g]):
+            sd += grow[0, g, i] * zd[g, i]
+        sd += grow[0, g, nr[g]] * phid[g]
+    out[row, 29] = sd
+    out[row, 30] = 0.0
+    out[row, 31] = sc[5]
+    for k in range(p.shape[0]):
+        hr.outp[row, k] = -p[k]
+    sc[2] = 0.0
+    sc[3] = 0.0
+    sc[4] = 0.0
+
+
+@njit(cache=True)
+def _close_hht_step(t, its, hs, w):
+    """Running scalars at the end of a step: time, external work, peak force, impacts; F of
+    the new state becomes the step start's."""
+    phi, p, sc = hs.phi, hs.p, hs.sc
+    sc[0] = t
+    for g in range(hs.z.shape[0]):
+        for i in range(hs.z.shape[1]):
+            hs.fz[g, i] = w.fz[g, i]
+        hs.fphi[g] = w.fphi[g]
+        sc[1] += 0.5 * (w.taun[g] + w.tau[g]) * (phi[g] - w.phin[g])
+    sc[2] = max(sc[2], -p[0])
+    sc[3] = max(sc[3], abs(w.sgap[0]) if p[0] < 0.0 else 0.0)
+    sc[4] = max(sc[4], its)
+    if p[0] < 0.0 and sc[6] == 0.0:
+        sc[5] += 1.0
+    sc[6] = 1.0 if p[0] < 0.0 else 0.0
+
+
+@njit(cache=True)
+def initial_evaluation(hm, hs, tpar, mpts):
+    """F at the start state of ``hs`` (into ``hs.fz, hs.fphi``) and the consistent start
+    accelerations ``M a = -F`` (contact forces zero). Returns (contact search ok, kinetic +
+    strain energy [J])."""
+    w = new_hht_scratch(hm, hs, mpts)
+    e_strain = evaluate(
+        hs.z,
+        hs.zd,
+        hs.phi,
+        hs.phid,
+        hs.p,
+        hm.nr,
+        hm.fl_map,
+        hm.mr,
+        hm.kr,
+        hm.gr,
+        hm.cx,
+        hm.fl_gear,
+        hm.fl_start,
+        hm.fl_len,
+        hm.fl_xref,
+        hm.centres,
+        hm.theta0,
+        hm.sig,
+        hm.pairs,
+        mpts,
+        hm.rsgn,
+        tpar,
+        w.xf,
+        w.flid,
+        w.nedge2,
+        w.pa,
+        w.ma,
+        w.pb,
+        w.mb,
+        hs.cres,
+        hs.cnod,
+        hs.cw,
+        w.grow,
+        w.sgap,
+        hs.fz,
+        hs.fphi,
+        w.tau,
+        w.ok,
+    )
+    if w.ok[0] == 0:
+        return False, 0.0
+    for g in range(2):
+        m = hm.nr[g]
+        rhs = np.empty(m + 1)
+        for i in range(m):
+            rhs[i] = -hs.fz[g, i]
+        rhs[m] = -hs.fphi[g]
+        sol = np.empty(m + 1)
+        chol_solve(hm.m0fac[g], rhs, sol)
+        for i in range(m):
+            hs.za[g, i] = sol[i]
+        hs.phia[g] = sol[m]
+    ke = kinetic(hs.z, hs.zd, hs.phid, hm.nr, hm.mr, hm.gr, hm.hx, hm.cx, hm.ix, hm.inertia)
+    return True, ke + e_strain
+
+
+@njit(cache=True)
 def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
     """Advance ``n_steps`` HHT-alpha steps (Negrut et al. 2007 form for index-3 constraints).
 
@@ -289,200 +685,32 @@ def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
     Returns (status, next row); status 1 = Newton iteration did not converge (``info`` =
     time, residual, tolerance), 4 = contact search failed.
     """
-    nr, fl_map, mr, kr, gr, hx, cx, ix = hm.nr, hm.fl_map, hm.mr, hm.kr, hm.gr, hm.hx, hm.cx, hm.ix
-    jd, sfac, m0fac, fl_gear, fl_start = hm.inertia, hm.sfac, hm.m0fac, hm.fl_gear, hm.fl_start
-    fl_len, fl_xref, cen, theta0, sig = hm.fl_len, hm.fl_xref, hm.centres, hm.theta0, hm.sig
-    pairs, rsgn = hm.pairs, hm.rsgn
-    z, zd, za, phi, phid, phia, p = hs.z, hs.zd, hs.za, hs.phi, hs.phid, hs.phia, hs.p
-    cres, cnod, cw, fzn, fphin, sc = hs.cres, hs.cnod, hs.cw, hs.fz, hs.fphi, hs.sc
-    out, out_p, info = hr.out, hr.outp, hr.info
+    info = hr.info
     h = hp.dt
     alpha = hp.alpha
     tpar = np.array([hp.tau0, hp.theta_2, hp.theta_s, hp.gain[0], hp.gain[1]])
     tol = hp.tol
-    rref = hp.r_ref
     gam = 0.5 - alpha
     beta = 0.25 * (1.0 - alpha) ** 2
     bh2 = beta * h * h
-    max_iter = hp.max_iter
-    mpts = hp.n_points
-    ng = z.shape[0]
-    n = z.shape[1]
-    npair = pairs.shape[0]
-    nf = fl_xref.shape[0]
-    maxfl = 0
-    for f in range(fl_len.shape[0]):
-        maxfl = max(maxfl, fl_len[f])
-    xf = np.empty(2 * nf)
-    flid = np.zeros((2, maxfl), np.int64)
-    nedge2 = np.zeros(2, np.int64)
-    pa = np.empty((mpts, 2))
-    ma = np.empty((mpts, 2))
-    pb = np.empty((mpts, 2))
-    mb = np.empty((mpts, 2))
-    grow = np.zeros((npair, ng, n + 1))
-    sgap = np.zeros(npair)
-    fz = np.zeros((ng, n))
-    fphi = np.zeros(ng)
-    tau = np.zeros(ng)
-    taun = np.zeros(ng)
-    ok = np.zeros(1, np.int64)
-    zn = np.empty((ng, n))
-    zdn = np.empty((ng, n))
-    zan = np.empty((ng, n))
-    phin = np.empty(ng)
-    phidn = np.empty(ng)
-    phian = np.empty(ng)
-    mz = np.zeros((ng, n))
-    mphi = np.zeros(ng)
-    rhs = np.zeros(n + 1)
-    y = np.zeros((ng, n + 1))
-    wcol = np.zeros((npair, ng, n + 1))
-    amat = np.zeros((npair, npair))
-    bvec = np.zeros(npair)
-    dp = np.zeros(npair)
-    act = np.zeros(npair, np.bool_)
-    act_old = np.zeros(npair, np.bool_)
+    w = new_hht_scratch(hm, hs, hp.n_points)
     energy = 0.0
     for step in range(n_steps):
-        t = sc[0]
-        for g in range(ng):
-            for i in range(n):
-                zn[g, i] = z[g, i]
-                zdn[g, i] = zd[g, i]
-                zan[g, i] = za[g, i]
-            phin[g] = phi[g]
-            phidn[g] = phid[g]
-            phian[g] = phia[g]
-            taun[g] = tpar[3 + g] * ramp_torque(tpar[3 + g] * rsgn[g] * phi[g], tpar[0], tpar[1], tpar[2])
+        t = hs.sc[0]
+        _step_start(hm, hs, w, tpar)
         converged = False
         res = 0.0
         its = 0
-        for k in range(npair):
-            act_old[k] = p[k] < 0.0
-        for it in range(max_iter + 1):
+        for it in range(hp.max_iter + 1):
             its = it
-            for g in range(ng):
-                for i in range(nr[g]):
-                    z[g, i] = zn[g, i] + h * zdn[g, i] + h * h * ((0.5 - beta) * zan[g, i] + beta * za[g, i])
-                    zd[g, i] = zdn[g, i] + h * ((1.0 - gam) * zan[g, i] + gam * za[g, i])
-                phi[g] = phin[g] + h * phidn[g] + h * h * ((0.5 - beta) * phian[g] + beta * phia[g])
-                phid[g] = phidn[g] + h * ((1.0 - gam) * phian[g] + gam * phia[g])
-            energy = evaluate(
-                z,
-                zd,
-                phi,
-                phid,
-                p,
-                nr,
-                fl_map,
-                mr,
-                kr,
-                gr,
-                cx,
-                fl_gear,
-                fl_start,
-                fl_len,
-                fl_xref,
-                cen,
-                theta0,
-                sig,
-                pairs,
-                mpts,
-                rsgn,
-                tpar,
-                xf,
-                flid,
-                nedge2,
-                pa,
-                ma,
-                pb,
-                mb,
-                cres,
-                cnod,
-                cw,
-                grow,
-                sgap,
-                fz,
-                fphi,
-                tau,
-                ok,
-            )
-            if ok[0] == 0:
+            _newmark(hm, hs, w, h, beta, gam)
+            energy = _evaluate_state(hm, hs, w, tpar, hp.n_points)
+            if w.ok[0] == 0:
                 info[0] = t + h
                 return 4, row
-            if converged:
+            if converged or it == hp.max_iter:
                 break
-            if it == max_iter:
-                break
-            mass_product(z, za, phia, nr, mr, gr, hx, cx, ix, jd, mz, mphi)
-            for g in range(ng):
-                m = nr[g]
-                for i in range(m):
-                    rhs[i] = mz[g, i] / (1.0 + alpha) + fz[g, i] - alpha / (1.0 + alpha) * fzn[g, i]
-                rhs[m] = mphi[g] / (1.0 + alpha) + fphi[g] - alpha / (1.0 + alpha) * fphin[g]
-                chol_solve(sfac[g], rhs[: m + 1], y[g, : m + 1])
-                for k in range(npair):
-                    chol_solve(sfac[g], grow[k, g, : m + 1], wcol[k, g, : m + 1])
-            # Schur system of the contact pairs, active set p = min(0, p - c s)
-            for k in range(npair):
-                gy = 0.0
-                for g in range(ng):
-                    for i in range(nr[g] + 1):
-                        gy += grow[k, g, i] * y[g, i]
-                for l in range(npair):
-                    acc = 0.0
-                    for g in range(ng):
-                        for i in range(nr[g] + 1):
-                            acc += grow[k, g, i] * wcol[l, g, i]
-                    amat[k, l] = acc
-                bvec[k] = gy - sgap[k] / bh2
-            for k in range(npair):
-                ck = 1.0 / (bh2 * amat[k, k])
-                act[k] = p[k] - ck * sgap[k] < 0.0
-            na = 0
-            idx = np.empty(npair, np.int64)
-            for k in range(npair):
-                if act[k]:
-                    idx[na] = k
-                    na += 1
-                else:
-                    dp[k] = -p[k]
-            if na > 0:
-                asub = np.empty((na, na))
-                bsub = np.empty(na)
-                for r in range(na):
-                    k = idx[r]
-                    bsub[r] = bvec[k]
-                    for l in range(npair):
-                        if not act[l]:
-                            bsub[r] -= amat[k, l] * dp[l]
-                    for c in range(na):
-                        asub[r, c] = amat[k, idx[c]]
-                small_solve(asub, bsub, na)
-                for r in range(na):
-                    dp[idx[r]] = bsub[r]
-            res = 0.0
-            for g in range(ng):
-                m = nr[g]
-                for i in range(m + 1):
-                    d = -y[g, i]
-                    for k in range(npair):
-                        d += wcol[k, g, i] * dp[k]
-                    if i < m:
-                        za[g, i] += d
-                        res = max(res, bh2 * abs(d))
-                    else:
-                        phia[g] += d
-                        res = max(res, bh2 * abs(d) * rref)
-            same = True
-            for k in range(npair):
-                p[k] += dp[k]
-                if act[k]:
-                    res = max(res, abs(sgap[k]))
-                if act[k] != act_old[k]:
-                    same = False
-                act_old[k] = act[k]
+            res, same = _newton_update(hm, hs, w, alpha, bh2, hp.r_ref)
             if res <= tol and same:
                 converged = True
         if not converged:
@@ -490,104 +718,10 @@ def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
             info[1] = res
             info[2] = tol
             return 1, row
-        # ---- impact projection: no approaching normal velocity at active pairs
-        nimp = 0
-        for k in range(npair):
-            sdk = 0.0
-            for g in range(ng):
-                for i in range(nr[g]):
-                    sdk += grow[k, g, i] * zd[g, i]
-                sdk += grow[k, g, nr[g]] * phid[g]
-            bvec[k] = sdk
-            act[k] = p[k] < 0.0 and sdk > 0.0
-            if act[k]:
-                nimp += 1
-        if nimp > 0:
-            ke0 = kinetic(z, zd, phid, nr, mr, gr, hx, cx, ix, jd)
-            for g in range(ng):
-                for k in range(npair):
-                    chol_solve(m0fac[g], grow[k, g, : nr[g] + 1], wcol[k, g, : nr[g] + 1])
-            idx = np.empty(npair, np.int64)
-            na = 0
-            for k in range(npair):
-                if act[k]:
-                    idx[na] = k
-                    na += 1
-            asub = np.empty((na, na))
-            bsub = np.empty(na)
-            for r in range(na):
-                bsub[r] = -bvec[idx[r]]
-                for c in range(na):
-                    acc = 0.0
-                    for g in range(ng):
-                        for i in range(nr[g] + 1):
-                            acc += grow[idx[r], g, i] * wcol[idx[c], g, i]
-                    asub[r, c] = acc
-            small_solve(asub, bsub, na)
-            for r in range(na):
-                k = idx[r]
-                for g in range(ng):
-                    for i in range(nr[g]):
-                        zd[g, i] += wcol[k, g, i] * bsub[r]
-                    phid[g] += wcol[k, g, nr[g]] * bsub[r]
-            sc[7] += ke0 - kinetic(z, zd, phid, nr, mr, gr, hx, cx, ix, jd)
+        _impact_projection(hm, hs, w)
         t = t + h
-        sc[0] = t
-        for g in range(ng):
-            for i in range(n):
-                fzn[g, i] = fz[g, i]
-            fphin[g] = fphi[g]
-            sc[1] += 0.5 * (taun[g] + tau[g]) * (phi[g] - phin[g])
-        force = -p[0]
-        sc[2] = max(sc[2], force)
-        sc[3] = max(sc[3], abs(sgap[0]) if p[0] < 0.0 else 0.0)
-        sc[4] = max(sc[4], its)
-        if p[0] < 0.0 and sc[6] == 0.0:
-            sc[5] += 1.0
-        sc[6] = 1.0 if p[0] < 0.0 else 0.0
-        if (step + 1) % rec_every == 0 and row < out.shape[0]:
-            out[row, 0] = t
-            out[row, 1] = phi[0]
-            out[row, 2] = phi[1]
-            out[row, 3] = phid[0]
-            out[row, 4] = phid[1]
-            out[row, 5] = force
-            out[row, 6] = force
-            out[row, 7] = force
-            out[row, 8] = -sgap[0]
-            for side in range(2):
-                px = 0.0
-                py = 0.0
-                for j in range(3):
-                    kk = cnod[0, side, j]
-                    px += cw[0, side, j] * xf[2 * kk]
-                    py += cw[0, side, j] * xf[2 * kk + 1]
-                out[row, 9 + 2 * side] = px
-                out[row, 10 + 2 * side] = py
-            out[row, 13] = cres[0, 0]
-            out[row, 14] = cres[0, 1]
-            out[row, 15] = kinetic(z, zd, phid, nr, mr, gr, hx, cx, ix, jd)
-            out[row, 16] = energy
-            out[row, 17] = sc[1]
-            out[row, 18] = sc[7]
-            out[row, 19] = sc[3]
-            out[row, 22] = sc[4]
-            out[row, 25] = sc[2]
-            out[row, 26] = tau[0]
-            out[row, 27] = tau[1]
-            out[row, 28] = cres[0, 5]
-            sd = 0.0
-            for g in range(ng):
-                for i in range(nr[g]):
-                    sd += grow[0, g, i] * zd[g, i]
-                sd += grow[0, g, nr[g]] * phid[g]
-            out[row, 29] = sd
-            out[row, 30] = 0.0
-            out[row, 31] = sc[5]
-            for k in range(npair):
-                out_p[row, k] = -p[k]
+        _close_hht_step(t, its, hs, w)
+        if (step + 1) % rec_every == 0 and row < hr.out.shape[0]:
+            _record_hht(row, t, energy, hm, hs, w, hr)
             row += 1
-            sc[2] = 0.0
-            sc[3] = 0.0
-            sc[4] = 0.0
     return 0, row

@@ -21,12 +21,17 @@ solution of the linear complementarity problem.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 
 
 @njit(cache=True)
-def k_local_product(g, minv, gid, rot, indptr, indices, data, zk):
-    """zk = K R^T M^-1 g (local frame) for a sparse g (only its non-zero nodes are visited)."""
+def k_local_product(g, m, rot, zk):
+    """zk += K R^T M^-1 g (local frame) for a sparse g (only its non-zero nodes are visited);
+    ``m`` the :class:`~rotaflex.gear.kernels.arrays.ModelArrays` (K in 2 x 2 blocks, applied
+    as its transpose, which equals K to round-off: each ``zk`` entry gets its terms in the order
+    of the rows)."""
+    minv, gid, kptr, kcol, kblk = m.minv, m.gid, m.kptr, m.kcol, m.kblk
     nn = minv.shape[0]
     for i in range(nn):
         g0 = g[2 * i]
@@ -38,23 +43,27 @@ def k_local_product(g, minv, gid, rot, indptr, indices, data, zk):
         s = rot[gg, 1]
         l0 = (c * g0 + s * g1) * minv[i]
         l1 = (-s * g0 + c * g1) * minv[i]
-        for d in range(2):
-            r = 2 * i + d
-            val = l0 if d == 0 else l1
-            for j in range(indptr[r], indptr[r + 1]):
-                zk[indices[j]] += data[j] * val
+        for b in range(kptr[i], kptr[i + 1]):
+            j = kcol[b]
+            zk[2 * j] += kblk[b, 0] * l0
+            zk[2 * j + 1] += kblk[b, 1] * l0
+        for b in range(kptr[i], kptr[i + 1]):
+            j = kcol[b]
+            zk[2 * j] += kblk[b, 2] * l1
+            zk[2 * j + 1] += kblk[b, 3] * l1
 
 
 @njit(cache=True)
-def respond(g, gth, c1, c2, minv, gid, rot, jd, indptr, indices, data, zk, tx, tth, scale):
+def respond(g, gth, c1, c2, m, rot, zk, tx, tth, scale):
     """tx += scale * (c1 M^-1 g - c2 M^-1 R K R^T M^-1 g), tth += scale * c1 gth / J.
 
     This is the exact response of the RK4 step to a constant generalized force (G^T dmu)
     for c1, c2 = (dt^2/2, dt^4/24) on positions and (dt, dt^3/6) on velocities.
     """
+    minv, gid, jd = m.minv, m.gid, m.inertia
     nn = minv.shape[0]
     if c2 != 0.0:
-        k_local_product(g, minv, gid, rot, indptr, indices, data, zk)
+        k_local_product(g, m, rot, zk)
     for i in range(nn):
         gg = gid[i]
         c = rot[gg, 0]
@@ -97,12 +106,17 @@ def tie_row_sums(c1, c2, m_arr, bvec, rs):
 
 @njit(cache=True)
 def accel_poly(n_acc, eps1, coef):
-    """Coefficients of A_n as a polynomial in C_1 (eq. B.4-B.8) and the optimal b (eq. 24)."""
+    """Coefficients of A_n as a polynomial in C_1 (eq. B.4-B.8) and the optimal b (eq. 24).
+
+    The products run over the non-zero coefficients only (degree of C_k is 2^(k-1), of A_k
+    2^(k-1) - 1): the terms left out are exact zeros."""
     size = coef.shape[0]
     cc = np.zeros(size)
     ca = np.zeros(size)
     cc[1] = 1.0
     ca[0] = 1.0
+    dc = 1  # degree of C
+    da = 0  # degree of A
     om = 1.0
     ep = eps1
     tmp = np.zeros(size)
@@ -110,22 +124,24 @@ def accel_poly(n_acc, eps1, coef):
         bk = ep + om
         # A <- (bk - C) A
         tmp[:] = 0.0
-        for i in range(size):
+        for i in range(da + 1):
             if ca[i] == 0.0:
                 continue
             tmp[i] += bk * ca[i]
-            for j in range(size - i):
+            for j in range(min(size - i, dc + 1)):
                 tmp[i + j] -= cc[j] * ca[i]
         ca[:] = tmp
+        da = min(size - 1, da + dc)
         # C <- C (bk - C)
         tmp[:] = 0.0
-        for i in range(size):
+        for i in range(dc + 1):
             if cc[i] == 0.0:
                 continue
             tmp[i] += bk * cc[i]
-            for j in range(size - i):
+            for j in range(min(size - i, dc + 1)):
                 tmp[i + j] -= cc[j] * cc[i]
         cc[:] = tmp
+        dc = min(size - 1, 2 * dc)
         ep, om = ep * om, bk * bk / 4.0
     coef[:] = ca
     return 2.0 / (om + ep)
@@ -159,8 +175,9 @@ def gt_apply(dmu, tie_node, tie_gear, bvec, rot, cnod, cw, cn, g, gth):
 
 
 @njit(cache=True)
-def contact_columns(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cnod, cw, cn, g, zk, ccol):
+def contact_columns(c1, c2, m, rot, cnod, cw, cn, g, zk, ccol):
     """Columns of C = G W G^T of every contact row (W = c1 M^-1 - c2 M^-1 K_g M^-1)."""
+    minv, gid, tie_node = m.minv, m.gid, m.tie_node
     nt = tie_node.shape[0]
     npair = cnod.shape[0]
     for jp in range(npair):
@@ -171,7 +188,7 @@ def contact_columns(c1, c2, minv, gid, rot, indptr, indices, data, tie_node, cno
                 g[2 * i] += sgn * cw[jp, side, j] * cn[jp, 0]
                 g[2 * i + 1] += sgn * cw[jp, side, j] * cn[jp, 1]
         if c2 != 0.0:
-            k_local_product(g, minv, gid, rot, indptr, indices, data, zk)
+            k_local_product(g, m, rot, zk)
         for k in range(nt):
             i = tie_node[k]
             gg = gid[i]
@@ -214,34 +231,39 @@ def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl, kz):
     nt = tie_node.shape[0]
     ic = 2 * nt
     npair = ccol.shape[0]
+    # one sweep for the diagonal part, the disk sums and M_t^-1 z; the same operations per
+    # entry, in the same order, as the tie block written term by term
     sg0 = 0.0
     sg1 = 0.0
     for k in range(nt):
         m = minv[tie_node[k]]
-        out[2 * k] = c1 * m * z[2 * k]
-        out[2 * k + 1] = c1 * m * z[2 * k + 1]
-        d = bvec[k, 0] * z[2 * k] + bvec[k, 1] * z[2 * k + 1]
+        z0 = z[2 * k]
+        z1 = z[2 * k + 1]
+        out[2 * k] = c1 * m * z0
+        out[2 * k + 1] = c1 * m * z1
+        d = bvec[k, 0] * z0 + bvec[k, 1] * z1
         if tie_gear[k] == 0:
             sg0 += d
         else:
             sg1 += d
-    for k in range(nt):
-        sgv = sg0 / jd[0] if tie_gear[k] == 0 else sg1 / jd[1]
-        out[2 * k] += c1 * bvec[k, 0] * sgv
-        out[2 * k + 1] += c1 * bvec[k, 1] * sgv
-    if c2 != 0.0:
-        for k in range(nt):
-            m = minv[tie_node[k]]
-            yl[2 * k] = m * z[2 * k]
-            yl[2 * k + 1] = m * z[2 * k + 1]
+        if c2 != 0.0:
+            yl[2 * k] = m * z0
+            yl[2 * k + 1] = m * z1
             kz[2 * k] = 0.0
             kz[2 * k + 1] = 0.0
+    if c2 != 0.0:
         for q in range(tb_i.shape[0]):
             i = tb_i[q]
             j = tb_j[q]
             kz[2 * i] += tb_b[q, 0, 0] * yl[2 * j] + tb_b[q, 0, 1] * yl[2 * j + 1]
             kz[2 * i + 1] += tb_b[q, 1, 0] * yl[2 * j] + tb_b[q, 1, 1] * yl[2 * j + 1]
-        for k in range(nt):
+    s0 = sg0 / jd[0]
+    s1 = sg1 / jd[1]
+    for k in range(nt):
+        sgv = s0 if tie_gear[k] == 0 else s1
+        out[2 * k] += c1 * bvec[k, 0] * sgv
+        out[2 * k + 1] += c1 * bvec[k, 1] * sgv
+        if c2 != 0.0:
             m = minv[tie_node[k]]
             out[2 * k] -= c2 * m * kz[2 * k]
             out[2 * k + 1] -= c2 * m * kz[2 * k + 1]
@@ -634,15 +656,42 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec
     return res, max_ref + 1, False
 
 
+def _solver(dfac, dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
+    """Stand-in for Python; compiled callers get :func:`_solver_for` (one solver per run type)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(_solver)
+def _solver_for(dfac, dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
+    """The pass solver chosen by the type of the direct-solve factors: none -> the iteration of
+    eq. 19-24, arrays -> the direct solve. Only the chosen solver is compiled into a run."""
+    if isinstance(dfac, types.NoneType):
+
+        def iterative(
+            dfac, dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats
+        ):
+            return iterate_pass(
+                mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats
+            )
+
+        return iterative
+
+    def direct(dfac, dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
+        lb = dfac[mode - 1]
+        return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, lb, dperm, m_arr, bvec, ccol, work, stats)
+
+    return direct
+
+
 @njit(cache=True)
-def solve_pass(direct, prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
-    """Dispatch pass ``mode`` (1, 2, 3) to the iteration of eq. 19-24 or to the direct solve
-    (factors ``prm.dfac[mode - 1]`` of the :class:`~rotaflex.gear.kernels.arrays.StepParams`);
-    returns (residual, iterations, converged) and leaves C (mu - mu_start) in ``work[0]``."""
-    if direct:
-        lb = prm.dfac[mode - 1]
-        return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, lb, prm.dperm, m_arr, bvec, ccol, work, stats)
-    return iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats)
+def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
+    """Pass ``mode`` (1, 2, 3) by the iteration of eq. 19-24 (``prm.dfac`` None) or by the
+    direct solve (factors ``prm.dfac[mode - 1]`` of the
+    :class:`~rotaflex.gear.kernels.arrays.StepParams`); returns (residual, iterations,
+    converged) and leaves C (mu - mu_start) in ``work[0]``."""
+    return _solver(
+        prm.dfac, prm.dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats
+    )
 
 
 def factor_tie_blocks(model, dt: float):

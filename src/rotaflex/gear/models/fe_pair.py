@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -355,6 +356,172 @@ def rigid_velocities(model, x: np.ndarray, om: np.ndarray) -> np.ndarray:
     return v
 
 
+def node_blocks(k: sp.csr_matrix):
+    """The stiffness (2N x 2N, DOFs ``[x0, y0, x1, ...]``) as 2 x 2 node blocks: block-row
+    pointers (N + 1,), node columns (nb,) and blocks (nb, 4) = (K_xx, K_xy, K_yx, K_yy) [N/m]
+    (blocks in ascending column order; a block absent from the pattern of K is absent here,
+    an entry missing inside a present block is stored as 0)."""
+    bsr = sp.bsr_matrix(k, blocksize=(2, 2))
+    bsr.sort_indices()
+    kblk = np.ascontiguousarray(bsr.data.reshape(-1, 4), dtype=float)
+    return bsr.indptr.astype(np.int64), bsr.indices.astype(np.int64), kblk
+
+
+def _kernel_arrays(model, flank, nedge, psi, warm_start, tab, mloc):
+    """:class:`~rotaflex.gear.kernels.arrays.ModelArrays` of ``model`` with its contact-pair
+    layout (``flank, nedge, psi``), warm-start table and smoothed-surface tables."""
+    from rotaflex.gear.kernels.arrays import ModelArrays
+
+    kptr, kcol, kblk = node_blocks(model.stiffness)
+    return ModelArrays(
+        gid=model.gid,
+        kptr=kptr,
+        kcol=kcol,
+        kblk=kblk,
+        xloc=model.xloc,
+        minv=model.minv,
+        centres=model.centres,
+        theta0=np.asarray(model.theta0, dtype=float),
+        inertia=np.asarray(model.inertia, float),
+        rsgn=model.rsgn,
+        sig=model.sig,
+        tie_node=model.tie_node,
+        tie_gear=model.tie_gear,
+        tb_i=model.tb_i,
+        tb_j=model.tb_j,
+        tb_b=model.tb_b,
+        flank=np.ascontiguousarray(flank),
+        nedge=np.ascontiguousarray(nedge),
+        psi=psi,
+        wtab=np.zeros((1, 3)) if warm_start is None else np.asarray(warm_start, float),
+        tab=tab,
+        mloc=mloc,
+    )
+
+
+class KernelInputs(NamedTuple):
+    """Arguments of :func:`rotaflex.gear.kernels.rk4.run_steps` for one run, its step count and
+    the start energy [J] (made by :func:`kernel_inputs`)."""
+
+    arrays: object  # ModelArrays
+    params: object  # StepParams
+    state: object  # State
+    rec: object  # Records
+    n_steps: int
+    initial_energy: float
+
+
+def kernel_inputs(
+    model,
+    *,
+    speeds,
+    torque,
+    theta_2,
+    theta_s,
+    span,
+    dt,
+    tol=1e-12,
+    n_accel=3,
+    max_iter=500,
+    record_every=10,
+    restitution=0.0,
+    multipliers="iterative",
+    smoothing=0,
+    torque_mode=None,
+    window=None,
+    warm_start=None,
+    gain=(1.0, 1.0),
+):
+    """Kernel arguments of a run of :func:`integrate` (same parameters; checked here)."""
+    from rotaflex.gear.kernels.arrays import Records, State, StepParams
+    from rotaflex.gear.kernels.forces import kinetic_energy
+    from rotaflex.gear.kernels.rk4 import GLOBAL_COLUMNS, PAIR_COLUMNS
+
+    if dt > model.dt_limit:
+        raise InputError(
+            "solver.dt",
+            dt,
+            f"a step <= the RK4 stability limit of the mesh, "
+            f"{model.dt_limit:.4g} s (refine dt or coarsen the smallest elements)",
+        )
+    if multipliers not in ("iterative", "direct"):
+        raise InputError("solver.multipliers", multipliers, "'iterative' or 'direct'")
+    if not 0.0 <= restitution <= 1.0:
+        raise InputError("solver.restitution", restitution, "in [0, 1]")
+    flank, nedge, psi, start, x = model.pair_layout()
+    if torque_mode is None:
+        torque_mode = 1 if model.constant_torque else 0
+    if warm_start is None:
+        warm_start = model.warm_start_table(theta_s)
+    npair = flank.shape[0]
+    tab, mloc = smoothing_tables(model, smoothing, flank, nedge)
+    omega = np.asarray(speeds, dtype=float)
+    n_steps = max(1, int(round(span / (omega[0] * dt))))
+    eps = tie_eigen_bounds(model, dt)
+    nn = model.n_nodes
+    om = np.array([omega[0], -omega[1]])
+    v = rigid_velocities(model, x, om)
+    nc = 2 * len(model.tie_node) + npair
+    cres = np.zeros((npair, 8))
+    cres[:, :2] = start
+    nw = 3 if smoothing <= 0 else flank.shape[2]
+    n_rec = n_steps // record_every + 1
+    lo, hi = (-1e9, 1e9) if window is None else (-window, theta_s + window)
+    arrays = _kernel_arrays(model, flank, nedge, psi, warm_start, tab, mloc)
+    if multipliers == "direct":
+        from rotaflex.gear.kernels.passes import factor_tie_blocks
+
+        dfac, dperm, _ = factor_tie_blocks(model, dt)
+    else:
+        dfac, dperm = None, None  # the iteration: its run compiles without the direct solve
+    params = StepParams(
+        dt=float(dt),
+        tau0=float(torque),
+        theta_2=float(theta_2),
+        theta_s=float(theta_s),
+        tol_disp=float(tol),
+        tol_vel=tol / dt,
+        tol_acc=tol / dt**2,
+        eps_disp=float(eps[0]),
+        eps_vel=float(eps[1]),
+        eps_acc=float(eps[2]),
+        restitution=float(restitution),
+        window_lo=float(lo),
+        window_hi=float(hi),
+        corners=window is not None,
+        n_accel=int(n_accel),
+        max_iter=int(max_iter),
+        n_points=int(model.n_points),
+        torque_mode=int(torque_mode),
+        dfac=dfac,
+        dperm=dperm,
+        gain=np.asarray(gain, dtype=float),
+    )
+    state = State(
+        x=x,
+        v=v,
+        a=np.zeros(2 * nn),
+        phi=np.zeros(2),
+        om=om,
+        alp=np.zeros(2),
+        mu=np.zeros(nc),
+        cres=cres,
+        cnod=np.zeros((npair, 2, nw), dtype=np.int64),
+        cw=np.zeros((npair, 2, nw)),
+        sc=np.zeros(24),
+        spair=np.zeros((npair, 6)),
+        rates=np.zeros((npair, 4)),
+    )
+    rec = Records(
+        out=np.zeros((n_rec, len(GLOBAL_COLUMNS))),
+        outp=np.zeros((n_rec, npair, len(PAIR_COLUMNS))),
+        out_mu=np.zeros((n_rec, nc - npair)),
+        info=np.zeros(4),
+    )
+    e0 = kinetic_energy(v, om, model.minv, model.inertia) + model.start_strain_energy(x)
+    return KernelInputs(arrays, params, state, rec, n_steps, float(e0))
+
+
 def integrate(
     model: GearPairModel,
     *,
@@ -438,117 +605,32 @@ def integrate(
     rotaflex.gear.solvers.registry.SolverOutput
         For one pair, ``records`` also holds the pair columns of that pair (shorthand).
     """
-    from rotaflex.gear.kernels.arrays import ModelArrays, Records, State, StepParams
-    from rotaflex.gear.kernels.rk4 import GLOBAL_COLUMNS, PAIR_COLUMNS, kinetic_energy, run_steps
+    from rotaflex.gear.kernels.rk4 import GLOBAL_COLUMNS, PAIR_COLUMNS, run_steps
     from rotaflex.gear.solvers.drive_loop import SolverOutput, drive
 
-    if dt > model.dt_limit:
-        raise InputError(
-            "solver.dt",
-            dt,
-            f"a step <= the RK4 stability limit of the mesh, "
-            f"{model.dt_limit:.4g} s (refine dt or coarsen the smallest elements)",
-        )
-    if multipliers not in ("iterative", "direct"):
-        raise InputError("solver.multipliers", multipliers, "'iterative' or 'direct'")
-    if not 0.0 <= restitution <= 1.0:
-        raise InputError("solver.restitution", restitution, "in [0, 1]")
-    flank, nedge, psi, start, x = model.pair_layout()
-    if torque_mode is None:
-        torque_mode = 1 if model.constant_torque else 0
-    if warm_start is None:
-        warm_start = model.warm_start_table(theta_s)
-    npair = flank.shape[0]
-    tab, mloc = smoothing_tables(model, smoothing, flank, nedge)
-    omega = np.asarray(speeds, dtype=float)
-    n_steps = max(1, int(round(span / (omega[0] * dt))))
-    eps = tie_eigen_bounds(model, dt)
-    if multipliers == "direct":
-        from rotaflex.gear.kernels.passes import factor_tie_blocks
-
-        dfac, dperm, _ = factor_tie_blocks(model, dt)
-    else:
-        dfac, dperm = np.ones((3, 1, 1)), np.zeros(1, dtype=np.int64)
-    k = model.stiffness
-    nn = model.n_nodes
-    om = np.array([omega[0], -omega[1]])
-    v = rigid_velocities(model, x, om)
-    nc = 2 * len(model.tie_node) + npair
-    cres = np.zeros((npair, 8))
-    cres[:, :2] = start
-    nw = 3 if smoothing <= 0 else flank.shape[2]
-    n_rec = n_steps // record_every + 1
-    lo, hi = (-1e9, 1e9) if window is None else (-window, theta_s + window)
-    arrays = ModelArrays(
-        gid=model.gid,
-        indptr=k.indptr.astype(np.int64),
-        indices=k.indices.astype(np.int64),
-        data=k.data.astype(float),
-        xloc=model.xloc,
-        minv=model.minv,
-        centres=model.centres,
-        theta0=np.asarray(model.theta0, dtype=float),
-        inertia=np.asarray(model.inertia, float),
-        rsgn=model.rsgn,
-        sig=model.sig,
-        tie_node=model.tie_node,
-        tie_gear=model.tie_gear,
-        tb_i=model.tb_i,
-        tb_j=model.tb_j,
-        tb_b=model.tb_b,
-        flank=np.ascontiguousarray(flank),
-        nedge=np.ascontiguousarray(nedge),
-        psi=psi,
-        wtab=np.zeros((1, 3)) if warm_start is None else np.asarray(warm_start, float),
-        tab=tab,
-        mloc=mloc,
+    arrays, params, state, rec, n_steps, e0 = kernel_inputs(
+        model,
+        speeds=speeds,
+        torque=torque,
+        theta_2=theta_2,
+        theta_s=theta_s,
+        span=span,
+        dt=dt,
+        tol=tol,
+        n_accel=n_accel,
+        max_iter=max_iter,
+        record_every=record_every,
+        restitution=restitution,
+        multipliers=multipliers,
+        smoothing=smoothing,
+        torque_mode=torque_mode,
+        window=window,
+        warm_start=warm_start,
+        gain=gain,
     )
-    params = StepParams(
-        dt=float(dt),
-        tau0=float(torque),
-        theta_2=float(theta_2),
-        theta_s=float(theta_s),
-        tol_disp=float(tol),
-        tol_vel=tol / dt,
-        tol_acc=tol / dt**2,
-        eps_disp=float(eps[0]),
-        eps_vel=float(eps[1]),
-        eps_acc=float(eps[2]),
-        restitution=float(restitution),
-        window_lo=float(lo),
-        window_hi=float(hi),
-        corners=window is not None,
-        n_accel=int(n_accel),
-        max_iter=int(max_iter),
-        n_points=int(model.n_points),
-        torque_mode=int(torque_mode),
-        direct=multipliers == "direct",
-        dfac=dfac,
-        dperm=dperm,
-        gain=np.asarray(gain, dtype=float),
-    )
-    state = State(
-        x=x,
-        v=v,
-        a=np.zeros(2 * nn),
-        phi=np.zeros(2),
-        om=om,
-        alp=np.zeros(2),
-        mu=np.zeros(nc),
-        cres=cres,
-        cnod=np.zeros((npair, 2, nw), dtype=np.int64),
-        cw=np.zeros((npair, 2, nw)),
-        sc=np.zeros(24),
-        spair=np.zeros((npair, 6)),
-        rates=np.zeros((npair, 4)),
-    )
-    rec = Records(
-        out=np.zeros((n_rec, len(GLOBAL_COLUMNS))),
-        outp=np.zeros((n_rec, npair, len(PAIR_COLUMNS))),
-        out_mu=np.zeros((n_rec, nc - npair)),
-        info=np.zeros(4),
-    )
-    e0 = kinetic_energy(v, om, model.minv, model.inertia) + model.start_strain_energy(x)
+    x = state.x
+    n_rec = rec.out.shape[0]
+    npair = state.cres.shape[0]
     rec_nodes = None if record_nodes is None else np.asarray(record_nodes, dtype=np.int64)
     rec_x = None if rec_nodes is None else np.zeros((n_rec, len(rec_nodes), 2))
     row = [0]
@@ -580,7 +662,7 @@ def integrate(
         tie_multipliers=rec.out_mu[:nrow].copy(),
         steps=n_steps,
         wall_time=wall,
-        initial_energy=float(e0),
+        initial_energy=e0,
         dt=dt,
         snapshots=snaps,
         node_positions=None if rec_x is None else rec_x[:nrow].copy(),

@@ -239,8 +239,8 @@ def simulate_reduced(
     [-1/3, 0]; 0 = trapezoidal rule). ``tol`` [m] bounds the Newton displacement increment and
     the penetration of active contacts.
     """
-    from rotaflex.gear.kernels.arrays import HHTModel, HHTParams, HHTRecords, HHTState
-    from rotaflex.gear.kernels.hht import RECORD_COLUMNS, chol_solve, evaluate, kinetic, run_hht
+    from rotaflex.gear.kernels.arrays import HHTParams, HHTRecords
+    from rotaflex.gear.kernels.hht import RECORD_COLUMNS, run_hht
     from rotaflex.gear.solvers.drive_loop import SolverOutput, drive
 
     if not -1.0 / 3.0 <= alpha <= 0.0:
@@ -257,10 +257,71 @@ def simulate_reduced(
     base = red.base
     omega = np.asarray(speeds, dtype=float)
     n_steps = max(1, int(round(span / (omega[0] * dt))))
+    tpar = np.array([torque, theta_2, theta_s, gain[0], gain[1]], dtype=float)
+    m = _hht_model(red, alpha, dt)
+    state, e0 = _initial_state(red, m, omega, tpar)
+    z, phi, sc = state.z, state.phi, state.sc
+    n_rec = n_steps // record_every + 1
+    npair = red.pairs.shape[0]
+    prm = HHTParams(
+        dt=float(dt),
+        alpha=float(alpha),
+        tau0=float(tpar[0]),
+        theta_2=float(tpar[1]),
+        theta_s=float(tpar[2]),
+        tol=float(tol),
+        r_ref=float(max(g.tip_radius_ for g in base.geometry)),
+        max_iter=int(max_iter),
+        n_points=int(base.n_points),
+        gain=np.asarray(gain, dtype=float),
+    )
+    info = np.zeros(4)
+    rec = HHTRecords(out=np.zeros((n_rec, len(RECORD_COLUMNS))), outp=np.zeros((n_rec, npair)), info=info)
+    row = [0]
+
+    def step(nstep, first):
+        status, row[0] = run_hht(nstep, record_every, row[0], m, prm, state, rec)
+        return (5 if status == 1 else status), row[0]
+
+    row, snaps, wall = drive(
+        step,
+        n_steps=n_steps,
+        record_every=record_every,
+        time_of=lambda: sc[0],
+        positions=lambda: positions(red, z, phi),
+        info=info,
+        snapshots=snapshots,
+        progress=progress,
+        progress_every=progress_every,
+    )
+    out = rec.out[:row]
+    records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
+    from rotaflex.gear.kernels.rk4 import PAIR_COLUMNS
+
+    # one contact pair: its columns of the record are the per-pair histories
+    pair_records = {name: records[name][:, None].copy() for name in PAIR_COLUMNS}
+    return SolverOutput(
+        records=records,
+        pair_records=pair_records,
+        tie_multipliers=np.zeros((row, 0)),
+        steps=n_steps,
+        wall_time=wall,
+        initial_energy=e0,
+        dt=dt,
+        snapshots=snaps,
+    )
+
+
+def _hht_model(red: ReducedPairModel, alpha: float, dt: float):
+    """Kernel arrays of the reduced pair with the Cholesky factors of the HHT iteration matrix
+    ``M / (1 + alpha) + beta dt^2 K`` and of the mass matrix, per gear (padded to n + 1)."""
+    from rotaflex.gear.kernels.arrays import HHTModel
+
+    base = red.base
     n = red.mr.shape[1]
     beta = 0.25 * (1 - alpha) ** 2
     sfac = np.zeros((2, n + 1, n + 1))
-    m0 = []
+    m0fac = np.zeros_like(sfac)
     for g in range(2):
         m = int(red.nr[g])
         mm = np.zeros((m + 1, m + 1))
@@ -270,83 +331,8 @@ def simulate_reduced(
         kk = np.zeros_like(mm)
         kk[:m, :m] = red.kr[g, :m, :m]
         sfac[g, : m + 1, : m + 1] = np.linalg.cholesky(mm / (1 + alpha) + beta * dt * dt * kk)
-        m0.append(np.linalg.cholesky(mm))
-    m0fac = np.zeros_like(sfac)
-    for g in range(2):
-        m0fac[g, : m0[g].shape[0], : m0[g].shape[0]] = m0[g]
-    z = np.zeros((2, n))
-    zd = np.zeros((2, n))
-    za = np.zeros((2, n))
-    phi = np.zeros(2)
-    phid = np.array([omega[0], -omega[1]])
-    phia = np.zeros(2)
-    npair = red.pairs.shape[0]
-    p = np.zeros(npair)
-    cres = np.zeros((npair, 8))
-    cres[:, 0], cres[:, 1] = 0.3, 0.99
-    cnod = np.zeros((npair, 2, 3), dtype=np.int64)
-    cw = np.zeros((npair, 2, 3))
-    tpar = np.array([torque, theta_2, theta_s, gain[0], gain[1]], dtype=float)
-    # consistent initial acceleration (contact force zero at t = 0: torques start at zero)
-    nf = red.fl_xref.shape[0]
-    maxfl = int(red.fl_len.max())
-    fz = np.zeros((2, n))
-    fphi = np.zeros(2)
-    ok = np.zeros(1, dtype=np.int64)
-    e_strain = evaluate(
-        z,
-        zd,
-        phi,
-        phid,
-        p,
-        red.nr,
-        red.fl_map,
-        red.mr,
-        red.kr,
-        red.gr,
-        red.cx,
-        red.fl_gear,
-        red.fl_start,
-        red.fl_len,
-        red.fl_xref,
-        base.centres,
-        base.theta0,
-        base.sig,
-        red.pairs,
-        base.n_points,
-        base.rsgn,
-        tpar,
-        np.empty(2 * nf),
-        np.zeros((2, maxfl), dtype=np.int64),
-        np.zeros(2, dtype=np.int64),
-        *[np.empty((base.n_points, 2)) for _ in range(4)],
-        cres,
-        cnod,
-        cw,
-        np.zeros((npair, 2, n + 1)),
-        np.zeros(npair),
-        fz,
-        fphi,
-        np.zeros(2),
-        ok,
-    )
-    if not ok[0]:
-        raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
-    for g in range(2):
-        m = int(red.nr[g])
-        rhs = -np.concatenate([fz[g, :m], [fphi[g]]])
-        sol = np.empty(m + 1)
-        chol_solve(m0[g], rhs, sol)
-        za[g, :m] = sol[:m]
-        phia[g] = sol[m]
-    e0 = float(kinetic(z, zd, phid, red.nr, red.mr, red.gr, red.hx, red.cx, red.ix, base.inertia)) + e_strain
-    rref = float(max(g.tip_radius_ for g in base.geometry))
-    sc = np.zeros(8)
-    n_rec = n_steps // record_every + 1
-    out = np.zeros((n_rec, len(RECORD_COLUMNS)))
-    out_p = np.zeros((n_rec, npair))
-    info = np.zeros(4)
-    m = HHTModel(
+        m0fac[g, : m + 1, : m + 1] = np.linalg.cholesky(mm)
+    return HHTModel(
         nr=red.nr,
         fl_map=red.fl_map,
         mr=red.mr,
@@ -368,55 +354,37 @@ def simulate_reduced(
         pairs=red.pairs,
         rsgn=base.rsgn,
     )
-    prm = HHTParams(
-        dt=float(dt),
-        alpha=float(alpha),
-        tau0=float(tpar[0]),
-        theta_2=float(tpar[1]),
-        theta_s=float(tpar[2]),
-        tol=float(tol),
-        r_ref=rref,
-        max_iter=int(max_iter),
-        n_points=int(base.n_points),
-        gain=np.asarray(gain, dtype=float),
-    )
+
+
+def _initial_state(red: ReducedPairModel, hm, omega: np.ndarray, tpar: np.ndarray):
+    """Undeformed start at the speeds ``omega`` [rad/s] with consistent accelerations (contact
+    force zero at t = 0: the torques start at zero). Returns (HHTState, total energy [J])."""
+    from rotaflex.gear.kernels.arrays import HHTState
+    from rotaflex.gear.kernels.hht import initial_evaluation
+
+    n = red.mr.shape[1]
+    npair = red.pairs.shape[0]
+    cres = np.zeros((npair, 8))
+    cres[:, 0], cres[:, 1] = 0.3, 0.99
     state = HHTState(
-        z=z, zd=zd, za=za, phi=phi, phid=phid, phia=phia, p=p, cres=cres, cnod=cnod, cw=cw, fz=fz, fphi=fphi, sc=sc
+        z=np.zeros((2, n)),
+        zd=np.zeros((2, n)),
+        za=np.zeros((2, n)),
+        phi=np.zeros(2),
+        phid=np.array([omega[0], -omega[1]]),
+        phia=np.zeros(2),
+        p=np.zeros(npair),
+        cres=cres,
+        cnod=np.zeros((npair, 2, 3), dtype=np.int64),
+        cw=np.zeros((npair, 2, 3)),
+        fz=np.zeros((2, n)),
+        fphi=np.zeros(2),
+        sc=np.zeros(8),
     )
-    rec = HHTRecords(out=out, outp=out_p, info=info)
-    row = [0]
-
-    def step(nstep, first):
-        status, row[0] = run_hht(nstep, record_every, row[0], m, prm, state, rec)
-        return (5 if status == 1 else status), row[0]
-
-    row, snaps, wall = drive(
-        step,
-        n_steps=n_steps,
-        record_every=record_every,
-        time_of=lambda: sc[0],
-        positions=lambda: positions(red, z, phi),
-        info=info,
-        snapshots=snapshots,
-        progress=progress,
-        progress_every=progress_every,
-    )
-    out = out[:row]
-    records = {name: out[:, i].copy() for i, name in enumerate(RECORD_COLUMNS)}
-    from rotaflex.gear.kernels.rk4 import PAIR_COLUMNS
-
-    # one contact pair: its columns of the record are the per-pair histories
-    pair_records = {name: records[name][:, None].copy() for name in PAIR_COLUMNS}
-    return SolverOutput(
-        records=records,
-        pair_records=pair_records,
-        tie_multipliers=np.zeros((row, 0)),
-        steps=n_steps,
-        wall_time=wall,
-        initial_energy=e0,
-        dt=dt,
-        snapshots=snaps,
-    )
+    ok, energy = initial_evaluation(hm, state, tpar, int(red.base.n_points))
+    if not ok:
+        raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
+    return state, energy
 
 
 def positions(red: ReducedPairModel, z: np.ndarray, phi: np.ndarray) -> np.ndarray:
