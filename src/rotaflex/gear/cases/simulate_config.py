@@ -91,7 +91,7 @@ class GearConfig:
                 module=self.module,
                 teeth=self.teeth,
                 face_width=self.face_width,
-                pressure_angle_deg=self.pressure_angle_deg,
+                pressure_angle=deg_to_rad(self.pressure_angle_deg),
                 tip_radius=self.tip_radius,
                 root_radius=self.root_radius,
             )
@@ -417,8 +417,11 @@ def load_config(config: dict) -> GearCaseConfig:
     InputError naming it.
     """
     from rotaflex.core.config import from_mapping
+    from rotaflex.gear.cases.pair_config import refuse_other_layout, with_pair_preset
 
-    config = without({k: v for k, v in config.items() if k != "domain"}, STATIC_ONLY)
+    config = with_pair_preset({k: v for k, v in config.items() if k != "domain"}, "simulate")
+    refuse_other_layout(config, "simulate")
+    config = without(config, STATIC_ONLY)
     drawing = "pinion" in config or "wheel" in config
     if drawing:
         config = _pinion_speed(config)

@@ -267,7 +267,11 @@ def _ptp(x):
 def load_config(config: dict) -> StaticConfig:
     """The validated :class:`StaticConfig` of a parsed TOML mapping: the other verbs' tables
     dropped, [load] from [operation] of a shared file, the torque on the pinion (SI, once)."""
-    config = _with_load({k: v for k, v in config.items() if k != "domain"})
+    from rotaflex.gear.cases.pair_config import refuse_other_layout, with_pair_preset
+
+    config = with_pair_preset({k: v for k, v in config.items() if k != "domain"}, "static")
+    refuse_other_layout(config, "static")
+    config = _with_load(config)
     cfg = from_mapping(StaticConfig, without(config, DYNAMIC_ONLY))
     _check_size(cfg)
     if cfg.load.torque_on == "wheel":
