@@ -111,15 +111,19 @@ def test_bad_preset_use_is_refused_by_name(config, field):
         assert exc.value.field == field
 
 
-def test_preset_from_the_cli(tmp_path):
+def test_preset_with_a_relief_by_fraction_from_the_cli_with_progress(tmp_path):
     path = tmp_path / "preset.toml"
     path.write_text(
         'domain = "gear"\npair = "lee_jang"\n'
         "[pinion]\ntip_relief = { amount = 10e-6, start_fraction = 0.6 }\n"
         '[mesh]\npreset = "coarse"\nn_radii = 4\n[analysis]\nn_angles = 24\nrefinement = [1]\n'
     )
-    res = CliRunner().invoke(app, ["gear", "static", str(path), "--out", str(tmp_path / "out"), "-q", "--no-figures"])
+    res = CliRunner().invoke(app, ["gear", "static", str(path), "--out", str(tmp_path / "out"), "--no-figures"])
     assert res.exit_code == 0, res.output
+    # progress, one line per stage in a log: relieved and unrelieved FE pairs, loaded TE, the
+    # compliance study of each gear at one level
+    stages = [line for line in res.output.splitlines() if line.startswith("gear static: ")]
+    assert [line.split(" (")[1].split(")")[0] for line in stages] == [f"{k}/5 stage" for k in range(1, 6)]
     import xarray as xr
 
     ds = xr.open_dataset(tmp_path / "out" / "result.nc")
