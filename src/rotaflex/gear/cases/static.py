@@ -76,7 +76,9 @@ class AnalysisConfig:
 class StaticConfig:
     """Root schema of ``rotaflex gear static`` (the pair keys are those of :class:`PairSpec`)."""
 
-    pinion: GearSpec = param(doc="gear 1")
+    pinion: GearSpec = param(
+        doc='gear 1; top-level pair = "lee_jang" gives both (the paper\'s pair), keys written here override it'
+    )
     wheel: GearSpec = param(doc="gear 2")
     load: LoadConfig = param(doc="design load")
     center_distance: float | None = param(None, unit="m", gt=0.0)
