@@ -201,7 +201,7 @@ def test_paper_gear_through_the_drawing_spec_is_bit_identical():
         teeth=paper.teeth,
         module=paper.module,
         face_width=paper.face_width,
-        pressure_angle_deg=paper.pressure_angle_deg,
+        pressure_angle_deg=paper.pressure_angle_deg,  # the config key: degrees
         tip_radius=paper.tip_radius,
         root_radius=paper.root_radius,
     )

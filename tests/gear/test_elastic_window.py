@@ -16,7 +16,7 @@ from rotaflex.gear.static.loaded_te import loaded_te, pair_line
 from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
 E, NU, RHO = 210e9, 0.3, 7800.0
-G0 = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, pressure_angle_deg=20.0)
+G0 = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3)
 A = center_distance_no_backlash(G0, G0)
 L = A * math.sin(math.acos(2 * G0.base_radius / A))
 S_E = math.sqrt(G0.tip_radius_**2 - G0.base_radius**2)

@@ -163,7 +163,7 @@ def paper_pair():
     from rotaflex.gear.pair.tooth_mesh import build_tooth_mesh
     from rotaflex.gear.static.loaded_te import pair_line
 
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, pressure_angle_deg=20.0)
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3)
     mesh = build_tooth_mesh(g)
     torque = 5.0
     line = pair_line(g, g, mesh, mesh, center_distance_no_backlash(g, g), torque / g.base_radius, (210e9, 0.3) * 2)

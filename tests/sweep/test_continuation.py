@@ -48,7 +48,7 @@ def _linear_resonance_rpm() -> float:
     """Mesh-mode resonance from the model data, independently of the code: both gears free
     (motor drive, rigid shafts), k_mean of the analytic table = k_pair (1 + share of the cycle
     with two pairs, sampled on the 400-point table), m_red = J1 J2 / (J1 r_b2^2 + J2 r_b1^2)."""
-    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, pressure_angle_deg=20.0)
+    g = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3)
     eps = contact_ratio(g, g)
     n = 400
     k_mean = 1.2e8 * (1 + math.ceil((eps - 1) * n) / n)

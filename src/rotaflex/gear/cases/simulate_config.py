@@ -9,6 +9,8 @@ TOML layout (all tables optional; defaults are the paper's data, :mod:`rotaflex.
     disk_inertia = 2.965e-4
     # ... or as on a drawing (the keys of rotaflex.gear.pair.drawing, shared with `gear static`)
     [pinion], [wheel]   teeth, module, face_width, profile_shift, tip_relief, material, blank, ...
+    pair = "lee_jang"   the paper's pair as [pinion]/[wheel] (keys written override it;
+                        rotaflex.gear.cases.pair_config)
     center_distance | backlash, driver = "pinion" | "wheel"
     [operation]  torque, theta_2_deg, theta_s_deg, span_deg, direction = "forward" | "reverse",
                  paper-style: speed_rpm = [4000, 4000], driver = "A" | "B";
@@ -91,7 +93,7 @@ class GearConfig:
                 module=self.module,
                 teeth=self.teeth,
                 face_width=self.face_width,
-                pressure_angle_deg=self.pressure_angle_deg,
+                pressure_angle=deg_to_rad(self.pressure_angle_deg),
                 tip_radius=self.tip_radius,
                 root_radius=self.root_radius,
             )
@@ -285,7 +287,9 @@ class GearCaseConfig:
 
     gear: GearConfig = field(default_factory=GearConfig)
     pinion: GearSpec | None = param(
-        None, doc="gear A as on a drawing (keys of gear static); with [wheel], instead of [gear]"
+        None,
+        doc="gear A as on a drawing (keys of gear static); with [wheel], instead of [gear]; "
+        'top-level pair = "lee_jang" gives both (the paper\'s pair), keys written here override it',
     )
     wheel: GearSpec | None = param(None, doc="gear B as on a drawing; with [pinion]")
     center_distance: float | None = param(
@@ -417,8 +421,11 @@ def load_config(config: dict) -> GearCaseConfig:
     InputError naming it.
     """
     from rotaflex.core.config import from_mapping
+    from rotaflex.gear.cases.pair_config import refuse_other_layout, with_pair_preset
 
-    config = without({k: v for k, v in config.items() if k != "domain"}, STATIC_ONLY)
+    config = with_pair_preset({k: v for k, v in config.items() if k != "domain"}, "simulate")
+    refuse_other_layout(config, "simulate")
+    config = without(config, STATIC_ONLY)
     drawing = "pinion" in config or "wheel" in config
     if drawing:
         config = _pinion_speed(config)

@@ -76,7 +76,9 @@ class AnalysisConfig:
 class StaticConfig:
     """Root schema of ``rotaflex gear static`` (the pair keys are those of :class:`PairSpec`)."""
 
-    pinion: GearSpec = param(doc="gear 1")
+    pinion: GearSpec = param(
+        doc='gear 1; top-level pair = "lee_jang" gives both (the paper\'s pair), keys written here override it'
+    )
     wheel: GearSpec = param(doc="gear 2")
     load: LoadConfig = param(doc="design load")
     center_distance: float | None = param(None, unit="m", gt=0.0)
@@ -138,8 +140,9 @@ def gear_meshes(pair: PairSpec, preset: str | dict = "default", refine: int = 1,
     return pair_meshes(pair, {k: refine * v for k, v in kw.items()}, relief=relief)
 
 
-def _compliance_study(cfg: StaticConfig, pair: PairSpec, force: float) -> dict:
-    """Single-tooth compliances at chosen radii for each refinement level."""
+def _compliance_study(cfg: StaticConfig, pair: PairSpec, force: float, tick=lambda: None) -> dict:
+    """Single-tooth compliances at chosen radii for each refinement level (``tick()`` after each
+    gear and level: one FE mesh and its load cases)."""
     from rotaflex.gear.static.tooth_analysis import tooth_compliance
 
     g1, g2 = pair.gears
@@ -173,6 +176,7 @@ def _compliance_study(cfg: StaticConfig, pair: PairSpec, force: float) -> dict:
             # local contact term of this tooth: half of Weber's formula with equal depths
             local = weber_contact_compliance(force, g.face_width, e, nu, c.arm, c.arm, c.half_width) / 2.0
             rows.append((c.structural, c.load_point, c.structural + local))
+            tick()
         out[name] = (radii, np.array(rows))  # (level, 3, n)
     return out
 
@@ -267,7 +271,11 @@ def _ptp(x):
 def load_config(config: dict) -> StaticConfig:
     """The validated :class:`StaticConfig` of a parsed TOML mapping: the other verbs' tables
     dropped, [load] from [operation] of a shared file, the torque on the pinion (SI, once)."""
-    config = _with_load({k: v for k, v in config.items() if k != "domain"})
+    from rotaflex.gear.cases.pair_config import refuse_other_layout, with_pair_preset
+
+    config = with_pair_preset({k: v for k, v in config.items() if k != "domain"}, "static")
+    refuse_other_layout(config, "static")
+    config = _with_load(config)
     cfg = from_mapping(StaticConfig, without(config, DYNAMIC_ONLY))
     _check_size(cfg)
     if cfg.load.torque_on == "wheel":
@@ -278,11 +286,37 @@ def load_config(config: dict) -> StaticConfig:
 
 
 def run_static(config: dict, *, progress: bool = False) -> StaticResult:
-    """Static analysis of the pair in ``config`` (parsed TOML, no ``domain`` key)."""
-    import xarray as xr
+    """Static analysis of the pair in ``config`` (parsed TOML, no ``domain`` key).
+
+    ``progress``: report the stages (tooth meshes and FE load cases of the pair, without the
+    reliefs, the loaded TE, each gear and level of the compliance study) through
+    :class:`rotaflex.core.progress.Progress`: a bar on a terminal, one line per stage in a log.
+    """
+    from rotaflex.core.progress import Progress
 
     t0 = time.perf_counter()
     cfg = load_config(config)
+    with Progress(_stages(cfg), "gear static", "stage", enabled=progress) as bar:
+        done = [0]
+
+        def tick():
+            done[0] += 1
+            bar.update(done[0])
+
+        return _run(cfg, config, t0, tick)
+
+
+def _stages(cfg: StaticConfig) -> int:
+    """Stages reported by :func:`run_static`: the pair's FE load cases, the unrelieved pair's
+    (when a gear has a relief), the loaded TE, and one per gear and level of the compliance study."""
+    relieved = any(r is not None for g in (cfg.pinion, cfg.wheel) for r in (g.tip_relief, g.root_relief))
+    return 1 + int(relieved) + 1 + 2 * len(cfg.analysis.refinement)
+
+
+def _run(cfg: StaticConfig, config: dict, t0: float, tick) -> StaticResult:
+    """:func:`run_static` after the config is read; ``tick()`` after each stage."""
+    import xarray as xr
+
     pair = cfg.pair
     g1, g2 = pair.gears
     a = pair.working_center_distance
@@ -294,11 +328,13 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     relieved = any(r is not None for g in (g1, g2) for r in (g.tip_relief, g.root_relief))
     m1, m2 = gear_meshes(pair, cfg.mesh.preset)
     line = pair_line(g1, g2, m1, m2, a, force, elastic, n_r)
+    tick()
     if relieved:
         u1, u2 = gear_meshes(pair, cfg.mesh.preset, relief=False)
         h1 = dataclasses.replace(g1, tip_relief=None, root_relief=None)
         h2 = dataclasses.replace(g2, tip_relief=None, root_relief=None)
         line0 = pair_line(h1, h2, u1, u2, a, force, elastic, n_r)
+        tick()
     else:
         line0 = line
     pb = line.base_pitch
@@ -314,6 +350,7 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     share = eng["share"][:, 2]
     share0 = eng0["share"][:, 2]
     stress = line.fillet_stress(s_eng, eng["pair_load"][:, 2])
+    tick()
     # roll angle of the driving gear in its direction of motion (wheel driving: the contact
     # runs from the pinion tip to its root)
     if cfg.driver == "pinion":
@@ -330,7 +367,7 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     # C_R: mean of the two blanks' factors (one value per pair enters c')
     c_r = 0.5 * (pair.pinion.blank_factor() + pair.wheel.blank_factor())
     iso = iso6336_stiffness(g1, g2, load_per_width=ft_b, eps_alpha=pair.contact_ratio, c_r=c_r)
-    study = _compliance_study(cfg, pair, force)
+    study = _compliance_study(cfg, pair, force, tick)
 
     def v(dims, data, units, long_name):
         return (dims, np.asarray(data, dtype=float), {"units": units, "long_name": long_name})

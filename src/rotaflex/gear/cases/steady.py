@@ -53,6 +53,8 @@ import numpy as np
 from rotaflex.core.config import from_mapping, param, to_mapping
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import Result
+from rotaflex.core.units import deg_to_rad
+from rotaflex.gear.cases.pair_config import refuse_other_layout, with_pair_preset
 from rotaflex.gear.cases.steady_size import announce_kernels, check_model_size, check_size
 from rotaflex.gear.models.chain import (
     OperatingPoint,
@@ -93,7 +95,7 @@ class GearSpec:
                 module=self.module,
                 teeth=z,
                 face_width=self.face_width,
-                pressure_angle_deg=self.pressure_angle_deg,
+                pressure_angle=deg_to_rad(self.pressure_angle_deg),
                 tip_radius=None if self.tip_radius is None else self.tip_radius[i],
                 root_radius=(None if self.root_radius is None else self.root_radius[i]),
             )
@@ -576,6 +578,8 @@ def _wheel_torque(cfg: TorsionalCaseConfig) -> TorsionalCaseConfig:
 
 
 def _checked(config: dict) -> TorsionalCaseConfig:
+    config = with_pair_preset(config, "steady")  # pair = "lee_jang"; a [gear] of another verb refused
+    refuse_other_layout(config, "steady")
     written, config = config, _normalised(config)
     try:
         cfg = from_mapping(TorsionalCaseConfig, config)

@@ -33,6 +33,7 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import deg_to_rad, rad_to_deg
 from rotaflex.gear.pair.geometry import GearGeometry, ProfileRelief, _inv_inverse, involute
 
 __all__ = [
@@ -74,6 +75,9 @@ SUMMARY_UNITS = {
     },
 }
 
+#: the keys of :class:`ReliefSpec` that say where a relief starts (exactly one is given)
+RELIEF_STARTS = ("start_diameter", "start_roll_deg", "start_fraction")
+
 #: largest root relief / tooth thickness at the form circle
 MAX_ROOT_RELIEF_FRACTION = 0.1
 
@@ -88,14 +92,23 @@ MATERIALS = {
 
 @dataclasses.dataclass(frozen=True)
 class ReliefSpec:
-    """Tip or root relief on a drawing: amount and where it starts (diameter or roll angle)."""
+    """Tip or root relief on a drawing: amount and where it starts, given by one of a diameter,
+    a roll angle or a fraction of the active profile (converted to the start radius of
+    :class:`~rotaflex.gear.pair.geometry.ProfileRelief` where the pair is read)."""
 
     amount: float = param(unit="m", gt=0.0, doc="depth along the involute normal at its end")
     start_diameter: float | None = param(
-        None, unit="m", gt=0.0, doc="diameter where it starts (give this or start_roll_deg)"
+        None, unit="m", gt=0.0, doc="diameter where it starts (one of start_diameter, start_roll_deg, start_fraction)"
     )
     start_roll_deg: float | None = param(
-        None, unit="deg", gt=0.0, doc="roll angle tan(alpha_y) where it starts (or give start_diameter)"
+        None, unit="deg", gt=0.0, doc="roll angle xi = tan(alpha_y) where it starts: r = r_b sqrt(1 + xi^2)"
+    )
+    start_fraction: float | None = param(
+        None,
+        ge=0.0,
+        lt=1.0,
+        doc="where it starts along the active profile's roll length: 0 at the start of active "
+        "profile (set by the mate's tip), 1 at the tip",
     )
     shape: Literal["linear", "parabolic"] = param("linear", doc="depth ~ t (linear) or t^2")
 
@@ -174,7 +187,7 @@ class GearSpec:
                 module=self.module,
                 teeth=self.teeth,
                 face_width=self.face_width,
-                pressure_angle_deg=self.pressure_angle_deg,
+                pressure_angle=deg_to_rad(self.pressure_angle_deg),
                 addendum_coef=self.addendum_coef,
                 dedendum_coef=self.dedendum_coef,
                 profile_shift=self.profile_shift,
@@ -185,19 +198,30 @@ class GearSpec:
         except InputError as exc:
             raise InputError(f"{where}.{exc.field}", exc.value, exc.allowed) from None
 
-    def _relief(self, rel: ReliefSpec | None, g: GearGeometry, where: str):
+    def _relief(self, rel: ReliefSpec | None, g: GearGeometry, where: str, sap: float | None):
         if rel is None:
             return None
-        if (rel.start_diameter is None) == (rel.start_roll_deg is None):
-            raise InputError(
-                f"{where}.start_diameter", rel.start_diameter, "exactly one of start_diameter and start_roll_deg"
-            )
-        if rel.start_diameter is not None:
+        given = [k for k in RELIEF_STARTS if getattr(rel, k) is not None]
+        if len(given) != 1:
+            key = given[1] if given else "start_diameter"
+            raise InputError(f"{where}.{key}", getattr(rel, key), "exactly one of " + ", ".join(RELIEF_STARTS))
+        key = given[0]
+        rb = g.base_radius
+        if key == "start_diameter":
             r0 = 0.5 * rel.start_diameter
-        else:  # roll angle xi_y = tan(alpha_y): r_y = r_b sqrt(1 + xi^2)
-            r0 = g.base_radius * math.sqrt(1.0 + math.radians(rel.start_roll_deg) ** 2)
+        elif key == "start_roll_deg":  # roll angle xi_y = tan(alpha_y): r_y = r_b sqrt(1 + xi^2)
+            r0 = rb * math.sqrt(1.0 + deg_to_rad(rel.start_roll_deg) ** 2)
+        else:  # linear in the roll length u = sqrt(r^2 - r_b^2) (= r_b xi), as the relief's depth
+            if sap is None:
+                raise InputError(
+                    f"{where}.start_fraction",
+                    rel.start_fraction,
+                    "start_diameter or start_roll_deg for a gear read without its mate (the start of "
+                    "active profile needs the pair)",
+                )
+            u_sap, u_a = math.sqrt(max(sap**2 - rb**2, 0.0)), math.sqrt(g.tip_radius_**2 - rb**2)
+            r0 = math.hypot(rb, u_sap + rel.start_fraction * (u_a - u_sap))
         if not g.form_radius < r0 < g.tip_radius_:
-            key = "start_diameter" if rel.start_diameter is not None else "start_roll_deg"
             raise InputError(
                 f"{where}.{key}",
                 getattr(rel, key),
@@ -206,11 +230,13 @@ class GearSpec:
             )
         return ProfileRelief(amount=rel.amount, start_radius=r0, shape=rel.shape)
 
-    def geometry(self, where: str = "gear") -> GearGeometry:
-        """The :class:`GearGeometry` with its reliefs (InputError fields prefixed by ``where``)."""
+    def geometry(self, where: str = "gear", sap: float | None = None) -> GearGeometry:
+        """The :class:`GearGeometry` with its reliefs (InputError fields prefixed by ``where``);
+        ``sap``: the start-of-active-profile radius in the pair [m] (needed by a relief given by
+        ``start_fraction``)."""
         g = self._plain(where)
-        tip = self._relief(self.tip_relief, g, f"{where}.tip_relief")
-        root = self._relief(self.root_relief, g, f"{where}.root_relief")
+        tip = self._relief(self.tip_relief, g, f"{where}.tip_relief", sap)
+        root = self._relief(self.root_relief, g, f"{where}.root_relief", sap)
         if tip is None and root is None:
             return g
         g = dataclasses.replace(g, tip_relief=tip, root_relief=root)
@@ -325,7 +351,8 @@ class PairSpec:
     @property
     def gears(self) -> tuple[GearGeometry, GearGeometry]:
         """(pinion, wheel) geometries with their reliefs."""
-        return self.pinion.geometry("pinion"), self.wheel.geometry("wheel")
+        sap = self.start_of_active_profile()
+        return self.pinion.geometry("pinion", sap[0]), self.wheel.geometry("wheel", sap[1])
 
     @property
     def ratio(self) -> float:
@@ -335,7 +362,7 @@ class PairSpec:
     @property
     def operating_pressure_angle_no_backlash(self) -> float:
         """alpha_w from inv(alpha_w) = inv(alpha) + 2 tan(alpha) (x1 + x2)/(z1 + z2) [rad]."""
-        a = math.radians(self.pinion.pressure_angle_deg)
+        a = self.pinion._plain("pinion").pressure_angle
         inv_w = float(involute(a)) + 2.0 * (self.pinion.profile_shift + self.wheel.profile_shift) * math.tan(a) / (
             self.pinion.teeth + self.wheel.teeth
         )
@@ -399,7 +426,7 @@ class PairSpec:
         """(pinion, wheel) radius [m] where the mate's tip circle meets the line of action: the
         lowest flank point in contact, r_SAP = sqrt(r_b^2 + (a' sin(alpha') - sqrt(r_a,mate^2
         - r_b,mate^2))^2)."""
-        g1, g2 = self.gears
+        g1, g2 = self.pinion._plain("pinion"), self.wheel._plain("wheel")  # reliefs keep r_a, r_b
         length = self.working_center_distance * math.sin(self.operating_pressure_angle)
         out = []
         for g, mate in ((g1, g2), (g2, g1)):
@@ -417,7 +444,7 @@ class PairSpec:
             "center_distance": self.working_center_distance,
             "center_distance_no_backlash": self.center_distance_no_backlash,
             "normal_backlash": self.normal_backlash_at(self.working_center_distance),
-            "operating_pressure_angle_deg": math.degrees(self.operating_pressure_angle),
+            "operating_pressure_angle_deg": rad_to_deg(self.operating_pressure_angle),
             "contact_ratio": self.contact_ratio,
             "path_of_contact": self.path_of_contact,
             "pinion_tip_thickness": g1.tip_thickness,

@@ -4,7 +4,8 @@ Conventions
 -----------
 Gear frame: gear centre at the origin, the modelled tooth's centreline along ``+y``. The
 "right" flank is the one at ``x > 0``, the "left" flank its mirror image. Angles are radians
-inside; config keys in degrees say so (``pressure_angle_deg``).
+(``GearGeometry.pressure_angle`` too); config keys in degrees say so (``pressure_angle_deg``) and
+are converted where the config is read (:mod:`rotaflex.core.units`).
 
 Generating rack (stated assumption)
 -----------------------------------
@@ -34,6 +35,7 @@ import numpy as np
 
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import deg_to_rad
 
 __all__ = [
     "GearGeometry",
@@ -44,6 +46,10 @@ __all__ = [
     "contact_ratio",
     "contact_angles",
 ]
+
+
+#: the standard reference pressure angle, 20 deg [rad]
+STANDARD_PRESSURE_ANGLE = deg_to_rad(20.0)
 
 
 def involute(alpha: np.ndarray | float) -> np.ndarray | float:
@@ -107,8 +113,8 @@ class GearGeometry:
         Normal module m [m].
     teeth : int
         Number of teeth z (>= 6).
-    pressure_angle_deg : float
-        Reference pressure angle alpha [deg].
+    pressure_angle : float
+        Reference pressure angle alpha [rad] (default 20 deg).
     face_width : float
         Face width b [m] (the plane-stress thickness of the FE model).
     addendum_coef : float
@@ -139,7 +145,7 @@ class GearGeometry:
     module: float = param(unit="m", gt=0.0, doc="module")
     teeth: int = param(gt=5, doc="number of teeth")
     face_width: float = param(unit="m", gt=0.0, doc="face width")
-    pressure_angle_deg: float = param(20.0, unit="deg", gt=5.0, lt=45.0, doc="pressure angle")
+    pressure_angle: float = param(STANDARD_PRESSURE_ANGLE, unit="rad", gt=0.0, lt=0.5 * math.pi, doc="pressure angle")
     addendum_coef: float = param(1.0, gt=0.0, le=2.0, doc="addendum / module")
     dedendum_coef: float = param(1.25, gt=0.0, le=2.5, doc="dedendum / module")
     profile_shift: float = param(0.0, ge=-1.0, le=1.5, doc="profile shift coefficient")
@@ -208,11 +214,6 @@ class GearGeometry:
                 )
 
     # ------------------------------------------------------------------ radii
-    @property
-    def pressure_angle(self) -> float:
-        """Reference pressure angle alpha [rad]."""
-        return math.radians(self.pressure_angle_deg)
-
     @property
     def pitch_radius(self) -> float:
         """Reference (pitch) radius r = m z / 2 [m]."""
@@ -395,11 +396,9 @@ def center_distance_no_backlash(g1: GearGeometry, g2: GearGeometry) -> float:
 def _check_pair(g1: GearGeometry, g2: GearGeometry) -> None:
     if not math.isclose(g1.module, g2.module, rel_tol=1e-9):
         raise InputError("gear2.module", g2.module, f"equal to gear1.module = {g1.module}")
-    if not math.isclose(g1.pressure_angle_deg, g2.pressure_angle_deg, rel_tol=1e-9):
+    if not math.isclose(g1.pressure_angle, g2.pressure_angle, rel_tol=1e-9):
         raise InputError(
-            "gear2.pressure_angle_deg",
-            g2.pressure_angle_deg,
-            f"equal to gear1.pressure_angle_deg = {g1.pressure_angle_deg}",
+            "gear2.pressure_angle", g2.pressure_angle, f"equal to gear1.pressure_angle = {g1.pressure_angle} rad"
         )
 
 

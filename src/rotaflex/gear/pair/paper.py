@@ -25,13 +25,14 @@ SPEED_RPM = 4000.0  # [rpm] (also 20000)
 
 def geometry():
     """The paper's gear (:class:`rotaflex.gear.pair.geometry.GearGeometry`)."""
+    from rotaflex.core.units import deg_to_rad
     from rotaflex.gear.pair.geometry import GearGeometry
 
     return GearGeometry(
         module=MODULE,
         teeth=TEETH,
         face_width=FACE_WIDTH,
-        pressure_angle_deg=PRESSURE_ANGLE_DEG,
+        pressure_angle=deg_to_rad(PRESSURE_ANGLE_DEG),
         tip_radius=TIP_RADIUS,
         root_radius=ROOT_RADIUS,
     )
@@ -45,3 +46,39 @@ def material() -> dict:
         "density": DENSITY,
         "inertia": (DISK_INERTIA, DISK_INERTIA),
     }
+
+
+def pair_tables(verb: str) -> dict:
+    """The paper's pair as a drawing pair: the ``[pinion]``/``[wheel]`` tables (explicit radii,
+    the paper's steel, the disk inertia as the blank's) and ``verb``'s ``[operation]`` defaults
+    (tau_0 on the pinion, the driver; the speed of the 4000 rpm case), in the verb's spelling.
+
+    The ``pair = "lee_jang"`` preset of every gear verb
+    (:func:`rotaflex.gear.cases.pair_config.with_pair_preset`).
+
+    Parameters
+    ----------
+    verb : {"simulate", "static", "steady"}
+        ``simulate`` gives the speed as ``driver_speed_rpm`` and the torque on the driver (its
+        default ``torque_on``); ``steady`` as the pinion's ``speed_rpm`` with ``torque_on =
+        "pinion"``; ``static`` the torque alone (its design load).
+    """
+
+    def gear() -> dict:  # one fresh mapping per gear (callers may change them)
+        return {
+            "teeth": TEETH,
+            "module": MODULE,
+            "face_width": FACE_WIDTH,
+            "pressure_angle_deg": PRESSURE_ANGLE_DEG,
+            "tip_radius": TIP_RADIUS,
+            "root_radius": ROOT_RADIUS,
+            "material": {"youngs_modulus": YOUNGS_MODULUS, "poisson_ratio": POISSON_RATIO, "density": DENSITY},
+            "blank": {"inertia": DISK_INERTIA},
+        }
+
+    operation = {
+        "simulate": {"torque": TORQUE, "driver_speed_rpm": SPEED_RPM},
+        "static": {"torque": TORQUE, "torque_on": "pinion"},
+        "steady": {"torque": TORQUE, "torque_on": "pinion", "speed_rpm": SPEED_RPM},
+    }[verb]
+    return {"pinion": gear(), "wheel": gear(), "operation": operation}

@@ -7,7 +7,7 @@ The modelled region is one pitch sector: the tooth and a rim ring segment of dep
 symmetry lines halfway between teeth). It is split into two mapped (transfinite) blocks:
 
 * tooth block: between the two profiles from the split points F (where the fillet tangent
-  makes ``split_angle_deg`` with the tooth centreline) up to the tip, closed by the tip arc and
+  makes ``split_angle`` with the tooth centreline) up to the tip, closed by the tip arc and
   the straight chord F_left - F_right; ``n_through`` elements across, ``n_flank`` along the
   profile, graded geometrically (element length at the tip / at F = ``flank_grading``);
 * rim block: below the curve side cut - root land - lower fillet - chord - lower fillet - root
@@ -28,6 +28,7 @@ from typing import Literal
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import deg_to_rad
 from rotaflex.gear.pair.geometry import GearGeometry
 
 __all__ = ["ToothMesh", "build_tooth_mesh", "mesh_quality", "COARSE", "DEFAULT"]
@@ -35,6 +36,10 @@ __all__ = ["ToothMesh", "build_tooth_mesh", "mesh_quality", "COARSE", "DEFAULT"]
 #: keyword sets of :func:`build_tooth_mesh` for fast tests and for the default dynamic mesh
 COARSE = dict(n_flank=4, n_through=2, n_fillet=2, n_rim=3)
 DEFAULT = dict(n_flank=10, n_through=5, n_fillet=2, n_rim=4)
+#: fillet tangent angle at the split point between the tooth and rim blocks, 50 deg [rad]
+SPLIT_ANGLE = deg_to_rad(50.0)
+#: allowed split angles, 20 to 75 deg [rad]
+SPLIT_ANGLE_RANGE = (deg_to_rad(20.0), deg_to_rad(75.0))
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -201,7 +206,7 @@ def build_tooth_mesh(
     rim_depth_coef: float = 2.0,
     flank_grading: float = 1.5,
     rim_grading: float = 3.0,
-    split_angle_deg: float = 50.0,
+    split_angle: float = SPLIT_ANGLE,
     support: Literal["bottom", "bottom_and_sides", "root_circle"] = "bottom_and_sides",
     check: bool = True,
 ) -> ToothMesh:
@@ -226,8 +231,9 @@ def build_tooth_mesh(
         Element length at the tip / at the split point F along the profile (> 1: finer at root).
     rim_grading : float
         Deepest rim layer thickness / thickness of the layer at the root.
-    split_angle_deg : float
-        Fillet tangent angle from the tooth centreline [deg] at the split point F between blocks.
+    split_angle : float
+        Fillet tangent angle from the tooth centreline [rad] at the split point F between blocks
+        (:data:`SPLIT_ANGLE_RANGE`).
     support : {"bottom", "bottom_and_sides", "root_circle"}
         Which nodes are tied to the rigid disk (``root_nodes``): the rim's inner arc, the arc and
         the radial side cuts, or (``"root_circle"``, the paper's root clamp) every node on or
@@ -265,8 +271,9 @@ def build_tooth_mesh(
             raise InputError(f"mesh.{name}", val, "an integer >= 1")
     if not rim_depth_coef > 0.0:
         raise InputError("mesh.rim_depth_coef", rim_depth_coef, "> 0")
-    if not 20.0 <= split_angle_deg <= 75.0:
-        raise InputError("mesh.split_angle_deg", split_angle_deg, "between 20 and 75 deg")
+    if not SPLIT_ANGLE_RANGE[0] <= split_angle <= SPLIT_ANGLE_RANGE[1]:
+        lo, hi = SPLIT_ANGLE_RANGE
+        raise InputError("mesh.split_angle", split_angle, f"between {lo:.4f} and {hi:.4f} rad (20 and 75 deg)")
     if support not in ("bottom", "bottom_and_sides", "root_circle"):
         raise InputError("mesh.support", support, "'bottom', 'bottom_and_sides' or 'root_circle'")
     g = geometry
@@ -280,7 +287,7 @@ def build_tooth_mesh(
         )
     half = math.pi / z
     pa, pb = g.fillet_phi
-    ps = _fillet_split_phi(g, math.radians(split_angle_deg))
+    ps = _fillet_split_phi(g, split_angle)
 
     def mirror(p):
         q = p.copy()

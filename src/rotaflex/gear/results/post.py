@@ -54,32 +54,34 @@ class RootStressProbe:
     operator : ndarray (2 gears, 2 sides, 2 k)
         Stress [Pa] per local displacement of the k nodes (rows of the other gear are zero);
         sides ordered (loaded, opposite).
-    angle_deg : float
-        Tangent angle of the fillet point (30 deg: ISO 6336-3).
+    angle : float
+        Tangent angle of the fillet point [rad] (30 deg: ISO 6336-3).
     """
 
     nodes: np.ndarray
     gear: np.ndarray
     xloc: np.ndarray
     operator: np.ndarray
-    angle_deg: float
+    angle: float
 
 
-def root_stress_probe(model, youngs_modulus, poisson_ratio, angle_deg: float = 30.0) -> RootStressProbe:
+def root_stress_probe(model, youngs_modulus, poisson_ratio, angle: float | None = None) -> RootStressProbe:
     """Build the fillet-stress operators of both teeth of a :class:`GearPairModel`
     (``youngs_modulus`` [Pa] and ``poisson_ratio``: one value or one per gear).
 
     The fillet under the model's working flank (``model.sig`` > 0: left) is the loaded
-    (tension) side.
+    (tension) side. ``angle``: tangent angle of the fillet point [rad] (default 30 deg).
     """
-    from rotaflex.gear.static.tooth_analysis import root_stress_operator
+    from rotaflex.gear.static.tooth_analysis import ROOT_STRESS_ANGLE, root_stress_operator
+
+    angle = ROOT_STRESS_ANGLE if angle is None else angle
 
     nodes, gear, ops = [], [], []
     off = 0
     for g, mesh in enumerate(model.meshes):
         order = (0, 1) if model.sig[g] > 0 else (1, 0)  # operator rows are (left, right)
         e_g, nu_g = (float(np.broadcast_to(v, (2,))[g]) for v in (youngs_modulus, poisson_ratio))
-        s = root_stress_operator(mesh, e_g, nu_g, angle_deg)[list(order)]
+        s = root_stress_operator(mesh, e_g, nu_g, angle)[list(order)]
         cols = np.nonzero(np.any(s != 0.0, axis=0))[0]
         nd = np.unique(cols // 2)
         nodes.append(nd + off)
@@ -100,7 +102,7 @@ def root_stress_probe(model, youngs_modulus, poisson_ratio, angle_deg: float = 3
         gear=np.concatenate(gear).astype(np.int64),
         xloc=model.xloc[nodes_all].copy(),
         operator=op,
-        angle_deg=float(angle_deg),
+        angle=float(angle),
     )
 
 
@@ -215,17 +217,20 @@ def static_point_load_te(model, youngs_modulus, poisson_ratio, force, param_a, p
 
 
 def static_root_stress(
-    model, youngs_modulus, poisson_ratio, force, param, normal_local, gear: int = 0, angle_deg: float = 30.0
+    model, youngs_modulus, poisson_ratio, force, param, normal_local, gear: int = 0, angle: float | None = None
 ) -> np.ndarray:
     """Static fillet stress [Pa] (loaded, opposite) of tooth ``gear`` under the dynamic model's
-    point load of ``force`` [N] along ``normal_local`` (tooth frame) at flank parameter ``param``.
+    point load of ``force`` [N] along ``normal_local`` (tooth frame) at flank parameter ``param``
+    (``angle``: the fillet point's tangent angle [rad], default 30 deg).
     """
-    from rotaflex.gear.static.tooth_analysis import root_stress_operator, solve_static
+    from rotaflex.gear.static.tooth_analysis import ROOT_STRESS_ANGLE, root_stress_operator, solve_static
+
+    angle = ROOT_STRESS_ANGLE if angle is None else angle
 
     mesh = model.meshes[gear]
     f, _, _ = _edge_load(
         mesh, _local_flank(model, gear), model.nedge[gear], param, force * np.asarray(normal_local, dtype=float)
     )
     u = solve_static(mesh, f, youngs_modulus, poisson_ratio)
-    s = root_stress_operator(mesh, youngs_modulus, poisson_ratio, angle_deg) @ u
+    s = root_stress_operator(mesh, youngs_modulus, poisson_ratio, angle) @ u
     return s if model.sig[gear] > 0 else s[::-1]

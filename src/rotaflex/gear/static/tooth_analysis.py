@@ -40,7 +40,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import deg_to_rad
 from rotaflex.gear.pair.geometry import (
+    STANDARD_PRESSURE_ANGLE,
     GearGeometry,
     center_distance_no_backlash,
     contact_ratio,
@@ -68,7 +70,14 @@ __all__ = [
     "root_stress_points",
     "root_stress_operator",
     "root_stress",
+    "ROOT_STRESS_ANGLE",
 ]
+
+#: tangent angle of the fillet point of the root stress, 30 deg: the ISO 6336-3 critical section [rad]
+ROOT_STRESS_ANGLE = deg_to_rad(30.0)
+#: ISO 6336-1 basic-rack factor C_B = (1 + 0.5 (1.2 - h_fP/m)) (1 - 0.02 (20 deg - alpha_n)):
+#: the standard's slope, 0.02 per degree, per radian of (20 deg - alpha_n) [1/rad]
+C_B_SLOPE = 0.02 / deg_to_rad(1.0)
 
 
 # ----------------------------------------------------------------------------- loads
@@ -442,7 +451,7 @@ def iso6336_stiffness(
 
     def cb(g):
         h_fp = g.cutter_addendum / g.module
-        return (1.0 + 0.5 * (1.2 - h_fp)) * (1.0 - 0.02 * (20.0 - g.pressure_angle_deg))
+        return (1.0 + 0.5 * (1.2 - h_fp)) * (1.0 - C_B_SLOPE * (STANDARD_PRESSURE_ANGLE - g.pressure_angle))
 
     c_b = 0.5 * (cb(g1) + cb(g2))
     c_m = 0.8
@@ -472,29 +481,29 @@ def iso6336_stiffness(
 
 
 # ---------------------------------------------------------------------------- root stress
-def root_stress_points(g: GearGeometry, angle_deg: float = 30.0) -> dict:
-    """Fillet points where the tangent makes ``angle_deg`` with the tooth centreline.
+def root_stress_points(g: GearGeometry, angle: float = ROOT_STRESS_ANGLE) -> dict:
+    """Fillet points where the tangent makes ``angle`` [rad] with the tooth centreline.
 
     Returns
     -------
     dict
         ``{"left": (point, tangent), "right": (point, tangent)}`` [m], unit tangents.
     """
-    phi = _fillet_split_phi(g, math.radians(angle_deg))
+    phi = _fillet_split_phi(g, angle)
     p = g.fillet_points(np.array([phi - 1e-7, phi, phi + 1e-7]))
     t = p[2] - p[0]
     t /= np.linalg.norm(t)
     return {"right": (p[1], t), "left": (p[1] * [-1.0, 1.0], t * [-1.0, 1.0])}
 
 
-def root_stress_operator(mesh: ToothMesh, e: float, nu: float, angle_deg: float = 30.0) -> np.ndarray:
+def root_stress_operator(mesh: ToothMesh, e: float, nu: float, angle: float = ROOT_STRESS_ANGLE) -> np.ndarray:
     """Matrix S (2, 2n): ``S @ u`` = surface tangential stress [Pa] at the (left, right) fillet
-    points of ``angle_deg`` tangent (ISO 6336-3 critical section for 30 deg).
+    points of ``angle`` [rad] tangent (ISO 6336-3 critical section for 30 deg).
 
     The stress is evaluated directly from the FE field (derivatives of the quadratic element at
     the point's natural coordinates); positive = tension.
     """
-    pts = root_stress_points(mesh.geometry, angle_deg)
+    pts = root_stress_points(mesh.geometry, angle)
     rows = []
     for side in ("left", "right"):
         p, t = pts[side]
@@ -504,12 +513,12 @@ def root_stress_operator(mesh: ToothMesh, e: float, nu: float, angle_deg: float 
     return np.array(rows)
 
 
-def root_stress(mesh: ToothMesh, u: np.ndarray, e: float, nu: float, angle_deg: float = 30.0) -> np.ndarray:
+def root_stress(mesh: ToothMesh, u: np.ndarray, e: float, nu: float, angle: float = ROOT_STRESS_ANGLE) -> np.ndarray:
     """Tangential fillet stress [Pa] at the 30-degree tangent points, shape (..., 2) (left, right).
 
     ``u`` holds elastic nodal displacements in the gear frame, shape (2n,) or (nt, 2n) (a
     history); for co-rotational dynamics pass the elastic part ``w`` (eq. 4 of the paper).
     For repeated use build :func:`root_stress_operator` once and apply it.
     """
-    s = root_stress_operator(mesh, e, nu, angle_deg)
+    s = root_stress_operator(mesh, e, nu, angle)
     return np.asarray(u) @ s.T
