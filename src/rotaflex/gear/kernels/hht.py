@@ -317,8 +317,8 @@ def new_hht_scratch(hm, hs, mpts):
 
 
 @njit(cache=True)
-def _evaluate_state(hm, hs, w, tpar, mpts):
-    """:func:`evaluate` at the current iterate of ``hs``; F into ``w.fz, w.fphi``."""
+def _evaluate_state(hm, hs, w, tpar, mpts, fz, fphi):
+    """:func:`evaluate` at the current iterate of ``hs``; F into ``fz, fphi``."""
     return evaluate(
         hs.z,
         hs.zd,
@@ -354,8 +354,8 @@ def _evaluate_state(hm, hs, w, tpar, mpts):
         hs.cw,
         w.grow,
         w.sgap,
-        w.fz,
-        w.fphi,
+        fz,
+        fphi,
         w.tau,
         w.ok,
     )
@@ -610,46 +610,7 @@ def initial_evaluation(hm, hs, tpar, mpts):
     accelerations ``M a = -F`` (contact forces zero). Returns (contact search ok, kinetic +
     strain energy [J])."""
     w = new_hht_scratch(hm, hs, mpts)
-    e_strain = evaluate(
-        hs.z,
-        hs.zd,
-        hs.phi,
-        hs.phid,
-        hs.p,
-        hm.nr,
-        hm.fl_map,
-        hm.mr,
-        hm.kr,
-        hm.gr,
-        hm.cx,
-        hm.fl_gear,
-        hm.fl_start,
-        hm.fl_len,
-        hm.fl_xref,
-        hm.centres,
-        hm.theta0,
-        hm.sig,
-        hm.pairs,
-        mpts,
-        hm.rsgn,
-        tpar,
-        w.xf,
-        w.flid,
-        w.nedge2,
-        w.pa,
-        w.ma,
-        w.pb,
-        w.mb,
-        hs.cres,
-        hs.cnod,
-        hs.cw,
-        w.grow,
-        w.sgap,
-        hs.fz,
-        hs.fphi,
-        w.tau,
-        w.ok,
-    )
+    e_strain = _evaluate_state(hm, hs, w, tpar, mpts, hs.fz, hs.fphi)
     if w.ok[0] == 0:
         return False, 0.0
     for g in range(2):
@@ -704,7 +665,7 @@ def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
         for it in range(hp.max_iter + 1):
             its = it
             _newmark(hm, hs, w, h, beta, gam)
-            energy = _evaluate_state(hm, hs, w, tpar, hp.n_points)
+            energy = _evaluate_state(hm, hs, w, tpar, hp.n_points, w.fz, w.fphi)
             if w.ok[0] == 0:
                 info[0] = t + h
                 return 4, row

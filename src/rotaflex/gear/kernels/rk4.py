@@ -257,10 +257,10 @@ def _fail(r, t, res, tol):
 
 
 @njit(cache=True)
-def predicted_contact(t, p, m, s, w, r):
-    """Contact search of every pair at the predicted state; approach velocities ``w.sh_pred``,
-    predicted positions kept in ``w.xsum, w.psum``. Returns (ok, kinetic energy)."""
-    if not search_pairs(
+def _search_all(s, m, p, w):
+    """Contact search of every pair at the state ``s.x, s.phi`` (results into ``s.cres, s.cnod,
+    s.cw, s.spair``); False when a search fails."""
+    return search_pairs(
         s.x,
         s.phi,
         m,
@@ -276,7 +276,14 @@ def predicted_contact(t, p, m, s, w, r):
         s.cnod,
         s.cw,
         s.spair,
-    ):
+    )
+
+
+@njit(cache=True)
+def predicted_contact(t, p, m, s, w, r):
+    """Contact search of every pair at the predicted state; approach velocities ``w.sh_pred``,
+    predicted positions kept in ``w.xsum, w.psum``. Returns (ok, kinetic energy)."""
+    if not _search_all(s, m, p, w):
         r.info[0] = t
         return False, 0.0
     for jp in range(s.cres.shape[0]):
@@ -709,23 +716,7 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
     w = new_scratch(m, s, p.n_points)
     npair = s.cres.shape[0]
     if init:
-        if not search_pairs(
-            s.x,
-            s.phi,
-            m,
-            p.n_points,
-            p.window_lo,
-            p.window_hi,
-            p.corners,
-            w.pa,
-            w.ma,
-            w.pb,
-            w.mb,
-            s.cres,
-            s.cnod,
-            s.cw,
-            s.spair,
-        ):
+        if not _search_all(s, m, p, w):
             r.info[0] = s.sc[0]
             return 4, row
     for jp in range(npair):

@@ -112,7 +112,9 @@ def tooth_modes(mesh, radii, e, nu, density, half_width, n_modes: int) -> ToothM
     free = np.setdiff1d(np.arange(k.shape[0]), fixed)
     kf = sp.csc_matrix(k[free][:, free])
     mf = sp.csc_matrix(m_full[free][:, free])
-    w2, vec = spla.eigsh(kf, k=n_modes, M=mf, sigma=0.0, which="LM")
+    # a fixed start vector: ARPACK's random one made the modes (and results) differ by ~1e-9
+    # from run to run
+    w2, vec = spla.eigsh(kf, k=n_modes, M=mf, sigma=0.0, which="LM", v0=np.ones(kf.shape[0]))
     order = np.argsort(w2)
     w2, vec = w2[order], vec[:, order]
     vec /= np.sqrt(np.einsum("ik,ik->k", vec, mf @ vec))  # mass-normalise

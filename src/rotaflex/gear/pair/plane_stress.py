@@ -224,7 +224,7 @@ def stable_time_step(
         k = stiffness_matrix(mesh, youngs_modulus, poisson_ratio)
         s = sp.diags(1.0 / np.sqrt(m))
         a = (s @ k @ s).tocsr()
-        lam = eigsh(a, k=1, which="LA", return_eigenvectors=False, tol=1e-6)[0]
+        lam = eigsh(a, k=1, which="LA", return_eigenvectors=False, tol=1e-6, v0=np.ones(a.shape[0]))[0]
     elif method == "element":
         ke = element_stiffness(mesh, youngs_modulus, poisson_ratio)
         me, mass = _element_mass_scalar(mesh, density)
