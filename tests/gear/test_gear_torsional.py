@@ -192,6 +192,11 @@ def test_iso_overlay_and_figures():
     iso = iso_input(sys, 22.25, 6.35e-3, 1.64, f_pb_eff=5e-6)
     sw = sweep_steady(sys, 22.25, [4000.0, 6000.0], iso=iso)
     assert np.all(sw.dataset["iso_kv"].values > 1.0)
+    # ISO 6336-1: n_E1 = 30000 / (pi z1) sqrt(c_gamma_alpha / m_red) with c in N/(mm um) and m_red
+    # in kg/mm; in SI (c [N/m^2] = 1e9 c_ISO, m [kg/m] = 1e3 m_ISO) the factor is 30 / pi
+    n_e1 = 30000.0 / (np.pi * iso.z1) * np.sqrt((iso.c_gamma_alpha / 1e9) / (iso.m_red / 1e3))
+    assert sw.summary()["iso_resonance_speed"]["value"] == pytest.approx(n_e1, rel=1e-12)
+    assert sw.summary()["iso_resonance_speed"]["unit"] == "rpm"
     figs = sw.plot()
     line = figs["speed_sweep"].axes[0].lines[0]
     assert np.allclose(line.get_ydata(), sw.dataset["dynamic_factor"].values[0])

@@ -145,6 +145,12 @@ class SpeedSweepResult(Result):
         res = ds["resonance_speed"].values[ds["resonance_order"].values == 1]
         if res.size:
             out["resonance_speed"] = {"value": float(res[0]), "unit": "rpm"}
+        if "iso_resonance_speed" in ds.attrs:
+            out["iso_resonance_speed"] = {
+                "value": float(ds.attrs["iso_resonance_speed"]),
+                "unit": "rpm",
+                "long_name": "ISO 6336-1 main resonance speed n_E1 of the pinion",
+            }
         return out
 
     def plot(self) -> dict:
@@ -168,6 +174,11 @@ class SpeedSweepResult(Result):
                     a.axvline(r, c="gray", lw=0.8, ls=":")
                 label = f"{int(h)}x {f / 1e3:.1f} kHz" if several else f"{int(h)}x f_n"
                 ax[0].annotate(label, (r, 1.0), fontsize=7, rotation=90)
+        n_e1 = ds.attrs.get("iso_resonance_speed")
+        if n_e1 is not None and sp[0] <= n_e1 <= sp[-1]:
+            for a in ax:
+                a.axvline(n_e1, c="k", lw=0.9, ls="-.")
+            ax[0].annotate(f"n_E1 {n_e1:,.0f} rpm", (n_e1, 1.0), fontsize=7, rotation=90)
         ax[0].set(ylabel="K_v = F_max / F_static [-]")
         ax[1].set(xlabel="pinion speed [rpm]", ylabel="DTE peak-to-peak [µm]")
         ax[0].legend(fontsize=7)
