@@ -170,15 +170,22 @@ class SpeedSweepResult(Result):
         several = len(np.unique(freqs)) > 1
         for r, h, f in zip(ds["resonance_speed"].values, ds["resonance_order"].values, freqs, strict=True):
             if sp[0] <= r <= sp[-1]:
-                for a in ax:
-                    a.axvline(r, c="gray", lw=0.8, ls=":")
-                label = f"{int(h)}x {f / 1e3:.1f} kHz" if several else f"{int(h)}x f_n"
-                ax[0].annotate(label, (r, 1.0), fontsize=7, rotation=90)
+                for i, a in enumerate(ax):
+                    a.axvline(
+                        r,
+                        c="gray",
+                        lw=0.8,
+                        ls=":",
+                        label=f"{int(h)}x mesh order at f_n: {r:,.0f} rpm" if i == 0 else None,
+                    )
+                # short tags above the panel (never across the curves), values in the legend
+                tag = f"{int(h)}x" + (f" {f / 1e3:.1f} kHz" if several else "")
+                ax[0].text(r, 1.01, tag, transform=ax[0].get_xaxis_transform(), fontsize=7, ha="center", va="bottom")
         n_e1 = ds.attrs.get("iso_resonance_speed")
         if n_e1 is not None and sp[0] <= n_e1 <= sp[-1]:
-            for a in ax:
-                a.axvline(n_e1, c="k", lw=0.9, ls="-.")
-            ax[0].annotate(f"n_E1 {n_e1:,.0f} rpm", (n_e1, 1.0), fontsize=7, rotation=90)
+            for i, a in enumerate(ax):
+                a.axvline(n_e1, c="k", lw=0.9, ls="-.", label=f"ISO 6336-1 n_E1 = {n_e1:,.0f} rpm" if i == 0 else None)
+            ax[0].text(n_e1, 1.01, "n_E1", transform=ax[0].get_xaxis_transform(), fontsize=7, ha="center", va="bottom")
         ax[0].set(ylabel="K_v = F_max / F_static [-]")
         ax[1].set(xlabel="pinion speed [rpm]", ylabel="DTE peak-to-peak [µm]")
         ax[0].legend(fontsize=7)
