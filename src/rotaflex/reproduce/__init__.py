@@ -24,8 +24,8 @@ from rotaflex.reproduce.guide import GLOSSARY, introduction
 log = logging.getLogger("rotaflex.reproduce")
 
 #: ``--fast`` wall time of each target [s], kernels and equations already cached, measured on the
-#: 2-core development machine while other jobs ran (docs/user-guide.md, "First run")
-MEASURED_FAST_S: dict[str, float] = {"rotor": 5.4, "gear": 45.9, "floating": 11.8, "sweep": 15.4}
+#: idle 2-core development machine (2026-11-26, 118 checks; docs/user-guide.md, "First run")
+MEASURED_FAST_S: dict[str, float] = {"rotor": 16.7, "gear": 95.0, "floating": 22.5, "geared_rotor": 5.4, "sweep": 32.7}
 #: full settings over ``--fast``, from the two measured totals on that machine (214 s / 75.2 s)
 FULL_OVER_FAST = 214.0 / 75.2
 #: extra time of the first run after install [s]: sympy deriving the rotor equations, numba
