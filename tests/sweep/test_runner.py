@@ -1,7 +1,6 @@
 import json
 import math
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -174,54 +173,3 @@ def test_bad_executor_arguments():
             pass
     with pytest.raises(TypeError):
         run_sweep(run_case, [{"x": 1.0}], executor="threads")
-
-
-def _timed_case(log, config, **kw):
-    log.append(("case", config["x"], time.perf_counter()))
-    return run_case(config, **kw)
-
-
-def test_case_files_are_written_while_the_next_case_runs(tmp_path, monkeypatch):
-    """The writer thread: with writes slowed to 0.3 s, case 3 (handed out once cases 1 and 2,
-    the serial executor's window, came back) starts before case 2's files are written; every
-    case is written."""
-    import functools
-
-    from rotaflex.sweep import runner
-
-    log: list = []
-    store = runner._store
-
-    def slow_store(case, *a, **kw):
-        time.sleep(0.3)
-        rec = store(case, *a, **kw)
-        log.append(("written", case.params["x"], time.perf_counter()))
-        return rec
-
-    monkeypatch.setattr(runner, "_store", slow_store)
-    cases = grid_cases({"x": 1.0, "y": 0.5}, {"x": [1.0, 2.0, 3.0]})
-    res = run_sweep(functools.partial(_timed_case, log), cases, "serial", out_dir=tmp_path, figures=False)
-    assert res.n_failed == 0
-    t = {(kind, x): when for kind, x, when in log}
-    assert t[("case", 2.0)] < t[("written", 1.0)] and t[("case", 3.0)] < t[("written", 2.0)]
-    assert sorted(x for kind, x, _ in log if kind == "written") == [1.0, 2.0, 3.0]
-    assert all((tmp_path / "cases" / c.id / "case.json").exists() for c in cases)
-
-
-def test_a_failed_write_ends_the_sweep_with_its_error(tmp_path, monkeypatch):
-    """A write error on the writer thread ends the sweep with that error; nothing queued after it is written."""
-    from rotaflex.sweep import runner
-
-    store = runner._store
-
-    def full_disk(case, *a, **kw):
-        if case.params["x"] == 2.0:
-            raise OSError(28, "No space left on device")
-        return store(case, *a, **kw)
-
-    monkeypatch.setattr(runner, "_store", full_disk)
-    cases = grid_cases({"x": 1.0, "y": 0.5}, {"x": [1.0, 2.0, 3.0, 4.0]})
-    with pytest.raises(OSError, match="No space left"):
-        run_sweep(run_case, cases, "serial", out_dir=tmp_path, figures=False)
-    # the serial executor hands out 2 cases at a time: 3 and 4 are queued after the failure
-    assert not any((tmp_path / "cases" / c.id / "case.json").exists() for c in cases[1:])

@@ -1,9 +1,8 @@
 """Run the cases of a sweep over a ``concurrent.futures.Executor``; write one directory per case.
 
 The client (this process) submits ``execute_case(case_fn, case.data)`` to the executor, and
-a writer thread of the client writes every finished case, in the order the client collects them, to
-``out_dir/cases/<id>/`` (``result.nc`` and ``summary.json`` via :meth:`Result.save`, then
-``case.json``, the marker that the case is done) while the next cases are handed out.
+writes every finished case at once to ``out_dir/cases/<id>/`` (``result.nc`` and
+``summary.json`` via :meth:`Result.save`, then ``case.json``, the marker that the case is done).
 A re-run skips the cases whose marker says done; cases that raised are recorded in
 ``error.txt`` and attempted again by the next run.
 
@@ -377,44 +376,6 @@ def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, ca
     return rec
 
 
-class _Writer:
-    """Writes finished cases (``store(case, outcome, attempts)``) on one background thread, in
-    the order the client collected them, so that the client hands a chain its next case at once instead of
-    after ~0.3-1 s of NetCDF encoding and file writes per case (the workers wait for the client
-    otherwise). The first error of a write (e.g. a full disk) is raised in the client at its next
-    :meth:`put` or at :meth:`close`; the cases after it are not written, as before."""
-
-    def __init__(self, store: Callable[[Case, Outcome, int], None]):
-        import queue
-        import threading
-
-        self._store = store
-        self._queue: queue.SimpleQueue = queue.SimpleQueue()
-        self._error: BaseException | None = None
-        self._thread = threading.Thread(target=self._loop, name="rotaflex-sweep-writer", daemon=True)
-        self._thread.start()
-
-    def _loop(self) -> None:
-        while (item := self._queue.get()) is not None:
-            if self._error is None:
-                try:
-                    self._store(*item)
-                except BaseException as exc:  # noqa: BLE001 - raised in the client thread
-                    self._error = exc
-
-    def put(self, case: Case, outcome: Outcome, attempts: int) -> None:
-        if self._error is not None:
-            raise self._error
-        self._queue.put((case, outcome, attempts))
-
-    def close(self, raise_error: bool = True) -> None:
-        """Write what is queued (an interrupted sweep keeps its finished cases), then stop."""
-        self._queue.put(None)
-        self._thread.join()
-        if raise_error and self._error is not None:
-            raise self._error
-
-
 def _crash_error(exc: BaseException, n: int) -> str:
     return (
         f"WorkerDied: the worker process died while running this case {n} time(s) (last: {type(exc).__name__}: {exc})"
@@ -523,11 +484,10 @@ def run_sweep(
     callback = progress if callable(progress) else None
 
     # where the wall time goes, logged at the end: [pool start, running cases, of which the
-    # client writing case files (a background thread: it overlaps the cases, but for "tail",
-    # the writes still queued when the last case came back), combining + figures] [s]
-    spent = {"start": 0.0, "cases": 0.0, "writing": 0.0, "tail": 0.0, "outputs": 0.0}
+    # client writing case files, combining + figures] [s]
+    spent = {"start": 0.0, "cases": 0.0, "writing": 0.0, "outputs": 0.0}
 
-    def store(case: Case, outcome: Outcome, n_attempts: int) -> None:
+    def finish(case: Case, outcome: Outcome, n_attempts: int) -> None:
         tw = time.perf_counter()
         rec = _store(case, outcome, n_attempts, out, case_figures)
         spent["writing"] += time.perf_counter() - tw
@@ -541,8 +501,6 @@ def run_sweep(
         ts = time.perf_counter()
         backend = _Backend(executor, _modules_of(case_fn))
         spent["start"] = time.perf_counter() - ts
-        writer = _Writer(store) if out is not None else None
-        finish = writer.put if writer is not None else store
         try:
             if chains is None:
                 _drive(backend, case_fn, todo, finish, max_retries)
@@ -552,15 +510,9 @@ def run_sweep(
                 drive_chains(backend, case_fn, chain_todo, chain_states, finish, max_retries)
         except BaseException:
             backend.shutdown(wait=False)
-            if writer is not None:
-                writer.close(raise_error=False)
             raise
         else:
             backend.shutdown(wait=True)
-            if writer is not None:
-                tc = time.perf_counter()
-                writer.close()
-                spent["tail"] = time.perf_counter() - tc
         finally:
             spent["cases"] = time.perf_counter() - ts - spent["start"]
             if bar is not None:
@@ -580,12 +532,11 @@ def run_sweep(
     result.wall_time = time.perf_counter() - t0
     spent["outputs"] = time.perf_counter() - to
     log.info(
-        "wall time: %.2f s starting workers, %.2f s running cases (writing case files: %.2f s on "
-        "a background thread, %.2f s of it after the last case), %.2f s combining and figures",
+        "wall time: %.2f s starting workers, %.2f s running cases (of which %.2f s writing case "
+        "files), %.2f s combining and figures",
         spent["start"],
         spent["cases"],
         spent["writing"],
-        spent["tail"],
         spent["outputs"],
     )
     log.info("%s", result.summary_text())
