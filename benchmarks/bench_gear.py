@@ -124,6 +124,12 @@ def _pieces(nrep, upto, p, tpar, m, s, w, r, snap):
 
 
 @njit(cache=True)
+def _scratch(m, s, n_points):
+    """The solver's work arrays (built by a kernel: ``new_scratch`` is not callable from Python)."""
+    return rk4.new_scratch(m, s, n_points)
+
+
+@njit(cache=True)
 def _products(nrep, m, x, w):
     """``nrep`` elastic-force evaluations (rotation + stiffness product + torques)."""
     forces.set_rotation(np.zeros(2), m.theta0, w.rot)
@@ -167,7 +173,7 @@ def step_split(model, th2, ths, rpm, warm_steps=6000, nrep=2000):
     status, _ = rk4.run_steps(warm_steps, 10, 0, True, m, p, s, r)
     assert status == 0
     snap = type(s)(*[a.copy() for a in s])
-    w = rk4.new_scratch(m, s, p.n_points)
+    w = _scratch(m, s, p.n_points)
     tpar = (p.tau0, p.theta_2, p.theta_s, p.gain[0], p.gain[1])
     cum = [_per_call(_pieces, nrep, k, p, tpar, m, s, w, r, snap) for k in range(6)]
     piece = np.diff(cum)  # stages, search, pass 1, pass 2, pass 3 + close

@@ -19,7 +19,11 @@ from __future__ import annotations
 from numba import njit
 from numba.core.registry import CPUDispatcher
 
-entry = njit(cache=True)
+
+def entry(func=None, **options):
+    """``njit(cache=True, **options)``: a kernel called from Python."""
+    decorate = njit(cache=True, **options)
+    return decorate if func is None else decorate(func)
 
 
 class _InnerDispatcher(CPUDispatcher):
@@ -29,15 +33,17 @@ class _InnerDispatcher(CPUDispatcher):
         raise TypeError(f"{self.py_func.__qualname__} is compiled only for calls from other kernels (@inner)")
 
 
-def inner(func):
-    """Compile ``func`` (lazily, cached) for calls from other kernels only."""
-    dispatcher = _InnerDispatcher(
-        py_func=func,
-        locals={},
-        targetoptions={"nopython": True, "no_cpython_wrapper": True, "no_cfunc_wrapper": True},
-    )
-    dispatcher.enable_caching()
-    return dispatcher
+def inner(func=None, **options):
+    """Compile ``func`` (lazily, cached) for calls from other kernels only; ``options`` are
+    numba's (e.g. ``error_model="numpy"``)."""
+
+    def decorate(f):
+        targetoptions = {"nopython": True, "no_cpython_wrapper": True, "no_cfunc_wrapper": True, **options}
+        dispatcher = _InnerDispatcher(py_func=f, locals={}, targetoptions=targetoptions)
+        dispatcher.enable_caching()
+        return dispatcher
+
+    return decorate if func is None else decorate(func)
 
 
 __all__ = ["entry", "inner"]

@@ -20,7 +20,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+
+from rotaflex.core.compiled import entry, inner
 
 
 class Reduced(NamedTuple):
@@ -52,7 +53,7 @@ class Meshes(NamedTuple):
     varying: np.ndarray
 
 
-@njit(cache=True)
+@inner
 def _table(c, j, phase, side):
     """Value and phase derivative of table j at ``phase`` [cycles]. ``side`` +1 / -1: at a grid
     point (to 1e-6 of a cell) take the cell after / before it, i.e. the one-sided limits of the
@@ -75,7 +76,7 @@ def _table(c, j, phase, side):
     return y, dy
 
 
-@njit(cache=True)
+@inner
 def _mesh(ms, j, t, gx, gv, side):
     """Force, deflection, and the energy/power terms of mesh j at time t (gx = g.eta, gv = g.eta');
     ``side``: which one-sided derivative of the tables at a grid point (:func:`_table`)."""
@@ -102,7 +103,7 @@ def _mesh(ms, j, t, gx, gv, side):
     return F, d, V, P
 
 
-@njit(cache=True)
+@inner
 def _accel(rd, ms, t, x, v, a, kx, dv, side):
     """Acceleration ``a`` at (t, x, v); also stores ``kx = K x`` and ``dv = D v`` for
     :func:`_record` at the same state (one pass over K and D per state, not two). ``side``: the
@@ -130,7 +131,7 @@ def _accel(rd, ms, t, x, v, a, kx, dv, side):
                 a[i] -= rd.g[j, i] * F
 
 
-@njit(cache=True)
+@inner
 def _record(rd, ms, t, x, v, kx, dv, out_dte, out_d, out_F, out_E, out_P, s):
     """Energy and power at (t, x, v) with ``kx = K x``, ``dv = D v`` from :func:`_accel`:
     ``x.Ks x = x.K x`` and ``v.Ds v = v.D v`` (skew parts drop out of quadratic forms); the
@@ -175,7 +176,7 @@ def _record(rd, ms, t, x, v, kx, dv, out_dte, out_d, out_F, out_E, out_P, s):
     out_P[s, 1] = P + Pleft
 
 
-@njit(cache=True)
+@entry
 def run_rk4(rd, ms, x, v, t0, dt, n_steps, out_x, out_v, out_dte, out_d, out_F, out_E, out_P):
     """Advance (x, v) in place by ``n_steps`` RK4 steps from t0; record n_steps + 1 samples."""
     r = x.size

@@ -30,7 +30,8 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+
+from rotaflex.core.compiled import entry, inner
 
 __all__ = ["ChainArgs", "MeshArgs", "chain_rhs", "rk4_stage", "rk4_update", "run_rk4"]
 
@@ -72,7 +73,7 @@ class MeshArgs(NamedTuple):
     iy2: int
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def _table(c, phi):
     """Value and phase derivative of the periodic table at phase ``phi`` [cycles]."""
     m = c.shape[1]
@@ -86,7 +87,7 @@ def _table(c, phi):
     return y, dy
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def _mesh(mesh, th, om):
     """Mesh force F [N], deflection delta [m], its rate [m/s] and contact state (1, 0, -1)."""
     ip, iw, rb1, rb2, z1, phi0, kc, ec, c_m, backlash, iy1, iy2 = mesh
@@ -109,7 +110,7 @@ def _mesh(mesh, th, om):
     return 0.0, delta, ddelta, 0
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def chain_rhs(t, th, om, out_th, out_om, chain, f, ip, iw, rb1, rb2, iy1, iy2):
     """The chain's equations of motion, written once for both steady kernels.
 
@@ -145,7 +146,7 @@ def chain_rhs(t, th, om, out_th, out_om, chain, f, ip, iw, rb1, rb2, iy1, iy2):
         out_om[i] = q * jinv[i]
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def rk4_stage(s, y, k, dt, out):
     """The point of RK4 stage ``s + 1`` after stage ``s`` (0, 1, 2) gave the slope ``k``:
     ``out = y + h k`` with ``h = dt / 2, dt / 2, dt``; returns ``h`` [s] (the stage's time is
@@ -157,14 +158,14 @@ def rk4_stage(s, y, k, dt, out):
     return h
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def rk4_update(y, k1, k2, k3, k4, dt):
     """The RK4 step ``y += dt / 6 (k1 + 2 k2 + 2 k3 + k4)`` in place."""
     for i in range(y.shape[0]):
         y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def _rhs(t, y, dy, chain, mesh):
     """``dy/dt`` of the chain state ``y = [theta (n), omega (n)]`` with the mesh spring."""
     n = y.shape[0] // 2
@@ -173,7 +174,7 @@ def _rhs(t, y, dy, chain, mesh):
     chain_rhs(t, th, om, dy[:n], dy[n:], chain, f, mesh.ip, mesh.iw, mesh.rb1, mesh.rb2, mesh.iy1, mesh.iy2)
 
 
-@njit(cache=True, error_model="numpy")
+@entry(error_model="numpy")
 def run_rk4(th, om, t0, dt, n_steps, record_every, chain, mesh):
     """Advance ``n_steps`` RK4 steps of size ``dt`` [s] from (th, om) at time t0 [s].
 

@@ -14,10 +14,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from rotaflex.core.compiled import entry, inner
 
 
-@njit(cache=True)
+@entry
 def spline_second(p, m):
     """Second derivatives of the natural cubic spline through ``p`` (M, 2) on a uniform grid
     of the parameter in [0, 1]; written into ``m`` (M, 2)."""
@@ -44,7 +45,7 @@ def spline_second(p, m):
             m[k, d] -= cp[k] * m[k + 1, d]
 
 
-@njit(cache=True)
+@entry
 def spline_eval(p, m, s, out):
     """Value, first and second derivative of the spline at parameter ``s``.
 
@@ -85,7 +86,7 @@ def spline_eval(p, m, s, out):
         out[2, d] = (mk * b + mk1 * a) / h
 
 
-@njit(cache=True)
+@inner
 def _project(p, m, x0, x1, t0, t1, s, buf):
     """Parameter ``s`` of the spline point whose offset from (x0, x1) is normal to (t0, t1)."""
     for _ in range(40):
@@ -105,7 +106,7 @@ def _project(p, m, x0, x1, t0, t1, s, buf):
     return s, abs(ds) < 1e-9
 
 
-@njit(cache=True)
+@inner
 def _normal_fn(pq, mq, ps, ms, sig, a, b, bq, bs):
     """F(a) = P_S'(b(a)) . n_Q(a) with b(a) the normal projection of P_Q(a) on S."""
     spline_eval(pq, mq, a, bq)
@@ -125,7 +126,7 @@ def _normal_fn(pq, mq, ps, ms, sig, a, b, bq, bs):
 MAX_SEARCH_JUMP = 0.5
 
 
-@njit(cache=True)
+@entry
 def contact_search(pa, ma, pb, mb, sig_a, sig_b, a0, b0, res):
     """Pair of minimum normal distance between spline surfaces A and B.
 
@@ -288,12 +289,12 @@ def contact_search(pa, ma, pb, mb, sig_a, sig_b, a0, b0, res):
     res[7] = 1.0 if ok else 0.0
 
 
-@njit(cache=True)
+@inner
 def _cross(ax, ay, bx, by):
     return ax * by - ay * bx
 
 
-@njit(cache=True)
+@entry
 def sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, sig_a, sig_b, res, rates):
     """Velocity-independent part of the relative normal acceleration (appendix A).
 
@@ -383,7 +384,7 @@ def sliding_terms(pa, ma, va, mva, pb, mb, vb, mvb, sig_a, sig_b, res, rates):
     return -hdd_v, bd, ad
 
 
-@njit(cache=True)
+@entry
 def flank_weights(flank, nedge, s, nodes, w):
     """Nodes and quadratic edge shape functions of flank parameter ``s`` in [0, 1]."""
     z = min(max(s, 0.0), 1.0) * nedge
@@ -399,7 +400,7 @@ def flank_weights(flank, nedge, s, nodes, w):
     w[2] = 0.5 * xi * (xi + 1.0)
 
 
-@njit(cache=True)
+@entry
 def sample_flank(x, flank, nedge, out):
     """Surface data points: the FE flank edge (quadratic) evaluated at M uniform parameters."""
     mpts = out.shape[0]
@@ -411,7 +412,7 @@ def sample_flank(x, flank, nedge, out):
             out[k, d] = w[0] * x[2 * nodes[0] + d] + w[1] * x[2 * nodes[1] + d] + w[2] * x[2 * nodes[2] + d]
 
 
-@njit(cache=True)
+@entry
 def contact_geometry(x, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw):
     """Sample both flanks at ``x``, build the splines, search the contact pair, and store the
     contact row (nodes ``cnod`` and weights ``cw`` of each side). Returns False on failure."""
@@ -437,7 +438,7 @@ def contact_geometry(x, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw)
     return True
 
 
-@njit(cache=True)
+@entry
 def smooth_weights(tab, s, w):
     """Weights ``w`` (n_flank,) of the flank nodes at parameter ``s`` of the smoothed surface:
     linear interpolation in the table ``tab`` (NT, n_flank) of a uniform parameter grid."""
@@ -449,7 +450,7 @@ def smooth_weights(tab, s, w):
         w[n] = (1.0 - f) * tab[i, n] + f * tab[i + 1, n]
 
 
-@njit(cache=True)
+@entry
 def sample_smooth(x, flank, tab, mloc, theta, omega, vel, out):
     """Smoothed surface data: ``out[k] = sum_n tab[row_k, n] x_n + omega J R(theta) mloc[k]``
     at the M spline parameters k / (M - 1) (``row_k = k (NT - 1) / (M - 1)``).
@@ -482,7 +483,7 @@ def sample_smooth(x, flank, tab, mloc, theta, omega, vel, out):
             out[k, 1] = p1 + omega * m0
 
 
-@njit(cache=True)
+@inner
 def contact_geometry_smooth(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw, theta0, tab, mloc):
     """:func:`contact_geometry` on the smoothed flank surfaces.
 
@@ -512,7 +513,7 @@ def contact_geometry_smooth(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cre
     return True
 
 
-@njit(cache=True)
+@inner
 def corner_contact(pa, ma, pb, mb, sig_a, sig_b, which, a0, b0, res):
     """Tip-corner contact outside the path of contact (same output as ``contact_search``).
 
@@ -578,7 +579,7 @@ def corner_contact(pa, ma, pb, mb, sig_a, sig_b, which, a0, b0, res):
     res[7] = 1.0
 
 
-@njit(cache=True)
+@entry
 def pair_contact(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw, mode, theta0, tab, mloc):
     """Contact geometry of one pair. ``mode`` 0 = minimum-distance search, 1 / 2 = the tip-corner
     projection of :func:`corner_contact`. ``cnod.shape[1] == 3``: the paper's surfaces and 3-node
@@ -616,7 +617,7 @@ def pair_contact(x, phi, flank, nedge, sig, mpts, pa, ma, pb, mb, cres, cnod, cw
     return True
 
 
-@njit(cache=True)
+@inner
 def search_pairs(x, phi, m_arr, mpts, lo, hi, corners, pa, ma, pb, mb, cres, cnod, cw, spair):
     """Contact search of every pair whose nominal contact angle ``psi[j] + rsgn[0] phi[0]`` lies
     in the mesh window [lo, hi] (one pair, no window: ``lo, hi = -inf, inf``); the pair's data

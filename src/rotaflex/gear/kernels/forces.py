@@ -9,13 +9,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from rotaflex.core.compiled import entry, inner
 from rotaflex.gear.kernels.contact import flank_weights, smooth_weights
 from rotaflex.gear.kernels.passes import gt_apply
 
 
-@njit(cache=True)
+@entry
 def elastic_force(x, rot, m, wbuf, fglob, tel):
     """Co-rotational elastic force (eq. 4-5) and strain energy.
 
@@ -60,7 +60,7 @@ def elastic_force(x, rot, m, wbuf, fglob, tel):
     return energy
 
 
-@njit(cache=True)
+@entry
 def ramp_torque(theta, tau0, th2, ths):
     """Torque of Fig. 7: 0 -> tau0 over [0, th2], tau0, tau0 -> 0 over [ths - th2, ths]."""
     if theta <= 0.0 or theta >= ths:
@@ -73,7 +73,7 @@ def ramp_torque(theta, tau0, th2, ths):
     return tau0 * f
 
 
-@njit(cache=True)
+@entry
 def set_rotation(phi, theta0, rot):
     for g in range(2):
         ang = theta0[g] + phi[g]
@@ -81,7 +81,7 @@ def set_rotation(phi, theta0, rot):
         rot[g, 1] = math.sin(ang)
 
 
-@njit(cache=True)
+@inner
 def tie_vectors(x, cen, tie_node, tie_gear, rot, bvec, rx):
     """Disk-frame tie quantities of every tie node k (constraint ``R^T (x_k - c) - X_k = 0``).
 
@@ -103,7 +103,7 @@ def tie_vectors(x, cen, tie_node, tie_gear, rot, bvec, rx):
         bvec[k, 1] = r0
 
 
-@njit(cache=True)
+@entry
 def kinetic_energy(v, om, minv, jd):
     e = 0.5 * (jd[0] * om[0] ** 2 + jd[1] * om[1] ** 2)
     for i in range(minv.shape[0]):
@@ -111,7 +111,7 @@ def kinetic_energy(v, om, minv, jd):
     return e
 
 
-@njit(cache=True)
+@inner
 def torque_of(g, phi_g, rsgn_g, tpar, mode):
     """External torque on disk ``g`` (counter-clockwise positive): ramp of Fig. 7 or constant.
 
@@ -125,7 +125,7 @@ def torque_of(g, phi_g, rsgn_g, tpar, mode):
     return u * ramp_torque(u * rsgn_g * phi_g, tpar[0], tpar[1], tpar[2])
 
 
-@njit(cache=True)
+@inner
 def accelerations(
     x,
     phi,
@@ -197,7 +197,7 @@ def accelerations(
     return energy
 
 
-@njit(cache=True)
+@inner
 def normal_velocity(v, cnod, cw, cn, jp):
     """Relative normal velocity of the contact row of pair ``jp`` (> 0: approaching)."""
     sh = 0.0

@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from rotaflex.core.compiled import entry, inner
 from rotaflex.gear.kernels.arrays import HHTScratch
 from rotaflex.gear.kernels.contact import contact_geometry
 from rotaflex.gear.kernels.forces import ramp_torque
@@ -56,7 +56,7 @@ RECORD_COLUMNS = (
 )
 
 
-@njit(cache=True)
+@inner
 def chol_solve(low, r, out):
     """Solve L L^T out = r (dense lower factor ``low``; only the leading len(r) block)."""
     n = r.shape[0]
@@ -72,7 +72,7 @@ def chol_solve(low, r, out):
         out[i] = acc / low[i, i]
 
 
-@njit(cache=True)
+@inner
 def flank_positions(z, phi, fl_map, fl_gear, fl_start, fl_len, fl_xref, cen, theta0, xf):
     """Absolute positions of all flank nodes (compact numbering) into ``xf`` (2 * nf,).
 
@@ -91,7 +91,7 @@ def flank_positions(z, phi, fl_map, fl_gear, fl_start, fl_len, fl_xref, cen, the
             xf[2 * k + 1] = cen[g, 1] + s * u0 + c * u1
 
 
-@njit(cache=True)
+@inner
 def evaluate(
     z,
     zd,
@@ -209,7 +209,7 @@ def evaluate(
     return energy
 
 
-@njit(cache=True)
+@inner
 def mass_product(z, za, phia, nr, mr, gr, hx, cx, ix, jd, mz, mphi):
     """(M(q) a): z part ``mz`` and disk part ``mphi``."""
     for g in range(z.shape[0]):
@@ -233,7 +233,7 @@ def mass_product(z, za, phia, nr, mr, gr, hx, cx, ix, jd, mz, mphi):
         mphi[g] = coup + (jd[g] + ix[g] + 2.0 * cz + zmz) * phia[g]
 
 
-@njit(cache=True)
+@inner
 def kinetic(z, zd, phid, nr, mr, gr, hx, cx, ix, jd):
     """Kinetic energy 1/2 qd^T M(q) qd."""
     mz = np.empty_like(z)
@@ -247,7 +247,7 @@ def kinetic(z, zd, phid, nr, mr, gr, hx, cx, ix, jd):
     return e
 
 
-@njit(cache=True)
+@inner
 def small_solve(a, b, n):
     """Solve the leading n x n system a x = b in place (Gauss, partial pivoting); returns b."""
     for c in range(n):
@@ -272,7 +272,7 @@ def small_solve(a, b, n):
     return b
 
 
-@njit(cache=True)
+@inner
 def new_hht_scratch(hm, hs, mpts):
     """Work arrays of :func:`run_hht` for the model ``hm`` and state ``hs``."""
     ng = hs.z.shape[0]
@@ -316,7 +316,7 @@ def new_hht_scratch(hm, hs, mpts):
     )
 
 
-@njit(cache=True)
+@inner
 def _evaluate_state(hm, hs, w, tpar, mpts, fz, fphi):
     """:func:`evaluate` at the current iterate of ``hs``; F into ``fz, fphi``."""
     return evaluate(
@@ -361,7 +361,7 @@ def _evaluate_state(hm, hs, w, tpar, mpts, fz, fphi):
     )
 
 
-@njit(cache=True)
+@inner
 def _step_start(hm, hs, w, tpar):
     """Keep the state of the step start (``w.zn`` ...) and its external torques."""
     z, zd, za, phi, phid, phia = hs.z, hs.zd, hs.za, hs.phi, hs.phid, hs.phia
@@ -378,7 +378,7 @@ def _step_start(hm, hs, w, tpar):
         w.act_old[k] = hs.p[k] < 0.0
 
 
-@njit(cache=True)
+@inner
 def _newmark(hm, hs, w, h, beta, gam):
     """Positions and velocities of the iterate from its accelerations (Newmark formulas)."""
     z, zd, za, phi, phid, phia = hs.z, hs.zd, hs.za, hs.phi, hs.phid, hs.phia
@@ -391,7 +391,7 @@ def _newmark(hm, hs, w, h, beta, gam):
         phid[g] = w.phidn[g] + h * ((1.0 - gam) * w.phian[g] + gam * phia[g])
 
 
-@njit(cache=True)
+@inner
 def _contact_schur(hm, hs, w, alpha, bh2):
     """One Newton correction's linear solves: ``w.y`` = S^-1 (residual), ``w.wcol`` = S^-1 of
     each gradient, then the Schur system of the contact pairs with the active set
@@ -448,7 +448,7 @@ def _contact_schur(hm, hs, w, alpha, bh2):
             dp[idx[r]] = bsub[r]
 
 
-@njit(cache=True)
+@inner
 def _newton_update(hm, hs, w, alpha, bh2, rref):
     """Apply one Newton correction (:func:`_contact_schur`) to the accelerations and contact
     forces. Returns (residual, active set unchanged)."""
@@ -480,7 +480,7 @@ def _newton_update(hm, hs, w, alpha, bh2, rref):
     return res, same
 
 
-@njit(cache=True)
+@inner
 def _impact_projection(hm, hs, w):
     """No approaching normal velocity at active pairs: a plastic impulse per approaching pair;
     the kinetic energy removed goes to ``hs.sc[7]``."""
@@ -532,7 +532,7 @@ def _impact_projection(hm, hs, w):
     hs.sc[7] += ke0 - kinetic(z, zd, phid, nr, mr, gr, hx, cx, ix, jd)
 
 
-@njit(cache=True)
+@inner
 def _record_hht(row, t, energy, hm, hs, w, hr):
     """Write record ``row`` (:data:`RECORD_COLUMNS`; pair 0 in the pair columns, every pair's
     force in ``hr.outp``)."""
@@ -585,7 +585,7 @@ def _record_hht(row, t, energy, hm, hs, w, hr):
     sc[4] = 0.0
 
 
-@njit(cache=True)
+@inner
 def _close_hht_step(t, its, hs, w):
     """Running scalars at the end of a step: time, external work, peak force, impacts; F of
     the new state becomes the step start's."""
@@ -604,7 +604,7 @@ def _close_hht_step(t, its, hs, w):
     sc[6] = 1.0 if p[0] < 0.0 else 0.0
 
 
-@njit(cache=True)
+@entry
 def initial_evaluation(hm, hs, tpar, mpts):
     """F at the start state of ``hs`` (into ``hs.fz, hs.fphi``) and the consistent start
     accelerations ``M a = -F`` (contact forces zero). Returns (contact search ok, kinetic +
@@ -628,7 +628,7 @@ def initial_evaluation(hm, hs, tpar, mpts):
     return True, ke + e_strain
 
 
-@njit(cache=True)
+@entry
 def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
     """Advance ``n_steps`` HHT-alpha steps (Negrut et al. 2007 form for index-3 constraints).
 

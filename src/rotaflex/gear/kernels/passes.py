@@ -21,11 +21,13 @@ solution of the linear complementarity problem.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.extending import overload
 
+from rotaflex.core.compiled import entry, inner
 
-@njit(cache=True)
+
+@entry
 def k_local_product(g, m, rot, zk):
     """zk += K R^T M^-1 g (local frame) for a sparse g (only its non-zero nodes are visited);
     ``m`` the :class:`~rotaflex.gear.kernels.arrays.ModelArrays` (K in 2 x 2 blocks, applied
@@ -53,7 +55,7 @@ def k_local_product(g, m, rot, zk):
             zk[2 * j + 1] += kblk[b, 3] * l1
 
 
-@njit(cache=True)
+@inner
 def respond(g, gth, c1, c2, m, rot, zk, tx, tth, scale):
     """tx += scale * (c1 M^-1 g - c2 M^-1 R K R^T M^-1 g), tth += scale * c1 gth / J.
 
@@ -76,7 +78,7 @@ def respond(g, gth, c1, c2, m, rot, zk, tx, tth, scale):
         tth[gg] += scale * c1 * gth[gg] / jd[gg]
 
 
-@njit(cache=True)
+@inner
 def tie_row_sums(c1, c2, m_arr, bvec, rs):
     """Row sums of |C| over the tie block (for the infinity norm of appendix B)."""
     minv, tie_node, tie_gear, jd = m_arr.minv, m_arr.tie_node, m_arr.tie_gear, m_arr.inertia
@@ -104,7 +106,7 @@ def tie_row_sums(c1, c2, m_arr, bvec, rs):
             rs[2 * i + 1] += f * (abs(tb_b[q, 1, 0]) + abs(tb_b[q, 1, 1]))
 
 
-@njit(cache=True)
+@inner
 def accel_poly(n_acc, eps1, coef):
     """Coefficients of A_n as a polynomial in C_1 (eq. B.4-B.8) and the optimal b (eq. 24).
 
@@ -147,7 +149,7 @@ def accel_poly(n_acc, eps1, coef):
     return 2.0 / (om + ep)
 
 
-@njit(cache=True)
+@entry
 def gt_apply(dmu, tie_node, tie_gear, bvec, rot, cnod, cw, cn, g, gth):
     """G^T dmu (x part into ``g``, disk part into ``gth``) with ``npair`` contact rows."""
     nt = tie_node.shape[0]
@@ -174,7 +176,7 @@ def gt_apply(dmu, tie_node, tie_gear, bvec, rot, cnod, cw, cn, g, gth):
             g[2 * i + 1] -= cw[jp, 1, j] * cn[jp, 1] * p
 
 
-@njit(cache=True)
+@inner
 def contact_columns(c1, c2, m, rot, cnod, cw, cn, g, zk, ccol):
     """Columns of C = G W G^T of every contact row (W = c1 M^-1 - c2 M^-1 K_g M^-1)."""
     minv, gid, tie_node = m.minv, m.gid, m.tie_node
@@ -222,7 +224,7 @@ def contact_columns(c1, c2, m, rot, cnod, cw, cn, g, zk, ccol):
             zk[:] = 0.0
 
 
-@njit(cache=True)
+@inner
 def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl, kz):
     """out = C' z: tie block (structured) + the active contact rows/columns (``act`` mask);
     ``m_arr`` the :class:`~rotaflex.gear.kernels.arrays.ModelArrays` of the pair."""
@@ -282,7 +284,7 @@ def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl, kz):
         out[ic + jp] = acc
 
 
-@njit(cache=True)
+@inner
 def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
     """Multiplier / contact-force iteration of eq. 19-21 with ``npair`` unilateral rows.
 
@@ -398,7 +400,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_ar
     return res, max_iter, False
 
 
-@njit(cache=True)
+@inner
 def band_solve(lb, r, out):
     """Solve L L^T out = r with the banded factor ``lb`` (n, bw + 1); ``out`` may alias ``r``."""
     n = r.shape[0]
@@ -417,7 +419,7 @@ def band_solve(lb, r, out):
         out[i] = acc / lb[i, 0]
 
 
-@njit(cache=True)
+@inner
 def tie_solve(lb, perm, bmat, r, out, tmp, y, s2):
     """out = C_t^-1 r with C_t = C_0 + B diag(c1 / J) B^T (Woodbury, B = ``bmat`` (n, 2)).
 
@@ -440,7 +442,7 @@ def tie_solve(lb, perm, bmat, r, out, tmp, y, s2):
         out[perm[i]] = tmp[i] - y[0, i] * z0 - y[1, i] * z1
 
 
-@njit(cache=True)
+@entry
 def prepare_woodbury(lb, perm, bmat, dcoef, y, s2):
     """y[g] = C_0^-1 b_g (permuted order), s2 = diag(1/dcoef) + B^T C_0^-1 B."""
     n = bmat.shape[0]
@@ -456,7 +458,7 @@ def prepare_woodbury(lb, perm, bmat, dcoef, y, s2):
             s2[g, h] = acc + (1.0 / dcoef[g] if g == h else 0.0)
 
 
-@njit(cache=True)
+@inner
 def _factor_views(packed, tie_gear, bvec, n, buf):
     """Band factor, Woodbury vectors (copied into ``buf[4:6]``), 2 x 2 capacitance matrix and
     the current disk vectors B (n, 2) of one pass's packed factor data."""
@@ -475,7 +477,7 @@ def _factor_views(packed, tie_gear, bvec, n, buf):
     return lb, y, s2, bmat
 
 
-@njit(cache=True)
+@entry
 def direct_pass(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, tol, dmu, buf):
     """Multiplier change ``dmu`` of one pass from the factored C (unilateral contact by active set).
 
@@ -531,7 +533,7 @@ def direct_pass(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, tol, dmu
     return yc
 
 
-@njit(cache=True)
+@inner
 def direct_pass_pairs(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, tol, dmu, buf):
     """:func:`direct_pass` with several contact rows (``ccol`` (npair, nc)): Schur complement
     of the active contact rows, active set by release of tensile rows."""
@@ -603,7 +605,7 @@ def direct_pass_pairs(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, to
         dmu[ic + j] = dp[j] + ddp[j]
 
 
-@njit(cache=True)
+@inner
 def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec, ccol, work, stats):
     """Direct multiplier solve of one pass, checked.
 
@@ -683,7 +685,7 @@ def _solver_for(dfac, dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, ma
     return direct
 
 
-@njit(cache=True)
+@inner
 def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
     """Pass ``mode`` (1, 2, 3) by the iteration of eq. 19-24 (``prm.dfac`` None) or by the
     direct solve (factors ``prm.dfac[mode - 1]`` of the

@@ -22,8 +22,8 @@ search failed.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from rotaflex.core.compiled import entry, inner
 from rotaflex.gear.kernels.arrays import StepScratch
 from rotaflex.gear.kernels.contact import (
     sample_flank,
@@ -89,7 +89,7 @@ PAIR_COLUMNS = (
 )
 
 
-@njit(cache=True)
+@inner
 def new_scratch(m, s, mpts):
     """Work arrays of :func:`run_steps` for the model ``m`` and state ``s``."""
     npair = s.cres.shape[0]
@@ -147,7 +147,7 @@ def new_scratch(m, s, mpts):
     )
 
 
-@njit(cache=True)
+@inner
 def hold_contact(s, w):
     """Contact parameters and normal of the current state into ``w.ct`` (rates start there)."""
     for jp in range(s.cres.shape[0]):
@@ -157,7 +157,7 @@ def hold_contact(s, w):
         w.ct[jp, 3] = w.cn[jp, 1]
 
 
-@njit(cache=True)
+@inner
 def _stage(x, phi, mu, tau_off, rates, m, tpar, tmode, w, a, alp):
     """:func:`accelerations` at a stage state with the step-start contact ``w.ct`` advanced by
     ``rates`` over ``tau_off``; stage contact rows in ``w.cnod_t, w.cw_t``."""
@@ -187,7 +187,7 @@ def _stage(x, phi, mu, tau_off, rates, m, tpar, tmode, w, a, alp):
     )
 
 
-@njit(cache=True)
+@inner
 def rk4_predict(dt, m, tpar, tmode, s, w):
     """Classical RK4 step of the state ``s`` with the multipliers ``s.mu`` held over the step
     (k1 = the stored consistent acceleration of the step start)."""
@@ -233,7 +233,7 @@ def rk4_predict(dt, m, tpar, tmode, s, w):
         om[g] += dt / 6.0 * osum[g]
 
 
-@njit(cache=True)
+@inner
 def _pass_change(m, s, w):
     """``w.gsc, w.gth`` = G^T (mu - mu0) of the pass just solved (contact rows of ``s``)."""
     nc = s.mu.shape[0]
@@ -244,19 +244,19 @@ def _pass_change(m, s, w):
     gt_apply(w.dmu, m.tie_node, m.tie_gear, w.bvec, w.rot, s.cnod, s.cw, w.cn, w.gsc, w.gth)
 
 
-@njit(cache=True)
+@inner
 def _columns(c1, c2, m, s, w):
     contact_columns(c1, c2, m, w.rot, s.cnod, s.cw, w.cn, w.gsc, w.zk, w.ccol)
 
 
-@njit(cache=True)
+@inner
 def _fail(r, t, res, tol):
     r.info[0] = t
     r.info[1] = res
     r.info[2] = tol
 
 
-@njit(cache=True)
+@inner
 def _search_all(s, m, p, w):
     """Contact search of every pair at the state ``s.x, s.phi`` (results into ``s.cres, s.cnod,
     s.cw, s.spair``); False when a search fails."""
@@ -279,7 +279,7 @@ def _search_all(s, m, p, w):
     )
 
 
-@njit(cache=True)
+@inner
 def predicted_contact(t, p, m, s, w, r):
     """Contact search of every pair at the predicted state; approach velocities ``w.sh_pred``,
     predicted positions kept in ``w.xsum, w.psum``. Returns (ok, kinetic energy)."""
@@ -299,7 +299,7 @@ def predicted_contact(t, p, m, s, w, r):
     return True, ke_pred
 
 
-@njit(cache=True)
+@inner
 def displacement_pass(t, p, m, s, w, r):
     """Pass 1: displacement constraints (eq. 8, 19), then the affine RK4 response of positions
     and velocities to the new multipliers. Returns (status, closing): status 1 if the pass did
@@ -377,7 +377,7 @@ def displacement_pass(t, p, m, s, w, r):
     return 0, closing
 
 
-@njit(cache=True)
+@inner
 def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
     """Pass 2: velocity constraints (eq. 15, 20, 22) with Newton's impact law; the kinetic
     energy it removes (and, for a closing contact, the displacement pass's change of kinetic +
@@ -456,7 +456,7 @@ def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
     return 0
 
 
-@njit(cache=True)
+@inner
 def _external_work(tpar, tmode, m, s, w, tau_old0, tau_old1):
     """Trapezoidal external work over the step (disk angles ``w.phi_t`` -> ``s.phi``)."""
     phi, sc = s.phi, s.sc
@@ -468,7 +468,7 @@ def _external_work(tpar, tmode, m, s, w, tau_old0, tau_old1):
     sc[19] = tau_new1
 
 
-@njit(cache=True)
+@inner
 def acceleration_errors(m, s, w):
     """Error vector of pass 3: tie rows (-Phi_ddot) and each pair's relative normal acceleration
     with the sliding terms of appendix A (whose contact-parameter rates go to ``s.rates``)."""
@@ -522,7 +522,7 @@ def acceleration_errors(m, s, w):
         e0[ic + jp] = sa
 
 
-@njit(cache=True)
+@inner
 def acceleration_pass(t, p, tpar, tmode, m, s, w, r):
     """Pass 3: consistent accelerations (eq. 17, 21, 23) of the current positions and
     velocities. Returns (status, strain energy): status 3 if the pass did not converge."""
@@ -589,7 +589,7 @@ def acceleration_pass(t, p, tpar, tmode, m, s, w, r):
     return 0, eel
 
 
-@njit(cache=True)
+@inner
 def close_step(t, eel, closing, initial, m, s, w):
     """Running scalars at the end of a step: time, strain energy, peak forces, tie residual."""
     sc, spair, mu, cres, rx = s.sc, s.spair, s.mu, s.cres, w.rx
@@ -611,7 +611,7 @@ def close_step(t, eel, closing, initial, m, s, w):
     sc[15] = max(sc[15], tr)
 
 
-@njit(cache=True)
+@inner
 def record_row(row, eel, m, s, r):
     """Write record ``row`` (:data:`GLOBAL_COLUMNS`, :data:`PAIR_COLUMNS`, tie multipliers) and
     reset the per-record maxima."""
@@ -663,32 +663,7 @@ def record_row(row, eel, m, s, r):
         sc[q] = 0.0
 
 
-@njit(cache=True)
-def advance(p, tpar, m, s, w, r):
-    """One step of the paper's scheme: RK4 prediction with the multipliers held, contact
-    search, displacement and velocity passes, external work. Returns (status, time, closing)."""
-    t = s.sc[0]
-    hold_contact(s, w)
-    w.phi_t[0] = s.phi[0]
-    w.phi_t[1] = s.phi[1]
-    tau_old0 = torque_of(np.int64(0), s.phi[0], m.rsgn[0], tpar, p.torque_mode)
-    tau_old1 = torque_of(np.int64(1), s.phi[1], m.rsgn[1], tpar, p.torque_mode)
-    rk4_predict(p.dt, m, tpar, p.torque_mode, s, w)
-    t = t + p.dt
-    ok, ke_pred = predicted_contact(t, p, m, s, w, r)
-    if not ok:
-        return 4, t, False
-    status, closing = displacement_pass(t, p, m, s, w, r)
-    if status != 0:
-        return status, t, closing
-    status = velocity_pass(t, p, m, s, w, r, ke_pred, closing)
-    if status != 0:
-        return status, t, closing
-    _external_work(tpar, p.torque_mode, m, s, w, tau_old0, tau_old1)
-    return 0, t, closing
-
-
-@njit(cache=True)
+@entry
 def run_steps(n_steps, rec_every, row, init, m, p, s, r):
     """Advance ``n_steps`` RK4 steps with the three constraint passes per step.
 
@@ -730,9 +705,25 @@ def run_steps(n_steps, rec_every, row, init, m, p, s, r):
             for jp in range(npair):
                 w.pbar[jp] = -1.0 if s.cres[jp, 2] <= 0.0 else 0.0
         else:
-            status, t, closing = advance(p, tpar, m, s, w, r)
+            # one step of the paper's scheme: RK4 prediction with the multipliers held, contact
+            # search, displacement and velocity passes, external work (written here, not in a
+            # kernel of its own: numba compiles a called kernel's whole tree again per level)
+            t = s.sc[0] + p.dt
+            hold_contact(s, w)
+            w.phi_t[0] = s.phi[0]
+            w.phi_t[1] = s.phi[1]
+            tau_old0 = torque_of(np.int64(0), s.phi[0], m.rsgn[0], tpar, p.torque_mode)
+            tau_old1 = torque_of(np.int64(1), s.phi[1], m.rsgn[1], tpar, p.torque_mode)
+            rk4_predict(p.dt, m, tpar, p.torque_mode, s, w)
+            ok, ke_pred = predicted_contact(t, p, m, s, w, r)
+            if not ok:
+                return 4, row
+            status, closing = displacement_pass(t, p, m, s, w, r)
+            if status == 0:
+                status = velocity_pass(t, p, m, s, w, r, ke_pred, closing)
             if status != 0:
                 return status, row
+            _external_work(tpar, p.torque_mode, m, s, w, tau_old0, tau_old1)
         status, eel = acceleration_pass(t, p, tpar, p.torque_mode, m, s, w, r)
         if status != 0:
             return status, row

@@ -20,8 +20,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
+from rotaflex.core.compiled import entry, inner
 from rotaflex.gear.kernels.chain import chain_rhs, rk4_stage, rk4_update
 
 __all__ = ["WindowArgs", "run_window_rk4"]
@@ -62,7 +62,7 @@ class WindowArgs(NamedTuple):
     iy2: int
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def _cell(win, s):
     x = (s - win.s0) / win.ds
     n = win.k_res.shape[0]
@@ -74,12 +74,12 @@ def _cell(win, s):
     return j, x - j
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def _lin(tab, j, u, ds):
     return tab[j] + u * (tab[j + 1] - tab[j]), (tab[j + 1] - tab[j]) / ds
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def _pairs(y, n_chain, n_hi, win, gen, rec):
     """Pair forces; modal generalised forces into ``gen`` (zeroed here). ``rec`` (length 8):
     total force, pinion and wheel fillet stress maxima, pairs in contact, parametric power,
@@ -160,7 +160,7 @@ def _pairs(y, n_chain, n_hi, win, gen, rec):
         rec[5] = cm * xd * xd
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def _rhs(t, y, dy, n_hi, chain, win, gen, rec):
     n = chain.jinv.shape[0]
     _pairs(y, n, n_hi, win, gen, rec)
@@ -182,7 +182,7 @@ def _rhs(t, y, dy, n_hi, chain, win, gen, rec):
                 rec[7] += 2.0 * win.zeta * w * deta * deta
 
 
-@njit(cache=True, error_model="numpy")
+@inner(error_model="numpy")
 def _modal_energy(y, n_chain, win, slot):
     m = win.n_modes
     nm2 = win.window * 2 * m
@@ -195,7 +195,7 @@ def _modal_energy(y, n_chain, win, slot):
     return e
 
 
-@njit(cache=True, error_model="numpy")
+@entry(error_model="numpy")
 def run_window_rk4(y, n_hi0, t0, dt, n_steps, chain, win):
     """Advance ``n_steps`` RK4 steps of ``dt`` [s] from ``y`` (updated in place).
 
