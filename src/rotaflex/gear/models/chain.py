@@ -330,6 +330,11 @@ def resonance_speeds_rpm(sys: TorsionalSystem, orders=(1, 2, 3), min_mesh_energy
     return out
 
 
+#: pressure angle of the standard basic rack [rad] (20 deg): the reference circle ``r_b2 / cos``
+#: of :func:`iso_input` when none is given
+STANDARD_PRESSURE_ANGLE = 0.3490658503988659  # 20 deg
+
+
 def iso_input(
     sys: TorsionalSystem,
     torque: float,
@@ -356,7 +361,7 @@ def iso_input(
     """
     c_g = sys.mesh.mean_stiffness / face_width if c_gamma_alpha is None else c_gamma_alpha
     c1 = c_g / (0.75 * contact_ratio + 0.25) if c_single is None else c_single
-    r2 = sys.base_radius[1] / np.cos(np.radians(20.0)) if reference_radius is None else reference_radius
+    r2 = sys.base_radius[1] / np.cos(STANDARD_PRESSURE_ANGLE) if reference_radius is None else reference_radius
     return IsoKvInput(
         z1=int(sys.teeth[0]),
         c_single=c1,

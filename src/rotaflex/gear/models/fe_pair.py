@@ -525,29 +525,18 @@ def kernel_inputs(
 def integrate(
     model: GearPairModel,
     *,
-    speeds,
-    torque,
-    theta_2,
-    theta_s,
-    span,
-    dt,
-    tol=1e-12,
-    n_accel=3,
-    max_iter=500,
     record_every=10,
     snapshots=0,
     progress=None,
     progress_every=2000,
-    restitution=0.0,
     record_nodes=None,
-    multipliers="iterative",
-    smoothing=0,
-    torque_mode=None,
-    window=None,
-    warm_start=None,
-    gain=(1.0, 1.0),
+    **run,
 ):
     """Integrate the pair over a rotation ``span`` of gear A [rad] with the paper's scheme.
+
+    The keywords of the run (``speeds`` ... ``gain`` below, except those of the output:
+    ``record_every``, ``snapshots``, ``progress``, ``progress_every``, ``record_nodes``) go to
+    :func:`kernel_inputs` unchanged, which holds their defaults and checks them.
 
     Parameters
     ----------
@@ -608,26 +597,7 @@ def integrate(
     from rotaflex.gear.kernels.rk4 import GLOBAL_COLUMNS, PAIR_COLUMNS, run_steps
     from rotaflex.gear.solvers.drive_loop import SolverOutput, drive
 
-    arrays, params, state, rec, n_steps, e0 = kernel_inputs(
-        model,
-        speeds=speeds,
-        torque=torque,
-        theta_2=theta_2,
-        theta_s=theta_s,
-        span=span,
-        dt=dt,
-        tol=tol,
-        n_accel=n_accel,
-        max_iter=max_iter,
-        record_every=record_every,
-        restitution=restitution,
-        multipliers=multipliers,
-        smoothing=smoothing,
-        torque_mode=torque_mode,
-        window=window,
-        warm_start=warm_start,
-        gain=gain,
-    )
+    arrays, params, state, rec, n_steps, e0 = kernel_inputs(model, record_every=record_every, **run)
     x = state.x
     n_rec = rec.out.shape[0]
     npair = state.cres.shape[0]
@@ -663,7 +633,7 @@ def integrate(
         steps=n_steps,
         wall_time=wall,
         initial_energy=e0,
-        dt=dt,
+        dt=params.dt,
         snapshots=snaps,
         node_positions=None if rec_x is None else rec_x[:nrow].copy(),
         record_nodes=rec_nodes,

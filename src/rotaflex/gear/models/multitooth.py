@@ -40,7 +40,7 @@ from rotaflex.gear.models.fe_pair import (
 )
 
 #: default mesh window: pairs are searched from 1 deg before to 1 deg after their contact [rad]
-WINDOW = math.radians(1.0)
+WINDOW = 0.017453292519943295  # 1 deg
 
 
 @dataclass(frozen=True)
@@ -485,9 +485,7 @@ def strain_energy(model: GearPairModel, x: np.ndarray) -> float:
     return float(0.5 * w @ (model.stiffness @ w))
 
 
-def simulate_multi(
-    model: MultiToothModel, *, speeds, torque, theta_2, theta_s, span, dt, torque_mode=1, window=WINDOW, n_accel=4, **kw
-):
+def simulate_multi(model: MultiToothModel, *, torque_mode=1, window=WINDOW, n_accel=4, **kw):
     """Integrate the multi-tooth pair over a rotation ``span`` of gear A [rad].
 
     :func:`rotaflex.gear.models.fe_pair.integrate` with ``torque_mode`` 1 (the constant ``torque`` on
@@ -497,16 +495,4 @@ def simulate_multi(
     """
     from rotaflex.gear.models.fe_pair import integrate
 
-    return integrate(
-        model,
-        speeds=speeds,
-        torque=torque,
-        theta_2=theta_2,
-        theta_s=theta_s,
-        span=span,
-        dt=dt,
-        torque_mode=torque_mode,
-        window=window,
-        n_accel=n_accel,
-        **kw,
-    )
+    return integrate(model, torque_mode=torque_mode, window=window, n_accel=n_accel, **kw)

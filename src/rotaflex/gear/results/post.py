@@ -38,6 +38,9 @@ __all__ = [
     "static_root_stress",
 ]
 
+#: largest rotation of gear A between contact searches of :func:`kinematic_transmission_error` [rad]
+MARCH_STEP = 0.004363323129985824  # 0.25 deg
+
 
 @dataclass(frozen=True)
 class RootStressProbe:
@@ -145,7 +148,7 @@ def kinematic_transmission_error(model, theta_a) -> np.ndarray:
     x0 = model.reference_positions().reshape(-1, 2)
     targets = np.atleast_1d(np.asarray(theta_a, dtype=float))
     out = np.zeros(targets.size)
-    # march from the start of contact in steps <= 0.25 deg so the search stays on its branch
+    # march from the start of contact in steps <= MARCH_STEP so the search stays on its branch
     order = np.argsort(targets)
     tb = 0.0
     ta_prev = 0.0
@@ -169,7 +172,7 @@ def kinematic_transmission_error(model, theta_a) -> np.ndarray:
 
     for i in order:
         ta_goal = targets[i]
-        n_sub = max(1, int(math.ceil(abs(ta_goal - ta_prev) / math.radians(0.25))))
+        n_sub = max(1, int(math.ceil(abs(ta_goal - ta_prev) / MARCH_STEP)))
         for ta in np.linspace(ta_prev, ta_goal, n_sub + 1)[1:]:
             tb += (ta - ta_prev) * rb[0] / rb[1]
             tb, start = touch(ta, tb, start)

@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from rotaflex.core.result import Result, register_result
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.results.steady import METRIC_UNITS
 
 __all__ = ["SpeedSweepResult", "sweep_dataset"]
@@ -92,7 +93,8 @@ def sweep_dataset(points, speeds, directions, system, torque: float, *, iso=None
     ds["resonance_order"] = ("resonance", np.array([r[0] for r in res_speeds]), {"units": "1"})
     ds["resonance_frequency"] = ("resonance", np.array([r[1] for r in res_speeds]), {"units": "Hz"})
     if iso is not None:
-        ds["iso_kv"] = ("speed", iso_kv(iso, speeds), {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
+        kv = iso_kv(iso, rpm_to_rad_s(speeds))
+        ds["iso_kv"] = ("speed", kv, {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
         ds.attrs["iso_resonance_speed"] = iso.resonance_speed_rpm
     # a response that does not settle at some speed (quasi-periodic or chaotic motion next to a
     # jump) is a finding of the sweep, not a failure of the run: named in the message, counted

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from rotaflex.core.units import deg_to_rad
 from rotaflex.gear.pair import paper
 from rotaflex.sweep.figures import _base_config, _find, _get, _label, _lines, _speed_dim
 
@@ -36,7 +37,7 @@ def gear_mesh_estimate(cfg: dict) -> dict[str, float]:
     """
     g = {k: _get(cfg, k, v) for k, v in GEAR_DEFAULTS.items()}
     z = int(g["gear.teeth"])
-    rb = g["gear.module"] * z * math.cos(math.radians(g["gear.pressure_angle_deg"])) / 2
+    rb = g["gear.module"] * z * math.cos(deg_to_rad(g["gear.pressure_angle_deg"])) / 2
     k_mesh = ISO_C_GAMMA * g["gear.face_width"]
     fn = math.sqrt(k_mesh * rb**2 * 2 / g["disk_inertia"]) / (2 * math.pi)
     return {"teeth": z, "base_radius": rb, "mesh_stiffness": k_mesh, "natural_frequency": fn}

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.result import Result, register_result
+from rotaflex.core.units import rad_to_deg
 from rotaflex.gear.models.fe_pair import torque_ramp
 
 
@@ -55,7 +56,7 @@ class GearResult(Result):
         if "pair" in ds.dims:
             return plot_multi(ds)
         figs = {}
-        ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
+        ang = rad_to_deg(ds["rotation_angle"].sel(gear="A").values)
         fig, ax = new_figure()
         ax.plot(ang, ds["contact_force"].values, lw=0.8, label="contact force")
         ax.plot(ang, ds["nominal_force_ramp"].values, "k--", lw=0.8, label="quasi-static tau_driver / r_b")
@@ -130,7 +131,7 @@ def line_figure(x, y, xlabel: str, ylabel: str):
 
 def history_figures(ds, gap_label: str) -> dict:
     """Energy-balance and gap figures shared by the one- and multi-tooth results."""
-    ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
+    ang = rad_to_deg(ds["rotation_angle"].sel(gear="A").values)
     return {
         "energy_balance": line_figure(
             ds["time"].values * 1e3,
@@ -521,7 +522,7 @@ def plot_multi(ds) -> dict:
     from rotaflex.core.plotting import new_figure
 
     figs = {}
-    ang = np.degrees(ds["rotation_angle"].sel(gear="A").values)
+    ang = rad_to_deg(ds["rotation_angle"].sel(gear="A").values)
     fig, ax = new_figure()
     for j in ds["pair"].values:
         (line,) = ax.plot(ang, ds["contact_force"].sel(pair=j).values, lw=0.8, label=f"pair {j}")

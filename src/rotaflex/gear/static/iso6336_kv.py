@@ -8,9 +8,10 @@ eps_alpha, 1 < eps_gamma):
 * reduced mass per unit face width ``m_red = m1* m2* / (m1* + m2*)``, ``m_i* = J_i* / r_bi^2``
   with ``J_i*`` the polar moment of inertia per unit face width;
 * resonance speed of the pinion ``n_E1 = 30000 / (pi z1) sqrt(c_gamma_alpha / m_red)``
-  [min^-1] with c_gamma_alpha in N/(mm um) and m_red in kg/mm (here evaluated in SI:
-  ``omega_E = sqrt(c_gamma_alpha / m_red)`` per unit width, ``n_E1 = 60 omega_E / (2 pi z1)``);
-* resonance ratio ``N = n1 / n_E1``, lower limit of the main resonance range
+  [min^-1] with c_gamma_alpha in N/(mm um) and m_red in kg/mm; here evaluated in SI as the
+  angular speed ``omega_E1 = sqrt(c_gamma_alpha / m_red) / z1`` [rad/s] (the mesh frequency
+  ``z1 omega_E1`` meets ``sqrt(c_gamma_alpha / m_red)``; ``n_E1 = 30 omega_E1 / pi``);
+* resonance ratio ``N = n1 / n_E1 = omega1 / omega_E1``, lower limit of the main resonance range
   ``N_S = 0.5 + 0.35 sqrt(K_A F_t / (100 b))`` for ``K_A F_t / b < 100 N/mm``, else 0.85;
 * ``B_p = c' f_pb,eff / (K_A F_t / b)``, ``B_f = c' f_f,eff / (K_A F_t / b)``,
   ``B_k = |1 - c' C_a / (K_A F_t / b)|`` (C_a: tip relief; 0 gives B_k = 1);
@@ -23,7 +24,8 @@ eps_alpha, 1 < eps_gamma):
   :func:`cv_coefficients`).
 
 Units: SI at the interface (N/m^2 for stiffness per unit face width, m for deviations, N/m for
-load per width); the N/(mm um) values of the standard are 1e9 times smaller numbers in SI
+load per width, rad/s for speeds; a config in rpm is converted where it is read, with
+:func:`rotaflex.core.units.rpm_to_rad_s`); the N/(mm um) values of the standard are 1e9 times smaller numbers in SI
 (1 N/(mm um) = 1e9 N/m^2).
 """
 
@@ -36,8 +38,16 @@ import numpy as np
 
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm
 
-__all__ = ["IsoKvInput", "cv_coefficients", "iso_kv", "reduced_mass_per_width", "resonance_speed_rpm"]
+__all__ = [
+    "IsoKvInput",
+    "cv_coefficients",
+    "iso_kv",
+    "reduced_mass_per_width",
+    "resonance_speed",
+    "resonance_speed_rpm",
+]
 
 
 def cv_coefficients(eps_gamma: float) -> dict[str, float]:
@@ -93,9 +103,15 @@ def reduced_mass_per_width(inertia, base_radius, face_width: float) -> float:
     return j1 * j2 / (j1 * r2**2 + j2 * r1**2) / face_width
 
 
+def resonance_speed(c_gamma_alpha: float, m_red: float, z1: int) -> float:
+    """Pinion resonance speed ``omega_E1`` [rad/s] from c_gamma_alpha [N/m^2] and m_red [kg/m]:
+    the pinion speed at which the mesh frequency ``z1 omega_E1`` meets ``sqrt(c_gamma_alpha / m_red)``."""
+    return math.sqrt(c_gamma_alpha / m_red) / z1
+
+
 def resonance_speed_rpm(c_gamma_alpha: float, m_red: float, z1: int) -> float:
-    """Pinion resonance speed ``n_E1`` [rpm] from c_gamma_alpha [N/m^2] and m_red [kg/m]."""
-    return 60.0 * math.sqrt(c_gamma_alpha / m_red) / (2.0 * math.pi * z1)
+    """:func:`resonance_speed` in rpm (ISO's ``n_E1`` [min^-1]), for reports."""
+    return rad_s_to_rpm(resonance_speed(c_gamma_alpha, m_red, z1))
 
 
 @dataclass(frozen=True)
@@ -116,8 +132,13 @@ class IsoKvInput:
     tip_relief: float = param(0.0, unit="m", ge=0.0, doc="C_a (0: no relief, B_k = 1)")
 
     @property
+    def resonance_speed(self) -> float:
+        """omega_E1 [rad/s]."""
+        return resonance_speed(self.c_gamma_alpha, self.m_red, self.z1)
+
+    @property
     def resonance_speed_rpm(self) -> float:
-        """n_E1 [rpm]."""
+        """n_E1 [rpm] (for reports)."""
         return resonance_speed_rpm(self.c_gamma_alpha, self.m_red, self.z1)
 
     @property
@@ -136,19 +157,19 @@ class IsoKvInput:
         )
 
 
-def iso_kv(inp: IsoKvInput, speed_rpm) -> np.ndarray:
-    """ISO 6336-1 method B dynamic factor K_v at the pinion speeds ``speed_rpm``.
+def iso_kv(inp: IsoKvInput, speed) -> np.ndarray:
+    """ISO 6336-1 method B dynamic factor K_v at the pinion speeds ``speed``.
 
     Parameters
     ----------
     inp : IsoKvInput
-    speed_rpm : array_like
-        Pinion speeds n1 [rpm], >= 0.
+    speed : array_like
+        Pinion speeds omega1 [rad/s], >= 0 (from rpm: :func:`rotaflex.core.units.rpm_to_rad_s`).
 
     Returns
     -------
     ndarray
-        K_v [-], same shape as ``speed_rpm``.
+        K_v [-], same shape as ``speed``.
 
     Examples
     --------
@@ -156,12 +177,12 @@ def iso_kv(inp: IsoKvInput, speed_rpm) -> np.ndarray:
     >>> float(iso_kv(inp, 0.0))
     1.0
     """
-    n = np.asarray(speed_rpm, dtype=float)
-    if np.any(~np.isfinite(n)) or np.any(n < 0):
-        raise InputError("speed_rpm", speed_rpm, "finite speeds >= 0")
+    omega = np.asarray(speed, dtype=float)
+    if np.any(~np.isfinite(omega)) or np.any(omega < 0):
+        raise InputError("speed", speed, "finite pinion speeds >= 0 rad/s")
     cv = cv_coefficients(inp.eps_gamma)
     bp, bf, bk = inp.b_factors()
-    ratio = n / inp.resonance_speed_rpm
+    ratio = omega / inp.resonance_speed
     k_sub = cv["Cv1"] * bp + cv["Cv2"] * bf + cv["Cv3"] * bk
     kv_main = cv["Cv1"] * bp + cv["Cv2"] * bf + cv["Cv4"] * bk + 1.0
     kv_super = cv["Cv5"] * bp + cv["Cv6"] * bf + cv["Cv7"]

@@ -11,7 +11,8 @@ import time
 import numpy as np
 import xarray as xr
 
-from rotaflex.rotor.fe.case import _attrs, add_fluid_film_tables, parse
+from rotaflex.rotor.fe.case_config import parse
+from rotaflex.rotor.fe.case_output import add_fluid_film_tables, summary_attrs
 from rotaflex.rotor.fe.model import RPM
 from rotaflex.rotor.fe.results import FRFResult, StaticResult
 
@@ -69,7 +70,7 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
         + ", ".join(f"{nm} {v:.4g}" for nm, v in zip(names, s.bearing_loads, strict=True))
         + f"; max deflection {r[jd] * 1e6:.4g} um at node {jd}; max moment {mm[jm]:.4g} N m at z = {s.z[jm]:.4g} m"
     )
-    ds.attrs.update(_attrs(config, t0, extra, msg))
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return StaticResult(add_fluid_film_tables(ds, rotor))
 
 
@@ -124,5 +125,5 @@ def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
             if j == 0:
                 shown.append(f"{p['frequency'] / (2 * np.pi):.4g} Hz")
     msg = f"{len(labels)} FRFs at {spec.speed_rpm:g} rpm; peaks of {labels[0]}: " + (", ".join(shown) or "none")
-    ds.attrs.update(_attrs(config, t0, extra, msg))
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return FRFResult(add_fluid_film_tables(ds, rotor))

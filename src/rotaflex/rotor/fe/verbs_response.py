@@ -1,0 +1,236 @@
+"""Runners of the FE rotor verbs ``unbalance`` and ``transient``: parsed config -> response ->
+Result (speeds converted from rpm once, in :mod:`~rotaflex.rotor.fe.case_config`).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+
+import numpy as np
+import xarray as xr
+
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.case_config import clamp_modes, parse, speed_range, unbalances
+from rotaflex.rotor.fe.case_output import add_fluid_film_tables, pinned, progress_callback, summary_attrs
+from rotaflex.rotor.fe.model import RPM
+from rotaflex.rotor.fe.results import TransientResult, UnbalanceResult
+
+__all__ = ["run_transient", "run_unbalance"]
+
+
+@pinned
+def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
+    """Unbalance response (Bode) at the probes; peaks with AF and API separation-margin verdicts."""
+    from rotaflex.rotor.fe.api import vibration_limit
+    from rotaflex.rotor.fe.response import peaks, unbalance_response
+
+    t0 = time.perf_counter()
+    rotor, spec = parse(config, "unbalance")
+    bands, n_max = _bands(spec)
+    ub, made = _unbalance_planes(rotor, spec, n_max)
+    if not ub:
+        raise InputError(
+            "unbalance.mass", "<missing>", "at least one [[unbalance.mass]] table, or balance_grade / api_unbalance"
+        )
+    probes = list(spec.probes) or sorted({u[0] for u in ub})
+    for p in probes:
+        if p >= rotor.n_nodes:
+            raise InputError("unbalance.probes", p, f"existing nodes 0..{rotor.n_nodes - 1}")
+    speeds = speed_range(spec.speed_rpm, spec.n_speeds, "unbalance")
+    with progress_callback(progress, speeds.size, "unbalance", "speed") as report:
+        r = unbalance_response(rotor, speeds, ub, progress=report)
+    X = np.stack([r.at(p)[0] for p in probes], 1)
+    Y = np.stack([r.at(p)[1] for p in probes], 1)
+    major = np.stack([r.major_axis(p) for p in probes], 1)
+    pk = peaks(speeds, major[:, 0])
+    if bands:
+        from rotaflex.rotor.fe.api import rate_peaks
+
+        pk = rate_peaks(pk, bands)
+    u = {"units": "m"}
+    ds = xr.Dataset(
+        {
+            "x_real": (("speed", "probe"), X.real, u),
+            "x_imag": (("speed", "probe"), X.imag, u),
+            "y_real": (("speed", "probe"), Y.real, u),
+            "y_imag": (("speed", "probe"), Y.imag, u),
+            "x_amplitude": (("speed", "probe"), np.abs(X), u),
+            "y_amplitude": (("speed", "probe"), np.abs(Y), u),
+            "x_phase": (("speed", "probe"), np.angle(X), {"units": "rad", "long_name": "phase of x (lag < 0)"}),
+            "y_phase": (("speed", "probe"), np.angle(Y), {"units": "rad", "long_name": "phase of y (lag < 0)"}),
+            "major_axis": (("speed", "probe"), major, {**u, "long_name": "orbit semi-major axis"}),
+            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+        },
+        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "probe": probes},
+    )
+    if spec.probe_angles_deg:
+        a = np.radians(np.asarray(spec.probe_angles_deg))
+        P = X[..., None] * np.cos(a) + Y[..., None] * np.sin(a)  # displacement along each probe's axis
+        ds = ds.assign_coords(angle=("angle", np.asarray(spec.probe_angles_deg), {"units": "deg"}))
+        ds["probe_amplitude"] = (("speed", "probe", "angle"), np.abs(P), {**u, "long_name": "probe reading, 0-peak"})
+        ds["probe_phase"] = (("speed", "probe", "angle"), np.angle(P), {"units": "rad"})
+    extra = {"unbalance_planes": {"value": made, "unit": "g mm, deg"}} if made else {}
+    limit = None
+    if n_max:
+        limit = vibration_limit(n_max / RPM)
+        ds.attrs["vibration_limit"] = limit
+        pp = 2 * major.max(0)
+        extra["max_continuous_speed"] = {"value": n_max / RPM, "unit": "rpm"}
+        extra["vibration_limit_pp"] = {"value": limit, "unit": "m", "rule": "API 617: 25.4 sqrt(12000/N) um <= 25.4"}
+        in_band = np.zeros(speeds.size, bool)
+        for lo, hi in bands:
+            in_band |= (speeds >= lo) & (speeds <= hi)
+        if in_band.any():
+            pp_band = 2 * major[in_band].max(0)
+            extra["max_pp_in_operating_range"] = {"value": pp_band.tolist(), "unit": "m", "probes": probes}
+            extra["meets_vibration_limit"] = {"value": bool(np.all(pp_band <= limit)), "unit": ""}
+        extra["max_pp_overall"] = {"value": pp.tolist(), "unit": "m", "probes": probes}
+    for i, p in enumerate(pk):
+        extra[f"peak_{i}_speed_rpm"] = {"value": p["speed"] / RPM, "unit": "rpm"}
+        extra[f"peak_{i}_amplification_factor"] = {"value": p["af"], "unit": ""}
+        extra[f"peak_{i}_separation_margin"] = {"value": p.get("sm_percent", np.nan), "unit": "%"}
+        extra[f"peak_{i}_required_separation_margin"] = {"value": p.get("sm_required_percent", np.nan), "unit": "%"}
+        extra[f"peak_{i}_meets_api684_margin"] = {"value": p.get("sm_ok", np.nan), "unit": ""}
+        if "position" in p:
+            extra[f"peak_{i}_position"] = {
+                "value": p["position"],
+                "unit": "",
+                "note": "relative to the operating bands",
+            }
+    verdict = ""
+    if bands and pk:
+        fails = [p for p in pk if not p["sm_ok"]]
+        verdict = "; API margins: " + (
+            "all met" if not fails else ", ".join(f"{p['speed'] / RPM:.0f} rpm fails ({p['position']})" for p in fails)
+        )
+    msg = (
+        f"{spec.n_speeds} speeds, {len(probes)} probes; peaks [rpm]: "
+        + (", ".join(f"{p['speed'] / RPM:.0f} (AF {p['af']:.1f})" for p in pk) or "none")
+        + verdict
+    )
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
+    ds.attrs["peaks"] = json.dumps(pk)
+    ds.attrs["bands"] = json.dumps(bands)
+    return UnbalanceResult(add_fluid_film_tables(ds, rotor))
+
+
+def _bands(spec) -> tuple[list[tuple[float, float]], float | None]:
+    """Operating bands [rad/s] and the maximum continuous speed [rad/s] (None: no operating speed)."""
+    from rotaflex.rotor.fe.api import check_bands
+
+    given = [k for k in ("operating_speed_rpm", "operating_range_rpm") if getattr(spec, k) is not None]
+    given += ["operating_bands_rpm"] if spec.operating_bands_rpm else []
+    if len(given) > 1:
+        raise InputError(
+            f"unbalance.{given[1]}", getattr(spec, given[1]), f"absent when {given[0]} is given (one of them)"
+        )
+    if spec.operating_range_rpm is not None:
+        bands = check_bands([spec.operating_range_rpm], "unbalance.operating_range_rpm")
+    elif spec.operating_bands_rpm:
+        bands = check_bands(spec.operating_bands_rpm, "unbalance.operating_bands_rpm")
+    elif spec.operating_speed_rpm is not None:
+        bands = [(spec.operating_speed_rpm * RPM, spec.operating_speed_rpm * RPM)]
+    else:
+        return [], None
+    return bands, max(hi for _, hi in bands)
+
+
+def _unbalance_planes(rotor, spec, n_max):
+    """Explicit [[unbalance.mass]] plus the ISO-grade or API unbalance of ``planes``; and a record of the latter."""
+    ub = unbalances(rotor, spec.mass, "unbalance")
+    if spec.balance_grade is None and not spec.api_unbalance:
+        return ub, []
+    from rotaflex.rotor.fe.api import api_unbalance, arrangement_phases, iso_specific_unbalance, plane_masses
+    from rotaflex.rotor.fe.static import static_analysis
+
+    key = "balance_grade" if spec.balance_grade is not None else "api_unbalance"
+    if spec.balance_grade is not None and spec.api_unbalance:
+        raise InputError("unbalance.api_unbalance", True, "false when balance_grade is given (one of them)")
+    if n_max is None:
+        raise InputError(
+            "unbalance.operating_range_rpm", "<missing>", f"the operating speed range: {key} needs the maximum speed"
+        )
+    planes = list(spec.planes) or sorted({n for n, _ in rotor.disks}) or [rotor.n_nodes // 2]
+    for p in planes:
+        if p >= rotor.n_nodes:
+            raise InputError("unbalance.planes", p, f"existing nodes 0..{rotor.n_nodes - 1}")
+    share = plane_masses(rotor, planes, static_analysis(rotor, gravity=1.0).reactions)  # [kg]
+    if spec.balance_grade is not None:
+        U = iso_specific_unbalance(spec.balance_grade, n_max) * share  # g mm
+    else:
+        U = np.array([api_unbalance(w, n_max / RPM) for w in share])
+    U = U * spec.unbalance_scale
+    shape = None
+    if spec.arrangement == "mode":
+        from rotaflex.rotor.fe.modal import modal
+
+        m = modal(rotor, n_max, min(rotor.n_dof, 4 * (spec.arrangement_mode + 2)))
+        fw = np.flatnonzero(m.forward_fraction[0] >= 0.5)
+        if spec.arrangement_mode >= fw.size:
+            raise InputError("unbalance.arrangement_mode", spec.arrangement_mode, f"0..{fw.size - 1} (forward modes)")
+        shape = m.shape[0, fw[spec.arrangement_mode]]
+    ph = arrangement_phases(rotor, planes, shape)
+    made = [
+        {"node": int(p), "magnitude_g_mm": float(u), "phase_deg": float(np.degrees(a)), "mass_share_kg": float(w)}
+        for p, u, a, w in zip(planes, U, ph, share, strict=True)
+    ]
+    return ub + [(p, u * 1e-6, a) for p, u, a in zip(planes, U, ph, strict=True)], made
+
+
+@pinned
+def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
+    """Time response: constant speed or linear run-up, with unbalance."""
+    from rotaflex.rotor.fe.transient import transient
+
+    t0 = time.perf_counter()
+    rotor, spec = parse(config, "transient")
+    n_modes, note = clamp_modes(rotor, spec.n_modes, "transient.n_modes")
+    ub = unbalances(rotor, spec.mass, "transient")
+    probes = list(spec.probes) or (sorted({u[0] for u in ub}) or [rotor.n_nodes // 2])
+    for p in probes:
+        if p >= rotor.n_nodes:
+            raise InputError("transient.probes", p, f"existing nodes 0..{rotor.n_nodes - 1}")
+    with progress_callback(progress, spec.duration, "transient", "s") as report:
+        tr = transient(
+            rotor,
+            spec.duration,
+            speed_start=spec.speed_rpm[0] * RPM,
+            speed_end=spec.speed_rpm[1] * RPM,
+            unbalance=ub,
+            n_output=spec.n_output,
+            method=spec.method,
+            n_modes=n_modes,
+            steps_per_output=spec.steps_per_output,
+            large_rotation=spec.large_rotation,
+            large_rotation_model=spec.large_rotation_model,
+            hub_stiffness=spec.hub_stiffness,
+            progress=report,
+        )
+    disp = np.stack([tr.q[:, 4 * p : 4 * p + 2] for p in probes], 1)
+    ds = xr.Dataset(
+        {
+            "displacement": (("time", "probe", "axis"), disp, {"units": "m"}),
+            "speed": ("time", tr.speed, {"units": "rad/s"}),
+        },
+        coords={"time": ("time", tr.time, {"units": "s"}), "probe": probes, "axis": ["x", "y"]},
+    )
+    if tr.quaternion is not None:
+        nodes = [el.node for el in tr.disks]
+        ds["disk_quaternion"] = (("time", "disk", "component"), tr.quaternion, {"units": "1"})
+        ds["disk_body_rate"] = (("time", "disk", "body_axis"), tr.omega, {"units": "rad/s"})
+        ds = ds.assign_coords(disk=nodes, component=["e0", "e1", "e2", "e3"], body_axis=["1", "2", "3"])
+    amax = np.max(np.hypot(disp[..., 0], disp[..., 1]), 0)
+    i = int(np.argmax(np.hypot(disp[:, 0, 0], disp[:, 0, 1])))
+    extra = {
+        "max_radial_displacement": {"value": float(amax.max()), "unit": "m"},
+        "speed_at_max_rpm": {"value": float(tr.speed[i] / RPM), "unit": "rpm"},
+        "function_evaluations": {"value": tr.nfev, "unit": ""},
+    }
+    if tr.quaternion is not None:
+        extra["quaternion_norm_drift"] = {"value": tr.quaternion_norm_drift, "unit": "1"}
+    if note:
+        extra["note"] = {"value": note, "unit": ""}
+    ds.attrs.update(summary_attrs(config, t0, extra, tr.message + (f"; {note}" if note else "")))
+    ds.attrs["nfev"] = tr.nfev
+    return TransientResult(add_fluid_film_tables(ds, rotor))
