@@ -15,7 +15,15 @@ from rotaflex.gear.cases.simulate import GearCaseConfig
 from rotaflex.gear.cases.simulate_config import load_config
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "gear"
-PAPER_CASES = ("4000rpm", "20000rpm", "4000_4040rpm", "20000_20200rpm")
+#: the four paper examples differ only in the two speeds and take the same CLI path; the two
+#: 4000 rpm files (5x the steps of the 20000 rpm ones for the same 2 deg) run with ``-m slow``,
+#: and every example is loaded by test_every_gear_example_is_a_valid_config
+PAPER_CASES = (
+    pytest.param("4000rpm", marks=pytest.mark.slow),
+    "20000rpm",
+    pytest.param("4000_4040rpm", marks=pytest.mark.slow),
+    "20000_20200rpm",
+)
 
 
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.stem)
@@ -37,7 +45,8 @@ def test_one_file_runs_gear_static_and_gear_simulate(tmp_path):
     """examples/gear/unequal_shifted_relief.toml through both verbs (coarse mesh, short span)."""
     text = (EXAMPLES / "unequal_shifted_relief.toml").read_text()
     text = text.replace('preset = "default"', 'preset = "coarse"').replace("refinement = [1, 2]", "refinement = [1]")
-    text = text.replace("[operation]\n", "[operation]\nspan_deg = 1.0\n", 1).replace("dt = 1.8e-8", "dt = 2.4e-8")
+    text = text.replace("n_angles = 240", "n_angles = 60")  # static: the file runs; accuracy is tested elsewhere
+    text = text.replace("[operation]\n", "[operation]\nspan_deg = 0.5\n", 1).replace("dt = 1.8e-8", "dt = 2.4e-8")
     cfg = tmp_path / "pair.toml"
     cfg.write_text(text)
     for verb in ("static", "simulate"):
@@ -47,7 +56,7 @@ def test_one_file_runs_gear_static_and_gear_simulate(tmp_path):
         assert (out / "result.nc").exists()
     dyn = xr.open_dataset(tmp_path / "simulate" / "result.nc")
     assert float(dyn["gear_ratio"]) == 2.0
-    assert np.degrees(float(dyn["rotation_angle"].sel(gear="A")[-1])) == pytest.approx(1.0, abs=0.05)
+    assert np.degrees(float(dyn["rotation_angle"].sel(gear="A")[-1])) == pytest.approx(0.5, abs=0.05)
     # the driven wheel turns at half the pinion's speed (initial speeds: 1000 and 500 rpm)
     om = dyn["angular_velocity"].values[0]
     assert om[0] / om[1] == pytest.approx(2.0, rel=1e-3)

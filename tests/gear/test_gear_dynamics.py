@@ -137,8 +137,13 @@ def test_separated_gears_conserve_energy_and_open_gap(model):
 
 
 def test_rattling_separates_and_re_impacts(model):
+    """B 1 % faster: first strike, separation and re-impact. The span stops at 12 of the
+    21.06 deg of the engagement, past the first clear separation (7.96 deg) and re-impact
+    (10.33 deg) and the largest force peak of the whole engagement (3.73 tau_0 / r_b at
+    11.43 deg); the largest energy-balance error of the whole engagement (0.23 %) is reached
+    before 12 deg as well."""
     g, mod = model
-    out = sim(model, (4000.0, 4040.0), span_deg=21.06, every=20)
+    out = sim(model, (4000.0, 4040.0), span_deg=12.0, every=20)
     r = out.records
     nominal = TAU0 / g.base_radius
     on = r["force"] > 0.01 * nominal

@@ -32,9 +32,17 @@ def test_lumped_quasi_static_single_pair_force_is_tau_over_rb(coarse_pair):
     assert 5e7 < k.min() < k.max() < 3e8
 
 
-def test_fe_contact_force_matches_lumped_model_at_4000rpm(coarse_pair):
+#: the suite compares the first 10 deg (entry ramp, two-pair zone and the force peak at 9.5 deg;
+#: measured RMS difference 4.1 N); the whole engagement (21.06 deg, twice the steps) runs with
+#: ``-m slow``
+SPANS = [10.0, pytest.param(None, marks=pytest.mark.slow, id="whole")]
+
+
+@pytest.mark.parametrize("span_deg", SPANS)
+def test_fe_contact_force_matches_lumped_model_at_4000rpm(coarse_pair, span_deg):
     _, pair, ths, th2 = coarse_pair
-    res = run_case({"mesh": {"preset": "coarse"}, "operation": {"speed_rpm": [4000.0, 4000.0]}, "output": {"every": 5}})
+    op = {"speed_rpm": [4000.0, 4000.0]} | ({} if span_deg is None else {"span_deg": span_deg})
+    res = run_case({"mesh": {"preset": "coarse"}, "operation": op, "output": {"every": 5}})
     ds = res.dataset
     th = ds["rotation_angle"].sel(gear="A").values
     force = ds["contact_force"].values
@@ -42,7 +50,7 @@ def test_fe_contact_force_matches_lumped_model_at_4000rpm(coarse_pair):
         pair, speeds=rpm_to_rad_s([4000.0, 4000.0]), torque=22.25, theta_2=th2, theta_s=ths, span=ths
     )
     ref = np.interp(th, lump["angle_A"], lump["contact_force"])
-    # measured: peak 624.4 N (FE) vs 622.1 N (lumped), RMS difference 5.1 N over the span
+    # measured: peak 624.4 N (FE) vs 622.1 N (lumped), RMS difference 5.1 N over the whole span
     assert abs(force.max() / lump["contact_force"].max() - 1) < 0.02
     assert math.sqrt(np.mean((force - ref) ** 2)) < 0.02 * NOMINAL
     # the dynamic overshoot is real: both models exceed the quasi-static force by > 10 %

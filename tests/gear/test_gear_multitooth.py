@@ -185,9 +185,17 @@ def test_driver_b_with_several_teeth_is_the_mirror_image():
     assert b.attrs["driver"] == "B"
 
 
+@pytest.mark.slow
 def test_four_teeth_mesh_continuously_at_the_base_pitch():
     """Full-FE continuous meshing over two mesh cycles: with four teeth per gear the pairs come
-    into and leave the mesh by geometry, one pitch apart, and carry tau_0 / r_b on average."""
+    into and leave the mesh by geometry, one pitch apart, and carry tau_0 / r_b on average.
+
+    About 36 s (25,000 steps of four pairs): runs with ``-m slow``. Its cheaper twins in the
+    suite: the entering pair's load pick-up and the load sum of two pairs
+    (test_two_teeth_entry_forces_energy_and_constraints), three pairs through the case
+    (test_run_case_three_teeth_and_bad_inputs) and a pair's flank contact starting at its
+    geometric start of contact (test_gear_multitooth_unequal.py, the short pinion-driven run).
+    """
     cfg = {
         "model": {"teeth_per_gear": 4},
         "mesh": {"preset": "coarse"},

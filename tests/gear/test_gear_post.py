@@ -156,9 +156,10 @@ def test_driver_sign_logic_and_mirror(gear):
         b["contact_point"].values[..., 1], cen - a["contact_point"].values[..., ::-1, 1], atol=1e-12
     )
     assert b["torque"].attrs["long_name"].endswith("drive on B)")
-    speeds = {"operation": {**base["operation"], "speed_rpm": [4000.0, 4040.0]}}
+    # B (faster) drives: contact at once (impact; 1 deg is 5x the ~0.2 deg it takes to exceed
+    # 100 N), A (faster) driving would separate
+    speeds = {"operation": {"span_deg": 1.0, "speed_rpm": [4000.0, 4040.0]}}
     c = run_case({**base, **speeds, "operation": {**speeds["operation"], "driver": "B"}})
-    # B (faster) drives: contact at once (impact), A (faster) driving would separate
     assert float(c.dataset["contact_force"].max()) > 100.0
 
 

@@ -71,6 +71,15 @@ def _single_zone(ds):
     return (th > 1.05 * th2) & (th < ths - th2)
 
 
+#: the 1000 rpm run (110,000 steps, about 29 s) and the 4000 rpm runs over the first two zones
+#: (30,000 steps, 10-20 s each) run with ``-m slow``. Their cheaper twins in the suite: the
+#: quasi-static limit, torque ramp and energy balance of the same solver on the paper's pair
+#: (test_gear_dynamics.py::test_quasi_static_limit_and_torque_ramp), the drawing path being the
+#: paper path bit for bit (test above), the 1:2 bookkeeping (base radii, torques in the ratio,
+#: disk speeds in the ratio, energy balance) on a short pinion-driven run
+#: (test_gear_multitooth_unequal.py::test_short_pinion_run_enters_at_the_geometric_start_of_contact),
+#: the static tip-relief prediction (test_static_case.py) and reduced_hht against paper_rk4 on
+#: the paper's pair (test_gear_fast_method.py).
 @pytest.fixture(scope="module")
 def quasi_static():
     """The 20/40 example without reliefs at 1000 rpm over the first two zones (ramp 9.9 deg =
@@ -82,6 +91,7 @@ def quasi_static():
     return run_case(cfg).dataset
 
 
+@pytest.mark.slow
 def test_one_to_two_pair_is_balanced_at_low_speed(quasi_static):
     ds = quasi_static
     assert ds.attrs["status"] == "success"
@@ -110,6 +120,7 @@ def test_one_to_two_pair_is_balanced_at_low_speed(quasi_static):
     assert np.mean(om[:, 0]) / np.mean(om[:, 1]) == pytest.approx(2.0, rel=2e-3)
 
 
+@pytest.mark.slow
 def test_unequal_pair_energy_balance(quasi_static):
     # |E_kin + E_strain - W_ext + D - E_0| / max E_strain; the paper cases stay below 0.5 %
     # (docs/gear-dynamics.md), the bound used here; this 110,000-step run measures 0.39 %
@@ -158,6 +169,7 @@ def fast_unrelieved():
     return run_case(cfg).dataset
 
 
+@pytest.mark.slow
 def test_wheel_tip_relief_shifts_the_dte_by_its_depth(fast_unrelieved):
     """At t = 0 the wheel's tip corner touches the pinion's flank; the driven flank lies ahead
     of the driving one, so closing a tip relief of depth d turns the wheel back by d / r_bB.
@@ -174,6 +186,7 @@ def test_wheel_tip_relief_shifts_the_dte_by_its_depth(fast_unrelieved):
     assert shift == pytest.approx(-10.0e-6, abs=0.5e-6)
 
 
+@pytest.mark.slow
 def test_reduced_hht_on_the_one_to_two_pair_matches_paper_rk4(fast_unrelieved):
     """Craig-Bampton teeth (per-gear meshes) + HHT-alpha with the ratio's torques: the RMS
     force difference to paper_rk4 / (tau_0 / r_bA) within the paper case's bound at 4000 rpm
@@ -233,7 +246,11 @@ def test_gear_template_loads_with_the_drawing_tables_commented_out():
     assert cfg.pinion is None and cfg.gear == GearConfig()
 
 
+@pytest.mark.slow
 def test_default_mesh_small_pinion_runs_clean_with_the_default_smoothed_surfaces():
+    # about 20 s (default mesh, 20.5 deg at 4000 rpm); cheaper twin in the suite: the smoothed
+    # surfaces removing the contact-point chatter on the paper's default mesh
+    # (test_gear_contact_smoothing.py)
     # The shipped example on its default mesh at 4000 rpm. With the paper's spline surfaces the
     # 61 points follow the slope kinks between the 20-tooth pinion's short flank elements:
     # energy-balance error 26 % and force spikes (docs/gear-dynamics.md); drawing pairs therefore

@@ -56,12 +56,19 @@ def test_identical_paper_gears_reproduce_static_mesh_stiffness_exactly():
     assert ds["force"].item() == ref.force
 
 
-def test_swapping_pinion_and_wheel_swaps_the_results():
+@pytest.fixture(scope="module")
+def example_static():
+    """gear static of the shipped example on the coarse mesh (pinion driving), shared by the
+    swap, ISO 6336 and wheel-driving tests."""
+    return run_static(_coarse(_example())).dataset
+
+
+def test_swapping_pinion_and_wheel_swaps_the_results(example_static):
     base = _coarse(_example())
     sw = copy.deepcopy(base)
     sw["pinion"], sw["wheel"] = base["wheel"], base["pinion"]
     sw["load"]["torque"] = base["load"]["torque"] * 2.0  # same normal load (ratio 2, r_b2 = 2 r_b1)
-    a, b = run_static(base).dataset, run_static(sw).dataset
+    a, b = example_static, run_static(sw).dataset
     for key in ("force", "single_pair_stiffness_max", "load_share_max"):
         assert a[key].item() == pytest.approx(b[key].item(), rel=1e-9), key
     # the swapped pair runs the same line of action from the other end: mirrored samples
@@ -132,8 +139,8 @@ def test_tip_relief_cancelling_the_loaded_ste_lowers_its_peak_to_peak_as_predict
     assert ds["ste_mean"].item() == pytest.approx(force * q[single].mean(), rel=0.05)
 
 
-def test_iso6336_inputs_use_the_reference_circle_load():
-    ds = run_static(_coarse(_example())).dataset
+def test_iso6336_inputs_use_the_reference_circle_load(example_static):
+    ds = example_static
     # F_t = T1 / r1 at the reference circle; b = 20 mm -> 80 / 0.02 / 20 = 200 N/mm
     assert ds["iso_load_per_width"].item() == pytest.approx(200.0, rel=1e-12)
     assert ds["iso_load_factor"].item() == 1.0
@@ -183,11 +190,10 @@ def test_cli_gear_static_writes_result_and_rejects_bad_input(tmp_path):
     assert "wheel.module_mm" in r.output and len(r.output.strip().splitlines()) == 1
 
 
-def test_wheel_driving_runs_the_same_contact_in_reverse():
-    base = _coarse(_example())
-    wheel = copy.deepcopy(base)
+def test_wheel_driving_runs_the_same_contact_in_reverse(example_static):
+    wheel = _coarse(_example())
     wheel["driver"] = "wheel"
-    a, b = run_static(base).dataset, run_static(wheel).dataset
+    a, b = example_static, run_static(wheel).dataset
     assert np.array_equal(a["ste_engagement"].values, b["ste_engagement"].values[::-1])
     assert np.array_equal(a["load_share"].values, b["load_share"].values[::-1])
     # roll angle of the driving wheel = pinion roll / ratio
