@@ -21,6 +21,7 @@ Time integration (section 3): :func:`integrate`, kernel :func:`rotaflex.gear.ker
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass, field, replace
 from typing import NamedTuple
@@ -312,12 +313,33 @@ def _flank_points(model: GearPairModel, x: np.ndarray) -> list[np.ndarray]:
     return out
 
 
+#: tie_eigen_bounds by content of what it reads (a run validates and then builds with the same
+#: model; runs of one pair at several speeds share it): key -> bounds
+_TIE_BOUNDS: dict[bytes, np.ndarray] = {}
+
+
 def tie_eigen_bounds(model: GearPairModel, dt: float) -> np.ndarray:
     """Smallest eigenvalue of the tie block of C for the three passes (rotation invariant).
 
     C_tie = c1 M^-1 - c2 M^-1 K_tt M^-1 + (c1/J) b b^T in the tooth frame, with
-    (c1, c2) = (dt^2/2, dt^4/24), (dt, dt^3/6), (1, 0).
+    (c1, c2) = (dt^2/2, dt^4/24), (dt, dt^3/6), (1, 0). Dense eigenvalues of a block of twice
+    the tied nodes: remembered per process by the content of its inputs.
     """
+    digest = hashlib.blake2b(np.float64(dt).tobytes(), digest_size=20)
+    m = model
+    for a in (m.tie_node, m.tie_gear, m.minv, m.xloc, m.inertia, m.tb_i, m.tb_j, m.tb_b):
+        a = np.ascontiguousarray(a)
+        digest.update(str((a.dtype, a.shape)).encode())
+        digest.update(a.tobytes())
+    key = digest.digest()
+    if key not in _TIE_BOUNDS:
+        if len(_TIE_BOUNDS) >= 32:
+            _TIE_BOUNDS.clear()
+        _TIE_BOUNDS[key] = _tie_eigen_bounds(model, dt)
+    return _TIE_BOUNDS[key].copy()
+
+
+def _tie_eigen_bounds(model: GearPairModel, dt: float) -> np.ndarray:
     nt = len(model.tie_node)
     mt = np.repeat(model.minv[model.tie_node], 2)
     ktt = np.zeros((2 * nt, 2 * nt))
