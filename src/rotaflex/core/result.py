@@ -3,12 +3,25 @@
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from rotaflex.core.io import replace_dir, write_json_atomic, write_netcdf
+
+
+def summary_attrs(config, t0, extra, message) -> dict:
+    """Result attributes of a successful run: status, message, wall time since ``t0`` [s], the
+    config and the summary entries (JSON)."""
+    return {
+        "status": "success",
+        "message": message,
+        "wall_time": time.perf_counter() - t0,
+        "config": json.dumps(config, default=str),
+        "summary_extra": json.dumps(extra, default=float),
+    }
 
 
 class Result:

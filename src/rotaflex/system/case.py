@@ -21,6 +21,7 @@ import xarray as xr
 
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
+from rotaflex.core.result import summary_attrs
 from rotaflex.system.model import MODEL_KEYS, RPM, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
 from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
 
@@ -159,16 +160,6 @@ def _range(rng, n, where):
     return np.linspace(rng[0], rng[1], n) * RPM
 
 
-def _attrs(config, t0, extra, message):
-    return {
-        "status": "success",
-        "message": message,
-        "wall_time": time.perf_counter() - t0,
-        "config": json.dumps(config, default=str),
-        "summary_extra": json.dumps(extra, default=float),
-    }
-
-
 def run_modal(config: dict, *, progress: bool = False):
     """Coupled modes at ``[modal] speed_rpm`` with the energy split of each mode."""
     from rotaflex.system.assembly import free_dofs
@@ -209,7 +200,7 @@ def run_modal(config: dict, *, progress: bool = False):
         f"largest mesh energy: mode {k_mesh} ({m.wn[0, k_mesh] / (2 * np.pi):.4g} Hz, "
         f"{100 * m.mesh_energy[0, k_mesh]:.0f} %)" + (f"; {note}" if note else "")
     )
-    ds.attrs.update(_attrs(config, t0, extra, msg))
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return SystemModalResult(ds)
 
 
@@ -262,7 +253,7 @@ def run_campbell(config: dict, *, progress: bool = False):
         ", ".join(f"{cr['speed'] / RPM:.0f} ({cr['line']})" for cr in strong[:8]) or "none"
     )
     msg += f"; {note}" if note else ""
-    ds.attrs.update(_attrs(config, t0, extra, msg))
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
     ds.attrs["crossings"] = json.dumps(c.crossings)
     return SystemCampbellResult(ds)
 
@@ -334,7 +325,7 @@ def run_response(config: dict, *, progress: bool = False):
         f"{spec.n_speeds} speeds x {spec.harmonics} TE harmonics; largest dynamic mesh force "
         f"{f_sum[0, i]:.4g} N (sum over harmonics) at {speeds[i] / RPM:.0f} rpm; static {r.static_force[0]:.4g} N"
     )
-    ds.attrs.update(_attrs(config, t0, extra, msg))
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return SystemResponseResult(ds)
 
 
@@ -416,7 +407,7 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
         f"{w / RPM:g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss {100 * s.contact_loss[0]:.1f} % of the "
         f"time, period {s.period} cycle(s) after {s.cycles} cycles ({spc} steps/cycle, basis {s.basis_size})"
     )
-    ds.attrs.update(_attrs(config, t0, extra, msg))
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
     ds.attrs["state_time"] = 0.0
     ds.attrs["samples_per_cycle"] = spc
     ds.attrs["mesh_frequency"] = s.mesh_frequency

@@ -4,12 +4,11 @@ the summary attributes of the result, and the fluid-film bearing tables added to
 
 from __future__ import annotations
 
-import json
-import time
 from contextlib import contextmanager
 
 import xarray as xr
 
+from rotaflex.core.result import summary_attrs
 from rotaflex.rotor.fe.model import RPM, Rotor
 
 __all__ = ["add_fluid_film_tables", "oil_whip", "pinned", "progress_callback", "summary_attrs"]
@@ -82,14 +81,3 @@ def progress_callback(enabled: bool, total: float, desc: str, unit: str):
 
     with Progress(total, desc, unit) as bar:
         yield bar.update
-
-
-def summary_attrs(config, t0, extra, message) -> dict:
-    """Result attributes: status, message, wall time since ``t0``, the config and the summary entries."""
-    return {
-        "status": "success",
-        "message": message,
-        "wall_time": time.perf_counter() - t0,
-        "config": json.dumps(config, default=str),
-        "summary_extra": json.dumps(extra, default=float),
-    }
