@@ -26,8 +26,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from rotaflex.core.compiled import entry, inner
 from rotaflex.core.errors import InputError
 
 
@@ -72,7 +72,7 @@ class PlanarCase:
             raise InputError("reference.shape", self.shape, "'half-sine' or 'rectangular'")
 
 
-@njit(cache=True)
+@entry  # also called from Python (tip_deflection)
 def _hub_angle(t, rate, T):
     if rate == 0.0:
         return 0.0
@@ -82,7 +82,7 @@ def _hub_angle(t, rate, T):
     return rate * (t - 0.5 * T)
 
 
-@njit(cache=True)
+@inner
 def _accel(x, t, par, ipar, m, acc, g):
     """Nodal accelerations (n+1, 2) of the chain at time t (writes ``acc``)."""
     n = x.shape[0] - 1
@@ -142,7 +142,7 @@ def _accel(x, t, par, ipar, m, acc, g):
         acc[0, 1] = 0.0
 
 
-@njit(cache=True)
+@entry
 def _integrate(x0, m, par, ipar, dt, n_sub, n_out):
     """RK4 with fixed step dt; returns node positions (n_out, n+1, 2) every n_sub steps."""
     n1 = x0.shape[0]
