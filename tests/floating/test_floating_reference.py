@@ -105,7 +105,7 @@ def test_issue_torque_pulse_angle():
         assert abs(th[-1] - exact) < 1e-4
 
 
-@pytest.mark.slow  # ~8 s CPU: the stiff short chain needs ~70x the steps of the soft beam's
+@pytest.mark.slow  # ~6 s CPU: the stiff short chain needs ~70x the steps of the soft beam's
 def test_reference_mean_axis_angle_of_the_issue_torque_pulse():
     # the geometrically exact reference's mean-axis angle agrees once converged: lumped masses
     # give the chain J (1 + 2/n^2), so 64 links alone are 5.6e-3 low; extrapolated from 32 and 64
@@ -140,7 +140,7 @@ def test_stiff_beam_end_force_model_error():
     assert err[False] > 0.12
 
 
-@pytest.mark.slow  # ~19 s CPU (64..256 links of the stiff beam); the end-force twin above runs by default
+@pytest.mark.slow  # 18.7 s CPU (64..256 links of the stiff beam); the end-force twin above runs by default
 def test_stiff_beam_torque_pulse_model_error():
     # EI 100, 50 N m torque about z at the centre (tip 43 mm, 1.1 % of L); measured on 1.331e-2,
     # off 1.107e-1, reference order 1.98, error estimate 1.5e-3 (tight reference: 1.32e-2, 1.10e-1)
