@@ -41,7 +41,7 @@ def test_full_kernel_satisfies_kane_equations(body3d):
     n = body3d.n_modes
     rng = np.random.default_rng(1)
     y = np.concatenate([rng.normal(size=3), [1, 0, 0, 0], rng.normal(size=6 + 2 * n)])
-    dy = kernels.rhs_full(0.0, y, pack_body(body3d), pack_loads(body3d, []), False)
+    dy = kernels.rhs_full_py(0.0, y, pack_body(body3d), pack_loads(body3d, []), False)
     res = kane_residual(body3d, y[7:10], y[10:13], y[13 : 13 + n], y[13 + n :], dy[7:10], dy[10:13], dy[13 + n :])
     assert np.abs(res).max() < 1e-10
 
@@ -55,7 +55,7 @@ def test_perturbation_kernel_is_the_linearisation(body3d):
     y = np.zeros(25 + 2 * n)
     y[3] = 1.0
     y[7:10], y[10:13], y[19:25], y[25 : 25 + n], y[25 + n :] = V0, w0, x1[:6], q1, x1[6:]
-    dy = kernels.rhs_perturbation(0.0, y, pack_body(body3d), pack_loads(body3d, []), False)
+    dy = kernels.rhs_perturbation_py(0.0, y, pack_body(body3d), pack_loads(body3d, []), False)
     acc0, xd1 = dy[7:13], np.concatenate([dy[19:25], dy[25 + n :]])
 
     def F(eps):

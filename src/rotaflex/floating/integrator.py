@@ -11,8 +11,8 @@ the mode. A run can be advanced in chunks (progress output) with the same steps 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from rotaflex.core.compiled import entry, inner
 from rotaflex.floating.kernels import (
     motion_profile,
     quat_matrix,
@@ -30,10 +30,11 @@ from rotaflex.floating.kernels import (
 MAX_STEP_ROTATION = 0.5
 
 
-@njit(cache=True)
-def attitude(mode, t, y, pres, zero_order):
-    """Unit attitude quaternion (scalar first) of state ``y`` at time ``t`` (``zero_order``:
-    the zero-order attitude ``e0`` of the perturbation method)."""
+@inner
+def attitude_zero_order(mode, t, y, pres):
+    """Unit quaternion (scalar first) of the rigid part of state ``y`` at time ``t``: the
+    prescribed rotation (``mode`` >= 2), else the normalised ``y[3:7]`` (the attitude of the full
+    method, the zero-order attitude ``e0`` of the perturbation method)."""
     e = np.empty(4)
     if mode >= 2:
         ang = motion_profile(pres, t)[0]
@@ -42,16 +43,25 @@ def attitude(mode, t, y, pres, zero_order):
             e[i + 1] = np.sin(0.5 * ang) * pres[i]
         return e
     n = np.sqrt(y[3] ** 2 + y[4] ** 2 + y[5] ** 2 + y[6] ** 2)
-    a0, a1, a2, a3 = y[3] / n, y[4] / n, y[5] / n, y[6] / n
-    if mode == 0 or zero_order:
-        e[0], e[1], e[2], e[3] = a0, a1, a2, a3
-        return e
+    e[0], e[1], e[2], e[3] = y[3] / n, y[4] / n, y[5] / n, y[6] / n
+    return e
+
+
+@inner
+def attitude(mode, t, y, pres):
+    """Unit attitude quaternion (scalar first) of state ``y`` at time ``t`` (two functions, not
+    a flag: numba compiled one specialisation per literal flag value)."""
+    e0 = attitude_zero_order(mode, t, y, pres)
+    if mode != 1:
+        return e0
     # perturbation: e0 (x) exp(theta_1)
+    a0, a1, a2, a3 = e0[0], e0[1], e0[2], e0[3]
     t1, t2, t3 = y[16], y[17], y[18]
     ang = np.sqrt(t1 * t1 + t2 * t2 + t3 * t3)
     c = np.cos(0.5 * ang)
     sc = 0.5 if ang < 1e-8 else np.sin(0.5 * ang) / ang
     b0, b1, b2, b3 = c, sc * t1, sc * t2, sc * t3
+    e = np.empty(4)
     e[0] = a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3
     e[1] = a0 * b1 + b0 * a1 + a2 * b3 - a3 * b2
     e[2] = a0 * b2 + b0 * a2 + a3 * b1 - a1 * b3
@@ -59,7 +69,7 @@ def attitude(mode, t, y, pres, zero_order):
     return e
 
 
-@njit(cache=True)
+@inner
 def euler123(e, prev, out):
     """Euler 1-2-3 angles (``R = Rx(a) Ry(b) Rz(c)``) of ``e`` on the branch nearest ``prev``."""
     A = quat_matrix(e)
@@ -73,7 +83,7 @@ def euler123(e, prev, out):
     out[2] = raw2 + tau * np.round((prev[2] - raw2) / tau)
 
 
-@njit(cache=True)
+@inner
 def step_rotation(ea, eb):
     """Rotation angle [rad] between unit quaternions ``ea`` and ``eb``."""
     d = abs(ea[0] * eb[0] + ea[1] * eb[1] + ea[2] * eb[2] + ea[3] * eb[3])
@@ -121,12 +131,21 @@ def _make_integrate(mode: int):
         State carried between calls (updated in place, so a run in chunks is identical to one
         call): ``y`` state, ``K0`` the first stage (FSAL), ``att`` = (previous attitude quaternion,
         Euler angles, zero-order Euler angles), ``cnt`` = (nfev, nstep, i_out, i_brk), ``hs`` =
-        (step size, time). Rows ``Y``/``EUL`` are written as they are reached. Returns the status:
-        0 ok, 1 step budget exhausted, 2 step size underflow / non-finite state, 3
-        ``|y[n_lim[0]:n_lim[1]]|`` exceeded ``limit`` (divergence guard).
+        (step size, time, 2 before the first call / 1 while ``K0`` is to be evaluated / 0). Rows
+        ``Y``/``EUL`` are written as they are reached. Returns the status: 0 ok, 1 step budget
+        exhausted, 2 step size underflow / non-finite state, 3 ``|y[n_lim[0]:n_lim[1]]|`` exceeded
+        ``limit`` (divergence guard).
         """
         nt = t_out.shape[0]
         ny = y.shape[0]
+        if hs[2] == 2.0:  # first call: row 0's Euler angles (the first stage follows below)
+            att[0:4] = attitude(mode, hs[1], y, pres)
+            eul, eul0 = np.zeros(3), np.zeros(3)
+            euler123(att[0:4], eul, eul)
+            euler123(attitude_zero_order(mode, hs[1], y, pres), eul0, eul0)
+            att[4:7], att[7:10] = eul, eul0
+            EUL[0, :3], EUL[0, 3:] = eul, eul0
+            hs[2] = 1.0
         K = np.zeros((7, ny))
         K[0] = K0
         e_prev = att[0:4].copy()
@@ -134,6 +153,7 @@ def _make_integrate(mode: int):
         eul0 = att[7:10].copy()
         nfev, nstep, i_out, i_brk = cnt[0], cnt[1], cnt[2], cnt[3]
         h, t = hs[0], hs[1]
+        pending = hs[2] != 0.0
         span = t_out[-1] - t_out[0]
         status = 0
         while i_out < min(i_end, nt):
@@ -147,7 +167,9 @@ def _make_integrate(mode: int):
             else:
                 h_try = h
             ys = np.empty(ny)
-            for s in range(1, 7):
+            # stage 0 is K0 (FSAL) unless it is pending (first step, restart after a load
+            # jump): then evaluated here, so the right-hand side has one call site in the loop
+            for s in range(0 if pending else 1, 7):
                 for i in range(ny):
                     acc = y[i]
                     for j in range(s):
@@ -164,7 +186,8 @@ def _make_integrate(mode: int):
                     K[s] = rhs_prescribed(ts, ys, B, L, geo, pres)
                 else:
                     K[s] = rhs_inextensible(ts, ys, B, pres)
-            nfev += 6
+            nfev += 7 if pending else 6
+            pending = False
             y_new = ys  # stage 7 evaluates at the 5th-order solution (FSAL)
             en = 0.0
             for i in range(ny):
@@ -176,7 +199,7 @@ def _make_integrate(mode: int):
             en = np.sqrt(en / ny)
             if not np.isfinite(en):
                 en = 1e10
-            e_new = attitude(mode, t + h_try, y_new, pres, False)
+            e_new = attitude(mode, t + h_try, y_new, pres)
             rot = step_rotation(e_prev, e_new)
             if not rot <= MAX_STEP_ROTATION:
                 en = max(en, 2.0)
@@ -185,7 +208,7 @@ def _make_integrate(mode: int):
                 e_prev = e_new
                 euler123(e_new, eul, eul)
                 if mode == 1:  # zero-order attitude; it turns by less than the total per step
-                    euler123(attitude(mode, t + h_try, y_new, pres, True), eul0, eul0)
+                    euler123(attitude_zero_order(mode, t + h_try, y_new, pres), eul0, eul0)
                 else:
                     eul0[:] = eul
                 t = t_target if hit else t + h_try
@@ -201,16 +224,7 @@ def _make_integrate(mode: int):
                 if hit:
                     if i_brk < breaks.shape[0] and abs(t - breaks[i_brk]) <= 1e-12 * span:
                         i_brk += 1
-                        # restart after a load jump
-                        if full:
-                            K[0] = rhs_full(t, y, B, L, geo)
-                        elif pert:
-                            K[0] = rhs_perturbation(t, y, B, L, geo)
-                        elif presc:
-                            K[0] = rhs_prescribed(t, y, B, L, geo, pres)
-                        else:
-                            K[0] = rhs_inextensible(t, y, B, pres)
-                        nfev += 1
+                        pending = True  # restart after a load jump: K0 at (t, y) next step
                     while i_out < nt and abs(t - t_out[i_out]) <= 1e-12 * span:
                         Y[i_out] = y
                         EUL[i_out, :3], EUL[i_out, 3:] = eul, eul0
@@ -234,11 +248,11 @@ def _make_integrate(mode: int):
         K0[:] = K[0]
         att[0:4], att[4:7], att[7:10] = e_prev, eul, eul0
         cnt[0], cnt[1], cnt[2], cnt[3] = nfev, nstep, i_out, i_brk
-        hs[0], hs[1] = h, t
+        hs[0], hs[1], hs[2] = h, t, 1.0 if pending else 0.0
         return status
 
     run.__name__ = run.__qualname__ = f"integrate_{MODES[mode]}"
-    return njit(cache=True)(run)
+    return entry(run)
 
 
 #: right-hand sides by mode (the integrator's ``mode`` argument)
@@ -254,33 +268,17 @@ def kernels(mode: int) -> list:
     return [LOOPS[mode], RHS[mode]]
 
 
-#: the right-hand side of each mode with the argument list ``(t, y, B, L, geo, pres)``, for the
-#: first stage evaluated in Python (:func:`start`)
-_FIRST_STAGE = (
-    lambda t, y, B, L, geo, pres: rhs_full(t, y, B, L, geo),
-    lambda t, y, B, L, geo, pres: rhs_perturbation(t, y, B, L, geo),
-    rhs_prescribed,
-    lambda t, y, B, L, geo, pres: rhs_inextensible(t, y, B, pres),
-)
-
-
-def start(mode, y0, t_out, breaks, B, L, geo, pres):
+def start(y0, t_out, breaks):
     """Initial carried state of :func:`_make_integrate`'s loop: ``(Y, EUL, y, K0, att, cnt, hs)``
-    with row 0 written (the initial state and its Euler angles)."""
+    with row 0 of ``Y`` written. The loop's first call writes row 0 of ``EUL`` and evaluates the
+    first stage ``K0`` (``hs[2] == 2``), so the right-hand sides and attitude helpers are called
+    only from compiled code and need no Python wrapper."""
     nt, ny = t_out.shape[0], y0.shape[0]
     Y = np.full((nt, ny), np.nan)
     EUL = np.full((nt, 6), np.nan)
     Y[0] = y0
     t = float(t_out[0])
-    att = np.zeros(10)
-    att[0:4] = attitude(mode, t, y0, pres, False)
-    eul, eul0 = np.zeros(3), np.zeros(3)
-    euler123(att[0:4], eul, eul)
-    euler123(attitude(mode, t, y0, pres, True), eul0, eul0)
-    att[4:7], att[7:10] = eul, eul0
-    EUL[0, :3], EUL[0, 3:] = eul, eul0
-    K0 = np.asarray(_FIRST_STAGE[mode](t, y0.copy(), B, L, geo, pres), dtype=float)
     i_brk = int(np.searchsorted(breaks, t, side="right"))
-    cnt = np.array([1, 0, 1, i_brk], dtype=np.int64)
-    hs = np.array([1e-4 * (t_out[-1] - t_out[0]), t])
-    return Y, EUL, y0.astype(float).copy(), K0, att, cnt, hs
+    cnt = np.array([0, 0, 1, i_brk], dtype=np.int64)
+    hs = np.array([1e-4 * (t_out[-1] - t_out[0]), t, 2.0])
+    return Y, EUL, y0.astype(float).copy(), np.zeros(ny), np.zeros(10), cnt, hs

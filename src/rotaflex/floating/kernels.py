@@ -24,13 +24,15 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from rotaflex.core.compiled import entry, inner
+
 # load kinds / frames / profiles (keep in step with loads.py)
 FORCE, TORQUE = 0, 1
 BODY, INERTIAL, MATERIAL = 0, 1, 2
 PROFILES = ("constant", "step", "ramp", "bang-bang", "sinusoid", "pulse")
 
 
-@njit(cache=True)
+@inner
 def profile_value(kind, p, t):
     """Scalar time profile ``s(t)``; ``p = (start, duration, frequency [Hz], phase [rad])``."""
     t0, dur = p[0], p[1]
@@ -57,7 +59,7 @@ def profile_value(kind, p, t):
     return 0.0
 
 
-@njit(cache=True)
+@inner
 def spin_profile(rate, t_up, t):
     """Kane-Ryan-Banerjee spin-up: angle, rate and acceleration at time ``t``."""
     if t < t_up:
@@ -74,7 +76,7 @@ def spin_profile(rate, t_up, t):
 MOTIONS = ("spin-up", "bang-bang", "versine")
 
 
-@njit(cache=True)
+@entry
 def motion_profile(pres, t):
     """Angle [rad], rate [rad/s] and acceleration [rad/s^2] of the prescribed rotation.
 
@@ -106,7 +108,7 @@ def motion_profile(pres, t):
     )
 
 
-@njit(cache=True)
+@inner
 def quat_matrix(e):
     """Active rotation matrix ``R = I + 2 e0 e~ + 2 e~ e~`` of a (normalised) quaternion."""
     n = np.sqrt(e[0] ** 2 + e[1] ** 2 + e[2] ** 2 + e[3] ** 2)
@@ -124,7 +126,7 @@ def quat_matrix(e):
     return A
 
 
-@njit(cache=True)
+@inner
 def quat_rate(e, w, out):
     """``de/dt = 1/2 e (x) (0, w)`` with body rates ``w`` (written into ``out[0:4]``)."""
     out[0] = 0.5 * (-e[1] * w[0] - e[2] * w[1] - e[3] * w[2])
@@ -133,12 +135,12 @@ def quat_rate(e, w, out):
     out[3] = 0.5 * (e[0] * w[2] + e[1] * w[1] - e[2] * w[0])
 
 
-@njit(cache=True)
+@inner
 def cross(a, b):
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
-@njit(cache=True)
+@inner
 def skew3(a):
     S = np.zeros((3, 3))
     S[0, 1], S[0, 2] = -a[2], a[1]
@@ -150,12 +152,12 @@ def skew3(a):
 # ----------------------------------------------------------------------------------------
 # small allocation-free helpers (also valid for n = 0 modes)
 # ----------------------------------------------------------------------------------------
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def cr(a0, a1, a2, b0, b1, b2):
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
-@njit(cache=True)
+@inner
 def mvec(A, x):
     """``A @ x`` by loops (avoids a BLAS call per small product)."""
     out = np.zeros(A.shape[0])
@@ -167,7 +169,7 @@ def mvec(A, x):
     return out
 
 
-@njit(cache=True)
+@inner
 def mtvec(A, x):
     """``A.T @ x`` by loops."""
     out = np.zeros(A.shape[1])
@@ -178,7 +180,7 @@ def mtvec(A, x):
     return out
 
 
-@njit(cache=True)
+@inner
 def outer3(a, b):
     out = np.empty((3, 3))
     for i in range(3):
@@ -187,7 +189,7 @@ def outer3(a, b):
     return out
 
 
-@njit(cache=True)
+@inner
 def phi_dot(Ph, q):
     """``Ph @ q`` for ``Ph`` (3, n) as a new (3,) array (loops: n may be 0)."""
     out = np.zeros(3)
@@ -199,14 +201,14 @@ def phi_dot(Ph, q):
     return out
 
 
-@njit(cache=True)
+@inner
 def sub_phiT(f, off, Ph, v):
     """``f[off:] -= Ph^T v`` for ``Ph`` (3, n)."""
     for j in range(Ph.shape[1]):
         f[off + j] -= Ph[0, j] * v[0] + Ph[1, j] * v[1] + Ph[2, j] * v[2]
 
 
-@njit(cache=True)
+@inner
 def sub_mat_scaled(f, off, K, c, q):
     """``f[off:] -= c K q``."""
     n = q.shape[0]
@@ -217,7 +219,7 @@ def sub_mat_scaled(f, off, K, c, q):
         f[off + i] -= c * s
 
 
-@njit(cache=True)
+@inner
 def sub_mat(f, off, K, q):
     """``f[off:] -= K q``."""
     n = q.shape[0]
@@ -228,14 +230,14 @@ def sub_mat(f, off, K, q):
         f[off + i] -= s
 
 
-@njit(cache=True)
+@inner
 def sub_damping(f, off, cd, p):
     """``f[off:] -= cd * p``: modal viscous damping ``2 zeta_i omega_i p_i`` (``cd`` empty: none)."""
     for i in range(cd.shape[0]):
         f[off + i] -= cd[i] * p[i]
 
 
-@njit(cache=True)
+@inner
 def contract(T, x, out):
     """``out[a, b, i] = sum_j T[a, b, i, j] x[j]`` (T: (3, 3, n, n))."""
     n = x.shape[0]
@@ -248,7 +250,7 @@ def contract(T, x, out):
                 out[a, b, i] = s
 
 
-@njit(cache=True)
+@inner
 def contract3(R1, x, out):
     """``out[a, b] = sum_j R1[a, b, j] x[j]``."""
     for a in range(3):
@@ -259,7 +261,7 @@ def contract3(R1, x, out):
             out[a, b] = s
 
 
-@njit(cache=True)
+@inner
 def sub_weighted(f, off, W, T):
     """``f[off + j] -= sum_ab W[a, b] T[a, b, j]``."""
     for a in range(3):
@@ -270,7 +272,7 @@ def sub_weighted(f, off, W, T):
                     f[off + j] -= wab * T[a, b, j]
 
 
-@njit(cache=True)
+@inner
 def phi_cross(Pq, out):
     """``out[:, j] = sum m (u x Phi_j)`` from ``Pq[a, b, j] = sum m Phi_aj u_b``."""
     for j in range(Pq.shape[2]):
@@ -279,7 +281,7 @@ def phi_cross(Pq, out):
         out[2, j] = Pq[1, 0, j] - Pq[0, 1, j]
 
 
-@njit(cache=True)
+@inner
 def geometric_terms(G, gnz, w, q, p, f, off, Smat, Sdot):
     """Centrifugal stiffening ``K_G(w) = sum_ab w_a w_b G_ab``: ``f[off:] -= K_G(w) q``;
     ``Smat[a, b] = q^T G_ab q`` and ``Sdot[a, b] = 2 p^T G_ab q`` (for the w rows)."""
@@ -303,7 +305,7 @@ def geometric_terms(G, gnz, w, q, p, f, off, Smat, Sdot):
 # ----------------------------------------------------------------------------------------
 # loads
 # ----------------------------------------------------------------------------------------
-@njit(cache=True)
+@inner
 def loads_full(t, A, q, L):
     """Generalised forces ``H = [F_v, M_w, Q]`` (body frame) of all loads, full model."""
     kind, frame, prof, par, amp, rP, PhiP, PsiP, GL, gln = L
@@ -336,7 +338,7 @@ def loads_full(t, A, q, L):
     return H
 
 
-@njit(cache=True)
+@inner
 def loads_perturbation(t, A0, th1, q1, L):
     """Zero-order rigid loads ``H0`` (6) and first-order loads ``H1`` (6 + n)."""
     kind, frame, prof, par, amp, rP, PhiP, PsiP, GL, gln = L
@@ -379,7 +381,7 @@ def loads_perturbation(t, A0, th1, q1, L):
 #   P[a, b, i, j] = sum m Phi_ai Phi_bj,  R1[a, b, j] = sum m Phi_aj r_b,
 # so that with u = Phi q:  sum m u_a r_b = R1 . q,  sum m Phi_aj u_b = (P . q)[a, b, j].
 # ----------------------------------------------------------------------------------------
-@njit(cache=True)
+@inner
 def solve_lu(M, f):
     """``M x = f`` by LU; NaN where ``M`` or ``f`` is not finite (a trial state far out of range,
     which the integrator rejects), instead of an exception from inside the compiled loop."""
@@ -388,7 +390,7 @@ def solve_lu(M, f):
     return np.linalg.solve(M, f)
 
 
-@njit(cache=True)
+@inner
 def solve_spd(M, f):
     """Solve ``M x = f`` for a symmetric positive definite ``M`` (Cholesky, in place on copies)."""
     n = M.shape[0]
@@ -420,7 +422,7 @@ def solve_spd(M, f):
     return x
 
 
-@njit(cache=True)
+@inner
 def rhs_full(t, y, B, L, geo):
     mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv, cd = B
     n = Kb.shape[0]
@@ -516,7 +518,7 @@ def rhs_full(t, y, B, L, geo):
     return dy
 
 
-@njit(cache=True)
+@inner
 def zero_order_accel(t, y, B, L):
     """Zero-order rigid accelerations ``(Vdot0, wdot0)`` of eq. 27 and the load split."""
     mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv, cd = B
@@ -536,7 +538,7 @@ def zero_order_accel(t, y, B, L):
     return acc, A0, H1
 
 
-@njit(cache=True)
+@inner
 def rhs_perturbation(t, y, B, L, geo):
     """Zero order + exact linearisation of :func:`rhs_full` about ``(x0(t), q = p = 0)``."""
     mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv, cd = B
@@ -621,7 +623,7 @@ def rhs_perturbation(t, y, B, L, geo):
     return dy
 
 
-@njit(cache=True)
+@inner
 def rhs_prescribed(t, y, B, L, geo, pres):
     mtot, S0, J0, Phibar, Pt0, Mb, Kb, P, R1, G, gnz, Minv0, Mrinv, cd = B
     n = Kb.shape[0]
@@ -654,7 +656,7 @@ def rhs_prescribed(t, y, B, L, geo, pres):
     return dy
 
 
-@njit(cache=True)
+@inner
 def rhs_inextensible(t, y, kin, pres):
     """Prescribed frame motion with the exact inextensible kinematics of a planar cantilever
     (:mod:`rotaflex.floating.inextensible`): ``M(q) qddot = -K(q) - sum m J^T c``, where
@@ -734,3 +736,20 @@ def rhs_inextensible(t, y, kin, pres):
             f[i] -= a2 * D2[k, i] + a1 * D1[k, i]
     dy[n:] = solve_lu(M, f)
     return dy
+
+
+# ----------------------------------------------------------------------------------------
+# right-hand sides callable from Python (equation checks, linearisation); the integrator loops
+# call the @inner kernels above, so a run compiles no Python wrapper for them (whose unboxing
+# of the body and load tuples was a good part of the first-run compilation)
+# ----------------------------------------------------------------------------------------
+@entry
+def rhs_full_py(t, y, B, L, geo):
+    """:func:`rhs_full` for calls from Python."""
+    return rhs_full(t, y, B, L, geo)
+
+
+@entry
+def rhs_perturbation_py(t, y, B, L, geo):
+    """:func:`rhs_perturbation` for calls from Python."""
+    return rhs_perturbation(t, y, B, L, geo)

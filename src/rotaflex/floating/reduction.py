@@ -71,7 +71,7 @@ def first_order_matrices(body: Body, V0, w0, Vd0, wd0) -> dict[str, np.ndarray]:
         y[19:25] = x1[:6]
         y[25 + n :] = x1[6:]
         y[25 : 25 + n] = q1
-        dy = kernels.rhs_perturbation(0.0, y, B, L, False)
+        dy = kernels.rhs_perturbation_py(0.0, y, B, L, False)
         acc = dy[7:13]
         xd1 = np.concatenate([dy[19:25], dy[25 + n :]])
         return M0 @ xd1, acc

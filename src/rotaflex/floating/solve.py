@@ -416,7 +416,7 @@ def simulate(
         B = B + tuple(body.inextensible.packed())
     run = integrator.LOOPS[mode]  # the one compiled loop (and right-hand side) this run uses
     t0 = time.perf_counter()
-    Y, EUL, y, K0, att, cnt, hs = integrator.start(mode, y0, t_out, breaks, B, Lp, geo, pres)
+    Y, EUL, y, K0, att, cnt, hs = integrator.start(y0, t_out, breaks)
     # in chunks of output rows when progress is shown (the carried state makes this identical
     # to one call); one call otherwise
     n_chunks = min(100, len(t_out) - 1) if progress is not None else 1
