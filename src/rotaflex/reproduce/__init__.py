@@ -88,6 +88,52 @@ def estimate(names: list[str], fast: bool, load: float | None = None, cores: int
     return line
 
 
+def _blas_threads():
+    """One BLAS thread per process (``ROTAFLEX_BLAS_THREADS`` overrides), for every BLAS library.
+
+    SciPy loads its own OpenBLAS on first use, after the CLI has limited the libraries loaded at
+    its start, and that library's two threads doubled the CPU time of the geared-rotor section's
+    eigen-solves on the loaded 2-core machine (CPU 13.0 s vs 6.9 s); importing it first puts it
+    under the limit.
+    """
+    import scipy.linalg  # noqa: F401 - loads SciPy's BLAS so that the limit below covers it
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=int(os.environ.get("ROTAFLEX_BLAS_THREADS", "1")))
+
+
+def _run_sections(names, out_dir, fast, bars, emit, weights, overall) -> list:
+    """Run each target into ``out_dir``; the per-section part of :func:`reproduce`."""
+    sections = []
+    n = len(names)
+    for i, name in enumerate(names, 1):
+        prefix = f"[{i}/{n} {name}]"
+        say = (lambda m, p=prefix: emit(f"{p} {m}")) if emit else None
+        if say:
+            say("starting")
+        module = importlib.import_module(REPRODUCE[name])
+        t0, c0 = time.perf_counter(), cpu_seconds()
+        with reporting(say), CompileTimer(say) as compiling, ExpectedWarnings(say):
+            section = module.run(out_dir, fast=fast, progress=bars)
+        total = time.perf_counter() - t0
+        # CPU time tells a section's cost on a shared machine, where the wall time grows with the load
+        cpu = cpu_seconds() - c0
+        # compile time is reported apart: it is paid once per machine, not by the solvers
+        section.compile_time = compiling.seconds
+        section.wall_time = total - compiling.seconds
+        sections.append(section)
+        if say:
+            checks = section.all_checks()
+            extra = f" + {compiling.seconds:.1f} s compiling kernels" if compiling.seconds >= 0.05 else ""
+            say(
+                f"done in {section.wall_time:.1f} s{extra} (CPU {cpu:.1f} s); "
+                f"{sum(c.passed for c in checks)}/{len(checks)} checks pass"
+            )
+            with reporting(emit):
+                overall.update(sum(weights[:i]))
+    return sections
+
+
 def reproduce(
     names: list[str],
     out_dir: str | Path,
@@ -118,40 +164,15 @@ def reproduce(
     out_dir = Path(out_dir)
     emit: Callable[[str], None] | None = progress if callable(progress) else (log.info if progress else None)
     bars = bool(progress) if bars is None else bars
-    sections = []
     n = len(names)
-    compile_total = 0.0
     if emit:
         emit(estimate(names, fast))
     # overall progress in expected seconds (a line after each stage, with the time left)
     weights = [expected_seconds(nm, fast) for nm in names]
     overall = Progress(sum(weights), "reproduce", "expected s", enabled=bool(emit) and n > 1, tty=False)
-    for i, name in enumerate(names, 1):
-        prefix = f"[{i}/{n} {name}]"
-        say = (lambda m, p=prefix: emit(f"{p} {m}")) if emit else None
-        if say:
-            say("starting")
-        module = importlib.import_module(REPRODUCE[name])
-        t0, c0 = time.perf_counter(), cpu_seconds()
-        with reporting(say), CompileTimer(say) as compiling, ExpectedWarnings(say):
-            section = module.run(out_dir, fast=fast, progress=bars)
-        total = time.perf_counter() - t0
-        # CPU time tells a section's cost on a shared machine, where the wall time grows with the load
-        cpu = cpu_seconds() - c0
-        # compile time is reported apart: it is paid once per machine, not by the solvers
-        section.compile_time = compiling.seconds
-        section.wall_time = total - compiling.seconds
-        compile_total += compiling.seconds
-        sections.append(section)
-        if say:
-            checks = section.all_checks()
-            extra = f" + {compiling.seconds:.1f} s compiling kernels" if compiling.seconds >= 0.05 else ""
-            say(
-                f"done in {section.wall_time:.1f} s{extra} (CPU {cpu:.1f} s); "
-                f"{sum(c.passed for c in checks)}/{len(checks)} checks pass"
-            )
-            with reporting(emit):
-                overall.update(sum(weights[:i]))
+    with _blas_threads():
+        sections = _run_sections(names, out_dir, fast, bars, emit, weights, overall)
+    compile_total = sum(s.compile_time for s in sections)
     title = "rotaflex reproduction report" + (" (fast mode)" if fast else "")
     write_report(out_dir, sections, title, intro=introduction(names), glossary=GLOSSARY)
     missing = undefined_terms((out_dir / "report.md").read_text(encoding="utf-8"), GLOSSARY)
