@@ -25,10 +25,10 @@ log = logging.getLogger("rotaflex.reproduce")
 
 #: ``--fast`` wall time of each target [s], kernels and equations already cached: the CPU time
 #: of each section measured on the shared 2-core development machine (2026-11-26, load average
-#: about 14, 118 checks), which is its wall time on an idle machine for the single-process
-#: sections; the sweep's figure is its main process only (its local worker processes add theirs
-#: on the second core)
-MEASURED_FAST_S: dict[str, float] = {"rotor": 16.7, "gear": 95.0, "floating": 22.5, "geared_rotor": 5.4, "sweep": 32.7}
+#: 3-6, 118 checks), which is its wall time on an idle machine for the single-process sections;
+#: the sweep's figure is its main process only (its local worker processes add theirs on the
+#: second core, so its wall time is longer)
+MEASURED_FAST_S: dict[str, float] = {"rotor": 13.6, "gear": 74.7, "floating": 19.2, "geared_rotor": 4.2, "sweep": 12.6}
 #: ``--fast`` wall time of each target before its fast settings were cut down [s] (idle machine,
 #: 2026-11-26); the full settings did not change, so the full-time estimate scales these
 FAST_BEFORE_CUTS_S: dict[str, float] = {
