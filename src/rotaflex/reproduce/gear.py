@@ -353,7 +353,7 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
             res = _run(speeds, preset, driver=FAST_DRIVER)
             drv_note = (
                 f" Fast mode: driver {FAST_DRIVER} only, the one the full run draws of A/B (more "
-                "re-contacts); the full run also runs the other driver."
+                "re-contacts, then more separations); the full run also runs the other driver."
             )
         elif speeds[0] != speeds[1]:
             # the paper does not say which gear drives: run both, draw the one that rattles
@@ -451,7 +451,8 @@ def run(out_dir: Path, *, fast: bool = False, progress: bool = False) -> Section
             "NASA TM-105326's curve in Fig. 8 is not reproduced (no data).",
             "Single-tooth model with the torque ramps of Fig. 7; the two-pair zones are not modelled directly.",
             "Fig. 10/11: the paper does not say which gear drives; both choices are "
-            "run and the one with more re-contacts is drawn (see each figure). "
+            "run and the one with more re-contacts is drawn (see each figure; --fast runs "
+            f"driver {FAST_DRIVER}, the full run's choice, only). "
             "Fig. 11 (20,000/20,200 rpm) does not rattle with either driver: with A "
             "driving the faster B runs away at once (the ramped torques remove only "
             "~16 of the 21 rad/s within theta_s); with B driving, B hits A at once, "

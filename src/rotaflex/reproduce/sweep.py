@@ -225,7 +225,8 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
             f"{pool.n_cases} cases on {workers} local processes",
         ),
         Check(
-            f"{domain}: process pool vs serial ({len(subset)} cases), max abs difference of summary scalars",
+            f"{domain}: process pool vs serial ({len(subset)} case{'s' if len(subset) > 1 else ''}), "
+            "max abs difference of summary scalars",
             diff,
             "",
             "== 0",
