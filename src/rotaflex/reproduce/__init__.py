@@ -23,12 +23,11 @@ from rotaflex.reproduce.guide import GLOSSARY, introduction
 
 log = logging.getLogger("rotaflex.reproduce")
 
-#: ``--fast`` wall time of each target [s], kernels and equations already cached: the CPU time
-#: of each section measured on the shared 2-core development machine (2026-11-26, load average
-#: 3-6, 118 checks), which is its wall time on an idle machine for the single-process sections;
-#: the sweep's figure is its main process only (its local worker processes add theirs on the
-#: second core, so its wall time is longer)
-MEASURED_FAST_S: dict[str, float] = {"rotor": 13.6, "gear": 74.7, "floating": 19.2, "geared_rotor": 4.2, "sweep": 12.6}
+#: ``--fast`` wall time of each target [s], kernels and equations already cached, measured on
+#: the shared 2-core development machine at load average 3-4.5 (2026-11-26, 118 checks), where
+#: the single-process sections got a core each (wall = CPU time within 4 %); the sweep's local
+#: worker processes shared the other core, so its idle time is shorter
+MEASURED_FAST_S: dict[str, float] = {"rotor": 17.4, "gear": 86.2, "floating": 21.4, "geared_rotor": 5.2, "sweep": 44.6}
 #: ``--fast`` wall time of each target before its fast settings were cut down [s] (idle machine,
 #: 2026-11-26); the full settings did not change, so the full-time estimate scales these
 FAST_BEFORE_CUTS_S: dict[str, float] = {
