@@ -17,6 +17,22 @@ from rotaflex.gear.pair import paper
 E_DEFAULT, NU_DEFAULT = paper.YOUNGS_MODULUS, paper.POISSON_RATIO
 
 
+#: mesh_stiffness results of this process by content (see :func:`pair_stiffness`)
+_STIFFNESS: dict = {}
+
+
+def pair_stiffness(g, mesh, e: float, nu: float, torque: float):
+    """:func:`rotaflex.gear.static.tooth_analysis.mesh_stiffness` of two equal gears ``g`` on the
+    tooth mesh ``mesh``, computed once per process for the same inputs: the quasi-static entry
+    and the three-teeth comparison both need the coarse-mesh table at tau_0 (~1 s each)."""
+    from rotaflex.gear.static.tooth_analysis import mesh_stiffness
+
+    key = (repr(g), mesh.nodes.tobytes(), mesh.elements.tobytes(), repr(mesh), e, nu, torque)
+    if key not in _STIFFNESS:
+        _STIFFNESS[key] = mesh_stiffness(g, g, e, nu, torque=torque, mesh1=mesh, mesh2=mesh)
+    return _STIFFNESS[key]
+
+
 def contact_changes(force: np.ndarray, threshold: float) -> tuple[int, int]:
     """(contact losses, re-contacts) after the first loaded contact."""
     on = force > threshold
@@ -91,7 +107,6 @@ def quasi_static_entry(res, dom: Path, preset: str) -> FigureEntry:
     from rotaflex.core.plotting import new_figure, save_figure
     from rotaflex.gear.cases.simulate import GearCaseConfig, build
     from rotaflex.gear.results import post
-    from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
     ds = res.dataset
     import json
@@ -118,7 +133,7 @@ def quasi_static_entry(res, dom: Path, preset: str) -> FigureEntry:
     err_te = float(np.max(np.abs(dte[picks] / (pt + kin) - 1.0)))
     sig = ds["root_stress"].values[picks]
     err_sig = float(np.max(np.abs(sig / sig_ref - 1.0)))
-    ms = mesh_stiffness(g, g, e, nu, torque=cfg.operation.torque, mesh1=mesh, mesh2=mesh)
+    ms = pair_stiffness(g, mesh, e, nu, cfg.operation.torque)
     # the single-tooth model carries the whole force on one pair: compare with F / k_pair
     # (equal to the static TE in the single-pair zone)
     te_static = f / np.interp(ang, ms.angle, ms.pair_stiffness)

@@ -65,7 +65,7 @@ def comparison(dom: Path, *, fast: bool, single=None) -> FigureEntry:
     from rotaflex.core.plotting import new_figure, save_figure
     from rotaflex.gear.cases.simulate import run_case
     from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
-    from rotaflex.gear.static.tooth_analysis import mesh_stiffness
+    from rotaflex.reproduce.gear_post import pair_stiffness
 
     rpm = 4000.0 if fast else 1000.0
     operation = {"speed_rpm": [rpm, rpm]}
@@ -104,7 +104,7 @@ def comparison(dom: Path, *, fast: bool, single=None) -> FigureEntry:
     fe_zone = np.array(
         [np.mean(np.interp(np.linspace(a, b, 20), fine, st_fe)) for a, b in zip(edges[:-1], edges[1:], strict=True)]
     )
-    ms = mesh_stiffness(_gear(), _gear(), E, NU, mesh1=mesh, mesh2=mesh)
+    ms = pair_stiffness(_gear(), mesh, E, NU, paper.TORQUE)
     iso_zone = np.array(
         [
             np.mean(np.interp(np.linspace(a, b, 20), ms.angle, ms.load_share))

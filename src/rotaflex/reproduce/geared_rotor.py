@@ -117,8 +117,11 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     cres.to_netcdf(out / "campbell.nc")
     save_figure(cres.plot()["campbell"], out / "campbell.png")
     sp = cres.dataset["speed"].values
-    cf = campbell(box, sp[:: max(1, n_sp // 5)], cres.dataset.sizes["mode"], reduce=False)
-    red = np.sort(cres.dataset["damped_frequency"].values[:: max(1, n_sp // 5)], 1)
+    # the all-DOF solves cost most of this section: five speeds, in fast mode the first and the
+    # last only (the basis is taken at the middle speed, so the ends are where it is least exact)
+    at = np.array([0, n_sp - 1]) if fast else np.arange(0, n_sp, max(1, n_sp // 5))
+    cf = campbell(box, sp[at], cres.dataset.sizes["mode"], reduce=False)
+    red = np.sort(cres.dataset["damped_frequency"].values[at], 1)
     d_red = float(np.max(np.abs(red - np.sort(cf.modes.wd, 1)) / np.sort(cf.modes.wd, 1)))
     me = cres.dataset["mesh_energy"].values
     kmesh = int(np.argmax(me[0]))
@@ -139,6 +142,7 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
                     "",
                     "< 1e-3",
                     d_red < 1e-3,
+                    f"all-DOF solves at {at.size} of the {n_sp} speeds",
                 )
             ],
         )

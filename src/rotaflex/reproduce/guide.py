@@ -81,6 +81,8 @@ GLOSSARY: dict[str, str] = {
     "EOM": "equations of motion",
     "RK4": "the classical fourth-order Runge-Kutta time-stepping method",
     "RMS": "root mean square",
+    "CPU": "central processing unit; CPU time is the processor time a run used, which on a "
+    "shared machine tells its cost better than the elapsed (wall) time",
     "OCR": "optical character recognition: our copies of the papers are scans read by OCR, so some "
     "printed symbols or signs are uncertain",
     "MN": "meganewton (1e6 N); 1 MN/m is a bearing stiffness of 1e6 N/m",
