@@ -220,14 +220,10 @@ def _figure_options(fmt: str, dpi: int) -> None:
 
 
 def _limit_threads():
-    """Pin BLAS/OpenMP pools to one thread: our matrices are small, and on a loaded machine
-    extra threads cost far more than they gain (benchmarks/bench_blas_threads.py: a 600x600
-    eigh 1.36 s with 2 threads under load, 0.23 s with one). ``ROTAFLEX_BLAS_THREADS`` overrides."""
-    import os
+    """One BLAS/OpenMP thread (:func:`rotaflex.core.threads.limit_blas_threads`)."""
+    from rotaflex.core.threads import limit_blas_threads
 
-    from threadpoolctl import threadpool_limits
-
-    return threadpool_limits(limits=int(os.environ.get("ROTAFLEX_BLAS_THREADS", "1")))
+    return limit_blas_threads()
 
 
 @app.command()

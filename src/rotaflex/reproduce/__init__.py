@@ -19,6 +19,7 @@ from pathlib import Path
 from rotaflex.core.domains import REPRODUCE
 from rotaflex.core.progress import Progress
 from rotaflex.core.report import CompileTimer, ExpectedWarnings, reporting, undefined_terms, write_report
+from rotaflex.core.threads import limit_blas_threads
 from rotaflex.reproduce.guide import GLOSSARY, introduction
 
 log = logging.getLogger("rotaflex.reproduce")
@@ -85,20 +86,6 @@ def estimate(names: list[str], fast: bool, load: float | None = None, cores: int
     if load > 2 * cores:
         line += f"; this machine is busy now (load average {load:.0f} on {cores} cores): expect longer"
     return line
-
-
-def _blas_threads():
-    """One BLAS thread per process (``ROTAFLEX_BLAS_THREADS`` overrides), for every BLAS library.
-
-    SciPy loads its own OpenBLAS on first use, after the CLI has limited the libraries loaded at
-    its start, and that library's two threads doubled the CPU time of the geared-rotor section's
-    eigen-solves on the loaded 2-core machine (CPU 13.0 s vs 6.9 s); importing it first puts it
-    under the limit.
-    """
-    import scipy.linalg  # noqa: F401 - loads SciPy's BLAS so that the limit below covers it
-    from threadpoolctl import threadpool_limits
-
-    return threadpool_limits(limits=int(os.environ.get("ROTAFLEX_BLAS_THREADS", "1")))
 
 
 def _run_sections(names, out_dir, fast, bars, emit, weights, overall) -> list:
@@ -169,7 +156,7 @@ def reproduce(
     # overall progress in expected seconds (a line after each stage, with the time left)
     weights = [expected_seconds(nm, fast) for nm in names]
     overall = Progress(sum(weights), "reproduce", "expected s", enabled=bool(emit) and n > 1, tty=False)
-    with _blas_threads():
+    with limit_blas_threads():
         sections = _run_sections(names, out_dir, fast, bars, emit, weights, overall)
     compile_total = sum(s.compile_time for s in sections)
     title = "rotaflex reproduction report" + (" (fast mode)" if fast else "")

@@ -116,9 +116,9 @@ def init_worker(client_pid: int) -> None:
 
     threading.Thread(target=watch, name="rotaflex-parent-watch", daemon=True).start()
     try:
-        from threadpoolctl import threadpool_limits
+        from rotaflex.core.threads import limit_blas_threads
 
-        threadpool_limits(limits=1)
+        limit_blas_threads(1)
     except ImportError:  # pragma: no cover - a dependency, but never fatal in a worker
         pass
 

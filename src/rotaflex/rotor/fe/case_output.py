@@ -60,11 +60,9 @@ def pinned(run):
 
     @functools.wraps(run)
     def wrapper(config: dict, *, progress: bool = False):
-        import os
+        from rotaflex.core.threads import limit_blas_threads
 
-        from threadpoolctl import threadpool_limits
-
-        with threadpool_limits(limits=int(os.environ.get("ROTAFLEX_BLAS_THREADS", "1"))):
+        with limit_blas_threads():
             return run(config, progress=progress)
 
     return wrapper
