@@ -90,7 +90,7 @@ def test_floating_slew_time_sweep_from_the_cli(tmp_path):
     example = Path(__file__).resolve().parents[2] / "examples" / "sweep" / "floating_slew.toml"
     out = tmp_path / "out"
     res = CliRunner().invoke(
-        app, ["sweep", str(example), "--vary", "loads[0].duration=2,6", "--out", str(out), "-j", "2", "-q"]
+        app, ["sweep", str(example), "--vary", "loads[0].duration=2,6", "--out", str(out), "-j", "0", "-q"]
     )
     assert res.exit_code == 0, res.output
     ds = xr.open_dataset(out / "sweep.nc", engine="h5netcdf").load()
