@@ -42,10 +42,11 @@ torque = 22.25
 eval_cycles = 10
 max_cycles = 300
 """
-# serial (-j 0): a case computes in ~0.06 s, a worker pool would only add its start-up; the
-# chains on other executors: test_dask_local_runs_the_same_chains_as_serial (gear) and
+ARGS = ["--vary", f"operation.speed_rpm={SPEEDS}", "--continuation", "operation.speed_rpm"]
+# serial: a case computes in ~0.06 s, a worker pool would only add its start-up; the chains on
+# other executors: test_dask_local_runs_the_same_chains_as_serial (gear) and
 # test_chain_order_state_passing_and_a_killed_worker (process pool)
-ARGS = ["--vary", f"operation.speed_rpm={SPEEDS}", "--continuation", "operation.speed_rpm", "-j", "0"]
+SERIAL = ["-j", "0"]
 
 
 def _linear_resonance_rpm() -> float:
@@ -68,7 +69,7 @@ def swept(tmp_path_factory):
     cfg = tmp / "base.toml"
     cfg.write_text(BASE)
     out = tmp / "out"
-    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(out), *ARGS])
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(out), *ARGS, *SERIAL])
     return cfg, out, res
 
 
@@ -120,7 +121,7 @@ def test_resume_continues_the_chain_from_the_saved_state(swept, tmp_path):
         dropped = [str(ids.sel(operation_speed_rpm=s, direction="down").item()) for s in (12000.0, 11000.0, 10000.0)]
     for cid in dropped:
         shutil.rmtree(copy / "cases" / cid)
-    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(copy), *ARGS, "--no-figures"])
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(copy), *ARGS, *SERIAL, "--no-figures"])
     assert res.exit_code == 0, res.output
     assert "3 computed, 11 reused" in res.output
     with xr.open_dataset(copy / "sweep.nc") as ds:
@@ -185,6 +186,11 @@ def test_dask_local_runs_the_same_chains_as_serial(swept, tmp_path):
         assert b["dynamic_factor"].shape == (7, 2)
         np.testing.assert_array_equal(b["dynamic_factor"].values, a["dynamic_factor"].values)
         np.testing.assert_array_equal(b["case_id"].values, a["case_id"].values)
+
+    def workers(d):
+        return {json.loads(p.read_text())["worker"] for p in (d / "cases").glob("*/case.json")}
+
+    assert len(workers(dask)) == 1 and workers(dask).isdisjoint(workers(out))  # ran on the Dask worker
 
 
 def test_unreadable_saved_state_restarts_the_chain(tmp_path, monkeypatch, selftest_domain):
@@ -288,7 +294,9 @@ def test_split_down_follows_the_same_down_branch_from_a_single_branch_top(swept,
     """At 21000 rpm (far above resonance) there is one branch: the down half started from its own
     run there follows the same branch as from the up half's last state, hysteresis included."""
     cfg, out, _ = swept
-    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(tmp_path / "s"), *ARGS, "--split-down", "--no-figures"])
+    res = runner.invoke(
+        app, ["sweep", str(cfg), "--out", str(tmp_path / "s"), *ARGS, *SERIAL, "--split-down", "--no-figures"]
+    )
     assert res.exit_code == 0, res.output
     with xr.open_dataset(out / "sweep.nc") as a, xr.open_dataset(tmp_path / "s" / "sweep.nc") as b:
         np.testing.assert_array_equal(b["dynamic_factor"].sel(direction="up"), a["dynamic_factor"].sel(direction="up"))
