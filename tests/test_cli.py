@@ -1,4 +1,9 @@
-"""The command line end to end: exit codes, one-line errors, files written."""
+"""The command line end to end: exit codes, one-line errors, files written.
+
+The runs whose point is the files they write go through :func:`rotaflex.cli.main` in this
+process (the console script's code path, without one interpreter start and import per run);
+the error paths run ``python -m rotaflex`` as a child process (what a user's shell sees).
+"""
 
 import json
 import subprocess
@@ -6,6 +11,8 @@ import sys
 from pathlib import Path
 
 import pytest
+
+from rotaflex.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -16,6 +23,13 @@ def rotaflex(*args, cwd=None):
     )
 
 
+def rotaflex_here(*args) -> int:
+    """Exit status of the CLI's entry point run in this process on ``args``."""
+    with pytest.raises(SystemExit) as exit_:
+        main([str(a) for a in args])
+    return exit_.value.code
+
+
 @pytest.mark.parametrize(
     "example",
     sorted(
@@ -23,10 +37,10 @@ def rotaflex(*args, cwd=None):
     ),  # FE verbs: tests/rotor/fe
     ids=lambda p: p.stem,
 )
-def test_rotor_examples_run(example, tmp_path):
-    proc = rotaflex("rotor", "simulate", example, "--out", tmp_path, "--quiet")
+def test_rotor_examples_run(example, tmp_path, capsys):
+    code = rotaflex_here("rotor", "simulate", example, "--out", tmp_path, "--quiet")
     expected = 1 if "spherical" in example.stem else 0  # that one stops at its singularity by design
-    assert proc.returncode == expected, proc.stderr
+    assert code == expected, capsys.readouterr().err
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["status"]["value"] == ("singular" if expected else "success")
     assert (tmp_path / "result.nc").stat().st_size > 0 and (tmp_path / "omega_body.png").exists()
@@ -52,7 +66,7 @@ def test_unknown_key_and_debug_traceback(tmp_path):
 
 def test_failed_run_keeps_earlier_results(tmp_path):
     good = ROOT / "examples" / "rotor" / "disk_whirl_linear.toml"
-    assert rotaflex("rotor", "simulate", good, "--out", tmp_path, "-q").returncode == 0
+    assert rotaflex_here("rotor", "simulate", good, "--out", tmp_path, "-q") == 0
     before = (tmp_path / "result.nc").read_bytes()
     bad = tmp_path / "bad.toml"
     bad.write_text("[solver]\nrtol = 2.0\n")
@@ -60,9 +74,9 @@ def test_failed_run_keeps_earlier_results(tmp_path):
     assert (tmp_path / "result.nc").read_bytes() == before
 
 
-def test_reproduce_rotor_fast_writes_report(tmp_path):
-    proc = rotaflex("reproduce", "rotor", "--out", tmp_path, "--fast", "--quiet")
-    assert proc.returncode == 0, proc.stderr
+def test_reproduce_rotor_fast_writes_report(tmp_path, capsys):
+    code = rotaflex_here("reproduce", "rotor", "--out", tmp_path, "--fast", "--quiet")
+    assert code == 0, capsys.readouterr().err
     md = (tmp_path / "report.md").read_text()
     for n in range(3, 14):
         assert f"### Fig. {n}" in md

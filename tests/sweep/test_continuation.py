@@ -9,6 +9,7 @@ down to 10000 rpm. Far above resonance there is one branch and both directions a
 
 import json
 import math
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -41,7 +42,11 @@ torque = 22.25
 eval_cycles = 10
 max_cycles = 300
 """
-ARGS = ["--vary", f"operation.speed_rpm={SPEEDS}", "--continuation", "operation.speed_rpm", "-j", "2"]
+ARGS = ["--vary", f"operation.speed_rpm={SPEEDS}", "--continuation", "operation.speed_rpm"]
+# serial: a case computes in ~0.06 s, a worker pool would only add its start-up; the chains on
+# other executors: test_dask_local_runs_the_same_chains_as_serial (gear) and
+# test_chain_order_state_passing_and_a_killed_worker (process pool)
+SERIAL = ["-j", "0"]
 
 
 def _linear_resonance_rpm() -> float:
@@ -64,7 +69,7 @@ def swept(tmp_path_factory):
     cfg = tmp / "base.toml"
     cfg.write_text(BASE)
     out = tmp / "out"
-    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(out), *ARGS])
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(out), *ARGS, *SERIAL])
     return cfg, out, res
 
 
@@ -107,8 +112,6 @@ def test_resonance_marked_where_the_linear_model_predicts(swept):
 
 def test_resume_continues_the_chain_from_the_saved_state(swept, tmp_path):
     cfg, out, _ = swept
-    import shutil
-
     copy = tmp_path / "out"
     shutil.copytree(out, copy)
     with xr.open_dataset(out / "sweep.nc") as ds:
@@ -118,7 +121,7 @@ def test_resume_continues_the_chain_from_the_saved_state(swept, tmp_path):
         dropped = [str(ids.sel(operation_speed_rpm=s, direction="down").item()) for s in (12000.0, 11000.0, 10000.0)]
     for cid in dropped:
         shutil.rmtree(copy / "cases" / cid)
-    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(copy), *ARGS])
+    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(copy), *ARGS, *SERIAL, "--no-figures"])
     assert res.exit_code == 0, res.output
     assert "3 computed, 11 reused" in res.output
     with xr.open_dataset(copy / "sweep.nc") as ds:
@@ -167,36 +170,53 @@ def test_continuation_needs_a_continuable_verb_and_a_swept_key(tmp_path):
     assert res.exit_code == 2 and "verb" in res.output and "'steady'" in res.output
 
 
-def test_dask_local_runs_the_same_chains_as_serial(tmp_path):
-    """The chain order (and so every number) does not depend on the executor."""
+def test_dask_local_runs_the_same_chains_as_serial(swept, tmp_path):
+    """The chain order (and so every number) does not depend on the executor: the whole
+    two-branch sweep of the fixture (serial) again on a local Dask cluster (one worker: the
+    sweep is one chain, a second worker would only idle)."""
     pytest.importorskip("distributed")
-    cfg = tmp_path / "c.toml"
-    cfg.write_text(BASE)
-    common = ["--vary", "operation.speed_rpm=10000,15000,21000", "--continuation", "operation.speed_rpm"]
-    results = []
-    for tag, extra in (("serial", ["-j", "0"]), ("dask", ["--scheduler", "dask-local", "-j", "2"])):
-        res = runner.invoke(app, ["sweep", str(cfg), "--out", str(tmp_path / tag), *common, *extra])
-        assert res.exit_code == 0, res.output
-        with xr.open_dataset(tmp_path / tag / "sweep.nc") as ds:
-            results.append(ds["dynamic_factor"].values.copy())
-    assert results[0].shape == (3, 2)
-    np.testing.assert_array_equal(results[0], results[1])
-
-
-def test_unreadable_saved_state_restarts_the_chain(swept, tmp_path):
     cfg, out, _ = swept
-    import shutil
-
-    copy = tmp_path / "out"
-    shutil.copytree(out, copy)
-    with xr.open_dataset(out / "sweep.nc") as ds:
-        last_up = str(ds["case_id"].sel(operation_speed_rpm=21000.0, direction="up").item())
-        first_down = str(ds["case_id"].sel(operation_speed_rpm=21000.0, direction="down").item())
-    shutil.rmtree(copy / "cases" / first_down)
-    (copy / "cases" / last_up / "result.nc").write_bytes(b"not a netCDF file")
-    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(copy), *ARGS])
+    dask = tmp_path / "dask"
+    res = runner.invoke(
+        app, ["sweep", str(cfg), "--out", str(dask), *ARGS, "--scheduler", "dask-local", "-j", "1", "--no-figures"]
+    )
     assert res.exit_code == 0, res.output
     assert "14 computed, 0 reused" in res.output
+    with xr.open_dataset(out / "sweep.nc") as a, xr.open_dataset(dask / "sweep.nc") as b:
+        assert b["dynamic_factor"].shape == (7, 2)
+        np.testing.assert_array_equal(b["dynamic_factor"].values, a["dynamic_factor"].values)
+        np.testing.assert_array_equal(b["case_id"].values, a["case_id"].values)
+
+    def workers(d):
+        return {json.loads(p.read_text())["worker"] for p in (d / "cases").glob("*/case.json")}
+
+    assert len(workers(dask)) == 1 and workers(dask).isdisjoint(workers(out))  # ran on the Dask worker
+
+
+def test_unreadable_saved_state_restarts_the_chain(tmp_path, monkeypatch, selftest_domain):
+    """A chain whose saved state cannot be read runs again from its start. The test verb's
+    state is the running sum of x (a restart from anything but the start would change it)."""
+    from rotaflex.core import domains
+
+    monkeypatch.setitem(domains.COMMANDS, "selftest", {"chain": "rotaflex.sweep._selftest_case:run_chain"})
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('domain = "selftest"\nverb = "chain"\nx = 1.0\n')
+    args = ["sweep", str(cfg), "--out", str(tmp_path / "o"), "--vary", "x=1,2,3", "--continuation", "x"]
+    args += ["-j", "0", "--no-figures"]
+    res = runner.invoke(app, args)
+    assert res.exit_code == 0, res.output
+    with xr.open_dataset(tmp_path / "o" / "sweep.nc") as ds:
+        before = ds["running_sum"].values.copy()
+        last_up = str(ds["case_id"].sel(x=3.0, direction="up").item())
+        first_down = str(ds["case_id"].sel(x=3.0, direction="down").item())
+    shutil.rmtree(tmp_path / "o" / "cases" / first_down)
+    (tmp_path / "o" / "cases" / last_up / "result.nc").write_bytes(b"not a netCDF file")
+    res = runner.invoke(app, args)
+    assert res.exit_code == 0, res.output
+    assert "6 computed, 0 reused" in res.output
+    with xr.open_dataset(tmp_path / "o" / "sweep.nc") as ds:
+        np.testing.assert_array_equal(ds["running_sum"].values, before)
+        np.testing.assert_array_equal(ds["running_sum"].sel(direction="down").sortby("x").values, [12.0, 11.0, 9.0])
 
 
 def test_single_run_of_the_verb_reads_a_sweep_base_file(tmp_path):
@@ -274,7 +294,9 @@ def test_split_down_follows_the_same_down_branch_from_a_single_branch_top(swept,
     """At 21000 rpm (far above resonance) there is one branch: the down half started from its own
     run there follows the same branch as from the up half's last state, hysteresis included."""
     cfg, out, _ = swept
-    res = runner.invoke(app, ["sweep", str(cfg), "--out", str(tmp_path / "s"), *ARGS, "--split-down"])
+    res = runner.invoke(
+        app, ["sweep", str(cfg), "--out", str(tmp_path / "s"), *ARGS, *SERIAL, "--split-down", "--no-figures"]
+    )
     assert res.exit_code == 0, res.output
     with xr.open_dataset(out / "sweep.nc") as a, xr.open_dataset(tmp_path / "s" / "sweep.nc") as b:
         np.testing.assert_array_equal(b["dynamic_factor"].sel(direction="up"), a["dynamic_factor"].sel(direction="up"))
