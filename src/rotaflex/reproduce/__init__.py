@@ -25,10 +25,8 @@ from rotaflex.reproduce.guide import GLOSSARY, introduction
 log = logging.getLogger("rotaflex.reproduce")
 
 #: ``--fast`` wall time of each target [s], kernels and equations already cached, measured on
-#: the shared 2-core development machine at load average 3-4.5 (2026-11-26, 118 checks), where
-#: the single-process sections got a core each (wall = CPU time within 4 %); the sweep's local
-#: worker processes shared the other core, so its idle time is shorter
-MEASURED_FAST_S: dict[str, float] = {"rotor": 17.4, "gear": 86.2, "floating": 21.4, "geared_rotor": 5.2, "sweep": 44.6}
+#: the idle 2-core development machine (2026-11-26, 118 checks, 117.2 s in all)
+MEASURED_FAST_S: dict[str, float] = {"rotor": 11.2, "gear": 65.5, "floating": 16.3, "geared_rotor": 3.6, "sweep": 20.1}
 #: ``--fast`` wall time of each target before its fast settings were cut down [s] (idle machine,
 #: 2026-11-26); the full settings did not change, so the full-time estimate scales these
 FAST_BEFORE_CUTS_S: dict[str, float] = {
