@@ -41,6 +41,8 @@ BENCHMARKS: dict[str, list[str]] = {
     "disk-nofig": [*VERBS["disk"], "--no-figures"],
     "rotor-modal": ["rotor", "modal", "{ex}/rotor/fe_friswell_5_9_1.toml", "--out", "{out}", "--no-figures"],
     "gear-coarse": ["gear", "simulate", "{ex}/gear/coarse_fast.toml", "--out", "{out}", "--no-figures"],
+    "gear-paper": ["gear", "simulate", "{ex}/gear/4000rpm.toml", "--out", "{out}", "--no-figures"],
+    "gear-reduced": ["gear", "simulate", "{ex}/gear/4000rpm_reduced.toml", "--out", "{out}", "--no-figures"],
     "floating-spinup": ["floating", "simulate", "{ex}/floating/spinup_beam.toml", "--out", "{out}", "--no-figures"],
 }
 

@@ -7,6 +7,7 @@ of once per worker; the other tests are balanced over the workers as usual.
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import pytest
@@ -26,3 +27,12 @@ def pytest_collection_modifyitems(config, items):
         family = _KERNEL_FAMILY.get(folder)
         if family is not None:
             item.add_marker(pytest.mark.xdist_group(family))
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    """Close the figures a test left open (pyplot keeps every figure until closed)."""
+    yield
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    if pyplot is not None:
+        pyplot.close("all")

@@ -2,28 +2,51 @@
 
 ``@entry``
     A kernel called from Python: a solver's entry point, or a helper that other Python code or
-    the tests call directly. Cached on disk, with numba's Python wrapper.
+    the tests call directly. Cached on disk, with numba's Python wrapper. The cache is keyed
+    on the source of every kernel module of its package (numba keys it on the entry's own
+    file only, so an edited callee in a sibling module would load stale machine code).
 ``@inner``
-    A kernel called only from other kernels. Cached on disk, compiled *without* the Python and C
-    wrappers. Those wrappers unbox every argument from Python objects; for kernels that take
-    the solvers' named groups of arrays (tens of arrays each) they were about a third of the
-    first-run compilation (gear paper method, cold cache: 88 -> 61 s CPU, results
-    bit-identical; docs/performance.md). Calling an ``@inner`` kernel from Python fails.
+    A kernel called only from other kernels: compiled without the Python and C wrappers, not
+    cached, and *linked, not optimised*: its LLVM module is not optimised and no machine code
+    is made for it; the entry point that calls it optimises and compiles the whole tree once.
+    Calling an ``@inner`` kernel from Python raises a TypeError.
 
-numba links every kernel a kernel calls into its own machine code, so a deep call tree is
-optimised and compiled once per level: keep the chain from an entry point to its leaves short.
+Why: numba links the kernels a kernel calls into the caller's module and, by default,
+optimises it and makes machine code at every level of the call tree, so a tree four levels
+deep (the gear step, about 40 kernels) was optimised four times. Linking only at the inner
+levels took the gear paper method's first-run compilation from 62 to 40 s CPU with
+bit-identical results (docs/performance.md).
 """
 
 from __future__ import annotations
 
-from numba import njit
+import functools
+import hashlib
+import threading
+from pathlib import Path
+
+from numba.core import codegen as _codegen
+from numba.core.compiler_lock import require_global_compiler_lock
 from numba.core.registry import CPUDispatcher
 
+#: per thread, the kernels being compiled: the qualname of an ``@inner`` one, None for others
+_COMPILING = threading.local()
 
-def entry(func=None, **options):
-    """``njit(cache=True, **options)``: a kernel called from Python."""
-    decorate = njit(cache=True, **options)
-    return decorate if func is None else decorate(func)
+
+def _stack() -> list:
+    stack = getattr(_COMPILING, "stack", None)
+    if stack is None:
+        stack = _COMPILING.stack = []
+    return stack
+
+
+class _EntryDispatcher(CPUDispatcher):
+    def compile(self, sig):
+        _stack().append(None)
+        try:
+            return super().compile(sig)
+        finally:
+            _stack().pop()
 
 
 class _InnerDispatcher(CPUDispatcher):
@@ -32,16 +55,89 @@ class _InnerDispatcher(CPUDispatcher):
     def __call__(self, *args, **kwargs):
         raise TypeError(f"{self.py_func.__qualname__} is compiled only for calls from other kernels (@inner)")
 
+    def compile(self, sig):
+        _stack().append(self.py_func.__qualname__)
+        try:
+            return super().compile(sig)
+        finally:
+            _stack().pop()
+
+
+_FINALIZE = _codegen.CPUCodeLibrary.finalize
+_SET_ENV = _codegen.JITCPUCodegen.set_env
+
+
+def _finalize(library) -> None:
+    """numba's finalisation, except for the library of the ``@inner`` kernel being compiled:
+    link its callees in, verify, and stop (no optimisation, no machine code)."""
+    stack = _stack()
+    if not stack or stack[-1] is None or stack[-1] != library.name:
+        return _FINALIZE(library)
+    require_global_compiler_lock()
+    library._raise_if_finalized()
+    seen = set()
+    for lib in library._linking_libraries:
+        if lib not in seen:
+            seen.add(lib)
+            library._reload_init.update(lib._reload_init)
+            library._final_module.link_in(lib._get_module_for_linking(), preserve=True)
+    library._final_module.verify()
+    library._finalize_dynamic_globals()
+    library._verify_declare_only_symbols()
+    library._finalized = True
+    return None
+
+
+def _set_env(codegen, env_name, env) -> None:
+    # A link-only library is not in the execution engine, so its environment global has no
+    # address; in the entry's machine code it stays unset, as numba leaves it for every
+    # callee of an entry loaded from the disk cache.
+    if codegen._engine.get_global_value_address(env_name) == 0:
+        return
+    _SET_ENV(codegen, env_name, env)
+
+
+_codegen.CPUCodeLibrary.finalize = _finalize
+_codegen.JITCPUCodegen.set_env = _set_env
+
+
+@functools.cache
+def _package_stamp(folder: str) -> bytes:
+    """SHA-256 of the kernel modules (those importing this module) in ``folder``, and of this
+    module."""
+    digest = hashlib.sha256(Path(__file__).read_bytes())
+    for path in sorted(Path(folder).glob("*.py")):
+        text = path.read_bytes()
+        if b"rotaflex.core.compiled" in text:
+            digest.update(path.name.encode() + text)
+    return digest.digest()
+
+
+def _key_cache_on_package(dispatcher) -> None:
+    cache_file = getattr(getattr(dispatcher, "_cache", None), "_cache_file", None)
+    if cache_file is not None and hasattr(cache_file, "_source_stamp"):
+        cache_file._source_stamp = _package_stamp(str(Path(dispatcher.py_func.__code__.co_filename).parent))
+
+
+def entry(func=None, **options):
+    """A kernel called from Python: ``njit(cache=True, **options)``, cached per package."""
+
+    def decorate(f):
+        dispatcher = _EntryDispatcher(py_func=f, locals={}, targetoptions={"nopython": True, **options})
+        dispatcher.enable_caching()
+        _key_cache_on_package(dispatcher)
+        return dispatcher
+
+    return decorate if func is None else decorate(func)
+
 
 def inner(func=None, **options):
-    """Compile ``func`` (lazily, cached) for calls from other kernels only; ``options`` are
-    numba's (e.g. ``error_model="numpy"``)."""
+    """Compile ``func`` lazily for calls from other kernels only; ``options`` are numba's
+    (e.g. ``error_model="numpy"``)."""
 
     def decorate(f):
         targetoptions = {"nopython": True, "no_cpython_wrapper": True, "no_cfunc_wrapper": True, **options}
-        dispatcher = _InnerDispatcher(py_func=f, locals={}, targetoptions=targetoptions)
-        dispatcher.enable_caching()
-        return dispatcher
+        return _InnerDispatcher(py_func=f, locals={}, targetoptions=targetoptions)
 
     return decorate if func is None else decorate(func)
 

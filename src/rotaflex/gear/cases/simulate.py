@@ -85,9 +85,10 @@ def _preload(cfg, model, run):
     return static_preload(model, run.torque, *elastic_constants(cfg), run.theta_s, run.window, smoothing=smoothing)
 
 
-#: measured first-run compilation before the first result of `gear simulate` [s] (41-44 s on the
-#: 2-core machine, issue 25; docs/performance.md)
-COMPILE_SECONDS = 42.0
+#: measured first-run compilation before the first result of `gear simulate` per method [s]
+#: (benchmarks/bench_compile.py gear-coarse, gear-reduced: CPU time on the 2-core machine;
+#: docs/performance.md)
+COMPILE_SECONDS = {"paper_rk4": 41.0, "reduced_hht": 16.0}
 
 
 def announce_kernels(method: str) -> bool:
@@ -99,7 +100,7 @@ def announce_kernels(method: str) -> bool:
         from rotaflex.gear.kernels.hht import run_hht as entry
     else:
         from rotaflex.gear.kernels.rk4 import run_steps as entry
-    return announce_compilation("gear", [entry], COMPILE_SECONDS)
+    return announce_compilation("gear", [entry], COMPILE_SECONDS.get(method, COMPILE_SECONDS["paper_rk4"]))
 
 
 def run_case(config: dict, *, progress: bool = False) -> GearResult:

@@ -68,8 +68,8 @@ class StepParams(NamedTuple):
     max_iter: int
     n_points: int  # spline points per flank
     torque_mode: int  # 0: Fig. 7 ramps; 1: constant tau0
-    dfac: np.ndarray | None  # (3, n + 1, bw + 3) tie-block factors of the direct solve; None: iteration
-    dperm: np.ndarray | None  # (n,) row order of the factors
+    dfac: np.ndarray  # (3, n + 1, bw + 3) tie-block factors of the direct solve; (3, 0, 0): iteration
+    dperm: np.ndarray  # (n,) row order of the factors; (0,): iteration
     gain: np.ndarray  # (2,) gear-ratio factor u_g of each disk: torque u_g tau(u_g theta_g) (1 for the driver)
 
 

@@ -604,8 +604,8 @@ def _close_hht_step(t, its, hs, w):
     sc[6] = 1.0 if p[0] < 0.0 else 0.0
 
 
-@entry
-def initial_evaluation(hm, hs, tpar, mpts):
+@inner
+def _initial_evaluation(hm, hs, tpar, mpts):
     """F at the start state of ``hs`` (into ``hs.fz, hs.fphi``) and the consistent start
     accelerations ``M a = -F`` (contact forces zero). Returns (contact search ok, kinetic +
     strain energy [J])."""
@@ -629,7 +629,7 @@ def initial_evaluation(hm, hs, tpar, mpts):
 
 
 @entry
-def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
+def run_hht(n_steps, rec_every, row, init, hm, hp, hs, hr):
     """Advance ``n_steps`` HHT-alpha steps (Negrut et al. 2007 form for index-3 constraints).
 
     ``hm`` :class:`~rotaflex.gear.kernels.arrays.HHTModel`, ``hp``
@@ -643,6 +643,10 @@ def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
     Impact law (as the paper's velocity pass): after each step, an active pair whose relative
     normal velocity is still approaching gets a normal impulse that makes it zero (perfectly
     plastic); the kinetic energy removed is accumulated in ``sc[7]``.
+    ``init``: first call of a run: before the steps, evaluate F at the start state and make
+    the start accelerations consistent (``M a = -F``, contact forces zero); the start energy
+    (kinetic + strain) [J] goes to ``hr.info[3]``. (Part of this entry point rather than one of
+    its own: each entry point compiles its whole tree of kernels again.)
     Returns (status, next row); status 1 = Newton iteration did not converge (``info`` =
     time, residual, tolerance), 4 = contact search failed.
     """
@@ -654,6 +658,12 @@ def run_hht(n_steps, rec_every, row, hm, hp, hs, hr):
     gam = 0.5 - alpha
     beta = 0.25 * (1.0 - alpha) ** 2
     bh2 = beta * h * h
+    if init:
+        ok, e_start = _initial_evaluation(hm, hs, tpar, hp.n_points)
+        info[3] = e_start
+        if not ok:
+            info[0] = hs.sc[0]
+            return 4, row
     w = new_hht_scratch(hm, hs, hp.n_points)
     energy = 0.0
     for step in range(n_steps):

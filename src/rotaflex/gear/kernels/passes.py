@@ -21,8 +21,6 @@ solution of the linear complementarity problem.
 from __future__ import annotations
 
 import numpy as np
-from numba import types
-from numba.extending import overload
 
 from rotaflex.core.compiled import entry, inner
 
@@ -658,42 +656,20 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec
     return res, max_ref + 1, False
 
 
-def _solver(dfac, dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
-    """Stand-in for Python; compiled callers get :func:`_solver_for` (one solver per run type)."""
-    raise NotImplementedError("compiled code only")
-
-
-@overload(_solver)
-def _solver_for(dfac, dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
-    """The pass solver chosen by the type of the direct-solve factors: none -> the iteration of
-    eq. 19-24, arrays -> the direct solve. Only the chosen solver is compiled into a run."""
-    if isinstance(dfac, types.NoneType):
-
-        def iterative(
-            dfac, dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats
-        ):
-            return iterate_pass(
-                mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats
-            )
-
-        return iterative
-
-    def direct(dfac, dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
-        lb = dfac[mode - 1]
-        return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, lb, dperm, m_arr, bvec, ccol, work, stats)
-
-    return direct
-
-
 @inner
 def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
-    """Pass ``mode`` (1, 2, 3) by the iteration of eq. 19-24 (``prm.dfac`` None) or by the
+    """Pass ``mode`` (1, 2, 3) by the iteration of eq. 19-24 (``prm.dfac`` empty) or by the
     direct solve (factors ``prm.dfac[mode - 1]`` of the
     :class:`~rotaflex.gear.kernels.arrays.StepParams`); returns (residual, iterations,
-    converged) and leaves C (mu - mu_start) in ``work[0]``."""
-    return _solver(
-        prm.dfac, prm.dperm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats
-    )
+    converged) and leaves C (mu - mu_start) in ``work[0]``.
+
+    Both solvers are in the one compiled run (a branch per pass, not a specialisation each):
+    a second specialisation compiled the whole step again, 35 s CPU on a cold cache.
+    """
+    if prm.dfac.shape[1] == 0:
+        return iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats)
+    factors = prm.dfac[mode - 1]
+    return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, factors, prm.dperm, m_arr, bvec, ccol, work, stats)
 
 
 def factor_tie_blocks(model, dt: float):

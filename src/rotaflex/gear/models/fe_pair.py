@@ -495,7 +495,7 @@ def kernel_inputs(
 
         dfac, dperm, _ = factor_tie_blocks(model, dt)
     else:
-        dfac, dperm = None, None  # the iteration: its run compiles without the direct solve
+        dfac, dperm = np.zeros((3, 0, 0)), np.zeros(0, dtype=np.int64)  # empty: the iteration
     params = StepParams(
         dt=float(dt),
         tau0=float(torque),

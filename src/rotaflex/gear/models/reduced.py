@@ -259,7 +259,7 @@ def simulate_reduced(
     n_steps = max(1, int(round(span / (omega[0] * dt))))
     tpar = np.array([torque, theta_2, theta_s, gain[0], gain[1]], dtype=float)
     m = _hht_model(red, alpha, dt)
-    state, e0 = _initial_state(red, m, omega, tpar)
+    state = _initial_state(red, omega)
     z, phi, sc = state.z, state.phi, state.sc
     n_rec = n_steps // record_every + 1
     npair = red.pairs.shape[0]
@@ -277,10 +277,13 @@ def simulate_reduced(
     )
     info = np.zeros(4)
     rec = HHTRecords(out=np.zeros((n_rec, len(RECORD_COLUMNS))), outp=np.zeros((n_rec, npair)), info=info)
+    if run_hht(0, record_every, 0, True, m, prm, state, rec)[0] != 0:
+        raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
+    e0 = float(info[3])
     row = [0]
 
     def step(nstep, first):
-        status, row[0] = run_hht(nstep, record_every, row[0], m, prm, state, rec)
+        status, row[0] = run_hht(nstep, record_every, row[0], False, m, prm, state, rec)
         return (5 if status == 1 else status), row[0]
 
     row, snaps, wall = drive(
@@ -356,17 +359,16 @@ def _hht_model(red: ReducedPairModel, alpha: float, dt: float):
     )
 
 
-def _initial_state(red: ReducedPairModel, hm, omega: np.ndarray, tpar: np.ndarray):
-    """Undeformed start at the speeds ``omega`` [rad/s] with consistent accelerations (contact
-    force zero at t = 0: the torques start at zero). Returns (HHTState, total energy [J])."""
+def _initial_state(red: ReducedPairModel, omega: np.ndarray):
+    """Undeformed start at the speeds ``omega`` [rad/s]; :func:`run_hht`'s first call (``init``)
+    makes its accelerations consistent."""
     from rotaflex.gear.kernels.arrays import HHTState
-    from rotaflex.gear.kernels.hht import initial_evaluation
 
     n = red.mr.shape[1]
     npair = red.pairs.shape[0]
     cres = np.zeros((npair, 8))
     cres[:, 0], cres[:, 1] = 0.3, 0.99
-    state = HHTState(
+    return HHTState(
         z=np.zeros((2, n)),
         zd=np.zeros((2, n)),
         za=np.zeros((2, n)),
@@ -381,10 +383,6 @@ def _initial_state(red: ReducedPairModel, hm, omega: np.ndarray, tpar: np.ndarra
         fphi=np.zeros(2),
         sc=np.zeros(8),
     )
-    ok, energy = initial_evaluation(hm, state, tpar, int(red.base.n_points))
-    if not ok:
-        raise ConvergenceError("contact search", 0.0, float("nan"), 0.0)
-    return state, energy
 
 
 def positions(red: ReducedPairModel, z: np.ndarray, phi: np.ndarray) -> np.ndarray:
