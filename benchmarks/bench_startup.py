@@ -33,11 +33,12 @@ ROOT = Path(__file__).resolve().parents[1]
 VERBS: dict[str, list[str]] = {
     "help": ["--help"],
     "campbell": ["rotor", "campbell", "{ex}/rotor/fe_friswell_5_9_1.toml", "--out", "{out}"],
+    "campbell-nofig": ["rotor", "campbell", "{ex}/rotor/fe_friswell_5_9_1.toml", "--out", "{out}", "--no-figures"],
     "disk": ["rotor", "simulate", "{ex}/rotor/disk_123_nonlinear.toml", "--out", "{out}"],
 }
 
 #: modules a verb should load only if it uses them
-HEAVY = ("numba", "sympy", "scipy.integrate", "matplotlib", "distributed", "dask.array", "xarray")
+HEAVY = ("numba", "sympy", "scipy.integrate", "matplotlib", "distributed", "dask", "dask.array", "xarray")
 
 #: run the CLI, then print the heavy modules it left in sys.modules (as JSON on the last stderr line)
 _PROBE = (
@@ -133,11 +134,11 @@ def main() -> None:
         loaded = run_process(args, tree, probe=True)
         wall = statistics.median(r["wall"] for r in runs)
         cpu = statistics.median(r["cpu"] for r in runs)
-        text = f"{name:9s} process {wall:6.3f} s wall, {cpu:6.3f} s CPU (median of {a.repeats})"
+        text = f"{name:14s} process {wall:6.3f} s wall, {cpu:6.3f} s CPU (median of {a.repeats})"
         if "reported" in runs[0]:
             text += f"; solver as reported {statistics.median(r['reported'] for r in runs):6.3f} s"
         heavy = [m for m in HEAVY if loaded[f"imports {m}"]]
-        print(text + "\n          imports: " + (", ".join(heavy) or "none of " + ", ".join(HEAVY)))
+        print(text + "\n               imports: " + (", ".join(heavy) or "none of " + ", ".join(HEAVY)))
     print(f"load average during the run: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
 

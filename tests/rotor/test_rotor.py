@@ -160,3 +160,22 @@ def test_bad_config_is_rejected_with_field_name():
         model_from_config({"solver": {"method": "Euler"}})
     with pytest.raises(InputError, match="free_body.formulation.parameterisation"):
         model_from_config({"free_body": {"formulation": {"parameterisation": "quaternion_spherical"}}})
+
+
+@pytest.mark.parametrize("expansion", ["nonlinear", "second_order"])
+def test_generated_equations_give_the_same_bits_on_python_floats_as_on_numpy_scalars(expansion):
+    """The simulation evaluates the generated equations on Python floats (3x cheaper per call
+    than the numpy scalars that unpacking arrays gives); both are IEEE doubles through the same
+    math functions, so every output must be bit for bit what numpy scalars give."""
+    from rotaflex.rotor.symbolic import compiled
+
+    all_fn = compiled(EOMSpec(sequence="123", expansion=expansion, spin_index=0))["_all"]
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        y = rng.normal(scale=3.0, size=8)
+        p = np.abs(rng.normal(size=11)) + 0.1
+        t = float(rng.uniform(0, 100))
+        on_floats = all_fn(t, y.tolist(), p.tolist())
+        on_numpy = all_fn(np.float64(t), y, p)
+        for a, b in zip(on_floats, on_numpy, strict=True):
+            assert np.array(a, float).tobytes() == np.array(b, float).tobytes()
