@@ -106,10 +106,8 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
         c = campbell(rotor, speeds, n_modes, spec.harmonics, reduce=reduce, progress=report)
     critical = c.critical
     if spec.critical_solve == "direct" and reduce is None:
-        t_import = time.perf_counter()
-        from rotaflex.rotor.fe.critical import critical_speeds  # scipy.optimize: ~0.2 s the first time
+        from rotaflex.rotor.fe.critical import critical_speeds
 
-        t0 += time.perf_counter() - t_import  # an import, not solver time
         with progress_callback(progress, 1, "critical speeds", "crossing") as report:
             critical = critical_speeds(rotor, speeds, n_modes, spec.harmonics, data=c, progress=report)
     m = c.modes
