@@ -194,6 +194,7 @@ def load_result(path: str | Path) -> Result:
     """Open a saved ``result.nc`` as the Result subclass that wrote it (data loaded eagerly)."""
     import xarray as xr
 
+    defer_dask()  # numpy data: no dask import (0.1 s) to ask whether they are dask data
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         ds = ds.load()
     return _KINDS.get(ds.attrs.get("result_kind", ""), Result)(ds)
