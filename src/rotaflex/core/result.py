@@ -175,12 +175,13 @@ def freeze_imports() -> None:
     :func:`gc.freeze` moves them to a generation that is never walked; cycles made later are
     collected as before. Garbage that exists at the call stays until the process ends.
     """
-    if not _FROZE:
+    global _FROZEN
+    if not _FROZEN:
         gc.freeze()
-        _FROZE.append(True)
+        _FROZEN = True
 
 
-_FROZE: list[bool] = []
+_FROZEN = False
 _KINDS: dict[str, type[Result]] = {}
 
 

@@ -15,7 +15,7 @@ def model_figure(rotor: Rotor):
     """Shaft profile (outer and inner radius), disks, bearings (triangles) and node numbers."""
     from rotaflex.core.plotting import new_figure
 
-    fig, ax = new_figure()  # first: matplotlib's import is then counted as the figure's (bench_startup --phases)
+    fig, ax = new_figure()  # first, so that bench_startup --phases counts matplotlib's import as such
     from matplotlib.patches import Polygon, Rectangle
 
     e, z = rotor.elements, rotor.nodes
