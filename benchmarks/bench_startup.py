@@ -3,14 +3,16 @@
 For each verb: wall and CPU time of the whole process (median of --repeats fresh processes),
 the solver time the verb itself reports (``wall_time`` in summary.json, when it has one), and
 whether it loaded the heavy modules it may not need (numba, sympy, scipy.integrate,
-matplotlib, dask.distributed). ``--importtime VERB`` prints the slowest imports of one verb
-(``python -X importtime``).
+matplotlib, dask, dask.distributed). ``--importtime VERB`` prints the slowest imports of one
+verb (``python -X importtime``) and each package's own import time; ``--phases VERB`` splits
+the process time of one verb (CLI and config, verb modules, the verb's function, result.nc,
+matplotlib import, building and drawing the figures).
 
 Targets (issue 25): ``--help`` <= 0.2 s, ``rotor campbell`` on the Friswell example <= 1 s,
 the rotor disk's first solve <= 0.1 s as reported, numba not imported by verbs that compile
 nothing. Bytecode is cached as an installed package's is (PYTHONDONTWRITEBYTECODE is unset).
 
-Run: python benchmarks/bench_startup.py [--tree DIR] [--repeats N] [--importtime campbell]
+Run: python benchmarks/bench_startup.py [--tree DIR] [--repeats N] [--importtime VERB | --phases VERB]
 (``benchmarks/compare.py`` uses these functions to compare two revisions.)
 """
 
@@ -172,7 +174,7 @@ PHASE_ROWS = (
         lambda p, wall: p["in process"] - p["verb modules"] - p.get("analysis", 0) - p.get("save", 0),
     ),
     ("verb modules (xarray, pandas, scipy.optimize, ...)", lambda p, wall: p["verb modules"]),
-    ("analysis (the verb's own clock and result building)", lambda p, wall: p.get("analysis", 0.0)),
+    ("the verb's function: analysis, dataset (and imports made inside)", lambda p, wall: p.get("analysis", 0.0)),
     ("result.nc (h5netcdf)", lambda p, wall: p.get("result.nc", 0.0)),
     ("figures: matplotlib import", lambda p, wall: p.get("matplotlib import", 0.0)),
     ("figures: building them", lambda p, wall: p.get("save", 0) - p.get("result.nc", 0) - _figure_io(p)),
