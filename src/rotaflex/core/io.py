@@ -153,7 +153,7 @@ def write_netcdf(target: str | Path, dataset: Any) -> Path:
             errno.ENOSPC, f"No space left on device (needs ~{need / 2**20:.3g} MiB, {free / 2**20:.3g} free)"
         )
         raise WriteFailed(target.name, cause, intact)
-    with _no_distributed_import():
+    with _no_dask_import():
         if nbytes <= NETCDF_IN_MEMORY:
             return write_atomic(target, lambda p: p.write_bytes(_netcdf_bytes(dataset)))
         return write_atomic(target, lambda p: dataset.to_netcdf(p, engine="h5netcdf"))
@@ -165,34 +165,42 @@ def _netcdf_bytes(dataset: Any) -> bytes:
     xarray picks its write lock from the active dask scheduler; with a Dask client open (a
     ``--scheduler`` sweep writes its cases here) that is a distributed lock named by the
     target, which cannot be named by an in-memory buffer. The data are numpy arrays, so the
-    local (synchronous) scheduler's thread lock is the right one.
+    local (synchronous) scheduler's thread lock is the right one. Without dask loaded there is
+    no scheduler to override (:func:`_no_dask_import` keeps xarray from loading it).
     """
-    try:
-        import dask
-    except ImportError:  # pragma: no cover - dask is a dependency of the sweeps only
+    dask = sys.modules.get("dask")
+    if dask is None:
         return dataset.to_netcdf(engine="h5netcdf")
     with dask.config.set(scheduler="synchronous"):
         return dataset.to_netcdf(engine="h5netcdf")
 
 
 @contextmanager
-def _no_distributed_import():
-    """Keep ``to_netcdf`` from importing dask.distributed (0.3-0.6 s) only to find no client.
+def _no_dask_import():
+    """Keep ``to_netcdf`` from importing dask (0.1 s) and dask.distributed (0.3-0.6 s) only to
+    learn that no dask scheduler or client is active.
 
-    xarray asks dask which scheduler is active, and dask tries ``distributed.get_client()``. In
-    a process that has not imported distributed there can be no client, so the answer is the
-    same without the import: it fails fast here, which both libraries handle as "no client".
-    Left alone when distributed is loaded (a Dask sweep) or a dask scheduler is configured.
+    xarray asks dask which scheduler is active, and dask tries ``distributed.get_client()``.
+    In a process that has not imported dask there is no dask collection, scheduler or client,
+    so both imports are made to fail fast while the file is written, which both libraries
+    handle as "no dask" (:func:`defer_dask` first, so that xarray caches nothing from the
+    failed imports). With dask loaded but not distributed, only distributed is kept out,
+    unless a dask ``scheduler`` is configured. Left alone in a Dask sweep.
     """
-    if "distributed" in sys.modules or _dask_scheduler_configured():
-        yield
-        return
-    sys.modules["distributed"] = None  # type: ignore[assignment] - makes `import distributed` fail
+    if "dask" not in sys.modules and defer_dask():
+        blocked = ("dask", "distributed")
+    elif "distributed" not in sys.modules and not _dask_scheduler_configured():
+        blocked = ("distributed",)
+    else:
+        blocked = ()
+    for name in blocked:
+        sys.modules[name] = None  # type: ignore[assignment] - makes `import name` fail
     try:
         yield
     finally:
-        if sys.modules.get("distributed", 0) is None:
-            del sys.modules["distributed"]
+        for name in blocked:
+            if name in sys.modules and sys.modules[name] is None:
+                del sys.modules[name]
 
 
 def _dask_scheduler_configured() -> bool:
@@ -203,6 +211,82 @@ def _dask_scheduler_configured() -> bool:
     except ImportError:  # pragma: no cover - dask is a dependency
         return False
     return dask.config.get("scheduler", None) is not None
+
+
+class _DaskArrayType(type):
+    """Metaclass of :class:`_DaskArray`: isinstance/issubclass checks that never import dask."""
+
+    def __instancecheck__(cls, obj) -> bool:
+        array = getattr(sys.modules.get("dask.array"), "Array", None)
+        return array is not None and isinstance(obj, array)
+
+    def __subclasscheck__(cls, sub) -> bool:
+        array = getattr(sys.modules.get("dask.array"), "Array", None)
+        return array is not None and issubclass(sub, array)
+
+
+class _DaskArray(metaclass=_DaskArrayType):
+    """Stands for ``dask.array.Array`` in isinstance checks: true exactly for dask arrays once
+    ``dask.array`` is loaded, false (without importing it) before, when none can exist."""
+
+
+def defer_dask() -> bool:
+    """Let xarray tell numpy data from dask data without importing dask while none is loaded.
+
+    xarray imports dask for two questions it asks of every new variable and index: is this a
+    dask array (it fills a per-library cache of array types by importing ``dask.array``,
+    0.4-0.5 s) and is it a dask collection (``dask.base``, 0.1 s). Neither can be true before
+    dask is imported, so:
+
+    - xarray's cache entry for dask gets :class:`_DaskArray`, which is ``dask.array.Array``
+      once that module is loaded (a Dask sweep loads it) and matches nothing before; the
+      entry's other fields import dask when read;
+    - its dask-collection test answers False, without importing, while dask is not loaded,
+      and asks dask otherwise.
+
+    Idempotent and cheap. Changes nothing if xarray already filled the entry (then dask is
+    loaded anyway) or if its internals differ from the ones this was written against
+    (xarray 2026.x): then xarray imports dask as it always did.
+
+    Returns
+    -------
+    bool
+        Whether both answers are in place (False: xarray will import dask when it asks).
+    """
+    try:
+        from xarray.namedarray import pycompat, utils
+
+        cache, entry = pycompat._cached_duck_array_modules, pycompat.DuckArrayModule
+        original = utils.is_dask_collection
+        utils.module_available("dask")  # cached now: never from inside _no_dask_import
+    except (ImportError, AttributeError):  # pragma: no cover - other xarray internals
+        return False
+    if "dask" not in cache:
+
+        class _LazyDask(entry):
+            type = (_DaskArray,)
+
+            def __init__(self):  # the other fields come from the real entry, if ever read
+                pass
+
+            @functools.cached_property
+            def _loaded(self):
+                return entry("dask")
+
+            module = property(lambda self: self._loaded.module)
+            version = property(lambda self: self._loaded.version)
+            available = property(lambda self: self._loaded.available)
+
+        cache["dask"] = _LazyDask()
+    if not getattr(original, "_rotaflex_deferred", False):
+
+        @functools.wraps(original)
+        def is_dask_collection(x: object) -> bool:
+            return sys.modules.get("dask") is not None and original(x)
+
+        is_dask_collection._rotaflex_deferred = True  # type: ignore[attr-defined]
+        utils.is_dask_collection = is_dask_collection
+    return _DaskArray in cache["dask"].type
 
 
 def _json_default(obj: Any) -> Any:

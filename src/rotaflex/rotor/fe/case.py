@@ -20,7 +20,7 @@ from __future__ import annotations
 from dataclasses import asdict
 
 from rotaflex.core.errors import InputError
-from rotaflex.core.result import import_xarray
+from rotaflex.core.result import freeze_imports, import_xarray
 from rotaflex.rotor.fe.case_config import (
     ANALYSES,
     MAX_POINTS,
@@ -34,7 +34,8 @@ from rotaflex.rotor.fe.case_output import add_fluid_film_tables, pinned
 from rotaflex.rotor.fe.verbs_modal import DOFS, run_campbell, run_modal, run_ucs
 from rotaflex.rotor.fe.verbs_response import run_transient, run_unbalance
 
-import_xarray()  # xarray's deferred imports (dask.array) now, not inside the analyses' timers
+import_xarray()  # xarray's deferred work now, not inside the analyses' timers
+freeze_imports()  # nor full garbage collections walking every imported object
 
 __all__ = [
     "ANALYSES",

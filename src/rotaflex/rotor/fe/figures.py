@@ -13,11 +13,11 @@ RPM = 30 / np.pi
 
 def model_figure(rotor: Rotor):
     """Shaft profile (outer and inner radius), disks, bearings (triangles) and node numbers."""
-    from matplotlib.patches import Polygon, Rectangle
-
     from rotaflex.core.plotting import new_figure
 
-    fig, ax = new_figure()
+    fig, ax = new_figure()  # first, so that bench_startup --phases counts matplotlib's import as such
+    from matplotlib.patches import Polygon, Rectangle
+
     e, z = rotor.elements, rotor.nodes
     for i in range(e["L"].size):
         for sign in (1, -1):
