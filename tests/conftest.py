@@ -1,32 +1,44 @@
-"""Suite-wide collection rules.
+"""Suite-wide rules.
 
 With ``-n 2 --dist loadgroup`` (the README's command) every test of one kernel family runs in
 the same worker, so a cold numba cache (a fresh clone, CI) compiles each family once instead
 of once per worker; the other tests are balanced over the workers as usual.
+
+The family is given to pytest-xdist's scheduler directly (:func:`pytest_xdist_make_scheduler`)
+rather than as an ``xdist_group`` mark: xdist passes marks to its scheduler by editing node
+IDs, which pytest 9.2 no longer honours, so the groups were silently ignored
+(pytest-dev/pytest-xdist#1386).
 """
 
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import pytest
 
-_TESTS = Path(__file__).resolve().parent
 #: test folder -> the family of compiled kernels its tests run
-_KERNEL_FAMILY = {"gear": "gear-kernels", "floating": "floating-kernels"}
+KERNEL_FAMILY = {"gear": "gear-kernels", "floating": "floating-kernels"}
 
 
-@pytest.hookimpl(tryfirst=True)
-def pytest_collection_modifyitems(config, items):
-    for item in items:
-        try:
-            folder = Path(item.fspath).resolve().relative_to(_TESTS).parts[0]
-        except ValueError:
-            continue
-        family = _KERNEL_FAMILY.get(folder)
-        if family is not None:
-            item.add_marker(pytest.mark.xdist_group(family))
+def kernel_family(nodeid: str) -> str | None:
+    """The kernel family of a test (``tests/<folder>/...`` node ID), or None."""
+    parts = nodeid.split("::", 1)[0].split("/")
+    return KERNEL_FAMILY.get(parts[1]) if len(parts) > 2 and parts[0] == "tests" else None
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    if config.getvalue("dist") != "loadgroup":
+        return None
+    from xdist.scheduler import LoadGroupScheduling
+
+    class KernelFamilyScheduling(LoadGroupScheduling):
+        """Load-group scheduling with each kernel family as one group."""
+
+        def _split_scope(self, nodeid: str) -> str:
+            return kernel_family(nodeid) or super()._split_scope(nodeid)
+
+    return KernelFamilyScheduling(config, log)
 
 
 @pytest.fixture(autouse=True)

@@ -163,9 +163,10 @@ def _interrupt_exit() -> None:
 
 def _quiet_shutdown() -> None:
     """After Ctrl-C, errors of half-stopped process pools during interpreter exit (Python 3.11's
-    concurrent.futures wakes a pool whose pipe is already closed) are noise, not news: the
-    one-line message says what happened."""
+    concurrent.futures wakes a pool whose pipe is already closed; its manager thread can fail
+    on the terminated workers) are noise, not news: the one-line message says what happened."""
     sys.unraisablehook = lambda _unraisable: None
+    threading.excepthook = lambda _args: None
 
 
 def guarded(fn: Callable[[], Any], debug: bool) -> Any:
