@@ -160,10 +160,10 @@ def check_model_size(model, cfg) -> None:
 
 
 #: measured first-run compilation of the steady kernels [s]: the lumped chain (kernels/chain)
-#: and the elastic-teeth window (kernels/window), cold NUMBA_CACHE_DIR, CPU time of a 4-cycle
-#: first run minus a warm one on the 2-core machine (6.4 s and 11.7 s; the wall time equals it
-#: on an idle machine, docs/gear-steady-state.md "First run and sweeps")
-COMPILE_SECONDS = {"lumped": 7.0, "elastic_teeth": 12.0}
+#: and the elastic-teeth window (kernels/window), cold NUMBA_CACHE_DIR, CPU time of the
+#: compilations on the 2-core machine (benchmarks/bench_compile.py gear-steady: 2.1 s; the
+#: elastic_teeth_relief example: 3.8 s; docs/performance.md)
+COMPILE_SECONDS = {"lumped": 2.0, "elastic_teeth": 4.0}
 
 
 def announce_kernels(method: str) -> bool:
