@@ -23,12 +23,13 @@ import os
 
 from rotaflex.core.errors import InputError
 from rotaflex.core.report import Check, Section, step
+from rotaflex.reproduce import section_processes
 
 N = {n}
 
 
 def run(out_dir, *, fast=False, progress=False):
-    step(f"summing {{N}} terms in process {{os.getpid()}}")
+    step(f"summing {{N}} terms in process {{os.getpid()}}; pools of {{section_processes()}}")
     if N < 0:
         raise InputError("stub.n", N, "a positive number of terms")
     s = math.fsum((-1) ** (k + 1) / k for k in range(1, N + 1))
@@ -69,9 +70,12 @@ def test_parallel_gives_the_serial_checks_in_the_requested_order(sections):
     assert parallel_checks == serial_checks
     assert list(parallel_checks) == ["Stub alpha", "Stub beta", "Stub gamma"]
     # progress lines came from other processes, each section's step before its done line
-    pids = {int(m.split("process ")[1]) for m in lines if "summing" in m}
+    pids = {int(m.split("process ")[1].split(";")[0]) for m in lines if "summing" in m}
     assert len(pids) >= 1 and os.getpid() not in pids
     assert all(f"process {os.getpid()}" in m for m in serial_lines if "summing" in m)
+    # a section's own pool (the sweep section's) gets one process in a worker, every core here
+    assert all(m.endswith("pools of 1") for m in lines if "summing" in m)
+    assert all(m.endswith(f"pools of {os.cpu_count()}") for m in serial_lines if "summing" in m)
     for i, name in enumerate(names, 1):
         mine = [m for m in lines if m.startswith(f"[{i}/3 {name}] ")]
         assert [m.split("] ", 1)[1].split(" ")[0] for m in mine] == ["starting", "summing", "done"]

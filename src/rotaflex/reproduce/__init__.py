@@ -269,16 +269,16 @@ def _run_parallel(names, out_dir, fast, emit, weights, overall, workers: int) ->
     backend = _Backend(workers, preload=(__name__, *dict.fromkeys(REPRODUCE[n] for n in names)))
     manager = None
     lines = None
-    if emit:
-        # a managed queue, because a pool's tasks cannot take a plain multiprocessing queue;
-        # the manager ignores Ctrl-C so that the interrupt reaches this process's handler only
-        method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
-        manager = SyncManager(ctx=multiprocessing.get_context(method))
-        manager.start(signal.signal, (signal.SIGINT, signal.SIG_IGN))
-        lines = manager.Queue()
     setup = _worker_setup()
     ok = False
     try:
+        if emit:
+            # a managed queue, because a pool's tasks cannot take a plain multiprocessing queue;
+            # the manager ignores Ctrl-C so that the interrupt reaches this process's handler only
+            method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+            started = SyncManager(ctx=multiprocessing.get_context(method))
+            started.start(signal.signal, (signal.SIGINT, signal.SIG_IGN))
+            manager, lines = started, started.Queue()
         futures = {
             backend.executor.submit(
                 _section_in_worker, REPRODUCE[names[i]], _prefix(i, names), out_dir, fast, lines, setup
