@@ -232,12 +232,24 @@ def reproduce(
     target: Annotated[str, typer.Argument(help="Domain to reproduce: " + ", ".join([*REPRODUCE, "all"]))],
     out: Out,
     fast: Annotated[bool, typer.Option("--fast", help="Shorter/coarser runs (for smoke tests).")] = False,
+    jobs: Annotated[
+        int | None,
+        typer.Option(
+            "--jobs",
+            "-j",
+            help="Worker processes running sections at once (default: one per core; 0: serial here).",
+        ),
+    ] = None,
     fmt: Format = "png",
     dpi: Dpi = 150,
     quiet: Quiet = False,
     debug: Debug = False,
 ) -> None:
-    """Re-run the papers' numerical examples; write figures, data, report.md and index.html."""
+    """Re-run the papers' numerical examples; write figures, data, report.md and index.html.
+
+    Exit status: 0 when it ran (failed checks are in the report), 1 when a section raised,
+    2 on bad input, 130 if interrupted (the worker processes are stopped).
+    """
 
     def go():
         from rotaflex.core import plotting
@@ -246,6 +258,8 @@ def reproduce(
 
         if target not in REPRODUCE and target != "all":
             raise InputError("target", target, "one of " + ", ".join([*REPRODUCE, "all"]))
+        if jobs is not None and not 0 <= jobs <= MAX_JOBS:
+            raise InputError("--jobs", jobs, f"an integer from 0 to {MAX_JOBS} (0 = serial in this process)")
         _figure_options(fmt, dpi)
         out_dir = check_out_dir(out, marker=REPORT_MARKERS)
         plotting.configure(fmt=fmt, dpi=dpi)
@@ -254,7 +268,7 @@ def reproduce(
         tty = sys.stderr.isatty()
         say = None if quiet else (lambda m: typer.echo(m, err=True))
         with claim_out_dir(out_dir), _limit_threads():
-            report = run_reproduce(names, out_dir, fast=fast, progress=say or False, bars=not quiet and tty)
+            report = run_reproduce(names, out_dir, fast=fast, progress=say or False, bars=not quiet and tty, jobs=jobs)
         typer.echo(
             f"{report['passed']}/{report['checks']} checks passed in "
             f"{time.perf_counter() - t0:.1f} s; report: {out_dir / 'report.md'}"

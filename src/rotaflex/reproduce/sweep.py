@@ -15,7 +15,6 @@ import functools
 import importlib
 import json
 import logging
-import os
 import time
 from pathlib import Path
 from typing import Any
@@ -180,6 +179,7 @@ def _first_figure(result, domain: str) -> list[Path]:
 
 
 def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool):
+    from rotaflex.reproduce import section_processes
     from rotaflex.sweep import plan, run_sweep
     from rotaflex.sweep._worker import run_module_case
 
@@ -207,7 +207,11 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
     t0 = time.perf_counter()
     serial = run_sweep(case_fn, subset, "serial", out_dir=root / "serial", figures=False, **kw)
     t_serial = time.perf_counter() - t0
-    workers = min(2, os.cpu_count() or 1)
+    # two processes show the pool at work; inside a worker of a parallel `reproduce` only one
+    # (section_processes), since the other workers already keep the other cores busy and two
+    # more processes would slow every section down (the pool is still a separate process, so
+    # the bit-identity check against this process keeps its meaning)
+    workers = min(2, section_processes())
     t0 = time.perf_counter()
     pool = run_sweep(case_fn, cases, workers, out_dir=root / "pool", figures=not fast, **kw)
     if fast:
@@ -222,7 +226,7 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
             "",
             "== 0",
             pool.n_failed == 0,
-            f"{pool.n_cases} cases on {workers} local processes",
+            f"{pool.n_cases} cases on {workers} local process{'es' if workers > 1 else ''}",
         ),
         Check(
             f"{domain}: process pool vs serial ({len(subset)} case{'s' if len(subset) > 1 else ''}), "
@@ -251,7 +255,7 @@ def _run_domain(domain: str, example, out_dir: Path, fast: bool, progress: bool)
         pool.figures[0] if pool.figures else None
     )
     desc = (
-        f"{pool.n_cases} cases in {t_pool:.1f} s on {workers} processes (includes worker "
+        f"{pool.n_cases} cases in {t_pool:.1f} s on {workers} process{'es' if workers > 1 else ''} (includes worker "
         f"start-up; {len(subset)} of them serially in {t_serial:.1f} s); swept: "
         f"{', '.join(vary)}. Per-case results in "
         f"`{rel(root / 'pool' / 'cases')}`, table `{rel(root / 'pool' / 'summary.csv')}`."
