@@ -30,8 +30,9 @@ from rotaflex.reproduce.guide import GLOSSARY, introduction
 log = logging.getLogger("rotaflex.reproduce")
 
 #: ``--fast`` wall time of each target [s], kernels and equations already cached, measured on
-#: the idle 2-core development machine (2026-11-26, 118 checks, 117.2 s in all)
-MEASURED_FAST_S: dict[str, float] = {"rotor": 11.2, "gear": 65.5, "floating": 16.3, "geared_rotor": 3.6, "sweep": 20.1}
+#: the idle 2-core development machine with two sections at a time (2026-11-26, 118 checks,
+#: 67.2 s in all; the sweep section's own pool then has one process)
+MEASURED_FAST_S: dict[str, float] = {"rotor": 8.4, "gear": 65.7, "floating": 15.8, "geared_rotor": 3.5, "sweep": 20.5}
 #: ``--fast`` wall time of each target before its fast settings were cut down [s] (idle machine,
 #: 2026-11-26); the full settings did not change, so the full-time estimate scales these
 FAST_BEFORE_CUTS_S: dict[str, float] = {
@@ -45,9 +46,12 @@ FAST_BEFORE_CUTS_S: dict[str, float] = {
 #: (214 s / 75.2 s); applied to :data:`FAST_BEFORE_CUTS_S`
 FULL_OVER_FAST = 214.0 / 75.2
 #: extra time of the first run after install [s]: sympy deriving the rotor equations, numba
-#: compiling the gear and floating kernels (all cached afterwards); measured in a fresh install
-#: on the same machine under a heavier load (load average about 15 on 2 cores)
-FIRST_RUN_S: dict[str, float] = {"rotor": 62.0, "gear": 540.0, "floating": 302.0}
+#: compiling the gear and floating kernels (all cached afterwards). Gear and floating: the
+#: compile times ``reproduce all --fast`` reported in a fresh clone with an empty numba cache
+#: on the idle 2-core machine (2026-11-26; 149 s wall in all against 67 s cached); rotor: its
+#: section with an empty equation cache (``ROTAFLEX_CACHE_DIR``) minus with a full one, same day
+#: and machine (15.1 - 8.4 s)
+FIRST_RUN_S: dict[str, float] = {"rotor": 7.0, "gear": 66.0, "floating": 33.0}
 
 
 def expected_seconds(name: str, fast: bool) -> float:
@@ -101,7 +105,7 @@ def estimate(
     if workers > 1 and len(names) > 1:
         line += f" ({min(workers, len(names))} sections at a time)"
     if first:
-        line += f"; the first run after install also compiles them ({_minutes(first)} measured on a busy machine)"
+        line += f"; the first run after install also compiles them ({_minutes(first)} more at most)"
     if load is None:
         try:
             load = os.getloadavg()[0]
