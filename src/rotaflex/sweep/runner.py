@@ -1,10 +1,15 @@
 """Run the cases of a sweep over a ``concurrent.futures.Executor``; write one directory per case.
 
-The client (this process) submits ``execute_case(case_fn, case.data)`` to the executor, and
-writes every finished case at once to ``out_dir/cases/<id>/`` (``result.nc`` and
-``summary.json`` via :meth:`Result.save`, then ``case.json``, the marker that the case is done).
-A re-run skips the cases whose marker says done; cases that raised are recorded in
-``error.txt`` and attempted again by the next run.
+The client (this process) submits ``execute_case(case_fn, case.data)`` to the executor. Each
+finished case gets its directory ``out_dir/cases/<id>/``: ``result.nc`` and ``summary.json``
+(:meth:`Result.save`, the directory swapped in as a whole), then ``case.json``, the marker that
+the case is done, always written last by the client. On a local executor (process pool, serial)
+the worker that computed the case writes its result files itself, so the files of different
+cases are written in parallel and only the summary comes back; on any other executor (Dask,
+whose workers may not share this file system) the Result comes back and the client writes them.
+A re-run skips the cases whose marker says done; cases that raised (or whose files could not
+be made, e.g. a figure that raised) are recorded in ``error.txt`` and attempted again by the
+next run. A full disk (:class:`~rotaflex.core.io.WriteFailed`) ends the sweep.
 
 Worker deaths: a local process pool that breaks (a worker was killed) is rebuilt and the cases
 that were in flight are re-run one at a time, so the case that kills its worker is identified
@@ -27,6 +32,7 @@ from concurrent.futures import (
     Executor,
     Future,
     ProcessPoolExecutor,
+    ThreadPoolExecutor,
     wait,
 )
 from concurrent.futures.process import BrokenProcessPool
@@ -34,8 +40,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from rotaflex.core.io import write_json_atomic, write_text_atomic
-from rotaflex.sweep._worker import Outcome, execute_case, init_worker, ping
+from rotaflex.core.io import WriteFailed, write_json_atomic, write_text_atomic
+from rotaflex.sweep._worker import Outcome, WriteTo, execute_case, init_worker, ping
 from rotaflex.sweep.spec import Case, as_cases, case_id
 
 log = logging.getLogger("rotaflex.sweep")
@@ -203,10 +209,21 @@ def process_pool(max_workers: int | None = None, preload: tuple[str, ...] = ()) 
     return pool
 
 
-class _Backend:
-    """The executor a sweep runs on, and whether it can be rebuilt after it breaks."""
+#: executors whose workers write into this process's file system (the case files are then
+#: written by the worker that computed the case)
+LOCAL_EXECUTORS = (ProcessPoolExecutor, ThreadPoolExecutor, SerialExecutor)
 
-    def __init__(self, executor: Any, preload: tuple[str, ...] = ()):
+
+class _Backend:
+    """The executor a sweep runs on, whether it can be rebuilt after it breaks, and where its
+    workers write the case files.
+
+    ``case_files``: ``(out_dir, case_figures)`` of a sweep that writes its cases; on a local
+    executor (:data:`LOCAL_EXECUTORS`) each submitted case then carries a :class:`WriteTo`.
+    """
+
+    def __init__(self, executor: Any, preload: tuple[str, ...] = (), case_files: tuple[Path, bool] | None = None):
+        self.case_files = case_files
         self.factory: Callable[[], Executor] | None = None
         self.owned = False
         if executor is None:
@@ -226,6 +243,19 @@ class _Backend:
         if self.factory is not None:
             self.executor = self._start()
         self.window = 2 * _n_workers(self.executor)
+
+    @property
+    def workers_write(self) -> bool:
+        """The workers write the case files (a sweep with an output on a local executor)."""
+        return self.case_files is not None and isinstance(self.executor, LOCAL_EXECUTORS)
+
+    def submit(self, case_fn: Callable, case: Case, **kwargs: Any) -> Future:
+        """Submit ``execute_case(case_fn, case.data, **kwargs)``, with the case's
+        :class:`WriteTo` when the workers write."""
+        if self.workers_write:
+            out, figures = self.case_files
+            kwargs["write_to"] = WriteTo(str(out / "cases" / case.id), figures)
+        return self.executor.submit(execute_case, case_fn, case.data, **kwargs)
 
     def rebuild(self) -> None:
         if self.factory is None:
@@ -325,7 +355,16 @@ def _jsonable(data: Any) -> Any:
 
 
 def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, case_figures: bool) -> CaseRecord:
-    """Record a finished case; write its files at once when ``out_dir`` is given."""
+    """Record a finished case; write its marker (and its files, unless its worker wrote them)
+    when ``out_dir`` is given.
+
+    Raises
+    ------
+    WriteFailed
+        The case's files could not be written (full disk, I/O error), here or by its worker.
+    """
+    if outcome.write_failed is not None:
+        raise outcome.write_failed
     rec = CaseRecord(
         case.id,
         dict(case.params),
@@ -334,23 +373,31 @@ def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, ca
         wall_time=outcome.wall_time,
         worker=outcome.worker,
     )
-    trace = outcome.traceback
     result = outcome.result
-    if not outcome.error and not (hasattr(result, "save") and hasattr(result, "summary")):
+    is_result = outcome.written or (hasattr(result, "save") and hasattr(result, "summary"))
+    if not outcome.error and not is_result:
         outcome.error = f"TypeError: the case function returned {type(result).__name__}, not a Result"
     if not outcome.error:
         try:
             rec.summary = result.summary()
             rec.status = str(result.status)
         except Exception as exc:  # noqa: BLE001 - a broken summary is this case's error
-            import traceback
-
-            outcome.error, trace = f"{type(exc).__name__}: {exc}", traceback.format_exc()
-    if outcome.error:
-        rec.status, rec.error = "error", outcome.error
+            _fail(outcome, exc)
     if out_dir is None:
+        if outcome.error:
+            rec.status, rec.error = "error", outcome.error
         return rec
     case_dir = out_dir / "cases" / case.id
+    case_dir.parent.mkdir(parents=True, exist_ok=True)
+    if not outcome.error and not outcome.written:
+        try:
+            result.save(case_dir, figures=case_figures)
+        except WriteFailed:
+            raise
+        except Exception as exc:  # noqa: BLE001 - e.g. a figure that raised: this case's error
+            _fail(outcome, exc)
+    if outcome.error:
+        rec.status, rec.error = "error", outcome.error
     case_dir.mkdir(parents=True, exist_ok=True)
     info = {
         "id": case.id,
@@ -364,16 +411,22 @@ def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, ca
         "config": _jsonable(case.data),
     }
     if rec.status == "error":
-        write_text_atomic(case_dir / "error.txt", f"{rec.error}\n\n{trace}")
+        write_text_atomic(case_dir / "error.txt", f"{rec.error}\n\n{outcome.traceback}")
         write_json_atomic(case_dir / "case.json", {**info, "state": "error"})
         log.warning("case %s failed: %s", case.id, rec.error)
         return rec
-    result.save(case_dir, figures=case_figures)
-    (case_dir / "error.txt").unlink(missing_ok=True)
+    # the result directory was swapped in as a whole (no error.txt of an earlier run in it)
     write_json_atomic(case_dir / "case.json", {**info, "state": "done"})
     if not rec.ok:
         log.warning("case %s finished with status %r: %s", case.id, rec.status, result.message)
     return rec
+
+
+def _fail(outcome: Outcome, exc: Exception) -> None:
+    """Make the exception being handled the case's error."""
+    import traceback
+
+    outcome.error, outcome.traceback = f"{type(exc).__name__}: {exc}", traceback.format_exc()
 
 
 def _crash_error(exc: BaseException, n: int) -> str:
@@ -485,12 +538,13 @@ def run_sweep(
 
     # where the wall time goes, logged at the end: [pool start, running cases, of which the
     # client writing case files, combining + figures] [s]
-    spent = {"start": 0.0, "cases": 0.0, "writing": 0.0, "outputs": 0.0}
+    spent = {"start": 0.0, "cases": 0.0, "writing": 0.0, "worker_writing": 0.0, "outputs": 0.0}
 
     def finish(case: Case, outcome: Outcome, n_attempts: int) -> None:
         tw = time.perf_counter()
         rec = _store(case, outcome, n_attempts, out, case_figures)
         spent["writing"] += time.perf_counter() - tw
+        spent["worker_writing"] += outcome.write_time
         records[case.id] = rec
         if bar is not None:
             bar.update(len(records))
@@ -499,7 +553,7 @@ def run_sweep(
 
     if todo:
         ts = time.perf_counter()
-        backend = _Backend(executor, _modules_of(case_fn))
+        backend = _Backend(executor, _modules_of(case_fn), (out, case_figures) if out is not None else None)
         spent["start"] = time.perf_counter() - ts
         try:
             if chains is None:
@@ -533,11 +587,12 @@ def run_sweep(
     spent["outputs"] = time.perf_counter() - to
     log.info(
         "wall time: %.2f s starting workers, %.2f s running cases (of which %.2f s writing case "
-        "files), %.2f s combining and figures",
+        "files here), %.2f s combining and figures; the workers spent %.2f s writing case files",
         spent["start"],
         spent["cases"],
         spent["writing"],
         spent["outputs"],
+        spent["worker_writing"],
     )
     log.info("%s", result.summary_text())
     return result
@@ -585,7 +640,7 @@ def _drive(
 
     def submit(case: Case, queue: deque[Case]) -> bool:
         try:
-            fut = backend.executor.submit(execute_case, case_fn, case.data)
+            fut = backend.submit(case_fn, case)
         except BrokenProcessPool:  # broke since the last wait; its futures will tell
             queue.appendleft(case)
             return False
