@@ -19,10 +19,12 @@ ends in ``KilledWorker``; the case is resubmitted up to ``max_retries`` times.
 
 from __future__ import annotations
 
+import importlib
 import json
 import logging
 import multiprocessing
 import os
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
@@ -429,6 +431,42 @@ def _fail(outcome: Outcome, exc: Exception) -> None:
     outcome.error, outcome.traceback = f"{type(exc).__name__}: {exc}", traceback.format_exc()
 
 
+def _prepare_outputs(figures: bool, domain: str | None) -> None:
+    """Import what combining and the sweep figures need, and draw one small figure.
+
+    Run in a thread of the client while the workers compute: the client has nothing else to
+    do then, and after the workers wrote the case files it has not imported xarray, h5netcdf
+    or matplotlib yet (1-2 s on the gear sweep, otherwise spent after the last case). Drawing
+    one figure loads the fonts and the Agg renderer. Nothing here is needed for correctness;
+    a failure only leaves the work to the outputs.
+    """
+    try:
+        import io
+
+        import h5netcdf  # noqa: F401 - imported for its import time only
+
+        import rotaflex.sweep.combine  # noqa: F401
+        from rotaflex.core.result import import_xarray
+
+        import_xarray()
+        if not figures:
+            return
+        from rotaflex.core.domains import CASES
+        from rotaflex.core.plotting import new_figure, pyplot
+        from rotaflex.sweep import figures as _figures  # noqa: F401
+
+        if domain in CASES:
+            importlib.import_module(CASES[domain])
+        fig, ax = new_figure()
+        ax.plot([0.0, 1.0], [0.0, 1.0], label="x")
+        ax.set_xlabel("x [m]")
+        ax.legend()
+        fig.savefig(io.BytesIO(), format="png", dpi=30)
+        pyplot().close(fig)
+    except Exception:  # noqa: BLE001 - a warm-up only
+        log.debug("preparing the outputs failed", exc_info=True)
+
+
 def _crash_error(exc: BaseException, n: int) -> str:
     return (
         f"WorkerDied: the worker process died while running this case {n} time(s) (last: {type(exc).__name__}: {exc})"
@@ -551,10 +589,15 @@ def run_sweep(
         if callback is not None:
             callback(rec, len(records), total)
 
+    warm = None
     if todo:
         ts = time.perf_counter()
         backend = _Backend(executor, _modules_of(case_fn), (out, case_figures) if out is not None else None)
         spent["start"] = time.perf_counter() - ts
+        # matplotlib is not thread-safe: no warm-up beside cases (and their figures) run here
+        if out is not None and not isinstance(backend.executor, (SerialExecutor, ThreadPoolExecutor)):
+            warm = threading.Thread(target=_prepare_outputs, args=(figures, domain), daemon=True)
+            warm.start()
         try:
             if chains is None:
                 _drive(backend, case_fn, todo, finish, max_retries)
@@ -578,6 +621,8 @@ def run_sweep(
     from rotaflex.core.provenance import provenance
 
     to = time.perf_counter()
+    if warm is not None:
+        warm.join()
     meta = {"domain": domain or "", **provenance(), **(attrs or {})}
     dataset = combine(ordered, attrs=meta, units=dict(units or {}))
     result = SweepResult(ordered, dataset, out, time.perf_counter() - t0)
