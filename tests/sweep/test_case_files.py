@@ -6,8 +6,8 @@ import pickle
 from concurrent.futures import Executor, Future
 
 import numpy as np
-import xarray as xr
 import write_fault_case
+import xarray as xr
 from h5py import File as H5File
 
 from rotaflex.core.io import WriteFailed, h5_lookup_cache, write_netcdf
@@ -151,7 +151,8 @@ def _structure(path):
 
         def visit(name, obj):
             data = repr(obj[()]) if hasattr(obj, "dtype") else None
-            out[name] = (type(obj).__name__, str(getattr(obj, "dtype", "")), getattr(obj, "shape", None), data, attrs(obj))
+            kind, dtype, shape = type(obj).__name__, str(getattr(obj, "dtype", "")), getattr(obj, "shape", None)
+            out[name] = (kind, dtype, shape, data, attrs(obj))
 
         f.visititems(visit)
         out["/"] = attrs(f)
