@@ -189,3 +189,20 @@ def test_lookup_cache_restores_h5netcdf_and_nests(tmp_path):
     after = (h5netcdf.core.BaseObject._h5ds, h5netcdf.core.Group._h5group, h5netcdf.dimensions.Dimension._h5ds)
     assert after == before
     assert os.path.getsize(tmp_path / "a.nc") > 0
+
+
+def _dask_loaded_after_a_dataset() -> bool:
+    xr.Dataset({"v": ("x", np.zeros(2))}, coords={"x": [0.0, 1.0]})
+    import sys
+
+    return "dask" in sys.modules
+
+
+def test_local_workers_build_datasets_without_importing_dask():
+    from rotaflex.sweep.runner import process_pool
+
+    pool = process_pool(1)
+    try:
+        assert pool.submit(_dask_loaded_after_a_dataset).result() is False
+    finally:
+        pool.shutdown()

@@ -56,6 +56,8 @@ class Outcome:
     write_time: float = 0.0
     #: the I/O error (:class:`~rotaflex.core.io.WriteFailed`) that stopped the worker writing
     write_failed: BaseException | None = None
+    #: CPU time of the worker process for this case, computing and writing [s]
+    cpu_time: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -96,7 +98,7 @@ def execute_case(case_fn: Callable[[Any], Any], data: Any, write_to: WriteTo | N
 
     With ``write_to``, also write the Result's files there (:func:`write_case`).
     """
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     worker = f"{socket.gethostname()}:{os.getpid()}"
     try:
         result = case_fn(data, **kwargs)
@@ -107,10 +109,12 @@ def execute_case(case_fn: Callable[[Any], Any], data: Any, write_to: WriteTo | N
             traceback.format_exc(),
             time.perf_counter() - t0,
             worker,
+            cpu_time=time.process_time() - c0,
         )
     outcome = Outcome(result, "", "", time.perf_counter() - t0, worker)
     if write_to is not None:
         write_case(outcome, write_to, continued="initial_state" in kwargs)
+    outcome.cpu_time = time.process_time() - c0
     return outcome
 
 
@@ -190,6 +194,8 @@ def init_worker(client_pid: int) -> None:
       (``kill -9`` of the client would otherwise leave workers computing for the rest of their
       case, orphaned).
     * BLAS/OpenMP pools pinned to one thread (one process per core already fills the machine).
+    * xarray tells numpy from dask data without importing dask (:func:`rotaflex.core.io.defer_dask`):
+      no case of a local sweep has dask data, and the import costs 0.5-1.5 s per worker.
     """
     import signal
     import threading
@@ -207,6 +213,12 @@ def init_worker(client_pid: int) -> None:
                 os._exit(1)
 
     threading.Thread(target=watch, name="rotaflex-parent-watch", daemon=True).start()
+    try:
+        from rotaflex.core.io import defer_dask
+
+        defer_dask()
+    except ImportError:  # pragma: no cover - xarray is a dependency
+        pass
     try:
         from rotaflex.core.threads import limit_blas_threads
 

@@ -152,9 +152,11 @@ THREAD_VARS = (
 )
 
 
-#: modules every local worker needs, imported once in the fork server (``dask.array``: xarray
-#: imports it when it builds its first Dataset, ~1 s per worker otherwise; skipped if absent)
-PRELOAD = ("numpy", "xarray", "dask.array", "rotaflex.sweep._worker", "rotaflex.core.result")
+#: modules every local worker needs, imported once in the fork server (``h5netcdf``: the
+#: workers write their cases' files). Not ``dask.array``: xarray would import it (0.5-1.5 s)
+#: when it builds its first Dataset, but :func:`~rotaflex.sweep._worker.init_worker` lets
+#: xarray answer its "is this dask data" question without it (:func:`rotaflex.core.io.defer_dask`)
+PRELOAD = ("numpy", "xarray", "h5netcdf", "rotaflex.sweep._worker", "rotaflex.core.result")
 
 
 def _quiet_resource_tracker() -> None:
@@ -576,13 +578,15 @@ def run_sweep(
 
     # where the wall time goes, logged at the end: [pool start, running cases, of which the
     # client writing case files, combining + figures] [s]
-    spent = {"start": 0.0, "cases": 0.0, "writing": 0.0, "worker_writing": 0.0, "outputs": 0.0}
+    spent = {"start": 0.0, "cases": 0.0, "writing": 0.0, "worker_writing": 0.0, "worker_cpu": 0.0, "outputs": 0.0}
 
     def finish(case: Case, outcome: Outcome, n_attempts: int) -> None:
         tw = time.perf_counter()
         rec = _store(case, outcome, n_attempts, out, case_figures)
         spent["writing"] += time.perf_counter() - tw
         spent["worker_writing"] += outcome.write_time
+        if outcome.cpu_time == outcome.cpu_time:  # not NaN (a case whose worker died)
+            spent["worker_cpu"] += outcome.cpu_time
         records[case.id] = rec
         if bar is not None:
             bar.update(len(records))
@@ -632,12 +636,14 @@ def run_sweep(
     spent["outputs"] = time.perf_counter() - to
     log.info(
         "wall time: %.2f s starting workers, %.2f s running cases (of which %.2f s writing case "
-        "files here), %.2f s combining and figures; the workers spent %.2f s writing case files",
+        "files here), %.2f s combining and figures; the workers spent %.2f s writing case files "
+        "(%.2f s CPU on cases, writing included)",
         spent["start"],
         spent["cases"],
         spent["writing"],
         spent["outputs"],
         spent["worker_writing"],
+        spent["worker_cpu"],
     )
     log.info("%s", result.summary_text())
     return result
