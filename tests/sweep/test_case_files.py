@@ -3,7 +3,7 @@
 import json
 import os
 import pickle
-from concurrent.futures import Executor, Future
+from concurrent.futures import Executor, Future, ThreadPoolExecutor
 
 import numpy as np
 import write_fault_case
@@ -93,6 +93,9 @@ def test_non_local_executor_sends_results_back_and_the_client_writes(tmp_path):
     assert not _Backend(ex, case_files=(tmp_path, False)).workers_write
     assert _Backend("serial", case_files=(tmp_path, False)).workers_write
     assert not _Backend("serial").workers_write  # no output directory
+    with ThreadPoolExecutor(2) as pool:  # one chain on two workers: the client writes
+        assert not _Backend(pool, case_files=(tmp_path, False), streams=1).workers_write
+        assert _Backend(pool, case_files=(tmp_path, False), streams=2).workers_write
     cases = grid_cases(BASE, {"x": [1.0, 2.0]})
     res = run_sweep(run_case, cases, ex, out_dir=tmp_path / "out", figures=False)
     assert res.n_failed == 0 and all("write_to" not in kw for kw in ex.calls)

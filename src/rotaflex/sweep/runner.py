@@ -223,11 +223,22 @@ class _Backend:
     workers write the case files.
 
     ``case_files``: ``(out_dir, case_figures)`` of a sweep that writes its cases; on a local
-    executor (:data:`LOCAL_EXECUTORS`) each submitted case then carries a :class:`WriteTo`.
+    executor (:data:`LOCAL_EXECUTORS`) each submitted case then carries a :class:`WriteTo`,
+    unless fewer cases than workers can run at once (``streams``: independent cases, or
+    continuation chains): then a worker is idle anyway, and the client writing a case while
+    the next one of its chain computes is faster than the worker doing both in turn (one chain
+    of the gear example: 60 ms to write a case, 35 ms to compute one).
     """
 
-    def __init__(self, executor: Any, preload: tuple[str, ...] = (), case_files: tuple[Path, bool] | None = None):
+    def __init__(
+        self,
+        executor: Any,
+        preload: tuple[str, ...] = (),
+        case_files: tuple[Path, bool] | None = None,
+        streams: int | None = None,
+    ):
         self.case_files = case_files
+        self.streams = streams
         self.factory: Callable[[], Executor] | None = None
         self.owned = False
         if executor is None:
@@ -250,8 +261,11 @@ class _Backend:
 
     @property
     def workers_write(self) -> bool:
-        """The workers write the case files (a sweep with an output on a local executor)."""
-        return self.case_files is not None and isinstance(self.executor, LOCAL_EXECUTORS)
+        """The workers write the case files (a sweep with an output on a local executor, with
+        at least as many cases or chains to run at once as workers)."""
+        if self.case_files is None or not isinstance(self.executor, LOCAL_EXECUTORS):
+            return False
+        return self.streams is None or self.streams >= _n_workers(self.executor)
 
     def submit(self, case_fn: Callable, case: Case, **kwargs: Any) -> Future:
         """Submit ``execute_case(case_fn, case.data, **kwargs)``, with the case's
@@ -596,7 +610,8 @@ def run_sweep(
     warm = None
     if todo:
         ts = time.perf_counter()
-        backend = _Backend(executor, _modules_of(case_fn), (out, case_figures) if out is not None else None)
+        streams = len(todo) if chains is None else sum(1 for ch in chain_todo if ch)
+        backend = _Backend(executor, _modules_of(case_fn), (out, case_figures) if out is not None else None, streams)
         spent["start"] = time.perf_counter() - ts
         # matplotlib is not thread-safe: no warm-up beside cases (and their figures) run here
         if out is not None and not isinstance(backend.executor, (SerialExecutor, ThreadPoolExecutor)):
