@@ -20,6 +20,12 @@ ratios this/base.
 
 ``selftest``: the parallel efficiency of split chains on CPU-bound cases of a test verb.
 
+``netcdf``: the CPU time of encoding one gear case's ``result.nc`` (a ``gear steady`` Result of
+the gear example, 42 variables), xarray's own ``to_netcdf`` against rotaflex's
+(:func:`rotaflex.core.io.write_netcdf`'s encoder with :func:`~rotaflex.core.io.h5_lookup_cache`),
+alternated ``--rounds`` x 10 times each; and the CPU time of the whole ``Result.save`` without
+figures (what a sweep writes per case).
+
 Numbers depend on the machine's load: the load average is printed beside them.
 """
 
@@ -178,20 +184,61 @@ def _efficiency(values: int, work: int, root: Path) -> None:
         print(f"  efficiency {tag:9s} T_1 / (2 T_2) = {t1 / (2 * times[tag]):.0%}")
 
 
+def _netcdf(rounds: int, root: Path) -> None:
+    """CPU time per encoding of one gear case's result.nc: xarray's own vs rotaflex's."""
+    import statistics
+
+    from rotaflex.core.io import _netcdf_bytes, h5_lookup_cache
+    from rotaflex.sweep._worker import run_target
+    from rotaflex.sweep.study import plan_study
+
+    study = plan_study(_config("gear"), ["operation.speed_rpm=2000:22000:4"], None, False)
+    result = run_target(study.target, study.cases[2].data)
+    ds = result.dataset
+
+    def ours() -> bytes:
+        with h5_lookup_cache():
+            return _netcdf_bytes(ds)
+
+    def theirs() -> bytes:
+        return ds.to_netcdf(engine="h5netcdf")
+
+    times: dict[str, list[float]] = {"xarray": [], "rotaflex": [], "save": []}
+    ours(), theirs()  # imports, first-use caches
+
+    def save() -> None:
+        result.save(root / "case", figures=False)
+
+    for _ in range(rounds * 10):
+        for tag, fn in (("xarray", theirs), ("rotaflex", ours), ("save", save)):
+            c0 = time.process_time()
+            fn()
+            times[tag].append(time.process_time() - c0)
+    nvar = len(ds.variables)
+    print(f"netcdf: one gear steady result, {nvar} variables, {ds.nbytes / 1e3:.0f} kB (load {os.getloadavg()[0]:.1f})")
+    for tag, ts in times.items():
+        print(f"  {tag:8s}: median {1e3 * statistics.median(ts):6.1f} ms CPU, min {1e3 * min(ts):6.1f} ms")
+    ratio = statistics.median(a / b for a, b in zip(times["rotaflex"], times["xarray"], strict=True))
+    print(f"  median paired ratio rotaflex/xarray: {ratio:.2f}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--example", choices=[*sorted(EXAMPLES), "selftest"], default="gear")
+    ap.add_argument("--example", choices=[*sorted(EXAMPLES), "selftest", "netcdf"], default="gear")
     ap.add_argument("--speeds", type=int, default=40)
     ap.add_argument("-j", "--jobs", type=int, default=2)
     ap.add_argument("--work", type=int, default=300, help="selftest: matrix products per case")
     ap.add_argument("--base", help="a second tree (src/, examples/) to run interleaved with this one")
-    ap.add_argument("--rounds", type=int, default=3, help="--base: rounds of paired runs")
+    ap.add_argument("--rounds", type=int, default=3, help="--base, netcdf: rounds of paired runs")
     ap.add_argument("--modes", default="whole,split", help="--base: modes to run (whole, split)")
     args = ap.parse_args()
     root = Path(tempfile.mkdtemp(prefix="bench_chains_"))
     if args.base:
         print(f"{args.example}: {args.speeds} speeds up and down, -j {args.jobs}, this tree vs {args.base}")
         _compare(args, root)
+        return
+    if args.example == "netcdf":
+        _netcdf(args.rounds, root)
         return
     if args.example == "selftest":
         print(f"selftest: {args.speeds} values up and down ({2 * args.speeds} cases), work {args.work}")
