@@ -4,6 +4,7 @@ import json
 import os
 import pickle
 from concurrent.futures import Executor, Future, ThreadPoolExecutor
+from pathlib import Path
 
 import numpy as np
 import write_fault_case
@@ -209,3 +210,20 @@ def test_local_workers_build_datasets_without_importing_dask():
         assert pool.submit(_dask_loaded_after_a_dataset).result() is False
     finally:
         pool.shutdown()
+
+
+def test_full_disk_in_a_worker_or_the_client_ends_the_sweep(tmp_path, monkeypatch):
+    import pytest
+
+    import rotaflex.core.result as result_module
+
+    def full(path, dataset):
+        raise WriteFailed(Path(path).name, OSError(28, "No space left on device"))
+
+    monkeypatch.setattr(result_module, "write_netcdf", full)
+    cases = grid_cases(BASE, {"x": [1.0, 2.0]})
+    for executor in ("serial", InlineRemote()):  # the worker writes; the client writes
+        out = tmp_path / type(executor).__name__
+        with pytest.raises(WriteFailed, match="no space left on device while writing result.nc"):
+            run_sweep(run_case, cases, executor, out_dir=out, figures=False)
+        assert not list((out / "cases").glob("*/case.json"))  # nothing marked done
