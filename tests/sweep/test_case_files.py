@@ -167,7 +167,7 @@ def test_result_nc_written_the_new_way_reads_as_xarrays_own(tmp_path):
     ds = _rich_dataset()
     write_netcdf(tmp_path / "ours.nc", ds)
     res = Result(ds.copy())
-    res.save(tmp_path / "case")  # adds the provenance attributes to res.dataset
+    res.save(tmp_path / "case", figures=False)  # adds the provenance attributes to res.dataset
     pairs = {"ours.nc": ds, "case/result.nc": res.dataset}
     for name, source in pairs.items():
         ref = tmp_path / f"xarray-{name.replace('/', '-')}"
@@ -227,3 +227,15 @@ def test_full_disk_in_a_worker_or_the_client_ends_the_sweep(tmp_path, monkeypatc
         with pytest.raises(WriteFailed, match="no space left on device while writing result.nc"):
             run_sweep(run_case, cases, executor, out_dir=out, figures=False)
         assert not list((out / "cases").glob("*/case.json"))  # nothing marked done
+
+
+def test_case_figures_are_drawn_by_the_worker_that_writes_the_case(tmp_path):
+    cases = grid_cases({**BASE, "y": 2.0}, {"x": [1.0, 2.0]})
+    res = run_sweep(run_case, cases, 1, out_dir=tmp_path, figures=False, case_figures=True)
+    assert res.n_failed == 0
+    for c in cases:
+        pngs = list((tmp_path / "cases" / c.id).glob("*.png"))
+        assert pngs and all(p.stat().st_size > 1000 for p in pngs)
+        assert json.loads((tmp_path / "cases" / c.id / "case.json").read_text())["worker"].split(":")[-1] != str(
+            os.getpid()
+        )
