@@ -25,6 +25,7 @@ import shutil
 import stat
 import sys
 import tempfile
+import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -58,6 +59,9 @@ class WriteFailed(RuntimeError):
         else:
             what = f"could not write ({cause.strerror or type(cause).__name__})"
         super().__init__(f"{what} while writing {name}" + (f"; {intact}" if intact else ""))
+
+    def __reduce__(self):  # pickles (a sweep worker sends it to the client) with its arguments
+        return (type(self), (self.name, self.cause, self.intact))
 
     def with_intact(self, intact: str) -> WriteFailed:
         return WriteFailed(self.name, self.cause, intact)
@@ -153,7 +157,7 @@ def write_netcdf(target: str | Path, dataset: Any) -> Path:
             errno.ENOSPC, f"No space left on device (needs ~{need / 2**20:.3g} MiB, {free / 2**20:.3g} free)"
         )
         raise WriteFailed(target.name, cause, intact)
-    with _no_dask_import():
+    with _no_dask_import(), h5_lookup_cache():
         if nbytes <= NETCDF_IN_MEMORY:
             return write_atomic(target, lambda p: p.write_bytes(_netcdf_bytes(dataset)))
         return write_atomic(target, lambda p: dataset.to_netcdf(p, engine="h5netcdf"))
@@ -173,6 +177,84 @@ def _netcdf_bytes(dataset: Any) -> bytes:
         return dataset.to_netcdf(engine="h5netcdf")
     with dask.config.set(scheduler="synchronous"):
         return dataset.to_netcdf(engine="h5netcdf")
+
+
+#: (class, attribute) of h5netcdf whose name-to-object lookups :func:`h5_lookup_cache` caches
+_H5_LOOKUPS = (
+    ("h5netcdf.core", "BaseObject", "_h5ds"),
+    ("h5netcdf.core", "Group", "_h5group"),
+    ("h5netcdf.dimensions", "Dimension", "_h5ds"),
+)
+_h5_patch_lock = threading.Lock()
+_h5_patch_depth = 0
+#: (class, attribute, original property) replaced while :func:`h5_lookup_cache` is active
+_h5_patched: list[tuple[type, str, property]] = []
+
+
+def _cached_lookup(original: property) -> property:
+    """``original`` (a property that looks an HDF5 object up by path from the root file) with a
+    per-file cache of the objects it found."""
+    from h5py import h5i
+
+    def get(self):
+        path = getattr(self, "_h5path", None)
+        root = self._root if path is not None else None
+        if root is None or getattr(self, "_phony", False):
+            return original.fget(self)
+        cache = root.__dict__.setdefault("_rotaflex_h5_lookups", {})
+        obj = cache.get(path)
+        # an object whose link was deleted has no name (h5netcdf replaces the scale of a
+        # dimension by the coordinate variable of the same name): look it up again then
+        if obj is None or h5i.get_name(obj.id) is None:
+            obj = cache[path] = original.fget(self)
+        return obj
+
+    return property(get, doc=original.__doc__)
+
+
+@contextmanager
+def h5_lookup_cache() -> Iterator[None]:
+    """Let h5netcdf find the HDF5 objects of a file it writes in a cache instead of by path.
+
+    h5netcdf (1.x) keeps no HDF5 objects: every access to a variable's dataset, a dimension's
+    scale or a group opens it again from the root by path (``h5py.Group.__getitem__``, ~30 us),
+    about 22 times per variable while xarray writes it. A result of the gear steady verb
+    (42 variables, 48 kB): 138 ms CPU to encode without this context, 67 ms with it
+    (``benchmarks/bench_sweep_chains.py --example netcdf``). While it is active the lookups of
+    a file are cached on h5netcdf's file object (gone with it); a cached object whose link was
+    deleted is looked up again. The bytes written can differ in HDF5's internal layout
+    (objects stay open longer); the groups, variables, dimension scales, attributes and data
+    are the same (``tests/sweep/test_case_files.py``).
+
+    Changes nothing if h5netcdf's internals differ from the ones this was written against
+    (1.8: the ``_h5ds``/``_h5group`` properties). Nested and threaded use is counted; the
+    patched lookups give the same objects as the originals, so a thread reading another file
+    meanwhile only finds them faster.
+    """
+    global _h5_patch_depth
+    import importlib
+
+    with _h5_patch_lock:
+        if _h5_patch_depth == 0:
+            try:
+                targets = [(getattr(importlib.import_module(mod), cls), attr) for mod, cls, attr in _H5_LOOKUPS]
+            except (ImportError, AttributeError):  # pragma: no cover - other h5netcdf
+                targets = []
+            originals = [(c, a, c.__dict__.get(a)) for c, a in targets]
+            if all(isinstance(o, property) for _, _, o in originals):
+                for c, a, o in originals:
+                    setattr(c, a, _cached_lookup(o))
+                    _h5_patched.append((c, a, o))
+        _h5_patch_depth += 1
+    try:
+        yield
+    finally:
+        with _h5_patch_lock:
+            _h5_patch_depth -= 1
+            if _h5_patch_depth == 0:
+                for c, a, o in _h5_patched:
+                    setattr(c, a, o)
+                _h5_patched.clear()
 
 
 @contextmanager

@@ -7,8 +7,9 @@ the other swept keys. A chain runs the values of ``KEY`` upwards (ascending), th
 down; the hysteresis shows in ``sweep.nc`` along the extra dimension ``direction`` = up/down.
 
 The cases of one chain run one after the other (each needs its predecessor's final state);
-different chains run in parallel on the workers. Every case is written as it finishes, by the
-client, after the next case of its chain was submitted (the worker computes meanwhile); a case
+different chains run in parallel on the workers. Every case is written as it finishes: its
+result files by its worker on a local executor (else by the client), its ``case.json`` marker by
+the client after the next case of its chain was submitted (the worker computes meanwhile); a case
 whose files cannot be written (e.g. its ``summary()`` raises) is recorded as an error, and as
 its successor already started from its state, a re-run recomputes from it on.
 
@@ -41,7 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from rotaflex.core.errors import InputError
-from rotaflex.sweep._worker import Outcome, execute_case
+from rotaflex.sweep._worker import Outcome
 from rotaflex.sweep.spec import Case, case_id
 
 log = logging.getLogger("rotaflex.sweep")
@@ -214,7 +215,7 @@ def drive_chains(
             i = ready.popleft()
             case = chains[i][0]
             try:
-                fut = backend.executor.submit(execute_case, case_fn, case.data, initial_state=states[i])
+                fut = backend.submit(case_fn, case, initial_state=states[i])
             except BrokenProcessPool:
                 ready.appendleft(i)
                 broken = True

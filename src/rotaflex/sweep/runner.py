@@ -1,10 +1,15 @@
 """Run the cases of a sweep over a ``concurrent.futures.Executor``; write one directory per case.
 
-The client (this process) submits ``execute_case(case_fn, case.data)`` to the executor, and
-writes every finished case at once to ``out_dir/cases/<id>/`` (``result.nc`` and
-``summary.json`` via :meth:`Result.save`, then ``case.json``, the marker that the case is done).
-A re-run skips the cases whose marker says done; cases that raised are recorded in
-``error.txt`` and attempted again by the next run.
+The client (this process) submits ``execute_case(case_fn, case.data)`` to the executor. Each
+finished case gets its directory ``out_dir/cases/<id>/``: ``result.nc`` and ``summary.json``
+(:meth:`Result.save`, the directory swapped in as a whole), then ``case.json``, the marker that
+the case is done, always written last by the client. On a local executor (process pool, serial)
+the worker that computed the case writes its result files itself, so the files of different
+cases are written in parallel and only the summary comes back; on any other executor (Dask,
+whose workers may not share this file system) the Result comes back and the client writes them.
+A re-run skips the cases whose marker says done; cases that raised (or whose files could not
+be made, e.g. a figure that raised) are recorded in ``error.txt`` and attempted again by the
+next run. A full disk (:class:`~rotaflex.core.io.WriteFailed`) ends the sweep.
 
 Worker deaths: a local process pool that breaks (a worker was killed) is rebuilt and the cases
 that were in flight are re-run one at a time, so the case that kills its worker is identified
@@ -14,10 +19,12 @@ ends in ``KilledWorker``; the case is resubmitted up to ``max_retries`` times.
 
 from __future__ import annotations
 
+import importlib
 import json
 import logging
 import multiprocessing
 import os
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
@@ -27,6 +34,7 @@ from concurrent.futures import (
     Executor,
     Future,
     ProcessPoolExecutor,
+    ThreadPoolExecutor,
     wait,
 )
 from concurrent.futures.process import BrokenProcessPool
@@ -34,8 +42,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from rotaflex.core.io import write_json_atomic, write_text_atomic
-from rotaflex.sweep._worker import Outcome, execute_case, init_worker, ping
+from rotaflex.core.io import WriteFailed, write_json_atomic, write_text_atomic
+from rotaflex.sweep._worker import Outcome, WriteTo, execute_case, init_worker, ping
 from rotaflex.sweep.spec import Case, as_cases, case_id
 
 log = logging.getLogger("rotaflex.sweep")
@@ -144,9 +152,11 @@ THREAD_VARS = (
 )
 
 
-#: modules every local worker needs, imported once in the fork server (``dask.array``: xarray
-#: imports it when it builds its first Dataset, ~1 s per worker otherwise; skipped if absent)
-PRELOAD = ("numpy", "xarray", "dask.array", "rotaflex.sweep._worker", "rotaflex.core.result")
+#: modules every local worker needs, imported once in the fork server (``h5netcdf``: the
+#: workers write their cases' files). Not ``dask.array``: xarray would import it (0.5-1.5 s)
+#: when it builds its first Dataset, but :func:`~rotaflex.sweep._worker.init_worker` lets
+#: xarray answer its "is this dask data" question without it (:func:`rotaflex.core.io.defer_dask`)
+PRELOAD = ("numpy", "xarray", "h5netcdf", "rotaflex.sweep._worker", "rotaflex.core.result")
 
 
 def _quiet_resource_tracker() -> None:
@@ -203,10 +213,32 @@ def process_pool(max_workers: int | None = None, preload: tuple[str, ...] = ()) 
     return pool
 
 
-class _Backend:
-    """The executor a sweep runs on, and whether it can be rebuilt after it breaks."""
+#: executors whose workers write into this process's file system (the case files are then
+#: written by the worker that computed the case)
+LOCAL_EXECUTORS = (ProcessPoolExecutor, ThreadPoolExecutor, SerialExecutor)
 
-    def __init__(self, executor: Any, preload: tuple[str, ...] = ()):
+
+class _Backend:
+    """The executor a sweep runs on, whether it can be rebuilt after it breaks, and where its
+    workers write the case files.
+
+    ``case_files``: ``(out_dir, case_figures)`` of a sweep that writes its cases; on a local
+    executor (:data:`LOCAL_EXECUTORS`) each submitted case then carries a :class:`WriteTo`,
+    unless fewer cases than workers can run at once (``streams``: independent cases, or
+    continuation chains): then a worker is idle anyway, and the client writing a case while
+    the next one of its chain computes is faster than the worker doing both in turn (a case of
+    the gear example: ~70 ms CPU to write, ~32 ms to compute).
+    """
+
+    def __init__(
+        self,
+        executor: Any,
+        preload: tuple[str, ...] = (),
+        case_files: tuple[Path, bool] | None = None,
+        streams: int | None = None,
+    ):
+        self.case_files = case_files
+        self.streams = streams
         self.factory: Callable[[], Executor] | None = None
         self.owned = False
         if executor is None:
@@ -226,6 +258,22 @@ class _Backend:
         if self.factory is not None:
             self.executor = self._start()
         self.window = 2 * _n_workers(self.executor)
+
+    @property
+    def workers_write(self) -> bool:
+        """The workers write the case files (a sweep with an output on a local executor, with
+        at least as many cases or chains to run at once as workers)."""
+        if self.case_files is None or not isinstance(self.executor, LOCAL_EXECUTORS):
+            return False
+        return self.streams is None or self.streams >= _n_workers(self.executor)
+
+    def submit(self, case_fn: Callable, case: Case, **kwargs: Any) -> Future:
+        """Submit ``execute_case(case_fn, case.data, **kwargs)``, with the case's
+        :class:`WriteTo` when the workers write."""
+        if self.workers_write:
+            out, figures = self.case_files
+            kwargs["write_to"] = WriteTo(str(out / "cases" / case.id), figures)
+        return self.executor.submit(execute_case, case_fn, case.data, **kwargs)
 
     def rebuild(self) -> None:
         if self.factory is None:
@@ -325,7 +373,16 @@ def _jsonable(data: Any) -> Any:
 
 
 def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, case_figures: bool) -> CaseRecord:
-    """Record a finished case; write its files at once when ``out_dir`` is given."""
+    """Record a finished case; write its marker (and its files, unless its worker wrote them)
+    when ``out_dir`` is given.
+
+    Raises
+    ------
+    WriteFailed
+        The case's files could not be written (full disk, I/O error), here or by its worker.
+    """
+    if outcome.write_failed is not None:
+        raise outcome.write_failed
     rec = CaseRecord(
         case.id,
         dict(case.params),
@@ -334,23 +391,31 @@ def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, ca
         wall_time=outcome.wall_time,
         worker=outcome.worker,
     )
-    trace = outcome.traceback
     result = outcome.result
-    if not outcome.error and not (hasattr(result, "save") and hasattr(result, "summary")):
+    is_result = outcome.written or (hasattr(result, "save") and hasattr(result, "summary"))
+    if not outcome.error and not is_result:
         outcome.error = f"TypeError: the case function returned {type(result).__name__}, not a Result"
     if not outcome.error:
         try:
             rec.summary = result.summary()
             rec.status = str(result.status)
         except Exception as exc:  # noqa: BLE001 - a broken summary is this case's error
-            import traceback
-
-            outcome.error, trace = f"{type(exc).__name__}: {exc}", traceback.format_exc()
-    if outcome.error:
-        rec.status, rec.error = "error", outcome.error
+            _fail(outcome, exc)
     if out_dir is None:
+        if outcome.error:
+            rec.status, rec.error = "error", outcome.error
         return rec
     case_dir = out_dir / "cases" / case.id
+    case_dir.parent.mkdir(parents=True, exist_ok=True)
+    if not outcome.error and not outcome.written:
+        try:
+            result.save(case_dir, figures=case_figures)
+        except WriteFailed:
+            raise
+        except Exception as exc:  # noqa: BLE001 - e.g. a figure that raised: this case's error
+            _fail(outcome, exc)
+    if outcome.error:
+        rec.status, rec.error = "error", outcome.error
     case_dir.mkdir(parents=True, exist_ok=True)
     info = {
         "id": case.id,
@@ -364,16 +429,58 @@ def _store(case: Case, outcome: Outcome, attempts: int, out_dir: Path | None, ca
         "config": _jsonable(case.data),
     }
     if rec.status == "error":
-        write_text_atomic(case_dir / "error.txt", f"{rec.error}\n\n{trace}")
+        write_text_atomic(case_dir / "error.txt", f"{rec.error}\n\n{outcome.traceback}")
         write_json_atomic(case_dir / "case.json", {**info, "state": "error"})
         log.warning("case %s failed: %s", case.id, rec.error)
         return rec
-    result.save(case_dir, figures=case_figures)
-    (case_dir / "error.txt").unlink(missing_ok=True)
+    # the result directory was swapped in as a whole (no error.txt of an earlier run in it)
     write_json_atomic(case_dir / "case.json", {**info, "state": "done"})
     if not rec.ok:
         log.warning("case %s finished with status %r: %s", case.id, rec.status, result.message)
     return rec
+
+
+def _fail(outcome: Outcome, exc: Exception) -> None:
+    """Make the exception being handled the case's error."""
+    import traceback
+
+    outcome.error, outcome.traceback = f"{type(exc).__name__}: {exc}", traceback.format_exc()
+
+
+def _prepare_outputs(figures: bool, domain: str | None) -> None:
+    """Import what combining and the sweep figures need, and draw one small figure.
+
+    Run in a thread of the client while the workers compute: the client has nothing else to
+    do then, and after the workers wrote the case files it has not imported xarray, h5netcdf
+    or matplotlib yet (1-2 s on the gear sweep, otherwise spent after the last case). Drawing
+    one figure loads the fonts and the Agg renderer. Nothing here is needed for correctness;
+    a failure only leaves the work to the outputs.
+    """
+    try:
+        import io
+
+        import h5netcdf  # noqa: F401 - imported for its import time only
+
+        import rotaflex.sweep.combine  # noqa: F401
+        from rotaflex.core.result import import_xarray
+
+        import_xarray()
+        if not figures:
+            return
+        from rotaflex.core.domains import CASES
+        from rotaflex.core.plotting import new_figure, pyplot
+        from rotaflex.sweep import figures as _figures  # noqa: F401
+
+        if domain in CASES:
+            importlib.import_module(CASES[domain])
+        fig, ax = new_figure()
+        ax.plot([0.0, 1.0], [0.0, 1.0], label="x")
+        ax.set_xlabel("x [m]")
+        ax.legend()
+        fig.savefig(io.BytesIO(), format="png", dpi=30)
+        pyplot().close(fig)
+    except Exception:  # noqa: BLE001 - a warm-up only
+        log.debug("preparing the outputs failed", exc_info=True)
 
 
 def _crash_error(exc: BaseException, n: int) -> str:
@@ -485,22 +592,33 @@ def run_sweep(
 
     # where the wall time goes, logged at the end: [pool start, running cases, of which the
     # client writing case files, combining + figures] [s]
-    spent = {"start": 0.0, "cases": 0.0, "writing": 0.0, "outputs": 0.0}
+    spent = {"start": 0.0, "cases": 0.0, "writing": 0.0, "worker_writing": 0.0, "worker_cpu": 0.0, "outputs": 0.0}
 
     def finish(case: Case, outcome: Outcome, n_attempts: int) -> None:
         tw = time.perf_counter()
         rec = _store(case, outcome, n_attempts, out, case_figures)
         spent["writing"] += time.perf_counter() - tw
+        spent["worker_writing"] += outcome.write_time
+        if outcome.cpu_time == outcome.cpu_time:  # not NaN (a case whose worker died)
+            spent["worker_cpu"] += outcome.cpu_time
         records[case.id] = rec
         if bar is not None:
             bar.update(len(records))
         if callback is not None:
             callback(rec, len(records), total)
 
+    warm = None
     if todo:
         ts = time.perf_counter()
-        backend = _Backend(executor, _modules_of(case_fn))
+        streams = len(todo) if chains is None else sum(1 for ch in chain_todo if ch)
+        backend = _Backend(executor, _modules_of(case_fn), (out, case_figures) if out is not None else None, streams)
         spent["start"] = time.perf_counter() - ts
+        # only while this process has nothing else to do: not beside cases (and their figures,
+        # matplotlib is not thread-safe) run here, nor beside this process writing case files
+        in_process = isinstance(backend.executor, (SerialExecutor, ThreadPoolExecutor))
+        if out is not None and backend.workers_write and not in_process:
+            warm = threading.Thread(target=_prepare_outputs, args=(figures, domain), daemon=True)
+            warm.start()
         try:
             if chains is None:
                 _drive(backend, case_fn, todo, finish, max_retries)
@@ -524,6 +642,8 @@ def run_sweep(
     from rotaflex.core.provenance import provenance
 
     to = time.perf_counter()
+    if warm is not None:
+        warm.join()
     meta = {"domain": domain or "", **provenance(), **(attrs or {})}
     dataset = combine(ordered, attrs=meta, units=dict(units or {}))
     result = SweepResult(ordered, dataset, out, time.perf_counter() - t0)
@@ -533,11 +653,14 @@ def run_sweep(
     spent["outputs"] = time.perf_counter() - to
     log.info(
         "wall time: %.2f s starting workers, %.2f s running cases (of which %.2f s writing case "
-        "files), %.2f s combining and figures",
+        "files here), %.2f s combining and figures; the workers spent %.2f s writing case files "
+        "(%.2f s CPU on cases, writing included)",
         spent["start"],
         spent["cases"],
         spent["writing"],
         spent["outputs"],
+        spent["worker_writing"],
+        spent["worker_cpu"],
     )
     log.info("%s", result.summary_text())
     return result
@@ -585,7 +708,7 @@ def _drive(
 
     def submit(case: Case, queue: deque[Case]) -> bool:
         try:
-            fut = backend.executor.submit(execute_case, case_fn, case.data)
+            fut = backend.submit(case_fn, case)
         except BrokenProcessPool:  # broke since the last wait; its futures will tell
             queue.appendleft(case)
             return False
