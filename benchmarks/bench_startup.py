@@ -155,7 +155,9 @@ def command(domain, verb):
 domains.command = command
 result.Result.to_netcdf = timed("result.nc", result.Result.to_netcdf)
 result.Result.save = timed("save", result.Result.save)
-plotting.pyplot = timed("matplotlib import", plotting.pyplot)
+for name in ("figure_types", "pyplot"):  # figure_types: figures without pyplot (older trees: pyplot)
+    if hasattr(plotting, name):
+        setattr(plotting, name, timed("matplotlib import", getattr(plotting, name)))
 plotting.save_figure = timed("draw + PNG", plotting.save_figure)
 sys.argv = ["rotaflex"] + sys.argv[1:]
 try:
