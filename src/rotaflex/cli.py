@@ -25,6 +25,70 @@ from rotaflex.core.errors import ConvergenceError, DivergenceError, InputError, 
 #: every ``--help`` and usage error, more than the whole start-up budget (issue 25: <= 0.2 s)
 PLAIN = {"rich_markup_mode": None}
 
+
+def plain_coercion() -> bool:
+    """Coerce this CLI's plain ``str``, ``int``, ``bool`` and ``Path`` parameters without pydantic.
+
+    typer (0.29) checks every parameter that is not a flag through a pydantic ``TypeAdapter``:
+    importing pydantic and building the adapters costs every verb ~0.11 s of CPU, a tenth of
+    ``rotor campbell --no-figures``. For an annotation ``str``, ``int``, ``bool`` or ``Path``
+    without parser, range, choices or path type, a value typer would pass through unchanged
+    (a ``str`` or ``bool`` of that type, an ``int`` or a string of ASCII digits for ``int``, a
+    non-empty string or a Path for ``Path``, then typer's own path checks) is converted here; any other
+    value or annotation goes to typer's adapter, so every result and error message is
+    typer's. Written against typer's internals (``typer.core.build_runtime_param``,
+    ``typer._coercion.RuntimeParam``): if they are not there, nothing is changed and typer
+    runs as before (slower, not wrong). Returns whether the plain path is installed.
+    """
+    from dataclasses import dataclass
+
+    try:
+        from typer import core as typer_core
+        from typer._coercion import RuntimeParam
+        from typer._param_types import coerce_cli_path
+    except ImportError:  # pragma: no cover - another typer
+        return False
+    typer_build = getattr(typer_core, "build_runtime_param", None)
+    if typer_build is None or getattr(typer_build, "plain", False):
+        return typer_build is not None
+
+    @dataclass(frozen=True)
+    class PlainParam(RuntimeParam):
+        descriptor: Any
+
+        def _coerce_value(self, value: Any, param: Any, ctx: Any) -> Any:
+            kind = self.annotation
+            if (kind is str or kind is bool) and type(value) is kind:
+                return value
+            if kind is int and (type(value) is int or (type(value) is str and value.isascii() and value.isdigit())):
+                return int(value)
+            if kind is Path and ((type(value) is str and value) or isinstance(value, Path)):
+                return coerce_cli_path(Path(value), self.parameter_info, path_type=Path, param=param, ctx=ctx)
+            return typer_build(self.descriptor)._coerce_value(value, param=param, ctx=ctx)
+
+    def build_runtime_param(descriptor: Any) -> Any:
+        info = descriptor.parameter_info
+        plain = (
+            descriptor.annotation in (str, int, bool, Path)
+            and descriptor.file_annotation is None
+            and getattr(info, "parser", 0) is None
+            and getattr(info, "min", 0) is None
+            and getattr(info, "max", 0) is None
+            and getattr(info, "path_type", 0) is None
+            and not getattr(info, "clamp", True)
+            and not descriptor.is_choice
+        )
+        if not plain:
+            return typer_build(descriptor)
+        return PlainParam(parameter_info=info, annotation=descriptor.annotation, descriptor=descriptor)
+
+    build_runtime_param.plain = True
+    typer_core.build_runtime_param = build_runtime_param
+    return True
+
+
+plain_coercion()
+
 app = typer.Typer(
     **PLAIN,
     add_completion=False,

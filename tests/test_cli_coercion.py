@@ -1,0 +1,110 @@
+"""The CLI's plain parameter coercion (``rotaflex.cli.plain_coercion``) gives what typer's own
+pydantic adapters give, values and error messages alike, without importing pydantic."""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+import typer
+from typer import _coercion
+from typer import core as typer_core
+from typer.models import ArgumentInfo, OptionInfo
+
+from rotaflex import cli
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+class _Param:  # what a runtime parameter reads of the click parameter it coerces for
+    multiple = False
+    nargs = 1
+    name = "value"
+    human_readable_name = "VALUE"
+    opts = ["--value"]
+
+    def get_error_hint(self, ctx=None):
+        return "'--value'"
+
+
+def _coerce(build, annotation, info, value, tmp_path):
+    descriptor = _coercion.resolve_type_descriptor(annotation, info)
+    try:
+        return "value", build(descriptor).coerce(value, param=_Param(), ctx=None)
+    except typer.BadParameter as exc:
+        return "error", exc.format_message()
+
+
+VALUES = {
+    str: ["plain", "", " spaced ", "ünïcode", b"bytes", 3],
+    int: [150, "150", "007", "-5", "1_000", " 42", "4.0", "abc", "²", True, 2.5],
+    bool: [True, False, "true", "0", "maybe"],
+    Path: ["a/b.toml", "", ".", Path("x"), "{missing}", 5],
+}
+
+
+@pytest.mark.parametrize("annotation", list(VALUES))
+def test_plain_coercion_gives_typers_values_and_errors(annotation, tmp_path):
+    assert cli.plain_coercion()  # installed at import; a second call leaves it as it is
+    plain = typer_core.build_runtime_param
+    assert plain is not _coercion.build_runtime_param
+    for info in (OptionInfo(), ArgumentInfo(), OptionInfo(exists=True), OptionInfo(dir_okay=False)):
+        for value in VALUES[annotation]:
+            if isinstance(value, str) and "{missing}" in value:
+                value = str(tmp_path / "missing.toml")
+            got = _coerce(plain, annotation, info, value, tmp_path)
+            want = _coerce(_coercion.build_runtime_param, annotation, info, value, tmp_path)
+            assert got == want, (annotation, value)
+            assert type(got[1]) is type(want[1])
+
+
+def test_other_annotations_keep_typers_adapter():
+    ranged = _coercion.resolve_type_descriptor(int, OptionInfo(min=0))
+    assert type(typer_core.build_runtime_param(ranged)).__name__ == "AdapterRuntimeParam"
+    listed = _coercion.resolve_type_descriptor(list[str], OptionInfo())
+    assert type(typer_core.build_runtime_param(listed)).__name__ == "AdapterRuntimeParam"
+
+
+def test_usage_errors_read_as_with_typers_adapters(monkeypatch, capsys, tmp_path):
+    config = str(ROOT / "examples/rotor/fe_friswell_5_9_1.toml")
+    bad = [
+        ["rotor", "campbell", config, "--out", str(tmp_path / "o"), "--dpi", "abc"],
+        ["rotor", "campbell", config, "--out", str(tmp_path / "o"), "--dpi", "1.5"],
+        ["sweep", config, "--out", str(tmp_path / "s"), "--vary", "a=1,2", "--retries", "-1"],
+    ]
+
+    def errors():
+        out = []
+        for argv in bad:
+            with pytest.raises(SystemExit) as exc:
+                cli.main(argv)
+            out.append((exc.value.code, capsys.readouterr().err))
+        return out
+
+    plain = errors()
+    monkeypatch.setattr(typer_core, "build_runtime_param", _coercion.build_runtime_param)
+    assert plain == errors()
+    assert all(code == 2 for code, _ in plain)
+
+
+def test_campbell_imports_neither_pydantic_nor_scipy_optimize(tmp_path):
+    code = f"""
+        import json, sys
+        from rotaflex.cli import main
+        try:
+            main(["rotor", "campbell", {str(ROOT / "examples/rotor/fe_friswell_5_9_1.toml")!r},
+                  "--out", {str(tmp_path / "out")!r}, "--no-figures", "--quiet", "--dpi", "120"])
+        except SystemExit as exc:
+            assert exc.code == 0, exc.code
+        print(json.dumps(sorted(m for m in ("pydantic", "scipy.optimize", "matplotlib") if m in sys.modules)))
+    """
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    proc = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], env=env, capture_output=True, text=True, timeout=300
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout.strip().splitlines()[-1]) == []
+    assert (tmp_path / "out" / "result.nc").exists()
