@@ -89,6 +89,40 @@ def plain_coercion() -> bool:
 
 plain_coercion()
 
+#: numpy submodules no verb uses that SciPy's array-API layer imports only to copy numpy's
+#: namespace (``scipy._lib.array_api_compat.numpy`` reads every public numpy attribute, and
+#: numpy imports a submodule on first access): ~0.06 s of every verb that loads scipy.linalg
+UNUSED_NUMPY = ("numpy.f2py", "numpy.testing")
+
+
+def defer_unused_numpy(names: tuple[str, ...] = UNUSED_NUMPY) -> list[str]:
+    """Make the numpy submodules ``names`` lazy: loaded on their first attribute access.
+
+    Each module not yet imported is registered with :class:`importlib.util.LazyLoader` (in
+    ``sys.modules`` and as numpy's attribute), so taking a reference to it, as SciPy's
+    namespace copy does, costs nothing, while any use (``numpy.testing.assert_equal``, an
+    import from it) runs the module as a plain import would. Returns the names deferred.
+    """
+    import importlib.util
+
+    import numpy
+
+    deferred = []
+    for name in names:
+        if name in sys.modules:
+            continue
+        spec = importlib.util.find_spec(name)
+        if spec is None or spec.loader is None:  # pragma: no cover - a numpy without it
+            continue
+        spec.loader = importlib.util.LazyLoader(spec.loader)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+        setattr(numpy, name.rpartition(".")[2], module)
+        deferred.append(name)
+    return deferred
+
+
 app = typer.Typer(
     **PLAIN,
     add_completion=False,
@@ -480,6 +514,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             from rotaflex.core.provenance import provenance
             from rotaflex.core.report import CompileTimer
 
+            defer_unused_numpy()
             _figure_options(fmt, dpi)
             out_dir = check_out_dir(out, marker=RESULT_MARKERS, inputs=(config,))
             _, body = split_config(load_toml(config), domain=domain, verb=verb)

@@ -1,5 +1,7 @@
-"""The CLI's plain parameter coercion (``rotaflex.cli.plain_coercion``) gives what typer's own
-pydantic adapters give, values and error messages alike, without importing pydantic."""
+"""Start-up of a verb: the CLI's plain parameter coercion (``rotaflex.cli.plain_coercion``) gives
+what typer's own pydantic adapters give, values and error messages alike, without importing
+pydantic; numpy submodules no verb uses stay unexecuted (``rotaflex.cli.defer_unused_numpy``)
+and still work when used."""
 
 import json
 import os
@@ -90,7 +92,7 @@ def test_usage_errors_read_as_with_typers_adapters(monkeypatch, capsys, tmp_path
     assert all(code == 2 for code, _ in plain)
 
 
-def test_campbell_imports_neither_pydantic_nor_scipy_optimize(tmp_path):
+def test_campbell_imports_neither_pydantic_nor_scipy_optimize_and_defers_unused_numpy(tmp_path):
     code = f"""
         import json, sys
         from rotaflex.cli import main
@@ -99,12 +101,20 @@ def test_campbell_imports_neither_pydantic_nor_scipy_optimize(tmp_path):
                   "--out", {str(tmp_path / "out")!r}, "--no-figures", "--quiet", "--dpi", "120"])
         except SystemExit as exc:
             assert exc.code == 0, exc.code
-        print(json.dumps(sorted(m for m in ("pydantic", "scipy.optimize", "matplotlib") if m in sys.modules)))
+        loaded = sorted(m for m in ("pydantic", "scipy.optimize", "matplotlib") if m in sys.modules)
+        lazy = sorted(m for m in ("numpy.f2py", "numpy.testing") if type(sys.modules[m]).__name__ == "_LazyModule")
+        import numpy as np
+        from numpy.testing import assert_array_equal  # a use runs the module as an import would
+
+        assert_array_equal(np.arange(3), [0, 1, 2])
+        assert callable(np.f2py.get_include) and type(sys.modules["numpy.f2py"]).__name__ == "module"
+        print(json.dumps({{"loaded": loaded, "lazy": lazy}}))
     """
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
     proc = subprocess.run(
         [sys.executable, "-c", textwrap.dedent(code)], env=env, capture_output=True, text=True, timeout=300
     )
     assert proc.returncode == 0, proc.stderr
-    assert json.loads(proc.stdout.strip().splitlines()[-1]) == []
+    got = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert got == {"loaded": [], "lazy": ["numpy.f2py", "numpy.testing"]}
     assert (tmp_path / "out" / "result.nc").exists()
