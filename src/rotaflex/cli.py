@@ -52,19 +52,29 @@ def plain_coercion() -> bool:
     if typer_build is None or getattr(typer_build, "plain", False):
         return typer_build is not None
 
-    @dataclass(frozen=True)
-    class PlainParam(RuntimeParam):
-        descriptor: Any
+    made: dict[str, type] = {}
 
-        def _coerce_value(self, value: Any, param: Any, ctx: Any) -> Any:
-            kind = self.annotation
-            if (kind is str or kind is bool) and type(value) is kind:
-                return value
-            if kind is int and (type(value) is int or (type(value) is str and value.isascii() and value.isdigit())):
-                return int(value)
-            if kind is Path and ((type(value) is str and value) or isinstance(value, Path)):
-                return coerce_cli_path(Path(value), self.parameter_info, path_type=Path, param=param, ctx=ctx)
-            return typer_build(self.descriptor)._coerce_value(value, param=param, ctx=ctx)
+    def plain_param() -> type:  # made on first use: --help parses no parameter (a class costs ~1 ms)
+        if not made:
+
+            @dataclass(frozen=True)
+            class PlainParam(RuntimeParam):
+                descriptor: Any
+
+                def _coerce_value(self, value: Any, param: Any, ctx: Any) -> Any:
+                    kind = self.annotation
+                    if (kind is str or kind is bool) and type(value) is kind:
+                        return value
+                    if kind is int and (
+                        type(value) is int or (type(value) is str and value.isascii() and value.isdigit())
+                    ):
+                        return int(value)
+                    if kind is Path and ((type(value) is str and value) or isinstance(value, Path)):
+                        return coerce_cli_path(Path(value), self.parameter_info, path_type=Path, param=param, ctx=ctx)
+                    return typer_build(self.descriptor)._coerce_value(value, param=param, ctx=ctx)
+
+            made["class"] = PlainParam
+        return made["class"]
 
     def build_runtime_param(descriptor: Any) -> Any:
         info = descriptor.parameter_info
@@ -80,7 +90,7 @@ def plain_coercion() -> bool:
         )
         if not plain:
             return typer_build(descriptor)
-        return PlainParam(parameter_info=info, annotation=descriptor.annotation, descriptor=descriptor)
+        return plain_param()(parameter_info=info, annotation=descriptor.annotation, descriptor=descriptor)
 
     build_runtime_param.plain = True
     typer_core.build_runtime_param = build_runtime_param
