@@ -118,3 +118,17 @@ def test_campbell_imports_neither_pydantic_nor_scipy_optimize_and_defers_unused_
     got = json.loads(proc.stdout.strip().splitlines()[-1])
     assert got == {"loaded": [], "lazy": ["numpy.f2py", "numpy.testing"]}
     assert (tmp_path / "out" / "result.nc").exists()
+
+
+@pytest.mark.parametrize(
+    ("rotaflex", "openblas", "want"),
+    [(None, None, "1"), ("3", None, "3"), ("2", "4", "4"), ("0", None, None), ("x", None, None)],
+)
+def test_openblas_starts_with_the_verbs_thread_count(monkeypatch, rotaflex, openblas, want):
+    for name, value in (("ROTAFLEX_BLAS_THREADS", rotaflex), ("OPENBLAS_NUM_THREADS", openblas)):
+        if value is None:
+            monkeypatch.delenv(name, raising=False)
+        else:
+            monkeypatch.setenv(name, value)
+    cli._blas_threads_at_load()
+    assert os.environ.get("OPENBLAS_NUM_THREADS") == want  # a user's own setting is kept
