@@ -132,3 +132,28 @@ def test_openblas_starts_with_the_verbs_thread_count(monkeypatch, rotaflex, open
             monkeypatch.setenv(name, value)
     cli._blas_threads_at_load()
     assert os.environ.get("OPENBLAS_NUM_THREADS") == want  # a user's own setting is kept
+
+
+def test_garbage_collection_is_on_again_after_a_verb(tmp_path, capsys):
+    """Collection is paused while a verb imports its modules and draws its figures; after the
+    command, finished or failed inside, it is on as before (and left off if it was off)."""
+    import gc
+
+    config = str(ROOT / "examples/rotor/fe_friswell_5_9_1.toml")
+    assert gc.isenabled()
+    for argv, code in (
+        (["rotor", "campbell", config, "--out", str(tmp_path / "a"), "-q", "--no-figures"], 0),
+        (["rotor", "campbell", config, "--out", str(tmp_path / "b"), "--dpi", "5"], 2),  # fails inside
+    ):
+        with pytest.raises(SystemExit) as exc:
+            cli.main(argv)
+        assert exc.value.code == code
+        assert gc.isenabled()
+    gc.disable()
+    try:
+        with pytest.raises(SystemExit):
+            cli.main(["rotor", "campbell", config, "--out", str(tmp_path / "c"), "-q", "--no-figures"])
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
+    capsys.readouterr()
