@@ -1,6 +1,6 @@
-"""Start-up of a verb: the CLI's plain parameter coercion (``rotaflex.cli.plain_coercion``) gives
+"""Start-up of a verb: the CLI's plain parameter coercion (``rotaflex.cli_startup.plain_coercion``) gives
 what typer's own pydantic adapters give, values and error messages alike, without importing
-pydantic; numpy submodules no verb uses stay unexecuted (``rotaflex.cli.defer_unused_numpy``)
+pydantic; numpy submodules no verb uses stay unexecuted (``rotaflex.cli_startup.defer_unused_numpy``)
 and still work when used."""
 
 import json
@@ -16,7 +16,7 @@ from typer import _coercion
 from typer import core as typer_core
 from typer.models import ArgumentInfo, OptionInfo
 
-from rotaflex import cli
+from rotaflex import cli, cli_startup
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -50,7 +50,7 @@ VALUES = {
 
 @pytest.mark.parametrize("annotation", list(VALUES))
 def test_plain_coercion_gives_typers_values_and_errors(annotation, tmp_path):
-    assert cli.plain_coercion()  # installed at import; a second call leaves it as it is
+    assert cli_startup.plain_coercion()  # installed at import; a second call leaves it as it is
     plain = typer_core.build_runtime_param
     assert plain is not _coercion.build_runtime_param
     for info in (OptionInfo(), ArgumentInfo(), OptionInfo(exists=True), OptionInfo(dir_okay=False)):
@@ -130,7 +130,7 @@ def test_openblas_starts_with_the_verbs_thread_count(monkeypatch, rotaflex, open
             monkeypatch.delenv(name, raising=False)
         else:
             monkeypatch.setenv(name, value)
-    cli._blas_threads_at_load()
+    cli_startup.blas_threads_at_load()
     assert os.environ.get("OPENBLAS_NUM_THREADS") == want  # a user's own setting is kept
 
 
