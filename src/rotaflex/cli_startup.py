@@ -59,27 +59,35 @@ def plain_coercion() -> bool:
                     ):
                         return int(value)
                     if kind is Path and ((type(value) is str and value) or isinstance(value, Path)):
-                        return coerce_cli_path(Path(value), self.parameter_info, path_type=Path, param=param, ctx=ctx)
+                        try:
+                            return coerce_cli_path(
+                                Path(value), self.parameter_info, path_type=Path, param=param, ctx=ctx
+                            )
+                        except (TypeError, AttributeError):  # another typer's signature: typer's own way
+                            pass
                     return typer_build(self.descriptor)._coerce_value(value, param=param, ctx=ctx)
 
             made["class"] = PlainParam
         return made["class"]
 
     def build_runtime_param(descriptor: Any) -> Any:
-        info = descriptor.parameter_info
+        info = getattr(descriptor, "parameter_info", None)
         plain = (
-            descriptor.annotation in (str, int, bool, Path)
-            and descriptor.file_annotation is None
+            getattr(descriptor, "annotation", None) in (str, int, bool, Path)
+            and getattr(descriptor, "file_annotation", 0) is None
             and getattr(info, "parser", 0) is None
             and getattr(info, "min", 0) is None
             and getattr(info, "max", 0) is None
             and getattr(info, "path_type", 0) is None
             and not getattr(info, "clamp", True)
-            and not descriptor.is_choice
+            and getattr(descriptor, "is_choice", True) is False
         )
-        if not plain:
-            return typer_build(descriptor)
-        return plain_param()(parameter_info=info, annotation=descriptor.annotation, descriptor=descriptor)
+        if plain:
+            try:
+                return plain_param()(parameter_info=info, annotation=descriptor.annotation, descriptor=descriptor)
+            except (TypeError, AttributeError):  # another typer's RuntimeParam: typer's own way
+                pass
+        return typer_build(descriptor)
 
     build_runtime_param.plain = True
     typer_core.build_runtime_param = build_runtime_param
