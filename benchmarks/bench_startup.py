@@ -155,7 +155,9 @@ def command(domain, verb):
 domains.command = command
 result.Result.to_netcdf = timed("result.nc", result.Result.to_netcdf)
 result.Result.save = timed("save", result.Result.save)
-plotting.pyplot = timed("matplotlib import", plotting.pyplot)
+for name in ("figure_types", "pyplot"):  # figure_types: figures without pyplot (older trees: pyplot)
+    if hasattr(plotting, name):
+        setattr(plotting, name, timed("matplotlib import", getattr(plotting, name)))
 plotting.save_figure = timed("draw + PNG", plotting.save_figure)
 sys.argv = ["rotaflex"] + sys.argv[1:]
 try:
@@ -170,10 +172,10 @@ sys.stderr.write("\\n" + json.dumps(spent) + "\\n")
 PHASE_ROWS = (
     ("interpreter start and exit", lambda p, wall: wall - p["in process"]),
     (
-        "CLI, config, BLAS pinning (typer, pydantic, numpy, scipy.linalg)",
+        "CLI, config, BLAS pinning (typer, numpy, scipy.linalg; main: also pydantic)",
         lambda p, wall: p["in process"] - p["verb modules"] - p.get("analysis", 0) - p.get("save", 0),
     ),
-    ("verb modules (xarray, pandas, scipy.optimize, ...)", lambda p, wall: p["verb modules"]),
+    ("verb modules (xarray, pandas, FE modules; main: also scipy.optimize)", lambda p, wall: p["verb modules"]),
     ("the verb's function: analysis, dataset (and imports made inside)", lambda p, wall: p.get("analysis", 0.0)),
     ("result.nc (h5netcdf)", lambda p, wall: p.get("result.nc", 0.0)),
     ("figures: matplotlib import", lambda p, wall: p.get("matplotlib import", 0.0)),

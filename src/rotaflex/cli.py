@@ -7,6 +7,7 @@ failed, a result failed its own checks or an output could not be written, 130 wh
 before any computation starts, and a run holds its output directory until it ends.
 """
 
+import gc
 import os
 import signal
 import sys
@@ -18,12 +19,15 @@ from typing import Annotated, Any
 
 import typer
 
+from rotaflex.cli_startup import blas_threads_at_load, collection_paused, defer_unused_numpy, plain_coercion
 from rotaflex.core.domains import CASES, COMMANDS, LISTINGS, REPRODUCE
 from rotaflex.core.errors import ConvergenceError, DivergenceError, InputError, SingularityError
 
 #: plain help and error text: typer's rich formatter costs ~0.3 s of imports (rich, markdown_it) on
 #: every ``--help`` and usage error, more than the whole start-up budget (issue 25: <= 0.2 s)
 PLAIN = {"rich_markup_mode": None}
+plain_coercion()  # str/int/bool/Path parameters without typer's pydantic adapters (~0.11 s a verb)
+
 
 app = typer.Typer(
     **PLAIN,
@@ -409,6 +413,11 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
         debug: Debug = False,
     ) -> None:
         def go():
+            blas_threads_at_load()  # first: before anything below imports numpy
+            with collection_paused() as resume:
+                work(resume)
+
+        def work(resume: Callable[[], None]) -> None:
             from rotaflex.core import plotting
             from rotaflex.core.config import load_toml
             from rotaflex.core.domains import command, resolve_paths, split_config, validate
@@ -416,6 +425,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             from rotaflex.core.provenance import provenance
             from rotaflex.core.report import CompileTimer
 
+            defer_unused_numpy()
             _figure_options(fmt, dpi)
             out_dir = check_out_dir(out, marker=RESULT_MARKERS, inputs=(config,))
             _, body = split_config(load_toml(config), domain=domain, verb=verb)
@@ -425,14 +435,18 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             say = None if quiet else (lambda m: typer.echo(m, err=True))
             with claim_out_dir(out_dir):
                 with _limit_threads(), CompileTimer(say) as compiling:
+                    fn = command(domain, verb)  # the verb's modules: imported with collection paused
+                    resume()  # the verb's own objects are collected as usual
                     # bars only on a terminal (a log would get every redraw)
-                    result = command(domain, verb)(body, progress=not quiet)  # bar or log lines
+                    result = fn(body, progress=not quiet)  # bar or log lines
                 if say and compiling.seconds >= 0.5:
                     say(f"numba kernels compiled in {compiling.seconds:.1f} s (first run only; cached afterwards)")
                 # through the dataset and configure(): domain results may override save(out, figures=)
                 result.dataset.attrs.update(provenance(config))
                 plotting.configure(fmt=fmt, dpi=dpi)
+                gc.disable()  # matplotlib's import and the figures: objects kept until the files are written
                 paths = result.save(out_dir, figures=not no_figures)
+                resume()
             typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out_dir}")
             if result.status != "success":
                 raise typer.Exit(1)

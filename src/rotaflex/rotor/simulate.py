@@ -264,7 +264,7 @@ def _integrate_lagrange(model, p, t_eval, bar):
 
     ns = compiled(spec_of(model))
     n = ns["N_DOF"]
-    all_fn = ns["_all"]
+    all_fn, mass_rhs = ns["_all"], ns["_mass_rhs"]  # mass_rhs: M and f only (no attitude outputs)
     n_trans = 2 if isinstance(model, RotorModel) else 0
     J_max = float(np.max(body_inertia(model)))
     tol = model.solver.singular_tolerance
@@ -273,26 +273,33 @@ def _integrate_lagrange(model, p, t_eval, bar):
     # numpy scalars that unpacking arrays gives (3.4 us against 11 us a call), same IEEE results
     p_floats = p.tolist()
 
-    def parts(t, y):
+    def equations(fn, t, y):
         try:
-            M, f, e, e_dot = all_fn(float(t), y.tolist(), p_floats)
+            return fn(float(t), y.tolist(), p_floats)
         except OverflowError:  # a float power beyond 1e308: numpy scalars give inf instead
-            M, f, e, e_dot = all_fn(t, y, p)
-        return np.array(M).reshape(n, n), np.array(f), e, e_dot
+            return fn(t, y, p)
+
+    diagonal = [k * (n + 1) for k in range(n)] if ns["MASS_DIAGONAL"] else None
 
     def rhs(t, y):  # called ~4000 times a run: no work beyond the equations and one solve
         bar(t)
-        M, f, _, _ = parts(t, y)
-        _, _, qdd, info = dgesv(M, f)  # LAPACK directly: np.linalg.solve costs 5x more per call
+        yl = y.tolist()
+        try:
+            M, f = mass_rhs(float(t), yl, p_floats)
+        except OverflowError:  # as in equations()
+            M, f = mass_rhs(t, y, p)
+        if diagonal is not None:  # LAPACK's dgesv divides by the pivots here: same bits (tested)
+            m = [M[k] for k in diagonal]
+            if 0 in m:
+                raise np.linalg.LinAlgError("Singular matrix")
+            return np.array(yl[n:] + [fk / mk for fk, mk in zip(f, m, strict=True)])
+        _, _, qdd, info = dgesv(np.array(M).reshape(n, n), f)  # LAPACK directly: np.linalg.solve costs 5x more
         if info > 0:
             raise np.linalg.LinAlgError("Singular matrix")
-        out = np.empty(2 * n)
-        out[:n] = y[n:]
-        out[n:] = qdd
-        return out
+        return np.concatenate((y[n:], qdd))
 
     def singular(t, y):
-        M = parts(t, y)[0]
+        M = np.array(equations(mass_rhs, t, y)[0]).reshape(n, n)
         return _mass_measure(M[n_trans:, n_trans:], J_max) - tol
 
     singular.terminal, singular.direction = True, -1
@@ -334,13 +341,10 @@ def _integrate_lagrange(model, p, t_eval, bar):
         else:
             status, message = "failed", sol.message
     q, qd = sol_y[:n].T, sol_y[n:].T
-    e = np.empty((sol_t.size, 4))
-    e_dot = np.empty_like(e)
-    Ms = np.empty((sol_t.size, n, n))
-    fs = np.empty((sol_t.size, n))
-    for i, (ti, yi) in enumerate(zip(sol_t, sol_y.T, strict=False)):  # output only, not the time loop
-        Ms[i], fs[i], e[i], e_dot[i] = parts(ti, yi)
-    qdd = _solve_stacked(Ms, fs)
+    # output only, not the time loop: the samples' tuples are turned into arrays once
+    samples = [equations(all_fn, ti, yi) for ti, yi in zip(sol_t, sol_y.T, strict=False)]
+    Ms, fs, e, e_dot = (np.array([s[k] for s in samples], float) for k in range(4))
+    qdd = _solve_stacked(Ms.reshape(-1, n, n), fs)
     ds = _dataset(model, sol_t, q, qd, e, e_dot, ns["COORDINATES"], p)
     ds["generalized_acceleration"] = (
         ("time", "coordinate"),

@@ -27,7 +27,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
-from scipy.optimize import linear_sum_assignment
 
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
@@ -38,6 +37,9 @@ STABILITY_TOL = 1e-8
 WHIRL_NODE_FRACTION = 0.01
 #: an orbit with | |X + iY| - |X - iY| | below this fraction of their sum is a straight line
 WHIRL_LINE_FRACTION = 1e-3
+#: a tracked mode's best MAC must beat its second best by more than this for the row-wise best
+#: to be taken as the tracking assignment without solving the assignment problem
+ASSIGN_MARGIN = 1e-9
 
 
 class EigenvalueView:
@@ -205,6 +207,31 @@ def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return num / np.outer(np.sum(np.abs(a) ** 2, 1), np.sum(np.abs(b) ** 2, 1))
 
 
+def assign_modes(mm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and columns of ``mm`` (r, c) that maximise the sum of ``mm[rows, cols]``, one column per row.
+
+    When every row's largest entry sits in a different column and beats the row's second
+    largest by more than :data:`ASSIGN_MARGIN`, those columns are the assignment: any other
+    one loses more than the margin in some row and gains nothing in the others, so they are
+    the unique optimum, the one ``scipy.optimize.linear_sum_assignment(-mm)`` returns (same
+    rows and columns; tested). Otherwise (ties, crossing modes whose MACs are close, fewer
+    columns than rows, NaN) the assignment problem is solved by SciPy. The check saves a
+    start-up the import of scipy.optimize (~0.17 s) on a well-tracked Campbell diagram.
+    """
+    n, m = mm.shape
+    if 0 < n <= m and np.all(np.isfinite(mm)):
+        rows = np.arange(n)
+        cols = np.argmax(mm, axis=1)
+        if np.unique(cols).size == n:
+            others = mm.copy()
+            others[rows, cols] = -np.inf
+            if np.all(mm[rows, cols] - others.max(axis=1) > ASSIGN_MARGIN):
+                return rows, cols
+    from scipy.optimize import linear_sum_assignment
+
+    return linear_sum_assignment(-mm)
+
+
 @dataclass(frozen=True)
 class CampbellData:
     """Tracked modes over a speed range, their critical speeds and instability onsets."""
@@ -242,8 +269,8 @@ def campbell(
 
     Unstable: damping ratio below -:data:`STABILITY_TOL`; the onset speed is interpolated to log dec = 0.
     At each speed the ``n_modes + extra`` lowest modes are candidates; the tracked modes of
-    the previous speed are matched to them by maximising the total MAC (Hungarian
-    assignment), so a mode keeps its label when its frequency crosses another's.
+    the previous speed are matched to them by maximising the total MAC (assignment problem,
+    :func:`assign_modes`), so a mode keeps its label when its frequency crosses another's.
     Critical speeds are where a tracked damped frequency crosses ``h * Omega`` for each
     harmonic ``h`` (linear interpolation between speeds). ``reduce = m`` solves in the basis of
     the lowest ``m`` undamped modes (symmetric stiffness at the middle speed) instead of all DOFs:
@@ -274,7 +301,7 @@ def campbell(
             prev = v_t[s]
             continue
         mm = mac(prev, v)
-        rows, cols = linear_sum_assignment(-mm)
+        rows, cols = assign_modes(mm)
         lam_t[s, rows], v_t[s, rows] = lam[cols], v[cols]
         mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
         prev = v_t[s]
