@@ -58,7 +58,7 @@ def _energy(mod, ma, x, phi):
 def test_node_blocks_hold_the_stiffness_exactly(setup):
     mod, ki = setup
     k = mod.stiffness.tocsr()
-    rows = np.repeat(np.arange(mod.n_nodes), np.diff(ki.arrays.kptr))
+    rows = np.repeat(np.arange(mod.n_nodes), np.diff(ki.arrays.kptr.astype(np.int64)))
     dense = np.zeros(k.shape)
     for b, (i, j) in enumerate(zip(rows, ki.arrays.kcol, strict=True)):
         dense[2 * i : 2 * i + 2, 2 * j : 2 * j + 2] = ki.arrays.kblk[b].reshape(2, 2)
