@@ -214,6 +214,11 @@ class StepScratch(NamedTuple):
     vtgt: np.ndarray  # (npair,) target normal velocity of the velocity pass [m/s]
     work: np.ndarray  # (13, nc) scratch of the passes
     stats: np.ndarray  # (2,) residual, iterations of the last pass
+    poly: np.ndarray  # (4, 33) acceleration polynomial: coefficients and three work rows
+    actm: np.ndarray  # (2, npair) bool: active contact rows, all rows
+    fl_nodes: np.ndarray  # (3,) int64 nodes of a quadratic flank edge
+    fl_w: np.ndarray  # (3,) their weights
+    sm_w: np.ndarray  # (nw,) weights of a smoothed surface ((0,) with quadratic edges)
 
 
 class HHTScratch(NamedTuple):

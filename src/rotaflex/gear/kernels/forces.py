@@ -140,7 +140,7 @@ def set_rotation(phi, theta0, rot):
         rot[g, 1] = math.sin(ang)
 
 
-@inner
+@inner(_nrt=False)
 def tie_vectors(x, cen, tie_node, tie_gear, rot, bvec, rx):
     """Disk-frame tie quantities of every tie node k (constraint ``R^T (x_k - c) - X_k = 0``).
 
@@ -170,7 +170,7 @@ def kinetic_energy(v, om, minv, jd):
     return e
 
 
-@inner
+@inner(_nrt=False)
 def torque_of(g, phi_g, rsgn_g, tpar, mode):
     """External torque on disk ``g`` (counter-clockwise positive): ramp of Fig. 7 or constant.
 
@@ -184,7 +184,7 @@ def torque_of(g, phi_g, rsgn_g, tpar, mode):
     return u * ramp_torque(u * rsgn_g * phi_g, tpar[0], tpar[1], tpar[2])
 
 
-@inner
+@inner(_nrt=False)
 def accelerations(
     x,
     phi,
@@ -206,6 +206,9 @@ def accelerations(
     fc,
     fth,
     cn_s,
+    nodes,
+    w,
+    ws,
     a,
     alp,
 ):
@@ -216,14 +219,11 @@ def accelerations(
     parameters and normal at the step start (``ct[j]`` = a, b, n_x, n_y) advance with their
     rates (``rates[j]`` = da/dt, db/dt, dn_x/dt, dn_y/dt, appendix A) over ``tau_off`` seconds.
     ``m`` is the :class:`~rotaflex.gear.kernels.arrays.ModelArrays`; ``tpar`` = (tau0, theta_2,
-    theta_s, u_A, u_B).
+    theta_s, u_A, u_B); ``nodes, w, ws`` scratch of the contact weights (3,), (3,), (nw,).
     """
     set_rotation(phi, m.theta0, rot)
     tie_vectors(x, m.centres, m.tie_node, m.tie_gear, rot, bvec, rx)
     nw = cnod.shape[2]
-    nodes = np.empty(3, np.int64)
-    w = np.empty(3)
-    ws = np.empty(nw if nw != 3 else 0)
     for jp in range(ct.shape[0]):
         n0 = ct[jp, 2] + rates[jp, 2] * tau_off
         n1 = ct[jp, 3] + rates[jp, 3] * tau_off
@@ -256,7 +256,7 @@ def accelerations(
     return energy
 
 
-@inner
+@inner(_nrt=False)
 def normal_velocity(v, cnod, cw, cn, jp):
     """Relative normal velocity of the contact row of pair ``jp`` (> 0: approaching)."""
     sh = 0.0

@@ -54,7 +54,7 @@ def k_local_product(g, m, rot, zk):
             z2[j, 1] += kblk[b, 3] * l1
 
 
-@inner
+@inner(_nrt=False)
 def respond(g, gth, c1, c2, m, rot, zk, tx, tth, scale):
     """tx += scale * (c1 M^-1 g - c2 M^-1 R K R^T M^-1 g), tth += scale * c1 gth / J.
 
@@ -77,7 +77,7 @@ def respond(g, gth, c1, c2, m, rot, zk, tx, tth, scale):
         tth[gg] += scale * c1 * gth[gg] / jd[gg]
 
 
-@inner
+@inner(_nrt=False)
 def tie_row_sums(c1, c2, m_arr, bvec, rs):
     """Row sums of |C| over the tie block (for the infinity norm of appendix B)."""
     minv, tie_node, tie_gear, jd = m_arr.minv, m_arr.tie_node, m_arr.tie_gear, m_arr.inertia
@@ -105,22 +105,25 @@ def tie_row_sums(c1, c2, m_arr, bvec, rs):
         rs[2 * k + 1] = r1
 
 
-@inner
-def accel_poly(n_acc, eps1, coef):
-    """Coefficients of A_n as a polynomial in C_1 (eq. B.4-B.8) and the optimal b (eq. 24).
+@inner(_nrt=False)
+def accel_poly(n_acc, eps1, coef, buf):
+    """Coefficients of A_n as a polynomial in C_1 (eq. B.4-B.8) and the optimal b (eq. 24);
+    ``buf`` (3, size) work rows.
 
     The products run over the non-zero coefficients only (degree of C_k is 2^(k-1), of A_k
     2^(k-1) - 1): the terms left out are exact zeros."""
     size = coef.shape[0]
-    cc = np.zeros(size)
-    ca = np.zeros(size)
+    cc = buf[0]
+    ca = buf[1]
+    tmp = buf[2]
+    cc[:] = 0.0
+    ca[:] = 0.0
     cc[1] = 1.0
     ca[0] = 1.0
     dc = 1  # degree of C
     da = 0  # degree of A
     om = 1.0
     ep = eps1
-    tmp = np.zeros(size)
     for _ in range(2, n_acc + 1):
         bk = ep + om
         # A <- (bk - C) A
@@ -131,7 +134,8 @@ def accel_poly(n_acc, eps1, coef):
             tmp[i] += bk * ca[i]
             for j in range(min(size - i, dc + 1)):
                 tmp[i + j] -= cc[j] * ca[i]
-        ca[:] = tmp
+        for i in range(size):
+            ca[i] = tmp[i]
         da = min(size - 1, da + dc)
         # C <- C (bk - C)
         tmp[:] = 0.0
@@ -141,10 +145,12 @@ def accel_poly(n_acc, eps1, coef):
             tmp[i] += bk * cc[i]
             for j in range(min(size - i, dc + 1)):
                 tmp[i + j] -= cc[j] * cc[i]
-        cc[:] = tmp
+        for i in range(size):
+            cc[i] = tmp[i]
         dc = min(size - 1, 2 * dc)
         ep, om = ep * om, bk * bk / 4.0
-    coef[:] = ca
+    for i in range(size):
+        coef[i] = ca[i]
     return 2.0 / (om + ep)
 
 
@@ -175,7 +181,7 @@ def gt_apply(dmu, tie_node, tie_gear, bvec, rot, cnod, cw, cn, g, gth):
             g[2 * i + 1] -= cw[jp, 1, j] * cn[jp, 1] * p
 
 
-@inner
+@inner(_nrt=False)
 def contact_columns(c1, c2, m, rot, cnod, cw, cn, g, zk, ccol):
     """Columns of C = G W G^T of every contact row (W = c1 M^-1 - c2 M^-1 K_g M^-1)."""
     minv, gid, tie_node = m.minv, m.gid, m.tie_node
@@ -223,7 +229,7 @@ def contact_columns(c1, c2, m, rot, cnod, cw, cn, g, zk, ccol):
             zk[:] = 0.0
 
 
-@inner
+@inner(_nrt=False)
 def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl):
     """out = C' z: tie block (structured) + the active contact rows/columns (``act`` mask);
     ``m_arr`` the :class:`~rotaflex.gear.kernels.arrays.ModelArrays` of the pair."""
@@ -284,8 +290,8 @@ def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl):
         out[ic + jp] = acc
 
 
-@inner
-def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
+@inner(_nrt=False)
+def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats, poly, actm):
     """Multiplier / contact-force iteration of eq. 19-21 with ``npair`` unilateral rows.
 
     Each contact row is active when (mode 1) its force is compressive or it penetrates, or
@@ -293,6 +299,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_ar
     loaded; each contact force is projected on p <= 0 after every update. The scaling
     ``||C'||_inf`` and the eigenvalue bound (tie block: exact; contact rows: Gershgorin) are
     recomputed when the active set changes. On return ``work[0]`` holds C (mu - mu_start).
+    ``poly`` (4, 33) and ``actm`` (2, npair) are work arrays (no allocation in the step).
     Returns (residual, iterations, converged).
     """
     nc = e0.shape[0]
@@ -305,9 +312,10 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_ar
     rs = work[4]
     yl = work[5]
     y[:] = 0.0
-    coef = np.zeros(33)
-    act = np.zeros(npair, np.bool_)
-    allact = np.ones(npair, np.bool_)
+    coef = poly[0]
+    act = actm[0]
+    allact = actm[1]
+    allact[:] = True
     tie_row_sums(c1, c2, m_arr, bvec, rs)
     last_mask = -1
     nrm = 1.0
@@ -371,7 +379,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_ar
                 eps1 = 0.999
             if eps1 < 1e-9:
                 eps1 = 1e-9
-            bbar = accel_poly(n_acc, eps1, coef)
+            bbar = accel_poly(n_acc, eps1, coef, poly[1:])
             deg = 0
             for j in range(33):
                 if coef[j] != 0.0:
@@ -658,7 +666,7 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec
 
 
 @inner
-def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
+def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats, poly, actm):
     """Pass ``mode`` (1, 2, 3) by the iteration of eq. 19-24 (``prm.dfac`` empty) or by the
     direct solve (factors ``prm.dfac[mode - 1]`` of the
     :class:`~rotaflex.gear.kernels.arrays.StepParams`); returns (residual, iterations,
@@ -668,7 +676,9 @@ def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m
     a second specialisation compiled the whole step again, 35 s CPU on a cold cache.
     """
     if prm.dfac.shape[1] == 0:
-        return iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats)
+        return iterate_pass(
+            mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats, poly, actm
+        )
     factors = prm.dfac[mode - 1]
     return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, factors, prm.dperm, m_arr, bvec, ccol, work, stats)
 
