@@ -36,9 +36,10 @@ def block_product(kptr, kcol, kblk, u, f):
     Node ``i`` and node ``i + h + 1`` (h = N // 2) are summed side by side: two independent
     chains of additions keep the core busy where one waits on the latency of the last one (15 %
     of the product). Each row still adds its terms in column order, so ``f`` is the same to
-    the last bit as one row after the other.
+    the last bit as one row after the other. Rows: ``len(kptr) - 1`` (of ``f``); ``u`` has a row
+    per node column.
     """
-    nn = u.shape[0]
+    nn = kptr.shape[0] - 1
     h = nn // 2
     for i in range(h + 1):
         if i >= nn:
