@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+import timeit
 
 import numpy as np
 from numba import njit
@@ -150,14 +151,22 @@ def _bare_product(nrep, indptr, indices, data, u, out):
             out[r] = acc
 
 
+@njit(cache=True)
+def _block_products(nrep, m, u, f):
+    """``nrep`` block products f = K u of the solver (no rotation, energy or torques)."""
+    for _ in range(nrep):
+        forces.block_product(m.kptr, m.kcol, m.kblk, u, f)
+
+
 def _per_call(fn, nrep, *args) -> float:
-    """Best of 5 of the time per repetition [s] of ``fn(nrep, *args)`` (compiled loop)."""
+    """Best of 5 of the CPU time per repetition [s] of ``fn(nrep, *args)`` (compiled loop; the
+    thread's CPU time, so that other jobs on the machine inflate it less than wall time)."""
     fn(2, *args)
     best = math.inf
     for _ in range(5):
-        t0 = time.perf_counter()
+        t0 = time.thread_time()
         fn(nrep, *args)
-        best = min(best, (time.perf_counter() - t0) / nrep)
+        best = min(best, (time.thread_time() - t0) / nrep)
     return best
 
 
@@ -182,6 +191,8 @@ def step_split(model, th2, ths, rpm, warm_steps=6000, nrep=2000):
     u = np.ones(k.shape[0])
     csr = (k.indptr.astype(np.int64), k.indices.astype(np.int64), k.data)
     bare = _per_call(_bare_product, nrep, *csr, u, np.empty_like(u))
+    bare_scipy = min(timeit.repeat(lambda: k @ u, number=200, repeat=5, timer=time.thread_time)) / 200
+    blocks = _per_call(_block_products, nrep, m, np.ones((k.shape[0] // 2, 2)), np.empty((k.shape[0] // 2, 2)))
     total = cum[-1] - cum[0]
     passes = piece[2] + piece[3] + piece[4] - prod
     contact = piece[1]
@@ -195,7 +206,8 @@ def step_split(model, th2, ths, rpm, warm_steps=6000, nrep=2000):
     print(
         f"    passes: displacement {piece[2] * us:.1f}, velocity {piece[3] * us:.1f}, "
         f"acceleration {(piece[4] - prod) * us:.1f} us; bare CSR product K u {bare * us:.1f} us "
-        f"(floor of the four products {4 * bare * us:.1f} us; step / floor {total / (4 * bare):.2f})"
+        f"(floor of the four products {4 * bare * us:.1f} us; step / floor {total / (4 * bare):.2f}); "
+        f"scipy's CSR K @ u {bare_scipy * us:.1f} us; the solver's block product alone {blocks * us:.1f} us"
     )
 
 
@@ -262,9 +274,9 @@ def compare(model, ref, rpm, th2, ths, span):
             d.records["force"].max(),
         )
     )
-    t0 = time.perf_counter()
+    t0 = time.thread_time()
     red = reduced.build_reduced(model, 20)
-    t_build = time.perf_counter() - t0
+    t_build = time.thread_time() - t0
     om = float(rpm_to_rad_s(rpm)[0])
     for dt in (2e-6, 5e-4 / om, 5e-7, 2.5e-7):
         if dt > reduced.time_step_limit(red, rpm_to_rad_s(rpm)):

@@ -58,7 +58,7 @@ def _energy(mod, ma, x, phi):
 def test_node_blocks_hold_the_stiffness_exactly(setup):
     mod, ki = setup
     k = mod.stiffness.tocsr()
-    rows = np.repeat(np.arange(mod.n_nodes), np.diff(ki.arrays.kptr))
+    rows = np.repeat(np.arange(mod.n_nodes), np.diff(ki.arrays.kptr.astype(np.int64)))
     dense = np.zeros(k.shape)
     for b, (i, j) in enumerate(zip(rows, ki.arrays.kcol, strict=True)):
         dense[2 * i : 2 * i + 2, 2 * j : 2 * j + 2] = ki.arrays.kblk[b].reshape(2, 2)
@@ -139,3 +139,47 @@ def test_run_in_calls_equals_one_call_bit_for_bit(setup):
         runs.append((r.out[:row].copy(), r.outp[:row].copy(), s.x.copy()))
     for a, b in zip(*runs, strict=True):
         assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("n_nodes", [1, 2, 3, 8])
+def test_block_product_is_k_u_for_any_number_of_rows(n_nodes):
+    """Two block rows are summed side by side (rows i and i + n//2 + 1): every row count, odd
+    and even, and rows of different lengths give scipy's product; each row adds its terms in
+    column order, so a row equals the row summed on its own, bit for bit."""
+    import scipy.sparse as sp
+
+    rng = np.random.default_rng(n_nodes)
+    dense = rng.standard_normal((2 * n_nodes, 2 * n_nodes))
+    mask = np.kron(rng.random((n_nodes, n_nodes)) < 0.6, np.ones((2, 2))) + np.eye(2 * n_nodes)
+    k = sp.csr_matrix(dense * (mask > 0))
+    kptr, kcol, kblk = dynamics.node_blocks(k)
+    u = rng.standard_normal(2 * n_nodes)
+    f = np.empty(2 * n_nodes)
+    forces.block_product(kptr, kcol, kblk, u.reshape(-1, 2), f.reshape(-1, 2))
+    assert np.abs(f - k @ u).max() <= 1e-14 * np.abs(k @ u).max()
+    for i in range(n_nodes):
+        row = np.empty((1, 2))
+        b0, b1 = int(kptr[i]), int(kptr[i + 1])
+        sub_ptr = np.array([0, b1 - b0], dtype=np.uint64)
+        forces.block_product(sub_ptr, kcol[b0:b1], kblk[b0:b1], u.reshape(-1, 2), row)
+        assert np.array_equal(row[0], f[2 * i : 2 * i + 2])
+
+
+def test_tie_block_rows_hold_the_tie_stiffness(setup):
+    """The tie block as rows (pointer, column, 2 x 2 block) is the model's list of tie-block
+    couplings, each row's blocks in their original order."""
+    mod, ki = setup
+    ma = ki.arrays
+    nt = len(mod.tie_node)
+    from_rows = np.zeros((2 * nt, 2 * nt))
+    for k in range(nt):
+        for q in range(int(ma.tb_ptr[k]), int(ma.tb_ptr[k + 1])):
+            j = int(ma.tb_j[q])
+            from_rows[2 * k : 2 * k + 2, 2 * j : 2 * j + 2] += ma.tb_b[q].reshape(2, 2)
+    ref = np.zeros((2 * nt, 2 * nt))
+    for i, j, b in zip(mod.tb_i, mod.tb_j, mod.tb_b, strict=True):
+        ref[2 * i : 2 * i + 2, 2 * j : 2 * j + 2] += b
+    assert np.array_equal(from_rows, ref)
+    # and it is the stiffness among the tied nodes
+    dofs = np.ravel(np.column_stack([2 * mod.tie_node, 2 * mod.tie_node + 1]))
+    assert np.array_equal(ref, mod.stiffness.toarray()[np.ix_(dofs, dofs)])

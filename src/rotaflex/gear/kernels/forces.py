@@ -15,6 +15,72 @@ from rotaflex.gear.kernels.contact import flank_weights, smooth_weights
 from rotaflex.gear.kernels.passes import gt_apply
 
 
+@inner
+def _row_sum(kcol, kblk, b0, b1, u, f0, f1):
+    """Row sums of one node's blocks ``b0 <= b < b1`` added to (f0, f1), terms in column order."""
+    for b in range(b0, b1):
+        j = kcol[b]
+        u0 = u[j, 0]
+        u1 = u[j, 1]
+        f0 += kblk[b, 0] * u0
+        f0 += kblk[b, 1] * u1
+        f1 += kblk[b, 2] * u0
+        f1 += kblk[b, 3] * u1
+    return f0, f1
+
+
+@entry
+def block_product(kptr, kcol, kblk, u, f):
+    """f = K u by 2 x 2 node blocks (``u, f`` (N, 2)), both rows of a node in one sweep.
+
+    Node ``i`` and node ``i + h + 1`` (h = N // 2) are summed side by side: two independent
+    chains of additions keep the core busy where one waits on the latency of the last one (15 %
+    of the product). Each row still adds its terms in column order, so ``f`` is the same to
+    the last bit as one row after the other. Rows: ``len(kptr) - 1`` (of ``f``); ``u`` has a row
+    per node column.
+    """
+    nn = kptr.shape[0] - 1
+    h = nn // 2
+    for i in range(h + 1):
+        if i >= nn:
+            break
+        a0 = kptr[i]
+        a1 = kptr[i + 1]
+        f0 = 0.0
+        f1 = 0.0
+        r = i + h + 1
+        if r < nn:
+            c0 = kptr[r]
+            c1 = kptr[r + 1]
+            n2 = min(a1 - a0, c1 - c0)
+            g0 = 0.0
+            g1 = 0.0
+            for t in range(n2):
+                b = a0 + t
+                c = c0 + t
+                j = kcol[b]
+                k = kcol[c]
+                u0 = u[j, 0]
+                u1 = u[j, 1]
+                v0 = u[k, 0]
+                v1 = u[k, 1]
+                f0 += kblk[b, 0] * u0
+                g0 += kblk[c, 0] * v0
+                f0 += kblk[b, 1] * u1
+                g0 += kblk[c, 1] * v1
+                f1 += kblk[b, 2] * u0
+                g1 += kblk[c, 2] * v0
+                f1 += kblk[b, 3] * u1
+                g1 += kblk[c, 3] * v1
+            g0, g1 = _row_sum(kcol, kblk, c0 + n2, c1, u, g0, g1)
+            f[r, 0] = g0
+            f[r, 1] = g1
+            a0 += n2
+        f0, f1 = _row_sum(kcol, kblk, a0, a1, u, f0, f1)
+        f[i, 0] = f0
+        f[i, 1] = f1
+
+
 @entry
 def elastic_force(x, rot, m, wbuf, fglob, tel):
     """Co-rotational elastic force (eq. 4-5) and strain energy.
@@ -22,9 +88,10 @@ def elastic_force(x, rot, m, wbuf, fglob, tel):
     ``w = R^T (x - c) - X`` (exact co-rotational form), ``f = -R K w`` on the nodes, and the
     disk torque ``sum f_loc . J (X + w)`` = -dE/dphi, which makes the force conservative.
     ``m`` is the :class:`~rotaflex.gear.kernels.arrays.ModelArrays`; K is applied by 2 x 2
-    node blocks, both rows of a node in one sweep (the terms of each row in column order).
+    node blocks (:func:`block_product`, into ``fglob`` as scratch), then energy, global force
+    and torques node by node.
     """
-    xloc, gid, cen, kptr, kcol, kblk = m.xloc, m.gid, m.centres, m.kptr, m.kcol, m.kblk
+    xloc, gid, cen = m.xloc, m.gid, m.centres
     nn = xloc.shape[0]
     for i in range(nn):
         g = gid[i]
@@ -34,20 +101,13 @@ def elastic_force(x, rot, m, wbuf, fglob, tel):
         dy = x[2 * i + 1] - cen[g, 1]
         wbuf[2 * i] = c * dx + s * dy - xloc[i, 0]
         wbuf[2 * i + 1] = -s * dx + c * dy - xloc[i, 1]
+    block_product(m.kptr, m.kcol, m.kblk, wbuf.reshape((nn, 2)), fglob.reshape((nn, 2)))
     energy = 0.0
     tel[0] = 0.0
     tel[1] = 0.0
     for i in range(nn):
-        f0 = 0.0
-        f1 = 0.0
-        for b in range(kptr[i], kptr[i + 1]):
-            j = kcol[b]
-            u0 = wbuf[2 * j]
-            u1 = wbuf[2 * j + 1]
-            f0 += kblk[b, 0] * u0
-            f0 += kblk[b, 1] * u1
-            f1 += kblk[b, 2] * u0
-            f1 += kblk[b, 3] * u1
+        f0 = fglob[2 * i]
+        f1 = fglob[2 * i + 1]
         energy += 0.5 * f0 * wbuf[2 * i]
         energy += 0.5 * f1 * wbuf[2 * i + 1]
         g = gid[i]
@@ -81,7 +141,7 @@ def set_rotation(phi, theta0, rot):
         rot[g, 1] = math.sin(ang)
 
 
-@inner
+@inner(_nrt=False)
 def tie_vectors(x, cen, tie_node, tie_gear, rot, bvec, rx):
     """Disk-frame tie quantities of every tie node k (constraint ``R^T (x_k - c) - X_k = 0``).
 
@@ -111,7 +171,7 @@ def kinetic_energy(v, om, minv, jd):
     return e
 
 
-@inner
+@inner(_nrt=False)
 def torque_of(g, phi_g, rsgn_g, tpar, mode):
     """External torque on disk ``g`` (counter-clockwise positive): ramp of Fig. 7 or constant.
 
@@ -125,7 +185,7 @@ def torque_of(g, phi_g, rsgn_g, tpar, mode):
     return u * ramp_torque(u * rsgn_g * phi_g, tpar[0], tpar[1], tpar[2])
 
 
-@inner
+@inner(_nrt=False)
 def accelerations(
     x,
     phi,
@@ -147,6 +207,9 @@ def accelerations(
     fc,
     fth,
     cn_s,
+    nodes,
+    w,
+    ws,
     a,
     alp,
 ):
@@ -157,14 +220,11 @@ def accelerations(
     parameters and normal at the step start (``ct[j]`` = a, b, n_x, n_y) advance with their
     rates (``rates[j]`` = da/dt, db/dt, dn_x/dt, dn_y/dt, appendix A) over ``tau_off`` seconds.
     ``m`` is the :class:`~rotaflex.gear.kernels.arrays.ModelArrays`; ``tpar`` = (tau0, theta_2,
-    theta_s, u_A, u_B).
+    theta_s, u_A, u_B); ``nodes, w, ws`` scratch of the contact weights (3,), (3,), (nw,).
     """
     set_rotation(phi, m.theta0, rot)
     tie_vectors(x, m.centres, m.tie_node, m.tie_gear, rot, bvec, rx)
     nw = cnod.shape[2]
-    nodes = np.empty(3, np.int64)
-    w = np.empty(3)
-    ws = np.empty(nw if nw != 3 else 0)
     for jp in range(ct.shape[0]):
         n0 = ct[jp, 2] + rates[jp, 2] * tau_off
         n1 = ct[jp, 3] + rates[jp, 3] * tau_off
@@ -197,7 +257,7 @@ def accelerations(
     return energy
 
 
-@inner
+@inner(_nrt=False)
 def normal_velocity(v, cnod, cw, cn, jp):
     """Relative normal velocity of the contact row of pair ``jp`` (> 0: approaching)."""
     sh = 0.0

@@ -33,6 +33,7 @@ def k_local_product(g, m, rot, zk):
     of the rows)."""
     minv, gid, kptr, kcol, kblk = m.minv, m.gid, m.kptr, m.kcol, m.kblk
     nn = minv.shape[0]
+    z2 = zk.reshape((nn, 2))
     for i in range(nn):
         g0 = g[2 * i]
         g1 = g[2 * i + 1]
@@ -45,15 +46,15 @@ def k_local_product(g, m, rot, zk):
         l1 = (-s * g0 + c * g1) * minv[i]
         for b in range(kptr[i], kptr[i + 1]):
             j = kcol[b]
-            zk[2 * j] += kblk[b, 0] * l0
-            zk[2 * j + 1] += kblk[b, 1] * l0
+            z2[j, 0] += kblk[b, 0] * l0
+            z2[j, 1] += kblk[b, 1] * l0
         for b in range(kptr[i], kptr[i + 1]):
             j = kcol[b]
-            zk[2 * j] += kblk[b, 2] * l1
-            zk[2 * j + 1] += kblk[b, 3] * l1
+            z2[j, 0] += kblk[b, 2] * l1
+            z2[j, 1] += kblk[b, 3] * l1
 
 
-@inner
+@inner(_nrt=False)
 def respond(g, gth, c1, c2, m, rot, zk, tx, tth, scale):
     """tx += scale * (c1 M^-1 g - c2 M^-1 R K R^T M^-1 g), tth += scale * c1 gth / J.
 
@@ -76,11 +77,11 @@ def respond(g, gth, c1, c2, m, rot, zk, tx, tth, scale):
         tth[gg] += scale * c1 * gth[gg] / jd[gg]
 
 
-@inner
+@inner(_nrt=False)
 def tie_row_sums(c1, c2, m_arr, bvec, rs):
     """Row sums of |C| over the tie block (for the infinity norm of appendix B)."""
     minv, tie_node, tie_gear, jd = m_arr.minv, m_arr.tie_node, m_arr.tie_gear, m_arr.inertia
-    tb_i, tb_j, tb_b = m_arr.tb_i, m_arr.tb_j, m_arr.tb_b
+    tb_ptr, tb_j, tb_b = m_arr.tb_ptr, m_arr.tb_j, m_arr.tb_b
     nt = tie_node.shape[0]
     sb0 = 0.0
     sb1 = 0.0
@@ -93,33 +94,36 @@ def tie_row_sums(c1, c2, m_arr, bvec, rs):
     for k in range(nt):
         m = minv[tie_node[k]]
         sb = sb0 / jd[0] if tie_gear[k] == 0 else sb1 / jd[1]
-        rs[2 * k] = c1 * m + c1 * abs(bvec[k, 0]) * sb
-        rs[2 * k + 1] = c1 * m + c1 * abs(bvec[k, 1]) * sb
-    if c2 != 0.0:
-        for q in range(tb_i.shape[0]):
-            i = tb_i[q]
-            j = tb_j[q]
-            f = c2 * minv[tie_node[i]] * minv[tie_node[j]]
-            rs[2 * i] += f * (abs(tb_b[q, 0, 0]) + abs(tb_b[q, 0, 1]))
-            rs[2 * i + 1] += f * (abs(tb_b[q, 1, 0]) + abs(tb_b[q, 1, 1]))
+        r0 = c1 * m + c1 * abs(bvec[k, 0]) * sb
+        r1 = c1 * m + c1 * abs(bvec[k, 1]) * sb
+        if c2 != 0.0:
+            for q in range(tb_ptr[k], tb_ptr[k + 1]):
+                f = c2 * m * minv[tie_node[tb_j[q]]]
+                r0 += f * (abs(tb_b[q, 0]) + abs(tb_b[q, 1]))
+                r1 += f * (abs(tb_b[q, 2]) + abs(tb_b[q, 3]))
+        rs[2 * k] = r0
+        rs[2 * k + 1] = r1
 
 
-@inner
-def accel_poly(n_acc, eps1, coef):
-    """Coefficients of A_n as a polynomial in C_1 (eq. B.4-B.8) and the optimal b (eq. 24).
+@inner(_nrt=False)
+def accel_poly(n_acc, eps1, coef, buf):
+    """Coefficients of A_n as a polynomial in C_1 (eq. B.4-B.8) and the optimal b (eq. 24);
+    ``buf`` (3, size) work rows.
 
     The products run over the non-zero coefficients only (degree of C_k is 2^(k-1), of A_k
     2^(k-1) - 1): the terms left out are exact zeros."""
     size = coef.shape[0]
-    cc = np.zeros(size)
-    ca = np.zeros(size)
+    cc = buf[0]
+    ca = buf[1]
+    tmp = buf[2]
+    cc[:] = 0.0
+    ca[:] = 0.0
     cc[1] = 1.0
     ca[0] = 1.0
     dc = 1  # degree of C
     da = 0  # degree of A
     om = 1.0
     ep = eps1
-    tmp = np.zeros(size)
     for _ in range(2, n_acc + 1):
         bk = ep + om
         # A <- (bk - C) A
@@ -130,7 +134,8 @@ def accel_poly(n_acc, eps1, coef):
             tmp[i] += bk * ca[i]
             for j in range(min(size - i, dc + 1)):
                 tmp[i + j] -= cc[j] * ca[i]
-        ca[:] = tmp
+        for i in range(size):
+            ca[i] = tmp[i]
         da = min(size - 1, da + dc)
         # C <- C (bk - C)
         tmp[:] = 0.0
@@ -140,10 +145,12 @@ def accel_poly(n_acc, eps1, coef):
             tmp[i] += bk * cc[i]
             for j in range(min(size - i, dc + 1)):
                 tmp[i + j] -= cc[j] * cc[i]
-        cc[:] = tmp
+        for i in range(size):
+            cc[i] = tmp[i]
         dc = min(size - 1, 2 * dc)
         ep, om = ep * om, bk * bk / 4.0
-    coef[:] = ca
+    for i in range(size):
+        coef[i] = ca[i]
     return 2.0 / (om + ep)
 
 
@@ -174,7 +181,7 @@ def gt_apply(dmu, tie_node, tie_gear, bvec, rot, cnod, cw, cn, g, gth):
             g[2 * i + 1] -= cw[jp, 1, j] * cn[jp, 1] * p
 
 
-@inner
+@inner(_nrt=False)
 def contact_columns(c1, c2, m, rot, cnod, cw, cn, g, zk, ccol):
     """Columns of C = G W G^T of every contact row (W = c1 M^-1 - c2 M^-1 K_g M^-1)."""
     minv, gid, tie_node = m.minv, m.gid, m.tie_node
@@ -222,17 +229,19 @@ def contact_columns(c1, c2, m, rot, cnod, cw, cn, g, zk, ccol):
             zk[:] = 0.0
 
 
-@inner
-def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl, kz):
+@inner(_nrt=False)
+def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl):
     """out = C' z: tie block (structured) + the active contact rows/columns (``act`` mask);
     ``m_arr`` the :class:`~rotaflex.gear.kernels.arrays.ModelArrays` of the pair."""
     minv, tie_node, tie_gear, jd = m_arr.minv, m_arr.tie_node, m_arr.tie_gear, m_arr.inertia
-    tb_i, tb_j, tb_b = m_arr.tb_i, m_arr.tb_j, m_arr.tb_b
+    tb_ptr, tb_j, tb_b = m_arr.tb_ptr, m_arr.tb_j, m_arr.tb_b
     nt = tie_node.shape[0]
     ic = 2 * nt
     npair = ccol.shape[0]
-    # one sweep for the diagonal part, the disk sums and M_t^-1 z; the same operations per
-    # entry, in the same order, as the tie block written term by term
+    y2 = yl[:ic].reshape((nt, 2))
+    # one sweep for the diagonal part, the disk sums and M_t^-1 z, then one per row with the
+    # tie-block product summed in registers; the same operations per entry, in the same order,
+    # as the tie block written term by term
     sg0 = 0.0
     sg1 = 0.0
     for k in range(nt):
@@ -246,27 +255,26 @@ def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl, kz):
             sg0 += d
         else:
             sg1 += d
-        if c2 != 0.0:
-            yl[2 * k] = m * z0
-            yl[2 * k + 1] = m * z1
-            kz[2 * k] = 0.0
-            kz[2 * k + 1] = 0.0
-    if c2 != 0.0:
-        for q in range(tb_i.shape[0]):
-            i = tb_i[q]
-            j = tb_j[q]
-            kz[2 * i] += tb_b[q, 0, 0] * yl[2 * j] + tb_b[q, 0, 1] * yl[2 * j + 1]
-            kz[2 * i + 1] += tb_b[q, 1, 0] * yl[2 * j] + tb_b[q, 1, 1] * yl[2 * j + 1]
+        y2[k, 0] = m * z0
+        y2[k, 1] = m * z1
     s0 = sg0 / jd[0]
     s1 = sg1 / jd[1]
     for k in range(nt):
         sgv = s0 if tie_gear[k] == 0 else s1
-        out[2 * k] += c1 * bvec[k, 0] * sgv
-        out[2 * k + 1] += c1 * bvec[k, 1] * sgv
+        o0 = out[2 * k] + c1 * bvec[k, 0] * sgv
+        o1 = out[2 * k + 1] + c1 * bvec[k, 1] * sgv
         if c2 != 0.0:
+            k0 = 0.0
+            k1 = 0.0
+            for q in range(tb_ptr[k], tb_ptr[k + 1]):
+                j = tb_j[q]
+                k0 += tb_b[q, 0] * y2[j, 0] + tb_b[q, 1] * y2[j, 1]
+                k1 += tb_b[q, 2] * y2[j, 0] + tb_b[q, 3] * y2[j, 1]
             m = minv[tie_node[k]]
-            out[2 * k] -= c2 * m * kz[2 * k]
-            out[2 * k + 1] -= c2 * m * kz[2 * k + 1]
+            o0 -= c2 * m * k0
+            o1 -= c2 * m * k1
+        out[2 * k] = o0
+        out[2 * k + 1] = o1
     for jp in range(npair):
         if not act[jp]:
             out[ic + jp] = 0.0
@@ -282,8 +290,8 @@ def c_matvec(z, out, act, c1, c2, m_arr, bvec, ccol, yl, kz):
         out[ic + jp] = acc
 
 
-@inner
-def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
+@inner(_nrt=False)
+def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats, poly, actm):
     """Multiplier / contact-force iteration of eq. 19-21 with ``npair`` unilateral rows.
 
     Each contact row is active when (mode 1) its force is compressive or it penetrates, or
@@ -291,6 +299,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_ar
     loaded; each contact force is projected on p <= 0 after every update. The scaling
     ``||C'||_inf`` and the eigenvalue bound (tie block: exact; contact rows: Gershgorin) are
     recomputed when the active set changes. On return ``work[0]`` holds C (mu - mu_start).
+    ``poly`` (4, 33) and ``actm`` (2, npair) are work arrays (no allocation in the step).
     Returns (residual, iterations, converged).
     """
     nc = e0.shape[0]
@@ -302,11 +311,11 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_ar
     t1 = work[3]
     rs = work[4]
     yl = work[5]
-    kz = work[6]
     y[:] = 0.0
-    coef = np.zeros(33)
-    act = np.zeros(npair, np.bool_)
-    allact = np.ones(npair, np.bool_)
+    coef = poly[0]
+    act = actm[0]
+    allact = actm[1]
+    allact[:] = True
     tie_row_sums(c1, c2, m_arr, bvec, rs)
     last_mask = -1
     nrm = 1.0
@@ -370,7 +379,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_ar
                 eps1 = 0.999
             if eps1 < 1e-9:
                 eps1 = 1e-9
-            bbar = accel_poly(n_acc, eps1, coef)
+            bbar = accel_poly(n_acc, eps1, coef, poly[1:])
             deg = 0
             for j in range(33):
                 if coef[j] != 0.0:
@@ -379,7 +388,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_ar
         for r in range(nc):
             d[r] = coef[deg] * e[r]
         for j in range(deg - 1, -1, -1):
-            c_matvec(d, t1, act, c1, c2, m_arr, bvec, ccol, yl, kz)
+            c_matvec(d, t1, act, c1, c2, m_arr, bvec, ccol, yl)
             for r in range(nc):
                 d[r] = t1[r] / nrm + coef[j] * e[r]
         for r in range(nc):
@@ -390,7 +399,7 @@ def iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_ar
             d[ic + jp] = newp - p
         for r in range(nc):
             mu[r] += d[r]
-        c_matvec(d, t1, allact, c1, c2, m_arr, bvec, ccol, yl, kz)
+        c_matvec(d, t1, allact, c1, c2, m_arr, bvec, ccol, yl)
         for r in range(nc):
             y[r] += t1[r]
     stats[0] = res
@@ -632,7 +641,7 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec
             direct_pass_pairs(mode, e, mu, pbar, lb, perm, m_arr.tie_gear, bvec, ccol, tol, dmu, buf)
         for r in range(nc):
             mu[r] += dmu[r]
-        c_matvec(dmu, t1, allact, c1, c2, m_arr, bvec, ccol, work[5], work[6])
+        c_matvec(dmu, t1, allact, c1, c2, m_arr, bvec, ccol, work[5])
         for r in range(nc):
             y[r] += t1[r]
         res = 0.0
@@ -657,7 +666,7 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec
 
 
 @inner
-def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats):
+def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats, poly, actm):
     """Pass ``mode`` (1, 2, 3) by the iteration of eq. 19-24 (``prm.dfac`` empty) or by the
     direct solve (factors ``prm.dfac[mode - 1]`` of the
     :class:`~rotaflex.gear.kernels.arrays.StepParams`); returns (residual, iterations,
@@ -667,7 +676,9 @@ def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m
     a second specialisation compiled the whole step again, 35 s CPU on a cold cache.
     """
     if prm.dfac.shape[1] == 0:
-        return iterate_pass(mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats)
+        return iterate_pass(
+            mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats, poly, actm
+        )
     factors = prm.dfac[mode - 1]
     return direct_solve(mode, e0, mu, pbar, c1, c2, tol, 3, factors, prm.dperm, m_arr, bvec, ccol, work, stats)
 

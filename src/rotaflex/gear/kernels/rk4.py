@@ -97,6 +97,7 @@ def new_scratch(m, s, mpts):
     nd = 2 * m.xloc.shape[0]
     nt = m.tie_node.shape[0]
     nc = 2 * nt + npair
+    nsm = nw if nw != 3 else 0  # outside the call: numba rejects control flow among many keywords
     return StepScratch(
         rot=np.empty((2, 2)),
         bvec=np.empty((nt, 2)),
@@ -144,10 +145,15 @@ def new_scratch(m, s, mpts):
         vtgt=np.zeros(npair),
         work=np.zeros((13, nc)),
         stats=np.zeros(2),
+        poly=np.zeros((4, 33)),
+        actm=np.zeros((2, npair), np.bool_),
+        fl_nodes=np.empty(3, np.int64),
+        fl_w=np.empty(3),
+        sm_w=np.empty(nsm),
     )
 
 
-@inner
+@inner(_nrt=False)
 def hold_contact(s, w):
     """Contact parameters and normal of the current state into ``w.ct`` (rates start there)."""
     for jp in range(s.cres.shape[0]):
@@ -157,7 +163,7 @@ def hold_contact(s, w):
         w.ct[jp, 3] = w.cn[jp, 1]
 
 
-@inner
+@inner(_nrt=False)
 def _stage(x, phi, mu, tau_off, rates, m, tpar, tmode, w, a, alp):
     """:func:`accelerations` at a stage state with the step-start contact ``w.ct`` advanced by
     ``rates`` over ``tau_off``; stage contact rows in ``w.cnod_t, w.cw_t``."""
@@ -182,12 +188,15 @@ def _stage(x, phi, mu, tau_off, rates, m, tpar, tmode, w, a, alp):
         w.fc,
         w.fth,
         w.cn_s,
+        w.fl_nodes,
+        w.fl_w,
+        w.sm_w,
         a,
         alp,
     )
 
 
-@inner
+@inner(_nrt=False)
 def rk4_predict(dt, m, tpar, tmode, s, w):
     """Classical RK4 step of the state ``s`` with the multipliers ``s.mu`` held over the step
     (k1 = the stored consistent acceleration of the step start)."""
@@ -233,7 +242,7 @@ def rk4_predict(dt, m, tpar, tmode, s, w):
         om[g] += dt / 6.0 * osum[g]
 
 
-@inner
+@inner(_nrt=False)
 def _pass_change(m, s, w):
     """``w.gsc, w.gth`` = G^T (mu - mu0) of the pass just solved (contact rows of ``s``)."""
     nc = s.mu.shape[0]
@@ -244,12 +253,12 @@ def _pass_change(m, s, w):
     gt_apply(w.dmu, m.tie_node, m.tie_gear, w.bvec, w.rot, s.cnod, s.cw, w.cn, w.gsc, w.gth)
 
 
-@inner
+@inner(_nrt=False)
 def _columns(c1, c2, m, s, w):
     contact_columns(c1, c2, m, w.rot, s.cnod, s.cw, w.cn, w.gsc, w.zk, w.ccol)
 
 
-@inner
+@inner(_nrt=False)
 def _fail(r, t, res, tol):
     r.info[0] = t
     r.info[1] = res
@@ -342,6 +351,8 @@ def displacement_pass(t, p, m, s, w, r):
         w.ccol,
         w.work,
         w.stats,
+        w.poly,
+        w.actm,
     )
     if not ok:
         _fail(r, t, res, p.tol_disp)
@@ -439,6 +450,8 @@ def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
         w.ccol,
         w.work,
         w.stats,
+        w.poly,
+        w.actm,
     )
     if not ok:
         _fail(r, t, res, tol2)
@@ -456,7 +469,7 @@ def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
     return 0
 
 
-@inner
+@inner(_nrt=False)
 def _external_work(tpar, tmode, m, s, w, tau_old0, tau_old1):
     """Trapezoidal external work over the step (disk angles ``w.phi_t`` -> ``s.phi``)."""
     phi, sc = s.phi, s.sc
@@ -550,6 +563,9 @@ def acceleration_pass(t, p, tpar, tmode, m, s, w, r):
         w.fc,
         w.fth,
         w.cn_s,
+        w.fl_nodes,
+        w.fl_w,
+        w.sm_w,
         a,
         alp,
     )
@@ -573,6 +589,8 @@ def acceleration_pass(t, p, tpar, tmode, m, s, w, r):
         w.ccol,
         w.work,
         w.stats,
+        w.poly,
+        w.actm,
     )
     if not ok:
         _fail(r, t, res, p.tol_acc)
@@ -589,7 +607,7 @@ def acceleration_pass(t, p, tpar, tmode, m, s, w, r):
     return 0, eel
 
 
-@inner
+@inner(_nrt=False)
 def close_step(t, eel, closing, initial, m, s, w):
     """Running scalars at the end of a step: time, strain energy, peak forces, tie residual."""
     sc, spair, mu, cres, rx = s.sc, s.spair, s.mu, s.cres, w.rx
@@ -611,7 +629,7 @@ def close_step(t, eel, closing, initial, m, s, w):
     sc[15] = max(sc[15], tr)
 
 
-@inner
+@inner(_nrt=False)
 def record_row(row, eel, m, s, r):
     """Write record ``row`` (:data:`GLOBAL_COLUMNS`, :data:`PAIR_COLUMNS`, tie multipliers) and
     reset the per-record maxima."""

@@ -386,7 +386,18 @@ def node_blocks(k: sp.csr_matrix):
     bsr = sp.bsr_matrix(k, blocksize=(2, 2))
     bsr.sort_indices()
     kblk = np.ascontiguousarray(bsr.data.reshape(-1, 4), dtype=float)
-    return bsr.indptr.astype(np.int64), bsr.indices.astype(np.int64), kblk
+    return bsr.indptr.astype(np.uint64), bsr.indices.astype(np.uint64), kblk
+
+
+def tie_blocks(model):
+    """The stiffness among the tied nodes as block rows: pointers (nt + 1,), tie index of each
+    block's column (nq,) and blocks (nq, 4) = (K_xx, K_xy, K_yx, K_yy) [N/m]; the blocks of a row
+    keep their order in ``model.tb_*`` (a stable sort), so each row sums its terms as before."""
+    order = np.argsort(model.tb_i, kind="stable")
+    counts = np.bincount(model.tb_i, minlength=len(model.tie_node))
+    ptr = np.concatenate(([0], np.cumsum(counts))).astype(np.uint64)
+    blocks = np.ascontiguousarray(np.asarray(model.tb_b, dtype=float)[order].reshape(-1, 4))
+    return ptr, np.asarray(model.tb_j)[order].astype(np.uint64), blocks
 
 
 def _kernel_arrays(model, flank, nedge, psi, warm_start, tab, mloc):
@@ -395,6 +406,7 @@ def _kernel_arrays(model, flank, nedge, psi, warm_start, tab, mloc):
     from rotaflex.gear.kernels.arrays import ModelArrays
 
     kptr, kcol, kblk = node_blocks(model.stiffness)
+    tb_ptr, tb_j, tb_b = tie_blocks(model)
     return ModelArrays(
         gid=model.gid,
         kptr=kptr,
@@ -409,9 +421,9 @@ def _kernel_arrays(model, flank, nedge, psi, warm_start, tab, mloc):
         sig=model.sig,
         tie_node=model.tie_node,
         tie_gear=model.tie_gear,
-        tb_i=model.tb_i,
-        tb_j=model.tb_j,
-        tb_b=model.tb_b,
+        tb_ptr=tb_ptr,
+        tb_j=tb_j,
+        tb_b=tb_b,
         flank=np.ascontiguousarray(flank),
         nedge=np.ascontiguousarray(nedge),
         psi=psi,
