@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from rotaflex.core.compiled import entry, inner
 from rotaflex.gear.kernels.contact import flank_weights, smooth_weights
 from rotaflex.gear.kernels.passes import gt_apply

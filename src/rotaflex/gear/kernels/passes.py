@@ -666,7 +666,9 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec
 
 
 @inner
-def solve_pass(prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats, poly, actm):
+def solve_pass(
+    prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats, poly, actm
+):
     """Pass ``mode`` (1, 2, 3) by the iteration of eq. 19-24 (``prm.dfac`` empty) or by the
     direct solve (factors ``prm.dfac[mode - 1]`` of the
     :class:`~rotaflex.gear.kernels.arrays.StepParams`); returns (residual, iterations,
