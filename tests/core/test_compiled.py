@@ -2,6 +2,7 @@
 same numbers as plain numba; entry caches are keyed on every kernel module of the package."""
 
 import importlib
+import pickle
 import subprocess
 import sys
 import textwrap
@@ -88,3 +89,41 @@ def test_entry_cache_follows_an_edit_of_a_kernel_it_calls(kpkg, tmp_path):
     assert second != first
     top = importlib.import_module("kpkg.top")
     assert np.isfinite(second) and top.run(0.3, 1e-3, 100) == second
+
+
+def test_entry_cache_never_loads_data_of_another_signature_or_source(kpkg, tmp_path):
+    """numba saves a cache index before its data: a process reading the index in between could
+    load an older data file of the same name. Data files carry the source stamp in their names,
+    and an index entry whose data holds another signature is a miss (here: forged by pointing
+    the float entry at the integer entry's data)."""
+    script = (
+        "import sys; sys.path.insert(0, sys.argv[1]); from kpkg.top import run; "
+        "print(repr(run(0.3, 1e-3, 100)), repr(run(1, 0, 3)))"
+    )
+
+    def run_fresh():
+        out = subprocess.run(
+            [sys.executable, "-c", script, str(tmp_path)], capture_output=True, text=True, check=True
+        ).stdout
+        return [float(v) for v in out.split()]
+
+    first = run_fresh()
+    cached = sorted(p.name for p in (tmp_path / "cache").rglob("*.nbc"))
+    assert len(cached) == 2 and len({name.split(".")[-3] for name in cached}) == 1  # one stamp
+    (index_path,) = (tmp_path / "cache").rglob("*run*.nbi")
+    with open(index_path, "rb") as f:  # numba's layout: pickled version, then (stamp, overloads)
+        version = pickle.load(f)
+        stamp, index = pickle.loads(f.read())
+    assert len(index) == 2
+    (key_a, name_a), (key_b, name_b) = index.items()
+    with open(index_path, "wb") as f:  # each entry names the other's data
+        pickle.dump(version, f, protocol=-1)
+        f.write(pickle.dumps((stamp, {key_a: name_b, key_b: name_a}), protocol=-1))
+    assert run_fresh() == first
+    # an edited source writes data files of a new stamp beside the old ones
+    leaf = kpkg / "leaf.py"
+    leaf.write_text(leaf.read_text().replace("1.0 + x *", "2.0 + x *"))
+    second = run_fresh()
+    assert second[0] != first[0]
+    stamps = {p.name.split(".")[-3] for p in (tmp_path / "cache").rglob("*.nbc")}
+    assert len(stamps) == 2

@@ -26,6 +26,7 @@ import threading
 from pathlib import Path
 
 from numba.core import codegen as _codegen
+from numba.core import sigutils
 from numba.core.compiler_lock import require_global_compiler_lock
 from numba.core.registry import CPUDispatcher
 
@@ -114,9 +115,34 @@ def _package_stamp(folder: str) -> bytes:
 
 
 def _key_cache_on_package(dispatcher) -> None:
-    cache_file = getattr(getattr(dispatcher, "_cache", None), "_cache_file", None)
-    if cache_file is not None and hasattr(cache_file, "_source_stamp"):
-        cache_file._source_stamp = _package_stamp(str(Path(dispatcher.py_func.__code__.co_filename).parent))
+    """Key ``dispatcher``'s disk cache on its package (:func:`_package_stamp`), name its data
+    files after that stamp, and load only data of the signature asked for.
+
+    numba writes a cache entry's index before its data and numbers the data files from 1 for
+    every fresh index: a second process compiling the same kernels at the same time (``reproduce
+    --jobs``, a sweep) could read the new index while the data file it names was still the one
+    of an older source, and run that older code (seen: a gear sweep case typed with the old
+    stiffness layout). With the stamp in the data file's name a stale file is never named by a
+    fresh index, and a loaded entry whose signature is not the one asked for is treated as a
+    miss (compiled again)."""
+    cache = getattr(dispatcher, "_cache", None)
+    cache_file = getattr(cache, "_cache_file", None)
+    if cache_file is None or not hasattr(cache_file, "_source_stamp"):
+        return
+    stamp = _package_stamp(str(Path(dispatcher.py_func.__code__.co_filename).parent))
+    cache_file._source_stamp = stamp
+    pattern = getattr(cache_file, "_data_name_pattern", None)
+    if isinstance(pattern, str) and pattern.endswith(".{number:d}.nbc"):
+        cache_file._data_name_pattern = pattern[: -len(".{number:d}.nbc")] + f".{stamp.hex()[:12]}.{{number:d}}.nbc"
+    load = cache.load_overload
+
+    def load_checked(sig, target_context):
+        cres = load(sig, target_context)
+        if cres is not None and tuple(cres.signature.args) != tuple(sigutils.normalize_signature(sig)[0]):
+            return None
+        return cres
+
+    cache.load_overload = load_checked
 
 
 def entry(func=None, **options):
