@@ -612,7 +612,7 @@ def direct_pass_pairs(mode, e0, mu, pbar, packed, perm, tie_gear, bvec, ccol, to
         dmu[ic + j] = dp[j] + ddp[j]
 
 
-@inner
+@inner(_nrt=True)
 def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec, ccol, work, stats):
     """Direct multiplier solve of one pass, checked.
 
@@ -665,7 +665,7 @@ def direct_solve(mode, e0, mu, pbar, c1, c2, tol, max_ref, lb, perm, m_arr, bvec
     return res, max_ref + 1, False
 
 
-@inner
+@inner(_nrt=False)
 def solve_pass(
     prm, mode, e0, mu, pbar, c1, c2, eps_tie, tol, n_acc, max_iter, m_arr, bvec, ccol, work, stats, poly, actm
 ):

@@ -259,13 +259,21 @@ def _columns(c1, c2, m, s, w):
 
 
 @inner(_nrt=False)
+def _copy(src, dst):
+    """dst[:] = src element by element (an array-to-array slice assignment needs numba's
+    reference counting, which the pass kernels are compiled without)."""
+    for q in range(src.shape[0]):
+        dst[q] = src[q]
+
+
+@inner(_nrt=False)
 def _fail(r, t, res, tol):
     r.info[0] = t
     r.info[1] = res
     r.info[2] = tol
 
 
-@inner
+@inner(_nrt=True)
 def _search_all(s, m, p, w):
     """Contact search of every pair at the state ``s.x, s.phi`` (results into ``s.cres, s.cnod,
     s.cw, s.spair``); False when a search fails."""
@@ -288,7 +296,7 @@ def _search_all(s, m, p, w):
     )
 
 
-@inner
+@inner(_nrt=False)
 def predicted_contact(t, p, m, s, w, r):
     """Contact search of every pair at the predicted state; approach velocities ``w.sh_pred``,
     predicted positions kept in ``w.xsum, w.psum``. Returns (ok, kinetic energy)."""
@@ -308,7 +316,7 @@ def predicted_contact(t, p, m, s, w, r):
     return True, ke_pred
 
 
-@inner
+@inner(_nrt=False)
 def displacement_pass(t, p, m, s, w, r):
     """Pass 1: displacement constraints (eq. 8, 19), then the affine RK4 response of positions
     and velocities to the new multipliers. Returns (status, closing): status 1 if the pass did
@@ -333,7 +341,7 @@ def displacement_pass(t, p, m, s, w, r):
     for jp in range(npair):
         e0[ic + jp] = -s.cres[jp, 2]
     _columns(c11, c12, m, s, w)
-    w.mu0[:] = mu
+    _copy(mu, w.mu0)
     res, its, ok = solve_pass(
         p,
         np.int64(1),
@@ -388,7 +396,7 @@ def displacement_pass(t, p, m, s, w, r):
     return 0, closing
 
 
-@inner
+@inner(_nrt=False)
 def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
     """Pass 2: velocity constraints (eq. 15, 20, 22) with Newton's impact law; the kinetic
     energy it removes (and, for a closing contact, the displacement pass's change of kinetic +
@@ -432,7 +440,7 @@ def velocity_pass(t, p, m, s, w, r, ke_pred, closing):
             w.vtgt[jp] = -p.restitution * w.sh_pred[jp]
         e0[ic + jp] = sh - w.vtgt[jp]
     _columns(c21, c22, m, s, w)
-    w.mu0[:] = mu
+    _copy(mu, w.mu0)
     res, its, ok = solve_pass(
         p,
         np.int64(2),
@@ -481,7 +489,7 @@ def _external_work(tpar, tmode, m, s, w, tau_old0, tau_old1):
     sc[19] = tau_new1
 
 
-@inner
+@inner(_nrt=True)
 def acceleration_errors(m, s, w):
     """Error vector of pass 3: tie rows (-Phi_ddot) and each pair's relative normal acceleration
     with the sliding terms of appendix A (whose contact-parameter rates go to ``s.rates``)."""
@@ -535,7 +543,7 @@ def acceleration_errors(m, s, w):
         e0[ic + jp] = sa
 
 
-@inner
+@inner(_nrt=False)
 def acceleration_pass(t, p, tpar, tmode, m, s, w, r):
     """Pass 3: consistent accelerations (eq. 17, 21, 23) of the current positions and
     velocities. Returns (status, strain energy): status 3 if the pass did not converge."""
@@ -571,7 +579,7 @@ def acceleration_pass(t, p, tpar, tmode, m, s, w, r):
     )
     acceleration_errors(m, s, w)
     _columns(1.0, 0.0, m, s, w)
-    w.mu0[:] = mu
+    _copy(mu, w.mu0)
     res, its, ok = solve_pass(
         p,
         np.int64(3),
