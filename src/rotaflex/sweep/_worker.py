@@ -199,8 +199,8 @@ def rotaflex_version() -> str:
 PARENT_POLL = 1.0
 
 
-def init_worker(client_pid: int) -> None:
-    """Initializer of local pool workers.
+def init_worker(client_pid: int, niceness: int = 0) -> None:
+    """Initializer of local pool workers (``niceness``: added to the process's nice value).
 
     * Ctrl-C goes to the whole process group; the client handles it (one line, exit 130), so
       workers ignore SIGINT instead of printing their own tracebacks.
@@ -215,6 +215,8 @@ def init_worker(client_pid: int) -> None:
     import threading
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if niceness:
+        os.nice(niceness)
 
     def watch() -> None:
         while True:

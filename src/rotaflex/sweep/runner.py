@@ -173,7 +173,7 @@ def _quiet_resource_tracker() -> None:
 
 
 def process_pool(
-    max_workers: int | None = None, preload: tuple[str, ...] = (), probe: bool = True
+    max_workers: int | None = None, preload: tuple[str, ...] = (), probe: bool = True, niceness: int = 0
 ) -> ProcessPoolExecutor:
     """A local process pool whose workers start from a clean interpreter, one thread each.
 
@@ -196,7 +196,7 @@ def process_pool(
         max_workers=max_workers or os.cpu_count() or 1,
         mp_context=ctx,
         initializer=init_worker,
-        initargs=(os.getpid(),),
+        initargs=(os.getpid(), niceness),
     )
     added = {k: "1" for k in THREAD_VARS if k not in os.environ}
     os.environ.update(added)  # inherited by the fork server / spawned workers started now
@@ -215,6 +215,10 @@ def process_pool(
         for k in added:
             os.environ.pop(k, None)
     return pool
+
+
+#: added to the nice value of the processes that write the cases of fewer chains than workers
+WRITER_NICENESS = 10
 
 
 #: executors whose workers write into this process's file system (the case files are then
@@ -266,7 +270,9 @@ class _Backend:
         if self.factory is not None:
             self.executor = self._start()
         if spare:
-            self.writer = process_pool(spare, probe=False)  # not waited for: a broken one is dropped
+            # not waited for (a broken one is dropped); lower priority: on a loaded machine
+            # its writes take only CPU the chain's computing worker leaves
+            self.writer = process_pool(spare, probe=False, niceness=WRITER_NICENESS)
         self.window = 2 * _n_workers(self.executor)
 
     @property
