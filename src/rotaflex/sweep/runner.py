@@ -302,11 +302,15 @@ class _Backend:
             kwargs["write_to"] = WriteTo(str(out / "cases" / case.id), figures)
         return self.executor.submit(execute_case, case_fn, case.data, **kwargs)
 
-    def local_pools(self) -> list[tuple[ProcessPoolExecutor, int]]:
-        """The local process pools of this sweep and their numbers of workers (empty for Dask,
-        serial or thread executors)."""
-        pools = [ex for ex in (self.executor, self.writer) if isinstance(ex, ProcessPoolExecutor)]
-        return [(ex, _n_workers(ex)) for ex in pools]
+    def figure_pools(self) -> list[tuple[ProcessPoolExecutor, int]]:
+        """Workers that draw sweep figures next to the client: the local process pool's, at
+        most one fewer than the cores (the client draws too; a worker pays matplotlib's import
+        first, ~0.6-0.9 s), not the lower-priority writer pool; none on Dask, serial or
+        thread executors."""
+        if not isinstance(self.executor, ProcessPoolExecutor):
+            return []
+        n = min(_n_workers(self.executor), (os.cpu_count() or 1) - 1)
+        return [(self.executor, n)] if n > 0 else []
 
     def rebuild(self) -> None:
         if self.factory is None:
@@ -691,7 +695,7 @@ def run_sweep(
         dataset = combine(ordered, attrs=meta, units=dict(units or {}))
         result = SweepResult(ordered, dataset, out, time.perf_counter() - t0)
         if out is not None:
-            pools = backend.local_pools() if backend is not None else []  # the workers draw too
+            pools = backend.figure_pools() if backend is not None else []  # the workers draw too
             result.figures = write_outputs(result, domain=domain, figures=figures, pools=pools)
     except BaseException:
         if backend is not None:
