@@ -51,7 +51,7 @@ def test_one_chain_written_by_the_spare_worker_equals_serial(tmp_path, monkeypat
     line = next(r.getMessage() for r in caplog.records if r.getMessage().startswith("wall time:"))
     # some cases were written by the writer pool (the client writes when it is busy)
     assert float(re.search(r"the workers spent ([0-9.]+) s writing", line).group(1)) > 0
-    ref = _chain_sweep(tmp_path, monkeypatch, "serial", "serial")
+    ref = _chain_sweep(tmp_path, monkeypatch, "serial", "serial", kill_once=str(kill))  # exists: no kill
     assert ref.n_failed == 0
     for rec in res.records:
         with (
