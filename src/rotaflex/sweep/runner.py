@@ -233,9 +233,12 @@ class _Backend:
     ``case_files``: ``(out_dir, case_figures)`` of a sweep that writes its cases; on a local
     executor (:data:`LOCAL_EXECUTORS`) each submitted case then carries a :class:`WriteTo`,
     unless fewer cases than workers can run at once (``streams``: independent cases, or
-    continuation chains): then a worker is idle anyway, and the client writing a case while
-    the next one of its chain computes is faster than the worker doing both in turn (a case of
-    the gear example: ~70 ms CPU to write, ~32 ms to compute).
+    continuation chains): then the client writes a case while the next one of its chain
+    computes, which is faster than the worker doing both in turn (a case of the gear example:
+    ~72 ms CPU to write, ~32 ms to compute). A pool this backend starts itself (``None`` or an
+    int) then gets one worker per chain, and the workers left over form :attr:`writer`, a
+    pool at nice +10 (:data:`WRITER_NICENESS`) that writes finished cases next to the client
+    (:func:`rotaflex.sweep.continuation.drive_chains`).
     """
 
     def __init__(
