@@ -117,3 +117,15 @@ def test_figures_of_a_failed_worker_are_drawn_here(tmp_path):
     again = draw_sweep_figures(ds, "selftest", tmp_path / "again", [(_BrokenPool(), 2)])
     assert [p.name for p in again] == [p.name for p in alone]
     assert all(p.exists() for p in again)
+
+
+def test_a_writer_pool_that_breaks_leaves_the_writing_to_the_client(tmp_path, monkeypatch, selftest_domain, caplog):
+    """Every write task fails as a died writer process does: the client writes those cases
+    itself, every case is done, and the sums are those of the closed form."""
+    monkeypatch.setattr(_Backend, "submit_write", lambda self, case, outcome: _BrokenPool().submit())
+    caplog.set_level(logging.WARNING, logger="rotaflex.sweep")
+    res = _chain_sweep(tmp_path, monkeypatch, "broken", 2)
+    assert res.n_failed == 0
+    np.testing.assert_array_equal(res.dataset["running_sum"].sel(direction="up").values, [1.0, 3.0, 6.0, 10.0])
+    assert all((tmp_path / "broken" / "cases" / r.id / "result.nc").exists() for r in res.records)
+    assert any("writing the cases here" in r.getMessage() for r in caplog.records)
