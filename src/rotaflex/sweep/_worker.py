@@ -157,6 +157,20 @@ def write_case(outcome: Outcome, write_to: WriteTo, continued: bool = False) -> 
     outcome.result, outcome.written = written, True
 
 
+def write_outcome(outcome: Outcome, write_to: WriteTo) -> Outcome:
+    """Write the files of a case computed by another worker (:func:`write_case`) and return the
+    outcome with a :class:`Written` instead of the Result; its ``cpu_time`` grows by this
+    process's CPU time for the writing.
+
+    A continuation chain has one case in flight at a time, so with fewer chains than workers
+    the spare workers write finished cases (:func:`rotaflex.sweep.continuation.drive_chains`).
+    """
+    c0 = time.process_time()
+    write_case(outcome, write_to)
+    outcome.cpu_time += time.process_time() - c0
+    return outcome
+
+
 def run_module_case(module: str, config: dict) -> Any:
     """``run_case(config)`` of the domain module ``module`` (e.g. ``"rotaflex.rotor.case"``).
 
@@ -185,8 +199,8 @@ def rotaflex_version() -> str:
 PARENT_POLL = 1.0
 
 
-def init_worker(client_pid: int) -> None:
-    """Initializer of local pool workers.
+def init_worker(client_pid: int, niceness: int = 0) -> None:
+    """Initializer of local pool workers (``niceness``: added to the process's nice value).
 
     * Ctrl-C goes to the whole process group; the client handles it (one line, exit 130), so
       workers ignore SIGINT instead of printing their own tracebacks.
@@ -201,6 +215,8 @@ def init_worker(client_pid: int) -> None:
     import threading
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if niceness:
+        os.nice(niceness)
 
     def watch() -> None:
         while True:

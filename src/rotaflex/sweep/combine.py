@@ -209,8 +209,12 @@ def summary_csv(records, units: dict[str, str] | None = None) -> str:
     return buf.getvalue()
 
 
-def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[Path]:
-    """Write ``sweep.nc``, ``summary.csv``, ``sweep.json``, ``figures/*.png``; return the PNGs."""
+def write_outputs(result, *, domain: str | None, figures: bool = True, pools=()) -> list[Path]:
+    """Write ``sweep.nc``, ``summary.csv``, ``sweep.json``, ``figures/*.png``; return the PNGs.
+
+    ``pools``: local process pools ``(executor, workers)`` that draw some of the figures while
+    this process draws the others (:func:`rotaflex.sweep.figures.draw_sweep_figures`).
+    """
     out = result.out_dir
     ds = result.dataset
     write_netcdf(out / "sweep.nc", ds)
@@ -227,11 +231,8 @@ def write_outputs(result, *, domain: str | None, figures: bool = True) -> list[P
         "failed": [{"id": r.id, "params": r.params, "status": r.status, "error": r.error} for r in result.failed],
     }
     write_json_atomic(out / "sweep.json", manifest)
-    paths: list[Path] = []
     if figures and any(r.ok for r in result.records):
-        from rotaflex.core.plotting import save_figure
-        from rotaflex.sweep.figures import sweep_figures
+        from rotaflex.sweep.figures import draw_sweep_figures
 
-        for stem, fig in sweep_figures(ds, domain).items():
-            paths.append(save_figure(fig, out / "figures" / f"{stem}.png"))
-    return paths
+        return draw_sweep_figures(ds, domain, out / "figures", pools)
+    return []

@@ -157,8 +157,10 @@ def drive_chains(
     ready = deque(i for i, ch in enumerate(chains) if ch)
     inflight: dict[Any, int] = {}
     # finished cases whose files are still to be written: written after the next cases of
-    # their chains were submitted, so the workers compute while the client writes
+    # their chains were submitted, so the workers compute while the client writes; with fewer
+    # chains than workers, the spare ones (``backend.writer``) write too, one case each at a time
     unwritten: list[tuple[Case, Outcome, int]] = []
+    writing: dict[Any, tuple[Case, Outcome, int]] = {}
     attempts: dict[str, int] = {}
     deaths: dict[str, int] = {}
 
@@ -181,6 +183,17 @@ def drive_chains(
 
     def collect(fut) -> bool:
         """Handle one finished future; True if the local pool broke."""
+        if fut in writing:
+            case, outcome, n = writing.pop(fut)
+            try:
+                written = fut.result()
+            except Exception:  # noqa: BLE001 - the writer pool broke: the client writes from now on
+                log.warning("the process writing case %s died; writing the cases here", case.id)
+                backend.drop_writer()
+                finish(case, outcome, n)
+                return False
+            finish(case, written, n)
+            return False
         i = inflight.pop(fut)
         case = chains[i][0]
         try:
@@ -205,11 +218,20 @@ def drive_chains(
                 ready.append(i)
         return False
 
-    def write_finished() -> None:
+    def write_finished(here: bool = False) -> None:
+        """Write the finished cases (``here``: in this process, e.g. once the pool broke)."""
         while unwritten:
+            writer = getattr(backend, "writer", None)
+            if writer is not None and not here and len(writing) < writer._max_workers:
+                try:
+                    writing[backend.submit_write(unwritten[0][0], unwritten[0][1])] = unwritten[0]
+                    unwritten.pop(0)
+                    continue
+                except BrokenProcessPool:
+                    backend.drop_writer()
             finish(*unwritten.pop(0))
 
-    while ready or inflight:
+    while ready or inflight or writing:
         broken = False
         while ready and len(inflight) < backend.window:
             i = ready.popleft()
@@ -224,14 +246,17 @@ def drive_chains(
             inflight[fut] = i
         if not broken:
             write_finished()
-        if inflight:
-            done, _ = wait(list(inflight), return_when=FIRST_COMPLETED)
+        if inflight or writing:
+            done, _ = wait([*inflight, *writing], return_when=FIRST_COMPLETED)
             for fut in done:
                 broken |= collect(fut)
         if broken:  # every other future of the broken pool fails too: collect, then rebuild
-            rest, _ = wait(list(inflight))
+            rest, _ = wait([*inflight, *writing])
             for fut in rest:
                 collect(fut)
-            write_finished()
+            write_finished(here=True)
             backend.rebuild()
-    write_finished()
+    write_finished(here=True)
+    if writing:  # the writer's last cases
+        for fut in wait(list(writing))[0]:
+            collect(fut)

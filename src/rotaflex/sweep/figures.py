@@ -17,11 +17,13 @@ A figure function that fails is logged and skipped: figures never fail a sweep.
 
 from __future__ import annotations
 
+import functools
 import importlib
 import json
 import logging
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -178,20 +180,35 @@ def uninformative(var) -> str:
     return ""
 
 
-def generic_figures(ds) -> dict[str, Any]:
+def generic_figures(ds, only: set[str] | None = None) -> dict[str, Any]:
     """Every numeric summary scalar against the first swept parameter (panels of 3 x 3):
     ``summary_vs_<key>`` for results, ``diagnostics_vs_<key>`` for solver diagnostics.
 
     Constant and round-off-only scalars (:func:`uninformative`) get no panel; the figure's
-    footnote names them with their value, so nothing is hidden.
+    footnote names them with their value, so nothing is hidden. ``only``: draw just the
+    figures of these names (:func:`generic_pages` lists them without drawing).
     """
+    figs = {}
+    for stem, (x, chunk, title, note) in _generic_plan(ds).items():
+        if only is None or stem in only:
+            figs[stem] = _panel_figure(ds, x, chunk, title, note)
+    return figs
+
+
+def generic_pages(ds) -> dict[str, int]:
+    """Name -> number of panels of each figure :func:`generic_figures` draws (none drawn)."""
+    return {stem: len(plan[1]) for stem, plan in _generic_plan(ds).items()}
+
+
+def _generic_plan(ds) -> dict[str, tuple[str, list[str], str, str]]:
+    """Per figure of :func:`generic_figures`: abscissa, panel variables, title, footnote."""
     x = _x_dim(ds)
     names = _numeric_vars(ds)
     if x is None or not names:
         return {}
     key = ds[x].attrs.get("config_key", x)
     leaf = key.rsplit(".", 1)[-1]
-    figs = {}
+    plan = {}
     dropped = {n: uninformative(ds[n]) for n in names}
     for stem, diagnostic, title in (
         (f"summary_vs_{leaf}", False, "Results"),
@@ -200,8 +217,11 @@ def generic_figures(ds) -> dict[str, Any]:
         group = [n for n in names if _is_diagnostic(n) == diagnostic]
         shown = [n for n in group if not dropped[n]]
         note = _dropped_note(ds, [n for n in group if dropped[n]], dropped)
-        figs.update(_panels(ds, x, shown, stem, f"{title} vs {_label(ds[x], key)}", note))
-    return figs
+        for start in range(0, len(shown), _PANELS_PER_FIGURE):
+            suffix = "" if start == 0 else f"_{start // _PANELS_PER_FIGURE + 1}"
+            chunk = shown[start : start + _PANELS_PER_FIGURE]
+            plan[f"{stem}{suffix}"] = (x, chunk, f"{title} vs {_label(ds[x], key)}", note)
+    return plan
 
 
 def _dropped_note(ds, names: list[str], why: dict[str, str]) -> str:
@@ -230,37 +250,33 @@ def _is_diagnostic(name: str) -> bool:
     return any(w in name for w in _DIAGNOSTIC_WORDS)
 
 
-def _panels(ds, x: str, names: list[str], stem: str, title: str, note: str = "") -> dict[str, Any]:
+def _panel_figure(ds, x: str, chunk: list[str], title: str, note: str = ""):
+    """One figure of up to :data:`_PANELS_PER_FIGURE` panels, ``chunk`` against ``x``."""
     import textwrap
 
     from rotaflex.core.plotting import new_figure
 
-    figs = {}
-    for start in range(0, len(names), _PANELS_PER_FIGURE):
-        chunk = names[start : start + _PANELS_PER_FIGURE]
-        ncols = min(3, len(chunk))
-        nrows = math.ceil(len(chunk) / ncols)
-        fig, axes = new_figure(nrows, ncols, squeeze=False, figsize=(4.4 * ncols, 3.0 * nrows + 0.4))
-        for ax, name in zip(axes.flat, chunk, strict=False):
-            factor, unit = display_scale(ds[name])
-            for label, xv, yv in _lines(ds, name, x):
-                ax.plot(xv, np.asarray(yv, dtype=float) * factor, "o-", ms=3, label=label or None)
-            ax.set_xlabel(_label(ds[x]))
-            # wrapped, so that a long label never runs into the neighbouring panel
-            ax.set_ylabel("\n".join(textwrap.wrap(_label(ds[name], unit=unit), 30)), fontsize=8)
-            ax.grid(alpha=0.3)
-        for ax in list(axes.flat)[len(chunk) :]:
-            ax.set_visible(False)
-        handles, labels = axes.flat[0].get_legend_handles_labels()
-        if labels:  # one legend for all panels, outside the data
-            fig.legend(handles, labels, loc="outside right upper", fontsize=7)
-        fig.suptitle(title)
-        if note:
-            fig.supxlabel("\n".join(textwrap.wrap(note, 40 * ncols)), fontsize=7, ha="left", x=0.01)
-        fig.rotaflex_dropped = note  # for callers and tests: what the footnote says
-        suffix = "" if start == 0 else f"_{start // _PANELS_PER_FIGURE + 1}"
-        figs[f"{stem}{suffix}"] = fig
-    return figs
+    ncols = min(3, len(chunk))
+    nrows = math.ceil(len(chunk) / ncols)
+    fig, axes = new_figure(nrows, ncols, squeeze=False, figsize=(4.4 * ncols, 3.0 * nrows + 0.4))
+    for ax, name in zip(axes.flat, chunk, strict=False):
+        factor, unit = display_scale(ds[name])
+        for label, xv, yv in _lines(ds, name, x):
+            ax.plot(xv, np.asarray(yv, dtype=float) * factor, "o-", ms=3, label=label or None)
+        ax.set_xlabel(_label(ds[x]))
+        # wrapped, so that a long label never runs into the neighbouring panel
+        ax.set_ylabel("\n".join(textwrap.wrap(_label(ds[name], unit=unit), 30)), fontsize=8)
+        ax.grid(alpha=0.3)
+    for ax in list(axes.flat)[len(chunk) :]:
+        ax.set_visible(False)
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    if labels:  # one legend for all panels, outside the data
+        fig.legend(handles, labels, loc="outside right upper", fontsize=7)
+    fig.suptitle(title)
+    if note:
+        fig.supxlabel("\n".join(textwrap.wrap(note, 40 * ncols)), fontsize=7, ha="left", x=0.01)
+    fig.rotaflex_dropped = note  # for callers and tests: what the footnote says
+    return fig
 
 
 # public names for domain hooks (the private ones stay for the built-in domain figures)
@@ -368,11 +384,24 @@ DOMAIN_FIGURES: dict[str, Callable[[Any], dict[str, Any]]] = {
 }
 
 
-def sweep_figures(ds, domain: str | None = None) -> dict[str, Any]:
-    """The domain's figures (hook or built-in) followed by the generic panels."""
+#: name of the domain's own figures among the parts of :func:`sweep_figures` (the generic
+#: pages are named by their file stems)
+DOMAIN_PART = ""
+
+
+def sweep_figures(
+    ds, domain: str | None = None, parts: Iterable[str] | None = None, errors: list[str] | None = None
+) -> dict[str, Any]:
+    """The domain's figures (hook or built-in) followed by the generic panels.
+
+    ``parts``: draw only these (:func:`figure_parts`: :data:`DOMAIN_PART` for the domain's
+    figures, a page name of :func:`generic_pages`); all by default. A figure function that
+    raises is logged (and its message appended to ``errors``) and skipped.
+    """
+    parts = None if parts is None else set(parts)
     figs: dict[str, Any] = {}
     fn = None
-    if domain:
+    if domain and (parts is None or DOMAIN_PART in parts):
         from rotaflex.core.domains import CASES
 
         if domain in CASES:
@@ -381,9 +410,90 @@ def sweep_figures(ds, domain: str | None = None) -> dict[str, Any]:
             except ImportError:
                 fn = None
         fn = fn or DOMAIN_FIGURES.get(domain)
-    for source in ([fn] if fn else []) + [generic_figures]:
+    only = None if parts is None else parts - {DOMAIN_PART}
+    sources = ([fn] if fn else []) + ([functools.partial(generic_figures, only=only)] if only != set() else [])
+    for source in sources:
+        name = getattr(source, "__name__", None) or getattr(getattr(source, "func", None), "__name__", str(source))
         try:
             figs.update(source(ds))
-        except Exception:  # noqa: BLE001 - a figure never fails the sweep
-            log.warning("sweep figures %s failed", getattr(source, "__name__", source), exc_info=True)
+        except Exception as exc:  # noqa: BLE001 - a figure never fails the sweep
+            log.warning("sweep figures %s failed", name, exc_info=True)
+            if errors is not None:
+                errors.append(f"sweep figures {name} failed: {type(exc).__name__}: {exc}")
     return figs
+
+
+#: cost of the domain's own figures in panels of :func:`generic_figures` (the gear's steady
+#: figure, two panels with many lines, draws in about the time of three generic panels)
+DOMAIN_COST = 3.0
+#: matplotlib's import and first figure in a worker that has not drawn yet, in panels (~0.6 s
+#: against ~0.11 s a panel on the 9-panel pages, CPU)
+FIRST_FIGURE_COST = 5.0
+
+
+def figure_parts(ds, domain: str | None) -> dict[str, float]:
+    """Part -> estimated drawing cost (in panels) of each part of :func:`sweep_figures`."""
+    parts = {DOMAIN_PART: DOMAIN_COST} if domain else {}
+    parts.update({stem: 1.0 + n for stem, n in generic_pages(ds).items()})
+    return parts
+
+
+def draw_figures(ds, domain: str | None, parts: list[str], out_dir: str, fmt: str, dpi: int | None):
+    """Draw and save the ``parts`` of :func:`sweep_figures` into ``out_dir`` (in a worker or the
+    client); return the saved paths and the messages of the figure functions that failed."""
+    from rotaflex.core.plotting import save_figure
+
+    errors: list[str] = []
+    paths = [
+        str(save_figure(fig, Path(out_dir) / f"{stem}.png", dpi=dpi, fmt=fmt))
+        for stem, fig in sweep_figures(ds, domain, parts, errors).items()
+    ]
+    return paths, errors
+
+
+def split_parts(costs: dict[str, float], n_workers: int) -> list[list[str]]:
+    """The parts split into ``1 + n_workers`` groups of about equal cost, the client's first
+    (longest part first to the least loaded group; a worker's group starts with
+    :data:`FIRST_FIGURE_COST`, the client has drawn already). Empty groups are dropped,
+    except the client's."""
+    loads = [0.0] + [FIRST_FIGURE_COST] * n_workers
+    groups: list[list[str]] = [[] for _ in loads]
+    for part in sorted(costs, key=lambda p: -costs[p]):
+        i = min(range(len(loads)), key=lambda j: loads[j] + costs[part])
+        groups[i].append(part)
+        loads[i] += costs[part]
+    return [groups[0]] + [g for g in groups[1:] if g]
+
+
+def draw_sweep_figures(ds, domain: str | None, out_dir: Path, pools: list[tuple[Any, int]] = ()) -> list[Path]:
+    """Draw the sweep figures into ``out_dir``, shared between this process and the local
+    process ``pools`` (``(executor, workers)``, e.g. the sweep's workers once the cases are
+    done): each worker draws a group of pages (:func:`split_parts`) while this process draws
+    its own, so the pages are not drawn one after the other. A group whose worker fails is
+    drawn here. Paths in the order of :func:`sweep_figures`."""
+    from rotaflex.core import plotting
+
+    fmt, dpi = plotting.chosen_format(), plotting._CHOSEN["dpi"]  # the client's --format/--dpi
+    costs = figure_parts(ds, domain)
+    n = sum(w for _, w in pools)
+    groups = split_parts(costs, n)
+    futures = []
+    slots = [ex for ex, w in pools for _ in range(w)]
+    for ex, group in zip(slots, groups[1:], strict=False):
+        try:
+            futures.append((ex.submit(draw_figures, ds, domain, group, str(out_dir), fmt, dpi), group))
+        except Exception:  # noqa: BLE001 - a broken pool: drawn here
+            groups[0] += group
+    paths, errors = draw_figures(ds, domain, groups[0], str(out_dir), fmt, dpi)
+    for fut, group in futures:
+        try:
+            more, errs = fut.result()
+        except Exception:  # noqa: BLE001 - the worker died: drawn here
+            log.warning("a worker drawing sweep figures failed; drawing %s here", ", ".join(group), exc_info=True)
+            more, errs = draw_figures(ds, domain, group, str(out_dir), fmt, dpi)
+        else:
+            for e in errs:
+                log.warning("%s", e)
+        paths += more
+    order = {p: i for i, p in enumerate(costs)}
+    return sorted((Path(p) for p in paths), key=lambda p: order.get(p.stem, -1))  # stable: domain's first

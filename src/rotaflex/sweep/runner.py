@@ -43,7 +43,7 @@ from pathlib import Path
 from typing import Any
 
 from rotaflex.core.io import WriteFailed, write_json_atomic, write_text_atomic
-from rotaflex.sweep._worker import Outcome, WriteTo, execute_case, init_worker, ping
+from rotaflex.sweep._worker import Outcome, WriteTo, execute_case, init_worker, ping, write_outcome
 from rotaflex.sweep.spec import Case, as_cases, case_id
 
 log = logging.getLogger("rotaflex.sweep")
@@ -172,7 +172,9 @@ def _quiet_resource_tracker() -> None:
         os.environ["PYTHONWARNINGS"] = f"{current},{rule}" if current else rule
 
 
-def process_pool(max_workers: int | None = None, preload: tuple[str, ...] = ()) -> ProcessPoolExecutor:
+def process_pool(
+    max_workers: int | None = None, preload: tuple[str, ...] = (), probe: bool = True, niceness: int = 0
+) -> ProcessPoolExecutor:
     """A local process pool whose workers start from a clean interpreter, one thread each.
 
     POSIX uses the ``forkserver`` start method with :data:`PRELOAD` and ``preload`` (e.g. the
@@ -181,7 +183,7 @@ def process_pool(max_workers: int | None = None, preload: tuple[str, ...] = ()) 
     import is skipped there and imported by the worker as usual); elsewhere ``spawn``. The
     preload applies when this process starts its fork server, i.e. for its first pool. The
     variables of :data:`THREAD_VARS` are 1 in the workers unless already set. The pool is
-    started (and probed) before it is returned.
+    started (and, with ``probe``, probed) before it is returned.
     """
     _quiet_resource_tracker()
     methods = multiprocessing.get_all_start_methods()
@@ -194,12 +196,14 @@ def process_pool(max_workers: int | None = None, preload: tuple[str, ...] = ()) 
         max_workers=max_workers or os.cpu_count() or 1,
         mp_context=ctx,
         initializer=init_worker,
-        initargs=(os.getpid(),),
+        initargs=(os.getpid(), niceness),
     )
     added = {k: "1" for k in THREAD_VARS if k not in os.environ}
     os.environ.update(added)  # inherited by the fork server / spawned workers started now
     try:
-        pool.submit(ping).result()
+        probed = pool.submit(ping)
+        if probe:
+            probed.result()
     except BrokenProcessPool:
         pool.shutdown(wait=False, cancel_futures=True)
         raise RuntimeError(
@@ -211,6 +215,10 @@ def process_pool(max_workers: int | None = None, preload: tuple[str, ...] = ()) 
         for k in added:
             os.environ.pop(k, None)
     return pool
+
+
+#: added to the nice value of the processes that write the cases of fewer chains than workers
+WRITER_NICENESS = 10
 
 
 #: executors whose workers write into this process's file system (the case files are then
@@ -225,9 +233,12 @@ class _Backend:
     ``case_files``: ``(out_dir, case_figures)`` of a sweep that writes its cases; on a local
     executor (:data:`LOCAL_EXECUTORS`) each submitted case then carries a :class:`WriteTo`,
     unless fewer cases than workers can run at once (``streams``: independent cases, or
-    continuation chains): then a worker is idle anyway, and the client writing a case while
-    the next one of its chain computes is faster than the worker doing both in turn (a case of
-    the gear example: ~70 ms CPU to write, ~32 ms to compute).
+    continuation chains): then the client writes a case while the next one of its chain
+    computes, which is faster than the worker doing both in turn (a case of the gear example:
+    ~72 ms CPU to write, ~32 ms to compute). A pool this backend starts itself (``None`` or an
+    int) then gets one worker per chain, and the workers left over form :attr:`writer`, a
+    pool at nice +10 (:data:`WRITER_NICENESS`) that writes finished cases next to the client
+    (:func:`rotaflex.sweep.continuation.drive_chains`).
     """
 
     def __init__(
@@ -241,14 +252,18 @@ class _Backend:
         self.streams = streams
         self.factory: Callable[[], Executor] | None = None
         self.owned = False
-        if executor is None:
-            self.factory, self.owned = (lambda: process_pool(preload=preload)), True
+        #: a pool of its own for writing the case files of fewer chains than workers
+        self.writer: Executor | None = None
+        spare = 0
+        if executor is None or (isinstance(executor, int) and not isinstance(executor, bool)):
+            n = executor if executor is not None else os.cpu_count() or 1
+            if n < 1:
+                raise ValueError(f"executor = {executor}: a number of processes must be >= 1")
+            if case_files is not None and streams is not None and 0 < streams < n:
+                spare = n - streams
+            self.factory, self.owned = (lambda: process_pool(n - spare, preload)), True
         elif executor == "serial":
             self.factory, self.owned = SerialExecutor, True
-        elif isinstance(executor, int) and not isinstance(executor, bool):
-            if executor < 1:
-                raise ValueError(f"executor = {executor}: a number of processes must be >= 1")
-            self.factory, self.owned = (lambda: process_pool(executor, preload)), True
         elif isinstance(executor, Executor):
             self.executor = executor
         elif callable(executor):
@@ -257,15 +272,30 @@ class _Backend:
             raise TypeError(f"executor must be None, 'serial', an int, an Executor or a factory, not {executor!r}")
         if self.factory is not None:
             self.executor = self._start()
+        if spare:
+            # not waited for (a broken one is dropped); lower priority: on a loaded machine
+            # its writes take only CPU the chain's computing worker leaves
+            self.writer = process_pool(spare, probe=False, niceness=WRITER_NICENESS)
         self.window = 2 * _n_workers(self.executor)
 
     @property
     def workers_write(self) -> bool:
         """The workers write the case files (a sweep with an output on a local executor, with
         at least as many cases or chains to run at once as workers)."""
-        if self.case_files is None or not isinstance(self.executor, LOCAL_EXECUTORS):
+        if self.case_files is None or self.writer is not None or not isinstance(self.executor, LOCAL_EXECUTORS):
             return False
         return self.streams is None or self.streams >= _n_workers(self.executor)
+
+    def submit_write(self, case: Case, outcome: Outcome) -> Future:
+        """Submit :func:`write_outcome` of a finished case (its Result) to :attr:`writer`."""
+        out, figures = self.case_files
+        return self.writer.submit(write_outcome, outcome, WriteTo(str(out / "cases" / case.id), figures))
+
+    def drop_writer(self) -> None:
+        """Stop using :attr:`writer` (it broke: the client writes from now on)."""
+        if self.writer is not None:
+            _stop_pool(self.writer)
+            self.writer = None
 
     def submit(self, case_fn: Callable, case: Case, **kwargs: Any) -> Future:
         """Submit ``execute_case(case_fn, case.data, **kwargs)``, with the case's
@@ -274,6 +304,16 @@ class _Backend:
             out, figures = self.case_files
             kwargs["write_to"] = WriteTo(str(out / "cases" / case.id), figures)
         return self.executor.submit(execute_case, case_fn, case.data, **kwargs)
+
+    def figure_pools(self) -> list[tuple[ProcessPoolExecutor, int]]:
+        """Workers that draw sweep figures next to the client: the local process pool's, at
+        most one fewer than the cores (the client draws too; a worker pays matplotlib's import
+        first, ~0.6-0.9 s), not the lower-priority writer pool; none on Dask, serial or
+        thread executors."""
+        if not isinstance(self.executor, ProcessPoolExecutor):
+            return []
+        n = min(_n_workers(self.executor), (os.cpu_count() or 1) - 1)
+        return [(self.executor, n)] if n > 0 else []
 
     def rebuild(self) -> None:
         if self.factory is None:
@@ -293,14 +333,24 @@ class _Backend:
             return
         ex = self.executor
         if isinstance(ex, ProcessPoolExecutor) and not wait:
-            # no public way to stop running workers in Python < 3.14
-            procs = list((getattr(ex, "_processes", None) or {}).values())
-            ex.shutdown(wait=False, cancel_futures=True)
-            for p in procs:
-                if p.is_alive():
-                    p.terminate()
+            _stop_pool(ex)
         else:
             ex.shutdown(wait=wait)
+        if self.writer is not None:
+            if wait:
+                self.writer.shutdown(wait=True)
+            else:
+                _stop_pool(self.writer)
+
+
+def _stop_pool(ex: ProcessPoolExecutor) -> None:
+    """Shut a process pool down at once, its running workers terminated (no public way in
+    Python < 3.14)."""
+    procs = list((getattr(ex, "_processes", None) or {}).values())
+    ex.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        if p.is_alive():
+            p.terminate()
 
 
 def _modules_of(case_fn: Any) -> tuple[str, ...]:
@@ -608,6 +658,7 @@ def run_sweep(
             callback(rec, len(records), total)
 
     warm = None
+    backend = None
     if todo:
         ts = time.perf_counter()
         streams = len(todo) if chains is None else sum(1 for ch in chain_todo if ch)
@@ -616,7 +667,7 @@ def run_sweep(
         # only while this process has nothing else to do: not beside cases (and their figures,
         # matplotlib is not thread-safe) run here, nor beside this process writing case files
         in_process = isinstance(backend.executor, (SerialExecutor, ThreadPoolExecutor))
-        if out is not None and backend.workers_write and not in_process:
+        if out is not None and (backend.workers_write or backend.writer is not None) and not in_process:
             warm = threading.Thread(target=_prepare_outputs, args=(figures, domain), daemon=True)
             warm.start()
         try:
@@ -629,8 +680,6 @@ def run_sweep(
         except BaseException:
             backend.shutdown(wait=False)
             raise
-        else:
-            backend.shutdown(wait=True)
         finally:
             spent["cases"] = time.perf_counter() - ts - spent["start"]
             if bar is not None:
@@ -642,13 +691,21 @@ def run_sweep(
     from rotaflex.core.provenance import provenance
 
     to = time.perf_counter()
-    if warm is not None:
-        warm.join()
-    meta = {"domain": domain or "", **provenance(), **(attrs or {})}
-    dataset = combine(ordered, attrs=meta, units=dict(units or {}))
-    result = SweepResult(ordered, dataset, out, time.perf_counter() - t0)
-    if out is not None:
-        result.figures = write_outputs(result, domain=domain, figures=figures)
+    try:
+        if warm is not None:
+            warm.join()
+        meta = {"domain": domain or "", **provenance(), **(attrs or {})}
+        dataset = combine(ordered, attrs=meta, units=dict(units or {}))
+        result = SweepResult(ordered, dataset, out, time.perf_counter() - t0)
+        if out is not None:
+            pools = backend.figure_pools() if backend is not None else []  # the workers draw too
+            result.figures = write_outputs(result, domain=domain, figures=figures, pools=pools)
+    except BaseException:
+        if backend is not None:
+            backend.shutdown(wait=False)
+        raise
+    if backend is not None:
+        backend.shutdown(wait=True)
     result.wall_time = time.perf_counter() - t0
     spent["outputs"] = time.perf_counter() - to
     log.info(
