@@ -16,7 +16,8 @@ from rotaflex.core.result import Result
 from rotaflex.sweep import grid_cases, run_sweep
 from rotaflex.sweep._selftest_case import run_case
 from rotaflex.sweep._worker import WriteTo, execute_case
-from rotaflex.sweep.runner import _Backend, _read_done
+from rotaflex.sweep.backends import _Backend
+from rotaflex.sweep.runner import _read_done
 
 BASE = {"x": 1.0, "y": 0.0, "n": 16, "sleep": 0.0}
 
@@ -203,7 +204,7 @@ def _dask_loaded_after_a_dataset() -> bool:
 
 
 def test_local_workers_build_datasets_without_importing_dask():
-    from rotaflex.sweep.runner import process_pool
+    from rotaflex.sweep.backends import process_pool
 
     pool = process_pool(1)
     try:

@@ -11,8 +11,8 @@ import numpy as np
 import xarray as xr
 
 from rotaflex.sweep import run_sweep, sweep_config
+from rotaflex.sweep.backends import _Backend, _n_workers, process_pool
 from rotaflex.sweep.figures import DOMAIN_PART, draw_sweep_figures, split_parts
-from rotaflex.sweep.runner import _Backend, _n_workers, process_pool
 
 CHAIN = {"domain": "selftest", "verb": "chain", "x": 1.0, "y": 0.0}
 

@@ -267,7 +267,7 @@ def _run_parallel(names, out_dir, fast, emit, weights, overall, workers: int) ->
 
     # the sweep runner's pool: forkserver, one BLAS thread per worker, workers that ignore
     # Ctrl-C (this process handles it) and end when this process dies; terminated on error
-    from rotaflex.sweep.runner import _Backend
+    from rotaflex.sweep.backends import _Backend
 
     order = sorted(range(len(names)), key=lambda i: -weights[i])
     backend = _Backend(workers, preload=(__name__, *dict.fromkeys(REPRODUCE[n] for n in names)))

@@ -16,7 +16,8 @@ Command line: ``rotaflex sweep CONFIG.toml --vary KEY=START:STOP:N --out DIR [-j
 the config sweeps another verb of the domain (e.g. ``verb = "steady"`` for gear).
 """
 
-from rotaflex.sweep.runner import CaseRecord, SerialExecutor, SweepResult, process_pool, run_sweep
+from rotaflex.sweep.backends import SerialExecutor, process_pool
+from rotaflex.sweep.runner import CaseRecord, SweepResult, run_sweep
 from rotaflex.sweep.spec import Case, as_cases, grid_cases, parse_vary
 from rotaflex.sweep.study import Study, plan, plan_study, sweep_config
 
