@@ -48,3 +48,26 @@ def _close_figures():
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None:
         pyplot.close("all")
+
+
+@pytest.fixture
+def python_json():
+    """Run Python ``code`` (dedented) in a fresh interpreter with rotaflex's src/ on the path
+    (and ``extra_path`` entries, ``env`` overrides); return the JSON its last output line holds."""
+    import json
+    import os
+    import subprocess
+    import textwrap
+    from pathlib import Path
+
+    src = Path(__file__).resolve().parents[1] / "src"
+
+    def run(code: str, *, extra_path=(), env=None, timeout: float = 300) -> dict:
+        full = {**os.environ, "PYTHONPATH": os.pathsep.join([str(src), *map(str, extra_path)]), **(env or {})}
+        proc = subprocess.run(
+            [sys.executable, "-c", textwrap.dedent(code)], env=full, capture_output=True, text=True, timeout=timeout
+        )
+        assert proc.returncode == 0, proc.stderr
+        return json.loads(proc.stdout.strip().splitlines()[-1])
+
+    return run

@@ -3,11 +3,7 @@ what typer's own pydantic adapters give, values and error messages alike, withou
 pydantic; numpy submodules no verb uses stay unexecuted (``rotaflex.cli_startup.defer_unused_numpy``)
 and still work when used."""
 
-import json
 import os
-import subprocess
-import sys
-import textwrap
 from pathlib import Path
 
 import pytest
@@ -92,7 +88,7 @@ def test_usage_errors_read_as_with_typers_adapters(monkeypatch, capsys, tmp_path
     assert all(code == 2 for code, _ in plain)
 
 
-def test_campbell_imports_neither_pydantic_nor_scipy_optimize_and_defers_unused_numpy(tmp_path):
+def test_campbell_imports_neither_pydantic_nor_scipy_optimize_and_defers_unused_numpy(tmp_path, python_json):
     code = f"""
         import json, sys
         from rotaflex.cli import main
@@ -110,12 +106,7 @@ def test_campbell_imports_neither_pydantic_nor_scipy_optimize_and_defers_unused_
         assert callable(np.f2py.get_include) and type(sys.modules["numpy.f2py"]).__name__ == "module"
         print(json.dumps({{"loaded": loaded, "lazy": lazy}}))
     """
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    proc = subprocess.run(
-        [sys.executable, "-c", textwrap.dedent(code)], env=env, capture_output=True, text=True, timeout=300
-    )
-    assert proc.returncode == 0, proc.stderr
-    got = json.loads(proc.stdout.strip().splitlines()[-1])
+    got = python_json(code)
     assert got == {"loaded": [], "lazy": ["numpy.f2py", "numpy.testing"]}
     assert (tmp_path / "out" / "result.nc").exists()
 

@@ -4,27 +4,19 @@ is read when numba is imported)."""
 
 from __future__ import annotations
 
-import json
-import os
-import subprocess
-import sys
-import textwrap
 from pathlib import Path
 
 SRC = Path(__file__).resolve().parents[2] / "src"
 
 
-def _run(code: str, tmp_path: Path) -> dict:
-    env = {**os.environ, "PYTHONPATH": f"{SRC}{os.pathsep}{tmp_path}", "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
-    proc = subprocess.run(
-        [sys.executable, "-c", textwrap.dedent(code)], env=env, capture_output=True, text=True, timeout=120
-    )
-    assert proc.returncode == 0, proc.stderr
-    return json.loads(proc.stdout.strip().splitlines()[-1])
+def _run(python_json, code: str, tmp_path: Path) -> dict:
+    """``code`` in a fresh process with ``tmp_path`` importable and its own numba cache."""
+    return python_json(code, extra_path=[tmp_path], env={"NUMBA_CACHE_DIR": str(tmp_path / "cache")}, timeout=120)
 
 
-def test_timer_starts_listening_when_the_block_imports_numba(tmp_path):
+def test_timer_starts_listening_when_the_block_imports_numba(tmp_path, python_json):
     got = _run(
+        python_json,
         """
         import json, sys
         from rotaflex.core.jit import CompileTimer
@@ -51,7 +43,7 @@ def test_timer_starts_listening_when_the_block_imports_numba(tmp_path):
     assert got["hooks"] == []  # the import hook is gone after the block
 
 
-def test_announcement_only_while_the_disk_cache_is_cold(tmp_path):
+def test_announcement_only_while_the_disk_cache_is_cold(tmp_path, python_json):
     (tmp_path / "tiny_kernels.py").write_text(
         "from numba import njit\n\n\n@njit(cache=True)\ndef plus_one(x):\n    return x + 1.0\n"
     )
@@ -68,11 +60,11 @@ def test_announcement_only_while_the_disk_cache_is_cold(tmp_path):
         print(json.dumps({"cold": cold, "first": first, "again": again, "said": said,
                           "count": timer.count, "cold_after": cache_is_cold([tiny_kernels.plus_one])}))
     """
-    one = _run(code, tmp_path)
+    one = _run(python_json, code, tmp_path)
     assert one["cold"] and one["first"] and not one["again"]
     assert one["said"] == ["compiling the tiny kernels once, ~3 s; later runs load them from the cache"]
     assert one["count"] == 1 and not one["cold_after"]  # compiled and written to the cache
-    two = _run(code, tmp_path)  # a new process: numba loads the kernel from the cache
+    two = _run(python_json, code, tmp_path)  # a new process: numba loads the kernel from the cache
     assert not two["cold"] and not two["first"] and two["said"] == [] and two["count"] == 0
 
 

@@ -3,17 +3,12 @@ process, not as a time (times are in benchmarks/bench_startup.py)."""
 
 from __future__ import annotations
 
-import json
-import os
-import subprocess
-import sys
-import textwrap
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def test_help_and_campbell_import_neither_numba_nor_sympy_nor_scipy_integrate(tmp_path):
+def test_help_and_campbell_import_neither_numba_nor_sympy_nor_scipy_integrate(tmp_path, python_json):
     code = f"""
         import json, sys
         from rotaflex.cli import main
@@ -31,12 +26,7 @@ def test_help_and_campbell_import_neither_numba_nor_sympy_nor_scipy_integrate(tm
                         "--out", {str(tmp_path / "out")!r}, "--no-figures", "--quiet"])
         print(json.dumps({{"help": helped, "campbell": campbell}}))
     """
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    proc = subprocess.run(
-        [sys.executable, "-c", textwrap.dedent(code)], env=env, capture_output=True, text=True, timeout=300
-    )
-    assert proc.returncode == 0, proc.stderr
-    got = json.loads(proc.stdout.strip().splitlines()[-1])
+    got = python_json(code)
     assert got["help"] == []  # --help loads none of the heavy libraries
     # campbell computes eigenvalues and writes NetCDF: xarray only; no compiler, no symbolic
     # algebra, no ODE integrator, no dask (xarray would load dask.array and dask.base to ask
@@ -45,7 +35,7 @@ def test_help_and_campbell_import_neither_numba_nor_sympy_nor_scipy_integrate(tm
     assert (tmp_path / "out" / "result.nc").exists()
 
 
-def test_xarray_without_dask_loaded_still_tells_dask_data_apart(tmp_path):
+def test_xarray_without_dask_loaded_still_tells_dask_data_apart(tmp_path, python_json):
     # rotaflex.core.io.defer_dask answers xarray's "is this dask data?" without importing dask
     # while none is loaded; once dask.array is imported, dask data must behave as dask data
     # again (chunks kept, written and read back), and the file written must be the same
@@ -75,12 +65,7 @@ def test_xarray_without_dask_loaded_still_tells_dask_data_apart(tmp_path):
             "dask_back": bool((back["dask"]["a"].values == ds["a"].values).all()),
         }}))
     """
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    proc = subprocess.run(
-        [sys.executable, "-c", textwrap.dedent(code)], env=env, capture_output=True, text=True, timeout=300
-    )
-    assert proc.returncode == 0, proc.stderr
-    got = json.loads(proc.stdout.strip().splitlines()[-1])
+    got = python_json(code)
     assert got["before"] == []  # a dataset made and written: dask never imported
     assert got["left"] == []  # and no import blocked after the write
     assert got["chunks"] == [[2, 2], [2, 1]]  # dask data stay lazy, in their chunks
