@@ -148,3 +148,18 @@ def test_garbage_collection_is_on_again_after_a_verb(tmp_path, capsys):
     finally:
         gc.enable()
     capsys.readouterr()
+
+
+@pytest.mark.parametrize("value", ["abc", "-1", "0", "1.5"])
+def test_bad_blas_thread_count_is_one_line_exit_2(value, monkeypatch, tmp_path):
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+
+    monkeypatch.setenv("ROTAFLEX_BLAS_THREADS", value)
+    res = CliRunner().invoke(
+        app, ["rotor", "campbell", str(ROOT / "examples/rotor/fe_friswell_5_9_1.toml"), "--out", str(tmp_path / "o")]
+    )
+    assert res.exit_code == 2
+    assert f"ROTAFLEX_BLAS_THREADS = '{value}' is invalid" in res.output
+    assert "Traceback" not in res.output

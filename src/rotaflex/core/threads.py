@@ -21,5 +21,21 @@ def limit_blas_threads(limit: int | None = None):
     from threadpoolctl import threadpool_limits
 
     if limit is None:
-        limit = int(os.environ.get("ROTAFLEX_BLAS_THREADS", "1"))
+        limit = blas_thread_count()
     return threadpool_limits(limits=limit)
+
+
+def blas_thread_count() -> int:
+    """The thread count of ``ROTAFLEX_BLAS_THREADS`` (1 when unset).
+
+    Raises
+    ------
+    InputError
+        The variable is set to anything but a whole number >= 1.
+    """
+    text = os.environ.get("ROTAFLEX_BLAS_THREADS", "1").strip()
+    if not (text.isascii() and text.isdigit() and int(text) >= 1):
+        from rotaflex.core.errors import InputError
+
+        raise InputError("ROTAFLEX_BLAS_THREADS", text, "a whole number of threads >= 1 (environment variable)")
+    return int(text)
