@@ -183,6 +183,7 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
     """
     import logging  # here, not at the top: ~20 ms that --help and usage errors do not need
 
+    from rotaflex.core.examples import IncompleteInstall
     from rotaflex.core.io import WriteFailed
 
     logging.basicConfig(level=logging.DEBUG if debug else logging.WARNING, format="%(message)s")
@@ -196,7 +197,7 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
             raise
         typer.echo(f"error: {exc}", err=True)
         raise typer.Exit(2) from None
-    except (ConvergenceError, DivergenceError, SingularityError, WriteFailed) as exc:
+    except (ConvergenceError, DivergenceError, SingularityError, WriteFailed, IncompleteInstall) as exc:
         if debug:
             raise
         typer.echo(f"error: {exc}", err=True)
@@ -279,6 +280,32 @@ def reproduce(
         )
         if report["passed"] < report["checks"]:
             typer.echo("some checks did not pass: see the report", err=True)
+
+    guarded(go, debug)
+
+
+@app.command()
+def examples(
+    pattern: Annotated[
+        str, typer.Argument(help="Glob over the shipped examples, e.g. 'system/*' or 'gear/4000rpm.toml'.")
+    ] = "*",
+    to: Annotated[
+        Path | None, typer.Option("--to", help="Copy the matching examples into this folder (never overwrites).")
+    ] = None,
+    debug: Debug = False,
+) -> None:
+    """List the example cases shipped with rotaflex, or copy them out to run and edit."""
+
+    def go():
+        from rotaflex.core.examples import copy_examples, examples_dir, match_examples
+
+        if to is None:
+            names = match_examples(pattern)
+            typer.echo(f"# in {examples_dir()}")
+            typer.echo("\n".join(names))
+            return
+        written = copy_examples(to, pattern)
+        typer.echo(f"copied {len(written)} example file(s) to {to}")
 
     guarded(go, debug)
 

@@ -322,6 +322,28 @@ def _run_parallel(names, out_dir, fast, emit, weights, overall, workers: int) ->
     return [sections[i] for i in range(len(names))]
 
 
+def check_needs(names: list[str]) -> None:
+    """Refuse to start when a shipped file a section reads is missing (before anything runs).
+
+    Each section module lists the example files it reads in ``NEEDS`` (paths relative to the
+    shipped examples); a missing one is an incomplete installation, named in full, not bad input.
+    """
+    from rotaflex.core.examples import IncompleteInstall, examples_dir
+
+    missing = []
+    for name in names:
+        module = importlib.import_module(REPRODUCE[name])
+        missing += [
+            examples_dir() / rel for rel in getattr(module, "NEEDS", ()) if not (examples_dir() / rel).is_file()
+        ]
+    if missing:
+        raise IncompleteInstall(
+            "rotaflex is installed without its example files; missing: "
+            + ", ".join(str(p) for p in missing)
+            + " (reinstall with `pip install .` from a complete source tree)"
+        )
+
+
 def workers_for(jobs: int | None, n_sections: int) -> int:
     """Worker processes of a run of ``n_sections`` sections: ``jobs`` (None: one per core),
     at most one per section; 0 or 1 means serial in this process (returned as 1)."""
@@ -366,6 +388,7 @@ def reproduce(
         ``checks`` and ``passed`` counts, and ``compile_time`` [s] spent compiling kernels.
     """
     out_dir = Path(out_dir)
+    check_needs(names)
     workers = workers_for(jobs, len(names))
     emit: Callable[[str], None] | None = progress if callable(progress) else (log.info if progress else None)
     bars = bool(progress) if bars is None else bars

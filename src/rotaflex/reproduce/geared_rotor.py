@@ -13,16 +13,17 @@ import numpy as np
 from rotaflex.core.report import Check, FigureEntry, Section, step
 
 RPM = np.pi / 30
-ROOT = Path(__file__).resolve().parents[3]
-EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "system"
+#: the example files this section reads (shipped inside the package; checked before a run starts)
+NEEDS = ("system/gearbox.toml", "system/ross_two_shaft.toml")
 #: ROSS documentation, ``rs.MultiRotor`` docstring: first damped natural frequency at speed 0 [rad/s]
 ROSS_MULTIROTOR_WD0 = 74.160244
 
 
 def _example(name: str) -> dict:
     from rotaflex.core.config import load_toml
+    from rotaflex.core.examples import example_path
 
-    return load_toml(EXAMPLES / name)
+    return load_toml(example_path(f"system/{name}"))
 
 
 def lumped_limit(cfg: dict) -> tuple[np.ndarray, np.ndarray]:

@@ -76,6 +76,9 @@ def _floating_example(fast: bool) -> tuple[dict[str, Any], dict[str, list[Any]]]
     return config, {"loads[0].duration": [float(v) for v in np.linspace(2.0, 8.0, n)]}
 
 
+#: the example files this section reads (the geared-rotor sweep hook reads the example gearbox)
+NEEDS = ("system/gearbox.toml",)
+
 #: domain -> built-in sweep example (used when the domain's case module has no ``sweep_example``)
 EXAMPLES = {"rotor": _rotor_example, "gear": _gear_example, "floating": _floating_example}
 

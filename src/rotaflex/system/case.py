@@ -469,8 +469,9 @@ def schema_dict() -> dict:
 def sweep_example(fast: bool) -> tuple[dict, dict]:
     """Sweep hook (``rotaflex reproduce sweep``): steady states of the example gearbox vs speed."""
     from rotaflex.core.config import load_toml
+    from rotaflex.core.examples import example_path
 
-    cfg = load_toml(Path(__file__).resolve().parents[3] / "examples" / "system" / "gearbox.toml")
+    cfg = load_toml(example_path("system/gearbox.toml"))
     cfg = {k: v for k, v in cfg.items() if k in MODEL_KEYS}
     cfg["analysis"] = "steady"
     speeds = [2000.0, 3500.0] if fast else [float(v) for v in np.linspace(1000.0, 6000.0, 11)]
