@@ -89,11 +89,18 @@ def test_usage_errors_read_as_with_typers_adapters(monkeypatch, capsys, tmp_path
 
 
 def test_campbell_imports_neither_pydantic_nor_scipy_optimize_and_defers_unused_numpy(tmp_path, python_json):
+    # from 100 rpm, not 0: at rest each forward/backward pair is degenerate, LAPACK may return any
+    # basis of its plane (numpy 2.4 / scipy 1.17 do), and the first tracking step then rightly
+    # needs the assignment solver; past rest the diagram is well tracked, which is what is tested
+    text = (ROOT / "examples/rotor/fe_friswell_5_9_1.toml").read_text()
+    head, tail = text.split("[campbell]", 1)
+    case = tmp_path / "case.toml"
+    case.write_text(head + "[campbell]" + tail.replace("speed_rpm = [0, 4000]", "speed_rpm = [100, 4000]", 1))
     code = f"""
         import json, sys
         from rotaflex.cli import main
         try:
-            main(["rotor", "campbell", {str(ROOT / "examples/rotor/fe_friswell_5_9_1.toml")!r},
+            main(["rotor", "campbell", {str(case)!r},
                   "--out", {str(tmp_path / "out")!r}, "--no-figures", "--quiet", "--dpi", "120"])
         except SystemExit as exc:
             assert exc.code == 0, exc.code
