@@ -22,6 +22,7 @@ import xarray as xr
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import summary_attrs
+from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import MODEL_KEYS, RPM, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
 from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
 
@@ -96,6 +97,7 @@ class SystemCase:
 
     rotor: tuple[RotorSpec, ...] = param()
     gear_mesh: tuple[MeshSpec, ...] = param(())
+    coupling: tuple[CouplingSpec, ...] = param(())
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
     analysis: Literal["modal", "campbell", "response", "steady"] | None = param(None)

@@ -100,9 +100,8 @@ def _pencil(box, mats, basis):
 
         return at
     M, D0, K = (P.T @ X @ P for X in system_matrices(box, 0.0, mats))
-    f = mats.free
     Gs = sum(pr.sense * pr.ratio * G for pr, G in zip(box.rotors, mats.G, strict=True))
-    Gr = P.T @ Gs[np.ix_(f, f)] @ P
+    Gr = P.T @ mats.reduce(Gs) @ P
     return lambda speed: (M, D0 + speed * Gr, K)
 
 
@@ -126,8 +125,7 @@ def _solve(box, mats, speed, n_keep, basis, pencil=None):
     v = v / norm[:, None]
     if basis is not None:
         v = v @ basis.T
-    full = np.zeros((v.shape[0], box.n_dof), complex)
-    full[:, mats.free] = v
+    full = mats.expand(v.T).T
     # phase: largest component real
     j = np.argmax(np.abs(full), 1)
     ph = full[np.arange(full.shape[0]), j]
