@@ -22,6 +22,7 @@ import xarray as xr
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
 from rotaflex.core.result import summary_attrs
+from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import MODEL_KEYS, RPM, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
 from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
@@ -84,7 +85,51 @@ class SteadySpec:
     )
 
 
-ANALYSES = {"modal": ModalSpec, "campbell": CampbellSpec, "response": ResponseSpec, "steady": SteadySpec}
+@dataclass(frozen=True)
+class ExcitationSpec:
+    """One excitation of the torsional interference diagram."""
+
+    kind: Literal["shaft", "mesh", "fixed"] = param(doc="shaft: order x rotor speed; mesh: x tooth-passing; fixed")
+    order: float = param(1.0, gt=0, doc="multiple of the base frequency (2 with a line frequency: 2x line)")
+    rotor: str | None = param(None, doc="shaft: rotor name")
+    mesh: int | None = param(None, ge=0, doc="mesh: index of the [[gear_mesh]] (0 = first)")
+    frequency_hz: float | None = param(None, unit="Hz", gt=0, doc="fixed: base frequency (e.g. the line frequency)")
+    name: str | None = param(None, doc="label (default from kind and order)")
+
+
+@dataclass(frozen=True)
+class TorsionalSpec:
+    """Torsional natural frequencies, interference diagram and API 684 separation margins."""
+
+    n_modes: int = param(8, ge=1, le=200)
+    operating_speed_rpm: tuple[float, float] | None = param(
+        None, unit="rpm", gt=0, doc="drive speed [min, max continuous] (default: the nominal speed)"
+    )
+    speed_rpm: tuple[float, float] | None = param(
+        None, unit="rpm", ge=0, doc="diagram range (default: 0 to 1.25 x the operating maximum)"
+    )
+    margin: float = param(0.10, ge=0, lt=1, doc="required separation (API 684: 10 %)")
+    excitation: tuple[ExcitationSpec, ...] = param((), doc="default: 1X, 2X of each rotor, 1x, 2x of each mesh")
+
+
+@dataclass(frozen=True)
+class StartupSpec:
+    """Run-up from rest with the [drive] torque-speed curve against the [load]."""
+
+    duration: float = param(5.0, unit="s", gt=0)
+    n_out: int = param(2001, ge=2, le=1_000_000, doc="samples written")
+    max_frequency_hz: float | None = param(None, unit="Hz", gt=0, doc="highest torsional mode kept (none: all)")
+    rtol: float = param(1e-8, gt=0, lt=1e-2, doc="relative tolerance of the Radau integrator")
+
+
+ANALYSES = {
+    "modal": ModalSpec,
+    "campbell": CampbellSpec,
+    "response": ResponseSpec,
+    "steady": SteadySpec,
+    "torsional": TorsionalSpec,
+    "startup": StartupSpec,
+}
 
 
 @dataclass(frozen=True)
@@ -100,11 +145,13 @@ class SystemCase:
     coupling: tuple[CouplingSpec, ...] = param(())
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
-    analysis: Literal["modal", "campbell", "response", "steady"] | None = param(None)
+    analysis: Literal["modal", "campbell", "response", "steady", "torsional", "startup"] | None = param(None)
     modal: ModalSpec = field(default_factory=ModalSpec)
     campbell: CampbellSpec = field(default_factory=CampbellSpec)
     response: ResponseSpec = field(default_factory=ResponseSpec)
     steady: SteadySpec = field(default_factory=SteadySpec)
+    torsional: TorsionalSpec = field(default_factory=TorsionalSpec)
+    startup: StartupSpec = field(default_factory=StartupSpec)
 
 
 SCHEMA = SystemCase
@@ -427,7 +474,130 @@ def _harmonics(x, spc, orders=(1, 2, 3)):
     return np.array([2 * abs(sp[k * nc]) / n if k * nc < sp.size else np.nan for k in orders])
 
 
-RUNNERS = {"modal": run_modal, "campbell": run_campbell, "response": run_response, "steady": run_steady}
+def _excitations(box, spec: TorsionalSpec) -> list[dict]:
+    """The listed excitations with rotor and mesh indices (line frequency converted to rad/s)."""
+    from rotaflex.system.torsion import default_excitations
+
+    if not spec.excitation:
+        return default_excitations(box)
+    names = [pr.name for pr in box.rotors]
+    out = []
+    for i, e in enumerate(spec.excitation):
+        w = f"torsional.excitation[{i}]"
+        d = {"kind": e.kind, "order": e.order, "name": e.name}
+        if e.kind == "shaft":
+            if e.rotor not in names:
+                raise InputError(f"{w}.rotor", e.rotor, "a rotor name, one of " + ", ".join(map(repr, names)))
+            d["rotor"] = names.index(e.rotor)
+        elif e.kind == "mesh":
+            if e.mesh is None or e.mesh >= len(box.meshes):
+                raise InputError(f"{w}.mesh", e.mesh, f"a [[gear_mesh]] index 0..{len(box.meshes) - 1}")
+            d["mesh"] = e.mesh
+        else:
+            if e.frequency_hz is None:
+                raise InputError(f"{w}.frequency_hz", "<missing>", "a frequency [Hz] > 0 for kind = 'fixed'")
+            d["frequency"] = 2 * np.pi * e.frequency_hz
+        out.append(d)
+    return out
+
+
+def run_torsional(config: dict, *, progress: bool = False):
+    """Torsional natural frequencies and shapes, interference diagram, API 684 separation margins."""
+    from rotaflex.system.results import TorsionalResult, torsional_dataset
+    from rotaflex.system.torsion import (
+        crossings,
+        excitation_lines,
+        separation_margins,
+        torsional_model,
+        torsional_modes,
+    )
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "torsional")
+    if spec.operating_speed_rpm is None:
+        n = drive_speed_rpm(box)
+        if n is None:
+            raise InputError(
+                "torsional.operating_speed_rpm", "<missing>", "[min, max] drive speed [rpm] (or a speed_rpm)"
+            )
+        op = (rpm_to_rad_s(n), rpm_to_rad_s(n))
+    else:
+        op = tuple(rpm_to_rad_s(spec.operating_speed_rpm))
+        if op[1] < op[0]:
+            raise InputError("torsional.operating_speed_rpm", list(spec.operating_speed_rpm), "[min, max], max >= min")
+    rng = (0.0, 1.25 * op[1]) if spec.speed_rpm is None else tuple(rpm_to_rad_s(spec.speed_rpm))
+    if rng[1] <= rng[0]:
+        raise InputError("torsional.speed_rpm", list(spec.speed_rpm), "[start, stop] with stop > start")
+    model = torsional_model(box)
+    w, shape = torsional_modes(model, spec.n_modes)
+    lines = excitation_lines(box, _excitations(box, spec))
+    cr = crossings(w, lines, rng)
+    margin, passed = separation_margins(w, lines, op, spec.margin)
+    ds = torsional_dataset(model, w, shape, lines, margin, passed, op, rng, spec.margin)
+    bad = [(k, j) for k in range(w.size) for j in range(len(lines)) if not passed[k, j]]
+    extra = {f"mode_{k}_frequency_hz": {"value": float(w[k] / (2 * np.pi)), "unit": "Hz"} for k in range(w.size)}
+    extra["api684_verdict"] = {"value": "pass" if not bad else "fail", "unit": "", "required_margin": spec.margin}
+    extra["api684_failures"] = {"value": len(bad), "unit": "", "long_name": "(mode, excitation) pairs under the margin"}
+    for i, (k, j) in enumerate(bad):
+        extra[f"failure_{i}"] = {"value": float(margin[k, j]), "unit": "1", "mode": k, "line": lines[j]["name"]}
+    for i, c in enumerate(cr):
+        extra[f"crossing_{i}_rpm"] = {
+            "value": rad_s_to_rpm(c["speed"]),
+            "unit": "rpm",
+            "line": c["line"],
+            "mode": c["mode"],
+        }
+    verdict = "pass" if not bad else f"fail ({len(bad)} mode/excitation pairs under {100 * spec.margin:g} %)"
+    msg = (
+        f"{w.size} torsional modes, lowest {w[0] / (2 * np.pi):.4g} Hz; {len(cr)} crossings in "
+        f"{rad_s_to_rpm(rng[0]):.0f}-{rad_s_to_rpm(rng[1]):.0f} rpm; API 684 separation: {verdict}"
+    )
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
+    ds.attrs["crossings"] = json.dumps(cr)
+    return TorsionalResult(ds)
+
+
+def run_startup(config: dict, *, progress: bool = False):
+    """Run-up from rest under the [drive] torque-speed curve against the [load] (torsional model)."""
+    from rotaflex.system.results import StartupResult, startup_dataset
+    from rotaflex.system.startup import Motor, check_start, startup
+    from rotaflex.system.torsion import torsional_model
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "startup")
+    d = box.spec.drive
+    if len(d.curve_speed_rpm) < 2 or len(d.curve_torque) != len(d.curve_speed_rpm):
+        raise InputError(
+            "drive.curve_torque", list(d.curve_torque), "a torque [N m] per drive.curve_speed_rpm (>= 2 points)"
+        )
+    n = rpm_to_rad_s(d.curve_speed_rpm)
+    if np.any(np.diff(n) <= 0):
+        raise InputError("drive.curve_speed_rpm", list(d.curve_speed_rpm), "increasing speeds")
+    motor = Motor(n, np.asarray(d.curve_torque, float), d.pulsating_torque, 2 * np.pi * d.line_frequency_hz, d.poles)
+    ld = box.spec.load
+    load = (ld.torque, ld.quadratic) if ld is not None else (0.0, 0.0)
+    n_steady = check_start(box, motor, load)
+    fmax = None if spec.max_frequency_hz is None else 2 * np.pi * spec.max_frequency_hz
+    model = torsional_model(box)
+    run = startup(box, model, motor, load, spec.duration, spec.n_out, fmax, spec.rtol)
+    ds, extra = startup_dataset(box, model, run, n_steady)
+    msg = (
+        f"{spec.duration:g} s run-up: drive at {extra['final_speed_rpm']['value']:.1f} rpm "
+        f"(motor = load at {rad_s_to_rpm(n_steady):.1f} rpm); {run.n_modes} torsional modes kept; "
+        f"energy balance {extra['energy_balance_error']['value']:.1e} of the motor work"
+    )
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
+    return StartupResult(ds)
+
+
+RUNNERS = {
+    "modal": run_modal,
+    "campbell": run_campbell,
+    "response": run_response,
+    "steady": run_steady,
+    "torsional": run_torsional,
+    "startup": run_startup,
+}
 
 
 def run_case(config: dict, *, progress: bool = False):

@@ -112,6 +112,11 @@ class DriveSpec:
     kind: Literal["constant_speed", "torque"] = param("constant_speed")
     inertia: float = param(0.0, unit="kg m^2", ge=0, doc="motor rotor inertia added at the node")
     rotation: Literal["ccw", "cw"] = param("ccw", doc="sense of rotation seen from +z")
+    curve_speed_rpm: tuple[float, ...] = param((), unit="rpm", ge=0, doc="startup: motor curve speeds (increasing)")
+    curve_torque: tuple[float, ...] = param((), unit="N m", doc="startup: motor torque at curve_speed_rpm")
+    pulsating_torque: float = param(0.0, unit="N m", ge=0, doc="startup: synchronous motor, 2x slip frequency")
+    line_frequency_hz: float = param(50.0, unit="Hz", gt=0, doc="startup: supply frequency of the motor")
+    poles: int = param(2, ge=2, doc="startup: motor poles (synchronous speed 120 f / poles rpm)")
 
 
 @dataclass(frozen=True)
@@ -124,6 +129,7 @@ class LoadSpec:
     torque: float = param(0.0, unit="N m", ge=0)
     inertia: float = param(0.0, unit="kg m^2", ge=0)
     damping: float = param(0.0, unit="N m s/rad", ge=0, doc="torque-speed slope of the load (viscous)")
+    quadratic: float = param(0.0, unit="N m s^2/rad^2", ge=0, doc="startup: load torque + q Omega^2 (pump, fan)")
 
 
 @dataclass(frozen=True)
