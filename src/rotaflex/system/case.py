@@ -119,7 +119,7 @@ class StartupSpec:
     duration: float = param(5.0, unit="s", gt=0)
     n_out: int = param(2001, ge=2, le=1_000_000, doc="samples written")
     max_frequency_hz: float | None = param(None, unit="Hz", gt=0, doc="highest torsional mode kept (none: all)")
-    rtol: float = param(1e-8, gt=0, lt=1e-2, doc="relative tolerance of the Radau integrator")
+    rtol: float = param(1e-6, gt=0, lt=1e-2, doc="relative tolerance of the Radau integrator")
 
 
 ANALYSES = {
