@@ -53,9 +53,14 @@ def system_figure(box):
     for m in box.meshes:
         for r, n in (m.driver, m.driven):
             gear_nodes.setdefault(r, []).append(n)
+    shift = {}  # coupled rotors drawn end to end: hub b at hub a's axial position
+    for cp in getattr(box, "couplings", ()):
+        (ra, na), (rb, nb) = cp.a, cp.b
+        shift.setdefault(ra, 0.0)
+        shift[rb] = shift[ra] + box.rotors[ra].rotor.nodes[na] - box.rotors[rb].rotor.nodes[nb]
     for i in order:
         pr = box.rotors[i]
-        z, e = pr.rotor.nodes, pr.rotor.elements
+        z, e = pr.rotor.nodes + shift.get(i, 0.0), pr.rotor.elements
         y0 = pr.center[0]  # each shaft drawn at its x in the gearbox plane
         for j in range(e["L"].size):
             ro = e["do_l"][j] / 2
@@ -282,7 +287,8 @@ class TorsionalResult(_SystemResult):
         op = ds["operating_speed"].values
         sp = np.linspace(lo, hi, 200)
         fn = ds["natural_frequency"].values * HZ
-        ymax = 1.2 * fn.max()
+        top = (ds["line_factor"].values * hi + ds["line_fixed"].values) * HZ
+        ymax = 1.3 * max(float(top.max()) if top.size else 0.0, float(fn[0]))  # modes far above: off the chart
         ax.axvspan(op[0] * RPM, op[1] * RPM, color="tab:green", alpha=0.15, lw=0, label="operating range")
         for k, f in enumerate(fn):
             ax.axhline(f, color="tab:blue", lw=0.9)
