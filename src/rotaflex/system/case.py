@@ -24,7 +24,7 @@ from rotaflex.core.errors import InputError
 from rotaflex.core.result import summary_attrs
 from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 from rotaflex.system.coupling import CouplingSpec
-from rotaflex.system.model import MODEL_KEYS, RPM, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
+from rotaflex.system.model import MODEL_KEYS, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
 from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
 
 
@@ -200,13 +200,13 @@ def _speed(box, value, where) -> float:
     v = value if value is not None else drive_speed_rpm(box)
     if v is None:
         raise InputError(f"{where}.speed_rpm", "<missing>", "a drive speed [rpm] (or a rotor's speed_rpm)")
-    return float(v) * RPM
+    return rpm_to_rad_s(float(v))
 
 
 def _range(rng, n, where):
     if rng[1] <= rng[0]:
         raise InputError(f"{where}.speed_rpm", list(rng), "[start, stop] with stop > start")
-    return np.linspace(rng[0], rng[1], n) * RPM
+    return rpm_to_rad_s(np.linspace(rng[0], rng[1], n))
 
 
 def run_modal(config: dict, *, progress: bool = False):
@@ -245,7 +245,7 @@ def run_modal(config: dict, *, progress: bool = False):
     if note:
         extra["note"] = {"value": note, "unit": ""}
     msg = (
-        f"{nm} coupled modes at {w / RPM:g} rpm; lowest {m.wn[0, 0] / (2 * np.pi):.4g} Hz; "
+        f"{nm} coupled modes at {rad_s_to_rpm(w):g} rpm; lowest {m.wn[0, 0] / (2 * np.pi):.4g} Hz; "
         f"largest mesh energy: mode {k_mesh} ({m.wn[0, k_mesh] / (2 * np.pi):.4g} Hz, "
         f"{100 * m.mesh_energy[0, k_mesh]:.0f} %)" + (f"; {note}" if note else "")
     )
@@ -275,7 +275,7 @@ def run_campbell(config: dict, *, progress: bool = False):
             "energy": (("speed", "mode", "group"), m.energy, {"units": "1"}),
             "mac_min": ("speed", c.mac_min, {"units": "1"}),
             "line_factor": ("line", [ln["factor"] for ln in c.lines], {"units": "1", "long_name": "omega / Omega"}),
-            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+            "speed_rpm": ("speed", rad_s_to_rpm(speeds), {"units": "rpm"}),
         },
         coords={
             "speed": ("speed", speeds, {"units": "rad/s"}),
@@ -287,7 +287,7 @@ def run_campbell(config: dict, *, progress: bool = False):
     mesh_x = [cr for cr in c.crossings if cr["line"].startswith("mesh")]
     extra = {
         f"crossing_{i}_rpm": {
-            "value": cr["speed"] / RPM,
+            "value": rad_s_to_rpm(cr["speed"]),
             "unit": "rpm",
             "line": cr["line"],
             "frequency_hz": cr["frequency"] / (2 * np.pi),
@@ -299,7 +299,7 @@ def run_campbell(config: dict, *, progress: bool = False):
         extra["note"] = {"value": note, "unit": ""}
     strong = [cr for cr in mesh_x if cr["mesh_energy"] > 0.05]
     msg = f"{n_modes} modes over {spec.n_speeds} speeds; mesh-order crossings of mesh modes [rpm]: " + (
-        ", ".join(f"{cr['speed'] / RPM:.0f} ({cr['line']})" for cr in strong[:8]) or "none"
+        ", ".join(f"{rad_s_to_rpm(cr['speed']):.0f} ({cr['line']})" for cr in strong[:8]) or "none"
     )
     msg += f"; {note}" if note else ""
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
@@ -351,7 +351,7 @@ def run_response(config: dict, *, progress: bool = False):
             "bearing_force": ((*dims, "bearing"), fb, {"units": "N", "long_name": "|(Fx, Fy)| amplitude"}),
             "orbit_major": ((*dims, "probe"), major, {"units": "m", "long_name": "orbit semi-major axis"}),
             "static_force": ("mesh", r.static_force, {"units": "N"}),
-            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+            "speed_rpm": ("speed", rad_s_to_rpm(speeds), {"units": "rpm"}),
         },
         coords={
             "speed": ("speed", speeds, {"units": "rad/s"}),
@@ -365,14 +365,15 @@ def run_response(config: dict, *, progress: bool = False):
     f_sum = np.abs(r.mesh_force).sum(-1)
     i = int(np.argmax(f_sum[0]))
     extra = {
-        "peak_dynamic_force": {"value": float(f_sum[0, i]), "unit": "N", "speed_rpm": float(speeds[i] / RPM)},
+        "peak_dynamic_force": {"value": float(f_sum[0, i]), "unit": "N", "speed_rpm": float(rad_s_to_rpm(speeds[i]))},
         "peak_dynamic_factor_bound": {"value": float(1 + f_sum[0, i] / r.static_force[0]), "unit": "1"},
         "peak_bearing_force": {"value": float(fb.sum(2).max()), "unit": "N"},
         "peak_dte": {"value": float(np.abs(r.dte).sum(-1).max()), "unit": "m"},
     }
     msg = (
         f"{spec.n_speeds} speeds x {spec.harmonics} TE harmonics; largest dynamic mesh force "
-        f"{f_sum[0, i]:.4g} N (sum over harmonics) at {speeds[i] / RPM:.0f} rpm; static {r.static_force[0]:.4g} N"
+        f"{f_sum[0, i]:.4g} N (sum over harmonics) at {rad_s_to_rpm(speeds[i]):.0f} rpm; static "
+        f"{r.static_force[0]:.4g} N"
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return SystemResponseResult(ds)
@@ -426,7 +427,7 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
     f0 = float(s.static_force[0])
     dte = s.dte[:, 0]
     extra = {
-        "speed_rpm": {"value": w / RPM, "unit": "rpm"},
+        "speed_rpm": {"value": rad_s_to_rpm(w), "unit": "rpm"},
         "mesh_frequency": {"value": s.mesh_frequency, "unit": "Hz"},
         "dynamic_factor": {"value": float(F.max() / f0), "unit": "1", "long_name": "max mesh force / static"},
         "force_max": {"value": float(F.max()), "unit": "N"},
@@ -453,7 +454,8 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
         },
     }
     msg = (
-        f"{w / RPM:g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss {100 * s.contact_loss[0]:.1f} % of the "
+        f"{rad_s_to_rpm(w):g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss "
+        f"{100 * s.contact_loss[0]:.1f} % of the "
         f"time, period {s.period} cycle(s) after {s.cycles} cycles ({spc} steps/cycle, basis {s.basis_size})"
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))

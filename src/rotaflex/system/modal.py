@@ -17,6 +17,7 @@ import scipy.linalg as sla
 from scipy.optimize import linear_sum_assignment
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.modal import EigenvalueView, mac
 from rotaflex.system.assembly import (
     Matrices,
@@ -199,7 +200,7 @@ def campbell(
     """
     speeds = np.asarray(speeds, float)
     if speeds.ndim != 1 or speeds.size < 2 or np.any(np.diff(speeds) <= 0):
-        raise InputError("campbell.speed_rpm", list(np.round(speeds * 30 / np.pi, 6)), "increasing speeds (>= 2)")
+        raise InputError("campbell.speed_rpm", list(np.round(rad_s_to_rpm(speeds), 6)), "increasing speeds (>= 2)")
     nfree = free_dofs(box).size
     check_campbell(box.n_dof, nfree, len(box.rotors), speeds.size, n_modes, nfree)
     mats = matrices(box)

@@ -37,13 +37,13 @@ import numpy as np
 from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
 from rotaflex.gear import PairSpec
-from rotaflex.rotor.fe.model import ROTOR_KEYS, RPM, Bearing, Disk, Material, PointMass, Rotor, Shaft
+from rotaflex.gear.models.mesh_stiffness import DEFAULT_DAMPING_RATIO, mesh_damping
+from rotaflex.rotor.fe.model import ROTOR_KEYS, Bearing, Disk, Material, PointMass, Rotor, Shaft
 from rotaflex.system.coupling import CouplingElement, CouplingSpec
 from rotaflex.system.coupling import element as coupling_element
 
 #: keys of a [[gear_mesh]] table that describe the gear pair (passed to pair_from_mapping)
 PAIR_KEYS = ("pinion", "wheel", "center_distance", "backlash", "driver")
-DEFAULT_DAMPING_RATIO = 0.07  #: mesh damping ratio, the default of ``gear steady``
 
 
 @dataclass(frozen=True)
@@ -427,10 +427,7 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
         alpha = gm.pressure_angle
         loc = np.array([math.sin(alpha), s * math.cos(alpha)])
         rot = np.array([[math.cos(gam), -math.sin(gam)], [math.sin(gam), math.cos(gam)]])
-        j1, j2 = gm.inertia
-        r1, r2 = gm.base_radius
-        m_red = j1 * j2 / (j1 * r2**2 + j2 * r1**2)
-        c_m = 2.0 * m.damping_ratio * math.sqrt(gm.mean_stiffness * m_red)
+        c_m = mesh_damping(gm.mean_stiffness, gm.inertia, gm.base_radius, m.damping_ratio)
         backlash = pair.normal_backlash_at(a) if m.back_contact else -1.0
         if m.blanks:
             for r, node, k, key in ((rp, npn, 0, "pinion"), (rw, nwh, 1, "wheel")):
@@ -530,4 +527,4 @@ def drive_speed_rpm(box: Gearbox) -> float | None:
     return None
 
 
-__all__ = ["RPM", "Gearbox", "GearboxSpec", "MeshElement", "PlacedRotor", "drive_speed_rpm"]
+__all__ = ["Gearbox", "GearboxSpec", "MeshElement", "PlacedRotor", "drive_speed_rpm"]

@@ -10,7 +10,6 @@ from rotaflex.core.result import Result, register_result
 from rotaflex.core.units import rad_s_to_rpm
 
 HZ = 1 / (2 * np.pi)
-RPM = 30 / np.pi
 
 
 def system_figure(box):
@@ -150,7 +149,7 @@ class SystemCampbellResult(_SystemResult):
         me = ds["mesh_energy"].values
         for k in range(ds.sizes["mode"]):
             sc = ax.scatter(
-                sp * RPM,
+                rad_s_to_rpm(sp),
                 ds["damped_frequency"].values[:, k] * HZ,
                 c=me[:, k],
                 s=6,
@@ -162,12 +161,12 @@ class SystemCampbellResult(_SystemResult):
         ymax = float(np.nanmax(ds["damped_frequency"].values)) * HZ * 1.05
         for name, f in zip(ds["line"].values, ds["line_factor"].values, strict=True):
             style = "-" if str(name).startswith("mesh") else ":"
-            ax.plot(sp * RPM, f * sp * HZ, style, lw=0.8, c="tab:red" if style == "-" else "0.4")
+            ax.plot(rad_s_to_rpm(sp), f * sp * HZ, style, lw=0.8, c="tab:red" if style == "-" else "0.4")
             xe = min(sp[-1], ymax / HZ / f if f > 0 else sp[-1])
-            ax.annotate(str(name), (xe * RPM, f * xe * HZ), fontsize=6)
+            ax.annotate(str(name), (rad_s_to_rpm(xe), f * xe * HZ), fontsize=6)
         for cr in json.loads(ds.attrs.get("crossings", "[]")):
             if cr["line"].startswith("mesh") and cr["mesh_energy"] > 0.05:
-                ax.plot(cr["speed"] * RPM, cr["frequency"] * HZ, "ko", mfc="none", ms=6)
+                ax.plot(rad_s_to_rpm(cr["speed"]), cr["frequency"] * HZ, "ko", mfc="none", ms=6)
         ax.set_ylim(0, ymax)
         ax.set(xlabel="drive speed [rpm]", ylabel="damped natural frequency [Hz]")
         figs["campbell"] = fig
@@ -289,19 +288,21 @@ class TorsionalResult(_SystemResult):
         fn = ds["natural_frequency"].values * HZ
         top = (ds["line_factor"].values * hi + ds["line_fixed"].values) * HZ
         ymax = 1.3 * max(float(top.max()) if top.size else 0.0, float(fn[0]))  # modes far above: off the chart
-        ax.axvspan(op[0] * RPM, op[1] * RPM, color="tab:green", alpha=0.15, lw=0, label="operating range")
+        ax.axvspan(
+            rad_s_to_rpm(op[0]), rad_s_to_rpm(op[1]), color="tab:green", alpha=0.15, lw=0, label="operating range"
+        )
         for k, f in enumerate(fn):
             ax.axhline(f, color="tab:blue", lw=0.9)
             ax.axhspan(f * 0.9, f * 1.1, color="tab:blue", alpha=0.07, lw=0)
-            ax.annotate(f"mode {k}: {f:.4g} Hz", (sp[0] * RPM, f), fontsize=7, va="bottom")
+            ax.annotate(f"mode {k}: {f:.4g} Hz", (rad_s_to_rpm(sp[0]), f), fontsize=7, va="bottom")
         for name, a, b in zip(ds["line"].values, ds["line_factor"].values, ds["line_fixed"].values, strict=True):
             y = (a * sp + b) * HZ
-            ax.plot(sp * RPM, y, "--" if a == 0 else "-", c="tab:red", lw=0.8)
+            ax.plot(rad_s_to_rpm(sp), y, "--" if a == 0 else "-", c="tab:red", lw=0.8)
             j = np.flatnonzero(y <= ymax)
             if j.size:
-                ax.annotate(str(name), (sp[j[-1]] * RPM, y[j[-1]]), fontsize=6, color="tab:red")
+                ax.annotate(str(name), (rad_s_to_rpm(sp[j[-1]]), y[j[-1]]), fontsize=6, color="tab:red")
         for c in json.loads(ds.attrs.get("crossings", "[]")):
-            ax.plot(c["speed"] * RPM, c["frequency"] * HZ, "ko", mfc="none", ms=6)
+            ax.plot(rad_s_to_rpm(c["speed"]), c["frequency"] * HZ, "ko", mfc="none", ms=6)
         ax.set_ylim(0, ymax)
         ax.set(
             xlabel="drive speed [rpm]", ylabel="frequency [Hz]", title="torsional interference diagram (±10 % bands)"
@@ -408,7 +409,7 @@ class StartupResult(_SystemResult):
         t = ds["time"].values
         fig, ax = new_figure(3, 1, sharex=True, figsize=(7, 8))
         for i, name in enumerate(ds["rotor"].values):
-            ax[0].plot(t, ds["rotor_speed"].values[:, i] * RPM, label=str(name))
+            ax[0].plot(t, rad_s_to_rpm(ds["rotor_speed"].values[:, i]), label=str(name))
         ax[0].set_ylabel("speed [rpm]")
         ax[0].legend(fontsize=7)
         ax[1].plot(t, ds["motor_torque"].values, label="motor")

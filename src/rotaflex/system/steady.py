@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.gear.results.steady import detect_period
 from rotaflex.system.assembly import matrices, reduced_basis, system_matrices
 from rotaflex.system.model import Gearbox
@@ -125,7 +126,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     if not len(box.meshes):
         raise InputError("gear_mesh", [], "at least one [[gear_mesh]] for a steady state")
     if not speed > 0:
-        raise InputError("steady.speed_rpm", speed * 30 / np.pi, "a drive speed > 0 rpm")
+        raise InputError("steady.speed_rpm", rad_s_to_rpm(speed), "a drive speed > 0 rpm")
     check_assembly(box)
     mats = matrices(box)
     free = mats.free
