@@ -159,3 +159,42 @@ def test_bad_excitation_names_the_key():
     with pytest.raises(InputError) as e:
         run_torsional(cfg)
     assert e.value.field == "torsional.excitation[0].rotor"
+
+
+def test_each_system_verb_listed_once():
+    """A verb is one COMMANDS line plus its settings table; sweeps (``analysis = ...``) reach the
+    same function."""
+    from rotaflex.core.domains import COMMANDS
+    from rotaflex.system.case import ANALYSES
+
+    assert list(COMMANDS["system"]) == list(ANALYSES)
+
+
+def test_cli_torsional_on_the_train_examples(tmp_path):
+    """Both train examples through the CLI: the motor-coupling-pump passes API 684, the turbine-
+    gearbox-generator fails it on the pairs its header names (mode 0 vs generator 1X, mode 2 vs
+    turbine 2X); each margin recomputed here from the natural frequency and the speed range."""
+    from pathlib import Path
+
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+
+    root = Path(__file__).resolve().parents[2] / "examples" / "system"
+    out = {}
+    for name in ("motor_coupling_pump", "turbine_gearbox_generator"):
+        r = CliRunner().invoke(
+            app,
+            ["system", "torsional", str(root / f"{name}.toml"), "--out", str(tmp_path / name), "-q", "--no-figures"],
+        )
+        assert r.exit_code == 0, r.output
+        out[name] = json.loads((tmp_path / name / "summary.json").read_text())
+    assert out["motor_coupling_pump"]["api684_verdict"]["value"] == "pass"
+    s = out["turbine_gearbox_generator"]
+    assert s["api684_verdict"]["value"] == "fail"
+    fails = sorted((s[k]["mode"], s[k]["line"]) for k in s if k.startswith("failure_"))
+    assert fails == [(0, "generator 1X"), (2, "turbine 2X")]
+    f0, f2 = s["mode_0_frequency_hz"]["value"], s["mode_2_frequency_hz"]["value"]
+    gen_lo = 5700 / 4 / 60  # Hz: the generator's 1X at the lowest operating drive speed (ratio 1/4)
+    assert s["failure_0"]["value"] == pytest.approx(1 - f0 / gen_lo, rel=1e-12)
+    assert 2 * 5700 / 60 < f2 < 2 * 6300 / 60

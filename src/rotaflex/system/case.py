@@ -592,22 +592,16 @@ def run_startup(config: dict, *, progress: bool = False):
     return StartupResult(ds)
 
 
-RUNNERS = {
-    "modal": run_modal,
-    "campbell": run_campbell,
-    "response": run_response,
-    "steady": run_steady,
-    "torsional": run_torsional,
-    "startup": run_startup,
-}
-
-
 def run_case(config: dict, *, progress: bool = False):
-    """Sweep entry point (domain ``system``): runs the analysis named by ``analysis``."""
+    """Sweep entry point (domain ``system``): runs the analysis named by ``analysis``, the function
+    that ``rotaflex system <analysis>`` runs (:data:`rotaflex.core.domains.COMMANDS`: each verb is
+    listed there once, its settings table in :data:`ANALYSES`)."""
+    from rotaflex.core.domains import command
+
     name = config.get("analysis")
-    if name not in RUNNERS:
-        raise InputError("analysis", name if name is not None else "<missing>", "one of " + ", ".join(RUNNERS))
-    return RUNNERS[name]({k: v for k, v in config.items() if k != "analysis"}, progress=progress)
+    if name not in ANALYSES:
+        raise InputError("analysis", name if name is not None else "<missing>", "one of " + ", ".join(ANALYSES))
+    return command("system", name)({k: v for k, v in config.items() if k != "analysis"}, progress=progress)
 
 
 def validate_config(config: dict) -> None:
