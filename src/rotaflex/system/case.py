@@ -241,13 +241,19 @@ def run_modal(config: dict, *, progress: bool = False):
         extra[f"mode_{k}_mesh_energy"] = {"value": float(m.mesh_energy[0, k]), "unit": "1"}
         extra[f"mode_{k}_torsional_fraction"] = {"value": float(m.torsional_fraction[0, k]), "unit": "1"}
     k_mesh = int(np.argmax(m.mesh_energy[0]))
-    extra["mesh_mode"] = {"value": k_mesh, "unit": "", "frequency_hz": float(m.wn[0, k_mesh] / (2 * np.pi))}
+    mesh_msg = "no gear mesh"  # a train of couplings only
+    if len(box.meshes):
+        extra["mesh_mode"] = {"value": k_mesh, "unit": "", "frequency_hz": float(m.wn[0, k_mesh] / (2 * np.pi))}
+        mesh_msg = (
+            f"largest mesh energy: mode {k_mesh} ({m.wn[0, k_mesh] / (2 * np.pi):.4g} Hz, "
+            f"{100 * m.mesh_energy[0, k_mesh]:.0f} %)"
+        )
     if note:
         extra["note"] = {"value": note, "unit": ""}
     msg = (
         f"{nm} coupled modes at {rad_s_to_rpm(w):g} rpm; lowest {m.wn[0, 0] / (2 * np.pi):.4g} Hz; "
-        f"largest mesh energy: mode {k_mesh} ({m.wn[0, k_mesh] / (2 * np.pi):.4g} Hz, "
-        f"{100 * m.mesh_energy[0, k_mesh]:.0f} %)" + (f"; {note}" if note else "")
+        + mesh_msg
+        + (f"; {note}" if note else "")
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return SystemModalResult(ds)

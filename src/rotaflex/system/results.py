@@ -33,14 +33,15 @@ def system_figure(box):
         a, b = pitch - half * m.normal, pitch + half * m.normal
         ax.add_patch(FancyArrowPatch(a, b, arrowstyle="-|>", mutation_scale=12, color="tab:red", lw=1.2))
         ax.annotate("line of action (force on driven)", b, fontsize=7, color="tab:red")
-    for pr in box.rotors:
+    for i, pr in enumerate(box.rotors):
         c = pr.center
         ax.plot(*c, "k+", ms=8)
+        same = sum(np.allclose(q.center, c) for q in box.rotors[:i])  # coupled rotors share a centre
         ax.annotate(
             f"{pr.name} ({'ccw' if pr.sense > 0 else 'cw'}, x{pr.ratio:.3g})",
             c,
             fontsize=8,
-            xytext=(4, -12),
+            xytext=(4, -12 - 10 * same),
             textcoords="offset points",
         )
     ax.set_aspect("equal")
