@@ -21,6 +21,7 @@ import xarray as xr
 
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
+from rotaflex.core.limits import require_memory
 from rotaflex.core.result import summary_attrs
 from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 from rotaflex.system.coupling import CouplingSpec
@@ -587,6 +588,9 @@ def run_startup(config: dict, *, progress: bool = False):
     n_steady = check_start(box, motor, load)
     fmax = None if spec.max_frequency_hz is None else 2 * np.pi * spec.max_frequency_hz
     model = torsional_model(box)
+    # histories written: twists, rates, twists relative to the drive, shaft torques (< n), a few more
+    n_tw = model.dofs.size
+    require_memory("startup.n_out", spec.n_out, 8.0 * spec.n_out * (5 * n_tw + 12), "the start-up histories")
     run = startup(box, model, motor, load, spec.duration, spec.n_out, fmax, spec.rtol)
     ds, extra = startup_dataset(box, model, run, n_steady)
     msg = (
