@@ -154,3 +154,19 @@ def test_coupling_needs_one_axis():
     with pytest.raises(InputError) as e:
         Gearbox.from_mapping(cfg)
     assert e.value.field == "rotor[1].center"
+
+
+def test_rigid_coupling_in_the_torsional_model():
+    """The train torsional model (free-free, twists only) of the rigidly coupled rotors has the
+    torsional frequencies of the rotor built in one piece, and its mode shapes on the same twists."""
+    from rotaflex.system.torsion import torsional_model, torsional_modes
+
+    wa, sa = torsional_modes(torsional_model(Gearbox.from_mapping(_train({"rigid": True}, drive="torque"))))
+    wb, sb = torsional_modes(torsional_model(Gearbox.from_mapping(_one_piece(drive="torque"))))
+    np.testing.assert_allclose(wa, wb, rtol=1e-10)
+    # train twists: motor 0..4, pump 0..3 (pump 0 = motor 4); one piece: nodes 0..7
+    # shapes by MAC: two pairs of modes lie 1 % apart, where shapes are conditioned ~1e-6
+    a = np.delete(sa, 5, axis=1)
+    mac = np.sum(a * sb, 1) ** 2 / (np.sum(a * a, 1) * np.sum(sb * sb, 1))
+    np.testing.assert_allclose(mac, 1.0, atol=1e-9)
+    np.testing.assert_allclose(sa[:, 5], sa[:, 4], rtol=0, atol=0)

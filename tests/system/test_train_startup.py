@@ -134,3 +134,21 @@ def test_bad_curve_names_the_key():
     with pytest.raises(InputError) as e:
         run_startup(cfg)
     assert e.value.field == "drive.curve_speed_rpm"
+
+
+def test_geared_train_runs_up_to_the_referred_balance(make):
+    """Motor on the 20-tooth pinion shaft, 100 N m + viscous 0.5 N m s/rad on the 40-tooth wheel
+    shaft: both turn in their senses at 1 : 1/2, and the drive settles where the curve meets the
+    load torque referred through the mesh, 2 (1100 - n) = (100 + 0.5 w_out) / 2, by hand."""
+    cfg = make()
+    cfg["drive"].update(curve_speed_rpm=[0.0, 1000.0, 1100.0], curve_torque=[200.0, 200.0, 0.0])
+    cfg["load"]["damping"] = 0.5
+    cfg["startup"] = {"duration": 0.2, "max_frequency_hz": 1000.0}
+    res = run_startup(cfg)
+    ds = res.dataset
+    # 200 (1100 - n) / 100 = 0.5 (100 + 0.5 (n / 2) pi / 30)
+    n = (2200.0 - 50.0) / (2.0 + 0.125 * math.pi / 30)
+    assert float(ds["drive_speed_rpm"][-1]) == pytest.approx(n, rel=1e-7)
+    w_in, w_out = ds["rotor_speed"].values[-1]
+    assert w_out == pytest.approx(0.5 * w_in, rel=1e-7)
+    assert res.summary()["energy_balance_error"]["value"] < 1e-7
