@@ -69,6 +69,8 @@ COMMANDS: dict[str, dict[str, str]] = {
         "campbell": "rotaflex.system.case:run_campbell",
         "response": "rotaflex.system.case:run_response",
         "steady": "rotaflex.system.case:run_steady",
+        "torsional": "rotaflex.system.case:run_torsional",
+        "startup": "rotaflex.system.case:run_startup",
     },
 }
 

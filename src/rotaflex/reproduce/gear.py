@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry, Section
-from rotaflex.core.units import rpm_to_rad_s
+from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 
 CASES = (
     ("fig8", "Fig. 8", "Variations of the contact force (4,000 rpm)", (4000.0, 4000.0)),
@@ -54,7 +54,7 @@ def _smoothed_rerun(ds, preset: str):
     """The same case with ``[mesh] contact_smoothing = SMOOTHING``."""
     from rotaflex.gear.cases.simulate import run_case
 
-    rpm = ds["angular_velocity"].isel(time=0).values * 30.0 / math.pi
+    rpm = rad_s_to_rpm(ds["angular_velocity"].isel(time=0).values)
     return run_case(
         {
             "operation": {"speed_rpm": [float(v) for v in rpm], "driver": ds.attrs.get("driver", "A")},
@@ -196,8 +196,8 @@ def _lumped_checks(ds, lumped, rattling: bool) -> tuple[list[Check], dict, str]:
     pair, th2, ths, torque = lumped
     drv = ds.attrs.get("driver", "A")
     other = "B" if drv == "A" else "A"
-    w0 = ds["angular_velocity"].isel(time=0) * 30.0 / math.pi
-    speeds = (float(w0.sel(gear=drv)), float(w0.sel(gear=other)))
+    w0 = ds["angular_velocity"].isel(time=0)
+    speeds = (rad_s_to_rpm(float(w0.sel(gear=drv))), rad_s_to_rpm(float(w0.sel(gear=other))))
     # identical gears: "B drives" is the lumped pair with the driver as its first inertia
     lr = simulate_lumped(
         pair, speeds=rpm_to_rad_s(speeds), torque=torque, theta_2=th2, theta_s=ths, span=ths, n_output=20001

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry
+from rotaflex.core.units import rad_s_to_rpm
 
 #: RMS force difference of reduced_hht allowed, as a fraction of tau_0/r_b; measured on the
 #: default mesh 1.6 % (4000 rpm) and 4.6 % (20,000 rpm, where the phase of the oscillation after
@@ -28,7 +29,7 @@ FAST_DIRECT_SPAN_DEG = 10.0
 def _rerun(reference, preset: str, span_deg: float | None = None, **solver):
     from rotaflex.gear.cases.simulate import run_case
 
-    rpm = reference.dataset["angular_velocity"].isel(time=0).values * 30.0 / np.pi
+    rpm = rad_s_to_rpm(reference.dataset["angular_velocity"].isel(time=0).values)
     operation = {"speed_rpm": [float(v) for v in rpm]}
     if span_deg is not None:
         operation["span_deg"] = span_deg

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry, Section, step
+from rotaflex.core.units import rpm_to_rad_s
 
-RPM = np.pi / 30
 #: the example files this section reads (shipped inside the package; checked before a run starts)
 NEEDS = ("system/gearbox.toml", "system/ross_two_shaft.toml")
 #: ROSS documentation, ``rs.MultiRotor`` docstring: first damped natural frequency at speed 0 [rad/s]
@@ -166,7 +166,9 @@ def run(out_dir: str | Path, *, fast: bool = False, progress: bool = False) -> S
     spc = int(sres.dataset.attrs["samples_per_cycle"])
     n = (f.size - 1) // spc * spc
     h1 = 2 * abs(np.fft.rfft(f[-n - 1 : -1])[n // spc]) / n
-    lin = forced_response(Gearbox.from_mapping(small), [3000 * RPM], harmonics=1, excitation="unloaded_te", cutoff=None)
+    lin = forced_response(
+        Gearbox.from_mapping(small), [rpm_to_rad_s(3000)], harmonics=1, excitation="unloaded_te", cutoff=None
+    )
     d_lin = abs(h1 - abs(lin.mesh_force[0, 0, 0])) / abs(lin.mesh_force[0, 0, 0])
     figs.append(
         FigureEntry(

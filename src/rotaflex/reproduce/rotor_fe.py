@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry, Section
+from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 
-RPM = np.pi / 30
 #: ROSS documentation output for the Example 5.9.1 model (6 elements), rad/s
 ROSS_0RPM = [86.65811435, 274.31285391, 716.78631221]
 ROSS_4000RPM = [85.389467, 87.7958637, 251.78460413, 294.71333087, 600.17936195, 827.07536193]
@@ -42,7 +42,7 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     figs: list[FigureEntry] = []
     r = _rotor()
     w0 = modal(r, 0.0, 6).wn[0][::2]
-    m4 = modal(r, 4000 * RPM, 6)
+    m4 = modal(r, rpm_to_rad_s(4000), 6)
     d0 = float(np.max(np.abs(w0 - ROSS_0RPM) / ROSS_0RPM))
     d4 = float(np.max(np.abs(m4.wn[0] - ROSS_4000RPM) / ROSS_4000RPM))
     rows = ["| mode | whirl (ours) | ours at 4000 rpm [rad/s] | ROSS docs [rad/s] |", "|---|---|---|---|"]
@@ -75,7 +75,7 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     )
 
     rd = _rotor(3e3)  # Example 5.9.5 damping, so that the response is bounded
-    speeds = np.linspace(0, 4000 * RPM, 30 if fast else 80)
+    speeds = np.linspace(0, rpm_to_rad_s(4000), 30 if fast else 80)
     c = campbell(rd, speeds, 6, (1,))
     save_figure(
         campbell_figure(speeds, c.modes.wd, c.modes.forward_fraction, c.modes.log_dec, (1,), c.critical),
@@ -93,7 +93,7 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
             "values); modes tracked by MAC, 1X line, critical speeds circled.",
             str(rel / "campbell.png"),
             "",
-            "Forward 1X critical speeds: " + ", ".join(f"{s / RPM:.0f} rpm" for s in fw) + ".",
+            "Forward 1X critical speeds: " + ", ".join(f"{rad_s_to_rpm(s):.0f} rpm" for s in fw) + ".",
             [
                 Check(
                     "undamped Campbell forward 1X crossings vs synchronous UCS eigenproblem",
@@ -115,11 +115,11 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
         )
     )
 
-    sp = np.linspace(100 * RPM, 4000 * RPM, 400 if fast else 1000)
+    sp = np.linspace(rpm_to_rad_s(100), rpm_to_rad_s(4000), 400 if fast else 1000)
     ub = unbalance_response(rd, sp, [(4, 1e-4, 0.0)])
     amp = {f"node {p} x": np.abs(ub.at(p)[0]) for p in (2, 4)}
     ph = {f"node {p} x": np.angle(ub.at(p)[0]) for p in (2, 4)}
-    pk = peaks(sp, ub.major_axis(4), 3000 * RPM)
+    pk = peaks(sp, ub.major_axis(4), rpm_to_rad_s(3000))
     save_figure(bode_figure(sp, amp, ph, pk), out / "bode.png")
     first = pk[0] if pk else {"speed": np.nan, "af": np.nan, "sm_percent": np.nan}
     dpk = abs(first["speed"] - fw[0]) / fw[0] if fw else np.nan
@@ -131,7 +131,9 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
             "from N_op = 3000 rpm.",
             str(rel / "bode.png"),
             "",
-            "; ".join(f"peak {p['speed'] / RPM:.0f} rpm: AF {p['af']:.2f}, SM {p['sm_percent']:.1f} %" for p in pk),
+            "; ".join(
+                f"peak {rad_s_to_rpm(p['speed']):.0f} rpm: AF {p['af']:.2f}, SM {p['sm_percent']:.1f} %" for p in pk
+            ),
             [
                 Check(
                     "first response peak vs first forward critical speed (relative)",
@@ -160,10 +162,10 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
 
     fig, ax = new_figure()
     radial = np.hypot(tr.q[:, 16], tr.q[:, 17])
-    ax.plot(tr.speed / RPM, radial, lw=0.7, label="run-up (time response)")
+    ax.plot(rad_s_to_rpm(tr.speed), radial, lw=0.7, label="run-up (time response)")
     ss = unbalance_response(rd, tr.speed[tr.speed > 0], [(4, 1e-4, 0.0)])
-    ax.plot(tr.speed[tr.speed > 0] / RPM, ss.major_axis(4), "--", label="steady unbalance response")
-    ax.axvline(crit / RPM, color="0.5", lw=0.6)
+    ax.plot(rad_s_to_rpm(tr.speed[tr.speed > 0]), ss.major_axis(4), "--", label="steady unbalance response")
+    ax.axvline(rad_s_to_rpm(crit), color="0.5", lw=0.6)
     ax.set_xlabel("speed [rpm]")
     ax.set_ylabel("radial displacement at node 4 [m]")
     ax.legend(fontsize=8)
@@ -172,7 +174,7 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     figs.append(
         FigureEntry(
             "Run-up through the first critical",
-            f"(not in the paper) Linear run-up from {0.3 * crit / RPM:.0f} to {2 * crit / RPM:.0f} "
+            f"(not in the paper) Linear run-up from {rad_s_to_rpm(0.3 * crit):.0f} to {rad_s_to_rpm(2 * crit):.0f} "
             f"rpm in {t_end:g} s (modal method, 12 modes), with the steady response for comparison.",
             str(rel / "runup.png"),
             "",

@@ -12,8 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from rotaflex.core.report import Check, FigureEntry
-
-RPM = np.pi / 30
+from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 
 
 def _load_frame(k, b, force):
@@ -110,9 +109,9 @@ def _whip_entry(out: Path, rel: Path, fast: bool) -> FigureEntry:
         disk=(Disk(node=1, mass=2 * m - 5.9e-4, Id=0.01, Ip=0.02),),
         bearing=(Bearing(node=0, fluid_film=ff), Bearing(node=2, fluid_film=ff)),
     )
-    speeds = np.linspace(4000, 20000, 81 if fast else 161) * RPM
+    speeds = rpm_to_rad_s(np.linspace(4000, 20000, 81 if fast else 161))
     cb = campbell(rotor, speeds, 4)
-    w_th = lit.rigid_rotor_whip_threshold(m, D, L, c, mu, (4000 * RPM, 20000 * RPM))
+    w_th = lit.rigid_rotor_whip_threshold(m, D, L, c, mu, (rpm_to_rad_s(4000), rpm_to_rad_s(20000)))
     growth = [lit.rigid_rotor_growth(w, m, D, L, c, mu) for w in speeds]
     onset = min((u["speed"] for u in cb.unstable), default=np.nan)
     d = abs(onset / w_th - 1)
@@ -126,15 +125,17 @@ def _whip_entry(out: Path, rel: Path, fast: bool) -> FigureEntry:
         bearing=(Bearing(node=0, fluid_film=ff), Bearing(node=4, fluid_film=ff)),
     )
     cj = campbell(jeff, speeds, 4)
-    wj = lit.rigid_rotor_whip_threshold(m, D, L, c, mu, (4000 * RPM, 20000 * RPM), shaft_stiffness=ks)
+    wj = lit.rigid_rotor_whip_threshold(m, D, L, c, mu, (rpm_to_rad_s(4000), rpm_to_rad_s(20000)), shaft_stiffness=ks)
     dj = abs(min((u["speed"] for u in cj.unstable), default=np.nan) / wj - 1)
     fig, ax = new_figure()
     sigma = -cb.modes.log_dec * cb.modes.wd / (2 * np.pi)  # real part of the eigenvalue
     for k in range(sigma.shape[1]):
-        ax.plot(speeds / RPM, sigma[:, k], lw=1, label=f"FE mode {k}")
-    ax.plot(speeds / RPM, growth, "k:", label="closed form (4x4, published coefficients)")
+        ax.plot(rad_s_to_rpm(speeds), sigma[:, k], lw=1, label=f"FE mode {k}")
+    ax.plot(rad_s_to_rpm(speeds), growth, "k:", label="closed form (4x4, published coefficients)")
     ax.axhline(0, color="0.5", lw=0.6)
-    ax.axvline(w_th / RPM, color="r", lw=0.8, ls="--", label=f"closed-form threshold {w_th / RPM:.0f} rpm")
+    ax.axvline(
+        rad_s_to_rpm(w_th), color="r", lw=0.8, ls="--", label=f"closed-form threshold {rad_s_to_rpm(w_th):.0f} rpm"
+    )
     ax.set_xlabel("speed [rpm]")
     ax.set_ylabel("real part of eigenvalue [1/s]")
     ax.set_ylim(-400, 100)
@@ -148,9 +149,10 @@ def _whip_entry(out: Path, rel: Path, fast: bool) -> FigureEntry:
         "coefficients.",
         str(rel / "oil_whip.png"),
         "",
-        f"Onset reported by the Campbell stability check: {onset / RPM:.0f} rpm; closed form: {w_th / RPM:.0f} rpm. "
+        f"Onset reported by the Campbell stability check: {rad_s_to_rpm(onset):.0f} rpm; closed form: "
+        f"{rad_s_to_rpm(w_th):.0f} rpm. "
         f"The same bearings under a flexible Jeffcott rotor (0.6 m x 60 mm shaft, k_s = {ks:.3g} N/m): closed form "
-        f"{wj / RPM:.0f} rpm.",
+        f"{rad_s_to_rpm(wj):.0f} rpm.",
         [
             Check("rigid rotor: FE onset speed vs closed-form threshold (relative)", d, "", "< 0.005", bool(d < 0.005)),
             Check("Jeffcott rotor: FE onset vs closed-form threshold (relative)", dj, "", "< 0.005", bool(dj < 0.005)),

@@ -6,8 +6,13 @@ node, if torsion)]``. The equations of motion about the static state at drive sp
     M q'' + (C + sum_r Omega_r G_r + sum_m c_m g_m g_m^T) q' + (K + sum_m k_m g_m g_m^T) q = f
 
 with ``g_m`` the coupling vector of mesh m (``delta = g^T q - e``; see :mod:`.model`), C and K
-the bearings' and shafts' (rotor/fe), and f the TE excitation ``sum_m g_m (k_m e + c_m e')``.
-A constant-speed drive removes the twist of the drive node (:attr:`Matrices.free`).
+the bearings', shafts' (rotor/fe) and flexible couplings' (:mod:`.coupling`, added on the DOFs
+of their two hubs), and f the TE excitation ``sum_m g_m (k_m e + c_m e')``.
+
+The solved coordinates are ``q = T p`` (:attr:`Matrices.T`): a constant-speed drive removes the
+twist of the drive node and a rigid coupling makes node b's DOFs copies of node a's. Without
+rigid couplings T is a column selection, applied by indexing (:attr:`Matrices.free`), so the
+matrices of every earlier model are the same arrays as before couplings existed.
 """
 
 from __future__ import annotations
@@ -79,6 +84,24 @@ class Matrices:
     k_mean: np.ndarray
     c_mesh: np.ndarray
     free: np.ndarray
+    T: np.ndarray | None = None
+
+    def reduce(self, X: np.ndarray) -> np.ndarray:
+        """``T^T X T`` of a full (n_dof, n_dof) matrix: the matrix on the solved coordinates."""
+        return X[np.ix_(self.free, self.free)] if self.T is None else self.T.T @ X @ self.T
+
+    def project(self, F: np.ndarray) -> np.ndarray:
+        """``F T`` of rows over the full DOFs (..., n_dof): forces or coupling vectors on the
+        solved coordinates (a column vector f becomes ``T^T f`` with ``project(f.T).T``)."""
+        return F[..., self.free] if self.T is None else F @ self.T
+
+    def expand(self, V: np.ndarray) -> np.ndarray:
+        """Full DOF vectors (n_dof, ...) of solved coordinates (n_solved, ...): ``T V``."""
+        if self.T is not None:
+            return self.T @ V
+        out = np.zeros((self.M.shape[0], *V.shape[1:]), V.dtype)
+        out[self.free] = V
+        return out
 
 
 def matrices(box: Gearbox) -> Matrices:
@@ -105,15 +128,56 @@ def matrices(box: Gearbox) -> Matrices:
     if box.load is not None and box.spec.load is not None and box.spec.load.damping > 0:
         i = box.torsion_dof(*box.load)
         C0[i, i] = box.spec.load.damping
-    return Matrices(M, K0, C0, Gs, g, k, c, free_dofs(box))
+    for cp in box.couplings:
+        if not cp.rigid:
+            d = cp.dofs(box)
+            K0[np.ix_(d, d)] += cp.K()
+            C0[np.ix_(d, d)] += cp.C()
+    free, T = constraint(box)
+    return Matrices(M, K0, C0, Gs, g, k, c, free, T)
+
+
+def constraint(box: Gearbox) -> tuple[np.ndarray, np.ndarray | None]:
+    """Solved coordinates: (``free``, T) with ``q = T p``.
+
+    ``free`` are the DOFs kept as coordinates: each rigid coupling's node-b DOFs follow node a's
+    (chains resolved to the first node), and the drive node's twist is removed under a
+    constant-speed drive (with what is rigidly joined to it). T (n_dof, n_free) is None when no
+    coupling is rigid (T is then the selection of ``free``).
+    """
+    n = box.n_dof
+    rep = np.arange(n)  # each DOF's master DOF
+
+    def root(i):
+        while rep[i] != i:
+            i = rep[i]
+        return i
+
+    rigid = [cp for cp in box.couplings if cp.rigid]
+    for cp in rigid:
+        d = cp.dofs(box)
+        h = d.size // 2
+        for da, db in zip(d[:h], d[h:], strict=True):
+            ra, rb = root(da), root(db)
+            rep[max(ra, rb)] = min(ra, rb)
+    rep = np.array([root(i) for i in range(n)])
+    masters = np.flatnonzero(rep == np.arange(n))
+    if box.drive_kind == "constant_speed" and box.drive is not None:
+        masters = masters[masters != rep[box.torsion_dof(*box.drive)]]
+    if not rigid:
+        return masters, None
+    col = np.full(n, -1)
+    col[masters] = np.arange(masters.size)
+    T = np.zeros((n, masters.size))
+    kept = col[rep] >= 0
+    T[np.flatnonzero(kept), col[rep][kept]] = 1.0
+    return masters, T
 
 
 def free_dofs(box: Gearbox) -> np.ndarray:
-    """Indices of the DOFs solved for: all but the drive node's twist under a constant-speed drive."""
-    free = np.arange(box.n_dof)
-    if box.drive_kind == "constant_speed" and box.drive is not None:
-        free = np.delete(free, box.torsion_dof(*box.drive))
-    return free
+    """DOFs solved for (see :func:`constraint`): all but the drive node's twist under a
+    constant-speed drive and the DOFs that follow another through a rigid coupling."""
+    return constraint(box)[0]
 
 
 def bearing_matrices(box: Gearbox, drive_speed: float) -> tuple[np.ndarray, np.ndarray]:
@@ -142,8 +206,7 @@ def system_matrices(box: Gearbox, drive_speed: float, mats: Matrices | None = No
     if mesh and len(mats.k_mean):
         K = K + (mats.g.T * mats.k_mean) @ mats.g
         D = D + (mats.g.T * mats.c_mesh) @ mats.g
-    f = mats.free
-    return mats.M[np.ix_(f, f)], D[np.ix_(f, f)], K[np.ix_(f, f)]
+    return mats.reduce(mats.M), mats.reduce(D), mats.reduce(K)
 
 
 def undamped_modes(M: np.ndarray, K: np.ndarray, n: int | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -169,17 +232,16 @@ def reduced_basis(
     M, _, K = system_matrices(box, speed, mats)
     w, phi = undamped_modes(M, K)
     phi = phi[:, w <= cutoff * w_max]
-    loads = [mats.g[:, mats.free].T]
+    loads = [mats.project(mats.g).T]
     if extra:
-        pos = {int(d): i for i, d in enumerate(mats.free)}
         for r, pr in enumerate(box.rotors if bearings else ()):
             for node, _, _ in pr.rotor.bearings:
                 for ax in (0, 1):
-                    e = np.zeros((mats.free.size, 1))
-                    e[pos[box.lateral_dof(r, node, ax)], 0] = 1.0
-                    loads.append(e)
+                    e = np.zeros((1, box.n_dof))
+                    e[0, box.lateral_dof(r, node, ax)] = 1.0
+                    loads.append(mats.project(e).T)
         Gs = sum(pr.sense * pr.ratio * G for pr, G in zip(box.rotors, mats.G, strict=True))
-        loads.append(Gs[np.ix_(mats.free, mats.free)] @ phi)
+        loads.append(mats.reduce(Gs) @ phi)
     L = np.concatenate(loads, 1)
     Ks = 0.5 * (K + K.T)
     reg = 1e-12 * np.trace(Ks) / Ks.shape[0]  # rigid-body twist (torque drive): K is singular

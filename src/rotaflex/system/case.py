@@ -21,8 +21,11 @@ import xarray as xr
 
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
+from rotaflex.core.limits import require_memory
 from rotaflex.core.result import summary_attrs
-from rotaflex.system.model import MODEL_KEYS, RPM, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
+from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
+from rotaflex.system.coupling import CouplingSpec
+from rotaflex.system.model import MODEL_KEYS, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
 from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
 
 
@@ -83,7 +86,51 @@ class SteadySpec:
     )
 
 
-ANALYSES = {"modal": ModalSpec, "campbell": CampbellSpec, "response": ResponseSpec, "steady": SteadySpec}
+@dataclass(frozen=True)
+class ExcitationSpec:
+    """One excitation of the torsional interference diagram."""
+
+    kind: Literal["shaft", "mesh", "fixed"] = param(doc="shaft: order x rotor speed; mesh: x tooth-passing; fixed")
+    order: float = param(1.0, gt=0, doc="multiple of the base frequency (2 with a line frequency: 2x line)")
+    rotor: str | None = param(None, doc="shaft: rotor name")
+    mesh: int | None = param(None, ge=0, doc="mesh: index of the [[gear_mesh]] (0 = first)")
+    frequency_hz: float | None = param(None, unit="Hz", gt=0, doc="fixed: base frequency (e.g. the line frequency)")
+    name: str | None = param(None, doc="label (default from kind and order)")
+
+
+@dataclass(frozen=True)
+class TorsionalSpec:
+    """Torsional natural frequencies, interference diagram and API 684 separation margins."""
+
+    n_modes: int = param(8, ge=1, le=200)
+    operating_speed_rpm: tuple[float, float] | None = param(
+        None, unit="rpm", gt=0, doc="drive speed [min, max continuous] (default: the nominal speed)"
+    )
+    speed_rpm: tuple[float, float] | None = param(
+        None, unit="rpm", ge=0, doc="diagram range (default: 0 to 1.25 x the operating maximum)"
+    )
+    margin: float = param(0.10, ge=0, lt=1, doc="required separation (API 684: 10 %)")
+    excitation: tuple[ExcitationSpec, ...] = param((), doc="default: 1X, 2X of each rotor, 1x, 2x of each mesh")
+
+
+@dataclass(frozen=True)
+class StartupSpec:
+    """Run-up from rest with the [drive] torque-speed curve against the [load]."""
+
+    duration: float = param(5.0, unit="s", gt=0)
+    n_out: int = param(2001, ge=2, le=1_000_000, doc="samples written")
+    max_frequency_hz: float | None = param(None, unit="Hz", gt=0, doc="highest torsional mode kept (none: all)")
+    rtol: float = param(1e-6, gt=0, lt=1e-2, doc="relative tolerance of the Radau integrator")
+
+
+ANALYSES = {
+    "modal": ModalSpec,
+    "campbell": CampbellSpec,
+    "response": ResponseSpec,
+    "steady": SteadySpec,
+    "torsional": TorsionalSpec,
+    "startup": StartupSpec,
+}
 
 
 @dataclass(frozen=True)
@@ -96,13 +143,16 @@ class SystemCase:
 
     rotor: tuple[RotorSpec, ...] = param()
     gear_mesh: tuple[MeshSpec, ...] = param(())
+    coupling: tuple[CouplingSpec, ...] = param(())
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
-    analysis: Literal["modal", "campbell", "response", "steady"] | None = param(None)
+    analysis: Literal["modal", "campbell", "response", "steady", "torsional", "startup"] | None = param(None)
     modal: ModalSpec = field(default_factory=ModalSpec)
     campbell: CampbellSpec = field(default_factory=CampbellSpec)
     response: ResponseSpec = field(default_factory=ResponseSpec)
     steady: SteadySpec = field(default_factory=SteadySpec)
+    torsional: TorsionalSpec = field(default_factory=TorsionalSpec)
+    startup: StartupSpec = field(default_factory=StartupSpec)
 
 
 SCHEMA = SystemCase
@@ -151,13 +201,13 @@ def _speed(box, value, where) -> float:
     v = value if value is not None else drive_speed_rpm(box)
     if v is None:
         raise InputError(f"{where}.speed_rpm", "<missing>", "a drive speed [rpm] (or a rotor's speed_rpm)")
-    return float(v) * RPM
+    return rpm_to_rad_s(float(v))
 
 
 def _range(rng, n, where):
     if rng[1] <= rng[0]:
         raise InputError(f"{where}.speed_rpm", list(rng), "[start, stop] with stop > start")
-    return np.linspace(rng[0], rng[1], n) * RPM
+    return rpm_to_rad_s(np.linspace(rng[0], rng[1], n))
 
 
 def run_modal(config: dict, *, progress: bool = False):
@@ -192,13 +242,19 @@ def run_modal(config: dict, *, progress: bool = False):
         extra[f"mode_{k}_mesh_energy"] = {"value": float(m.mesh_energy[0, k]), "unit": "1"}
         extra[f"mode_{k}_torsional_fraction"] = {"value": float(m.torsional_fraction[0, k]), "unit": "1"}
     k_mesh = int(np.argmax(m.mesh_energy[0]))
-    extra["mesh_mode"] = {"value": k_mesh, "unit": "", "frequency_hz": float(m.wn[0, k_mesh] / (2 * np.pi))}
+    mesh_msg = "no gear mesh"  # a train of couplings only
+    if len(box.meshes):
+        extra["mesh_mode"] = {"value": k_mesh, "unit": "", "frequency_hz": float(m.wn[0, k_mesh] / (2 * np.pi))}
+        mesh_msg = (
+            f"largest mesh energy: mode {k_mesh} ({m.wn[0, k_mesh] / (2 * np.pi):.4g} Hz, "
+            f"{100 * m.mesh_energy[0, k_mesh]:.0f} %)"
+        )
     if note:
         extra["note"] = {"value": note, "unit": ""}
     msg = (
-        f"{nm} coupled modes at {w / RPM:g} rpm; lowest {m.wn[0, 0] / (2 * np.pi):.4g} Hz; "
-        f"largest mesh energy: mode {k_mesh} ({m.wn[0, k_mesh] / (2 * np.pi):.4g} Hz, "
-        f"{100 * m.mesh_energy[0, k_mesh]:.0f} %)" + (f"; {note}" if note else "")
+        f"{nm} coupled modes at {rad_s_to_rpm(w):g} rpm; lowest {m.wn[0, 0] / (2 * np.pi):.4g} Hz; "
+        + mesh_msg
+        + (f"; {note}" if note else "")
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return SystemModalResult(ds)
@@ -226,7 +282,7 @@ def run_campbell(config: dict, *, progress: bool = False):
             "energy": (("speed", "mode", "group"), m.energy, {"units": "1"}),
             "mac_min": ("speed", c.mac_min, {"units": "1"}),
             "line_factor": ("line", [ln["factor"] for ln in c.lines], {"units": "1", "long_name": "omega / Omega"}),
-            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+            "speed_rpm": ("speed", rad_s_to_rpm(speeds), {"units": "rpm"}),
         },
         coords={
             "speed": ("speed", speeds, {"units": "rad/s"}),
@@ -238,7 +294,7 @@ def run_campbell(config: dict, *, progress: bool = False):
     mesh_x = [cr for cr in c.crossings if cr["line"].startswith("mesh")]
     extra = {
         f"crossing_{i}_rpm": {
-            "value": cr["speed"] / RPM,
+            "value": rad_s_to_rpm(cr["speed"]),
             "unit": "rpm",
             "line": cr["line"],
             "frequency_hz": cr["frequency"] / (2 * np.pi),
@@ -250,7 +306,7 @@ def run_campbell(config: dict, *, progress: bool = False):
         extra["note"] = {"value": note, "unit": ""}
     strong = [cr for cr in mesh_x if cr["mesh_energy"] > 0.05]
     msg = f"{n_modes} modes over {spec.n_speeds} speeds; mesh-order crossings of mesh modes [rpm]: " + (
-        ", ".join(f"{cr['speed'] / RPM:.0f} ({cr['line']})" for cr in strong[:8]) or "none"
+        ", ".join(f"{rad_s_to_rpm(cr['speed']):.0f} ({cr['line']})" for cr in strong[:8]) or "none"
     )
     msg += f"; {note}" if note else ""
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
@@ -302,7 +358,7 @@ def run_response(config: dict, *, progress: bool = False):
             "bearing_force": ((*dims, "bearing"), fb, {"units": "N", "long_name": "|(Fx, Fy)| amplitude"}),
             "orbit_major": ((*dims, "probe"), major, {"units": "m", "long_name": "orbit semi-major axis"}),
             "static_force": ("mesh", r.static_force, {"units": "N"}),
-            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+            "speed_rpm": ("speed", rad_s_to_rpm(speeds), {"units": "rpm"}),
         },
         coords={
             "speed": ("speed", speeds, {"units": "rad/s"}),
@@ -316,14 +372,15 @@ def run_response(config: dict, *, progress: bool = False):
     f_sum = np.abs(r.mesh_force).sum(-1)
     i = int(np.argmax(f_sum[0]))
     extra = {
-        "peak_dynamic_force": {"value": float(f_sum[0, i]), "unit": "N", "speed_rpm": float(speeds[i] / RPM)},
+        "peak_dynamic_force": {"value": float(f_sum[0, i]), "unit": "N", "speed_rpm": float(rad_s_to_rpm(speeds[i]))},
         "peak_dynamic_factor_bound": {"value": float(1 + f_sum[0, i] / r.static_force[0]), "unit": "1"},
         "peak_bearing_force": {"value": float(fb.sum(2).max()), "unit": "N"},
         "peak_dte": {"value": float(np.abs(r.dte).sum(-1).max()), "unit": "m"},
     }
     msg = (
         f"{spec.n_speeds} speeds x {spec.harmonics} TE harmonics; largest dynamic mesh force "
-        f"{f_sum[0, i]:.4g} N (sum over harmonics) at {speeds[i] / RPM:.0f} rpm; static {r.static_force[0]:.4g} N"
+        f"{f_sum[0, i]:.4g} N (sum over harmonics) at {rad_s_to_rpm(speeds[i]):.0f} rpm; static "
+        f"{r.static_force[0]:.4g} N"
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return SystemResponseResult(ds)
@@ -377,7 +434,7 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
     f0 = float(s.static_force[0])
     dte = s.dte[:, 0]
     extra = {
-        "speed_rpm": {"value": w / RPM, "unit": "rpm"},
+        "speed_rpm": {"value": rad_s_to_rpm(w), "unit": "rpm"},
         "mesh_frequency": {"value": s.mesh_frequency, "unit": "Hz"},
         "dynamic_factor": {"value": float(F.max() / f0), "unit": "1", "long_name": "max mesh force / static"},
         "force_max": {"value": float(F.max()), "unit": "N"},
@@ -404,7 +461,8 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
         },
     }
     msg = (
-        f"{w / RPM:g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss {100 * s.contact_loss[0]:.1f} % of the "
+        f"{rad_s_to_rpm(w):g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss "
+        f"{100 * s.contact_loss[0]:.1f} % of the "
         f"time, period {s.period} cycle(s) after {s.cycles} cycles ({spc} steps/cycle, basis {s.basis_size})"
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
@@ -425,15 +483,135 @@ def _harmonics(x, spc, orders=(1, 2, 3)):
     return np.array([2 * abs(sp[k * nc]) / n if k * nc < sp.size else np.nan for k in orders])
 
 
-RUNNERS = {"modal": run_modal, "campbell": run_campbell, "response": run_response, "steady": run_steady}
+def _excitations(box, spec: TorsionalSpec) -> list[dict]:
+    """The listed excitations with rotor and mesh indices (line frequency converted to rad/s)."""
+    from rotaflex.system.torsion import default_excitations
+
+    if not spec.excitation:
+        return default_excitations(box)
+    names = [pr.name for pr in box.rotors]
+    out = []
+    for i, e in enumerate(spec.excitation):
+        w = f"torsional.excitation[{i}]"
+        d = {"kind": e.kind, "order": e.order, "name": e.name}
+        if e.kind == "shaft":
+            if e.rotor not in names:
+                raise InputError(f"{w}.rotor", e.rotor, "a rotor name, one of " + ", ".join(map(repr, names)))
+            d["rotor"] = names.index(e.rotor)
+        elif e.kind == "mesh":
+            if e.mesh is None or e.mesh >= len(box.meshes):
+                raise InputError(f"{w}.mesh", e.mesh, f"a [[gear_mesh]] index 0..{len(box.meshes) - 1}")
+            d["mesh"] = e.mesh
+        else:
+            if e.frequency_hz is None:
+                raise InputError(f"{w}.frequency_hz", "<missing>", "a frequency [Hz] > 0 for kind = 'fixed'")
+            d["frequency"] = 2 * np.pi * e.frequency_hz
+        out.append(d)
+    return out
+
+
+def run_torsional(config: dict, *, progress: bool = False):
+    """Torsional natural frequencies and shapes, interference diagram, API 684 separation margins."""
+    from rotaflex.system.results import TorsionalResult, torsional_dataset
+    from rotaflex.system.torsion import (
+        crossings,
+        excitation_lines,
+        separation_margins,
+        torsional_model,
+        torsional_modes,
+    )
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "torsional")
+    if spec.operating_speed_rpm is None:
+        n = drive_speed_rpm(box)
+        if n is None:
+            raise InputError(
+                "torsional.operating_speed_rpm", "<missing>", "[min, max] drive speed [rpm] (or a speed_rpm)"
+            )
+        op = (rpm_to_rad_s(n), rpm_to_rad_s(n))
+    else:
+        op = tuple(rpm_to_rad_s(spec.operating_speed_rpm))
+        if op[1] < op[0]:
+            raise InputError("torsional.operating_speed_rpm", list(spec.operating_speed_rpm), "[min, max], max >= min")
+    rng = (0.0, 1.25 * op[1]) if spec.speed_rpm is None else tuple(rpm_to_rad_s(spec.speed_rpm))
+    if rng[1] <= rng[0]:
+        raise InputError("torsional.speed_rpm", list(spec.speed_rpm), "[start, stop] with stop > start")
+    model = torsional_model(box)
+    w, shape = torsional_modes(model, spec.n_modes)
+    lines = excitation_lines(box, _excitations(box, spec))
+    cr = crossings(w, lines, rng)
+    margin, passed = separation_margins(w, lines, op, spec.margin)
+    ds = torsional_dataset(model, w, shape, lines, margin, passed, op, rng, spec.margin)
+    bad = [(k, j) for k in range(w.size) for j in range(len(lines)) if not passed[k, j]]
+    extra = {f"mode_{k}_frequency_hz": {"value": float(w[k] / (2 * np.pi)), "unit": "Hz"} for k in range(w.size)}
+    extra["api684_verdict"] = {"value": "pass" if not bad else "fail", "unit": "", "required_margin": spec.margin}
+    extra["api684_failures"] = {"value": len(bad), "unit": "", "long_name": "(mode, excitation) pairs under the margin"}
+    for i, (k, j) in enumerate(bad):
+        extra[f"failure_{i}"] = {"value": float(margin[k, j]), "unit": "1", "mode": k, "line": lines[j]["name"]}
+    for i, c in enumerate(cr):
+        extra[f"crossing_{i}_rpm"] = {
+            "value": rad_s_to_rpm(c["speed"]),
+            "unit": "rpm",
+            "line": c["line"],
+            "mode": c["mode"],
+        }
+    verdict = "pass" if not bad else f"fail ({len(bad)} mode/excitation pairs under {100 * spec.margin:g} %)"
+    msg = (
+        f"{w.size} torsional modes, lowest {w[0] / (2 * np.pi):.4g} Hz; {len(cr)} crossings in "
+        f"{rad_s_to_rpm(rng[0]):.0f}-{rad_s_to_rpm(rng[1]):.0f} rpm; API 684 separation: {verdict}"
+    )
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
+    ds.attrs["crossings"] = json.dumps(cr)
+    return TorsionalResult(ds)
+
+
+def run_startup(config: dict, *, progress: bool = False):
+    """Run-up from rest under the [drive] torque-speed curve against the [load] (torsional model)."""
+    from rotaflex.system.results import StartupResult, startup_dataset
+    from rotaflex.system.startup import Motor, check_start, startup
+    from rotaflex.system.torsion import torsional_model
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "startup")
+    d = box.spec.drive
+    if len(d.curve_speed_rpm) < 2 or len(d.curve_torque) != len(d.curve_speed_rpm):
+        raise InputError(
+            "drive.curve_torque", list(d.curve_torque), "a torque [N m] per drive.curve_speed_rpm (>= 2 points)"
+        )
+    n = rpm_to_rad_s(d.curve_speed_rpm)
+    if np.any(np.diff(n) <= 0):
+        raise InputError("drive.curve_speed_rpm", list(d.curve_speed_rpm), "increasing speeds")
+    motor = Motor(n, np.asarray(d.curve_torque, float), d.pulsating_torque, 2 * np.pi * d.line_frequency_hz, d.poles)
+    ld = box.spec.load
+    load = (ld.torque, ld.quadratic) if ld is not None else (0.0, 0.0)
+    n_steady = check_start(box, motor, load)
+    fmax = None if spec.max_frequency_hz is None else 2 * np.pi * spec.max_frequency_hz
+    model = torsional_model(box)
+    # histories written: twists, rates, twists relative to the drive, shaft torques (< n), a few more
+    n_tw = model.dofs.size
+    require_memory("startup.n_out", spec.n_out, 8.0 * spec.n_out * (5 * n_tw + 12), "the start-up histories")
+    run = startup(box, model, motor, load, spec.duration, spec.n_out, fmax, spec.rtol)
+    ds, extra = startup_dataset(box, model, run, n_steady)
+    msg = (
+        f"{spec.duration:g} s run-up: drive at {extra['final_speed_rpm']['value']:.1f} rpm "
+        f"(motor = load at {rad_s_to_rpm(n_steady):.1f} rpm); {run.n_modes} torsional modes kept; "
+        f"energy balance {extra['energy_balance_error']['value']:.1e} of the motor work"
+    )
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
+    return StartupResult(ds)
 
 
 def run_case(config: dict, *, progress: bool = False):
-    """Sweep entry point (domain ``system``): runs the analysis named by ``analysis``."""
+    """Sweep entry point (domain ``system``): runs the analysis named by ``analysis``, the function
+    that ``rotaflex system <analysis>`` runs (:data:`rotaflex.core.domains.COMMANDS`: each verb is
+    listed there once, its settings table in :data:`ANALYSES`)."""
+    from rotaflex.core.domains import command
+
     name = config.get("analysis")
-    if name not in RUNNERS:
-        raise InputError("analysis", name if name is not None else "<missing>", "one of " + ", ".join(RUNNERS))
-    return RUNNERS[name]({k: v for k, v in config.items() if k != "analysis"}, progress=progress)
+    if name not in ANALYSES:
+        raise InputError("analysis", name if name is not None else "<missing>", "one of " + ", ".join(ANALYSES))
+    return command("system", name)({k: v for k, v in config.items() if k != "analysis"}, progress=progress)
 
 
 def validate_config(config: dict) -> None:

@@ -17,6 +17,7 @@ import scipy.linalg as sla
 from scipy.optimize import linear_sum_assignment
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.modal import EigenvalueView, mac
 from rotaflex.system.assembly import (
     Matrices,
@@ -100,9 +101,8 @@ def _pencil(box, mats, basis):
 
         return at
     M, D0, K = (P.T @ X @ P for X in system_matrices(box, 0.0, mats))
-    f = mats.free
     Gs = sum(pr.sense * pr.ratio * G for pr, G in zip(box.rotors, mats.G, strict=True))
-    Gr = P.T @ Gs[np.ix_(f, f)] @ P
+    Gr = P.T @ mats.reduce(Gs) @ P
     return lambda speed: (M, D0 + speed * Gr, K)
 
 
@@ -126,8 +126,7 @@ def _solve(box, mats, speed, n_keep, basis, pencil=None):
     v = v / norm[:, None]
     if basis is not None:
         v = v @ basis.T
-    full = np.zeros((v.shape[0], box.n_dof), complex)
-    full[:, mats.free] = v
+    full = mats.expand(v.T).T
     # phase: largest component real
     j = np.argmax(np.abs(full), 1)
     ph = full[np.arange(full.shape[0]), j]
@@ -201,7 +200,7 @@ def campbell(
     """
     speeds = np.asarray(speeds, float)
     if speeds.ndim != 1 or speeds.size < 2 or np.any(np.diff(speeds) <= 0):
-        raise InputError("campbell.speed_rpm", list(np.round(speeds * 30 / np.pi, 6)), "increasing speeds (>= 2)")
+        raise InputError("campbell.speed_rpm", list(np.round(rad_s_to_rpm(speeds), 6)), "increasing speeds (>= 2)")
     nfree = free_dofs(box).size
     check_campbell(box.n_dof, nfree, len(box.rotors), speeds.size, n_modes, nfree)
     mats = matrices(box)

@@ -37,11 +37,13 @@ import numpy as np
 from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
 from rotaflex.gear import PairSpec
-from rotaflex.rotor.fe.model import ROTOR_KEYS, RPM, Bearing, Disk, Material, PointMass, Rotor, Shaft
+from rotaflex.gear.models.mesh_stiffness import DEFAULT_DAMPING_RATIO, mesh_damping
+from rotaflex.rotor.fe.model import ROTOR_KEYS, Bearing, Disk, Material, PointMass, Rotor, Shaft
+from rotaflex.system.coupling import CouplingElement, CouplingSpec
+from rotaflex.system.coupling import element as coupling_element
 
 #: keys of a [[gear_mesh]] table that describe the gear pair (passed to pair_from_mapping)
 PAIR_KEYS = ("pinion", "wheel", "center_distance", "backlash", "driver")
-DEFAULT_DAMPING_RATIO = 0.07  #: mesh damping ratio, the default of ``gear steady``
 
 
 @dataclass(frozen=True)
@@ -110,6 +112,11 @@ class DriveSpec:
     kind: Literal["constant_speed", "torque"] = param("constant_speed")
     inertia: float = param(0.0, unit="kg m^2", ge=0, doc="motor rotor inertia added at the node")
     rotation: Literal["ccw", "cw"] = param("ccw", doc="sense of rotation seen from +z")
+    curve_speed_rpm: tuple[float, ...] = param((), unit="rpm", ge=0, doc="startup: motor curve speeds (increasing)")
+    curve_torque: tuple[float, ...] = param((), unit="N m", doc="startup: motor torque at curve_speed_rpm")
+    pulsating_torque: float = param(0.0, unit="N m", ge=0, doc="startup: synchronous motor, 2x slip frequency")
+    line_frequency_hz: float = param(50.0, unit="Hz", gt=0, doc="startup: supply frequency of the motor")
+    poles: int = param(2, ge=2, doc="startup: motor poles (synchronous speed 120 f / poles rpm)")
 
 
 @dataclass(frozen=True)
@@ -122,6 +129,7 @@ class LoadSpec:
     torque: float = param(0.0, unit="N m", ge=0)
     inertia: float = param(0.0, unit="kg m^2", ge=0)
     damping: float = param(0.0, unit="N m s/rad", ge=0, doc="torque-speed slope of the load (viscous)")
+    quadratic: float = param(0.0, unit="N m s^2/rad^2", ge=0, doc="startup: load torque + q Omega^2 (pump, fan)")
 
 
 @dataclass(frozen=True)
@@ -130,6 +138,7 @@ class GearboxSpec:
 
     rotor: tuple[RotorSpec, ...] = param()
     gear_mesh: tuple[MeshSpec, ...] = param(())
+    coupling: tuple[CouplingSpec, ...] = param(())
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
 
@@ -188,6 +197,7 @@ class Gearbox:
     load: tuple[int, int] | None
     load_torque: float
     spec: GearboxSpec = field(repr=False)
+    couplings: tuple[CouplingElement, ...] = ()
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any], base: str | Path | None = None) -> Gearbox:
@@ -338,13 +348,18 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
                     f"a node with a torsional DOF (rotor {names[r]!r} has torsion = false)",
                 )
         stations.append((rp, npn, rw, nwh))
-    # speeds and senses by walking the meshes from the drive rotor
+    joints = [_coupling_stations(spec, models, i, index) for i in range(len(spec.coupling))]
+    # speeds and senses by walking the meshes and couplings from the drive rotor
     sense = {d_r: 1 if spec.drive.rotation == "ccw" else -1}
     ratio = {d_r: 1.0}
     toward = {}  # mesh -> True if power flows pinion -> wheel
     frontier = [d_r]
     while frontier:
         r = frontier.pop()
+        for (ra, _), (rb, _) in joints:  # a coupling: the same speed and sense on both sides
+            if r in (ra, rb) and (other := rb if r == ra else ra) not in ratio:
+                ratio[other], sense[other] = ratio[r], sense[r]
+                frontier.append(other)
         for i, (rp, _, rw, _) in enumerate(stations):
             if i in toward or r not in (rp, rw):
                 continue
@@ -362,7 +377,9 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
             frontier.append(other)
     for i, r in enumerate(spec.rotor):
         if i not in ratio:
-            raise InputError(f"rotor[{i}].name", r.name, "a rotor joined to the drive rotor by gear meshes")
+            raise InputError(
+                f"rotor[{i}].name", r.name, "a rotor joined to the drive rotor by gear meshes or couplings"
+            )
     _check_speeds(spec, ratio, sense, d_r, names)
     # load torque -> default pinion torque of each mesh's table
     t_load = spec.load.torque if spec.load is not None else 0.0
@@ -410,10 +427,7 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
         alpha = gm.pressure_angle
         loc = np.array([math.sin(alpha), s * math.cos(alpha)])
         rot = np.array([[math.cos(gam), -math.sin(gam)], [math.sin(gam), math.cos(gam)]])
-        j1, j2 = gm.inertia
-        r1, r2 = gm.base_radius
-        m_red = j1 * j2 / (j1 * r2**2 + j2 * r1**2)
-        c_m = 2.0 * m.damping_ratio * math.sqrt(gm.mean_stiffness * m_red)
+        c_m = mesh_damping(gm.mean_stiffness, gm.inertia, gm.base_radius, m.damping_ratio)
         backlash = pair.normal_backlash_at(a) if m.back_contact else -1.0
         if m.blanks:
             for r, node, k, key in ((rp, npn, 0, "pinion"), (rw, nwh, 1, "wheel")):
@@ -428,6 +442,14 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
                 disk = Disk(node=node, mass=mass, Id=0.5 * ip, Ip=ip)  # thin disk: Id = Ip / 2
                 models[r] = dataclasses.replace(models[r], disk=(*models[r].disk, disk))
         built.append(MeshElement(gm, d, f, toward[i], rot @ loc, s, (float(rb[0]), float(rb[1])), c_m, backlash, m))
+    couplings = []
+    for i, (c, (a, b)) in enumerate(zip(spec.coupling, joints, strict=True)):
+        for (r, node), part in ((a, c.split), (b, 1.0 - c.split)):  # the coupling's mass on its hubs
+            if part * (c.mass + c.Ip + c.Id) > 0:
+                hub = Disk(node=node, mass=part * c.mass, Id=part * c.Id, Ip=part * c.Ip)
+                models[r] = dataclasses.replace(models[r], disk=(*models[r].disk, hub))
+        torsion = spec.rotor[a[0]].torsion and spec.rotor[b[0]].torsion
+        couplings.append(coupling_element(c, a, b, torsion, c.name or f"coupling{i}"))
     extra = [((d_r, d_n), spec.drive.inertia), (load, spec.load.inertia if spec.load else 0.0)]
     for st, j in extra:  # motor and load inertias as polar-only disks
         if st is not None and j:
@@ -442,7 +464,37 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
         PlacedRotor(r.name, models[i], np.asarray(r.center, float), sense[i], ratio[i], r.torsion)
         for i, r in enumerate(spec.rotor)
     )
-    return Gearbox(placed, tuple(built), (d_r, d_n), spec.drive.kind, load, t_load, spec)
+    return Gearbox(placed, tuple(built), (d_r, d_n), spec.drive.kind, load, t_load, spec, tuple(couplings))
+
+
+def _coupling_stations(spec: GearboxSpec, models, i: int, index) -> tuple[tuple[int, int], tuple[int, int]]:
+    """Hub stations (rotor, node) of ``[[coupling]]`` i, checked: two rotors on one axis, a
+    torsional stiffness where both rotors twist, no stiffness keys on a rigid coupling."""
+    c, w = spec.coupling[i], f"coupling[{i}]"
+    ra, rb = index(c.rotor_a, f"{w}.rotor_a"), index(c.rotor_b, f"{w}.rotor_b")
+    if ra == rb:
+        raise InputError(f"{w}.rotor_b", c.rotor_b, "a rotor other than rotor_a")
+    na = _station(models[ra], c.node_a, c.position_a, w, ("node_a", "position_a"))
+    nb = _station(models[rb], c.node_b, c.position_b, w, ("node_b", "position_b"))
+    ca, cb = np.asarray(spec.rotor[ra].center, float), np.asarray(spec.rotor[rb].center, float)
+    if np.hypot(*(ca - cb)) > 1e-9 * max(1.0, float(np.hypot(*ca))):
+        raise InputError(
+            f"rotor[{rb}].center", list(spec.rotor[rb].center), f"{list(ca)}: a coupling joins rotors on one axis"
+        )
+    torsion = (spec.rotor[ra].torsion, spec.rotor[rb].torsion)
+    if c.rigid:
+        for key in ("torsional_stiffness", "lateral_stiffness", "angular_stiffness"):
+            if getattr(c, key):
+                raise InputError(
+                    f"{w}.{key}", getattr(c, key), "no stiffness on a rigid coupling (rigid = false for springs)"
+                )
+        if torsion[0] != torsion[1]:
+            raise InputError(f"rotor[{rb}].torsion", torsion[1], f"{torsion[0]}: a rigid coupling joins like rotors")
+    elif all(torsion) and c.torsional_stiffness is None:
+        raise InputError(
+            f"{w}.torsional_stiffness", "<missing>", "a torsional stiffness [N m/rad] > 0 (or rigid = true)"
+        )
+    return (ra, na), (rb, nb)
 
 
 def _check_speeds(spec, ratio, sense, d_r, names) -> None:
@@ -475,4 +527,4 @@ def drive_speed_rpm(box: Gearbox) -> float | None:
     return None
 
 
-__all__ = ["RPM", "Gearbox", "GearboxSpec", "MeshElement", "PlacedRotor", "drive_speed_rpm"]
+__all__ = ["Gearbox", "GearboxSpec", "MeshElement", "PlacedRotor", "drive_speed_rpm"]

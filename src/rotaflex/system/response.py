@@ -92,19 +92,17 @@ def forced_response(
         raise InputError("gear_mesh", [], "at least one [[gear_mesh]] for a TE response")
     check_assembly(box)
     mats = matrices(box)
-    free = mats.free
-    nf = free.size
+    nf = mats.free.size
     ns, nm, nh = speeds.size, len(box.meshes), harmonics
     w_max = nh * max(box.mesh_frequency(j, float(np.max(np.abs(speeds)))) for j in range(nm))
     P = np.eye(nf) if cutoff is None else reduced_basis(box, mats, float(np.median(speeds)), w_max, cutoff)
     n_brg = sum(len(pr.rotor.bearings) for pr in box.rotors)
     check_response(ns, nh, P.shape[1], nm, n_brg, len(probes), cutoff)
-    Tfull = np.zeros((box.n_dof, P.shape[1]))
-    Tfull[free] = P
-    M = P.T @ mats.M[np.ix_(free, free)] @ P
-    K0 = P.T @ mats.K0[np.ix_(free, free)] @ P
-    Gr = [P.T @ G[np.ix_(free, free)] @ P for G in mats.G]
-    g = mats.g[:, free] @ P  # (n_mesh, r)
+    Tfull = mats.expand(P)
+    M = P.T @ mats.reduce(mats.M) @ P
+    K0 = P.T @ mats.reduce(mats.K0) @ P
+    Gr = [P.T @ mats.reduce(G) @ P for G in mats.G]
+    g = mats.project(mats.g) @ P  # (n_mesh, r)
     constant = all(el.speeds is None for pr in box.rotors for _, _, el in pr.rotor.bearings)
     brg = [(i, node, other) for i, pr in enumerate(box.rotors) for node, other, _ in pr.rotor.bearings]
     rows = [[box.lateral_dof(i, n, 0), box.lateral_dof(i, n, 1)] for i, n, _ in brg]
@@ -122,8 +120,8 @@ def forced_response(
     Kb, Cb, kbn, cbn = [], [], [], []
     for s in sel:
         Kf, Cf = bearing_matrices(box, speeds[s])
-        Kb.append(P.T @ Kf[np.ix_(free, free)] @ P)
-        Cb.append(P.T @ (Cf + mats.C0)[np.ix_(free, free)] @ P)
+        Kb.append(P.T @ mats.reduce(Kf) @ P)
+        Cb.append(P.T @ mats.reduce(Cf + mats.C0) @ P)
         kbn.append(np.array([Kf[np.ix_(r, r)] for r in rows]).reshape(len(rows), 2, 2))
         cbn.append(np.array([Cf[np.ix_(r, r)] for r in rows]).reshape(len(rows), 2, 2))
     Kb, Cb, kbn, cbn = (np.array(x) for x in (Kb, Cb, kbn, cbn))  # (1 or ns, ...)

@@ -7,9 +7,9 @@ import json
 import numpy as np
 
 from rotaflex.core.result import Result, register_result
+from rotaflex.core.units import rad_s_to_rpm
 
 HZ = 1 / (2 * np.pi)
-RPM = 30 / np.pi
 
 
 def system_figure(box):
@@ -33,14 +33,15 @@ def system_figure(box):
         a, b = pitch - half * m.normal, pitch + half * m.normal
         ax.add_patch(FancyArrowPatch(a, b, arrowstyle="-|>", mutation_scale=12, color="tab:red", lw=1.2))
         ax.annotate("line of action (force on driven)", b, fontsize=7, color="tab:red")
-    for pr in box.rotors:
+    for i, pr in enumerate(box.rotors):
         c = pr.center
         ax.plot(*c, "k+", ms=8)
+        same = sum(np.allclose(q.center, c) for q in box.rotors[:i])  # coupled rotors share a centre
         ax.annotate(
             f"{pr.name} ({'ccw' if pr.sense > 0 else 'cw'}, x{pr.ratio:.3g})",
             c,
             fontsize=8,
-            xytext=(4, -12),
+            xytext=(4, -12 - 10 * same),
             textcoords="offset points",
         )
     ax.set_aspect("equal")
@@ -52,9 +53,14 @@ def system_figure(box):
     for m in box.meshes:
         for r, n in (m.driver, m.driven):
             gear_nodes.setdefault(r, []).append(n)
+    shift = {}  # coupled rotors drawn end to end: hub b at hub a's axial position
+    for cp in getattr(box, "couplings", ()):
+        (ra, na), (rb, nb) = cp.a, cp.b
+        shift.setdefault(ra, 0.0)
+        shift[rb] = shift[ra] + box.rotors[ra].rotor.nodes[na] - box.rotors[rb].rotor.nodes[nb]
     for i in order:
         pr = box.rotors[i]
-        z, e = pr.rotor.nodes, pr.rotor.elements
+        z, e = pr.rotor.nodes + shift.get(i, 0.0), pr.rotor.elements
         y0 = pr.center[0]  # each shaft drawn at its x in the gearbox plane
         for j in range(e["L"].size):
             ro = e["do_l"][j] / 2
@@ -144,7 +150,7 @@ class SystemCampbellResult(_SystemResult):
         me = ds["mesh_energy"].values
         for k in range(ds.sizes["mode"]):
             sc = ax.scatter(
-                sp * RPM,
+                rad_s_to_rpm(sp),
                 ds["damped_frequency"].values[:, k] * HZ,
                 c=me[:, k],
                 s=6,
@@ -156,12 +162,12 @@ class SystemCampbellResult(_SystemResult):
         ymax = float(np.nanmax(ds["damped_frequency"].values)) * HZ * 1.05
         for name, f in zip(ds["line"].values, ds["line_factor"].values, strict=True):
             style = "-" if str(name).startswith("mesh") else ":"
-            ax.plot(sp * RPM, f * sp * HZ, style, lw=0.8, c="tab:red" if style == "-" else "0.4")
+            ax.plot(rad_s_to_rpm(sp), f * sp * HZ, style, lw=0.8, c="tab:red" if style == "-" else "0.4")
             xe = min(sp[-1], ymax / HZ / f if f > 0 else sp[-1])
-            ax.annotate(str(name), (xe * RPM, f * xe * HZ), fontsize=6)
+            ax.annotate(str(name), (rad_s_to_rpm(xe), f * xe * HZ), fontsize=6)
         for cr in json.loads(ds.attrs.get("crossings", "[]")):
             if cr["line"].startswith("mesh") and cr["mesh_energy"] > 0.05:
-                ax.plot(cr["speed"] * RPM, cr["frequency"] * HZ, "ko", mfc="none", ms=6)
+                ax.plot(rad_s_to_rpm(cr["speed"]), cr["frequency"] * HZ, "ko", mfc="none", ms=6)
         ax.set_ylim(0, ymax)
         ax.set(xlabel="drive speed [rpm]", ylabel="damped natural frequency [Hz]")
         figs["campbell"] = fig
@@ -239,3 +245,183 @@ class SystemSteadyResult(_SystemResult):
         ax[2].legend(fontsize=6)
         figs["time_series"] = fig
         return figs
+
+
+def torsional_dataset(model, w, shape, lines, margin, passed, operating, speed_range, required):
+    """Dataset of ``rotaflex system torsional`` (frequencies, shapes, lines, margins)."""
+    import xarray as xr
+
+    return xr.Dataset(
+        {
+            "natural_frequency": ("mode", w, {"units": "rad/s"}),
+            "shape": (("mode", "station"), shape, {"units": "1", "long_name": "twist, largest = 1"}),
+            "line_factor": ("line", [ln["factor"] for ln in lines], {"units": "1", "long_name": "omega / drive speed"}),
+            "line_fixed": ("line", [ln["fixed"] for ln in lines], {"units": "rad/s"}),
+            "margin": (("mode", "line"), margin, {"units": "1", "long_name": "API 684 separation margin"}),
+            "passed": (("mode", "line"), passed.astype(np.int8), {"units": "1", "required_margin": required}),
+            "operating_speed": ("bound", np.asarray(operating, float), {"units": "rad/s"}),
+            "speed_range": ("bound", np.asarray(speed_range, float), {"units": "rad/s"}),
+        },
+        coords={
+            "mode": np.arange(w.size),
+            "station": model.labels,
+            "line": [ln["name"] for ln in lines],
+            "bound": ["min", "max"],
+        },
+    )
+
+
+@register_result
+class TorsionalResult(_SystemResult):
+    """Torsional modes, interference diagram (natural frequencies vs excitation lines), margins."""
+
+    kind = "system_torsional"
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        figs = self._model()
+        fig, ax = new_figure(figsize=(7, 5))
+        lo, hi = ds["speed_range"].values
+        op = ds["operating_speed"].values
+        sp = np.linspace(lo, hi, 200)
+        fn = ds["natural_frequency"].values * HZ
+        top = (ds["line_factor"].values * hi + ds["line_fixed"].values) * HZ
+        ymax = 1.3 * max(float(top.max()) if top.size else 0.0, float(fn[0]))  # modes far above: off the chart
+        ax.axvspan(
+            rad_s_to_rpm(op[0]), rad_s_to_rpm(op[1]), color="tab:green", alpha=0.15, lw=0, label="operating range"
+        )
+        for k, f in enumerate(fn):
+            ax.axhline(f, color="tab:blue", lw=0.9)
+            ax.axhspan(f * 0.9, f * 1.1, color="tab:blue", alpha=0.07, lw=0)
+            ax.annotate(f"mode {k}: {f:.4g} Hz", (rad_s_to_rpm(sp[0]), f), fontsize=7, va="bottom")
+        for name, a, b in zip(ds["line"].values, ds["line_factor"].values, ds["line_fixed"].values, strict=True):
+            y = (a * sp + b) * HZ
+            ax.plot(rad_s_to_rpm(sp), y, "--" if a == 0 else "-", c="tab:red", lw=0.8)
+            j = np.flatnonzero(y <= ymax)
+            if j.size:
+                ax.annotate(str(name), (rad_s_to_rpm(sp[j[-1]]), y[j[-1]]), fontsize=6, color="tab:red")
+        for c in json.loads(ds.attrs.get("crossings", "[]")):
+            ax.plot(rad_s_to_rpm(c["speed"]), c["frequency"] * HZ, "ko", mfc="none", ms=6)
+        ax.set_ylim(0, ymax)
+        ax.set(
+            xlabel="drive speed [rpm]", ylabel="frequency [Hz]", title="torsional interference diagram (±10 % bands)"
+        )
+        ax.legend(fontsize=7, loc="upper left")
+        figs["interference"] = fig
+        fig2, bx = new_figure(figsize=(8, 4))
+        for k in range(ds.sizes["mode"]):
+            bx.plot(ds["shape"].values[k], "o-", ms=3, label=f"{fn[k]:.4g} Hz")
+        bx.set_xticks(np.arange(ds.sizes["station"]), ds["station"].values, rotation=90, fontsize=6)
+        bx.set(ylabel="twist (largest = 1)", title="torsional mode shapes")
+        bx.legend(fontsize=7)
+        figs["torsional_modes"] = fig2
+        return figs
+
+
+def _element_torques(box, model, theta):
+    """Shaft element torques [N m] (nt, n_elements) from the twists: k_e (theta_j - theta_{j+1})."""
+    from rotaflex.system.assembly import torsion_matrices
+
+    out, names = [], []
+    for r, pr in enumerate(box.rotors):
+        if not pr.torsion:
+            continue
+        kt = -np.diag(torsion_matrices(pr.rotor)[0], 1)
+        idx = [model.index(box, r, j) for j in range(pr.rotor.n_nodes)]
+        th = theta[:, idx]
+        out.append((th[:, :-1] - th[:, 1:]) * kt * pr.sense)
+        names += [f"{pr.name}:{e}" for e in range(kt.size)]
+    return np.concatenate(out, 1), names
+
+
+def startup_dataset(box, model, run, n_steady):
+    """Dataset and summary entries of ``rotaflex system startup``."""
+    import xarray as xr
+
+    d = model.index(box, *box.drive)
+    speed = run.rate * model.sense  # each twist's speed in its rotor's sense
+    shaft, names = _element_torques(box, model, run.theta)
+    ctq, cnames = [], []
+    for cp in box.couplings:
+        if cp.torsion and not cp.rigid:
+            ia, ib = model.index(box, *cp.a), model.index(box, *cp.b)
+            tw = run.theta[:, ia] - run.theta[:, ib]
+            rt = run.rate[:, ia] - run.rate[:, ib]
+            ctq.append((cp.k[4] * tw + cp.c[4] * rt) * model.sense[ia])
+            cnames.append(cp.name)
+    first = [model.index(box, r, 0) for r, pr in enumerate(box.rotors) if pr.torsion]
+    ds = xr.Dataset(
+        {
+            "rotor_speed": (("time", "rotor"), speed[:, first], {"units": "rad/s", "long_name": "speed of node 0"}),
+            "drive_speed_rpm": ("time", rad_s_to_rpm(speed[:, d]), {"units": "rpm"}),
+            "motor_torque": ("time", run.motor_torque, {"units": "N m"}),
+            "load_torque": ("time", run.load_torque, {"units": "N m"}),
+            "shaft_torque": (("time", "element"), shaft, {"units": "N m", "long_name": "torque transmitted"}),
+            "coupling_torque": (("time", "coupling"), np.array(ctq).T.reshape(run.time.size, -1), {"units": "N m"}),
+            "work": (("time", "term"), run.work, {"units": "J"}),
+            "energy": (("time", "kind"), run.energy, {"units": "J"}),
+            "twist": (
+                ("time", "station"),
+                run.theta - run.theta[:, [d]] * model.ratio * model.sense * model.sense[d],
+                {"units": "rad", "long_name": "twist relative to the rigid rotation of the drive node"},
+            ),
+        },
+        coords={
+            "time": ("time", run.time, {"units": "s"}),
+            "rotor": [pr.name for pr in box.rotors if pr.torsion],
+            "element": names,
+            "coupling": cnames,
+            "term": ["motor", "load", "damping"],
+            "kind": ["kinetic", "potential"],
+            "station": model.labels,
+        },
+    )
+    final = float(rad_s_to_rpm(speed[-1, d]))
+    target = 0.99 * n_steady
+    reach = np.flatnonzero(speed[:, d] >= target)
+    err = float(np.max(np.abs(run.balance)) / max(float(np.max(np.abs(run.work[:, 0]))), 1e-300))
+    extra = {
+        "final_speed_rpm": {"value": final, "unit": "rpm"},
+        "steady_speed_rpm": {"value": rad_s_to_rpm(n_steady), "unit": "rpm", "long_name": "motor = load torque"},
+        "time_to_99_percent": {"value": float(run.time[reach[0]]) if reach.size else None, "unit": "s"},
+        "energy_balance_error": {"value": err, "unit": "1", "long_name": "max |E - W| / max W_motor"},
+        "modes_kept": {"value": run.n_modes, "unit": ""},
+        "nfev": {"value": run.nfev, "unit": ""},
+    }
+    for j, name in enumerate(names):
+        extra[f"peak_shaft_torque_{name}"] = {"value": float(np.abs(shaft[:, j]).max()), "unit": "N m"}
+    for j, name in enumerate(cnames):
+        extra[f"peak_coupling_torque_{name}"] = {"value": float(np.abs(ctq[j]).max()), "unit": "N m"}
+    return ds, extra
+
+
+@register_result
+class StartupResult(_SystemResult):
+    """Run-up histories: speeds, motor and load torque, shaft and coupling torques."""
+
+    kind = "system_startup"
+
+    def plot(self) -> dict:
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        t = ds["time"].values
+        fig, ax = new_figure(3, 1, sharex=True, figsize=(7, 8))
+        for i, name in enumerate(ds["rotor"].values):
+            ax[0].plot(t, rad_s_to_rpm(ds["rotor_speed"].values[:, i]), label=str(name))
+        ax[0].set_ylabel("speed [rpm]")
+        ax[0].legend(fontsize=7)
+        ax[1].plot(t, ds["motor_torque"].values, label="motor")
+        ax[1].plot(t, ds["load_torque"].values, label="load")
+        ax[1].set_ylabel("torque [N m]")
+        ax[1].legend(fontsize=7)
+        for j, name in enumerate(ds["coupling"].values):
+            ax[2].plot(t, ds["coupling_torque"].values[:, j], label=str(name), lw=0.8)
+        if not ds.sizes["coupling"]:
+            j = int(np.argmax(np.abs(ds["shaft_torque"].values).max(0)))
+            ax[2].plot(t, ds["shaft_torque"].values[:, j], label=f"shaft {ds['element'].values[j]}", lw=0.8)
+        ax[2].set(xlabel="time [s]", ylabel="transmitted torque [N m]")
+        ax[2].legend(fontsize=7)
+        return {**self._model(), "startup": fig}

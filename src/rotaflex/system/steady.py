@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.gear.results.steady import detect_period
 from rotaflex.system.assembly import matrices, reduced_basis, system_matrices
 from rotaflex.system.model import Gearbox
@@ -125,7 +126,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     if not len(box.meshes):
         raise InputError("gear_mesh", [], "at least one [[gear_mesh]] for a steady state")
     if not speed > 0:
-        raise InputError("steady.speed_rpm", speed * 30 / np.pi, "a drive speed > 0 rpm")
+        raise InputError("steady.speed_rpm", rad_s_to_rpm(speed), "a drive speed > 0 rpm")
     check_assembly(box)
     mats = matrices(box)
     free = mats.free
@@ -136,19 +137,20 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     Kr, Dr = P.T @ K @ P, P.T @ D @ P
     # diagonalise the reduced stiffness (P^T M P = I): the time step follows its top frequency
     Ks = 0.5 * (Kr + Kr.T)
-    w2, V = np.linalg.eigh(Ks + (P.T @ (mats.g[:, free].T * mats.k_mean) @ mats.g[:, free] @ P))
+    gf = mats.project(mats.g)
+    w2, V = np.linalg.eigh(Ks + (P.T @ (gf.T * mats.k_mean) @ gf @ P))
     P = P @ V
     Kr, Dr = V.T @ Kr @ V, V.T @ Dr @ V
     w_top = float(np.sqrt(max(w2.max(), 0.0)))
     f_full = _loads(box, box.n_dof)
-    fr = P.T @ f_full[free]
-    gr = mats.g[:, free] @ P
+    fr = P.T @ mats.project(f_full)
+    gr = mats.project(mats.g) @ P
     r = P.shape[1]
     tors = np.zeros_like(mats.g)
     for j, m in enumerate(box.meshes):
         idx = [box.torsion_dof(*m.driver), box.torsion_dof(*m.driven)]
         tors[j, idx] = mats.g[j, idx]
-    tr = tors[:, free] @ P
+    tr = mats.project(tors) @ P
     Kss, Dss = 0.5 * (Kr + Kr.T), 0.5 * (Dr + Dr.T)
     Ka = Kr - Kss
     if np.max(np.abs(Ka)) <= 1e-14 * np.max(np.abs(Kr)):  # symmetric up to round-off: no skew power
@@ -229,8 +231,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         # dte_e[0] is the state the last block ended in (not in ``dte``): whole cycles, no gap
         period, change = _periodicity(np.concatenate([dte, dte_e[:-1, 0]]), spc, scale, st.tol)
     # bearing forces from the physical displacements of the evaluated cycles
-    Tfull = np.zeros((box.n_dof, r))
-    Tfull[free] = P
+    Tfull = mats.expand(P)
     from rotaflex.system.assembly import bearing_matrices
 
     Kb, Cb = bearing_matrices(box, speed)

@@ -40,6 +40,7 @@ from rotaflex.core.errors import InputError
 from rotaflex.core.units import deg_to_rad
 from rotaflex.gear.cases.pair_config import refuse_other_layout, with_pair_preset
 from rotaflex.gear.cases.steady_size import check_size
+from rotaflex.gear.models.mesh_stiffness import DEFAULT_DAMPING_RATIO
 from rotaflex.gear.pair.drawing import MIN_YOUNGS_MODULUS, PairSpec
 from rotaflex.gear.pair.drawing import GearSpec as DrawingGearSpec
 from rotaflex.gear.pair.geometry import GearGeometry, contact_ratio
@@ -99,7 +100,7 @@ class MeshSpec:
     )
     pair_stiffness: float = param(1.2e8, unit="N/m", gt=0.0, doc="contact_pattern only")
     unloaded_te_pp: float = param(0.0, unit="m", ge=0.0, doc="triangular unloaded TE per cycle (contact_pattern only)")
-    damping_ratio: float = param(0.07, ge=0.0, doc="mesh damping ratio zeta")
+    damping_ratio: float = param(DEFAULT_DAMPING_RATIO, ge=0.0, doc="mesh damping ratio zeta")
     backlash: float | None = param(None, unit="m", ge=0.0, doc="omitted: no back-side contact")
     table_points: int = param(400, ge=16, doc="samples per mesh cycle of the stiffness and TE tables")
 

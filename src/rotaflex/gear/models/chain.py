@@ -43,7 +43,7 @@ from rotaflex.core.config import param
 from rotaflex.core.errors import DivergenceError, InputError
 from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.gear.kernels.chain import ChainArgs, MeshArgs, run_rk4
-from rotaflex.gear.models.mesh_stiffness import MeshTable
+from rotaflex.gear.models.mesh_stiffness import DEFAULT_DAMPING_RATIO, MeshTable, mesh_damping
 from rotaflex.gear.static.iso6336_kv import IsoKvInput, reduced_mass_per_width
 
 __all__ = [
@@ -63,8 +63,6 @@ __all__ = [
     "simulate",
     "steady_state",
 ]
-
-DEFAULT_DAMPING_RATIO = 0.07
 
 
 # ------------------------------------------------------------------------------- the system
@@ -121,7 +119,7 @@ class TorsionalSystem:
     @property
     def mesh_damping(self) -> float:
         """c_m [N s/m]."""
-        return 2.0 * self.mesh_damping_ratio * math.sqrt(self.mesh.mean_stiffness * self.reduced_mass)
+        return mesh_damping(self.mesh.mean_stiffness, self.inertia, self.base_radius, self.mesh_damping_ratio)
 
 
 @dataclass(frozen=True)

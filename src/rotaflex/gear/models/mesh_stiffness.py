@@ -58,6 +58,27 @@ __all__ = [
 #: names of the mesh-table sources :func:`gear_mesh` accepts
 SOURCES = ("loaded_te", "static_fe", "iso6336", "harmonic", "contact_pattern")
 
+#: default mesh damping ratio zeta of ``c_m = 2 zeta sqrt(k_mean m_red)``: an engineering default
+#: in the range commonly assumed in lumped spur-gear models, not a measured value
+#: (docs/gear-steady-state.md); the one default of every gear and machine model
+DEFAULT_DAMPING_RATIO = 0.07
+
+
+def mesh_damping(k_mean: float, inertia, base_radius, damping_ratio: float = DEFAULT_DAMPING_RATIO) -> float:
+    """Mesh damping ``c_m = 2 zeta sqrt(k_mean m_red)`` [N s/m] along the line of action.
+
+    ``m_red = J1 J2 / (J1 r_b2^2 + J2 r_b1^2)`` [kg] from the gears' own inertias ``(J1, J2)``
+    [kg m^2] and base radii ``(r_b1, r_b2)`` [m]; ``k_mean`` [N/m].
+
+    Examples
+    --------
+    >>> round(mesh_damping(1e8, (1e-3, 1e-3), (0.05, 0.05)), 6)  # m_red = 0.2 kg
+    626.099034
+    """
+    (j1, j2), (r1, r2) = inertia, base_radius
+    m_red = j1 * j2 / (j1 * r2**2 + j2 * r1**2)
+    return 2.0 * damping_ratio * math.sqrt(k_mean * m_red)
+
 
 @dataclass(frozen=True)
 class MeshTable:

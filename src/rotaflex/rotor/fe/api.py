@@ -22,7 +22,8 @@ from __future__ import annotations
 import numpy as np
 
 from rotaflex.core.errors import InputError
-from rotaflex.rotor.fe.model import NDOF_NODE, RPM, Rotor
+from rotaflex.core.units import rpm_to_rad_s
+from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
 from rotaflex.rotor.fe.response import api684_required_margin
 
 #: API's unbalance constant in SI: U [g mm] = API_UNBALANCE * W [kg] / N [rpm]
@@ -47,7 +48,7 @@ def iso_specific_unbalance(grade: float, speed: float) -> float:
 
     Examples
     --------
-    >>> round(iso_specific_unbalance(2.5, 3000 * np.pi / 30), 4)  # G2.5 at 3000 rpm: ~8 um
+    >>> round(iso_specific_unbalance(2.5, rpm_to_rad_s(3000)), 4)  # G2.5 at 3000 rpm: ~8 um
     7.9577
     """
     return 1000.0 * grade / speed
@@ -129,5 +130,5 @@ def check_bands(bands, field: str) -> list[tuple[float, float]]:
             raise InputError(
                 f"{field}[{i}]" if len(bands) > 1 else field, list(b), "[min, max] speeds with 0 < min < max"
             )
-        out.append((lo * RPM, hi * RPM))
+        out.append((rpm_to_rad_s(lo), rpm_to_rad_s(hi)))
     return out

@@ -12,7 +12,8 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, param, unknown_key
 from rotaflex.core.errors import InputError
-from rotaflex.rotor.fe.model import ROTOR_KEYS, RPM, Bearing, Disk, Material, PointMass, Rotor, Shaft
+from rotaflex.core.units import rpm_to_rad_s
+from rotaflex.rotor.fe.model import ROTOR_KEYS, Bearing, Disk, Material, PointMass, Rotor, Shaft
 
 __all__ = [
     "ANALYSES",
@@ -244,7 +245,7 @@ def _resolve_static_loads(rotor: Rotor, st: StaticSpec) -> Rotor:
     from rotaflex.rotor.fe.bearings.static_load import resolve_static_loads
 
     loads = [(rotor.station(ld.node, ld.position, f"static.load[{i}]"), ld.fx, ld.fy) for i, ld in enumerate(st.load)]
-    speed = None if st.speed_rpm is None else st.speed_rpm * RPM
+    speed = None if st.speed_rpm is None else rpm_to_rad_s(st.speed_rpm)
     return resolve_static_loads(
         rotor, gravity=st.gravity, direction=st.gravity_direction, loads=loads, speed=speed
     ).rotor
@@ -295,7 +296,7 @@ def speed_range(rng, n, where):
     """``n`` speeds [rad/s] evenly over the ``[start, stop]`` rpm range ``rng`` of table ``where``."""
     if rng[1] <= rng[0]:
         raise InputError(f"{where}.speed_rpm", list(rng), "[start, stop] with stop > start")
-    return np.linspace(rng[0], rng[1], n) * RPM
+    return rpm_to_rad_s(np.linspace(rng[0], rng[1], n))
 
 
 def unbalances(rotor, masses, where):

@@ -9,7 +9,8 @@ from contextlib import contextmanager
 import xarray as xr
 
 from rotaflex.core.result import summary_attrs
-from rotaflex.rotor.fe.model import RPM, Rotor
+from rotaflex.core.units import rad_s_to_rpm
+from rotaflex.rotor.fe.model import Rotor
 
 __all__ = ["add_fluid_film_tables", "oil_whip", "pinned", "progress_callback", "summary_attrs"]
 
@@ -47,7 +48,7 @@ def oil_whip(rotor: Rotor, unstable: list[dict]) -> dict:
     if not unstable or not any(el.table is not None for _, _, el in rotor.bearings):
         return {}
     first = min(unstable, key=lambda u: u["speed"])
-    return {"oil_whip_onset_rpm": {"value": first["speed"] / RPM, "unit": "rpm", "mode": first["mode"]}}
+    return {"oil_whip_onset_rpm": {"value": rad_s_to_rpm(first["speed"]), "unit": "rpm", "mode": first["mode"]}}
 
 
 def pinned(run):

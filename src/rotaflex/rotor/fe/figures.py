@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.modal import STABILITY_TOL
 from rotaflex.rotor.fe.model import Rotor
 
 HZ = 1 / (2 * np.pi)
-RPM = 30 / np.pi
 
 
 def model_figure(rotor: Rotor):
@@ -76,14 +76,21 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
     from rotaflex.core.plotting import new_figure
 
     fig, ax = new_figure(figsize=(8.4, 5.4))
-    rpm = np.asarray(speed) * RPM
+    rpm = rad_s_to_rpm(np.asarray(speed))
     top = np.nanmax(wd) * HZ * 1.08
     for i, (lo, hi) in enumerate(bands):
-        ax.axvspan(lo * RPM, hi * RPM, color="tab:green", alpha=0.15, lw=0, label="operating range" if i == 0 else None)
-        ax.axvspan(lo * RPM * 0.84, lo * RPM, fill=False, hatch="//", ec="tab:green", lw=0, alpha=0.5)
         ax.axvspan(
-            hi * RPM,
-            hi * RPM * 1.26,
+            rad_s_to_rpm(lo),
+            rad_s_to_rpm(hi),
+            color="tab:green",
+            alpha=0.15,
+            lw=0,
+            label="operating range" if i == 0 else None,
+        )
+        ax.axvspan(rad_s_to_rpm(lo) * 0.84, rad_s_to_rpm(lo), fill=False, hatch="//", ec="tab:green", lw=0, alpha=0.5)
+        ax.axvspan(
+            rad_s_to_rpm(hi),
+            rad_s_to_rpm(hi) * 1.26,
             fill=False,
             hatch="//",
             ec="tab:green",
@@ -111,12 +118,12 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
     for h in harmonics:
         ax.plot(rpm, h * np.asarray(speed) * HZ, ":k", lw=0.9)
         yh = min(h * speed[-1] * HZ, top * 0.97)
-        ax.annotate(f"{h:g}X", (yh / (h * HZ) * RPM, yh), fontsize=8, ha="right", va="bottom")
+        ax.annotate(f"{h:g}X", (rad_s_to_rpm(yh / (h * HZ)), yh), fontsize=8, ha="right", va="bottom")
     last = -np.inf
     for c in sorted(critical, key=lambda c: c["speed"]):
-        ax.plot(c["speed"] * RPM, c["frequency"] * HZ, "o", mfc="none", mec="k", ms=7)
-        if c.get("harmonic", 1) == 1 and c["speed"] * RPM > last * 1.04:  # skip labels that would overprint
-            last = c["speed"] * RPM
+        ax.plot(rad_s_to_rpm(c["speed"]), c["frequency"] * HZ, "o", mfc="none", mec="k", ms=7)
+        if c.get("harmonic", 1) == 1 and rad_s_to_rpm(c["speed"]) > last * 1.04:  # skip labels that would overprint
+            last = rad_s_to_rpm(c["speed"])
             ax.annotate(
                 f"{last:.0f}", (last, c["frequency"] * HZ), fontsize=7, xytext=(4, -10), textcoords="offset points"
             )
@@ -138,14 +145,18 @@ def bode_figure(speed, amplitude: dict, phase: dict, peaks=()):
     from rotaflex.core.plotting import new_figure
 
     fig, (a1, a2) = new_figure(2, 1, sharex=True)
-    rpm = np.asarray(speed) * RPM
+    rpm = rad_s_to_rpm(np.asarray(speed))
     for name, amp in amplitude.items():
         a1.plot(rpm, np.asarray(amp) * 1e6, label=name)
         a2.plot(rpm, np.degrees(np.unwrap(phase[name])), label=name)
     for p in peaks:
-        a1.axvline(p["speed"] * RPM, color="0.6", lw=0.6)
+        a1.axvline(rad_s_to_rpm(p["speed"]), color="0.6", lw=0.6)
         a1.annotate(
-            f"{p['speed'] * RPM:.0f} rpm", (p["speed"] * RPM, 0), fontsize=7, xytext=(3, 3), textcoords="offset points"
+            f"{rad_s_to_rpm(p['speed']):.0f} rpm",
+            (rad_s_to_rpm(p["speed"]), 0),
+            fontsize=7,
+            xytext=(3, 3),
+            textcoords="offset points",
         )
     a1.set_ylabel("amplitude [\u00b5m]")
     a1.set_ylim(bottom=0)
@@ -166,13 +177,13 @@ def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
     from rotaflex.core.plotting import new_figure
 
     fig, (a1, a2) = new_figure(2, 1, sharex=True, figsize=(8.4, 7.0), height_ratios=(2, 1))
-    rpm = ds["speed"].values * RPM
+    rpm = rad_s_to_rpm(ds["speed"].values)
     um = 1e6
     for i, (lo, hi) in enumerate(bands):
         for a in (a1, a2):
             a.axvspan(
-                lo * RPM,
-                hi * RPM,
+                rad_s_to_rpm(lo),
+                rad_s_to_rpm(hi),
                 color="tab:green",
                 alpha=0.12,
                 lw=0,
@@ -200,10 +211,10 @@ def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
     if limit is not None:
         a1.axhline(limit * um, color="r", lw=1.2, label=f"API 617 limit {limit * um:.1f} \u00b5m p-p")
     for p in peaks:
-        a1.axvline(p["speed"] * RPM, color="0.5", lw=0.6)
+        a1.axvline(rad_s_to_rpm(p["speed"]), color="0.5", lw=0.6)
         a1.annotate(
-            f"{p['speed'] * RPM:.0f} rpm\nAF {p['af']:.1f}",
-            (p["speed"] * RPM, a1.get_ylim()[1] * 0.92),
+            f"{rad_s_to_rpm(p['speed']):.0f} rpm\nAF {p['af']:.1f}",
+            (rad_s_to_rpm(p["speed"]), a1.get_ylim()[1] * 0.92),
             fontsize=7,
             ha="left",
             xytext=(3, 0),
@@ -324,7 +335,9 @@ def mode_shapes_figure(ds):
     axes.flat[0].legend(fontsize=6, loc="lower right")
     for ax in axes[-1]:
         ax.set_xlabel("z [m]")
-    fig.suptitle(f"mode shapes at {float(ds['speed']) * RPM:.0f} rpm (normalised to the largest orbit)", fontsize=9)
+    fig.suptitle(
+        f"mode shapes at {rad_s_to_rpm(float(ds['speed'])):.0f} rpm (normalised to the largest orbit)", fontsize=9
+    )
     return fig
 
 
@@ -338,7 +351,7 @@ def ucs_figure(ds, bearings=()):
     from rotaflex.core.plotting import new_figure
 
     fig, ax = new_figure(figsize=(7.4, 5.2))
-    crit = ds["critical_speed"].values * RPM
+    crit = rad_s_to_rpm(ds["critical_speed"].values)
     for k in range(ds.sizes["mode"]):
         ax.loglog(ds["stiffness"], crit[:, k], color=f"C{k}", lw=1.5, label=f"critical {k}")
     lo, hi = np.nanmin(crit), np.nanmax(crit)
@@ -352,7 +365,7 @@ def ucs_figure(ds, bearings=()):
                 drawn[float(kk[0])] = label
                 ax.axvline(kk[0], color="k", ls=ls, lw=0.9, label=f"{label} {axis} = {kk[0]:.3g} N/m")
             else:
-                ax.plot(kk, np.asarray(sp) * RPM, ls, color="k", lw=1.0, label=f"{label} {axis}(speed)")
+                ax.plot(kk, rad_s_to_rpm(np.asarray(sp)), ls, color="k", lw=1.0, label=f"{label} {axis}(speed)")
     ax.set_ylim(lo * 0.7, hi * 1.3)
     ax.set_xlabel("bearing stiffness [N/m]")
     ax.set_ylabel("undamped critical speed [rpm]")

@@ -29,6 +29,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
 
 #: a mode is unstable when its damping ratio is below -STABILITY_TOL (relative to |lambda|)
@@ -279,7 +280,7 @@ def campbell(
     """
     speeds = np.asarray(speeds, float)
     if speeds.ndim != 1 or speeds.size < 2 or np.any(np.diff(speeds) <= 0):
-        raise InputError("campbell.speed_rpm", list(np.round(speeds * 30 / np.pi, 6)), "increasing speeds (>= 2)")
+        raise InputError("campbell.speed_rpm", list(np.round(rad_s_to_rpm(speeds), 6)), "increasing speeds (>= 2)")
     n = rotor.n_dof
     if reduce is not None and reduce < n:
         A, T = _reduced_state_matrices(rotor, speeds, reduce)

@@ -21,13 +21,13 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm
 from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS
 from rotaflex.rotor.fe.materials import Material, material
 
 NDOF_NODE = 4  #: [x, y, theta_x, theta_y]
-RPM = np.pi / 30.0  #: rad/s per rpm
 
 #: plausibility bounds of the inputs (SI). Lengths beyond them are almost always millimetres typed
 #: as metres; moduli and coefficients beyond them overflow the assembly or its conditioning.
@@ -449,7 +449,7 @@ class Rotor:
             tab = {k: np.broadcast_to(np.asarray(getattr(b, k), float), (ns,)) for k in COEFFICIENTS}
             kk = np.stack([np.stack([tab["kxx"], tab["kxy"]], -1), np.stack([tab["kyx"], tab["kyy"]], -1)], -2)
             cc = np.stack([np.stack([tab["cxx"], tab["cxy"]], -1), np.stack([tab["cyx"], tab["cyy"]], -1)], -2)
-            speeds = None if b.speed_rpm is None else np.asarray(b.speed_rpm, float) * RPM
+            speeds = None if b.speed_rpm is None else rpm_to_rad_s(np.asarray(b.speed_rpm, float))
             out.append((n, m, BearingElement(kk, cc, speeds, where)))
         return out
 

@@ -7,6 +7,7 @@ import json
 import numpy as np
 
 from rotaflex.core.result import Result, register_result
+from rotaflex.core.units import rad_s_to_rpm
 
 
 def _model_fig(result):
@@ -156,7 +157,7 @@ class UnbalanceResult(_FEResult):
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
-        ax.set_title(f"orbits at {float(ds['speed'][i]) * 30 / np.pi:.0f} rpm (largest response)")
+        ax.set_title(f"orbits at {rad_s_to_rpm(float(ds['speed'][i])):.0f} rpm (largest response)")
         ax.legend(fontsize=8)
         figs["orbit"] = fig
         return figs
@@ -177,7 +178,7 @@ class TransientResult(_FEResult):
             a1.plot(ds["time"], ds["displacement"].sel(probe=p, axis="x"), lw=0.6, label=f"node {p} x")
         a1.set_ylabel("x [m]")
         a1.legend(fontsize=8)
-        a2.plot(ds["time"], ds["speed"] * 30 / np.pi)
+        a2.plot(ds["time"], rad_s_to_rpm(ds["speed"]))
         a2.set_ylabel("speed [rpm]")
         a2.set_xlabel("time [s]")
         fig2, ax = new_figure()

@@ -11,9 +11,9 @@ import time
 import numpy as np
 import xarray as xr
 
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.rotor.fe.case_config import parse
 from rotaflex.rotor.fe.case_output import add_fluid_film_tables, summary_attrs
-from rotaflex.rotor.fe.model import RPM
 from rotaflex.rotor.fe.results import FRFResult, StaticResult
 
 
@@ -24,7 +24,7 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     t0 = time.perf_counter()
     rotor, spec = parse(config, "static")
     loads = [(rotor.station(ld.node, ld.position, f"static.load[{i}]"), ld.fx, ld.fy) for i, ld in enumerate(spec.load)]
-    speed = None if spec.speed_rpm is None else spec.speed_rpm * RPM
+    speed = None if spec.speed_rpm is None else rpm_to_rad_s(spec.speed_rpm)
     s = static_analysis(rotor, gravity=spec.gravity, direction=spec.gravity_direction, loads=loads, speed=speed)
     defl = s.deflection(rotor)
     nb = len(rotor.bearings)
@@ -97,7 +97,7 @@ def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
         outs.append(dof_index(rotor, b, db, f"frf.pair[{i}].output_node"))
         labels.append(f"{db}{b}/{'F' if da in 'xy' else 'M'}{da}{a}")
     w = np.linspace(f0, f1, spec.n_frequencies) * 2 * np.pi
-    speed = spec.speed_rpm * RPM
+    speed = rpm_to_rad_s(spec.speed_rpm)
     uniq = sorted(set(ins))
     data = frf(rotor, w, speed, uniq, sorted(set(outs)), spec.kind)
     out_idx = {d: j for j, d in enumerate(sorted(set(outs)))}

@@ -11,10 +11,10 @@ import numpy as np
 import xarray as xr
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 from rotaflex.rotor.fe.case_config import clamp_modes, parse, speed_range
 from rotaflex.rotor.fe.case_output import add_fluid_film_tables, oil_whip, pinned, progress_callback, summary_attrs
 from rotaflex.rotor.fe.modal import STABILITY_TOL
-from rotaflex.rotor.fe.model import RPM
 from rotaflex.rotor.fe.results import CampbellResult, ModalResult, UCSResult
 
 __all__ = ["DOFS", "run_campbell", "run_modal", "run_ucs"]
@@ -31,7 +31,7 @@ def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
     t0 = time.perf_counter()
     rotor, spec = parse(config, "modal")
     n_modes, note = clamp_modes(rotor, spec.n_modes, "modal.n_modes")
-    m = modal(rotor, spec.speed_rpm * RPM, n_modes)
+    m = modal(rotor, rpm_to_rad_s(spec.speed_rpm), n_modes)
     nm = m.eigenvalue.shape[1]
     shape = m.shape[0].reshape(nm, rotor.n_nodes, 4)
     ds = xr.Dataset(
@@ -49,7 +49,7 @@ def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
             "shape_real": (("mode", "node", "dof"), shape.real, {"units": "1"}),
             "shape_imag": (("mode", "node", "dof"), shape.imag, {"units": "1"}),
             "z": ("node", rotor.nodes, {"units": "m"}),
-            "speed": ((), spec.speed_rpm * RPM, {"units": "rad/s"}),
+            "speed": ((), rpm_to_rad_s(spec.speed_rpm), {"units": "rad/s"}),
         },
         coords={"mode": np.arange(nm), "node": np.arange(rotor.n_nodes), "dof": DOFS},
     )
@@ -72,7 +72,7 @@ def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
     for k in range(nm):
         extra[f"mode_{k}_frequency_hz"] = {"value": float(m.wn[0, k] * hz), "unit": "Hz"}  # = natural frequency
         extra[f"mode_{k}_damped_frequency_hz"] = {"value": float(m.wd[0, k] * hz), "unit": "Hz"}
-        extra[f"mode_{k}_natural_frequency_rpm"] = {"value": float(m.wn[0, k] / RPM), "unit": "rpm"}
+        extra[f"mode_{k}_natural_frequency_rpm"] = {"value": float(rad_s_to_rpm(m.wn[0, k])), "unit": "rpm"}
         extra[f"mode_{k}_damping_ratio"] = {"value": float(m.damping_ratio[0, k]), "unit": "1"}
         extra[f"mode_{k}_log_dec"] = {"value": float(m.log_dec[0, k]), "unit": "1"}
         extra[f"mode_{k}_whirl"] = {"value": str(m.whirl[0, k]), "unit": "", "allowed": "forward|backward|mixed"}
@@ -119,7 +119,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
             "damping_ratio": (("speed", "mode"), m.damping_ratio, {"units": "1"}),
             "forward_fraction": (("speed", "mode"), m.forward_fraction, {"units": "1"}),
             "mac_min": ("speed", c.mac_min, {"units": "1", "long_name": "smallest MAC of the tracking step"}),
-            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+            "speed_rpm": ("speed", rad_s_to_rpm(speeds), {"units": "rpm"}),
         },
         coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(n_modes)},
     )
@@ -129,7 +129,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     }
     extra |= {
         f"critical_{i}_rpm": {
-            "value": cr["speed"] / RPM,
+            "value": rad_s_to_rpm(cr["speed"]),
             "unit": "rpm",
             "whirl": cr["whirl"],
             "harmonic": cr["harmonic"],
@@ -139,12 +139,12 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     extra["unstable_modes"] = {"value": len(c.unstable), "unit": ""}
     extra |= oil_whip(rotor, c.unstable)
     extra.update(
-        {f"unstable_mode_{u['mode']}_onset_rpm": {"value": u["speed"] / RPM, "unit": "rpm"} for u in c.unstable}
+        {f"unstable_mode_{u['mode']}_onset_rpm": {"value": rad_s_to_rpm(u["speed"]), "unit": "rpm"} for u in c.unstable}
     )
     fw = [cr for cr in critical if cr["whirl"] == "forward" and cr["harmonic"] == 1]
     msg = (
         f"{n_modes} modes over {spec.n_speeds} speeds; forward 1X critical speeds [rpm]: "
-        + (", ".join(f"{cr['speed'] / RPM:.0f}" for cr in fw) or "none")
+        + (", ".join(f"{rad_s_to_rpm(cr['speed']):.0f}" for cr in fw) or "none")
         + (f"; {len(c.unstable)} unstable mode(s)" if c.unstable else "")
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))

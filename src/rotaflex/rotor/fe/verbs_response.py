@@ -11,9 +11,9 @@ import numpy as np
 import xarray as xr
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 from rotaflex.rotor.fe.case_config import clamp_modes, parse, speed_range, unbalances
 from rotaflex.rotor.fe.case_output import add_fluid_film_tables, pinned, progress_callback, summary_attrs
-from rotaflex.rotor.fe.model import RPM
 from rotaflex.rotor.fe.results import TransientResult, UnbalanceResult
 
 __all__ = ["run_transient", "run_unbalance"]
@@ -60,7 +60,7 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
             "x_phase": (("speed", "probe"), np.angle(X), {"units": "rad", "long_name": "phase of x (lag < 0)"}),
             "y_phase": (("speed", "probe"), np.angle(Y), {"units": "rad", "long_name": "phase of y (lag < 0)"}),
             "major_axis": (("speed", "probe"), major, {**u, "long_name": "orbit semi-major axis"}),
-            "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
+            "speed_rpm": ("speed", rad_s_to_rpm(speeds), {"units": "rpm"}),
         },
         coords={"speed": ("speed", speeds, {"units": "rad/s"}), "probe": probes},
     )
@@ -73,10 +73,10 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
     extra = {"unbalance_planes": {"value": made, "unit": "g mm, deg"}} if made else {}
     limit = None
     if n_max:
-        limit = vibration_limit(n_max / RPM)
+        limit = vibration_limit(rad_s_to_rpm(n_max))
         ds.attrs["vibration_limit"] = limit
         pp = 2 * major.max(0)
-        extra["max_continuous_speed"] = {"value": n_max / RPM, "unit": "rpm"}
+        extra["max_continuous_speed"] = {"value": rad_s_to_rpm(n_max), "unit": "rpm"}
         extra["vibration_limit_pp"] = {"value": limit, "unit": "m", "rule": "API 617: 25.4 sqrt(12000/N) um <= 25.4"}
         in_band = np.zeros(speeds.size, bool)
         for lo, hi in bands:
@@ -87,7 +87,7 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
             extra["meets_vibration_limit"] = {"value": bool(np.all(pp_band <= limit)), "unit": ""}
         extra["max_pp_overall"] = {"value": pp.tolist(), "unit": "m", "probes": probes}
     for i, p in enumerate(pk):
-        extra[f"peak_{i}_speed_rpm"] = {"value": p["speed"] / RPM, "unit": "rpm"}
+        extra[f"peak_{i}_speed_rpm"] = {"value": rad_s_to_rpm(p["speed"]), "unit": "rpm"}
         extra[f"peak_{i}_amplification_factor"] = {"value": p["af"], "unit": ""}
         extra[f"peak_{i}_separation_margin"] = {"value": p.get("sm_percent", np.nan), "unit": "%"}
         extra[f"peak_{i}_required_separation_margin"] = {"value": p.get("sm_required_percent", np.nan), "unit": "%"}
@@ -102,11 +102,13 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
     if bands and pk:
         fails = [p for p in pk if not p["sm_ok"]]
         verdict = "; API margins: " + (
-            "all met" if not fails else ", ".join(f"{p['speed'] / RPM:.0f} rpm fails ({p['position']})" for p in fails)
+            "all met"
+            if not fails
+            else ", ".join(f"{rad_s_to_rpm(p['speed']):.0f} rpm fails ({p['position']})" for p in fails)
         )
     msg = (
         f"{spec.n_speeds} speeds, {len(probes)} probes; peaks [rpm]: "
-        + (", ".join(f"{p['speed'] / RPM:.0f} (AF {p['af']:.1f})" for p in pk) or "none")
+        + (", ".join(f"{rad_s_to_rpm(p['speed']):.0f} (AF {p['af']:.1f})" for p in pk) or "none")
         + verdict
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
@@ -130,7 +132,7 @@ def _bands(spec) -> tuple[list[tuple[float, float]], float | None]:
     elif spec.operating_bands_rpm:
         bands = check_bands(spec.operating_bands_rpm, "unbalance.operating_bands_rpm")
     elif spec.operating_speed_rpm is not None:
-        bands = [(spec.operating_speed_rpm * RPM, spec.operating_speed_rpm * RPM)]
+        bands = [(rpm_to_rad_s(spec.operating_speed_rpm), rpm_to_rad_s(spec.operating_speed_rpm))]
     else:
         return [], None
     return bands, max(hi for _, hi in bands)
@@ -159,7 +161,7 @@ def _unbalance_planes(rotor, spec, n_max):
     if spec.balance_grade is not None:
         U = iso_specific_unbalance(spec.balance_grade, n_max) * share  # g mm
     else:
-        U = np.array([api_unbalance(w, n_max / RPM) for w in share])
+        U = np.array([api_unbalance(w, rad_s_to_rpm(n_max)) for w in share])
     U = U * spec.unbalance_scale
     shape = None
     if spec.arrangement == "mode":
@@ -195,8 +197,8 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
         tr = transient(
             rotor,
             spec.duration,
-            speed_start=spec.speed_rpm[0] * RPM,
-            speed_end=spec.speed_rpm[1] * RPM,
+            speed_start=rpm_to_rad_s(spec.speed_rpm[0]),
+            speed_end=rpm_to_rad_s(spec.speed_rpm[1]),
             unbalance=ub,
             n_output=spec.n_output,
             method=spec.method,
@@ -224,7 +226,7 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
     i = int(np.argmax(np.hypot(disp[:, 0, 0], disp[:, 0, 1])))
     extra = {
         "max_radial_displacement": {"value": float(amax.max()), "unit": "m"},
-        "speed_at_max_rpm": {"value": float(tr.speed[i] / RPM), "unit": "rpm"},
+        "speed_at_max_rpm": {"value": float(rad_s_to_rpm(tr.speed[i])), "unit": "rpm"},
         "function_evaluations": {"value": tr.nfev, "unit": ""},
     }
     if tr.quaternion is not None:

@@ -32,10 +32,10 @@ import numpy as np
 
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 from rotaflex.rotor.fe.bearings.reynolds import ReynoldsGrid, solve_film
 from rotaflex.rotor.fe.bearings.tilting_pad import PadSet, tilting_pad_equilibrium
 
-RPM = np.pi / 30.0
 EPS_MAX = {"short": 0.995, "finite": 0.97}  #: largest eccentricity ratio the solvers accept
 
 
@@ -95,7 +95,7 @@ class FluidFilm:
     @property
     def speeds(self) -> np.ndarray:
         """Table speeds [rad/s]."""
-        return np.linspace(self.speed_rpm[0], self.speed_rpm[1], self.n_speeds) * RPM
+        return rpm_to_rad_s(np.linspace(self.speed_rpm[0], self.speed_rpm[1], self.n_speeds))
 
 
 @dataclass(frozen=True)
@@ -125,7 +125,7 @@ class FluidFilmTable:
         import xarray as xr
 
         data = {
-            "speed_rpm": ("speed", self.speed / RPM, {"units": "rpm"}),
+            "speed_rpm": ("speed", rad_s_to_rpm(self.speed), {"units": "rpm"}),
             "eccentricity_ratio": ("speed", self.eccentricity, {"units": "1"}),
             "attitude_angle": ("speed", np.degrees(self.attitude), {"units": "deg"}),
             "journal_x": ("speed", self.position[:, 0], {"units": "m"}),
@@ -206,8 +206,9 @@ def _solve_eps(film: _Film, target: float, p_cav: float, eps0: float, where: str
             if u == top:
                 raise InputError(
                     where,
-                    float(round(speed / RPM, 3)),
-                    f"a speed at which the film carries the load: at {speed / RPM:.6g} rpm the film carries at most "
+                    float(round(rad_s_to_rpm(speed), 3)),
+                    f"a speed at which the film carries the load: at {rad_s_to_rpm(speed):.6g} rpm the film "
+                    f"carries at most "
                     f"{mag / target * 100:.3g} % of it (eccentricity ratio {eps:g}); raise the speed range, the "
                     "viscosity or L, or lower the clearance",
                 )
@@ -219,7 +220,7 @@ def _solve_eps(film: _Film, target: float, p_cav: float, eps0: float, where: str
         u = step if lo < step < hi else 0.5 * (lo + hi)
         if hi - lo < 1e-12:
             break
-    raise RuntimeError(f"{where}: equilibrium iteration did not converge at {speed / RPM:.6g} rpm")
+    raise RuntimeError(f"{where}: equilibrium iteration did not converge at {rad_s_to_rpm(speed):.6g} rpm")
 
 
 def coefficients_from_reaction(ff: FluidFilm, reaction, speeds=None, where: str = "fluid_film") -> FluidFilmTable:
@@ -250,7 +251,7 @@ def coefficients_from_reaction(ff: FluidFilm, reaction, speeds=None, where: str 
     eps = None
     for m, w in enumerate(speeds):
         if w <= 0:
-            raise InputError(f"{where}.speed_rpm", float(round(w / RPM, 6)), "speeds > 0 (no film at rest)")
+            raise InputError(f"{where}.speed_rpm", float(round(rad_s_to_rpm(w), 6)), "speeds > 0 (no film at rest)")
         unit = 6 * mu * w * R**3 * L / c**2  # force unit [N]
         p_cav = ff.cavitation_pressure * c**2 / (6 * mu * w * R**2)
         if eps is None:  # first speed: start from the short-bearing equilibrium (closed form, cheap)
@@ -287,7 +288,7 @@ def _tilting_pad_table(ff: FluidFilm, reaction, speeds, where, out) -> FluidFilm
     e = -0.3 * reaction / W  # start below the load line's bearing centre
     for m, w in enumerate(speeds):
         if w <= 0:
-            raise InputError(f"{where}.speed_rpm", float(round(w / RPM, 6)), "speeds > 0 (no film at rest)")
+            raise InputError(f"{where}.speed_rpm", float(round(rad_s_to_rpm(w), 6)), "speeds > 0 (no film at rest)")
         unit = 6 * mu * w * R**3 * L / c**2
         p_cav = ff.cavitation_pressure * c**2 / (6 * mu * w * R**2)
         e, sols = tilting_pad_equilibrium(pads, reaction / unit, e, p_cav, f"{where}.speed_rpm", w)

@@ -21,8 +21,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from rotaflex.core.errors import InputError
-
-RPM = np.pi / 30.0
+from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 
 
 @dataclass(frozen=True)
@@ -55,9 +54,9 @@ def reference_speed(rotor) -> float:
     lows = []
     for b in rotor.bearing:
         if b.fluid_film is not None:
-            lows.append(b.fluid_film.speed_rpm[0] * RPM)
+            lows.append(rpm_to_rad_s(b.fluid_film.speed_rpm[0]))
         elif b.speed_rpm is not None:
-            lows.append(min(b.speed_rpm) * RPM)
+            lows.append(rpm_to_rad_s(min(b.speed_rpm)))
     return float(max(lows)) if lows else 0.0
 
 
@@ -68,7 +67,7 @@ def _with_loads(rotor, loads: np.ndarray, idx, speed: float | None):
     for i in idx:
         ff = replace(bearings[i].fluid_film, load=(float(loads[i, 0]), float(loads[i, 1])))
         if speed is not None:
-            ff = replace(ff, speed_rpm=(speed / RPM, speed / RPM * (1 + 1e-6)), n_speeds=2)
+            ff = replace(ff, speed_rpm=(rad_s_to_rpm(speed), rad_s_to_rpm(speed) * (1 + 1e-6)), n_speeds=2)
         bearings[i] = replace(bearings[i], fluid_film=ff)
     return replace(rotor, bearing=tuple(bearings))
 
@@ -146,7 +145,8 @@ def resolve_static_loads(
     raise InputError(
         f"bearing[{worst}].fluid_film.load",
         "static",
-        f"an explicit [Fx, Fy]: the static-load iteration (reactions -> coefficients at {speed / RPM:.6g} rpm -> "
+        f"an explicit [Fx, Fy]: the static-load iteration (reactions -> coefficients at "
+        f"{rad_s_to_rpm(speed):.6g} rpm -> "
         f"static analysis) did not converge in {max_iter} passes (last change {change:.3g} of the total load "
         f"at this bearing, tolerance {tol:g})",
     )

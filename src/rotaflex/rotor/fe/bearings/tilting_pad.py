@@ -21,9 +21,8 @@ from __future__ import annotations
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.bearings.reynolds import ReynoldsGrid, solve_general
-
-RPM = np.pi / 30.0
 
 
 class PadSet:
@@ -129,7 +128,8 @@ def tilting_pad_equilibrium(pads: PadSet, target, e0, p_cav, where, speed):
         e, F, K, sols = e_try, F_try, K_try, s_try
     raise InputError(
         where,
-        float(round(speed / RPM, 3)),
-        f"a speed at which the pads carry the load (no journal equilibrium found at {speed / RPM:.6g} rpm); raise the "
+        float(round(rad_s_to_rpm(speed), 3)),
+        f"a speed at which the pads carry the load (no journal equilibrium found at {rad_s_to_rpm(speed):.6g} "
+        f"rpm); raise the "
         "speed range, the viscosity or L, or lower the clearance",
     )

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.bearings.fluid_film import fluid_film_table
 
 COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
@@ -59,8 +60,8 @@ class BearingElement:
             s = float(speed[bad][0])
             raise InputError(
                 f"{self.name}.speed_rpm",
-                round(s * 30 / np.pi, 6),
-                f"requested speeds within the coefficient table [{lo * 30 / np.pi:g}, {hi * 30 / np.pi:g}] rpm",
+                round(rad_s_to_rpm(s), 6),
+                f"requested speeds within the coefficient table [{rad_s_to_rpm(lo):g}, {rad_s_to_rpm(hi):g}] rpm",
             )
         flat_k = self.k.reshape(len(self.speeds), 4)
         flat_c = self.c.reshape(len(self.speeds), 4)
