@@ -86,7 +86,10 @@ def interpolate(x: np.ndarray, y: np.ndarray, xi: np.ndarray, method: str, extra
         )
         slope_lo, slope_hi = d[0], d[-1]
     else:
-        out = y0 + t * (y1 - y0)
+        # np.interp's arithmetic (slope times offset, exact at the nodes), so results match it bitwise
+        out = (y1 - y0) / h * (xc - x[k]).reshape(h.shape) + y0
+        at_node = (xc == x[k]).reshape(h.shape)
+        out = np.where(at_node, y0, np.where((xc >= x[-1]).reshape(h.shape), y[-1], out))
         slope_lo = (y[1] - y[0]) / (x[1] - x[0])
         slope_hi = (y[-1] - y[-2]) / (x[-1] - x[-2])
     if extrapolation == "linear":
