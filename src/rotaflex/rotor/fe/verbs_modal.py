@@ -121,7 +121,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
             "mac_min": ("speed", c.mac_min, {"units": "1", "long_name": "smallest MAC of the tracking step"}),
             "speed_rpm": ("speed", speeds / RPM, {"units": "rpm"}),
         },
-        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(n_modes)},
+        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(m.wd.shape[1])},
     )
     extra = {
         "critical_solve": {"value": spec.critical_solve if reduce is None else "interpolated", "unit": ""},

@@ -179,11 +179,17 @@ class BearingElement:
         whirl = speed if whirl is None else np.broadcast_to(np.asarray(whirl, float), speed.shape)
         bad = self.out_of_range(speed, whirl if self.frequency_dependent else None)
         if bad:
-            raise InputError(
-                f"{self.name}.speed_rpm" if "whirl_hz" not in bad[0] else f"{self.name}.whirl_hz",
-                round(float(np.max(speed)) * 30 / np.pi, 6),
-                f"requested points within the coefficient table ({'; '.join(bad)})",
-            )
+            if "whirl_hz" in bad[-1]:  # a whirl frequency of a mode is outside: the table must grow
+                key, value = (
+                    f"{self.name}.whirl_hz",
+                    round(float(whirl[outside(self.whirls, whirl)][0]) / (2 * np.pi), 6),
+                )
+            else:
+                key, value = (
+                    f"{self.name}.speed_rpm",
+                    round(float(speed[outside(self.speeds, speed)][0]) * 30 / np.pi, 6),
+                )
+            raise InputError(key, value, f"requested points within the coefficient table ({'; '.join(bad)})")
         k, c = self.k, self.c
         if self.frequency_dependent:
             k, c = self._along_whirl(k, whirl), self._along_whirl(c, whirl)  # (ns, n, 2, 2)
