@@ -615,7 +615,7 @@ class Rotor:
         for node, el in self.point_masses:
             s = slice(NDOF_NODE * node, NDOF_NODE * node + 4)
             out["M"][s, s] += el.M()
-        for b, ends in zip(self.bearing, self._ends, strict=True):  # mass coefficients: constant
+        for b, ends in zip(self.bearing, self.bearing_dofs, strict=True):  # mass coefficients: constant
             _couple(out["M"][None], np.array([[[b.mxx, b.mxy], [b.myx, b.myy]]], float), *ends)
         for p, (_, ped) in enumerate(self.pedestals):
             j = self.n_rotor_dof + 2 * p + np.arange(2)
@@ -623,7 +623,7 @@ class Rotor:
         return out
 
     @functools.cached_property
-    def _ends(self) -> list[tuple[np.ndarray, np.ndarray | None]]:
+    def bearing_dofs(self) -> list[tuple[np.ndarray, np.ndarray | None]]:
         """DOFs (x, y) of both ends of each bearing: its node's, and the other node's, its
         pedestal's or None (ground). From the schema, so the mass assembly needs no element."""
         ped = {i: p for p, (i, _) in enumerate(self.pedestals)}
@@ -675,7 +675,7 @@ class Rotor:
         self.check_speeds(speeds, key)
         K = np.broadcast_to(self._base["K"], (speeds.size, self.n_dof, self.n_dof)).copy()
         C = np.broadcast_to(self._base["C"], K.shape).copy()
-        for (_, _, el), (a, b) in zip(self.bearings, self._ends, strict=True):
+        for (_, _, el), (a, b) in zip(self.bearings, self.bearing_dofs, strict=True):
             kb, cb = el.coefficients(speeds, whirl)
             _couple(K, kb, a, b)
             _couple(C, cb, a, b)
@@ -695,7 +695,7 @@ class Rotor:
         being mistaken for a free one.
         """
         Kb = np.zeros((1, self.n_dof, self.n_dof))
-        for (_, _, el), ends in zip(self.bearings, self._ends, strict=True):  # each table at its first point
+        for (_, _, el), ends in zip(self.bearings, self.bearing_dofs, strict=True):  # each table at its first point
             speed = 0.0 if el.speeds is None else el.speeds[0]
             whirl = None if el.whirls is None else el.whirls[:1]
             _couple(Kb, el.coefficients(speed, whirl)[0], *ends)

@@ -69,7 +69,7 @@ class StaticData:
 
     def deflection(self, rotor: Rotor) -> np.ndarray:
         """Node translations (n_nodes, 2): x and y [m]."""
-        return self.q.reshape(rotor.n_nodes, NDOF_NODE)[:, :2]
+        return self.q[: rotor.n_rotor_dof].reshape(rotor.n_nodes, NDOF_NODE)[:, :2]
 
 
 def default_speed(rotor: Rotor) -> float:
@@ -132,7 +132,8 @@ def static_analysis(
     n, nn = rotor.n_dof, rotor.n_nodes
     K = rotor.KC(speed)[0][0]
     r = np.zeros(n)
-    r[0::NDOF_NODE], r[1::NDOF_NODE] = g[0], g[1]
+    nr = rotor.n_rotor_dof  # pedestals (DOFs after the rotor's) stand on the ground: their weight is not carried
+    r[0:nr:NDOF_NODE], r[1:nr:NDOF_NODE] = g[0], g[1]
     f = rotor.M @ r
     point = np.zeros((nn, 2))  # concentrated forces at nodes: disk/point-mass weights and loads
     for node, el in rotor.disks:
@@ -148,9 +149,8 @@ def static_analysis(
     q = np.linalg.solve(K, f)
     reactions = np.zeros((len(rotor.bearings), 2))
     for b, (node, other, el) in enumerate(rotor.bearings):
-        u = q[NDOF_NODE * node : NDOF_NODE * node + 2].copy()
-        if other is not None:
-            u -= q[NDOF_NODE * other : NDOF_NODE * other + 2]
+        ia, ib = rotor.bearing_dofs[b]  # the bearing's two ends (ib: other node, pedestal or None)
+        u = q[ia] - (q[ib] if ib is not None else 0.0)
         F = -el.coefficients(speed)[0][0] @ u
         reactions[b] = F
         point[node] += F
@@ -224,7 +224,7 @@ def deflection_curve(rotor: Rotor, q: np.ndarray, n_sub: int = 8) -> np.ndarray:
     kappa = np.where(np.isnan(e["kappa"]), cowper_shear_coefficient(dim_ / dm, e["E"] / (2 * e["G"]) - 1), e["kappa"])
     phi = 12 * e["E"] * I / (kappa * e["G"] * A * e["L"] ** 2)
     nw = _shape(t, phi, e["L"])[0]  # (ne, n_sub + 1, 4)
-    Q = q.reshape(rotor.n_nodes, NDOF_NODE)
+    Q = q[: rotor.n_rotor_dof].reshape(rotor.n_nodes, NDOF_NODE)
     qx = np.stack([Q[:-1, 0], Q[:-1, 3], Q[1:, 0], Q[1:, 3]], -1)  # x-z plane: (x, theta_y)
     qy = np.stack([Q[:-1, 1], -Q[:-1, 2], Q[1:, 1], -Q[1:, 2]], -1)  # y-z plane: (y, -theta_x)
     return np.stack([np.einsum("ngi,ni->ng", nw, qx).ravel(), np.einsum("ngi,ni->ng", nw, qy).ravel()], -1)
