@@ -94,7 +94,8 @@ class Modes(EigenvalueView):
         X, Y = self._rotor_shape[..., 0::NDOF_NODE], self._rotor_shape[..., 1::NDOF_NODE]
         f = np.sum(np.abs(X + 1j * Y) ** 2, -1)
         b = np.sum(np.abs(X - 1j * Y) ** 2, -1)
-        return f / (f + b)
+        with np.errstate(invalid="ignore"):  # NaN where a track has no mode (before it starts)
+            return f / (f + b)
 
     @property
     def whirl(self) -> np.ndarray:
@@ -212,7 +213,7 @@ def modal(rotor: Rotor, speed: float = 0.0, n_modes: int | None = None) -> Modes
     """
     speeds = np.atleast_1d(np.asarray(speed, float))
     m = rotor.n_dof if n_modes is None else n_modes
-    lam = np.full((speeds.size, m), np.nan + 0j)
+    lam = np.full((speeds.size, m), complex(np.nan, np.nan))
     v = np.zeros((speeds.size, m, rotor.n_dof), complex)
     for s, w in enumerate(speeds):
         ls, vs = modes_at(rotor, w, m)
@@ -393,7 +394,7 @@ def _track(cands, n_osc: np.ndarray, n_modes: int) -> tuple[np.ndarray, np.ndarr
         lam, v = cands[s]
         prev = np.array(cols_v[-1]).reshape(-1, n)
         live = np.flatnonzero([np.any(row) for row in prev])
-        row_l = [np.nan + 0j] * len(prev)
+        row_l = [complex(np.nan, np.nan)] * len(prev)
         row_v = [np.zeros(n, complex) for _ in prev]
         taken = set()
         if live.size and lam.size:
@@ -416,7 +417,7 @@ def _track(cands, n_osc: np.ndarray, n_modes: int) -> tuple[np.ndarray, np.ndarr
         cols_l.append(row_l)
         cols_v.append(row_v)
     t = max(len(r) for r in cols_l)
-    lam_t = np.full((ns, max(t, n_modes)), np.nan + 0j)
+    lam_t = np.full((ns, max(t, n_modes)), complex(np.nan, np.nan))
     v_t = np.zeros((ns, max(t, n_modes), n), complex)
     for s in range(ns):
         lam_t[s, : len(cols_l[s])] = cols_l[s]
