@@ -7,7 +7,7 @@ import pytest
 
 from rotaflex.rotor.fe.case import run_campbell
 from rotaflex.rotor.fe.critical import critical_speeds
-from rotaflex.rotor.fe.modal import PLANAR_BAND, campbell, critical_whirl
+from rotaflex.rotor.fe.modal import PLANAR_BAND, TRACK_ZETA, campbell, critical_whirl
 from rotaflex.rotor.fe.model import Bearing, Disk, Pedestal, Rotor, Shaft
 
 RPM = np.pi / 30
@@ -72,8 +72,9 @@ def test_mode_becoming_oscillatory_is_tracked_from_that_speed():
     """A rigid rotor (m1) on two bearings (k1, damping c1 falling with speed) on two pedestals
     (m2, k2, c2): its bounce motion is the two-mass chain of test_pedestal, whose quartic has
     one complex pair while c1 is large and two once the relative motion stops being overdamped.
-    The new pair must get tracks that start at the first speed where the quartic has it and
-    follow its root; before that speed those tracks are empty (NaN)."""
+    The new pair must get tracks that start at the first speed where the quartic has it with a
+    damping ratio below TRACK_ZETA, and follow its root; before that speed those tracks are
+    empty (NaN)."""
     k1, m2, k2, c2 = 2e7, 40.0, 5e7, 2e3
     c_tab = (100e3, 5e3)
     ped = Pedestal(mass=m2, kxx=k2, kyy=k2, cxx=c2, cyy=c2)
@@ -89,7 +90,7 @@ def test_mode_becoming_oscillatory_is_tracked_from_that_speed():
         c1 = c_tab[0] + (c_tab[1] - c_tab[0]) * w / speeds[-1]
         a = np.polymul([rotor.mass, 2 * c1, 2 * k1], [2 * m2, 2 * (c1 + c2), 2 * (k1 + k2)])
         q = np.roots(np.polysub(a, np.polymul([2 * c1, 2 * k1], [2 * c1, 2 * k1])))
-        roots.append(np.sort(q[q.imag > 1e-6 * abs(q)].imag))
+        roots.append(np.sort(q[(q.imag > 1e-6 * abs(q)) & (-q.real / abs(q) < TRACK_ZETA)].imag))
     first = next(s for s, r in enumerate(roots) if r.size == 2)
     assert 0 < first < speeds.size - 1  # the pair appears inside the range
     new = [k for k in range(wd.shape[1]) if np.isfinite(wd[:, k]).argmax() == first]

@@ -374,12 +374,27 @@ def critical_whirl(forward_fraction) -> str:
     return "forward" if forward_fraction >= 0.5 - PLANAR_BAND else "backward"
 
 
+#: a mode becoming oscillatory is tracked from the first speed where its damping ratio is below
+#: this: at 0.9 a mode decays by e^13 per cycle (log dec 13), too damped to be a resonance;
+#: overdamped x and y pairs coupled by the gyroscopic moments turn complex with damping ratios
+#: of 0.9999 and damped frequencies rising through the 1X line, which are not critical speeds
+TRACK_ZETA = 0.9
+
+
+def _trackable(lam) -> np.ndarray:
+    """True for eigenvalues whose damping ratio is below :data:`TRACK_ZETA`."""
+    lam = np.asarray(lam)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return -lam.real / np.abs(lam) < TRACK_ZETA
+
+
 def _track(cands, n_osc: np.ndarray, n_modes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Tracked modes (s, t) from the candidates ``(lam (m,), v (m, n))`` of each speed.
 
     The ``n_modes`` lowest modes of the first speed start the tracks; at each later speed the
     tracks are matched to the candidates by the largest total MAC (:func:`assign_modes`). When
-    more eigenvalues are oscillatory than at the speed before (a real pair became a complex one),
+    more eigenvalues are oscillatory with a damping ratio below :data:`TRACK_ZETA` than at the
+    speed before (a real pair became a complex one),
     as many unmatched candidates, lowest in frequency and below the highest tracked mode (or
     any, while fewer than ``n_modes`` are tracked), start new tracks there (NaN before).
     Returns eigenvalues (s, t), shapes (s, t, n) and the smallest MAC of each step (s,).
@@ -406,7 +421,11 @@ def _track(cands, n_osc: np.ndarray, n_modes: int) -> tuple[np.ndarray, np.ndarr
             mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
         new = int(n_osc[s] - n_osc[s - 1]) if len(prev) >= n_modes else max(n_modes - len(prev), 0)
         top = max((x.imag for x in row_l if np.isfinite(x)), default=np.inf)
-        free = [c for c in range(lam.size) if c not in taken and (len(prev) < n_modes or lam[c].imag <= top)]
+        free = [
+            c
+            for c in range(lam.size)
+            if c not in taken and _trackable(lam[c]) and (len(prev) < n_modes or lam[c].imag <= top)
+        ]
         if free and cands[s - 1][1].size:  # the newly oscillatory: least like any mode of the speed before
             kin = mac(v[free], cands[s - 1][1]).max(axis=1)
             free = [free[i] for i in np.argsort(kin, kind="stable")]
@@ -458,7 +477,7 @@ def campbell(
             cands.append(modes_at(rotor, w, min(n_modes + 2, n)))  # each candidate costs an iteration
             if progress is not None:
                 progress(s + 1, speeds.size)
-        n_osc = np.array([c[0].size for c in cands])
+        n_osc = np.array([np.sum(_trackable(c[0])) for c in cands])
     else:
         if reduce is not None and reduce < n:
             A, T = _reduced_state_matrices(rotor, speeds, reduce)
@@ -468,7 +487,7 @@ def campbell(
             A = _state_matrices(rotor, speeds)
             lams, vecs = batched_eig(A, progress=progress)
         cands = [_select(lams[s], vecs[s], n, n_cand, rotor.n_rotor_dof) for s in range(speeds.size)]
-        n_osc = np.sum(_oscillatory(lams), axis=-1)
+        n_osc = np.sum(_oscillatory(lams) & _trackable(lams), axis=-1)
     lam_t, v_t, mac_min = _track(cands, n_osc, n_modes)
     modes = Modes(speeds, lam_t, v_t, rotor.n_rotor_dof)
     wd, fw = modes.wd, modes.forward_fraction
