@@ -157,3 +157,18 @@ def test_layer_bad_input_names_the_key(layer, field):
             bearing=(Bearing(node=0, kxx=1e7, kyy=1e7), Bearing(node=6, kxx=1e7, kyy=1e7)),
         )
     assert e.value.field == field
+
+
+def test_static_diagrams_carry_the_layers_weight():
+    """Equilibrium: the bearings carry the whole weight (layers included), and at the right end
+    (a bearing at the last node) the shear equals that reaction and the moment closes to zero
+    once the layers' distributed weight is in the diagrams."""
+    from rotaflex.rotor.fe.static import static_analysis
+
+    rotor = _layered(stiffness=False)
+    s = static_analysis(rotor)
+    weight = rotor.mass * 9.80665
+    assert s.reactions[:, 1].sum() == pytest.approx(weight, rel=1e-12)
+    assert np.max(np.abs(s.shear[-1] + s.reactions[1])) < 1e-9 * weight
+    assert np.max(np.abs(s.moment[-1])) < 1e-9 * weight
+    assert s.load_total[1] == pytest.approx(-weight, rel=1e-12)  # the applied load: every layer's weight
