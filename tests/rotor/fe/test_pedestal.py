@@ -82,3 +82,22 @@ def test_pedestal_from_toml_and_bad_input():
     with pytest.raises(InputError) as e:
         parse(free, "modal")
     assert e.value.field == "free"
+
+
+def test_example_impeller_stack_runs(tmp_path):
+    """The example of layers, Rayleigh damping and pedestals: its modal command runs, at the
+    speeds of its [modal] table, with its 11 nodes and 2 pedestals."""
+    from pathlib import Path
+
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+    from rotaflex.core.result import load_result
+
+    example = Path(__file__).resolve().parents[3] / "examples" / "rotor" / "impeller_stack_pedestal.toml"
+    assert "rotaflex rotor modal examples/rotor/impeller_stack_pedestal.toml" in example.read_text()
+    res = CliRunner().invoke(app, ["rotor", "modal", str(example), "--out", str(tmp_path), "-q", "--no-figures"])
+    assert res.exit_code == 0, res.output
+    ds = load_result(tmp_path / "result.nc").dataset
+    assert list(ds["speed_rpm"].values) == [0, 6000, 9500] and ds.sizes["node"] == 11
+    assert np.all(ds["log_dec"].values > 0)  # Rayleigh and bearing damping: every mode decays
