@@ -429,6 +429,10 @@ def sweep(
     guarded(go, debug)
 
 
+#: verbs with a --speed option: the config key it replaces (rpm, one or several)
+SPEED_OPTION = {("rotor", "modal"): "modal.speed_rpm"}
+
+
 def _run_command(domain: str, verb: str) -> Callable[..., None]:
     def run(
         config: Annotated[Path, typer.Argument(help="TOML case file.")],
@@ -438,6 +442,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
         dpi: Dpi = 150,
         quiet: Quiet = False,
         debug: Debug = False,
+        speed: list[float] | None = None,
     ) -> None:
         def go():
             blas_threads_at_load()  # first: before anything below imports numpy
@@ -457,6 +462,10 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             out_dir = check_out_dir(out, marker=RESULT_MARKERS, inputs=(config,))
             _, body = split_config(load_toml(config), domain=domain, verb=verb)
             body = resolve_paths(domain, body, Path(config).parent)  # paths inside: from the file
+            if speed:  # --speed replaces the verb's speed key (one value: a number, as typed in TOML)
+                from rotaflex.core.config import set_dotted
+
+                body = set_dotted(body, SPEED_OPTION[(domain, verb)], speed[0] if len(speed) == 1 else list(speed))
             if verb == "simulate":  # other verbs validate their own schema first thing
                 validate(domain, body)
             say = None if quiet else (lambda m: typer.echo(m, err=True))
@@ -485,7 +494,40 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
         if verb == "simulate"
         else f"Run '{verb}' on one {domain} case from CONFIG; write result.nc, summary.json, figures."
     )
-    return run
+    if (domain, verb) not in SPEED_OPTION:
+
+        def run_plain(
+            config: Annotated[Path, typer.Argument(help="TOML case file.")],
+            out: Out,
+            no_figures: NoFigures = False,
+            fmt: Format = "png",
+            dpi: Dpi = 150,
+            quiet: Quiet = False,
+            debug: Debug = False,
+        ) -> None:
+            run(config, out, no_figures, fmt, dpi, quiet, debug)
+
+        run_plain.__doc__ = run.__doc__
+        return run_plain
+    key = SPEED_OPTION[(domain, verb)]
+
+    def run_speed(
+        config: Annotated[Path, typer.Argument(help="TOML case file.")],
+        out: Out,
+        speed: Annotated[
+            list[float] | None,
+            typer.Option("--speed", help=f"Spin speed [rpm] replacing {key}; repeat for several speeds."),
+        ] = None,
+        no_figures: NoFigures = False,
+        fmt: Format = "png",
+        dpi: Dpi = 150,
+        quiet: Quiet = False,
+        debug: Debug = False,
+    ) -> None:
+        run(config, out, no_figures, fmt, dpi, quiet, debug, speed)
+
+    run_speed.__doc__ = run.__doc__
+    return run_speed
 
 
 def _template_command(domain: str) -> Callable[..., None]:

@@ -42,7 +42,9 @@ def installed(tmp_path_factory):
     (wheel,) = (tmp / "dist").glob("rotaflex-*.whl")
     _run([sys.executable, "-m", "venv", str(tmp / "venv")], tmp, env)
     py = tmp / "venv" / "bin" / "python"
-    site = Path(_run([str(py), "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"], tmp, env).stdout.strip())
+    site = Path(
+        _run([str(py), "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"], tmp, env).stdout.strip()
+    )
     # the dependencies of the running environment as plain path entries: their .pth files (and so an
     # editable rotaflex there) are not processed, and the venv's own site-packages comes first
     deps = {sysconfig.get_path("purelib"), sysconfig.get_path("platlib")}

@@ -61,7 +61,8 @@ def test_tabulated_bearing_interpolates_and_rejects_outside():
     assert np.allclose(tab.KC(w)[0], const.KC(w)[0])
     with pytest.raises(InputError) as e:
         tab.KC(2500 * np.pi / 30)
-    assert e.value.field == "bearing[0].speed_rpm"
+    # the argument the caller must change, and every table concerned with its range (issue 38)
+    assert e.value.field == "speed" and "bearing[0] 0..2000 rpm" in str(e.value)
 
 
 def test_bearing_between_nodes_and_point_mass():

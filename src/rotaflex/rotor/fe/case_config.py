@@ -52,7 +52,9 @@ class UnbalanceMass:
 class ModalSpec:
     """Modal analysis: damped natural frequencies and mode shapes at one speed."""
 
-    speed_rpm: float = param(0.0, unit="rpm", ge=0, doc="spin speed")
+    speed_rpm: float | tuple[float, ...] = param(
+        0.0, unit="rpm", ge=0, doc="spin speed, or a list of speeds (a speed dimension in the result)"
+    )
     n_modes: int = param(8, ge=1, doc="number of modes reported")
 
 
@@ -237,6 +239,9 @@ def parse(config: dict, analysis: str):
         rotor = rotor.resolved if same else _resolve_static_loads(rotor, st)
     spec = from_mapping(ANALYSES[analysis], config.get(analysis, {}), analysis)
     _check_size(rotor, spec, analysis)
+    speeds = getattr(spec, "speed_rpm", None)
+    if speeds is not None:  # ucs has none; static's default is each table's lowest
+        rotor.check_speeds(rpm_to_rad_s(np.atleast_1d(np.asarray(speeds, float))), f"{analysis}.speed_rpm")
     return rotor, spec
 
 

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from rotaflex.rotor.fe.modal import CampbellData, campbell, mac, modal
+from rotaflex.rotor.fe.modal import CampbellData, campbell, critical_whirl, mac, modal
 from rotaflex.rotor.fe.model import Rotor
 
 
@@ -108,7 +108,10 @@ def critical_speeds(
     -------
     list of dict
         ``mode`` (tracked index), ``harmonic``, ``speed`` [rad/s], ``frequency`` (h Omega) [rad/s],
-        ``whirl`` (forward/backward/mixed at the root), ``log_dec`` at the root, ``evaluations``.
+        ``whirl`` at the root by the rule of the Campbell diagram
+        (:func:`~rotaflex.rotor.fe.modal.critical_whirl`: forward or backward; planar counts as
+        forward), ``shape_whirl`` (forward/backward/mixed by the nodes' orbits), ``forward_fraction``,
+        ``log_dec`` at the root, ``evaluations``.
     """
     scan = np.asarray(scan, float)
     c = campbell(rotor, scan, n_modes, harmonics) if data is None else data
@@ -120,9 +123,10 @@ def critical_speeds(
         d = wd[:, k] - h * scan
         return np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)
 
-    total = sum(crossings(h, k).size for h in harmonics for k in range(n_modes))
+    tracks = range(wd.shape[1])  # the n_modes tracks and those of modes oscillating from inside the scan
+    total = sum(crossings(h, k).size for h in harmonics for k in tracks)
     for h in harmonics:
-        for k in range(n_modes):
+        for k in tracks:
             d = wd[:, k] - h * scan
             for s in crossings(h, k):
                 ref = c.modes.shape[s, k]
@@ -148,7 +152,9 @@ def critical_speeds(
                         "harmonic": float(h),
                         "speed": float(root),
                         "frequency": float(h * root),
-                        "whirl": str(m.whirl[0, j]),
+                        "whirl": critical_whirl(float(m.forward_fraction[0, j])),
+                        "shape_whirl": str(m.whirl[0, j]),
+                        "forward_fraction": float(m.forward_fraction[0, j]),
                         "log_dec": float(m.log_dec[0, j]),
                         "evaluations": count[0],
                         "solve": how,

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from rotaflex.core.errors import InputError
+from rotaflex.core.errors import ConvergenceError, InputError
 from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
 
@@ -83,19 +83,25 @@ class Modes(EigenvalueView):
     speed: np.ndarray
     eigenvalue: np.ndarray
     shape: np.ndarray
+    n_rotor: int | None = None  #: DOFs of the shaft's nodes in ``shape`` (pedestal DOFs follow); None: all
+
+    @property
+    def _rotor_shape(self) -> np.ndarray:
+        return self.shape if self.n_rotor is None else self.shape[..., : self.n_rotor]
 
     @property
     def forward_fraction(self) -> np.ndarray:
-        """sum |X + iY|^2 / (sum |X + iY|^2 + sum |X - iY|^2): 1 pure forward, 0 pure backward."""
-        X, Y = self.shape[..., 0::NDOF_NODE], self.shape[..., 1::NDOF_NODE]
+        """sum |X + iY|^2 / (sum |X + iY|^2 + sum |X - iY|^2) over the shaft's nodes: 1 forward, 0 backward."""
+        X, Y = self._rotor_shape[..., 0::NDOF_NODE], self._rotor_shape[..., 1::NDOF_NODE]
         f = np.sum(np.abs(X + 1j * Y) ** 2, -1)
         b = np.sum(np.abs(X - 1j * Y) ** 2, -1)
-        return f / (f + b)
+        with np.errstate(invalid="ignore"):  # NaN where a track has no mode (before it starts)
+            return f / (f + b)
 
     @property
     def whirl(self) -> np.ndarray:
         """``"forward"``, ``"backward"`` or ``"mixed"`` per mode, from the nodes' orbit senses."""
-        X, Y = self.shape[..., 0::NDOF_NODE], self.shape[..., 1::NDOF_NODE]
+        X, Y = self._rotor_shape[..., 0::NDOF_NODE], self._rotor_shape[..., 1::NDOF_NODE]
         rf, rb = np.abs(X + 1j * Y), np.abs(X - 1j * Y)
         size = rf + rb
         moving = size >= WHIRL_NODE_FRACTION * np.max(size, -1, keepdims=True)
@@ -111,9 +117,9 @@ class Modes(EigenvalueView):
         return self.damping_ratio < -STABILITY_TOL
 
 
-def _state_matrices(rotor: Rotor, speeds: np.ndarray) -> np.ndarray:
+def _state_matrices(rotor: Rotor, speeds: np.ndarray, whirl: np.ndarray | None = None) -> np.ndarray:
     n = rotor.n_dof
-    K, C = rotor.KC(speeds)
+    K, C = rotor.KC(speeds, whirl)
     Minv = _minv(rotor)
     A = np.zeros((speeds.size, 2 * n, 2 * n))
     A[:, :n, n:] = np.eye(n)
@@ -169,13 +175,21 @@ def batched_eig(
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
-def _select(lam: np.ndarray, vec: np.ndarray, n: int, n_keep: int) -> tuple[np.ndarray, np.ndarray]:
-    """Oscillatory eigenpairs (omega_d > 0) sorted by omega_d; displacement part normalised."""
-    scale = np.max(np.abs(lam)) + 1.0
-    keep = np.flatnonzero(lam.imag > 1e-9 * scale)
+def _oscillatory(lam: np.ndarray) -> np.ndarray:
+    """True for the eigenvalues with omega_d > 0 (beyond round-off of the largest |lambda|)."""
+    return lam.imag > 1e-9 * (np.max(np.abs(lam), axis=-1, keepdims=True) + 1.0)
+
+
+def _select(
+    lam: np.ndarray, vec: np.ndarray, n: int, n_keep: int, n_rotor: int | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Oscillatory eigenpairs (omega_d > 0) sorted by omega_d; displacement part normalised by
+    its largest translation of a shaft node (the first ``n_rotor`` DOFs)."""
+    keep = np.flatnonzero(_oscillatory(lam))
     keep = keep[np.argsort(lam.imag[keep], kind="stable")][:n_keep]
     lam, v = lam[keep], vec[:n, keep].T  # (m, n)
     trans = np.abs(v.copy())
+    trans[:, n_rotor:] = 0
     trans[:, 2::NDOF_NODE] = 0
     trans[:, 3::NDOF_NODE] = 0
     j = np.argmax(trans, axis=1)
@@ -186,6 +200,10 @@ def _select(lam: np.ndarray, vec: np.ndarray, n: int, n_keep: int) -> tuple[np.n
 def modal(rotor: Rotor, speed: float = 0.0, n_modes: int | None = None) -> Modes:
     """Damped modes at spin ``speed`` [rad/s]: the ``n_modes`` lowest in damped frequency.
 
+    With ``speed`` an array (s,), modes at each speed (leading dimension). A rotor with a
+    frequency-dependent bearing is solved mode by mode on its own damped frequency
+    (:func:`modes_at`).
+
     Examples
     --------
     >>> from rotaflex.rotor.fe.model import Rotor, Shaft, Bearing
@@ -195,11 +213,98 @@ def modal(rotor: Rotor, speed: float = 0.0, n_modes: int | None = None) -> Modes
     (1, 2)
     """
     speeds = np.atleast_1d(np.asarray(speed, float))
-    A = _state_matrices(rotor, speeds)[0]
-    lam, vec = sla.eig(A, check_finite=False, overwrite_a=True)
     m = rotor.n_dof if n_modes is None else n_modes
-    lam, v = _select(lam, vec, rotor.n_dof, m)
-    return Modes(speeds, lam[None], v[None])
+    lam = np.full((speeds.size, m), complex(np.nan, np.nan))
+    v = np.zeros((speeds.size, m, rotor.n_dof), complex)
+    for s, w in enumerate(speeds):
+        ls, vs = modes_at(rotor, w, m)
+        lam[s, : ls.size], v[s, : ls.size] = ls, vs
+    if speeds.size == 1 or np.all(np.isfinite(lam)):
+        k = min(int(np.sum(np.isfinite(lam), 1).min()), m)
+        lam, v = lam[:, :k], v[:, :k]
+    return Modes(speeds, lam, v, rotor.n_rotor_dof)
+
+
+#: the whirl-frequency iteration of a frequency-dependent rotor stops when a mode's damped
+#: frequency changes by less than this fraction (of itself, or of 1 rad/s below it)
+WHIRL_TOL = 1e-10
+WHIRL_MAXITER = 50
+
+
+class WhirlIterationError(ConvergenceError):
+    """The whirl-frequency iteration of a mode did not converge."""
+
+    def __init__(self, what: str, residual: float, tolerance: float):
+        self.what, self.time, self.residual, self.tolerance = what, float("nan"), residual, tolerance
+        RuntimeError.__init__(self, f"{what} did not converge: change {residual:.3e} > tolerance {tolerance:.3e}")
+
+
+def _eig_at(rotor: Rotor, speed: float, whirl: float | None, n_keep: int) -> tuple[np.ndarray, np.ndarray]:
+    w = None if whirl is None else np.array([whirl])
+    A = _state_matrices(rotor, np.array([speed]), w)[0]
+    lam, vec = sla.eig(A, check_finite=False, overwrite_a=True)
+    return _select(lam, vec, rotor.n_dof, n_keep, rotor.n_rotor_dof)
+
+
+def _follow(ref: np.ndarray, lam: np.ndarray, v: np.ndarray) -> int:
+    """Index of the mode among ``lam``, ``v`` (m, n) that continues the shape ``ref`` (n,).
+
+    Eigenvalues equal to 1e-8 relative form one cluster (the x and y modes of an axisymmetric
+    rotor: any combination of them is a mode), scored by the share of ``ref`` in their span;
+    a single MAC would split between the two and could lose to another mode of similar shape
+    (unweighted MACs of different bending modes reach 0.6).
+    """
+    score = np.zeros(lam.size)
+    r = ref / np.linalg.norm(ref)
+    for j in range(lam.size):
+        near = np.flatnonzero(np.abs(lam - lam[j]) <= 1e-8 * np.abs(lam[j]))
+        q, _ = np.linalg.qr(v[near].T)
+        score[j] = np.sum(np.abs(q.conj().T @ r) ** 2)
+    best = np.flatnonzero(score >= score.max() - 1e-9)
+    return int(best[np.argmax(mac(ref[None], v[best])[0])])
+
+
+def _whirl_guess(rotor: Rotor, speed: float) -> float:
+    """Starting whirl frequency [rad/s]: the speed (synchronous), moved inside the whirl tables."""
+    ends = [(el.whirls[0], el.whirls[-1]) for _, _, el in rotor.bearings if el.frequency_dependent]
+    lo, hi = max(e[0] for e in ends), min(e[1] for e in ends)
+    return float(np.clip(speed, lo, max(lo, hi)))
+
+
+def modes_at(rotor: Rotor, speed: float, n_keep: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``n_keep`` lowest oscillatory eigenpairs at ``speed`` [rad/s]: eigenvalues (m,) and
+    displacement shapes (m, n_dof), sorted by damped frequency.
+
+    Frequency-dependent bearings are evaluated at each mode's own damped frequency omega_d:
+    every mode of a first solve (at the synchronous frequency, moved inside the whirl tables)
+    is followed by MAC through solves at whirl = omega_d until omega_d changes by less than
+    :data:`WHIRL_TOL` relative (secant steps on omega_d(w) - w after a first fixed-point step;
+    at most :data:`WHIRL_MAXITER` solves per mode, then :class:`WhirlIterationError`).
+    """
+    if not rotor.frequency_dependent:
+        return _eig_at(rotor, speed, None, n_keep)
+    n_cand = min(n_keep + 4, rotor.n_dof)
+    lam0, v0 = _eig_at(rotor, speed, _whirl_guess(rotor, speed), n_cand)
+    lams, vecs = [], []
+    for k in range(min(n_keep, lam0.size)):
+        ref, w = v0[k], float(lam0[k].imag)
+        w_old = g_old = None
+        for _ in range(WHIRL_MAXITER):
+            lam, v = _eig_at(rotor, speed, w, n_cand)
+            j = _follow(ref, lam, v)
+            ref, g = v[j], float(lam[j].imag) - w
+            if abs(g) <= WHIRL_TOL * max(abs(w), 1.0):
+                break
+            step = g if g_old is None or g == g_old else -g * (w - w_old) / (g - g_old)
+            w_old, g_old, w = w, g, w + step
+        else:
+            raise WhirlIterationError(
+                f"whirl-frequency iteration of mode {k} at {rad_s_to_rpm(speed):.6g} rpm", abs(g), WHIRL_TOL * abs(w)
+            )
+        lams.append(lam[j])
+        vecs.append(v[j])
+    order = np.argsort(np.imag(lams), kind="stable")
+    return np.asarray(lams)[order], np.asarray(vecs).reshape(-1, rotor.n_dof)[order]
 
 
 def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -257,6 +362,90 @@ def _reduced_state_matrices(rotor: Rotor, speeds: np.ndarray, n_basis: int) -> t
     return A, T
 
 
+#: a critical speed whose mode's forward fraction is at least 0.5 - PLANAR_BAND is called
+#: forward: straight-line (planar) orbits have a forward fraction of 0.5 up to round-off and,
+#: half forward, are excited by unbalance; the band is half the straight-line tolerance
+PLANAR_BAND = WHIRL_LINE_FRACTION / 2
+
+
+def critical_whirl(forward_fraction) -> str:
+    """Whirl label of a critical speed, the same for the Campbell and the direct solve:
+    ``"forward"`` when the mode's forward fraction is >= 0.5 - :data:`PLANAR_BAND` (forward,
+    mixed with forward dominant, or planar), ``"backward"`` otherwise."""
+    return "forward" if forward_fraction >= 0.5 - PLANAR_BAND else "backward"
+
+
+#: a mode becoming oscillatory is tracked from the first speed where its damping ratio is below
+#: this: at 0.9 a mode decays by e^13 per cycle (log dec 13), too damped to be a resonance;
+#: overdamped x and y pairs coupled by the gyroscopic moments turn complex with damping ratios
+#: of 0.9999 and damped frequencies rising through the 1X line, which are not critical speeds
+TRACK_ZETA = 0.9
+
+
+def _trackable(lam) -> np.ndarray:
+    """True for eigenvalues whose damping ratio is below :data:`TRACK_ZETA`."""
+    lam = np.asarray(lam)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return -lam.real / np.abs(lam) < TRACK_ZETA
+
+
+def _track(cands, n_osc: np.ndarray, n_modes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Tracked modes (s, t) from the candidates ``(lam (m,), v (m, n))`` of each speed.
+
+    The ``n_modes`` lowest modes of the first speed start the tracks; at each later speed the
+    tracks are matched to the candidates by the largest total MAC (:func:`assign_modes`). When
+    more eigenvalues are oscillatory with a damping ratio below :data:`TRACK_ZETA` than at the
+    speed before (a real pair became a complex one),
+    as many unmatched candidates, lowest in frequency and below the highest tracked mode (or
+    any, while fewer than ``n_modes`` are tracked), start new tracks there (NaN before).
+    Returns eigenvalues (s, t), shapes (s, t, n) and the smallest MAC of each step (s,).
+    """
+    ns, n = len(cands), cands[0][1].shape[-1]
+    lam0, v0 = cands[0]
+    k = min(n_modes, lam0.size)
+    cols_l, cols_v = [list(lam0[:k])], [list(v0[:k])]  # per speed, per track
+    mac_min = np.ones(ns)
+    start = [0] * k
+    for s in range(1, ns):
+        lam, v = cands[s]
+        prev = np.array(cols_v[-1]).reshape(-1, n)
+        live = np.flatnonzero([np.any(row) for row in prev])
+        row_l = [complex(np.nan, np.nan)] * len(prev)
+        row_v = [np.zeros(n, complex) for _ in prev]
+        taken = set()
+        if live.size and lam.size:
+            mm = mac(prev[live], v)
+            rows, cols = assign_modes(mm)
+            for r, c in zip(rows, cols, strict=True):
+                row_l[live[r]], row_v[live[r]] = lam[c], v[c]
+                taken.add(int(c))
+            mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
+        new = int(n_osc[s] - n_osc[s - 1]) if len(prev) >= n_modes else max(n_modes - len(prev), 0)
+        top = max((x.imag for x in row_l if np.isfinite(x)), default=np.inf)
+        free = [
+            c
+            for c in range(lam.size)
+            if c not in taken and _trackable(lam[c]) and (len(prev) < n_modes or lam[c].imag <= top)
+        ]
+        if free and cands[s - 1][1].size:  # the newly oscillatory: least like any mode of the speed before
+            kin = mac(v[free], cands[s - 1][1]).max(axis=1)
+            free = [free[i] for i in np.argsort(kin, kind="stable")]
+        for c in free[: max(new, 0)]:
+            row_l.append(lam[c])
+            row_v.append(v[c])
+            start.append(s)
+        cols_l.append(row_l)
+        cols_v.append(row_v)
+    t = max(len(r) for r in cols_l)
+    lam_t = np.full((ns, max(t, n_modes)), complex(np.nan, np.nan))
+    v_t = np.zeros((ns, max(t, n_modes), n), complex)
+    for s in range(ns):
+        lam_t[s, : len(cols_l[s])] = cols_l[s]
+        if cols_v[s]:
+            v_t[s, : len(cols_v[s])] = np.array(cols_v[s])
+    return lam_t, v_t, mac_min
+
+
 def campbell(
     rotor: Rotor,
     speeds,
@@ -282,35 +471,30 @@ def campbell(
     if speeds.ndim != 1 or speeds.size < 2 or np.any(np.diff(speeds) <= 0):
         raise InputError("campbell.speed_rpm", list(np.round(rad_s_to_rpm(speeds), 6)), "increasing speeds (>= 2)")
     n = rotor.n_dof
-    if reduce is not None and reduce < n:
-        A, T = _reduced_state_matrices(rotor, speeds, reduce)
-        lams, vecs = batched_eig(A, progress=progress)
-        vecs = np.concatenate([T @ vecs[:, :reduce], T @ vecs[:, reduce:]], 1)
-    else:
-        A = _state_matrices(rotor, speeds)
-        lams, vecs = batched_eig(A, progress=progress)
     n_cand = min(n_modes + extra, n)
-    lam_t = np.full((speeds.size, n_modes), np.nan + 0j)
-    v_t = np.zeros((speeds.size, n_modes, n), complex)
-    mac_min = np.ones(speeds.size)
-    prev = None
-    for s in range(speeds.size):
-        lam, v = _select(lams[s], vecs[s], n, n_cand)
-        if prev is None:
-            k = min(n_modes, lam.size)
-            lam_t[s, :k], v_t[s, :k] = lam[:k], v[:k]
-            prev = v_t[s]
-            continue
-        mm = mac(prev, v)
-        rows, cols = assign_modes(mm)
-        lam_t[s, rows], v_t[s, rows] = lam[cols], v[cols]
-        mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
-        prev = v_t[s]
-    modes = Modes(speeds, lam_t, v_t)
+    if rotor.frequency_dependent:  # each mode on its own whirl frequency: one speed at a time
+        cands = []
+        for s, w in enumerate(speeds):
+            cands.append(modes_at(rotor, w, min(n_modes + 2, n)))  # each candidate costs an iteration
+            if progress is not None:
+                progress(s + 1, speeds.size)
+        n_osc = np.array([np.sum(_trackable(c[0])) for c in cands])
+    else:
+        if reduce is not None and reduce < n:
+            A, T = _reduced_state_matrices(rotor, speeds, reduce)
+            lams, vecs = batched_eig(A, progress=progress)
+            vecs = np.concatenate([T @ vecs[:, :reduce], T @ vecs[:, reduce:]], 1)
+        else:
+            A = _state_matrices(rotor, speeds)
+            lams, vecs = batched_eig(A, progress=progress)
+        cands = [_select(lams[s], vecs[s], n, n_cand, rotor.n_rotor_dof) for s in range(speeds.size)]
+        n_osc = np.sum(_oscillatory(lams) & _trackable(lams), axis=-1)
+    lam_t, v_t, mac_min = _track(cands, n_osc, n_modes)
+    modes = Modes(speeds, lam_t, v_t, rotor.n_rotor_dof)
     wd, fw = modes.wd, modes.forward_fraction
     critical = []
     for h in harmonics:
-        for k in range(n_modes):
+        for k in range(wd.shape[1]):
             d = wd[:, k] - h * speeds
             for s in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
                 t = d[s] / (d[s] - d[s + 1])
@@ -322,13 +506,13 @@ def campbell(
                         "harmonic": int(h),
                         "speed": float(sp),
                         "frequency": float(h * sp),
-                        "whirl": "forward" if frac >= 0.5 else "backward",
+                        "whirl": critical_whirl(frac),
                     }
                 )
     critical.sort(key=lambda c: c["speed"])
     ld, bad_all = modes.log_dec, modes.unstable
     unstable = []
-    for k in range(n_modes):
+    for k in range(wd.shape[1]):
         bad = np.flatnonzero(bad_all[:, k])
         if bad.size:
             s = bad[0]

@@ -15,16 +15,16 @@ import functools
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
 from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
-from rotaflex.core.units import rpm_to_rad_s
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm
 from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
-from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS
+from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS, MASS_COEFFICIENTS, MAX_BEARING, flat
 from rotaflex.rotor.fe.materials import Material, material
 
 NDOF_NODE = 4  #: [x, y, theta_x, theta_y]
@@ -37,7 +37,6 @@ MAX_LENGTH = 200.0  # m, whole shaft
 # far above any solid (diamond 1.2e12 Pa, osmium 22.6e3 kg/m^3), where a "rigid" section stays solvable
 MODULUS_RANGE = (0.0, 1e20)
 DENSITY_RANGE = (0.0, 1e6)
-MAX_BEARING = {"k": 1e15, "c": 1e12}  # N/m, N s/m: far beyond any rigid support of a real machine
 
 
 #: default largest model (1000 shaft elements): a dense 8000-state eigenproblem takes minutes
@@ -74,6 +73,11 @@ class Shaft:
     rho: float | None = param(None, unit="kg/m^3", gt=0, doc="density (overrides the material)")
     shear_coefficient: float | None = param(None, gt=0, doc="Timoshenko kappa (default: Cowper's value)")
     rigid: bool = param(False, doc="rigid section: keeps its mass, stiffness set 1e8 x the model's stiffest other part")
+    layer: str = param("", doc="coaxial layer: '' is the main shaft (sets the nodes); another name lies on its nodes")
+    stiffness: bool = param(True, doc="the section adds its stiffness (false: a mass-only layer)")
+    mass: bool = param(True, doc="the section adds its mass, rotary and polar inertia (false: stiffness only)")
+    rayleigh_alpha: float = param(0.0, unit="1/s", ge=0, doc="Rayleigh damping alpha M of the section")
+    rayleigh_beta: float = param(0.0, unit="s", ge=0, doc="Rayleigh damping beta K of the section")
 
 
 @dataclass(frozen=True)
@@ -90,6 +94,7 @@ class Disk:
     inner_diameter: float = param(0.0, unit="m", ge=0)
     material: str = param("steel")
     rho: float | None = param(None, unit="kg/m^3", gt=0, doc="density (overrides the material)")
+    rayleigh_alpha: float = param(0.0, unit="1/s", ge=0, doc="Rayleigh damping alpha M of the disk")
 
 
 @dataclass(frozen=True)
@@ -102,33 +107,63 @@ class PointMass:
 
 
 @dataclass(frozen=True)
+class Pedestal:
+    """A support off the shaft: a mass on springs and dampers to ground, between a bearing and ground."""
+
+    mass: float = param(unit="kg", gt=0, doc="pedestal mass (both directions)")
+    mass_y: float | None = param(None, unit="kg", gt=0, doc="mass in y if it differs from x")
+    kxx: float = param(0.0, unit="N/m", doc="stiffness to ground in x")
+    kyy: float = param(0.0, unit="N/m", doc="stiffness to ground in y")
+    cxx: float = param(0.0, unit="N s/m", doc="damping to ground in x")
+    cyy: float = param(0.0, unit="N s/m", doc="damping to ground in y")
+
+
+#: a coefficient is a number, a list over speed_rpm (or over whirl_hz), or rows over speed of lists over whirl_hz
+Coefficient = tuple[float | tuple[float, ...], ...]
+
+
+@dataclass(frozen=True)
 class Bearing:
-    """Linear bearing or seal (each coefficient a number or a list over ``speed_rpm``), or a fluid-film
-    journal bearing whose coefficients are computed (``fluid_film`` sub-table, docs/fluid-film-bearings.md)."""
+    """Linear bearing or seal (each coefficient a number or a list over ``speed_rpm`` and/or
+    ``whirl_hz``), or a fluid-film journal bearing whose coefficients are computed (``fluid_film``
+    sub-table, docs/fluid-film-bearings.md); optionally on a ``pedestal``."""
 
     node: int | None = param(None, ge=0, doc="node number (or give position)")
     position: float | None = param(None, unit="m")
     to_node: int | None = param(None, ge=0, doc="second node for a support between two nodes (default: ground)")
     to_position: float | None = param(None, unit="m")
-    kxx: tuple[float, ...] = param((0.0,), unit="N/m")
-    kxy: tuple[float, ...] = param((0.0,), unit="N/m")
-    kyx: tuple[float, ...] = param((0.0,), unit="N/m")
-    kyy: tuple[float, ...] = param((0.0,), unit="N/m")
-    cxx: tuple[float, ...] = param((0.0,), unit="N s/m")
-    cxy: tuple[float, ...] = param((0.0,), unit="N s/m")
-    cyx: tuple[float, ...] = param((0.0,), unit="N s/m")
-    cyy: tuple[float, ...] = param((0.0,), unit="N s/m")
+    kxx: Coefficient = param((0.0,), unit="N/m")
+    kxy: Coefficient = param((0.0,), unit="N/m")
+    kyx: Coefficient = param((0.0,), unit="N/m")
+    kyy: Coefficient = param((0.0,), unit="N/m")
+    cxx: Coefficient = param((0.0,), unit="N s/m")
+    cxy: Coefficient = param((0.0,), unit="N s/m")
+    cyx: Coefficient = param((0.0,), unit="N s/m")
+    cyy: Coefficient = param((0.0,), unit="N s/m")
+    mxx: float = param(0.0, unit="kg", doc="mass coefficient (constant)")
+    mxy: float = param(0.0, unit="kg")
+    myx: float = param(0.0, unit="kg")
+    myy: float = param(0.0, unit="kg")
     speed_rpm: tuple[float, ...] | None = param(None, unit="rpm", ge=0, doc="speeds of tabulated coefficients")
+    whirl_hz: tuple[float, ...] | None = param(
+        None, unit="Hz", ge=0, doc="whirl frequencies of coefficients tabulated over frequency (frequency dependent)"
+    )
+    interpolation: Literal["linear", "pchip"] = param("linear", doc="table interpolation (pchip: monotone cubic)")
+    extrapolation: Literal["refuse", "hold", "linear"] = param(
+        "refuse", doc="outside a table: refuse, hold the end values, or extend the end slope"
+    )
     name: str = param("", doc="label")
     fluid_film: FluidFilm | None = param(None, doc="plain journal bearing: coefficients computed (no k/c keys)")
+    pedestal: Pedestal | None = param(None, doc="support mass on springs between the bearing and ground")
 
     def __post_init__(self):
         for key in COEFFICIENTS:  # Python callers may pass plain numbers
             v = getattr(self, key)
             if np.isscalar(v):
                 object.__setattr__(self, key, (float(v),))
-        if self.speed_rpm is not None and np.isscalar(self.speed_rpm):
-            object.__setattr__(self, "speed_rpm", (float(self.speed_rpm),))
+        for key in ("speed_rpm", "whirl_hz"):
+            if getattr(self, key) is not None and np.isscalar(getattr(self, key)):
+                object.__setattr__(self, key, (float(getattr(self, key)),))
 
 
 @dataclass(frozen=True)
@@ -171,10 +206,12 @@ class Rotor:
         if not isinstance(data, Mapping):
             raise InputError(where or "config", data, "a table")
         data = dict(data)
+        named = {}  # "bearing[0]" -> "bearing.left": errors name the tables as the user wrote them
         for key in ("shaft", "disk", "point_mass", "bearing"):
             v = data.get(key)
             if isinstance(v, Mapping):  # [bearing.left] named tables: sweepable by dotted key
                 data[key] = [{**({"name": k} if key == "bearing" else {}), **t} for k, t in v.items()]
+                named.update({f"{key}[{i}]": f"{key}.{k}" for i, k in enumerate(v)})
         if isinstance(data.get("bearing"), list):
             data["bearing"] = [
                 {k: ([v] if k in COEFFICIENTS and isinstance(v, (int, float)) else v) for k, v in b.items()}
@@ -182,7 +219,13 @@ class Rotor:
                 else b
                 for b in data["bearing"]
             ]
-        return from_mapping(cls, data, where)
+        try:
+            return from_mapping(cls, data, where)
+        except InputError as err:
+            head, dot, rest = err.field.partition(".")
+            if head not in named:
+                raise
+            raise InputError(named[head] + dot + rest, err.value, err.allowed) from None
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Rotor:
@@ -195,7 +238,7 @@ class Rotor:
             raise InputError("shaft", "<missing>", "at least one [[shaft]] section")
         self._check_size()
         # validate now (load = "static" is resolved here under standard gravity, see `resolved`)
-        _ = self.nodes, self.elements, self.disks, self.point_masses, self.bearings
+        _ = self.nodes, self.elements, self.layer_elements, self.disks, self.point_masses, self.bearings
         if not self.free:
             self._check_supported()
 
@@ -219,9 +262,9 @@ class Rotor:
         """Refuse, before anything is assembled, a mesh beyond ``max_dof`` or the memory limit."""
         from rotaflex.core.limits import require, require_memory
 
-        counts = [s.elements for s in self.shaft]
+        counts = [s.elements if not s.layer else 0 for s in self.shaft]
         i = int(np.argmax(counts))
-        n_dof = NDOF_NODE * (sum(counts) + 1)
+        n_dof = NDOF_NODE * (sum(counts) + 1) + 2 * sum(b.pedestal is not None for b in self.bearing)
         require(
             f"shaft[{i}].elements",
             counts[i],
@@ -239,9 +282,9 @@ class Rotor:
 
     @functools.cached_property
     def sections(self) -> list[tuple[float, float]]:
-        """(start, end) [m] of each shaft section, validated to be contiguous."""
+        """(start, end) [m] of each main-layer shaft section, validated to be contiguous."""
         out, prev = [], None
-        for i, s in enumerate(self.shaft):
+        for i, s in self._main:
             where = f"shaft[{i}]"
             start = s.start if s.start is not None else (prev if prev is not None else 0.0)
             if prev is not None and abs(start - prev) > 1e-9 * max(1.0, abs(prev)):
@@ -251,67 +294,135 @@ class Rotor:
                     start,
                     f"{prev:g} m: the section {what} the previous one (sections must be contiguous, left to right)",
                 )
-            if s.end is not None and s.length is not None and abs(s.end - start - s.length) > 1e-9:
-                raise InputError(f"{where}.length", s.length, f"end - start = {s.end - start:g} m")
-            if s.end is None and s.length is None:
-                raise InputError(f"{where}.length", "<missing>", "a length [m] > 0 or an end position")
-            for key in ("outer_diameter", "inner_diameter", "outer_diameter_right", "inner_diameter_right"):
-                _not_mm(f"{where}.{key}", getattr(s, key), MAX_DIAMETER["shaft"])
-            for key in ("length", "start", "end"):
-                v = getattr(s, key)
-                _not_mm(f"{where}.{key}", None if v is None else abs(v), MAX_LENGTH)
-            end = s.end if s.end is not None else start + s.length
-            if end <= start:
-                raise InputError(f"{where}.end", end, f"> start = {start:g} m")
-            for side in ("", "_right"):
-                do, di = getattr(s, "outer_diameter" + side), getattr(s, "inner_diameter" + side)
-                do = s.outer_diameter if do is None else do
-                di = s.inner_diameter if di is None else di
-                if di >= do:
-                    raise InputError(f"{where}.inner_diameter{side}", di, f"< outer diameter {do:g} m")
+            end = self._span(i, s, start)
             out.append((float(start), float(end)))
             prev = end
         return out
 
+    @property
+    def _main(self) -> list[tuple[int, Shaft]]:
+        """(index, section) of the main layer (``layer = ""``): these set the nodes."""
+        main = [(i, s) for i, s in enumerate(self.shaft) if not s.layer]
+        if not main:
+            raise InputError("shaft[0].layer", self.shaft[0].layer, '"" on at least one section (the main shaft)')
+        return main
+
+    def _span(self, i: int, s: Shaft, start: float) -> float:
+        """End [m] of section ``i`` starting at ``start``, its lengths and diameters validated."""
+        where = f"shaft[{i}]"
+        if s.end is not None and s.length is not None and abs(s.end - start - s.length) > 1e-9:
+            raise InputError(f"{where}.length", s.length, f"end - start = {s.end - start:g} m")
+        if s.end is None and s.length is None:
+            raise InputError(f"{where}.length", "<missing>", "a length [m] > 0 or an end position")
+        for key in ("outer_diameter", "inner_diameter", "outer_diameter_right", "inner_diameter_right"):
+            _not_mm(f"{where}.{key}", getattr(s, key), MAX_DIAMETER["shaft"])
+        for key in ("length", "start", "end"):
+            v = getattr(s, key)
+            _not_mm(f"{where}.{key}", None if v is None else abs(v), MAX_LENGTH)
+        end = s.end if s.end is not None else start + s.length
+        if end <= start:
+            raise InputError(f"{where}.end", end, f"> start = {start:g} m")
+        for side in ("", "_right"):
+            do, di = getattr(s, "outer_diameter" + side), getattr(s, "inner_diameter" + side)
+            do = s.outer_diameter if do is None else do
+            di = s.inner_diameter if di is None else di
+            if di >= do:
+                raise InputError(f"{where}.inner_diameter{side}", di, f"< outer diameter {do:g} m")
+        return end
+
+    def _properties(self, i: int, s: Shaft) -> tuple[float, float, float]:
+        """E, G [Pa], rho [kg/m^3] of section ``i``, validated."""
+        m = self._mat(s.material, f"shaft[{i}].material")
+        E, G, rho = s.E or m.E, s.G or m.G, s.rho or m.rho
+        for key, v, (lo, hi), unit in (
+            ("E", E, MODULUS_RANGE, "Pa"),
+            ("G", G, MODULUS_RANGE, "Pa"),
+            ("rho", rho, DENSITY_RANGE, "kg/m^3"),
+        ):
+            if not lo <= v <= hi:
+                field = f"shaft[{i}].{key}" if getattr(s, key) else f"material.{s.material}.{key}"
+                raise InputError(
+                    field,
+                    v,
+                    f"{lo:g} .. {hi:g} {unit} (a stiff section's E may exceed any solid's, up to this cap)",
+                )
+        return E, G, rho
+
+    @staticmethod
+    def _columns(cols: dict[str, list], s: Shaft, props, L: np.ndarray, t: np.ndarray) -> None:
+        """Append the elements of section ``s`` (lengths ``L``, element ends at fractions ``t``) to ``cols``."""
+        E, G, rho = props
+        do_r = s.outer_diameter if s.outer_diameter_right is None else s.outer_diameter_right
+        di_r = s.inner_diameter if s.inner_diameter_right is None else s.inner_diameter_right
+        do = s.outer_diameter + (do_r - s.outer_diameter) * t
+        di = s.inner_diameter + (di_r - s.inner_diameter) * t
+        n = L.size
+        cols["L"] += list(L)
+        cols["do_l"] += list(do[:-1])
+        cols["do_r"] += list(do[1:])
+        cols["di_l"] += list(di[:-1])
+        cols["di_r"] += list(di[1:])
+        cols["E"] += [E] * n
+        cols["G"] += [G] * n
+        cols["rho"] += [rho] * n
+        cols["kappa"] += [s.shear_coefficient if s.shear_coefficient else np.nan] * n
+        cols["alpha"] += [s.rayleigh_alpha] * n
+        cols["beta"] += [s.rayleigh_beta] * n
+        cols["stiff"] += [s.stiffness] * n
+        cols["massive"] += [s.mass] * n
+
+    _KEYS = ("L", "do_l", "di_l", "do_r", "di_r", "E", "G", "rho", "kappa", "alpha", "beta", "stiff", "massive")
+
     @functools.cached_property
     def elements(self) -> dict[str, np.ndarray]:
-        """Per-element arrays: length, diameters (left/right), E, G, rho, kappa (nan: Cowper's value)."""
-        cols: dict[str, list] = {k: [] for k in ("L", "do_l", "di_l", "do_r", "di_r", "E", "G", "rho", "kappa")}
-        for i, (s, (a, b)) in enumerate(zip(self.shaft, self.sections, strict=True)):
-            m = self._mat(s.material, f"shaft[{i}].material")
-            E, G, rho = s.E or m.E, s.G or m.G, s.rho or m.rho
-            for key, v, (lo, hi), unit in (
-                ("E", E, MODULUS_RANGE, "Pa"),
-                ("G", G, MODULUS_RANGE, "Pa"),
-                ("rho", rho, DENSITY_RANGE, "kg/m^3"),
-            ):
-                if not lo <= v <= hi:
-                    field = f"shaft[{i}].{key}" if getattr(s, key) else f"material.{s.material}.{key}"
-                    raise InputError(
-                        field,
-                        v,
-                        f"{lo:g} .. {hi:g} {unit} (a stiff section's E may exceed any solid's, up to this cap)",
-                    )
-            do_r = s.outer_diameter if s.outer_diameter_right is None else s.outer_diameter_right
-            di_r = s.inner_diameter if s.inner_diameter_right is None else s.inner_diameter_right
-            t = np.arange(s.elements + 1) / s.elements
-            do = s.outer_diameter + (do_r - s.outer_diameter) * t
-            di = s.inner_diameter + (di_r - s.inner_diameter) * t
+        """Per-element arrays of the main layer: length, diameters (left/right), E, G, rho, kappa
+        (nan: Cowper's value), Rayleigh alpha and beta, and whether it adds stiffness and mass."""
+        cols: dict[str, list] = {k: [] for k in self._KEYS}
+        for (i, s), (a, b) in zip(self._main, self.sections, strict=True):
             n = s.elements
-            cols["L"] += [(b - a) / n] * n
-            cols["do_l"] += list(do[:-1])
-            cols["do_r"] += list(do[1:])
-            cols["di_l"] += list(di[:-1])
-            cols["di_r"] += list(di[1:])
-            cols["E"] += [E] * n
-            cols["G"] += [G] * n
-            cols["rho"] += [rho] * n
-            cols["kappa"] += [s.shear_coefficient if s.shear_coefficient else np.nan] * n
-        out = {k: np.asarray(v, float) for k, v in cols.items()}
-        rigid = np.concatenate([[s.rigid] * s.elements for s in self.shaft])
+            self._columns(cols, s, self._properties(i, s), np.full(n, (b - a) / n), np.arange(n + 1) / n)
+        out = {k: np.asarray(v, bool if k in ("stiff", "massive") else float) for k, v in cols.items()}
+        rigid = np.concatenate([[s.rigid] * s.elements for _, s in self._main])
         if rigid.any():
             self._make_rigid(out, rigid)
         return out
+
+    @functools.cached_property
+    def layer_elements(self) -> dict[str, np.ndarray]:
+        """Per-element arrays of the coaxial layers (keys of :attr:`elements` plus ``index``, the
+        main element each lies on). A layer section spans whole main elements: its start and end
+        are nodes, and its diameters follow its own taper at the nodes in between."""
+        cols: dict[str, list] = {k: [] for k in (*self._KEYS, "index")}
+        z = self.nodes
+        tol = 1e-6 * (z[-1] - z[0])
+        for i, s in enumerate(self.shaft):
+            if not s.layer:
+                continue
+            where = f"shaft[{i}]"
+            if s.start is None:
+                raise InputError(f"{where}.start", "<missing>", "the axial start [m] of a layer section (a node)")
+            if s.rigid:
+                raise InputError(f"{where}.rigid", True, "false on a layer section (rigid sections: main layer)")
+            end = self._span(i, s, s.start)
+            ends = []
+            for key, v in (("start", s.start), ("end" if s.end is not None else "length", end)):
+                j = int(np.argmin(np.abs(z - v)))
+                if abs(z[j] - v) > tol:
+                    shown = ", ".join(f"{x:g}" for x in z[:12]) + (" ..." if z.size > 12 else "")
+                    raise InputError(f"{where}.{key}", getattr(s, key), f"a layer section ends at nodes [m]: {shown}")
+                ends.append(j)
+            span = ends[1] - ends[0]
+            if s.elements not in (1, span):
+                raise InputError(
+                    f"{where}.elements", s.elements, f"{span} (a layer uses the main shaft's elements) or omitted"
+                )
+            t = (z[ends[0] : ends[1] + 1] - z[ends[0]]) / (z[ends[1]] - z[ends[0]])
+            self._columns(cols, s, self._properties(i, s), np.diff(z[ends[0] : ends[1] + 1]), t)
+            cols["index"] += list(range(ends[0], ends[1]))
+        return {
+            k: np.asarray(v, bool if k in ("stiff", "massive") else int if k == "index" else float)
+            for k, v in cols.items()
+        }
 
     def _make_rigid(self, e: dict[str, np.ndarray], rigid: np.ndarray) -> None:
         """Stiffen the elements of rigid sections in place (their mass stays).
@@ -326,7 +437,7 @@ class Rotor:
         k_el = 12 * e["E"] * I / e["L"] ** 3
         ref = [float(np.max(k_el[~rigid]))] if (~rigid).any() else []
         for b in self.bearing:
-            ref += [abs(float(v)) for key in ("kxx", "kxy", "kyx", "kyy") for v in getattr(b, key)]
+            ref += [abs(float(v)) for key in ("kxx", "kxy", "kyx", "kyy") for v in flat(getattr(b, key))]
         k_ref = max(ref) if ref and max(ref) > 0 else 1e8
         E = RIGID_FACTOR * k_ref * e["L"] ** 3 / (12 * I)
         e["E"] = np.where(rigid, E, e["E"])
@@ -343,8 +454,14 @@ class Rotor:
         return int(self.nodes.size)
 
     @property
-    def n_dof(self) -> int:
+    def n_rotor_dof(self) -> int:
+        """Lateral DOFs of the shaft's nodes (4 per node); pedestal DOFs follow them."""
         return NDOF_NODE * self.n_nodes
+
+    @property
+    def n_dof(self) -> int:
+        """All DOFs: the shaft's nodes', then x and y of each pedestal (:attr:`pedestals`)."""
+        return NDOF_NODE * self.n_nodes + 2 * len(self.pedestals)
 
     def station(
         self,
@@ -409,6 +526,11 @@ class Rotor:
             for i, p in enumerate(self.point_mass)
         ]
 
+    def bearing_where(self, i: int) -> str:
+        """The config path of bearing ``i`` as the user wrote it: ``bearing.NAME`` or ``bearing[i]``."""
+        name = self.bearing[i].name
+        return f"bearing.{name}" if name else f"bearing[{i}]"
+
     @functools.cached_property
     def bearings(self) -> list[tuple[int, int | None, BearingElement]]:
         """(node, other node or None for ground, element) per bearing."""
@@ -416,64 +538,104 @@ class Rotor:
             return self.resolved.bearings
         out = []
         for i, b in enumerate(self.bearing):
-            where = f"bearing[{i}]"
+            where = self.bearing_where(i)
             n = self.station(b.node, b.position, where)
             m = self.station(b.to_node, b.to_position, where, False, ("to_node", "to_position"))
             if m == n:
                 raise InputError(f"{where}.to_node", m, "a node other than the bearing's own node")
+            if b.pedestal is not None and m is not None:
+                raise InputError(f"{where}.pedestal", "<table>", "no pedestal on a bearing between two nodes")
+            for k in MASS_COEFFICIENTS:
+                if not abs(getattr(b, k)) <= MAX_BEARING["m"]:
+                    raise InputError(
+                        f"{where}.{k}", getattr(b, k), f"a finite mass of magnitude <= {MAX_BEARING['m']:g} kg"
+                    )
             if b.fluid_film is not None:
                 out.append((n, m, BearingElement.from_fluid_film(b, where)))
                 continue
-            lengths = {len(getattr(b, k)) for k in COEFFICIENTS}
-            ns = 1 if b.speed_rpm is None else len(b.speed_rpm)
-            for k in COEFFICIENTS:
-                v = getattr(b, k)
-                if len(v) not in (1, ns):
-                    raise InputError(f"{where}.{k}", list(v), f"a number or {ns} values (one per speed_rpm)")
-            if b.speed_rpm is None and lengths != {1}:
-                raise InputError(f"{where}.speed_rpm", "<missing>", "a list of speeds for tabulated coefficients")
-            if b.speed_rpm is not None and np.any(np.diff(b.speed_rpm) <= 0):
-                raise InputError(f"{where}.speed_rpm", list(b.speed_rpm), "strictly increasing speeds")
-            for k in COEFFICIENTS:
-                v = np.asarray(getattr(b, k), float)
-                if not np.all(np.abs(v) <= MAX_BEARING[k[0]]):
-                    unit = "N/m" if k[0] == "k" else "N s/m"
-                    raise InputError(
-                        f"{where}.{k}",
-                        [float(x) for x in v],
-                        f"finite values of magnitude <= {MAX_BEARING[k[0]]:g} {unit}",
-                    )
-            for k in ("kxx", "kyy", "cxx", "cyy"):
-                if min(getattr(b, k)) < 0:
-                    raise InputError(f"{where}.{k}", list(getattr(b, k)), "direct coefficients >= 0")
-            tab = {k: np.broadcast_to(np.asarray(getattr(b, k), float), (ns,)) for k in COEFFICIENTS}
-            kk = np.stack([np.stack([tab["kxx"], tab["kxy"]], -1), np.stack([tab["kyx"], tab["kyy"]], -1)], -2)
-            cc = np.stack([np.stack([tab["cxx"], tab["cxy"]], -1), np.stack([tab["cyx"], tab["cyy"]], -1)], -2)
-            speeds = None if b.speed_rpm is None else rpm_to_rad_s(np.asarray(b.speed_rpm, float))
-            out.append((n, m, BearingElement(kk, cc, speeds, where)))
+            out.append((n, m, BearingElement.from_table(b, where)))
         return out
+
+    @functools.cached_property
+    def pedestals(self) -> list[tuple[int, Pedestal]]:
+        """(bearing index, pedestal) of the bearings on pedestals, in the order of their DOFs: pedestal
+        p has x at ``n_rotor_dof + 2 p`` and y after it."""
+        return [(i, b.pedestal) for i, b in enumerate(self.bearing) if b.pedestal is not None]
+
+    @property
+    def frequency_dependent(self) -> bool:
+        """True when a bearing's coefficients depend on the whirl frequency (modal solves iterate)."""
+        return any(el.frequency_dependent for _, _, el in self.bearings)
+
+    def check_speeds(self, speeds, key: str) -> None:
+        """Refuse spin speeds [rad/s] outside any coefficient table whose extrapolation is ``"refuse"``.
+
+        The message names ``key`` (the analysis key the user must change, e.g.
+        ``campbell.speed_rpm``) and lists every table concerned with its name and range.
+        """
+        speeds = np.atleast_1d(np.asarray(speeds, float))
+        bad = [t for _, _, el in self.bearings for t in el.out_of_range(speeds)]
+        if bad:
+            rpm = np.round(rad_s_to_rpm(speeds), 6)
+            shown = float(rpm[0]) if rpm.size == 1 else [float(rpm.min()), float(rpm.max())]
+            raise InputError(
+                key,
+                shown,
+                f"speeds within every coefficient table ({'; '.join(bad)}), "
+                'or extrapolation = "hold" or "linear" on those bearings',
+            )
 
     # -- assembly -------------------------------------------------------------------------
     @functools.cached_property
     def _base(self) -> dict[str, np.ndarray]:
-        """Speed-independent global matrices: M, K (shaft), G (per rad/s), Kst (per rad/s^2)."""
-        e = self.elements
-        mats = shaft_matrices(e["L"], e["do_l"], e["di_l"], e["do_r"], e["di_r"], e["E"], e["G"], e["rho"], e["kappa"])
+        """Speed-independent global matrices: M, K (shaft), G (per rad/s), Kst (per rad/s^2) and
+        C (Rayleigh damping of shaft sections and disks), on all DOFs (pedestals included)."""
         n = self.n_dof
-        idx = NDOF_NODE * np.arange(e["L"].size)[:, None] + np.arange(8)[None, :]
-        out = {}
-        for key, local in mats.items():
-            glob = np.zeros((n, n))
-            np.add.at(glob, (idx[:, :, None], idx[:, None, :]), local)
-            out[key] = glob
-        for node, el in self.disks:
+        out = {key: np.zeros((n, n)) for key in ("M", "K", "G", "Kst", "C")}
+        for e, first in ((self.elements, None), (self.layer_elements, "index")):
+            if not e["L"].size:
+                continue
+            keys = ("L", "do_l", "di_l", "do_r", "di_r", "E", "G", "rho", "kappa")
+            mats = shaft_matrices(*(e[k] for k in keys))
+            left = np.arange(e["L"].size) if first is None else e[first]
+            idx = NDOF_NODE * left[:, None] + np.arange(8)[None, :]
+            on = {"M": e["massive"], "G": e["massive"], "Kst": e["massive"], "K": e["stiff"]}
+            for key, local in mats.items():
+                local = local * on[key][:, None, None]
+                mats[key] = local
+                np.add.at(out[key], (idx[:, :, None], idx[:, None, :]), local)
+            damp = e["alpha"][:, None, None] * mats["M"] + e["beta"][:, None, None] * mats["K"]
+            np.add.at(out["C"], (idx[:, :, None], idx[:, None, :]), damp)
+        for (node, el), d in zip(self.disks, self.disk, strict=True):
             s = slice(NDOF_NODE * node, NDOF_NODE * node + 4)
             out["M"][s, s] += el.M()
             out["G"][s, s] += el.G()
             out["Kst"][s, s] += el.Kst()
+            out["C"][s, s] += d.rayleigh_alpha * el.M()
         for node, el in self.point_masses:
             s = slice(NDOF_NODE * node, NDOF_NODE * node + 4)
             out["M"][s, s] += el.M()
+        for b, ends in zip(self.bearing, self.bearing_dofs, strict=True):  # mass coefficients: constant
+            _couple(out["M"][None], np.array([[[b.mxx, b.mxy], [b.myx, b.myy]]], float), *ends)
+        for p, (_, ped) in enumerate(self.pedestals):
+            j = self.n_rotor_dof + 2 * p + np.arange(2)
+            out["M"][j, j] += [ped.mass, ped.mass if ped.mass_y is None else ped.mass_y]
+        return out
+
+    @functools.cached_property
+    def bearing_dofs(self) -> list[tuple[np.ndarray, np.ndarray | None]]:
+        """DOFs (x, y) of both ends of each bearing: its node's, and the other node's, its
+        pedestal's or None (ground). From the schema, so the mass assembly needs no element."""
+        ped = {i: p for p, (i, _) in enumerate(self.pedestals)}
+        out = []
+        for i, b in enumerate(self.bearing):
+            where = self.bearing_where(i)
+            a = NDOF_NODE * self.station(b.node, b.position, where) + np.arange(2)
+            other = self.station(b.to_node, b.to_position, where, False, ("to_node", "to_position"))
+            if i in ped:
+                out.append((a, self.n_rotor_dof + 2 * ped[i] + np.arange(2)))
+            else:
+                out.append((a, None if other is None else NDOF_NODE * other + np.arange(2)))
         return out
 
     @property
@@ -496,24 +658,31 @@ class Rotor:
         """Global matrix multiplying the spin acceleration (run-up); force -Omega' Kst q."""
         return self._base["Kst"]
 
-    def KC(self, speeds) -> tuple[np.ndarray, np.ndarray]:
-        """Stiffness and damping (n_speed, n_dof, n_dof) at spin speeds [rad/s] (bearings interpolated)."""
+    @property
+    def C_rayleigh(self) -> np.ndarray:
+        """Rayleigh damping sum(alpha M_e + beta K_e) of the shaft sections and disks (n_dof, n_dof)."""
+        return self._base["C"]
+
+    def KC(self, speeds, whirl=None, key: str = "speed") -> tuple[np.ndarray, np.ndarray]:
+        """Stiffness and damping (n_speed, n_dof, n_dof) at spin speeds [rad/s].
+
+        Bearings are interpolated at ``speeds`` and, for frequency-dependent ones, at the whirl
+        frequencies ``whirl`` [rad/s] (same shape; None: synchronous, whirl = speed). Includes the
+        Rayleigh damping and the pedestals' springs and dampers. A speed outside a table whose
+        extrapolation is ``"refuse"`` raises :class:`InputError` naming ``key``.
+        """
         speeds = np.atleast_1d(np.asarray(speeds, float))
+        self.check_speeds(speeds, key)
         K = np.broadcast_to(self._base["K"], (speeds.size, self.n_dof, self.n_dof)).copy()
-        C = np.zeros_like(K)
-        for node, other, el in self.bearings:
-            kb, cb = el.coefficients(speeds)
-            i = NDOF_NODE * node + np.arange(2)
-            K[:, i[:, None], i] += kb
-            C[:, i[:, None], i] += cb
-            if other is not None:
-                j = NDOF_NODE * other + np.arange(2)
-                K[:, j[:, None], j] += kb
-                C[:, j[:, None], j] += cb
-                K[:, i[:, None], j] -= kb
-                C[:, i[:, None], j] -= cb
-                K[:, j[:, None], i] -= kb
-                C[:, j[:, None], i] -= cb
+        C = np.broadcast_to(self._base["C"], K.shape).copy()
+        for (_, _, el), (a, b) in zip(self.bearings, self.bearing_dofs, strict=True):
+            kb, cb = el.coefficients(speeds, whirl)
+            _couple(K, kb, a, b)
+            _couple(C, cb, a, b)
+        for p, (_, ped) in enumerate(self.pedestals):
+            j = self.n_rotor_dof + 2 * p + np.arange(2)
+            K[:, j, j] += [ped.kxx, ped.kyy]
+            C[:, j, j] += [ped.cxx, ped.cyy]
         return K, C
 
     def _check_supported(self) -> None:
@@ -525,13 +694,24 @@ class Rotor:
         projection, not on the whole stiffness, keeps a very stiff shaft on soft bearings from
         being mistaken for a free one.
         """
-        speeds = [el.speeds[0] for _, _, el in self.bearings if el.speeds is not None]
-        Kb = self.KC(max(speeds) if speeds else 0.0)[0][0] - self.K_shaft
+        Kb = np.zeros((1, self.n_dof, self.n_dof))
+        for (_, _, el), ends in zip(self.bearings, self.bearing_dofs, strict=True):  # each table at its first point
+            speed = 0.0 if el.speeds is None else el.speeds[0]
+            whirl = None if el.whirls is None else el.whirls[:1]
+            _couple(Kb, el.coefficients(speed, whirl)[0], *ends)
+        for p, (_, ped) in enumerate(self.pedestals):
+            j = self.n_rotor_dof + 2 * p + np.arange(2)
+            Kb[0, j, j] += [ped.kxx, ped.kyy]
+        Kb = Kb[0]
         z = self.nodes - self.nodes.mean()
+        nr = self.n_rotor_dof
         R = np.zeros((self.n_dof, 4))
-        R[0::NDOF_NODE, 0] = R[1::NDOF_NODE, 1] = 1.0
-        R[0::NDOF_NODE, 2], R[3::NDOF_NODE, 2] = z, 1.0  # tilt in x-z: x = z theta_y
-        R[1::NDOF_NODE, 3], R[2::NDOF_NODE, 3] = z, -1.0  # tilt in y-z: y = -z theta_x
+        R[0:nr:NDOF_NODE, 0] = R[1:nr:NDOF_NODE, 1] = 1.0
+        R[0:nr:NDOF_NODE, 2], R[3:nr:NDOF_NODE, 2] = z, 1.0  # tilt in x-z: x = z theta_y
+        R[1:nr:NDOF_NODE, 3], R[2:nr:NDOF_NODE, 3] = z, -1.0  # tilt in y-z: y = -z theta_x
+        for p, (i, _) in enumerate(self.pedestals):  # a pedestal moves with its bearing's node
+            node = self.bearings[i][0]
+            R[nr + 2 * p : nr + 2 * p + 2] = R[NDOF_NODE * node : NDOF_NODE * node + 2]
         R /= np.linalg.norm(R, axis=0)
         sv = np.linalg.svd(R.T @ Kb @ R, compute_uv=False)
         if not sv[-1] > 1e-9 * sv[0]:
@@ -546,11 +726,21 @@ class Rotor:
     @property
     def mass(self) -> float:
         """Total mass [kg] (sum of translational inertia in x)."""
-        return float(self.M[0::NDOF_NODE, 0::NDOF_NODE].sum())
+        nr = self.n_rotor_dof  # pedestals stand on the ground, not on the bearings
+        return float(self.M[0:nr:NDOF_NODE, 0:nr:NDOF_NODE].sum())
 
     def to_mapping(self) -> dict[str, Any]:
         """Plain data (for provenance)."""
         return dataclasses.asdict(self)
+
+
+def _couple(A: np.ndarray, block: np.ndarray, a: np.ndarray, b: np.ndarray | None) -> None:
+    """Add a 2x2 connection ``block`` (n, 2, 2) between DOFs ``a`` and ``b`` (None: ground) to ``A`` (n, N, N)."""
+    A[:, a[:, None], a] += block
+    if b is not None:
+        A[:, b[:, None], b] += block
+        A[:, a[:, None], b] -= block
+        A[:, b[:, None], a] -= block
 
 
 ROTOR_KEYS = ("shaft", "disk", "point_mass", "bearing", "material", "free", "max_dof")

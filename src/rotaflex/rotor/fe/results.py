@@ -54,13 +54,20 @@ class ModalResult(_FEResult):
     kind = "rotor_fe_modal"
 
     def plot(self) -> dict:
-        from rotaflex.core.plotting import new_figure
-
-        ds = self.dataset
         figs = _model_fig(self)
+        if "speed" in self.dataset.dims:  # several speeds: the figures of each, suffixed _speed<i>
+            for i in range(self.dataset.sizes["speed"]):
+                one = self.dataset.isel(speed=i)
+                figs |= {f"{k}_speed{i}": v for k, v in self._mode_figures(one).items()}
+            return figs
+        return figs | self._mode_figures(self.dataset)
+
+    @staticmethod
+    def _mode_figures(ds) -> dict:
+        from rotaflex.core.plotting import new_figure
         from rotaflex.rotor.fe.figures import mode_shapes_figure
 
-        figs["mode_shapes"] = mode_shapes_figure(ds)
+        figs = {"mode_shapes": mode_shapes_figure(ds)}
         # orbits: each mode's whirl at every node (x + i y over one period), scaled to 1
         nm = ds.sizes["mode"]
         ncol = min(nm, 4)
@@ -124,7 +131,8 @@ class UCSResult(_FEResult):
 
             rotor = Rotor.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS})
             for i, ((_, _, el), b) in enumerate(zip(rotor.bearings, rotor.bearing, strict=True)):
-                bearings.append((b.name or f"bearing[{i}]", el.speeds, el.k[:, 0, 0], el.k[:, 1, 1]))
+                k = el.k if el.k.ndim == 3 else el.k[:, 0]  # a whirl table: its lowest frequency
+                bearings.append((b.name or f"bearing[{i}]", el.speeds, k[:, 0, 0], k[:, 1, 1]))
         fig = ucs_figure(self.dataset, bearings)
         return {**_model_fig(self), "ucs_map": fig}
 

@@ -69,7 +69,7 @@ class StaticData:
 
     def deflection(self, rotor: Rotor) -> np.ndarray:
         """Node translations (n_nodes, 2): x and y [m]."""
-        return self.q.reshape(rotor.n_nodes, NDOF_NODE)[:, :2]
+        return self.q[: rotor.n_rotor_dof].reshape(rotor.n_nodes, NDOF_NODE)[:, :2]
 
 
 def default_speed(rotor: Rotor) -> float:
@@ -132,7 +132,8 @@ def static_analysis(
     n, nn = rotor.n_dof, rotor.n_nodes
     K = rotor.KC(speed)[0][0]
     r = np.zeros(n)
-    r[0::NDOF_NODE], r[1::NDOF_NODE] = g[0], g[1]
+    nr = rotor.n_rotor_dof  # pedestals (DOFs after the rotor's) stand on the ground: their weight is not carried
+    r[0:nr:NDOF_NODE], r[1:nr:NDOF_NODE] = g[0], g[1]
     f = rotor.M @ r
     point = np.zeros((nn, 2))  # concentrated forces at nodes: disk/point-mass weights and loads
     for node, el in rotor.disks:
@@ -148,9 +149,8 @@ def static_analysis(
     q = np.linalg.solve(K, f)
     reactions = np.zeros((len(rotor.bearings), 2))
     for b, (node, other, el) in enumerate(rotor.bearings):
-        u = q[NDOF_NODE * node : NDOF_NODE * node + 2].copy()
-        if other is not None:
-            u -= q[NDOF_NODE * other : NDOF_NODE * other + 2]
+        ia, ib = rotor.bearing_dofs[b]  # the bearing's two ends (ib: other node, pedestal or None)
+        u = q[ia] - (q[ib] if ib is not None else 0.0)
         F = -el.coefficients(speed)[0][0] @ u
         reactions[b] = F
         point[node] += F
@@ -162,13 +162,27 @@ def static_analysis(
 
 
 def _shaft_weight(rotor: Rotor) -> float:
-    """Shaft mass alone [kg] (exact for a linear taper: the area is quadratic in z)."""
-    e = rotor.elements
-    a_l = np.pi / 4 * (e["do_l"] ** 2 - e["di_l"] ** 2)
-    a_r = np.pi / 4 * (e["do_r"] ** 2 - e["di_r"] ** 2)
-    dm, dim_ = (e["do_l"] + e["do_r"]) / 2, (e["di_l"] + e["di_r"]) / 2
-    a_m = np.pi / 4 * (dm**2 - dim_**2)
-    return float(np.sum(e["rho"] * e["L"] * (a_l + 4 * a_m + a_r) / 6))
+    """Shaft mass alone [kg], coaxial layers included (exact for a linear taper: the area is quadratic in z)."""
+    out = 0.0
+    for e in (rotor.elements, rotor.layer_elements):
+        a_l = np.pi / 4 * (e["do_l"] ** 2 - e["di_l"] ** 2)
+        a_r = np.pi / 4 * (e["do_r"] ** 2 - e["di_r"] ** 2)
+        dm, dim_ = (e["do_l"] + e["do_r"]) / 2, (e["di_l"] + e["di_r"]) / 2
+        a_m = np.pi / 4 * (dm**2 - dim_**2)
+        out += float(np.sum(e["massive"] * e["rho"] * e["L"] * (a_l + 4 * a_m + a_r) / 6))
+    return out
+
+
+def _mass_per_length(rotor: Rotor, t: np.ndarray) -> np.ndarray:
+    """Mass per length [kg/m] at the fractions ``t`` of each main element (ne, t.size): the main
+    section's plus that of the coaxial layers on it (mass-only layers included)."""
+    out = np.zeros((rotor.elements["L"].size, t.size))
+    for e, rows in ((rotor.elements, None), (rotor.layer_elements, "index")):
+        do = e["do_l"][:, None] + (e["do_r"] - e["do_l"])[:, None] * t
+        di = e["di_l"][:, None] + (e["di_r"] - e["di_l"])[:, None] * t
+        w = (e["massive"] * e["rho"])[:, None] * np.pi / 4 * (do**2 - di**2)
+        np.add.at(out, np.arange(w.shape[0]) if rows is None else e[rows], w)
+    return out
 
 
 def _diagrams(rotor: Rotor, point: np.ndarray, g: np.ndarray, n_sub: int):
@@ -179,14 +193,11 @@ def _diagrams(rotor: Rotor, point: np.ndarray, g: np.ndarray, n_sub: int):
     z = zn[:-1, None] + e["L"][:, None] * t[None, :]  # (ne, n_sub + 1)
     do = e["do_l"][:, None] + (e["do_r"] - e["do_l"])[:, None] * t
     di = e["di_l"][:, None] + (e["di_r"] - e["di_l"])[:, None] * t
-    area = np.pi / 4 * (do**2 - di**2)
-    inertia = np.pi / 64 * (do**4 - di**4)
-    w = e["rho"][:, None] * area  # mass per length at the cuts [kg/m]
+    inertia = np.pi / 64 * (do**4 - di**4)  # the main section's: stress on it (layers share no moment here)
+    w = _mass_per_length(rotor, t)  # at the cuts [kg/m]
     # Simpson per sub-interval: area is quadratic in z, so w and w s are integrated exactly
     zm = 0.5 * (z[:, 1:] + z[:, :-1])
-    dm = 0.5 * (do[:, 1:] + do[:, :-1])
-    dim_ = 0.5 * (di[:, 1:] + di[:, :-1])
-    wm = e["rho"][:, None] * np.pi / 4 * (dm**2 - dim_**2)
+    wm = _mass_per_length(rotor, 0.5 * (t[1:] + t[:-1]))
     h = np.diff(z, axis=1)
     m0 = h / 6 * (w[:, :-1] + 4 * wm + w[:, 1:])  # mass of each sub-interval
     m1 = h / 6 * (w[:, :-1] * z[:, :-1] + 4 * wm * zm + w[:, 1:] * z[:, 1:])  # first moment
@@ -224,7 +235,7 @@ def deflection_curve(rotor: Rotor, q: np.ndarray, n_sub: int = 8) -> np.ndarray:
     kappa = np.where(np.isnan(e["kappa"]), cowper_shear_coefficient(dim_ / dm, e["E"] / (2 * e["G"]) - 1), e["kappa"])
     phi = 12 * e["E"] * I / (kappa * e["G"] * A * e["L"] ** 2)
     nw = _shape(t, phi, e["L"])[0]  # (ne, n_sub + 1, 4)
-    Q = q.reshape(rotor.n_nodes, NDOF_NODE)
+    Q = q[: rotor.n_rotor_dof].reshape(rotor.n_nodes, NDOF_NODE)
     qx = np.stack([Q[:-1, 0], Q[:-1, 3], Q[1:, 0], Q[1:, 3]], -1)  # x-z plane: (x, theta_y)
     qy = np.stack([Q[:-1, 1], -Q[:-1, 2], Q[1:, 1], -Q[1:, 2]], -1)  # y-z plane: (y, -theta_x)
     return np.stack([np.einsum("ngi,ni->ng", nw, qx).ravel(), np.einsum("ngi,ni->ng", nw, qy).ravel()], -1)

@@ -23,43 +23,73 @@ __all__ = ["DOFS", "run_campbell", "run_modal", "run_ucs"]
 DOFS = ["x", "y", "theta_x", "theta_y"]
 
 
+def _modes_dataset(rotor, m, i: int, speed_rpm: float) -> xr.Dataset:
+    """The modes of speed ``i`` of ``m`` as a dataset (mode, node, dof); shapes on the shaft's nodes."""
+    nm = m.eigenvalue.shape[1]
+    shape = m.shape[i][:, : rotor.n_rotor_dof].reshape(nm, rotor.n_nodes, 4)
+    return xr.Dataset(
+        {
+            "natural_frequency": (
+                "mode",
+                m.wn[i],
+                {"units": "rad/s", "long_name": "undamped natural frequency |lambda|"},
+            ),
+            "damped_frequency": ("mode", m.wd[i], {"units": "rad/s"}),
+            "damping_ratio": ("mode", m.damping_ratio[i], {"units": "1"}),
+            "log_dec": ("mode", m.log_dec[i], {"units": "1", "long_name": "logarithmic decrement"}),
+            "forward_fraction": ("mode", m.forward_fraction[i], {"units": "1"}),
+            "whirl": ("mode", m.whirl[i].astype(str)),
+            "shape_real": (("mode", "node", "dof"), shape.real, {"units": "1"}),
+            "shape_imag": (("mode", "node", "dof"), shape.imag, {"units": "1"}),
+            "z": ("node", rotor.nodes, {"units": "m"}),
+            "speed": ((), rpm_to_rad_s(speed_rpm), {"units": "rad/s"}),
+        },
+        coords={"mode": np.arange(nm), "node": np.arange(rotor.n_nodes), "dof": DOFS},
+    )
+
+
+def _mode_summary(m, i: int, prefix: str = "") -> dict:
+    hz = 1 / (2 * np.pi)
+    extra = {}
+    for k in range(m.eigenvalue.shape[1]):
+        p = f"{prefix}mode_{k}"
+        extra[f"{p}_frequency_hz"] = {"value": float(m.wn[i, k] * hz), "unit": "Hz"}  # = natural frequency
+        extra[f"{p}_damped_frequency_hz"] = {"value": float(m.wd[i, k] * hz), "unit": "Hz"}
+        extra[f"{p}_natural_frequency_rpm"] = {"value": float(rad_s_to_rpm(m.wn[i, k])), "unit": "rpm"}
+        extra[f"{p}_damping_ratio"] = {"value": float(m.damping_ratio[i, k]), "unit": "1"}
+        extra[f"{p}_log_dec"] = {"value": float(m.log_dec[i, k]), "unit": "1"}
+        extra[f"{p}_whirl"] = {"value": str(m.whirl[i, k]), "unit": "", "allowed": "forward|backward|mixed"}
+        extra[f"{p}_stable"] = {"value": bool(not m.unstable[i, k]), "unit": ""}
+    return extra
+
+
 @pinned
 def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
-    """Modes at ``[modal] speed_rpm``."""
+    """Modes at ``[modal] speed_rpm``: one speed, or a list (a ``speed`` dimension in the result,
+    summary keys ``speed_<i>_mode_<k>_...``)."""
     from rotaflex.rotor.fe.modal import modal
 
     t0 = time.perf_counter()
     rotor, spec = parse(config, "modal")
     n_modes, note = clamp_modes(rotor, spec.n_modes, "modal.n_modes")
-    m = modal(rotor, rpm_to_rad_s(spec.speed_rpm), n_modes)
-    nm = m.eigenvalue.shape[1]
-    shape = m.shape[0].reshape(nm, rotor.n_nodes, 4)
-    ds = xr.Dataset(
-        {
-            "natural_frequency": (
-                "mode",
-                m.wn[0],
-                {"units": "rad/s", "long_name": "undamped natural frequency |lambda|"},
-            ),
-            "damped_frequency": ("mode", m.wd[0], {"units": "rad/s"}),
-            "damping_ratio": ("mode", m.damping_ratio[0], {"units": "1"}),
-            "log_dec": ("mode", m.log_dec[0], {"units": "1", "long_name": "logarithmic decrement"}),
-            "forward_fraction": ("mode", m.forward_fraction[0], {"units": "1"}),
-            "whirl": ("mode", m.whirl[0].astype(str)),
-            "shape_real": (("mode", "node", "dof"), shape.real, {"units": "1"}),
-            "shape_imag": (("mode", "node", "dof"), shape.imag, {"units": "1"}),
-            "z": ("node", rotor.nodes, {"units": "m"}),
-            "speed": ((), rpm_to_rad_s(spec.speed_rpm), {"units": "rad/s"}),
-        },
-        coords={"mode": np.arange(nm), "node": np.arange(rotor.n_nodes), "dof": DOFS},
-    )
+    several = not isinstance(spec.speed_rpm, float)
+    rpm = [float(v) for v in np.atleast_1d(spec.speed_rpm)]
+    if several and not rpm:
+        raise InputError("modal.speed_rpm", [], "a speed [rpm] or a list of speeds")
+    m = modal(rotor, rpm_to_rad_s(np.asarray(rpm)), n_modes)
+    parts = [_modes_dataset(rotor, m, i, r) for i, r in enumerate(rpm)]
+    ds = xr.concat([p.set_coords("speed") for p in parts], "speed") if several else parts[0]
+    if several:
+        ds["speed_rpm"] = ("speed", np.asarray(rpm), {"units": "rpm"})
+        for name in ("z",):
+            ds[name] = parts[0][name]
     from rotaflex.rotor.fe.torsion_axial import axial_modes, torsional_modes
 
     wt, wa = torsional_modes(rotor, n_modes)[0], axial_modes(rotor, n_modes)[0]
     ds["torsional_frequency"] = ("uncoupled_mode", wt, {"units": "rad/s", "long_name": "torsional (0: rigid)"})
     ds["axial_frequency"] = ("uncoupled_mode", wa, {"units": "rad/s", "long_name": "axial (0: rigid)"})
     extra = {
-        "speed": {"value": spec.speed_rpm, "unit": "rpm"},
+        "speed": {"value": rpm if several else rpm[0], "unit": "rpm"},
         "stability_tolerance": {
             "value": STABILITY_TOL,
             "unit": "1",
@@ -69,23 +99,18 @@ def run_modal(config: dict, *, progress: bool = False) -> ModalResult:
     if note:
         extra["note"] = {"value": note, "unit": ""}
     hz = 1 / (2 * np.pi)
-    for k in range(nm):
-        extra[f"mode_{k}_frequency_hz"] = {"value": float(m.wn[0, k] * hz), "unit": "Hz"}  # = natural frequency
-        extra[f"mode_{k}_damped_frequency_hz"] = {"value": float(m.wd[0, k] * hz), "unit": "Hz"}
-        extra[f"mode_{k}_natural_frequency_rpm"] = {"value": float(rad_s_to_rpm(m.wn[0, k])), "unit": "rpm"}
-        extra[f"mode_{k}_damping_ratio"] = {"value": float(m.damping_ratio[0, k]), "unit": "1"}
-        extra[f"mode_{k}_log_dec"] = {"value": float(m.log_dec[0, k]), "unit": "1"}
-        extra[f"mode_{k}_whirl"] = {"value": str(m.whirl[0, k]), "unit": "", "allowed": "forward|backward|mixed"}
-        extra[f"mode_{k}_stable"] = {"value": bool(not m.unstable[0, k]), "unit": ""}
+    for i in range(len(rpm)):
+        extra |= _mode_summary(m, i, f"speed_{i}_" if several else "")
     if wt.size > 1:
         extra["first_torsional_frequency_hz"] = {"value": float(wt[1] * hz), "unit": "Hz"}
         extra["first_axial_frequency_hz"] = {"value": float(wa[1] * hz), "unit": "Hz"}
-    unstable = int(np.sum(m.unstable[0]))
+    unstable = int(np.sum(m.unstable))
     extra["unstable_modes"] = {"value": unstable, "unit": ""}
+    at = ", ".join(f"{r:g}" for r in rpm)
     msg = (
-        f"{nm} modes at {spec.speed_rpm:g} rpm; lowest {m.wn[0, 0] * hz:.4g} Hz "
-        f"(log dec {m.log_dec[0, 0]:.3g}); {unstable} unstable" + (f"; {note}" if note else "")
-    )
+        f"{m.eigenvalue.shape[1]} modes at {at} rpm; lowest {m.wn[0, 0] * hz:.4g} Hz "
+        f"(log dec {m.log_dec[0, 0]:.3g})" + (" at the first speed" if several else "") + f"; {unstable} unstable"
+    ) + (f"; {note}" if note else "")
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return ModalResult(add_fluid_film_tables(ds, rotor))
 
@@ -121,7 +146,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
             "mac_min": ("speed", c.mac_min, {"units": "1", "long_name": "smallest MAC of the tracking step"}),
             "speed_rpm": ("speed", rad_s_to_rpm(speeds), {"units": "rpm"}),
         },
-        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(n_modes)},
+        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(m.wd.shape[1])},
     )
     extra = {
         "critical_solve": {"value": spec.critical_solve if reduce is None else "interpolated", "unit": ""},
