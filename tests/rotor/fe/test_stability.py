@@ -1,0 +1,53 @@
+"""Stability: the closed-form threshold of a rigid rotor with cross-coupled stiffness, API 617 Level I/II."""
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+from rotaflex.rotor.fe.modal import modal
+
+# rigid rotor: 0.4 m x 0.1 m rigid shaft, a 60 kg disk at mid-span, two isotropic supports
+K_SUP, C_SUP = 2.0e7, 4.0e3  # N/m, N s/m in total (half at each end)
+
+
+def rigid_rotor(q: float) -> Rotor:
+    """The rigid rotor with a cross-coupled stiffness q (kxy = q, kyx = -q) at the disk."""
+    return Rotor(
+        shaft=(Shaft(outer_diameter=0.1, length=0.4, elements=2, rigid=True),),
+        disk=(Disk(node=1, mass=60.0, Id=0.6, Ip=1.0),),
+        bearing=(
+            Bearing(node=0, kxx=K_SUP / 2, kyy=K_SUP / 2, cxx=C_SUP / 2, cyy=C_SUP / 2),
+            Bearing(node=2, kxx=K_SUP / 2, kyy=K_SUP / 2, cxx=C_SUP / 2, cyy=C_SUP / 2),
+            Bearing(node=1, kxy=q, kyx=-q),
+        ),
+    )
+
+
+def closed_form_forward(m: float, k: float, c: float, q: float) -> complex:
+    """Forward-whirl root of m s^2 + c s + (k - i q) = 0 (z = x + i y, force f = i q z)."""
+    roots = np.roots([m, c, k - 1j * q])
+    return complex(roots[np.argmax(roots.imag)])
+
+
+def fe_forward(q: float, m: float) -> complex:
+    """The FE eigenvalue nearest the closed-form forward root (the translational mode)."""
+    lam = modal(rigid_rotor(q), 0.0).eigenvalue[0]
+    ref = closed_form_forward(m, K_SUP, C_SUP, q)
+    return complex(lam[np.argmin(np.abs(lam - ref))])
+
+
+def test_rigid_rotor_threshold_is_c_omega_n():
+    """Unstable from q_0 = c omega_n; log dec below it as the closed form (Lund 1974; Childs 1993 ch. 3)."""
+    m = rigid_rotor(0.0).mass
+    wn = np.sqrt(K_SUP / m)
+    for q in (0.0, 0.25, 0.5, 0.9, 1.2):
+        qq = q * C_SUP * wn
+        lam, ref = fe_forward(qq, m), closed_form_forward(m, K_SUP, C_SUP, qq)
+        delta, delta_ref = -2 * np.pi * lam.real / lam.imag, -2 * np.pi * ref.real / ref.imag
+        # the rigid section is a 1e8 penalty: frequencies within ~1e-7, log dec ~1e-6 absolute
+        assert abs(lam - ref) < 1e-6 * abs(ref)
+        assert delta == pytest.approx(delta_ref, abs=1e-5)
+        assert (delta < 0) == (q > 1)
+    q0 = brentq(lambda q: fe_forward(q, m).real, 0.5 * C_SUP * wn, 2 * C_SUP * wn, xtol=1e-6)
+    assert q0 == pytest.approx(C_SUP * wn, rel=1e-6)
