@@ -51,3 +51,30 @@ def test_rigid_rotor_threshold_is_c_omega_n():
         assert (delta < 0) == (q > 1)
     q0 = brentq(lambda q: fe_forward(q, m).real, 0.5 * C_SUP * wn, 2 * C_SUP * wn, xtol=1e-6)
     assert q0 == pytest.approx(C_SUP * wn, rel=1e-6)
+
+
+def test_level1_threshold_of_the_rigid_rotor_is_c_omega_n():
+    """Level I's Q_0 (Brent on the first forward mode's log dec, Q at mid-span) is the closed form."""
+    from rotaflex.rotor.fe.stability import StabilitySpec, Stage, level1
+
+    rotor = rigid_rotor(0.0)
+    wn = np.sqrt(K_SUP / rotor.mass)
+    spec = StabilitySpec(speed_rpm=3000.0, stage=(Stage(power=2e5, diameter=0.3, width=0.02),), n_points=5)
+    res = level1(rotor, spec)
+    assert res.q0 == pytest.approx(C_SUP * wn, rel=1e-5)
+    ref = closed_form_forward(rotor.mass, K_SUP, C_SUP, res.q_a)
+    assert res.log_dec_a == pytest.approx(-2 * np.pi * ref.real / ref.imag, abs=1e-5)
+    # Q_A = B T / (D H) (rho_d/rho_s) with T = P / Omega: 3 * 2e5 / (3000 pi/30) / (0.3 * 0.02)
+    assert res.q_a == pytest.approx(3 * 2e5 / (3000 * np.pi / 30) / (0.3 * 0.02), rel=1e-12)
+
+
+def test_anticipated_cross_coupling_si_equals_the_us_form():
+    """q_A in SI (C = 9.55: W, m, rpm -> N/m) = the standard's US form (C = 63: hp, in, rpm -> klbf/in)."""
+    from rotaflex.rotor.fe.stability import StabilitySpec, Stage, anticipated_cross_coupling
+
+    hp, inch, klbf_in = 745.699872, 0.0254, 4448.2216152605 / 0.0254
+    for machine, b, rho in (("centrifugal_compressor", 3.0, 1.4), ("turbine", 1.5, 1.0)):
+        st = Stage(power=5e6, diameter=0.45, width=0.018, density_ratio=1.4)
+        q = anticipated_cross_coupling(StabilitySpec(machine=machine, stage=(st,)), 9000.0)[0]
+        us = b * (5e6 / hp) * 63.0 * rho / ((0.45 / inch) * (0.018 / inch) * 9000.0) * klbf_in
+        assert q == pytest.approx(us, rel=2e-3)  # 63 is 63.025 rounded

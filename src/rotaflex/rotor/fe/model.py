@@ -21,7 +21,9 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.bearings import registry
 from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm
+from rotaflex.rotor.fe.bearings.magnetic import Magnetic
 from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS
 from rotaflex.rotor.fe.materials import Material, material
@@ -121,6 +123,7 @@ class Bearing:
     speed_rpm: tuple[float, ...] | None = param(None, unit="rpm", ge=0, doc="speeds of tabulated coefficients")
     name: str = param("", doc="label")
     fluid_film: FluidFilm | None = param(None, doc="plain journal bearing: coefficients computed (no k/c keys)")
+    magnetic: Magnetic | None = param(None, doc="active magnetic bearing: K(w), C(w) (docs/stability.md)")
 
     def __post_init__(self):
         for key in COEFFICIENTS:  # Python callers may pass plain numbers
@@ -171,6 +174,7 @@ class Rotor:
         if not isinstance(data, Mapping):
             raise InputError(where or "config", data, "a table")
         data = dict(data)
+        names = list(data["bearing"]) if isinstance(data.get("bearing"), Mapping) else []
         for key in ("shaft", "disk", "point_mass", "bearing"):
             v = data.get(key)
             if isinstance(v, Mapping):  # [bearing.left] named tables: sweepable by dotted key
@@ -182,7 +186,14 @@ class Rotor:
                 else b
                 for b in data["bearing"]
             ]
-        return from_mapping(cls, data, where)
+        try:
+            return from_mapping(cls, data, where)
+        except InputError as e:  # name a [bearing.NAME] table as the user wrote it
+            for i, nm in enumerate(names):
+                head = f"bearing[{i}]"
+                if e.field == head or e.field.startswith(head + "."):
+                    raise InputError(f"bearing.{nm}" + e.field[len(head) :], e.value, e.allowed) from None
+            raise
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Rotor:
@@ -421,8 +432,8 @@ class Rotor:
             m = self.station(b.to_node, b.to_position, where, False, ("to_node", "to_position"))
             if m == n:
                 raise InputError(f"{where}.to_node", m, "a node other than the bearing's own node")
-            if b.fluid_film is not None:
-                out.append((n, m, BearingElement.from_fluid_film(b, where)))
+            if registry.kind_of(b, where) is not None:
+                out.append((n, m, registry.element(b, where)))
                 continue
             lengths = {len(getattr(b, k)) for k in COEFFICIENTS}
             ns = 1 if b.speed_rpm is None else len(b.speed_rpm)
@@ -496,13 +507,14 @@ class Rotor:
         """Global matrix multiplying the spin acceleration (run-up); force -Omega' Kst q."""
         return self._base["Kst"]
 
-    def KC(self, speeds) -> tuple[np.ndarray, np.ndarray]:
-        """Stiffness and damping (n_speed, n_dof, n_dof) at spin speeds [rad/s] (bearings interpolated)."""
+    def KC(self, speeds, whirl=None) -> tuple[np.ndarray, np.ndarray]:
+        """Stiffness and damping (n_speed, n_dof, n_dof) at spin speeds [rad/s] (bearings interpolated);
+        ``whirl`` [rad/s]: the vibration frequency of frequency-dependent bearings (None: = speed)."""
         speeds = np.atleast_1d(np.asarray(speeds, float))
         K = np.broadcast_to(self._base["K"], (speeds.size, self.n_dof, self.n_dof)).copy()
         C = np.zeros_like(K)
         for node, other, el in self.bearings:
-            kb, cb = el.coefficients(speeds)
+            kb, cb = el.coefficients(speeds, whirl)
             i = NDOF_NODE * node + np.arange(2)
             K[:, i[:, None], i] += kb
             C[:, i[:, None], i] += cb

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
 from rotaflex.core.errors import InputError
-from rotaflex.rotor.fe.bearings.fluid_film import fluid_film_table
 
 COEFFICIENTS = ("kxx", "kxy", "kyx", "kyy", "cxx", "cxy", "cyx", "cyy")
 
@@ -37,6 +37,7 @@ class BearingElement:
     speeds: np.ndarray | None = None
     name: str = "bearing"
     table: object = field(default=None, compare=False, repr=False)  #: FluidFilmTable of a fluid-film bearing
+    frequency_dependent: ClassVar[bool] = False  #: coefficients depend on speed only (element contract)
 
     @classmethod
     def constant(
@@ -45,8 +46,13 @@ class BearingElement:
         """Speed-independent coefficients [N/m, N s/m]."""
         return cls(np.array([[[kxx, kxy], [kyx, kyy]]], float), np.array([[[cxx, cxy], [cyx, cyy]]], float), None, name)
 
-    def coefficients(self, speed) -> tuple[np.ndarray, np.ndarray]:
-        """Stiffness and damping (n_speed, 2, 2) at the spin speeds ``speed`` [rad/s]."""
+    @property
+    def static_load_dependent(self) -> bool:
+        """A fluid-film bearing's coefficients depend on its static load."""
+        return self.table is not None
+
+    def coefficients(self, speed, whirl=None) -> tuple[np.ndarray, np.ndarray]:
+        """Stiffness and damping (n_speed, 2, 2) at the spin speeds ``speed`` [rad/s] (``whirl``: unused)."""
         speed = np.atleast_1d(np.asarray(speed, float))
         if self.speeds is None:
             return (
@@ -72,6 +78,14 @@ class BearingElement:
         """Mass (2, 2) on the translations: zero."""
         return np.zeros((2, 2))
 
+    def mass(self, speed) -> np.ndarray:
+        """Added mass (n_speed, 2, 2) [kg]: zero."""
+        return np.zeros((np.atleast_1d(speed).size, 2, 2))
+
+    def outputs(self, speed) -> dict:
+        """The kind's own results over speed: none."""
+        return {}
+
     def K(self, speed: float = 0.0) -> np.ndarray:
         """Stiffness (2, 2) [N/m] at ``speed`` [rad/s]."""
         return self.coefficients(speed)[0][0]
@@ -84,16 +98,43 @@ class BearingElement:
         """Gyroscopic (2, 2): zero."""
         return np.zeros((2, 2))
 
-    @classmethod
-    def from_fluid_film(cls, bearing, where: str = "bearing") -> BearingElement:
-        """Speed-tabulated element of a ``[bearing.NAME.fluid_film]`` table (coefficient keys refused).
 
-        ``bearing`` is a :class:`rotaflex.rotor.fe.model.Bearing` whose ``fluid_film`` is set.
-        """
-        for key in COEFFICIENTS:
-            if any(getattr(bearing, key)):
-                raise InputError(f"{where}.{key}", list(getattr(bearing, key)), "no coefficients with fluid_film")
-        if bearing.speed_rpm is not None:
-            raise InputError(f"{where}.speed_rpm", list(bearing.speed_rpm), "fluid_film.speed_rpm instead")
-        table = fluid_film_table(bearing.fluid_film, f"{where}.fluid_film")
-        return cls(table.k, table.c, table.speed, f"{where}.fluid_film", table)
+class ComputedBearing:
+    """Base of the bearing kinds whose coefficients are computed at any speed (seals, magnetic
+    bearings): the element contract of docs/architecture.md with no speed table.
+
+    Subclasses set ``name`` and implement :meth:`coefficients`; :meth:`mass` is zero unless overridden.
+    """
+
+    speeds = None  #: no table: any speed >= 0 is accepted
+    table = None  #: no fluid-film table
+    frequency_dependent = False
+    static_load_dependent = False
+    name = "bearing"
+
+    def coefficients(self, speed, whirl=None) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def mass(self, speed) -> np.ndarray:
+        """Added mass (n_speed, 2, 2) [kg]: zero."""
+        return np.zeros((np.atleast_1d(speed).size, 2, 2))
+
+    def outputs(self, speed) -> dict:
+        """The kind's own results over speed [dict of xarray.DataArray]: none."""
+        return {}
+
+    def K(self, speed: float = 0.0) -> np.ndarray:
+        """Stiffness (2, 2) [N/m] at ``speed`` [rad/s] (synchronous whirl)."""
+        return self.coefficients(speed)[0][0]
+
+    def C(self, speed: float = 0.0) -> np.ndarray:
+        """Damping (2, 2) [N s/m] at ``speed`` [rad/s] (synchronous whirl)."""
+        return self.coefficients(speed)[1][0]
+
+    def M(self, speed: float = 0.0) -> np.ndarray:
+        """Added mass (2, 2) [kg] at ``speed`` [rad/s]."""
+        return self.mass(speed)[0]
+
+    def G(self) -> np.ndarray:
+        """Gyroscopic (2, 2): zero."""
+        return np.zeros((2, 2))
