@@ -78,3 +78,90 @@ def test_anticipated_cross_coupling_si_equals_the_us_form():
         q = anticipated_cross_coupling(StabilitySpec(machine=machine, stage=(st,)), 9000.0)[0]
         us = b * (5e6 / hp) * 63.0 * rho / ((0.45 / inch) * (0.018 / inch) * 9000.0) * klbf_in
         assert q == pytest.approx(us, rel=2e-3)  # 63 is 63.025 rounded
+
+
+RIGID_TOML = """
+[[shaft]]
+outer_diameter = 0.1
+length = 0.4
+elements = 2
+rigid = true
+
+[[disk]]
+node = 1
+mass = 60.0
+Id = 0.6
+Ip = 1.0
+
+[bearing.left]
+node = 0
+kxx = 1e7
+kyy = 1e7
+cxx = 2e3
+cyy = 2e3
+
+[bearing.right]
+node = 2
+kxx = 1e7
+kyy = 1e7
+cxx = 2e3
+cyy = 2e3
+"""
+
+STAGES = """
+[stability]
+speed_rpm = 3000
+machine = "centrifugal_compressor"
+mean_density = 10.0
+n_points = 5
+
+[[stability.stage]]
+node = 1
+power = 2e5
+diameter = 0.3
+width = 0.02
+"""
+
+
+def _cli(tmp_path, text):
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+
+    f = tmp_path / "case.toml"
+    f.write_text(text)
+    return CliRunner().invoke(app, ["rotor", "stability", str(f), "--out", str(tmp_path / "out"), "-q"])
+
+
+def test_stability_verb_writes_the_report(tmp_path):
+    """`rotor stability` on the rigid rotor: Q_0 = c omega_n in summary.json, verdict.md and the figures."""
+    import json
+
+    res = _cli(tmp_path, RIGID_TOML + STAGES)
+    assert res.exit_code == 0, res.output
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    m = rigid_rotor(0.0).mass
+    assert s["Q_0"]["value"] == pytest.approx(C_SUP * np.sqrt(K_SUP / m), rel=1e-5)
+    # no seals: Level II's full model is Level I's model at Q_A
+    assert s["level2_log_dec"]["value"] == pytest.approx(s["log_dec_at_QA"]["value"], rel=1e-9)
+    assert s["level1_verdict"]["value"] in ("Level II required", "Level II not required")
+    out = tmp_path / "out"
+    assert "Q_0 / Q_A" in (out / "verdict.md").read_text()
+    assert {"level1.png", "level2.png", "csr_map.png", "result.nc"} <= {p.name for p in out.iterdir()}
+
+
+@pytest.mark.parametrize(
+    "cut, field",
+    [("speed_rpm = 3000\n", "stability.speed_rpm"), ("[[stability.stage]]", "stability.stage")],
+)
+def test_level1_without_speed_or_power_is_refused(tmp_path, cut, field):
+    """Level I without the MCS or without the stages (power): one line naming the key, exit 2."""
+    text = STAGES.replace(cut, "") if cut.startswith("speed") else STAGES.split(cut)[0]
+    res = _cli(tmp_path, RIGID_TOML + text)
+    assert res.exit_code == 2
+    assert field in res.output and len(res.output.strip().splitlines()) == 1
+
+
+def test_stage_without_power_names_the_key(tmp_path):
+    res = _cli(tmp_path, RIGID_TOML + STAGES.replace("power = 2e5\n", ""))
+    assert res.exit_code == 2 and "stability.stage[0].power" in res.output

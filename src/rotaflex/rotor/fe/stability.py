@@ -77,7 +77,7 @@ class StabilitySpec:
     stage: tuple[Stage, ...] = param((), doc="the stages (power, diameter, width): needed for Q_A")
     location: Literal["midspan", "stages"] = param("midspan", doc="where Q is applied in Level I (and Q_A in Level II)")
     mean_density: float | None = param(None, unit="kg/m^3", gt=0, doc="mean gas density (CSR map, compressors)")
-    n_points: int = param(41, ge=3, doc="points of the Level I sweep from 0 to max(2 Q_0, 10 Q_A)")
+    n_points: int = param(41, ge=3, doc="points of the Level I sweep from 0 to 2 max(Q_0, Q_A)")
     log_dec_min: float = param(LOG_DEC_MIN, doc="Level II acceptance log decrement")
 
 
@@ -297,7 +297,7 @@ def level1(rotor: Rotor, spec: StabilitySpec) -> Level1:
             hi *= 2
     else:
         q0 = 0.0
-    qmax = max(10 * q_a, 2 * q0) if np.isfinite(q0) else 10 * q_a
+    qmax = 2 * max(q_a, q0) if np.isfinite(q0) else 10 * q_a
     q = np.linspace(0.0, qmax, spec.n_points)
     lds = np.array([ld(x) for x in q])
     wcr = rigid_support_critical(rotor, system)
