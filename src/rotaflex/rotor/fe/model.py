@@ -23,6 +23,7 @@ from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.bearings import registry
 from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm
+from rotaflex.rotor.fe.bearings.labyrinth import Labyrinth
 from rotaflex.rotor.fe.bearings.magnetic import Magnetic
 from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS
@@ -124,6 +125,7 @@ class Bearing:
     name: str = param("", doc="label")
     fluid_film: FluidFilm | None = param(None, doc="plain journal bearing: coefficients computed (no k/c keys)")
     magnetic: Magnetic | None = param(None, doc="active magnetic bearing: K(w), C(w) (docs/stability.md)")
+    labyrinth: Labyrinth | None = param(None, doc="gas labyrinth seal: bulk-flow K, k, C, c (docs/stability.md)")
 
     def __post_init__(self):
         for key in COEFFICIENTS:  # Python callers may pass plain numbers

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm, fluid_film_table
+from rotaflex.rotor.fe.bearings.labyrinth import Labyrinth
+from rotaflex.rotor.fe.bearings.labyrinth import element as labyrinth_element
 from rotaflex.rotor.fe.bearings.magnetic import Magnetic
 from rotaflex.rotor.fe.bearings.magnetic import element as magnetic_element
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS, BearingElement
@@ -22,10 +24,11 @@ def fluid_film_element(spec: FluidFilm, where: str) -> BearingElement:
 KINDS = {
     "fluid_film": (FluidFilm, fluid_film_element),
     "magnetic": (Magnetic, magnetic_element),
+    "labyrinth": (Labyrinth, labyrinth_element),
 }
 
 #: kinds that are seals (API 617 Level I leaves them out; Level II adds them one by one)
-SEALS: tuple[str, ...] = ()
+SEALS: tuple[str, ...] = ("labyrinth",)
 
 
 def kind_of(bearing, where: str = "bearing") -> str | None:
