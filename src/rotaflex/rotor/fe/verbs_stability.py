@@ -49,7 +49,7 @@ def run_stability(config: dict, *, progress: bool = False) -> StabilityResult:
     )
     for name, (_, _, el) in zip(names, rotor.bearings, strict=True):
         for key, da in el.outputs(np.array([spec.speed_rpm * RPM])).items():
-            ds[f"{name}_{key}"] = da
+            ds[f"{name}_{key}"] = da.rename({d: f"{name}_{d}" for d in da.dims})  # one cavity axis per seal
     ds.attrs.update({"machine": spec.machine, "location": spec.location, "mean_density": spec.mean_density or np.nan})
     verdict1 = "Level II required" if l1.level2_required else "Level II not required"
     verdict2 = "pass" if l2.passed else "fail"
