@@ -24,6 +24,7 @@ from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.bearings import registry
 from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm
 from rotaflex.rotor.fe.bearings.labyrinth import Labyrinth
+from rotaflex.rotor.fe.bearings.liquid_seal import LiquidSeal
 from rotaflex.rotor.fe.bearings.magnetic import Magnetic
 from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS
@@ -126,6 +127,7 @@ class Bearing:
     fluid_film: FluidFilm | None = param(None, doc="plain journal bearing: coefficients computed (no k/c keys)")
     magnetic: Magnetic | None = param(None, doc="active magnetic bearing: K(w), C(w) (docs/stability.md)")
     labyrinth: Labyrinth | None = param(None, doc="gas labyrinth seal: bulk-flow K, k, C, c (docs/stability.md)")
+    liquid_seal: LiquidSeal | None = param(None, doc="liquid annular seal: K, k, C, c, M (docs/stability.md)")
 
     def __post_init__(self):
         for key in COEFFICIENTS:  # Python callers may pass plain numbers

@@ -10,6 +10,8 @@ from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm, fluid_film_table
 from rotaflex.rotor.fe.bearings.labyrinth import Labyrinth
 from rotaflex.rotor.fe.bearings.labyrinth import element as labyrinth_element
+from rotaflex.rotor.fe.bearings.liquid_seal import LiquidSeal
+from rotaflex.rotor.fe.bearings.liquid_seal import element as liquid_seal_element
 from rotaflex.rotor.fe.bearings.magnetic import Magnetic
 from rotaflex.rotor.fe.bearings.magnetic import element as magnetic_element
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS, BearingElement
@@ -25,10 +27,11 @@ KINDS = {
     "fluid_film": (FluidFilm, fluid_film_element),
     "magnetic": (Magnetic, magnetic_element),
     "labyrinth": (Labyrinth, labyrinth_element),
+    "liquid_seal": (LiquidSeal, liquid_seal_element),
 }
 
 #: kinds that are seals (API 617 Level I leaves them out; Level II adds them one by one)
-SEALS: tuple[str, ...] = ("labyrinth",)
+SEALS: tuple[str, ...] = ("labyrinth", "liquid_seal")
 
 
 def kind_of(bearing, where: str = "bearing") -> str | None:
