@@ -116,8 +116,8 @@ def _nonlinear_force(el: LabyrinthElement, speed: float, ecc: float, n_theta: in
 @pytest.mark.parametrize("preswirl", [0.0, 0.5])
 def test_static_coefficients_match_the_nonlinear_solution(preswirl):
     """K(0) and k(0) of the perturbation solution = -F_x / e and F_y / e of the nonlinear bulk-flow
-    equations solved on a circumferential grid with e = 1e-3 Cr; the grid converges by 8 points
-    (one harmonic), and the eccentricity error is O(e)."""
+    equations solved on a circumferential grid with e = 1e-3 Cr: 8 and 16 grid points give the same force
+    (the response is one harmonic) and the finite eccentricity costs ~1e-7 (measured)."""
     el = element(Labyrinth(**SEAL, preswirl=preswirl), "lab")
     speed = 1000.0
     K, _ = el.coefficients(np.array([speed]), np.array([1e-9]))
