@@ -165,3 +165,61 @@ def test_level1_without_speed_or_power_is_refused(tmp_path, cut, field):
 def test_stage_without_power_names_the_key(tmp_path):
     res = _cli(tmp_path, RIGID_TOML + STAGES.replace("power = 2e5\n", ""))
     assert res.exit_code == 2 and "stability.stage[0].power" in res.output
+
+
+def test_level1_split_over_the_stages():
+    """Q split over two stages at the bearings' nodes (equal q_A,i): the translational mode sees the same
+    total cross-coupling, so Q_0 = c omega_n again (location = "stages")."""
+    from rotaflex.rotor.fe.stability import StabilitySpec, Stage, level1
+
+    rotor = rigid_rotor(0.0)
+    st = [Stage(power=1e5, diameter=0.3, width=0.02, node=n) for n in (0, 2)]
+    spec = StabilitySpec(speed_rpm=3000.0, stage=tuple(st), location="stages", n_points=3)
+    assert level1(rotor, spec).q0 == pytest.approx(C_SUP * np.sqrt(K_SUP / rotor.mass), rel=1e-5)
+
+
+SEALS = """
+[bearing.lab]
+node = 1
+
+[bearing.lab.labyrinth]
+teeth = 6
+pitch = 4e-3
+tooth_height = 4e-3
+clearance = 0.2e-3
+radius = 0.06
+inlet_pressure = 5e5
+outlet_pressure = 1e5
+inlet_temperature = 300.0
+preswirl = 0.5
+
+[bearing.amb]
+node = 2
+
+[bearing.amb.magnetic]
+k_i = 100.0
+k_s = 1e5
+sensor_gain = 1e4
+p_gain = 0.5
+d_gain = 1e-3
+lowpass_hz = 2000.0
+"""
+
+
+@pytest.mark.parametrize("verb", ["modal", "campbell", "unbalance", "static", "frf"])
+def test_seals_and_ambs_in_the_other_verbs(tmp_path, verb):
+    """A labyrinth and an AMB beside linear bearings: every rotor verb runs (coefficients at the spin speed)."""
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+
+    tables = {
+        "campbell": "[campbell]\nspeed_rpm = [0, 6000]\nn_speeds = 4\nn_modes = 4\n",
+        "unbalance": "[unbalance]\nspeed_rpm = [100, 6000]\nn_speeds = 20\n"
+        "[[unbalance.mass]]\nnode = 1\nmagnitude = 1e-4\n",
+        "frf": "[frf]\nspeed_rpm = 3000\nn_frequencies = 50\n",
+    }
+    f = tmp_path / "case.toml"
+    f.write_text(RIGID_TOML + SEALS + tables.get(verb, ""))
+    res = CliRunner().invoke(app, ["rotor", verb, str(f), "--out", str(tmp_path / "out"), "-q", "--no-figures"])
+    assert res.exit_code == 0, res.output
