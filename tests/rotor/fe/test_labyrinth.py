@@ -56,11 +56,15 @@ def test_single_tooth_leakage_is_the_isentropic_orifice():
 
 
 def test_leakage_passes_every_tooth_and_meets_the_outlet():
-    el = element(Labyrinth(**SEAL), "lab")
+    """7 -> 3 bar: the same flow through every tooth, the last cavity meets the outlet; 7 -> 1 bar: the last
+    tooth chokes at the critical ratio 0.528 and the last cavity stays above the outlet (reported)."""
+    el = element(Labyrinth(**{**SEAL, "outlet_pressure": 3e5}), "lab")
     m, p, choked = el.leak
-    assert not choked and p[0] == 7e5 and p[-1] == pytest.approx(1e5, rel=1e-9)
+    assert not choked and p[0] == 7e5 and p[-1] == pytest.approx(3e5, rel=1e-9)
     flows = [tooth_flow(p[k], p[k + 1], 1e-4, el.rt, 1.4, el.mu2[k]) for k in range(8)]
     np.testing.assert_allclose(flows, m, rtol=1e-9)
+    m, p, choked = element(Labyrinth(**SEAL), "lab").leak
+    assert choked and p[-1] / p[-2] == pytest.approx((2 / 2.4) ** 3.5, rel=1e-9) and p[-1] > 1e5
 
 
 def _nonlinear_force(el: LabyrinthElement, speed: float, ecc: float, n_theta: int, whirl: float = 0.0):
@@ -165,3 +169,18 @@ def test_whirling_coefficients_match_the_nonlinear_solution(whirl):
         fx, fy = _nonlinear_force(el, speed, ecc, 8, w)
         assert -fx / ecc == pytest.approx(kd + w * cc, rel=1e-5)
         assert -fy / ecc == pytest.approx(w * cd - kc, rel=1e-5)
+
+
+def test_choked_seal_leaks_in_proportion_to_the_inlet_pressure():
+    """Two teeth, 50 and 100 bar to 1 bar: the last tooth sits at the critical pressure ratio
+    (2 / (gamma + 1))^(gamma / (gamma - 1)) = 0.528 and, every tooth flow being homogeneous of degree one
+    in the pressures, the leakage doubles with the inlet pressure."""
+    base = dict(teeth=2, pitch=3e-3, tooth_height=3e-3, clearance=0.2e-3, radius=0.05, inlet_temperature=300.0)
+    els = [element(Labyrinth(**base, inlet_pressure=p, outlet_pressure=1e5), "lab") for p in (50e5, 100e5)]
+    (m1, p1, c1), (m2, _, c2) = els[0].leak, els[1].leak
+    assert c1 and c2
+    assert p1[2] / p1[1] == pytest.approx((2 / 2.4) ** 3.5, rel=1e-9)
+    assert m2 / m1 == pytest.approx(2.0, rel=1e-9)
+    assert not element(Labyrinth(**base, inlet_pressure=1.5e5, outlet_pressure=1e5), "lab").leak[2]
+    K, C = els[0].coefficients([1000.0])
+    assert np.all(np.isfinite(K)) and np.all(np.isfinite(C))

@@ -12,8 +12,10 @@ Leakage per unit circumference through tooth k (Neumann's equation):
 
 with mu_2 = 1 for the first tooth. mu_1 -> pi / (pi + 2) = 0.611 for a vanishing pressure drop, the
 free-streamline contraction of a slot (Kirchhoff). The same m passes every tooth: the cavity
-pressures follow by marching and m by a root search on the outlet pressure. A tooth past the
-peak of Neumann's flow (the model's choking) limits m; the seal is then reported choked.
+pressures follow by marching and m by a root search on the outlet pressure. A tooth chokes at the critical
+pressure ratio (2 / (gamma + 1))^(gamma / (gamma - 1)): below it the flow stays Neumann's at that
+ratio (proportional to the upstream pressure), the last cavity's pressure then exceeds the outlet's
+and the seal is reported choked.
 
 Circumferential momentum of cavity i (length L = pitch - tooth width, depth B + Cr, area
 A = (B + Cr) L), zeroth order: m (V_i - V_{i-1}) = L (a_r tau_r - a_s tau_s), V_0 = preswirl R w,
@@ -38,7 +40,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
+from scipy.optimize import brentq
 
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
@@ -100,7 +102,9 @@ class Labyrinth:
 
 
 def tooth_flow(p_up, p_down, clearance, rt, gamma, mu2=1.0):
-    """Neumann's leakage per unit circumference [kg/(s m)] of one tooth (module docstring)."""
+    """Neumann's leakage per unit circumference [kg/(s m)] of one tooth (module docstring); below the
+    critical pressure ratio the tooth is choked and passes the flow of that ratio."""
+    p_down = np.maximum(p_down, (2 / (gamma + 1)) ** (gamma / (gamma - 1)) * p_up)
     s = (p_up / p_down) ** ((gamma - 1) / gamma) - 1
     mu1 = np.pi / (np.pi + 2 - 5 * s + 2 * s**2)
     return mu1 * mu2 * clearance * np.sqrt((p_up**2 - p_down**2) / rt)
@@ -137,13 +141,8 @@ class LabyrinthElement(ComputedBearing):
         j = 1 - (1 + CARRY_OVER * sp.clearance / sp.pitch) ** -2
         mu2 = np.sqrt(sp.teeth / (sp.teeth * (1 - j) + j))
         self.mu2 = np.r_[1.0, np.full(sp.teeth - 1, mu2)]
-        # the pressure ratio of a tooth's largest flow depends on gamma only (flow = P_up x f(ratio))
-        self.r_peak = minimize_scalar(
-            lambda r: -tooth_flow(1.0, r, 1.0, 1.0, self.gamma),
-            bounds=(1e-3, 1 - 1e-12),
-            method="bounded",
-            options={"xatol": 1e-12},
-        ).x
+        # a tooth chokes at the critical pressure ratio: its flow stays Neumann's at that ratio below it
+        self.r_choke = (2 / (self.gamma + 1)) ** (self.gamma / (self.gamma - 1))
         self.leak = self._leakage()
 
     # -- zeroth order -------------------------------------------------------------------
@@ -156,9 +155,9 @@ class LabyrinthElement(ComputedBearing):
             def f(pd, pu=pu, k=k):
                 return tooth_flow(pu, pd, sp.clearance, self.rt, self.gamma, self.mu2[k]) - m
 
-            if f(self.r_peak * pu) < 0:
+            if f(self.r_choke * pu) < 0:
                 return None
-            p.append(brentq(f, self.r_peak * pu, pu * (1 - 1e-15), xtol=1e-12 * pu, rtol=1e-14))
+            p.append(brentq(f, self.r_choke * pu, pu * (1 - 1e-15), xtol=1e-12 * pu, rtol=1e-14))
         return np.array(p)
 
     def _leakage(self) -> tuple[float, np.ndarray, bool]:
@@ -215,6 +214,10 @@ class LabyrinthElement(ComputedBearing):
             pu, pd = p[k], p[k + 1]
             du, dd = 1e-7 * pu, 1e-7 * pd
             fl = functools.partial(tooth_flow, clearance=sp.clearance, rt=rt, gamma=self.gamma, mu2=self.mu2[k])
+            if z.choked and k == sp.teeth - 1:  # choked last tooth: the flow follows the upstream pressure only
+                rc = self.r_choke
+                a[k] = (fl(pu + du, rc * (pu + du)) - fl(pu - du, rc * (pu - du))) / (2 * du)
+                continue
             a[k] = (fl(pu + du, pd) - fl(pu - du, pd)) / (2 * du)
             b[k] = (fl(pu, pd + dd) - fl(pu, pd - dd)) / (2 * dd)
         # unknowns: P_1..P_NC (columns 0..nc-1), V_1..V_NC (columns nc..2nc-1)
