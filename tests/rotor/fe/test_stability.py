@@ -223,3 +223,22 @@ def test_seals_and_ambs_in_the_other_verbs(tmp_path, verb):
     f.write_text(RIGID_TOML + SEALS + tables.get(verb, ""))
     res = CliRunner().invoke(app, ["rotor", verb, str(f), "--out", str(tmp_path / "out"), "-q", "--no-figures"])
     assert res.exit_code == 0, res.output
+
+
+@pytest.mark.parametrize("stem", ["compressor_tilting_pad_labyrinth", "amb_rotor"])
+def test_examples_run_the_stability_report(tmp_path, stem):
+    """The two examples run as their headers say; the verdicts are consistent with their own numbers."""
+    import json
+    from pathlib import Path
+
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+
+    example = Path(__file__).resolve().parents[3] / "examples" / "rotor" / f"{stem}.toml"
+    res = CliRunner().invoke(app, ["rotor", "stability", str(example), "--out", str(tmp_path), "-q", "--no-figures"])
+    assert res.exit_code == 0, res.output
+    s = json.loads((tmp_path / "summary.json").read_text())
+    required = s["Q0_over_QA"]["value"] < 2 or s["log_dec_at_QA"]["value"] < 0.1
+    assert required <= (s["level1_verdict"]["value"] == "Level II required")
+    assert (s["level2_verdict"]["value"] == "pass") == (s["level2_log_dec"]["value"] >= 0.1)
