@@ -25,7 +25,8 @@ at 60 kg/m^3; above 60 kg/m^3 every CSR is taken as region B, the map ends there
 
 Level II: the first forward mode at MCS with every bearing, seal and Q_A; accepted when its log
 decrement is >= 0.1. Each seal's and Q_A's contribution is the change of the log decrement when
-it is added to the bearings alone and when it is removed from the full model.
+it is added to the bearings alone and when it is removed from the full model. A ``pump`` has no
+Q_A and no Level I: its Level II has the bearings and seals only.
 
 Frequency-dependent elements (magnetic bearings) are evaluated at the mode's own damped
 frequency: the eigenproblem is solved again with the coefficients at the last mode's frequency
@@ -51,6 +52,8 @@ WHIRL_RTOL = 1e-7
 LOG_DEC_MIN = 0.1
 #: B of the q_A formula and whether the density ratio counts, per machine type
 MACHINES = {"centrifugal_compressor": (3.0, True), "axial_compressor": (1.5, False), "turbine": (1.5, False)}
+#: machines without anticipated aerodynamic cross-coupling: Level II only (seals and bearings, no Q_A)
+NO_LEVEL1 = ("pump",)
 #: the q_A constant C = 60 / (2 pi) ~ 9.55 (W, m, rpm -> N/m)
 C_SI = 60.0 / (2 * np.pi)
 
@@ -73,7 +76,9 @@ class StabilitySpec:
 
     speed_rpm: float | None = param(None, unit="rpm", gt=0, doc="maximum continuous speed (MCS)")
     rated_speed_rpm: float | None = param(None, unit="rpm", gt=0, doc="speed N of the q_A formula (default MCS)")
-    machine: Literal["centrifugal_compressor", "axial_compressor", "turbine"] = param("centrifugal_compressor")
+    machine: Literal["centrifugal_compressor", "axial_compressor", "turbine", "pump"] = param(
+        "centrifugal_compressor", doc="pump: no Q_A and no Level I; Level II with the bearings and seals"
+    )
     stage: tuple[Stage, ...] = param((), doc="the stages (power, diameter, width): needed for Q_A")
     location: Literal["midspan", "stages"] = param("midspan", doc="where Q is applied in Level I (and Q_A in Level II)")
     mean_density: float | None = param(None, unit="kg/m^3", gt=0, doc="mean gas density (CSR map, compressors)")
@@ -219,7 +224,9 @@ def log_dec(lam: complex) -> float:
 
 
 def anticipated_cross_coupling(spec: StabilitySpec, speed_rpm: float) -> np.ndarray:
-    """q_A of each stage [N/m] (API 617 / API 684; module docstring)."""
+    """q_A of each stage [N/m] (API 617 / API 684; module docstring); none for a pump."""
+    if spec.machine in NO_LEVEL1:
+        return np.zeros(0)
     b, with_density = MACHINES[spec.machine]
     return np.array(
         [
@@ -269,6 +276,10 @@ def check(spec: StabilitySpec) -> float:
     """The MCS [rad/s]; InputError naming the key when Level I lacks the speed or the stages' power."""
     if spec.speed_rpm is None:
         raise InputError("stability.speed_rpm", "<missing>", "the maximum continuous speed [rpm] > 0")
+    if spec.machine in NO_LEVEL1:
+        if spec.stage:
+            raise InputError("stability.stage", "<tables>", f"no stages for machine = {spec.machine!r} (no Q_A)")
+        return spec.speed_rpm * RPM
     if not spec.stage:
         raise InputError("stability.stage", "<missing>", "[[stability.stage]] tables with power, diameter, width")
     return spec.speed_rpm * RPM
@@ -325,17 +336,18 @@ def level2(rotor: Rotor, spec: StabilitySpec) -> Level2:
     speed = check(spec)
     system = _System(rotor, speed)
     q_stage = anticipated_cross_coupling(spec, spec.rated_speed_rpm or spec.speed_rpm)
-    qa = _q_nodes(rotor, spec, q_stage, float(q_stage.sum()))
+    qa = _q_nodes(rotor, spec, q_stage, float(q_stage.sum())) if q_stage.size else {}
     base = [not s for s in system.seal]
     seals = [i for i, s in enumerate(system.seal) if s]
     every = [True] * len(base)
     cases: list[tuple[str, list[bool], dict]] = [("bearings", base, {})]
     for i in seals:
         cases.append((f"bearings + {system.labels[i]}", [b or j == i for j, b in enumerate(base)], {}))
-    cases.append(("bearings + Q_A", base, qa))
+    if qa:
+        cases.append(("bearings + Q_A", base, qa))
     for i in seals:
         cases.append((f"all - {system.labels[i]}", [j != i for j in range(len(base))], qa))
-    if seals:
+    if seals and qa:
         cases.append(("all - Q_A", every, {}))
     cases.append(("all", every, qa))
     lam = np.array([first_forward(system, inc, q) for _, inc, q in cases])
