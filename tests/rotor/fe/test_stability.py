@@ -250,3 +250,14 @@ def test_examples_run_the_stability_report(tmp_path, stem):
 def test_pump_takes_no_stages(tmp_path):
     res = _cli(tmp_path, RIGID_TOML + STAGES.replace("centrifugal_compressor", "pump"))
     assert res.exit_code == 2 and "stability.stage" in res.output
+
+
+def test_anticipated_cross_coupling_against_ross():
+    """ROSS's Report.stability_level_1 docstring example (petrobras/ross, ross/report.py): D = 0.35 m,
+    H = 0.08 m, 10 kW per stage, density ratios 1.11 and 1.14, 1000 rpm -> Q_A = 23022.32142857143 N/m
+    with C = 9.55; ours uses C = 60 / (2 pi) = 9.5493."""
+    from rotaflex.rotor.fe.stability import C_SI, StabilitySpec, Stage, anticipated_cross_coupling
+
+    st = tuple(Stage(power=1e4, diameter=0.35, width=0.08, density_ratio=r) for r in (1.11, 1.14))
+    q = anticipated_cross_coupling(StabilitySpec(stage=st), 1000.0).sum()
+    assert q == pytest.approx(23022.32142857143 * C_SI / 9.55, rel=1e-12)
