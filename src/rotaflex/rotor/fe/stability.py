@@ -143,7 +143,7 @@ class _System:
 
     def matrices(self, include, whirl=None):
         """M, K, C (C with the gyroscopic term) with the bearings whose flag in ``include`` is set."""
-        r, n = self.rotor, self.rotor.n_dof
+        r = self.rotor
         M, K, C = r.M.copy(), r.K_shaft.copy(), self.speed * r.G
         sp = np.array([self.speed])
         wh = None if whirl is None else np.array([whirl])
@@ -154,7 +154,6 @@ class _System:
             mb = el.mass(sp)[0]
             for A, b in ((K, kb), (C, cb), (M, mb)):
                 _scatter(A, node, other, b)
-        assert M.shape == (n, n)
         return M, K, C
 
     @property
