@@ -59,6 +59,7 @@ COMMANDS: dict[str, dict[str, str]] = {
         "transient": "rotaflex.rotor.fe.case:run_transient",
         "static": "rotaflex.rotor.fe.case:run_static",
         "frf": "rotaflex.rotor.fe.case:run_frf",
+        "stability": "rotaflex.rotor.fe.case:run_stability",
     },
     "gear": {
         "static": "rotaflex.gear.cases.static:run_static",

@@ -52,6 +52,7 @@ __all__ = [
     "run_case",
     "run_frf",
     "run_modal",
+    "run_stability",
     "run_static",
     "run_transient",
     "run_ucs",
@@ -77,6 +78,14 @@ def run_frf(config: dict, *, progress: bool = False):
     return _run(config, progress=progress)
 
 
+@pinned
+def run_stability(config: dict, *, progress: bool = False):
+    """API 617 Level I and Level II stability (``[stability]``), docs/stability.md."""
+    from rotaflex.rotor.fe.verbs_stability import run_stability as _run
+
+    return _run(config, progress=progress)
+
+
 RUNNERS = {
     "static": run_static,
     "frf": run_frf,
@@ -85,6 +94,7 @@ RUNNERS = {
     "ucs": run_ucs,
     "unbalance": run_unbalance,
     "transient": run_transient,
+    "stability": run_stability,
 }
 
 

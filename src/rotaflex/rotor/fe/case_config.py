@@ -14,6 +14,7 @@ from rotaflex.core.config import from_mapping, param, unknown_key
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.rotor.fe.model import ROTOR_KEYS, Bearing, Disk, Material, PointMass, Rotor, Shaft
+from rotaflex.rotor.fe.stability import StabilitySpec
 
 __all__ = [
     "ANALYSES",
@@ -192,6 +193,7 @@ ANALYSES = {
     "unbalance": UnbalanceSpec,
     "transient": TransientSpec,
     "frf": FRFSpec,
+    "stability": StabilitySpec,
 }
 
 
@@ -206,7 +208,9 @@ class FECase:
     material: dict[str, Material] = param({})
     free: bool = param(False)
     max_dof: int = param(4004, ge=4, doc="refuse models with more lateral DOFs; raise it deliberately")
-    analysis: Literal["static", "modal", "campbell", "ucs", "unbalance", "transient", "frf"] | None = param(None)
+    analysis: Literal["static", "modal", "campbell", "ucs", "unbalance", "transient", "frf", "stability"] | None = (
+        param(None)
+    )
     static: StaticSpec = field(default_factory=StaticSpec)
     modal: ModalSpec = field(default_factory=ModalSpec)
     campbell: CampbellSpec = field(default_factory=CampbellSpec)
@@ -214,6 +218,7 @@ class FECase:
     unbalance: UnbalanceSpec = field(default_factory=UnbalanceSpec)
     transient: TransientSpec = field(default_factory=TransientSpec)
     frf: FRFSpec = field(default_factory=FRFSpec)
+    stability: StabilitySpec = field(default_factory=StabilitySpec)
 
 
 SCHEMA = FECase

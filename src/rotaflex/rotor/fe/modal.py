@@ -228,6 +228,10 @@ def modal(rotor: Rotor, speed: float = 0.0, n_modes: int | None = None) -> Modes
 #: the whirl-frequency iteration of a frequency-dependent rotor stops when a mode's damped
 #: frequency changes by less than this fraction (of itself, or of 1 rad/s below it)
 WHIRL_TOL = 1e-10
+#: after WHIRL_STALL_STEPS steps a relative change below WHIRL_ACCEPT ends the iteration (the
+#: eigenvalues of a degenerate pair are only that accurate; see modes_at)
+WHIRL_STALL_STEPS = 8
+WHIRL_ACCEPT = 1e-7
 WHIRL_MAXITER = 50
 
 
@@ -266,7 +270,9 @@ def _follow(ref: np.ndarray, lam: np.ndarray, v: np.ndarray) -> int:
 
 def _whirl_guess(rotor: Rotor, speed: float) -> float:
     """Starting whirl frequency [rad/s]: the speed (synchronous), moved inside the whirl tables."""
-    ends = [(el.whirls[0], el.whirls[-1]) for _, _, el in rotor.bearings if el.frequency_dependent]
+    ends = [(el.whirls[0], el.whirls[-1]) for _, _, el in rotor.bearings if el.whirls is not None]
+    if not ends:  # computed kinds (magnetic bearings) take any whirl frequency
+        return float(speed)
     lo, hi = max(e[0] for e in ends), min(e[1] for e in ends)
     return float(np.clip(speed, lo, max(lo, hi)))
 
@@ -289,11 +295,14 @@ def modes_at(rotor: Rotor, speed: float, n_keep: int) -> tuple[np.ndarray, np.nd
     for k in range(min(n_keep, lam0.size)):
         ref, w = v0[k], float(lam0[k].imag)
         w_old = g_old = None
-        for _ in range(WHIRL_MAXITER):
+        for it in range(WHIRL_MAXITER):
             lam, v = _eig_at(rotor, speed, w, n_cand)
             j = _follow(ref, lam, v)
             ref, g = v[j], float(lam[j].imag) - w
-            if abs(g) <= WHIRL_TOL * max(abs(w), 1.0):
+            scale = max(abs(w), 1.0)
+            # past a few steps, a change at the eigenvalues' own accuracy is the answer: a
+            # degenerate pair (isotropic supports at rest) jitters by ~1e-8 relative from solve to solve
+            if abs(g) <= WHIRL_TOL * scale or (it >= WHIRL_STALL_STEPS and abs(g) <= WHIRL_ACCEPT * scale):
                 break
             step = g if g_old is None or g == g_old else -g * (w - w_old) / (g - g_old)
             w_old, g_old, w = w, g, w + step

@@ -22,7 +22,11 @@ import numpy as np
 from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm
+from rotaflex.rotor.fe.bearings import registry
 from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm
+from rotaflex.rotor.fe.bearings.labyrinth import Labyrinth
+from rotaflex.rotor.fe.bearings.liquid_seal import LiquidSeal
+from rotaflex.rotor.fe.bearings.magnetic import Magnetic
 from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS, MASS_COEFFICIENTS, MAX_BEARING, flat
 from rotaflex.rotor.fe.materials import Material, material
@@ -155,6 +159,9 @@ class Bearing:
     name: str = param("", doc="label")
     fluid_film: FluidFilm | None = param(None, doc="plain journal bearing: coefficients computed (no k/c keys)")
     pedestal: Pedestal | None = param(None, doc="support mass on springs between the bearing and ground")
+    magnetic: Magnetic | None = param(None, doc="active magnetic bearing: K(w), C(w) (docs/stability.md)")
+    labyrinth: Labyrinth | None = param(None, doc="gas labyrinth seal: bulk-flow K, k, C, c (docs/stability.md)")
+    liquid_seal: LiquidSeal | None = param(None, doc="liquid annular seal: K, k, C, c, M (docs/stability.md)")
 
     def __post_init__(self):
         for key in COEFFICIENTS:  # Python callers may pass plain numbers
@@ -550,8 +557,8 @@ class Rotor:
                     raise InputError(
                         f"{where}.{k}", getattr(b, k), f"a finite mass of magnitude <= {MAX_BEARING['m']:g} kg"
                     )
-            if b.fluid_film is not None:
-                out.append((n, m, BearingElement.from_fluid_film(b, where)))
+            if registry.kind_of(b, where) is not None:
+                out.append((n, m, registry.element(b, where)))
                 continue
             out.append((n, m, BearingElement.from_table(b, where)))
         return out

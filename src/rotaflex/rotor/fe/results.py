@@ -131,6 +131,8 @@ class UCSResult(_FEResult):
 
             rotor = Rotor.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS})
             for i, ((_, _, el), b) in enumerate(zip(rotor.bearings, rotor.bearing, strict=True)):
+                if getattr(el, "k", None) is None:  # a computed kind (seal, magnetic bearing): no table to draw
+                    continue
                 k = el.k if el.k.ndim == 3 else el.k[:, 0]  # a whirl table: its lowest frequency
                 bearings.append((b.name or f"bearing[{i}]", el.speeds, k[:, 0, 0], k[:, 1, 1]))
         fig = ucs_figure(self.dataset, bearings)

@@ -151,6 +151,11 @@ class BearingElement:
         return cls(np.array([[[kxx, kxy], [kyx, kyy]]], float), np.array([[[cxx, cxy], [cyx, cyy]]], float), None, name)
 
     @property
+    def static_load_dependent(self) -> bool:
+        """A fluid-film bearing's coefficients depend on its static load."""
+        return self.table is not None
+
+    @property
     def frequency_dependent(self) -> bool:
         """True when the coefficients depend on the whirl frequency (a table over it)."""
         return self.whirls is not None
@@ -220,6 +225,10 @@ class BearingElement:
     def M(self) -> np.ndarray:
         """Mass (2, 2) [kg] on the translations."""
         return np.array(self.m, float)
+
+    def outputs(self, speed) -> dict:
+        """The kind's own results over speed: none."""
+        return {}
 
     def K(self, speed: float = 0.0) -> np.ndarray:
         """Stiffness (2, 2) [N/m] at ``speed`` [rad/s] (synchronous whirl)."""
@@ -306,3 +315,49 @@ class BearingElement:
             interpolation=bearing.interpolation,
             extrapolation=bearing.extrapolation,
         )
+
+
+class ComputedBearing:
+    """Base of the bearing kinds whose coefficients are computed at any speed (seals, magnetic
+    bearings): the element contract of docs/architecture.md with no speed table.
+
+    Subclasses set ``name`` and implement :meth:`coefficients`; :meth:`mass` is zero unless overridden.
+    """
+
+    speeds = None  #: no table: any speed >= 0 is accepted
+    whirls = None  #: no whirl-frequency table: any whirl frequency is accepted
+    table = None  #: no fluid-film table
+    frequency_dependent = False
+    static_load_dependent = False
+    name = "bearing"
+
+    def coefficients(self, speed, whirl=None) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def out_of_range(self, speed, whirl=None) -> list[str]:
+        """No table to leave: computed at any speed and whirl frequency."""
+        return []
+
+    def mass(self, speed) -> np.ndarray:
+        """Added mass (n_speed, 2, 2) [kg]: zero."""
+        return np.zeros((np.atleast_1d(speed).size, 2, 2))
+
+    def outputs(self, speed) -> dict:
+        """The kind's own results over speed [dict of xarray.DataArray]: none."""
+        return {}
+
+    def K(self, speed: float = 0.0) -> np.ndarray:
+        """Stiffness (2, 2) [N/m] at ``speed`` [rad/s] (synchronous whirl)."""
+        return self.coefficients(speed)[0][0]
+
+    def C(self, speed: float = 0.0) -> np.ndarray:
+        """Damping (2, 2) [N s/m] at ``speed`` [rad/s] (synchronous whirl)."""
+        return self.coefficients(speed)[1][0]
+
+    def M(self, speed: float = 0.0) -> np.ndarray:
+        """Added mass (2, 2) [kg] at ``speed`` [rad/s]."""
+        return self.mass(speed)[0]
+
+    def G(self) -> np.ndarray:
+        """Gyroscopic (2, 2): zero."""
+        return np.zeros((2, 2))

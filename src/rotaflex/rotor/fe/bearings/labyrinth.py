@@ -1,0 +1,294 @@
+"""Annular gas labyrinth seal (``[bearing.NAME.labyrinth]``): one-control-volume bulk-flow model.
+
+The model of Iwatsubo (1980) in the form of Childs & Scharrer (1986), "An Iwatsubo-based solution
+for labyrinth seals: comparison to experimental results", J. Eng. Gas Turbines Power 108,
+325-331; the gas is ideal and isothermal at the inlet temperature T (rho = P / (R_g T)).
+
+Leakage per unit circumference through tooth k (Neumann's equation):
+
+    m = mu_1k mu_2 Cr sqrt((P_{k-1}^2 - P_k^2) / (R_g T)),
+    mu_1 = pi / (pi + 2 - 5 s + 2 s^2),  s = (P_{k-1} / P_k)^((gamma-1)/gamma) - 1   (Chaplygin)
+    mu_2 = sqrt(NT / (NT (1 - j) + j)),  j = 1 - (1 + 16.6 Cr / pitch)^-2         (kinetic carry-over)
+
+with mu_2 = 1 for the first tooth. mu_1 -> pi / (pi + 2) = 0.611 for a vanishing pressure drop, the
+free-streamline contraction of a slot (Kirchhoff). The same m passes every tooth: the cavity
+pressures follow by marching and m by a root search on the outlet pressure. A tooth chokes at the critical
+pressure ratio (2 / (gamma + 1))^(gamma / (gamma - 1)): below it the flow stays Neumann's at that
+ratio (proportional to the upstream pressure), the last cavity's pressure then exceeds the outlet's
+and the seal is reported choked.
+
+Circumferential momentum of cavity i (length L = pitch - tooth width, depth B + Cr, area
+A = (B + Cr) L), zeroth order: m (V_i - V_{i-1}) = L (a_r tau_r - a_s tau_s), V_0 = preswirl R w,
+wall shear tau = 1/2 n rho |u| u (rho |u| D_h / mu)^m0 (Blasius, n = 0.079, m0 = -0.25) with
+u = R w - V on the rotor and u = V on the stator, D_h = 2 (Cr + B) L / (Cr + B + L) and the wetted
+lengths a = (2 B + L) / L on the toothed side, 1 on the smooth side.
+
+First order: the rotor on a circular orbit of radius r at whirl frequency W gives the clearance
+h = -r cos(theta - W t); every perturbation is Re[X e^{i(theta - W t)}], and the perturbed cavity
+continuity and circumferential momentum (Childs & Scharrer's eqs. with the cavity-area and
+hydraulic-diameter perturbations) form a complex linear system of 2 NC unknowns (NC = NT - 1
+cavities). The force on the rotor F_x + i F_y = -pi R L sum conj(P_i) e^{iWt} equals
+-[(K + W c) + i (W C - k)] (x + i y); forward (W) and backward (-W) orbits separate the four
+coefficients. The model gives coefficients that depend on the whirl frequency
+(``frequency_dependent``); ``whirl = None`` is synchronous whirl (W = spin speed).
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from scipy.optimize import brentq
+
+from rotaflex.core.config import param
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.elements.bearing import ComputedBearing
+
+R_UNIVERSAL = 8.314462618  # J/(mol K)
+#: named gases: molar mass [kg/mol], ratio of specific heats, dynamic viscosity [Pa s] near 300 K
+GASES = {
+    "air": (0.028965, 1.40, 1.85e-5),
+    "nitrogen": (0.028013, 1.40, 1.78e-5),
+    "methane": (0.016043, 1.31, 1.11e-5),
+    "carbon_dioxide": (0.044010, 1.29, 1.50e-5),
+    "hydrogen": (0.002016, 1.41, 0.89e-5),
+}
+BLASIUS = (0.079, -0.25)  #: n, m of the wall friction factor f = n Re^m (rotor and stator)
+CARRY_OVER = 16.6  #: j = 1 - (1 + 16.6 Cr / pitch)^-2 (Childs & Scharrer 1986)
+
+
+@dataclass(frozen=True)
+class Labyrinth:
+    """``[bearing.NAME.labyrinth]``: a see-through labyrinth as on its drawing, the gas and the pressures."""
+
+    teeth: int = param(ge=2, doc="number of teeth NT (NT - 1 cavities)")
+    pitch: float = param(unit="m", gt=0, doc="axial tooth pitch")
+    tooth_height: float = param(unit="m", gt=0, doc="tooth height B (cavity depth)")
+    clearance: float = param(unit="m", gt=0, doc="radial clearance Cr at the tooth tips")
+    radius: float = param(unit="m", gt=0, doc="shaft radius R at the seal")
+    inlet_pressure: float = param(unit="Pa", gt=0)
+    outlet_pressure: float = param(unit="Pa", gt=0)
+    inlet_temperature: float = param(unit="K", gt=0)
+    tooth_width: float = param(0.0, unit="m", ge=0, doc="tooth tip width (cavity length = pitch - width)")
+    teeth_on: Literal["stator", "rotor"] = param("stator", doc="side carrying the teeth")
+    preswirl: float = param(0.0, doc="inlet swirl V_0 / (R w) (0: swirl brake)")
+    gas: Literal["air", "nitrogen", "methane", "carbon_dioxide", "hydrogen"] | None = param(
+        "air", doc="a named gas (or give molar_mass, gamma, viscosity)"
+    )
+    molar_mass: float | None = param(None, unit="kg/mol", gt=0, doc="overrides the named gas")
+    gamma: float | None = param(None, gt=1, doc="ratio of specific heats (overrides the named gas)")
+    viscosity: float | None = param(None, unit="Pa s", gt=0, doc="dynamic viscosity (overrides the named gas)")
+
+    def validate(self, where: str) -> None:
+        """InputError naming ``where.<key>`` for inconsistent values."""
+        if self.outlet_pressure >= self.inlet_pressure:
+            raise InputError(
+                f"{where}.outlet_pressure", self.outlet_pressure, f"< inlet_pressure = {self.inlet_pressure:g} Pa"
+            )
+        if self.tooth_width >= self.pitch:
+            raise InputError(f"{where}.tooth_width", self.tooth_width, f"< pitch = {self.pitch:g} m")
+        if self.gas is None and None in (self.molar_mass, self.gamma, self.viscosity):
+            key = next(k for k in ("molar_mass", "gamma", "viscosity") if getattr(self, k) is None)
+            raise InputError(f"{where}.{key}", "<missing>", "a value, or a named gas")
+
+    @property
+    def properties(self) -> tuple[float, float, float]:
+        """R_g [J/(kg K)], gamma, viscosity [Pa s]."""
+        mm, g, mu = GASES[self.gas] if self.gas else (None, None, None)
+        mm, g, mu = self.molar_mass or mm, self.gamma or g, self.viscosity or mu
+        return R_UNIVERSAL / mm, g, mu
+
+
+def tooth_flow(p_up, p_down, clearance, rt, gamma, mu2=1.0):
+    """Neumann's leakage per unit circumference [kg/(s m)] of one tooth (module docstring); below the
+    critical pressure ratio the tooth is choked and passes the flow of that ratio."""
+    p_down = np.maximum(p_down, (2 / (gamma + 1)) ** (gamma / (gamma - 1)) * p_up)
+    s = (p_up / p_down) ** ((gamma - 1) / gamma) - 1
+    mu1 = np.pi / (np.pi + 2 - 5 * s + 2 * s**2)
+    return mu1 * mu2 * clearance * np.sqrt((p_up**2 - p_down**2) / rt)
+
+
+@dataclass(frozen=True)
+class Zeroth:
+    """Centred-seal solution at one speed: leakage m [kg/(s m)], cavity pressures and swirl velocities."""
+
+    m: float
+    p: np.ndarray  #: P_0 .. P_NT [Pa] (inlet, cavities, outlet)
+    v: np.ndarray  #: V_0 .. V_NC [m/s] (inlet swirl, cavities)
+    choked: bool
+
+
+class LabyrinthElement(ComputedBearing):
+    """Element of the contract over the bulk-flow model; coefficients at any speed and whirl frequency."""
+
+    frequency_dependent = True
+
+    def __init__(self, spec: Labyrinth, name: str):
+        self.spec, self.name = spec, name
+        sp = spec
+        self.rg, self.gamma, self.mu = sp.properties
+        self.rt = self.rg * sp.inlet_temperature
+        self.nc = sp.teeth - 1
+        self.L = sp.pitch - sp.tooth_width
+        self.A = (sp.tooth_height + sp.clearance) * self.L
+        depth = sp.clearance + sp.tooth_height
+        self.dh = 2 * depth * self.L / (depth + self.L)
+        self.dlndh = self.L / (depth * (depth + self.L))  # d ln D_h / d h
+        toothed = (2 * sp.tooth_height + self.L) / self.L
+        self.a_r, self.a_s = (toothed, 1.0) if sp.teeth_on == "rotor" else (1.0, toothed)
+        j = 1 - (1 + CARRY_OVER * sp.clearance / sp.pitch) ** -2
+        mu2 = np.sqrt(sp.teeth / (sp.teeth * (1 - j) + j))
+        self.mu2 = np.r_[1.0, np.full(sp.teeth - 1, mu2)]
+        # a tooth chokes at the critical pressure ratio: its flow stays Neumann's at that ratio below it
+        self.r_choke = (2 / (self.gamma + 1)) ** (self.gamma / (self.gamma - 1))
+        self.leak = self._leakage()
+
+    # -- zeroth order -------------------------------------------------------------------
+    def _march(self, m: float) -> np.ndarray | None:
+        """Pressures P_0..P_NT passing ``m`` through every tooth; None if a tooth cannot pass it."""
+        sp, p = self.spec, [self.spec.inlet_pressure]
+        for k in range(sp.teeth):
+            pu = p[-1]
+
+            def f(pd, pu=pu, k=k):
+                return tooth_flow(pu, pd, sp.clearance, self.rt, self.gamma, self.mu2[k]) - m
+
+            if f(self.r_choke * pu) < 0:
+                return None
+            p.append(brentq(f, self.r_choke * pu, pu * (1 - 1e-15), xtol=1e-12 * pu, rtol=1e-14))
+        return np.array(p)
+
+    def _leakage(self) -> tuple[float, np.ndarray, bool]:
+        sp = self.spec
+
+        def g(m):
+            if m <= 0:
+                return sp.inlet_pressure - sp.outlet_pressure
+            p = self._march(m)
+            return -sp.inlet_pressure if p is None else p[-1] - sp.outlet_pressure
+
+        hi = tooth_flow(sp.inlet_pressure, sp.outlet_pressure, sp.clearance, self.rt, self.gamma, 2.0)
+        m = brentq(g, 0.0, hi, xtol=1e-14 * hi, rtol=1e-13)
+        p = self._march(m)
+        choked = p is None or abs(p[-1] - sp.outlet_pressure) > 1e-6 * sp.inlet_pressure
+        if p is None:  # the root sits at the largest flow the teeth pass: step back onto it
+            p = self._march(m * (1 - 1e-9))
+        return m, p, choked
+
+    def shear(self, rho, u, n_m=BLASIUS):
+        """Wall shear [Pa] and d tau / d u at density ``rho`` and velocity ``u`` relative to the wall."""
+        n, m0 = n_m
+        c = 0.5 * n * (self.dh / self.mu) ** m0 * rho ** (1 + m0)
+        au = np.abs(u)
+        return c * au ** (1 + m0) * u, (2 + m0) * c * au ** (1 + m0)
+
+    @functools.lru_cache(maxsize=256)  # noqa: B019 - elements live as long as their model
+    def zeroth(self, speed: float) -> Zeroth:
+        """Centred solution at spin ``speed`` [rad/s]: leakage, pressures, cavity swirl."""
+        m, p, choked = self.leak
+        R, v = self.spec.radius, [self.spec.preswirl * self.spec.radius * speed]
+        for i in range(1, self.nc + 1):
+            rho = p[i] / self.rt
+
+            def res(V, i=i, rho=rho):
+                tr = self.shear(rho, R * speed - V)[0]
+                ts = self.shear(rho, V)[0]
+                return m * (V - v[-1]) - self.L * (self.a_r * tr - self.a_s * ts)
+
+            lo, hi = min(v[-1], 0.0, R * speed) - 1.0, max(v[-1], 0.0, R * speed) + 1.0
+            v.append(brentq(res, lo, hi, xtol=1e-13 * (abs(hi) + abs(lo)), rtol=1e-14))
+        return Zeroth(m, p, np.array(v), choked)
+
+    # -- first order ----------------------------------------------------------------------
+    def _response(self, speed: float, whirl: float) -> complex:
+        """G = pi R L sum conj(P_i) for a unit orbit at whirl ``whirl`` [rad/s] (force = -G z)."""
+        z, sp = self.zeroth(speed), self.spec
+        nc, R, L, A, rt = self.nc, sp.radius, self.L, self.A, self.rt
+        p, v, m = z.p, z.v, z.m
+        h = -1.0 + 0j  # unit orbit: h = -r cos(theta - W t)
+        # d m_k / d P_{k-1}, d m_k / d P_k (central differences, relative step 1e-7)
+        a, b = np.zeros(sp.teeth), np.zeros(sp.teeth)
+        for k in range(sp.teeth):
+            pu, pd = p[k], p[k + 1]
+            du, dd = 1e-7 * pu, 1e-7 * pd
+            fl = functools.partial(tooth_flow, clearance=sp.clearance, rt=rt, gamma=self.gamma, mu2=self.mu2[k])
+            if z.choked and k == sp.teeth - 1:  # choked last tooth: the flow follows the upstream pressure only
+                rc = self.r_choke
+                a[k] = (fl(pu + du, rc * (pu + du)) - fl(pu - du, rc * (pu - du))) / (2 * du)
+                continue
+            a[k] = (fl(pu + du, pd) - fl(pu - du, pd)) / (2 * du)
+            b[k] = (fl(pu, pd + dd) - fl(pu, pd - dd)) / (2 * dd)
+        # unknowns: P_1..P_NC (columns 0..nc-1), V_1..V_NC (columns nc..2nc-1)
+        M = np.zeros((2 * nc, 2 * nc), complex)
+        rhs = np.zeros(2 * nc, complex)
+        iw = -1j * whirl
+        for i in range(1, nc + 1):
+            r, P, V = i - 1, i - 1, nc + i - 1
+            rho = p[i] / rt
+            # continuity: d/dt(rho A) + 1/R d/dtheta(rho A V) + m_{i+1} - m_i = 0 (tooth i+1 leaves, tooth i enters)
+            M[r, P] += iw * A / rt + 1j * A * v[i] / (rt * R)
+            M[r, V] += 1j * rho * A / R
+            rhs[r] -= (iw * rho * L + 1j * rho * v[i] * L / R) * h
+            M[r, P] += a[i]  # m_{i+1} = a_{i+1} P_i + b_{i+1} P_{i+1} (tooth index i in 0-based a, b)
+            if i < nc:
+                M[r, P + 1] += b[i]
+            M[r, P] -= b[i - 1]  # - m_i = -(a_i P_{i-1} + b_i P_i)
+            if i > 1:
+                M[r, P - 1] -= a[i - 1]
+            # momentum: rho A (dV/dt + V/R dV/dtheta) + m (V_i - V_{i-1}) + m1_i (V0_i - V0_{i-1})
+            #           = -A/R dP/dtheta + L (a_r tau_r - a_s tau_s)
+            q = nc + r
+            tr, dtr = self.shear(rho, R * speed - v[i])
+            ts, dts = self.shear(rho, v[i])
+            n_r = n_s = BLASIUS[1]
+            dv = v[i] - v[i - 1]
+            M[q, V] += rho * A * (iw + 1j * v[i] / R) + m + L * (self.a_r * dtr + self.a_s * dts)
+            if i > 1:
+                M[q, V - 1] -= m
+            M[q, P] += 1j * A / R - L * (self.a_r * tr - self.a_s * ts) * (1 + n_r) / p[i]
+            # m1_i = a_i P_{i-1} + b_i P_i + m / Cr h
+            M[q, P] += b[i - 1] * dv
+            if i > 1:
+                M[q, P - 1] += a[i - 1] * dv
+            rhs[q] -= (m / sp.clearance) * dv * h
+            rhs[q] += L * (self.a_r * tr * n_r - self.a_s * ts * n_s) * self.dlndh * h
+        x = np.linalg.solve(M, rhs)
+        return np.pi * R * L * np.sum(np.conj(x[:nc]))
+
+    def coefficients(self, speed, whirl=None) -> tuple[np.ndarray, np.ndarray]:
+        """K, C (n, 2, 2) [N/m, N s/m] at spin ``speed`` and whirl ``whirl`` [rad/s] (None: synchronous)."""
+        speed = np.atleast_1d(np.asarray(speed, float))
+        whirl = speed if whirl is None else np.broadcast_to(np.asarray(whirl, float), speed.shape)
+        K, C = np.zeros((speed.size, 2, 2)), np.zeros((speed.size, 2, 2))
+        for j, (s, w) in enumerate(zip(speed, np.abs(whirl), strict=True)):
+            w = max(w, 1e-6 * max(s, 1.0))  # W -> 0: the W c and W C terms vanish; a tiny W separates them
+            gf, gb = self._response(float(s), w), self._response(float(s), -w)
+            kd, kc = 0.5 * (gf.real + gb.real), -0.5 * (gf.imag + gb.imag)
+            cd, cc = (gf.imag - gb.imag) / (2 * w), (gf.real - gb.real) / (2 * w)
+            K[j] = [[kd, kc], [-kc, kd]]
+            C[j] = [[cd, cc], [-cc, cd]]
+        return K, C
+
+    def outputs(self, speed) -> dict:
+        """Leakage [kg/s], cavity pressures [Pa] and swirl ratios V / (R w) at the spin speeds."""
+        import xarray as xr
+
+        speed = np.atleast_1d(np.asarray(speed, float))
+        zs = [self.zeroth(float(s)) for s in speed]
+        R = self.spec.radius
+        swirl = np.array(
+            [z.v[1:] / (R * s) if s > 0 else np.full(self.nc, np.nan) for z, s in zip(zs, speed, strict=True)]
+        )
+        return {
+            "leakage": xr.DataArray(2 * np.pi * R * zs[0].m, attrs={"units": "kg/s", "choked": int(zs[0].choked)}),
+            "cavity_pressure": xr.DataArray(zs[0].p[1:-1], dims=("cavity",), attrs={"units": "Pa"}),
+            "cavity_swirl": xr.DataArray(swirl, dims=("seal_speed", "cavity"), attrs={"units": "1"}),
+        }
+
+
+def element(spec: Labyrinth, where: str) -> LabyrinthElement:
+    """The labyrinth element (inputs checked, naming ``where.<key>``)."""
+    spec.validate(where)
+    return LabyrinthElement(spec, where)

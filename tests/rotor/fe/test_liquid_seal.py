@@ -1,0 +1,122 @@
+"""Liquid annular seal (short-seal bulk flow): Childs' Lomakin stiffness, Black's symmetries, the
+closed-form axial integration against a numerical one, the added mass in the FE model, bad input."""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+from rotaflex.rotor.fe.bearings.liquid_seal import HIRS, LiquidSeal, LiquidSealElement, element
+
+# a pump neck ring: R = 50 mm, L = 40 mm, Cr = 0.25 mm, 2 MPa, water
+SEAL = dict(
+    radius=0.05,
+    length=0.04,
+    clearance=0.25e-3,
+    inlet_pressure=2.1e6,
+    outlet_pressure=1e5,
+    density=1000.0,
+    viscosity=1e-3,
+    entrance_loss=0.1,
+)
+
+
+@pytest.mark.parametrize("speed", [0.0, 300.0, 1000.0])
+def test_direct_stiffness_is_childs_closed_form(speed):
+    """K = mu_3 (mu_0 - mu_2 T^2 w^2 / 4) with mu_2 T^2 mu_3 = M (Childs 1983, J. Lubr. Technol. 105,
+    429-436, short seal): mu_3 mu_0 = (pi R dP / lambda) 2 sigma^2 E (1 - m0) / (1 + xi + 2 sigma),
+    E = (1 + xi) / (2 (1 + xi + B sigma)), B = 1 + 4 b^2 (1 + m0) / (1 + 4 b^2), b = V / (R w)."""
+    el = element(LiquidSeal(**SEAL), "s")
+    K, k, C, c, M, m = el.constants(speed)
+    V, lam, sig = el.flow(speed)
+    xi, m0 = SEAL["entrance_loss"], HIRS[1]
+    B = 1 + (1 + m0) * (
+        1.0 if speed == 0 else 4 * (V / (SEAL["radius"] * speed)) ** 2 / (1 + 4 * (V / (SEAL["radius"] * speed)) ** 2)
+    )
+    E = (1 + xi) / (2 * (1 + xi + B * sig))
+    mu3_mu0 = np.pi * SEAL["radius"] * 2e6 / lam * 2 * sig**2 * E * (1 - m0) / (1 + xi + 2 * sig)
+    assert K + M * speed**2 / 4 == pytest.approx(mu3_mu0, rel=1e-9)
+    # leakage: dP = (1 + xi + 2 sigma) rho V^2 / 2
+    assert (1 + xi + 2 * sig) * 1000.0 * V**2 / 2 == pytest.approx(2e6, rel=1e-12)
+
+
+def test_black_symmetries():
+    """With the swirl fully developed at R w / 2 the force depends on W - w/2 only: k = C w / 2, c = M w, m = 0."""
+    el = element(LiquidSeal(**SEAL), "s")
+    for w in (300.0, 1000.0):
+        K, k, C, c, M, m = el.constants(w)
+        assert k == pytest.approx(C * w / 2, rel=1e-6) and c == pytest.approx(M * w, rel=1e-6)
+        assert abs(m) < 1e-8 * M
+
+
+def test_axial_integration_against_a_numerical_one():
+    """The closed-form p(z), w(z) of the first-order equations = a shooting solution (RK45 to 1e-12)."""
+    el: LiquidSealElement = element(LiquidSeal(**SEAL), "s")
+    speed, W = 1000.0, 700.0
+    sp, m0 = el.spec, HIRS[1]
+    V, lam, _ = el.flow(speed)
+    R, L, Cr, rho, xi = sp.radius, sp.length, sp.clearance, sp.density, sp.entrance_loss
+    tau0 = lam * rho * V**2
+    u = R * speed / 2
+    tau_w = tau0 / V * (1 + (1 + m0) / (1 + (u / V) ** 2))
+    s, h = 1j * (W - speed / 2), -1.0
+
+    def rhs(z, y):  # y = [w, p, int p]
+        w, p = y[0], y[1]
+        dw = s * h / Cr
+        dp = -(((m0 - 1) * tau0 / Cr + rho * V * s) * h + (tau_w - rho * Cr * s) * w) / Cr
+        return [dw, dp, p]
+
+    def shoot(w0):
+        y0 = [w0, -(1 + xi) * rho * V * w0, 0.0]
+        return solve_ivp(rhs, (0, L), np.array(y0, complex), rtol=1e-12, atol=1e-14).y[:, -1]
+
+    a, b = shoot(0.0), shoot(1.0)
+    w0 = -a[1] / (b[1] - a[1])  # p(L) = 0 (linear in w0)
+    int_p = a[2] + w0 * (b[2] - a[2])
+    assert el.impedance(speed, s) == pytest.approx(np.pi * R * np.conj(int_p), rel=1e-8)
+
+
+def test_added_mass_enters_the_eigenproblem():
+    """A rigid rotor with the seal at mid-span: the first forward root of
+    (m + M) s^2 + (c_b + C - i c) s + (k_b + K - i k) = 0 (x + i y form, no cross mass)."""
+    from rotaflex.rotor.fe.stability import _System, first_forward
+
+    seal = LiquidSeal(**SEAL)
+    kb, cb = 2e7, 4e3
+    rotor = Rotor(
+        shaft=(Shaft(outer_diameter=0.1, length=0.4, elements=2, E=2e14, G=8e13),),
+        disk=(Disk(node=1, mass=60.0, Id=0.6, Ip=1.0),),
+        bearing=(
+            Bearing(node=0, kxx=kb / 2, kyy=kb / 2, cxx=cb / 2, cyy=cb / 2),
+            Bearing(node=2, kxx=kb / 2, kyy=kb / 2, cxx=cb / 2, cyy=cb / 2),
+            Bearing(node=1, liquid_seal=seal, name="ring"),
+        ),
+    )
+    w = 300.0
+    K, k, C, c, M, _ = element(seal, "s").constants(w)
+    lam = first_forward(_System(rotor, w), [True, True, True])
+    ref = np.roots([rotor.mass + M, cb + C - 1j * c, kb + K - 1j * k])
+    ref = ref[np.argmin(np.abs(ref - lam))]
+    assert lam == pytest.approx(ref, rel=1e-5)  # the shaft is 1000 x steel: ~1e-6 flexibility
+    no_mass = np.roots([rotor.mass, cb + C - 1j * c, kb + K - 1j * k])
+    assert np.min(np.abs(no_mass - lam)) > 1e-2 * abs(lam)  # without M the root is 5 % away: M is assembled
+
+
+@pytest.mark.parametrize(
+    "change, key",
+    [({"clearance": 0.0}, "clearance"), ({"outlet_pressure": 2.1e6}, "outlet_pressure")],
+)
+def test_bad_liquid_seal_input_names_the_key(change, key):
+    data = {
+        "shaft": [{"outer_diameter": 0.1, "length": 0.6, "elements": 4}],
+        "bearing": {
+            "de": {"node": 0, "kxx": 1e8, "kyy": 1e8},
+            "nde": {"node": 4, "kxx": 1e8, "kyy": 1e8},
+            "ring": {"node": 2, "liquid_seal": {**SEAL, **change}},
+        },
+    }
+    with pytest.raises(InputError) as err:
+        Rotor.from_mapping(data)
+    assert err.value.field == f"bearing.ring.liquid_seal.{key}"
