@@ -67,19 +67,34 @@ def model_figure(rotor: Rotor):
     return fig
 
 
-def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), bands=()):
-    """Damped frequencies [Hz] vs speed [rpm], labelled per mode; forward solid, backward dashed.
+def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), bands=(), frequency_limit_hz=None):
+    """Campbell diagram over a log-decrement panel, both against speed [rpm].
 
-    ``bands`` [(lo, hi) rad/s]: operating ranges shaded, with API 684's largest separation
+    Top: damped frequencies [Hz] labelled per mode, forward solid, backward dashed; the
+    excitation lines ``harmonics``; critical speeds circled. Bottom: each mode's logarithmic
+    decrement with the 0 (stability) and 0.1 (API 617 Level II acceptance) lines. ``bands``
+    [(lo, hi) rad/s]: operating ranges shaded on both, with API 684's largest separation
     margins (16 % below the minimum, 26 % above the maximum speed) hatched beside them.
+    ``frequency_limit_hz``: modes whose frequency stays above it are left out, and the
+    frequency axis stops there.
     """
     from rotaflex.core.plotting import new_figure
 
-    fig, ax = new_figure(figsize=(8.4, 5.4))
-    rpm = np.asarray(speed) * RPM
-    top = np.nanmax(wd) * HZ * 1.08
+    fig, (ax, al) = new_figure(2, 1, sharex=True, figsize=(8.4, 7.6), height_ratios=(2.2, 1))
+    speed = np.asarray(speed)
+    rpm = speed * RPM
+    f_all = wd * HZ
+    shown = [
+        k for k in range(wd.shape[1]) if frequency_limit_hz is None or np.nanmin(f_all[:, k]) <= frequency_limit_hz
+    ]
+    top = np.nanmax(f_all[:, shown]) * 1.08 if shown else 1.0
+    if frequency_limit_hz is not None:
+        top = min(top, frequency_limit_hz)
     for i, (lo, hi) in enumerate(bands):
-        ax.axvspan(lo * RPM, hi * RPM, color="tab:green", alpha=0.15, lw=0, label="operating range" if i == 0 else None)
+        for a in (ax, al):
+            a.axvspan(
+                lo * RPM, hi * RPM, color="tab:green", alpha=0.15, lw=0, label="operating range" if i == 0 else None
+            )
         ax.axvspan(lo * RPM * 0.84, lo * RPM, fill=False, hatch="//", ec="tab:green", lw=0, alpha=0.5)
         ax.axvspan(
             hi * RPM,
@@ -92,28 +107,34 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
             label="largest API margins (16 % / 26 %)" if i == 0 else None,
         )
     labels = []
-    for k in range(wd.shape[1]):
-        f = wd[:, k] * HZ
+    ld_top = 0.2
+    for k in shown:
+        f, color = f_all[:, k], f"C{k % 10}"
         fw = forward[:, k] >= 0.5
-        ax.plot(rpm, np.where(fw, f, np.nan), "-", color=f"C{k % 10}", lw=1.3)
-        ax.plot(rpm, np.where(~fw, f, np.nan), "--", color=f"C{k % 10}", lw=1.3)
+        ax.plot(rpm, np.where(fw, f, np.nan), "-", color=color, lw=1.3)
+        ax.plot(rpm, np.where(~fw, f, np.nan), "--", color=color, lw=1.3)
+        al.plot(rpm, np.where(fw, logdec[:, k], np.nan), "-", color=color, lw=1.2)
+        al.plot(rpm, np.where(~fw, logdec[:, k], np.nan), "--", color=color, lw=1.2)
         bad = logdec[:, k] < -2 * np.pi * STABILITY_TOL
         if np.any(bad):
             ax.plot(rpm[bad], f[bad], "x", color="r")
-        if np.isfinite(f[-1]):
-            labels.append([f[-1], f" {k} {'FW' if fw[-1] else 'BW'} {f[-1]:.0f} Hz", f"C{k % 10}"])
-    gap = 0.03 * top  # spread labels of close modes apart
+        ld_top = max(ld_top, float(np.nanmax(logdec[:, k])) if np.any(np.isfinite(logdec[:, k])) else 0.0)
+        if np.isfinite(f[-1]) and f[-1] <= top:
+            labels.append([f[-1], f" {k} {'FW' if fw[-1] else 'BW'} {f[-1]:.0f} Hz", color])
+    gap = 0.035 * top  # spread labels of close modes apart
     labels.sort(key=lambda t: t[0])
     for i in range(1, len(labels)):
         labels[i][0] = max(labels[i][0], labels[i - 1][0] + gap)
     for y, text, color in labels:
-        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center")
+        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center", annotation_clip=False)
     for h in harmonics:
-        ax.plot(rpm, h * np.asarray(speed) * HZ, ":k", lw=0.9)
+        ax.plot(rpm, h * speed * HZ, ":k", lw=0.9)
         yh = min(h * speed[-1] * HZ, top * 0.97)
         ax.annotate(f"{h:g}X", (yh / (h * HZ) * RPM, yh), fontsize=8, ha="right", va="bottom")
     last = -np.inf
     for c in sorted(critical, key=lambda c: c["speed"]):
+        if c["frequency"] * HZ > top:
+            continue
         ax.plot(c["speed"] * RPM, c["frequency"] * HZ, "o", mfc="none", mec="k", ms=7)
         if c.get("harmonic", 1) == 1 and c["speed"] * RPM > last * 1.04:  # skip labels that would overprint
             last = c["speed"] * RPM
@@ -122,14 +143,26 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
             )
     ax.set_ylim(0, top)
     ax.set_xlim(rpm[0], rpm[-1] * 1.12)
-    ax.set_xlabel("spin speed [rpm]")
     ax.set_ylabel("damped natural frequency [Hz]")
     ax.set_title(
         "Campbell diagram (solid: forward, dashed: backward whirl; o: critical speed [rpm]; x: unstable)", fontsize=9
     )
     ax.grid(alpha=0.3)
-    if bands:
-        ax.legend(fontsize=8, loc="upper left")
+    al.axhline(0.0, color="r", lw=1.0, label="0: stability limit")
+    al.axhline(0.1, color="k", lw=0.9, ls="-.", label="0.1: API 617 Level II")
+    ld_min = min(-0.05, float(np.nanmin(logdec[:, shown]))) if shown else -0.05
+    cap = 2.0  # a few well-damped modes would otherwise squash the ones near zero
+    al.set_ylim(max(ld_min * 1.1, -cap), min(ld_top * 1.1, cap))
+    al.set_ylabel("log decrement [-]" + (f" (axis cut at {cap:g})" if ld_top * 1.1 > cap else ""))
+    al.set_xlabel("spin speed [rpm]")
+    al.grid(alpha=0.3)
+    handles, names = ax.get_legend_handles_labels()
+    h2, n2 = al.get_legend_handles_labels()
+    keep = [i for i, n in enumerate(n2) if n not in names]
+    # below the axes: a legend inside would hide modes wherever it sits
+    fig.legend(
+        handles + [h2[i] for i in keep], names + [n2[i] for i in keep], loc="outside lower center", ncol=4, fontsize=8
+    )
     return fig
 
 

@@ -102,6 +102,7 @@ class CampbellResult(_FEResult):
             json.loads(ds.attrs.get("harmonics", "[1]")),
             crit,
             json.loads(ds.attrs.get("bands", "[]")),
+            ds.attrs.get("frequency_limit_hz"),
         )
         return figs
 

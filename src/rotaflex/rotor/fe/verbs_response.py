@@ -104,6 +104,17 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
         verdict = "; API margins: " + (
             "all met" if not fails else ", ".join(f"{p['speed'] / RPM:.0f} rpm fails ({p['position']})" for p in fails)
         )
+    if bands:
+        from rotaflex.rotor.fe.api import stability_summary
+
+        verdict += "; " + stability_summary(rotor, bands, extra)
+        reasons = [f"critical at {p['speed'] / RPM:.0f} rpm misses its separation margin" for p in pk if not p["sm_ok"]]
+        if not extra.get("meets_vibration_limit", {"value": True})["value"]:
+            reasons.append("vibration above the API 617 limit in the operating range")
+        if not extra["stable_in_operating_range"]["value"]:
+            reasons.append("a mode is unstable (log dec < 0) in the operating range")
+        extra["verdict"] = {"value": "fail" if reasons else "pass", "unit": "", "reasons": reasons}
+        verdict += "; verdict: " + ("FAIL" if reasons else "pass")
     msg = (
         f"{spec.n_speeds} speeds, {len(probes)} probes; peaks [rpm]: "
         + (", ".join(f"{p['speed'] / RPM:.0f} (AF {p['af']:.1f})" for p in pk) or "none")
