@@ -232,24 +232,69 @@ def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
         a2.plot(rpm, np.degrees(np.unwrap(np.angle(Y))), ":", color=c, lw=1.2, label=f"node {p}: y")
     if limit is not None:
         a1.axhline(limit * um, color="r", lw=1.2, label=f"API 617 limit {limit * um:.1f} \u00b5m p-p")
+    a1.set_ylim(0, a1.get_ylim()[1] * 1.15)  # head room for the peak tags
     for p in peaks:
         a1.axvline(p["speed"] * RPM, color="0.5", lw=0.6)
+        kind = p.get("kind", "resonance")
+        tag = f"AF {p['af']:.1f}" if kind == "resonance" else kind.replace("half-power band", "band")
+        probe = f", node {p['probe']}" if "probe" in p else ""
         a1.annotate(
-            f"{p['speed'] * RPM:.0f} rpm\nAF {p['af']:.1f}",
-            (p["speed"] * RPM, a1.get_ylim()[1] * 0.92),
+            f"{p['speed'] * RPM:.0f} rpm{probe}\n{tag}",
+            (p["speed"] * RPM, a1.get_ylim()[1]),
             fontsize=7,
-            ha="left",
-            xytext=(3, 0),
+            ha="right" if kind == "rising at the range end" else "left",
+            va="top",
+            xytext=(-3 if kind == "rising at the range end" else 3, -3),
             textcoords="offset points",
         )
     a1.set_ylabel("amplitude, peak-to-peak [\u00b5m]")
-    a1.set_ylim(bottom=0)
     a2.set_ylabel("phase [deg] (lag < 0)")
     a2.set_xlabel("spin speed [rpm]")
-    a1.legend(fontsize=7, ncol=2, loc="upper right")
     a1.grid(alpha=0.3)
     a2.grid(alpha=0.3)
-    a1.set_title("unbalance response (solid: orbit major axis; dashed: x; dotted: y)", fontsize=9)
+    a1.set_title(
+        "unbalance response, peak-to-peak (solid: orbit major axis; dashed: x; dotted: y)\n"
+        "tags: speed, governing probe (largest response) and AF of each peak",
+        fontsize=8,
+    )
+    # outside the axes, on the right: inside it would hide a probe's curve somewhere
+    fig.legend(*a1.get_legend_handles_labels(), loc="outside right upper", fontsize=7)
+    return fig
+
+
+def orbit_figure(ds, peaks=()):
+    """Orbits of every probe [um] over one revolution at each peak's speed (one panel per peak,
+    at most 4; without peaks, at the speed of the largest response of any probe)."""
+    from rotaflex.core.plotting import new_figure
+
+    X = ds["x_real"].values + 1j * ds["x_imag"].values  # (speed, probe)
+    Y = ds["y_real"].values + 1j * ds["y_imag"].values
+    major = ds["major_axis"].values
+    speed = ds["speed"].values
+    if peaks:
+        picks = [(int(np.argmin(np.abs(speed - p["speed"]))), p.get("probe")) for p in peaks][:4]
+    else:
+        i, j = np.unravel_index(int(np.argmax(major)), major.shape)
+        picks = [(int(i), int(ds["probe"].values[j]))]
+    fig, axes = new_figure(1, len(picks), squeeze=False, figsize=(3.4 * len(picks) + 1.6, 3.9))
+    th = np.exp(1j * np.linspace(0, 2 * np.pi, 181))
+    for ax, (i, gov) in zip(axes[0], picks, strict=True):
+        for j, p in enumerate(ds["probe"].values):
+            x, y = (X[i, j] * th).real * 1e6, (Y[i, j] * th).real * 1e6
+            ax.plot(x, y, color=f"C{j % 10}", lw=1.8 if p == gov else 1.0, label=f"node {p}")
+            ax.plot(x[0], y[0], "o", color=f"C{j % 10}", ms=3)  # the rotor's 0 deg mark at t = 0
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("x [\u00b5m]")
+        ax.set_title(
+            f"{speed[i] * RPM:.0f} rpm (nearest sample)" + (f"\nnode {gov} governs" if gov is not None else ""),
+            fontsize=8,
+        )
+        ax.grid(alpha=0.3)
+        ax.axhline(0, color="k", lw=0.4)
+        ax.axvline(0, color="k", lw=0.4)
+    axes[0, 0].set_ylabel("y [\u00b5m]")
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside right upper", fontsize=7)
+    fig.suptitle("unbalance orbits at the response peaks (dot: t = 0)", fontsize=9)
     return fig
 
 

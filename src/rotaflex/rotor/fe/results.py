@@ -136,8 +136,7 @@ class UnbalanceResult(_FEResult):
     kind = "rotor_fe_unbalance"
 
     def plot(self) -> dict:
-        from rotaflex.core.plotting import new_figure
-        from rotaflex.rotor.fe.figures import unbalance_bode_figure
+        from rotaflex.rotor.fe.figures import orbit_figure, unbalance_bode_figure
 
         ds = self.dataset
         figs = _model_fig(self)
@@ -147,19 +146,7 @@ class UnbalanceResult(_FEResult):
             json.loads(ds.attrs.get("bands", "[]")),
             ds.attrs.get("vibration_limit"),
         )
-        fig, ax = new_figure()
-        i = int(np.argmax(ds["major_axis"].isel(probe=0).values))
-        th = np.linspace(0, 2 * np.pi, 181)
-        for p in ds["probe"].values:
-            X = complex(ds["x_real"].sel(probe=p)[i] + 1j * ds["x_imag"].sel(probe=p)[i])
-            Y = complex(ds["y_real"].sel(probe=p)[i] + 1j * ds["y_imag"].sel(probe=p)[i])
-            ax.plot((X * np.exp(1j * th)).real, (Y * np.exp(1j * th)).real, label=f"node {p}")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        ax.set_title(f"orbits at {float(ds['speed'][i]) * 30 / np.pi:.0f} rpm (largest response)")
-        ax.legend(fontsize=8)
-        figs["orbit"] = fig
+        figs["orbit"] = orbit_figure(ds, json.loads(ds.attrs.get("peaks", "[]")))
         return figs
 
 
