@@ -549,7 +549,7 @@ class ChainSteady:
     system: TorsionalSystem
     op: OperatingPoint
     chain: Chain = field(init=False)
-    keep: tuple = ("time", "force", "dte")
+    keep: tuple = ("time", "force", "dte", "force_no_te_rate")
     attrs: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -567,6 +567,16 @@ class ChainSteady:
         h = run_cycles(self.system, self.op, ch, state, n_cycles, spc)
         r1, r2 = self.system.base_radius
         h["dte"] = r1 * h["theta"][:, ch.ip] - r2 * h["theta"][:, ch.iw]
+        # the mesh force with the damper on the bodies' relative velocity only: the rate of the
+        # tabulated unloaded TE jumps where a loaded-TE table's stiffness steps (e = LTE - F0/k),
+        # a spike of c_m de/dt as tall as the table is fine (docs/gear-steady-state.md)
+        v = r1 * h["omega"][:, ch.ip] - r2 * h["omega"][:, ch.iw]
+        if ch.iy1 >= 0:
+            v = v + h["omega"][:, ch.iy1]
+        if ch.iy2 >= 0:
+            v = v - h["omega"][:, ch.iy2]
+        f = h["force"]
+        h["force_no_te_rate"] = np.where(f != 0.0, f - self.system.mesh_damping * (h["ddelta"] - v), 0.0)
         return h
 
     def annotate(self, ds, buf: dict, sl: slice) -> None:
