@@ -6,8 +6,8 @@ where the loaded-TE table's stiffness steps from two pairs to one: its unloaded 
 e = LTE - F_0 / k so that the static deflection is the loaded TE, steps there by
 -F_0 (1/k_2 - 1/k_1), and the mesh damper answers the step's rate with a spike c_m de/dt as tall
 as the table is fine. No contact is lost. So the spike is numerical; the reported peak is the
-mesh force with the damper on the bodies' relative velocity, which converges under step
-refinement and hardly depends on the table.
+mesh force without the damper's answer to the rate of that -F_0 / k part, which converges
+under step refinement and hardly depends on the table.
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ def ladder():
 def test_reported_kv_converges_under_step_refinement(ladder):
     kv = {spc: v[0] for spc, v in ladder.items()}
     fine = np.array([kv[400], kv[800], kv[1600]])
-    # measured 1.1793, 1.1907, 1.1860, 1.1912 (3200 steps: 1.1873): within 0.44 % from 400 steps
+    # measured 1.1761, 1.1876, 1.1829, 1.1881 (3200 steps: 1.1842): within 0.44 % from 400 steps
     # on (the peak sits where the stiffness steps, resolved by the steps within one table cell),
     # while the largest sample swings with where the samples fall in that cell (2.51 at 140)
     assert np.ptp(fine) < 6e-3 * fine.mean()
@@ -77,7 +77,7 @@ def test_the_spike_is_the_damper_on_the_tabulated_te_step(ladder):
     assert "largest sample" in ds.attrs["message"]  # ... and the summary says it is not reported
     # a table twice as fine makes the step's rate, and the spike, about twice as tall; K_v stays
     kv2, sampled2, _ = _point(_config(512), 1600)
-    # measured: spike above K_v 0.80 -> 1.73 (x 2.2), K_v 1.1912 -> 1.1978 (0.55 %)
+    # measured: spike above K_v 0.80 -> 1.74 (x 2.2), K_v 1.1881 -> 1.1947 (0.55 %)
     assert sampled2 - kv2 > 1.6 * (sampled_fine - kv_fine)
     assert kv2 == pytest.approx(kv_fine, rel=0.01)
 
