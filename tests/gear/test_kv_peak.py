@@ -96,3 +96,41 @@ def test_peak_after_contact_loss_is_called_an_impact():
     smooth = 100.0 + 50.0 * np.sin(2 * math.pi * t)
     m = steady_metrics(np.zeros_like(smooth), smooth, 100.0, spc, n)
     assert m["peak_is_impact"] == 0.0 and m["dynamic_factor"] == pytest.approx(1.5, rel=1e-4)
+
+
+# -- one rule for a point that does not settle (issue 37, item 5) ---------------------------------
+def _unsettled_case(tmp_path: Path) -> Path:
+    """The example at 1,000 rpm with a tolerance no run meets in 20 cycles: not periodic."""
+    text = EXAMPLE.read_text()
+    assert "tol = 1e-4" in text
+    text = text.replace("tol = 1e-4", "tol = 1e-15\nmin_cycles = 10\nmax_cycles = 20")
+    p = tmp_path / "unsettled.toml"
+    p.write_text(text)
+    return p
+
+
+def test_a_point_that_does_not_settle_is_a_finding_in_every_path(tmp_path):
+    """`gear steady` and `rotaflex sweep` apply the same rule (rotaflex.core.result.completed):
+    the run is done, results written, exit 0; the status word says not_periodic, the sweep
+    counts it as a finding, not as a failure (it used to exit 1 in both)."""
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+    from rotaflex.core.result import completed, load_result
+
+    case = _unsettled_case(tmp_path)
+    r = CliRunner().invoke(app, ["gear", "steady", str(case), "--out", str(tmp_path / "one"), "-q", "--no-figures"])
+    assert r.exit_code == 0, r.output
+    assert r.output.startswith("not_periodic: not periodic after 20 mesh cycles")
+    res = load_result(tmp_path / "one" / "result.nc")
+    assert res.status == "not_periodic" and int(res.dataset["period_cycles"]) == 0 and completed(res.status)
+    swept = tmp_path / "sweep.toml"
+    swept.write_text('verb = "steady"\n' + case.read_text())
+    args = ["sweep", str(swept), "--vary", "operation.speed_rpm=1000,1100", "--out", str(tmp_path / "sw")]
+    r = CliRunner().invoke(app, [*args, "-q", "--no-figures"])
+    assert r.exit_code == 0, r.output
+    assert "0 failed" in r.output and "2 with a finding (not_periodic)" in r.output
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "sw" / "sweep.nc") as ds:
+        assert int(ds.attrs["n_failed"]) == 0 and set(ds["status"].values.ravel()) == {"not_periodic"}
