@@ -88,8 +88,8 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
         k for k in range(wd.shape[1]) if frequency_limit_hz is None or np.nanmin(f_all[:, k]) <= frequency_limit_hz
     ]
     top = np.nanmax(f_all[:, shown]) * 1.08 if shown else 1.0
-    if frequency_limit_hz is not None:
-        top = min(top, frequency_limit_hz)
+    if frequency_limit_hz is not None:  # the frequency axis is the range asked for
+        top = frequency_limit_hz
     for i, (lo, hi) in enumerate(bands):
         for a in (ax, al):
             a.axvspan(
@@ -148,7 +148,7 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
         "Campbell diagram (solid: forward, dashed: backward whirl; o: critical speed [rpm]; x: unstable)", fontsize=9
     )
     ax.grid(alpha=0.3)
-    al.axhline(0.0, color="r", lw=1.0, label="0: stability limit")
+    al.axhline(0.0, color="k", lw=1.4, label="0: stability limit")  # black: C3 is a mode's red
     al.axhline(0.1, color="k", lw=0.9, ls="-.", label="0.1: API 617 Level II")
     ld_min = min(-0.05, float(np.nanmin(logdec[:, shown]))) if shown else -0.05
     cap = 2.0  # a few well-damped modes would otherwise squash the ones near zero
@@ -391,7 +391,7 @@ def mode_shapes_figure(ds):
         ax.axhline(0, color="k", lw=0.4)
         f = float(ds["damped_frequency"][k]) / (2 * np.pi)
         ax.set_title(
-            f"mode {k}: {f:.2f} Hz, \u03b6 = {float(ds['damping_ratio'][k]):.3g}, {ds['whirl'].values[k]} whirl",
+            f"mode {int(ds['mode'].values[k])}: {f:.2f} Hz, \u03b6 = {float(ds['damping_ratio'][k]):.3g}, {ds['whirl'].values[k]} whirl",
             fontsize=8,
         )
         ax.set_ylim(-1.15, 1.15)
