@@ -390,10 +390,8 @@ def mode_shapes_figure(ds):
         ax.plot(z, (Y * e[t]).real / scale, "-s", ms=2.5, color="tab:red", label="y (y-z plane)")
         ax.axhline(0, color="k", lw=0.4)
         f = float(ds["damped_frequency"][k]) / (2 * np.pi)
-        ax.set_title(
-            f"mode {int(ds['mode'].values[k])}: {f:.2f} Hz, \u03b6 = {float(ds['damping_ratio'][k]):.3g}, {ds['whirl'].values[k]} whirl",
-            fontsize=8,
-        )
+        zeta, whirl = float(ds["damping_ratio"][k]), ds["whirl"].values[k]
+        ax.set_title(f"mode {int(ds['mode'].values[k])}: {f:.2f} Hz, \u03b6 = {zeta:.3g}, {whirl} whirl", fontsize=8)
         ax.set_ylim(-1.15, 1.15)
         ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
