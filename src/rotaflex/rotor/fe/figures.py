@@ -203,14 +203,17 @@ def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
     um = 1e6
     for i, (lo, hi) in enumerate(bands):
         for a in (a1, a2):
-            a.axvspan(
-                lo * RPM,
-                hi * RPM,
-                color="tab:green",
-                alpha=0.12,
-                lw=0,
-                label="operating range" if i == 0 and a is a1 else None,
-            )
+            if hi > lo:
+                a.axvspan(
+                    lo * RPM,
+                    hi * RPM,
+                    color="tab:green",
+                    alpha=0.12,
+                    lw=0,
+                    label="operating range" if i == 0 and a is a1 else None,
+                )
+            else:  # one operating speed: a band of zero width would not show
+                a.axvline(lo * RPM, color="tab:green", lw=2.0, label="operating speed" if a is a1 else None)
     for j, p in enumerate(ds["probe"].values):
         X = ds["x_real"].values[:, j] + 1j * ds["x_imag"].values[:, j]
         Y = ds["y_real"].values[:, j] + 1j * ds["y_imag"].values[:, j]
@@ -440,29 +443,40 @@ def ucs_figure(ds, bearings=()):
 
 def fluid_film_figure(ds):
     """Fluid-film bearing tables (``ff_*`` variables of a result) vs speed: the 8 coefficients,
-    eccentricity ratio and attitude angle; one line style per bearing."""
+    eccentricity ratio and attitude angle; colour per coefficient, line style per bearing, one
+    legend outside the panels (inside, it would hide a curve somewhere)."""
+    from matplotlib.lines import Line2D
+
     from rotaflex.core.plotting import new_figure
 
-    fig, axes = new_figure(2, 2, sharex=True, figsize=(10.0, 6.6))
+    fig, axes = new_figure(2, 2, sharex=True, figsize=(10.0, 7.2))
     colors = {"xx": "tab:blue", "xy": "tab:orange", "yx": "tab:green", "yy": "tab:red"}
+    # the cross terms drawn wide under narrow: equal ones (c_xy = c_yx) stay both visible
+    width = {"xx": 1.5, "xy": 3.2, "yx": 1.3, "yy": 1.5}
     styles = ("-", "--", ":", "-.")
+    handles = [Line2D([], [], color=c, lw=width[ij], label=f"{ij}") for ij, c in colors.items()]
     for b, name in enumerate(ds["fluid_film"].values):
         t = ds.isel(fluid_film=b)
         rpm, ls = t["ff_speed_rpm"].values, styles[b % len(styles)]
         load = np.hypot(float(t["ff_load_x"]), float(t["ff_load_y"]))
         for ij, color in colors.items():
-            axes[0, 0].plot(rpm, t[f"ff_k{ij}"].values / 1e6, ls, color=color, label=f"k{ij} {name}")
-            axes[0, 1].plot(rpm, t[f"ff_c{ij}"].values / 1e3, ls, color=color, label=f"c{ij} {name}")
-        axes[1, 0].plot(rpm, t["ff_eccentricity_ratio"].values, ls, color="k", label=f"{name} ({load:.4g} N)")
-        axes[1, 1].plot(rpm, t["ff_attitude_angle"].values, ls, color="k", label=name)
-    labels = ("stiffness [MN/m]", "damping [kN s/m]", "eccentricity ratio e/c [-]", "attitude angle [deg]")
+            alpha = 0.55 if ij == "xy" else 1.0
+            axes[0, 0].plot(rpm, t[f"ff_k{ij}"].values / 1e6, ls, color=color, lw=width[ij], alpha=alpha)
+            axes[0, 1].plot(rpm, t[f"ff_c{ij}"].values / 1e3, ls, color=color, lw=width[ij], alpha=alpha)
+        axes[1, 0].plot(rpm, t["ff_eccentricity_ratio"].values, ls, color="k")
+        axes[1, 1].plot(rpm, t["ff_attitude_angle"].values, ls, color="k")
+        handles.append(Line2D([], [], color="k", ls=ls, label=f"{name} ({load:.4g} N)"))
+    labels = ("stiffness k_ij [MN/m]", "damping c_ij [kN s/m]", "eccentricity ratio e/c [-]", "attitude angle [deg]")
     for ax, lab in zip(axes.flat, labels, strict=True):
         ax.set_ylabel(lab)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, ncol=2 if lab[0] in "sd" else 1)
     for ax in axes[1]:
         ax.set_xlabel("speed [rpm]")
     axes[0, 0].axhline(0, color="k", lw=0.5)
     axes[0, 1].axhline(0, color="k", lw=0.5)
-    fig.suptitle("fluid-film bearing coefficients (linearised about the static equilibrium)", fontsize=10)
+    fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8)
+    fig.suptitle(
+        "fluid-film bearing coefficients (linearised about the static equilibrium); colour: ij, style: bearing",
+        fontsize=10,
+    )
     return fig
