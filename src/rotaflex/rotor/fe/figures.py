@@ -400,7 +400,8 @@ def mode_shapes_figure(ds):
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[nm:]:
         ax.set_visible(False)
-    axes.flat[0].legend(fontsize=6, loc="lower right")
+    # below the panels: inside one it would hide the shape where the mode is largest
+    fig.legend(*axes.flat[0].get_legend_handles_labels(), loc="outside lower center", ncol=3, fontsize=7)
     for ax in axes[-1]:
         ax.set_xlabel("z [m]")
     fig.suptitle(f"mode shapes at {float(ds['speed']) * RPM:.0f} rpm (normalised to the largest orbit)", fontsize=9)
