@@ -484,7 +484,9 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
                 paths = result.save(out_dir, figures=not no_figures)
                 resume()
             typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out_dir}")
-            if result.status != "success":
+            from rotaflex.core.result import completed
+
+            if not completed(result.status):  # a finding (e.g. not_periodic) is not a failure
                 raise typer.Exit(1)
 
         guarded(go, debug)

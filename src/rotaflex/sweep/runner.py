@@ -70,7 +70,10 @@ class CaseRecord:
 
     @property
     def ok(self) -> bool:
-        return self.status == "success"
+        """Done: success or a finding (:func:`rotaflex.core.result.completed`)."""
+        from rotaflex.core.result import completed
+
+        return completed(self.status)
 
 
 @dataclass
@@ -124,6 +127,9 @@ class SweepResult:
             f"{self.n_cases} cases: {self.n_computed} computed, {self.n_reused} reused from an "
             f"earlier run, {self.n_failed} failed; {self.wall_time:.1f} s"
         )
+        found = [r for r in self.records if r.ok and r.status != "success"]
+        if found:
+            text += f"; {len(found)} with a finding ({', '.join(sorted({r.status for r in found}))})"
         return text
 
 

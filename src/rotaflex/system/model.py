@@ -214,7 +214,7 @@ class Gearbox:
         for i, m in enumerate(meshes_raw):
             if not isinstance(m, Mapping):
                 raise InputError(f"gear_mesh[{i}]", m, "a table")
-            pairs.append(_pair(m, f"gear_mesh[{i}]", base))
+            pairs.append(_pair(m, f"gear_mesh[{i}]", base, _centres_apart(rotors_raw, m)))
             meshes_clean.append({k: v for k, v in m.items() if k not in PAIR_KEYS})
         rotor_specs, rotor_models = [], []
         for i, r in enumerate(rotors_raw):
@@ -285,8 +285,26 @@ class Gearbox:
         return dataclasses.asdict(self.spec)
 
 
-def _pair(m: Mapping, where: str, base):
-    """The PairSpec of a [[gear_mesh]] table: inline pair keys or ``pair_file``."""
+def _centres_apart(rotors_raw, m: Mapping) -> tuple[float, str] | None:
+    """Distance [m] between the centres of a mesh's two rotors and the key of the wheel rotor's
+    ``center`` (None when a rotor or its centre is not there: the build names what is missing)."""
+    centre = {}
+    for j, r in enumerate(rotors_raw):
+        if isinstance(r, Mapping) and isinstance(r.get("center"), (list, tuple)) and len(r["center"]) == 2:
+            centre.setdefault(r.get("name"), (j, np.asarray(r["center"], float)))
+    p, w = centre.get(m.get("pinion_rotor")), centre.get(m.get("wheel_rotor"))
+    if p is None or w is None or not np.all(np.isfinite(p[1])) or not np.all(np.isfinite(w[1])):
+        return None
+    return float(np.hypot(*(w[1] - p[1]))), f"rotor[{w[0]}].center"
+
+
+def _pair(m: Mapping, where: str, base, centres: tuple[float, str] | None = None):
+    """The PairSpec of a [[gear_mesh]] table: inline pair keys or ``pair_file``.
+
+    ``centres`` (distance of the two rotors' centres [m], the wheel rotor's ``center`` key): the
+    working centre distance when the pair gives neither ``center_distance`` nor ``backlash``,
+    so the rotor centres alone place the pair (one fact, written once).
+    """
     from rotaflex.gear import pair_from_mapping
 
     inline = {k: v for k, v in m.items() if k in PAIR_KEYS}
@@ -301,6 +319,13 @@ def _pair(m: Mapping, where: str, base):
         inline = {**{k: v for k, v in cfg.items() if k in PAIR_KEYS}, **inline}
     if "pinion" not in inline or "wheel" not in inline:
         raise InputError(f"{where}.pinion", "<missing>", "[pinion] and [wheel] tables (or pair_file)")
+    if centres is not None and "center_distance" not in inline and "backlash" not in inline:
+        try:
+            return pair_from_mapping({**inline, "center_distance": centres[0]}, where)
+        except InputError as err:  # the user wrote the centres, not a centre distance: name those
+            if not err.field.endswith("center_distance"):
+                raise
+            raise InputError(centres[1], f"{centres[0]:.6g} m from the pinion's rotor", err.allowed) from None
     return pair_from_mapping(inline, where)
 
 

@@ -45,6 +45,47 @@ def te_harmonics(box: Gearbox, mesh: int, n_harmonics: int, excitation: str = "l
     return 2.0 * c[h]
 
 
+#: TE harmonics below this fraction of the static mesh deflection are round-off of a constant
+NO_EXCITATION = 1e-9
+
+
+def refuse_no_excitation(box: Gearbox, E: np.ndarray, excitation: str) -> None:
+    """InputError when no mesh has an excitation harmonic (a response would be zeros).
+
+    ``E`` (mesh, h) [m]. A mesh excites when one harmonic exceeds :data:`NO_EXCITATION` times
+    its static deflection F_0 / k_min (the FFT of a constant table leaves ~1e-16 of it). The
+    key named is the one that would give an excitation: ``gear_mesh[i].source`` for the
+    constant-stiffness ISO 6336 table, ``gear_mesh[i].te_harmonics`` for a harmonic table
+    without harmonics, ``response.excitation`` when only the unloaded TE (zero) was asked for.
+    """
+    for j, m in enumerate(box.meshes):
+        t = m.gear.table
+        scale = max(
+            float(np.max(np.abs(t.unloaded_te))), m.gear.torque / m.gear.base_radius[0] / float(np.min(t.stiffness))
+        )
+        if np.max(np.abs(E[j])) > NO_EXCITATION * scale:
+            return
+    m = box.meshes[0].gear
+    if excitation == "unloaded_te" and m.source != "iso6336":
+        raise InputError(
+            "response.excitation",
+            excitation,
+            "'loaded_te': the meshes' unloaded TE is zero, only the loaded one varies",
+        )
+    if m.source == "harmonic":
+        raise InputError(
+            "gear_mesh[0].te_harmonics",
+            [],
+            "TE sine amplitudes [m] or k_harmonics: without them the mesh does not excite",
+        )
+    raise InputError(
+        "gear_mesh[0].source",
+        m.source,
+        "a source with a TE or stiffness variation to excite the response: 'loaded_te' (FE teeth), 'static_fe', "
+        "'contact_pattern' or 'harmonic' ('iso6336' is a constant stiffness: no excitation, every amplitude 0)",
+    )
+
+
 @dataclass(frozen=True)
 class ForcedResponse:
     """Response amplitudes (complex, per speed s and harmonic h) of each mesh's excitation.
@@ -130,6 +171,7 @@ def forced_response(
     D = Cb + ((g.T * mats.c_mesh) @ g)[None] + speeds[:, None, None] * Gsum[None]  # (ns, r, r)
     K = np.broadcast_to(K, D.shape)
     E = np.array([te_harmonics(box, j, nh, excitation) for j in range(nm)])
+    refuse_no_excitation(box, E, excitation)
     tors = np.zeros((nm, box.n_dof))
     for j in range(nm):
         idx = [box.torsion_dof(*box.meshes[j].driver), box.torsion_dof(*box.meshes[j].driven)]

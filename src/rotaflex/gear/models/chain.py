@@ -547,7 +547,7 @@ class ChainSteady:
     system: TorsionalSystem
     op: OperatingPoint
     chain: Chain = field(init=False)
-    keep: tuple = ("time", "force", "dte")
+    keep: tuple = ("time", "force", "dte", "force_no_te_rate")
     attrs: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -565,6 +565,18 @@ class ChainSteady:
         h = run_cycles(self.system, self.op, ch, state, n_cycles, spc)
         r1, r2 = self.system.base_radius
         h["dte"] = r1 * h["theta"][:, ch.ip] - r2 * h["theta"][:, ch.iw]
+        # the mesh force without the damper's answer to the rate of a loaded-TE table's -F0/k
+        # part (e = LTE - F0/k steps where k does; no geometry does). 1/k is interpolated as the
+        # kernel interpolates e (coefficients linear in the table), so c_m F0 d(1/k)/dt is
+        # exactly the part of c_m de/dt that comes from it.
+        f = h["force"]
+        mesh, z1 = self.system.mesh, self.system.teeth[0]
+        fix = np.zeros_like(f)
+        if mesh.static_force > 0:
+            inv = MeshTable(mesh.stiffness, 1.0 / mesh.stiffness, mesh.interpolation)
+            du = inv.evaluate(z1 * h["theta"][:, ch.ip] / (2 * np.pi))[3]  # d(1/k)/dphi
+            fix = -self.system.mesh_damping * mesh.static_force * du * z1 * h["omega"][:, ch.ip] / (2 * np.pi)
+        h["force_no_te_rate"] = np.where(f != 0.0, f + fix, 0.0)
         return h
 
     def annotate(self, ds, buf: dict, sl: slice) -> None:

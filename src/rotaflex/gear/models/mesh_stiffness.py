@@ -93,11 +93,17 @@ class MeshTable:
     interpolation : {"cubic", "linear"}
         Periodic cubic spline (smooth tables) or piecewise linear (tables with jumps, e.g. the
         step at the start of two-pair contact, without overshoot).
+    static_force : float
+        F_0 [N] of a table whose unloaded TE is built as ``e = TE_loaded - F_0 / k``
+        (:func:`loaded_mesh_table`); 0 when ``e`` is the flanks' geometry. Its ``-F_0 / k`` part
+        steps where ``k`` does, which is no geometry: the steady K_v leaves out the damper's
+        answer to that part's rate (docs/gear-steady-state.md).
     """
 
     stiffness: np.ndarray
     unloaded_te: np.ndarray
     interpolation: Literal["cubic", "linear"] = "cubic"
+    static_force: float = 0.0
 
     def __post_init__(self):
         k = np.asarray(self.stiffness, dtype=float)
@@ -204,7 +210,7 @@ def loaded_mesh_table(line: PairLine, force: float, n: int = 400):
 
     s = line.s_start + np.arange(n) / n * line.base_pitch
     lt = loaded_te(line, s, force)
-    return MeshTable(lt["stiffness"], lt["te"] - force / lt["stiffness"], "linear")
+    return MeshTable(lt["stiffness"], lt["te"] - force / lt["stiffness"], "linear", float(force))
 
 
 # ------------------------------------------------------------------------ the pair's mesh

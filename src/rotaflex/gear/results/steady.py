@@ -124,7 +124,11 @@ def harmonic_amplitudes(x, spc: int, n_cycles: int, orders=(1, 2, 3)) -> np.ndar
     return np.array(out)
 
 
-def steady_metrics(dte, force, static_force: float, spc: int, n_cycles: int) -> dict:
+#: a force peak is an impact when contact was lost within this fraction of a mesh cycle before it
+IMPACT_WINDOW = 0.25
+
+
+def steady_metrics(dte, force, static_force: float, spc: int, n_cycles: int, peak_force=None) -> dict:
     """Steady-state quantities over the last ``n_cycles`` mesh cycles.
 
     Parameters
@@ -137,14 +141,22 @@ def steady_metrics(dte, force, static_force: float, spc: int, n_cycles: int) -> 
         Static mesh force F_t = torque / base radius [N].
     spc, n_cycles : int
         Samples per cycle and cycles evaluated.
+    peak_force : array_like, optional
+        The force whose maximum is the reported peak [N] (default ``force``): the lumped model
+        passes its mesh force without the damper's response to the rate of the tabulated
+        unloaded TE (see docs/gear-steady-state.md, "K_v from a converged peak").
 
     Returns
     -------
     dict
         ``dte_pp``, ``dte_rms`` (about the mean), ``dte_mean`` [m]; ``dte_h1..h3`` [m];
-        ``force_max``, ``force_min`` [N]; ``force_h1..h3`` [N]; ``dynamic_factor`` =
+        ``force_max`` (of ``peak_force``), ``force_min`` [N]; ``force_max_sampled`` (the
+        largest sample of ``force``) [N]; ``force_h1..h3`` [N]; ``dynamic_factor`` =
         force_max / static_force [-]; ``contact_loss_fraction`` (share of samples with
-        F <= 0) [-].
+        F <= 0, of ``peak_force``: the damper's spike at a TE step can pull the sampled force
+        below 0 while the teeth stay in contact) [-]; ``peak_is_impact`` (1: contact was lost
+        within :data:`IMPACT_WINDOW` of a mesh cycle before the peak, so the peak is the
+        re-contact impact; 0 otherwise).
     """
     dte = np.asarray(dte, dtype=float)
     force = np.asarray(force, dtype=float)
@@ -153,14 +165,19 @@ def steady_metrics(dte, force, static_force: float, spc: int, n_cycles: int) -> 
         raise InputError("n_cycles", n_cycles, f"<= {n} (cycles available)")
     sl = slice(n * spc - n_cycles * spc, n * spc)
     d, f = dte[sl], force[sl]
+    fp = f if peak_force is None else np.asarray(peak_force, dtype=float)[sl]
+    i = int(np.argmax(fp))
+    before = np.roll(fp, -i)[-max(1, int(IMPACT_WINDOW * spc)) :]  # the samples just before the peak (periodic)
     out = {
         "dte_pp": float(np.ptp(d)),
         "dte_rms": float(np.std(d)),
         "dte_mean": float(d.mean()),
-        "force_max": float(f.max()),
+        "force_max": float(fp[i]),
+        "force_max_sampled": float(f.max()),
         "force_min": float(f.min()),
-        "dynamic_factor": float(f.max() / static_force),
-        "contact_loss_fraction": float(np.mean(f <= 0.0)),
+        "dynamic_factor": float(fp[i] / static_force),
+        "contact_loss_fraction": float(np.mean(fp <= 0.0)),
+        "peak_is_impact": float(np.any(before <= 0.0)),
     }
     for k, a in zip((1, 2, 3), harmonic_amplitudes(d, spc, n_cycles), strict=True):
         out[f"dte_h{k}"] = float(a)
@@ -177,12 +194,14 @@ METRIC_UNITS = {
     "dte_h2": "m",
     "dte_h3": "m",
     "force_max": "N",
+    "force_max_sampled": "N",
     "force_min": "N",
     "force_h1": "N",
     "force_h2": "N",
     "force_h3": "N",
     "dynamic_factor": "1",
     "contact_loss_fraction": "1",
+    "peak_is_impact": "1",
 }
 
 

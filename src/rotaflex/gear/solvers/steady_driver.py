@@ -151,7 +151,8 @@ def run_steady(
     if per.period > 1:
         n_eval = max(per.period, eval_cycles // per.period * per.period)
     sl = slice(len(buf["time"]) - n_eval * spc, None)
-    met = steady_metrics(buf["dte"][sl], buf["force"][sl], f_static, spc, n_eval)
+    peak = buf["force_no_te_rate"][sl] if "force_no_te_rate" in buf else None
+    met = steady_metrics(buf["dte"][sl], buf["force"][sl], f_static, spc, n_eval, peak_force=peak)
     nf = natural_frequencies(sys, op)
     status = "success" if per.period else "not_periodic"
     msg = (

@@ -3,6 +3,8 @@
 Model: :class:`Rotor` (frozen data, SI). Analyses are functions: :func:`static_analysis`,
 :func:`modal`, :func:`campbell`, :func:`critical_speeds`, :func:`ucs_map`,
 :func:`unbalance_response`, :func:`frf`, :func:`transient`; API 684 rules in :mod:`.api`.
+The same analyses with the command line's result objects (summary, verdicts, plot methods):
+:func:`modes`, :func:`campbell_diagram`, :func:`unbalance_response_study` (:mod:`.study`).
 """
 
 from rotaflex.rotor.fe.critical import critical_speeds
@@ -11,6 +13,7 @@ from rotaflex.rotor.fe.modal import campbell, modal, ucs_map
 from rotaflex.rotor.fe.model import Bearing, Disk, PointMass, Rotor, Shaft
 from rotaflex.rotor.fe.response import peaks, unbalance_response
 from rotaflex.rotor.fe.static import static_analysis
+from rotaflex.rotor.fe.study import campbell_diagram, modes, unbalance_response_study
 from rotaflex.rotor.fe.torsion_axial import axial_modes, torsional_modes
 from rotaflex.rotor.fe.transient import transient
 
@@ -22,13 +25,16 @@ __all__ = [
     "Shaft",
     "axial_modes",
     "campbell",
+    "campbell_diagram",
     "critical_speeds",
     "frf",
     "modal",
+    "modes",
     "peaks",
     "static_analysis",
     "torsional_modes",
     "transient",
     "ucs_map",
     "unbalance_response",
+    "unbalance_response_study",
 ]

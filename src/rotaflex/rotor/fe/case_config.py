@@ -72,7 +72,13 @@ class CampbellSpec:
         "direct", doc="critical speeds: root of omega_d = h Omega (Brent) or linear interpolation between speeds"
     )
     operating_range_rpm: tuple[float, float] | None = param(
-        None, unit="rpm", gt=0, doc="[minimum, maximum] continuous speed: shaded, with the API margins marked"
+        None,
+        unit="rpm",
+        gt=0,
+        doc="[minimum, maximum] continuous speed: shaded, with the API margins marked; stability checked in it",
+    )
+    frequency_limit_hz: float | None = param(
+        None, unit="Hz", gt=0, doc="figures: draw the modes up to this frequency (Campbell and log-dec panels)"
     )
 
 

@@ -67,18 +67,40 @@ def model_figure(rotor: Rotor):
     return fig
 
 
-def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), bands=()):
-    """Damped frequencies [Hz] vs speed [rpm], labelled per mode; forward solid, backward dashed.
+def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), bands=(), frequency_limit_hz=None):
+    """Campbell diagram over a log-decrement panel, both against speed [rpm].
 
-    ``bands`` [(lo, hi) rad/s]: operating ranges shaded, with API 684's largest separation
+    Top: damped frequencies [Hz] labelled per mode, forward solid, backward dashed; the
+    excitation lines ``harmonics``; critical speeds circled. Bottom: each mode's logarithmic
+    decrement with the 0 (stability) and 0.1 (API 617 Level II acceptance) lines. ``bands``
+    [(lo, hi) rad/s]: operating ranges shaded on both, with API 684's largest separation
     margins (16 % below the minimum, 26 % above the maximum speed) hatched beside them.
+    ``frequency_limit_hz``: modes whose frequency stays above it are left out, and the
+    frequency axis stops there.
     """
     from rotaflex.core.plotting import new_figure
 
-    fig, ax = new_figure(figsize=(8.4, 5.4))
-    rpm = rad_s_to_rpm(np.asarray(speed))
-    top = np.nanmax(wd) * HZ * 1.08
+    fig, (ax, al) = new_figure(2, 1, sharex=True, figsize=(8.4, 7.6), height_ratios=(2.2, 1))
+    speed = np.asarray(speed)
+    rpm = rad_s_to_rpm(speed)
+    f_all = wd * HZ
+    shown = [
+        k for k in range(wd.shape[1]) if frequency_limit_hz is None or np.nanmin(f_all[:, k]) <= frequency_limit_hz
+    ]
+    top = np.nanmax(f_all[:, shown]) * 1.08 if shown else 1.0
+    if frequency_limit_hz is not None:  # the frequency axis is the range asked for
+        top = frequency_limit_hz
     for i, (lo, hi) in enumerate(bands):
+        for a in (ax, al):
+            a.axvspan(
+                rad_s_to_rpm(lo),
+                rad_s_to_rpm(hi),
+                color="tab:green",
+                alpha=0.15,
+                lw=0,
+                label="operating range" if i == 0 else None,
+            )
+        ax.axvspan(rad_s_to_rpm(lo) * 0.84, rad_s_to_rpm(lo), fill=False, hatch="//", ec="tab:green", lw=0, alpha=0.5)
         ax.axvspan(
             rad_s_to_rpm(lo),
             rad_s_to_rpm(hi),
@@ -99,28 +121,34 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
             label="largest API margins (16 % / 26 %)" if i == 0 else None,
         )
     labels = []
-    for k in range(wd.shape[1]):
-        f = wd[:, k] * HZ
+    ld_top = 0.2
+    for k in shown:
+        f, color = f_all[:, k], f"C{k % 10}"
         fw = forward[:, k] >= 0.5
-        ax.plot(rpm, np.where(fw, f, np.nan), "-", color=f"C{k % 10}", lw=1.3)
-        ax.plot(rpm, np.where(~fw, f, np.nan), "--", color=f"C{k % 10}", lw=1.3)
+        ax.plot(rpm, np.where(fw, f, np.nan), "-", color=color, lw=1.3)
+        ax.plot(rpm, np.where(~fw, f, np.nan), "--", color=color, lw=1.3)
+        al.plot(rpm, np.where(fw, logdec[:, k], np.nan), "-", color=color, lw=1.2)
+        al.plot(rpm, np.where(~fw, logdec[:, k], np.nan), "--", color=color, lw=1.2)
         bad = logdec[:, k] < -2 * np.pi * STABILITY_TOL
         if np.any(bad):
             ax.plot(rpm[bad], f[bad], "x", color="r")
-        if np.isfinite(f[-1]):
-            labels.append([f[-1], f" {k} {'FW' if fw[-1] else 'BW'} {f[-1]:.0f} Hz", f"C{k % 10}"])
-    gap = 0.03 * top  # spread labels of close modes apart
+        ld_top = max(ld_top, float(np.nanmax(logdec[:, k])) if np.any(np.isfinite(logdec[:, k])) else 0.0)
+        if np.isfinite(f[-1]) and f[-1] <= top:
+            labels.append([f[-1], f" {k} {'FW' if fw[-1] else 'BW'} {f[-1]:.0f} Hz", color])
+    gap = 0.035 * top  # spread labels of close modes apart
     labels.sort(key=lambda t: t[0])
     for i in range(1, len(labels)):
         labels[i][0] = max(labels[i][0], labels[i - 1][0] + gap)
     for y, text, color in labels:
-        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center")
+        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center", annotation_clip=False)
     for h in harmonics:
-        ax.plot(rpm, h * np.asarray(speed) * HZ, ":k", lw=0.9)
+        ax.plot(rpm, h * speed * HZ, ":k", lw=0.9)
         yh = min(h * speed[-1] * HZ, top * 0.97)
         ax.annotate(f"{h:g}X", (rad_s_to_rpm(yh / (h * HZ)), yh), fontsize=8, ha="right", va="bottom")
     last = -np.inf
     for c in sorted(critical, key=lambda c: c["speed"]):
+        if c["frequency"] * HZ > top:
+            continue
         ax.plot(rad_s_to_rpm(c["speed"]), c["frequency"] * HZ, "o", mfc="none", mec="k", ms=7)
         if c.get("harmonic", 1) == 1 and rad_s_to_rpm(c["speed"]) > last * 1.04:  # skip labels that would overprint
             last = rad_s_to_rpm(c["speed"])
@@ -129,14 +157,26 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
             )
     ax.set_ylim(0, top)
     ax.set_xlim(rpm[0], rpm[-1] * 1.12)
-    ax.set_xlabel("spin speed [rpm]")
     ax.set_ylabel("damped natural frequency [Hz]")
     ax.set_title(
         "Campbell diagram (solid: forward, dashed: backward whirl; o: critical speed [rpm]; x: unstable)", fontsize=9
     )
     ax.grid(alpha=0.3)
-    if bands:
-        ax.legend(fontsize=8, loc="upper left")
+    al.axhline(0.0, color="k", lw=1.4, label="0: stability limit")  # black: C3 is a mode's red
+    al.axhline(0.1, color="k", lw=0.9, ls="-.", label="0.1: API 617 Level II")
+    ld_min = min(-0.05, float(np.nanmin(logdec[:, shown]))) if shown else -0.05
+    cap = 2.0  # a few well-damped modes would otherwise squash the ones near zero
+    al.set_ylim(max(ld_min * 1.1, -cap), min(ld_top * 1.1, cap))
+    al.set_ylabel("log decrement [-]" + (f" (axis cut at {cap:g})" if ld_top * 1.1 > cap else ""))
+    al.set_xlabel("spin speed [rpm]")
+    al.grid(alpha=0.3)
+    handles, names = ax.get_legend_handles_labels()
+    h2, n2 = al.get_legend_handles_labels()
+    keep = [i for i, n in enumerate(n2) if n not in names]
+    # below the axes: a legend inside would hide modes wherever it sits
+    fig.legend(
+        handles + [h2[i] for i in keep], names + [n2[i] for i in keep], loc="outside lower center", ncol=4, fontsize=8
+    )
     return fig
 
 
@@ -181,14 +221,17 @@ def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
     um = 1e6
     for i, (lo, hi) in enumerate(bands):
         for a in (a1, a2):
-            a.axvspan(
-                rad_s_to_rpm(lo),
-                rad_s_to_rpm(hi),
-                color="tab:green",
-                alpha=0.12,
-                lw=0,
-                label="operating range" if i == 0 and a is a1 else None,
-            )
+            if hi > lo:
+                a.axvspan(
+                    rad_s_to_rpm(lo),
+                    rad_s_to_rpm(hi),
+                    color="tab:green",
+                    alpha=0.12,
+                    lw=0,
+                    label="operating range" if i == 0 and a is a1 else None,
+                )
+            else:  # one operating speed: a band of zero width would not show
+                a.axvline(rad_s_to_rpm(lo), color="tab:green", lw=2.0, label="operating speed" if a is a1 else None)
     for j, p in enumerate(ds["probe"].values):
         X = ds["x_real"].values[:, j] + 1j * ds["x_imag"].values[:, j]
         Y = ds["y_real"].values[:, j] + 1j * ds["y_imag"].values[:, j]
@@ -210,24 +253,69 @@ def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
         a2.plot(rpm, np.degrees(np.unwrap(np.angle(Y))), ":", color=c, lw=1.2, label=f"node {p}: y")
     if limit is not None:
         a1.axhline(limit * um, color="r", lw=1.2, label=f"API 617 limit {limit * um:.1f} \u00b5m p-p")
+    a1.set_ylim(0, a1.get_ylim()[1] * 1.15)  # head room for the peak tags
     for p in peaks:
         a1.axvline(rad_s_to_rpm(p["speed"]), color="0.5", lw=0.6)
+        kind = p.get("kind", "resonance")
+        tag = f"AF {p['af']:.1f}" if kind == "resonance" else kind.replace("half-power band", "band")
+        probe = f", node {p['probe']}" if "probe" in p else ""
         a1.annotate(
-            f"{rad_s_to_rpm(p['speed']):.0f} rpm\nAF {p['af']:.1f}",
-            (rad_s_to_rpm(p["speed"]), a1.get_ylim()[1] * 0.92),
+            f"{rad_s_to_rpm(p['speed']):.0f} rpm{probe}\n{tag}",
+            (rad_s_to_rpm(p["speed"]), a1.get_ylim()[1]),
             fontsize=7,
-            ha="left",
-            xytext=(3, 0),
+            ha="right" if kind == "rising at the range end" else "left",
+            va="top",
+            xytext=(-3 if kind == "rising at the range end" else 3, -3),
             textcoords="offset points",
         )
     a1.set_ylabel("amplitude, peak-to-peak [\u00b5m]")
-    a1.set_ylim(bottom=0)
     a2.set_ylabel("phase [deg] (lag < 0)")
     a2.set_xlabel("spin speed [rpm]")
-    a1.legend(fontsize=7, ncol=2, loc="upper right")
     a1.grid(alpha=0.3)
     a2.grid(alpha=0.3)
-    a1.set_title("unbalance response (solid: orbit major axis; dashed: x; dotted: y)", fontsize=9)
+    a1.set_title(
+        "unbalance response, peak-to-peak (solid: orbit major axis; dashed: x; dotted: y)\n"
+        "tags: speed, governing probe (largest response) and AF of each peak",
+        fontsize=8,
+    )
+    # outside the axes, on the right: inside it would hide a probe's curve somewhere
+    fig.legend(*a1.get_legend_handles_labels(), loc="outside right upper", fontsize=7)
+    return fig
+
+
+def orbit_figure(ds, peaks=()):
+    """Orbits of every probe [um] over one revolution at each peak's speed (one panel per peak,
+    at most 4; without peaks, at the speed of the largest response of any probe)."""
+    from rotaflex.core.plotting import new_figure
+
+    X = ds["x_real"].values + 1j * ds["x_imag"].values  # (speed, probe)
+    Y = ds["y_real"].values + 1j * ds["y_imag"].values
+    major = ds["major_axis"].values
+    speed = ds["speed"].values
+    if peaks:
+        picks = [(int(np.argmin(np.abs(speed - p["speed"]))), p.get("probe")) for p in peaks][:4]
+    else:
+        i, j = np.unravel_index(int(np.argmax(major)), major.shape)
+        picks = [(int(i), int(ds["probe"].values[j]))]
+    fig, axes = new_figure(1, len(picks), squeeze=False, figsize=(3.4 * len(picks) + 1.6, 3.9))
+    th = np.exp(1j * np.linspace(0, 2 * np.pi, 181))
+    for ax, (i, gov) in zip(axes[0], picks, strict=True):
+        for j, p in enumerate(ds["probe"].values):
+            x, y = (X[i, j] * th).real * 1e6, (Y[i, j] * th).real * 1e6
+            ax.plot(x, y, color=f"C{j % 10}", lw=1.8 if p == gov else 1.0, label=f"node {p}")
+            ax.plot(x[0], y[0], "o", color=f"C{j % 10}", ms=3)  # the rotor's 0 deg mark at t = 0
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel("x [\u00b5m]")
+        ax.set_title(
+            f"{rad_s_to_rpm(speed[i]):.0f} rpm (nearest sample)" + (f"\nnode {gov} governs" if gov is not None else ""),
+            fontsize=8,
+        )
+        ax.grid(alpha=0.3)
+        ax.axhline(0, color="k", lw=0.4)
+        ax.axvline(0, color="k", lw=0.4)
+    axes[0, 0].set_ylabel("y [\u00b5m]")
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside right upper", fontsize=7)
+    fig.suptitle("unbalance orbits at the response peaks (dot: t = 0)", fontsize=9)
     return fig
 
 
@@ -323,16 +411,15 @@ def mode_shapes_figure(ds):
         ax.plot(z, (Y * e[t]).real / scale, "-s", ms=2.5, color="tab:red", label="y (y-z plane)")
         ax.axhline(0, color="k", lw=0.4)
         f = float(ds["damped_frequency"][k]) / (2 * np.pi)
-        ax.set_title(
-            f"mode {k}: {f:.2f} Hz, \u03b6 = {float(ds['damping_ratio'][k]):.3g}, {ds['whirl'].values[k]} whirl",
-            fontsize=8,
-        )
+        zeta, whirl = float(ds["damping_ratio"][k]), ds["whirl"].values[k]
+        ax.set_title(f"mode {int(ds['mode'].values[k])}: {f:.2f} Hz, \u03b6 = {zeta:.3g}, {whirl} whirl", fontsize=8)
         ax.set_ylim(-1.15, 1.15)
         ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[nm:]:
         ax.set_visible(False)
-    axes.flat[0].legend(fontsize=6, loc="lower right")
+    # below the panels: inside one it would hide the shape where the mode is largest
+    fig.legend(*axes.flat[0].get_legend_handles_labels(), loc="outside lower center", ncol=3, fontsize=7)
     for ax in axes[-1]:
         ax.set_xlabel("z [m]")
     fig.suptitle(
@@ -377,29 +464,40 @@ def ucs_figure(ds, bearings=()):
 
 def fluid_film_figure(ds):
     """Fluid-film bearing tables (``ff_*`` variables of a result) vs speed: the 8 coefficients,
-    eccentricity ratio and attitude angle; one line style per bearing."""
+    eccentricity ratio and attitude angle; colour per coefficient, line style per bearing, one
+    legend outside the panels (inside, it would hide a curve somewhere)."""
+    from matplotlib.lines import Line2D
+
     from rotaflex.core.plotting import new_figure
 
-    fig, axes = new_figure(2, 2, sharex=True, figsize=(10.0, 6.6))
+    fig, axes = new_figure(2, 2, sharex=True, figsize=(10.0, 7.2))
     colors = {"xx": "tab:blue", "xy": "tab:orange", "yx": "tab:green", "yy": "tab:red"}
+    # the cross terms drawn wide under narrow: equal ones (c_xy = c_yx) stay both visible
+    width = {"xx": 1.5, "xy": 3.2, "yx": 1.3, "yy": 1.5}
     styles = ("-", "--", ":", "-.")
+    handles = [Line2D([], [], color=c, lw=width[ij], label=f"{ij}") for ij, c in colors.items()]
     for b, name in enumerate(ds["fluid_film"].values):
         t = ds.isel(fluid_film=b)
         rpm, ls = t["ff_speed_rpm"].values, styles[b % len(styles)]
         load = np.hypot(float(t["ff_load_x"]), float(t["ff_load_y"]))
         for ij, color in colors.items():
-            axes[0, 0].plot(rpm, t[f"ff_k{ij}"].values / 1e6, ls, color=color, label=f"k{ij} {name}")
-            axes[0, 1].plot(rpm, t[f"ff_c{ij}"].values / 1e3, ls, color=color, label=f"c{ij} {name}")
-        axes[1, 0].plot(rpm, t["ff_eccentricity_ratio"].values, ls, color="k", label=f"{name} ({load:.4g} N)")
-        axes[1, 1].plot(rpm, t["ff_attitude_angle"].values, ls, color="k", label=name)
-    labels = ("stiffness [MN/m]", "damping [kN s/m]", "eccentricity ratio e/c [-]", "attitude angle [deg]")
+            alpha = 0.55 if ij == "xy" else 1.0
+            axes[0, 0].plot(rpm, t[f"ff_k{ij}"].values / 1e6, ls, color=color, lw=width[ij], alpha=alpha)
+            axes[0, 1].plot(rpm, t[f"ff_c{ij}"].values / 1e3, ls, color=color, lw=width[ij], alpha=alpha)
+        axes[1, 0].plot(rpm, t["ff_eccentricity_ratio"].values, ls, color="k")
+        axes[1, 1].plot(rpm, t["ff_attitude_angle"].values, ls, color="k")
+        handles.append(Line2D([], [], color="k", ls=ls, label=f"{name} ({load:.4g} N)"))
+    labels = ("stiffness k_ij [MN/m]", "damping c_ij [kN s/m]", "eccentricity ratio e/c [-]", "attitude angle [deg]")
     for ax, lab in zip(axes.flat, labels, strict=True):
         ax.set_ylabel(lab)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, ncol=2 if lab[0] in "sd" else 1)
     for ax in axes[1]:
         ax.set_xlabel("speed [rpm]")
     axes[0, 0].axhline(0, color="k", lw=0.5)
     axes[0, 1].axhline(0, color="k", lw=0.5)
-    fig.suptitle("fluid-film bearing coefficients (linearised about the static equilibrium)", fontsize=10)
+    fig.legend(handles=handles, loc="outside lower center", ncol=len(handles), fontsize=8)
+    fig.suptitle(
+        "fluid-film bearing coefficients (linearised about the static equilibrium); colour: ij, style: bearing",
+        fontsize=10,
+    )
     return fig

@@ -512,7 +512,7 @@ def campbell(
                 critical.append(
                     {
                         "mode": k,
-                        "harmonic": int(h),
+                        "harmonic": float(h),  # 0.5X is 0.5, not int(0.5) = 0
                         "speed": float(sp),
                         "frequency": float(h * sp),
                         "whirl": critical_whirl(frac),

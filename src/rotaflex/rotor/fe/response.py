@@ -101,7 +101,9 @@ def unbalance_response(
     return UnbalanceData(speeds, Q)
 
 
-def peaks(speed: np.ndarray, amplitude: np.ndarray, operating_speed: float | None = None) -> list[dict]:
+def peaks(
+    speed: np.ndarray, amplitude: np.ndarray, operating_speed: float | None = None, range_end: bool = False
+) -> list[dict]:
     """Resonance peaks of an amplitude curve with their half-power AF and separation margin.
 
     Parameters
@@ -109,6 +111,13 @@ def peaks(speed: np.ndarray, amplitude: np.ndarray, operating_speed: float | Non
     speed : ndarray (s,) [rad/s], increasing
     amplitude : ndarray (s,) [m]
     operating_speed : float, optional [rad/s]
+    range_end : bool
+        Also return the maxima that cannot be rated from the curve alone, with ``kind``
+        saying which: ``"half-power band beyond the range"`` (a local maximum whose amplitude
+        does not fall to 1/sqrt(2) of it before an end of the range; ``af`` nan and the side
+        not reached nan) and ``"rising at the range end"`` (the curve still rises at the
+        last speed: ``speed`` and ``amplitude`` are the last sample's). A rated peak has
+        ``kind = "resonance"``. Without it (default) only rated peaks are returned.
 
     Returns
     -------
@@ -139,7 +148,9 @@ def peaks(speed: np.ndarray, amplitude: np.ndarray, operating_speed: float | Non
             j = i + right[0]
             n2 = speed[j - 1] + (a[j - 1] - half) / (a[j - 1] - a[j]) * (speed[j] - speed[j - 1])
         if np.isnan(n1) or np.isnan(n2):
-            continue  # a peak whose half-power band is not resolved is not a resonance we can rate
+            if range_end:  # a maximum the user sees: reported, with the band that is not resolved
+                out.append(_unrated(nc, peak, n1, n2, "half-power band beyond the range"))
+            continue
         sm = abs(operating_speed - nc) / operating_speed * 100 if operating_speed else np.nan
         af = nc / (n2 - n1)
         req = api684_required_margin(af, nc < operating_speed) if operating_speed else np.nan
@@ -154,9 +165,33 @@ def peaks(speed: np.ndarray, amplitude: np.ndarray, operating_speed: float | Non
                 "sm_percent": float(sm),
                 "sm_required_percent": float(req),
                 "sm_ok": ok,
+                "kind": "resonance",
             }
         )
+    if range_end and a.size > 1 and a[-1] > a[-2]:
+        left = np.flatnonzero(a < a[-1] / np.sqrt(2))
+        n1 = np.nan
+        if left.size:
+            j = left[-1]
+            n1 = speed[j] + (a[-1] / np.sqrt(2) - a[j]) / (a[j + 1] - a[j]) * (speed[j + 1] - speed[j])
+        out.append(_unrated(float(speed[-1]), float(a[-1]), n1, np.nan, "rising at the range end"))
     return out
+
+
+def _unrated(nc: float, amplitude: float, n1: float, n2: float, kind: str) -> dict:
+    """A maximum whose half-power band (hence AF) the speed range does not resolve."""
+    nan = float("nan")
+    return {
+        "speed": float(nc),
+        "amplitude": float(amplitude),
+        "n1": float(n1),
+        "n2": float(n2),
+        "af": nan,
+        "sm_percent": nan,
+        "sm_required_percent": nan,
+        "sm_ok": nan,
+        "kind": kind,
+    }
 
 
 def api684_required_margin(af: float, below: bool) -> float:

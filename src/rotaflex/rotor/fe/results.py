@@ -62,12 +62,31 @@ class ModalResult(_FEResult):
             return figs
         return figs | self._mode_figures(self.dataset)
 
-    @staticmethod
-    def _mode_figures(ds) -> dict:
-        from rotaflex.core.plotting import new_figure
+    @classmethod
+    def _mode_figures(cls, ds) -> dict:
         from rotaflex.rotor.fe.figures import mode_shapes_figure
 
-        figs = {"mode_shapes": mode_shapes_figure(ds)}
+        return {"mode_shapes": mode_shapes_figure(ds), "mode_orbits": cls._orbits(ds)}
+
+    def plot_mode(self, k: int):
+        """Mode ``k``'s shape in both bending planes with its orbit envelope (the CLI's
+        ``mode_shapes.png`` panel of that mode)."""
+        from rotaflex.core.errors import InputError
+        from rotaflex.rotor.fe.figures import mode_shapes_figure
+
+        n = self.dataset.sizes["mode"]
+        if not 0 <= k < n:
+            raise InputError("k", k, f"a mode index 0..{n - 1}")
+        return mode_shapes_figure(self.dataset.isel(mode=[k]))
+
+    def plot_orbits(self):
+        """Each mode's whirl orbit at every node over one period, scaled to 1 (``mode_orbits.png``)."""
+        return self._orbits(self.dataset)
+
+    @staticmethod
+    def _orbits(ds):
+        from rotaflex.core.plotting import new_figure
+
         # orbits: each mode's whirl at every node (x + i y over one period), scaled to 1
         nm = ds.sizes["mode"]
         ncol = min(nm, 4)
@@ -86,8 +105,7 @@ class ModalResult(_FEResult):
             ax.tick_params(labelsize=6)
         for ax in list(axes.flat)[nm:]:
             ax.set_visible(False)
-        figs["mode_orbits"] = fig2
-        return figs
+        return fig2
 
 
 @register_result
@@ -97,21 +115,40 @@ class CampbellResult(_FEResult):
     kind = "rotor_fe_campbell"
 
     def plot(self) -> dict:
+        return {**_model_fig(self), "campbell": self.plot_campbell()}
+
+    def plot_campbell(self, frequency_limit_hz: float | None = None):
+        """Campbell diagram over its log-decrement panel (the CLI's ``campbell.png``);
+        ``frequency_limit_hz`` [Hz] overrides the run's ``frequency_limit_hz``."""
         from rotaflex.rotor.fe.figures import campbell_figure
 
         ds = self.dataset
-        crit = json.loads(ds.attrs.get("critical_speeds", "[]"))
-        figs = _model_fig(self)
-        figs["campbell"] = campbell_figure(
+        return campbell_figure(
             ds["speed"].values,
             ds["damped_frequency"].values,
             ds["forward_fraction"].values,
             ds["log_dec"].values,
             json.loads(ds.attrs.get("harmonics", "[1]")),
-            crit,
+            json.loads(ds.attrs.get("critical_speeds", "[]")),
             json.loads(ds.attrs.get("bands", "[]")),
+            frequency_limit_hz if frequency_limit_hz is not None else ds.attrs.get("frequency_limit_hz"),
         )
-        return figs
+
+    @property
+    def critical(self) -> list[dict]:
+        """Critical speeds: ``speed_rpm``, ``frequency_hz``, ``harmonic`` (0.5 for 0.5X),
+        ``whirl``, ``mode``."""
+        crit = json.loads(self.dataset.attrs.get("critical_speeds", "[]"))
+        return [
+            {
+                "speed_rpm": c["speed"] * 30 / np.pi,
+                "frequency_hz": c["frequency"] / (2 * np.pi),
+                "harmonic": c["harmonic"],
+                "whirl": c["whirl"],
+                "mode": c["mode"],
+            }
+            for c in crit
+        ]
 
 
 @register_result
@@ -146,31 +183,26 @@ class UnbalanceResult(_FEResult):
     kind = "rotor_fe_unbalance"
 
     def plot(self) -> dict:
-        from rotaflex.core.plotting import new_figure
+        return {**_model_fig(self), "bode": self.plot_bode(), "orbit": self.plot_orbit()}
+
+    def plot_bode(self):
+        """Peak-to-peak amplitude [um] and phase of every probe vs speed, the peaks tagged
+        with their governing probe and AF, the operating range and API limit (``bode.png``)."""
         from rotaflex.rotor.fe.figures import unbalance_bode_figure
 
         ds = self.dataset
-        figs = _model_fig(self)
-        figs["bode"] = unbalance_bode_figure(
+        return unbalance_bode_figure(
             ds,
             json.loads(ds.attrs.get("peaks", "[]")),
             json.loads(ds.attrs.get("bands", "[]")),
             ds.attrs.get("vibration_limit"),
         )
-        fig, ax = new_figure()
-        i = int(np.argmax(ds["major_axis"].isel(probe=0).values))
-        th = np.linspace(0, 2 * np.pi, 181)
-        for p in ds["probe"].values:
-            X = complex(ds["x_real"].sel(probe=p)[i] + 1j * ds["x_imag"].sel(probe=p)[i])
-            Y = complex(ds["y_real"].sel(probe=p)[i] + 1j * ds["y_imag"].sel(probe=p)[i])
-            ax.plot((X * np.exp(1j * th)).real, (Y * np.exp(1j * th)).real, label=f"node {p}")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        ax.set_title(f"orbits at {rad_s_to_rpm(float(ds['speed'][i])):.0f} rpm (largest response)")
-        ax.legend(fontsize=8)
-        figs["orbit"] = fig
-        return figs
+
+    def plot_orbit(self):
+        """Orbits [um] of every probe at each response peak (``orbit.png``)."""
+        from rotaflex.rotor.fe.figures import orbit_figure
+
+        return orbit_figure(self.dataset, json.loads(self.dataset.attrs.get("peaks", "[]")))
 
 
 @register_result

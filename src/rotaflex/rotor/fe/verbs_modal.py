@@ -172,12 +172,16 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
         + (", ".join(f"{rad_s_to_rpm(cr['speed']):.0f}" for cr in fw) or "none")
         + (f"; {len(c.unstable)} unstable mode(s)" if c.unstable else "")
     )
+    if spec.operating_range_rpm is not None:
+        from rotaflex.rotor.fe.api import check_bands, stability_summary
+
+        bands = check_bands([spec.operating_range_rpm], "campbell.operating_range_rpm")
+        msg += "; " + stability_summary(rotor, bands, extra)
+        ds.attrs["bands"] = json.dumps(bands)
+    if spec.frequency_limit_hz is not None:
+        ds.attrs["frequency_limit_hz"] = spec.frequency_limit_hz
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     ds.attrs["critical_speeds"] = json.dumps(critical)
-    if spec.operating_range_rpm is not None:
-        from rotaflex.rotor.fe.api import check_bands
-
-        ds.attrs["bands"] = json.dumps(check_bands([spec.operating_range_rpm], "campbell.operating_range_rpm"))
     ds.attrs["unstable"] = json.dumps(c.unstable)
     ds.attrs["harmonics"] = json.dumps(list(spec.harmonics))
     return CampbellResult(add_fluid_film_tables(ds, rotor))

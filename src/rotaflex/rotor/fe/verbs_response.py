@@ -16,7 +16,11 @@ from rotaflex.rotor.fe.case_config import clamp_modes, parse, speed_range, unbal
 from rotaflex.rotor.fe.case_output import add_fluid_film_tables, pinned, progress_callback, summary_attrs
 from rotaflex.rotor.fe.results import TransientResult, UnbalanceResult
 
-__all__ = ["run_transient", "run_unbalance"]
+__all__ = ["PEAK_FLOOR", "run_transient", "run_unbalance"]
+
+#: response maxima below this fraction of the largest response of any probe are not rated
+#: (round-off ripples of 1e-13 um at a probe on a mode's node line would otherwise be "criticals")
+PEAK_FLOOR = 1e-3
 
 
 @pinned
@@ -43,10 +47,14 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
     X = np.stack([r.at(p)[0] for p in probes], 1)
     Y = np.stack([r.at(p)[1] for p in probes], 1)
     major = np.stack([r.major_axis(p) for p in probes], 1)
-    pk = peaks(speeds, major[:, 0])
-    if bands:
-        from rotaflex.rotor.fe.api import rate_peaks
+    from rotaflex.rotor.fe.api import merge_probe_peaks, rate_peaks
 
+    # every probe's peaks; per critical, the probe with the largest response governs
+    # (maxima below PEAK_FLOOR of the largest response anywhere are round-off, e.g. a probe on a node line)
+    floor = PEAK_FLOOR * major.max()
+    per_probe = {p: peaks(speeds, major[:, j], range_end=True) for j, p in enumerate(probes)}
+    pk = merge_probe_peaks({p: [q for q in v if q["amplitude"] >= floor] for p, v in per_probe.items()})
+    if bands:
         pk = rate_peaks(pk, bands)
     u = {"units": "m"}
     ds = xr.Dataset(
@@ -87,7 +95,15 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
             extra["meets_vibration_limit"] = {"value": bool(np.all(pp_band <= limit)), "unit": ""}
         extra["max_pp_overall"] = {"value": pp.tolist(), "unit": "m", "probes": probes}
     for i, p in enumerate(pk):
-        extra[f"peak_{i}_speed_rpm"] = {"value": rad_s_to_rpm(p["speed"]), "unit": "rpm"}
+        extra[f"peak_{i}_speed_rpm"] = {"value": rad_s_to_rpm(p["speed"]), "unit": "rpm", "kind": p["kind"]}
+        extra[f"peak_{i}_amplitude"] = {"value": p["amplitude"], "unit": "m", "note": "orbit semi-major axis (0-pk)"}
+        extra[f"peak_{i}_probe"] = {
+            "value": p["probe"],
+            "unit": "",
+            "note": "the probe with the largest response at this peak (governs)",
+            "probes": p["probes"],
+            "af_by_probe": p["af_by_probe"],
+        }
         extra[f"peak_{i}_amplification_factor"] = {"value": p["af"], "unit": ""}
         extra[f"peak_{i}_separation_margin"] = {"value": p.get("sm_percent", np.nan), "unit": "%"}
         extra[f"peak_{i}_required_separation_margin"] = {"value": p.get("sm_required_percent", np.nan), "unit": "%"}
@@ -106,9 +122,28 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
             if not fails
             else ", ".join(f"{rad_s_to_rpm(p['speed']):.0f} rpm fails ({p['position']})" for p in fails)
         )
+    if bands:
+        from rotaflex.rotor.fe.api import stability_summary
+
+        verdict += "; " + stability_summary(rotor, bands, extra)
+        reasons = [
+            f"critical at {rad_s_to_rpm(p['speed']):.0f} rpm misses its separation margin" for p in pk if not p["sm_ok"]
+        ]
+        if not extra.get("meets_vibration_limit", {"value": True})["value"]:
+            reasons.append("vibration above the API 617 limit in the operating range")
+        if not extra["stable_in_operating_range"]["value"]:
+            reasons.append("a mode is unstable (log dec < 0) in the operating range")
+        extra["verdict"] = {"value": "fail" if reasons else "pass", "unit": "", "reasons": reasons}
+        verdict += "; verdict: " + ("FAIL" if reasons else "pass")
+    rated = [p for p in pk if p["kind"] == "resonance"]
     msg = (
         f"{spec.n_speeds} speeds, {len(probes)} probes; peaks [rpm]: "
-        + (", ".join(f"{rad_s_to_rpm(p['speed']):.0f} (AF {p['af']:.1f})" for p in pk) or "none")
+        + (", ".join(f"{rad_s_to_rpm(p['speed']):.0f} (AF {p['af']:.1f}, node {p['probe']})" for p in rated) or "none")
+        + "".join(
+            f"; {p['kind']}: {p['amplitude'] * 1e6:.3g} um at {rad_s_to_rpm(p['speed']):.0f} rpm (node {p['probe']})"
+            for p in pk
+            if p["kind"] != "resonance"
+        )
         + verdict
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
@@ -143,8 +178,7 @@ def _unbalance_planes(rotor, spec, n_max):
     ub = unbalances(rotor, spec.mass, "unbalance")
     if spec.balance_grade is None and not spec.api_unbalance:
         return ub, []
-    from rotaflex.rotor.fe.api import api_unbalance, arrangement_phases, iso_specific_unbalance, plane_masses
-    from rotaflex.rotor.fe.static import static_analysis
+    from rotaflex.rotor.fe.api import api_plane_unbalance, arrangement_phases, iso_specific_unbalance, plane_masses
 
     key = "balance_grade" if spec.balance_grade is not None else "api_unbalance"
     if spec.balance_grade is not None and spec.api_unbalance:
@@ -157,12 +191,7 @@ def _unbalance_planes(rotor, spec, n_max):
     for p in planes:
         if p >= rotor.n_nodes:
             raise InputError("unbalance.planes", p, f"existing nodes 0..{rotor.n_nodes - 1}")
-    share = plane_masses(rotor, planes, static_analysis(rotor, gravity=1.0).reactions)  # [kg]
-    if spec.balance_grade is not None:
-        U = iso_specific_unbalance(spec.balance_grade, n_max) * share  # g mm
-    else:
-        U = np.array([api_unbalance(w, rad_s_to_rpm(n_max)) for w in share])
-    U = U * spec.unbalance_scale
+    share = plane_masses(rotor, planes)  # [kg]
     shape = None
     if spec.arrangement == "mode":
         from rotaflex.rotor.fe.modal import modal
@@ -172,7 +201,12 @@ def _unbalance_planes(rotor, spec, n_max):
         if spec.arrangement_mode >= fw.size:
             raise InputError("unbalance.arrangement_mode", spec.arrangement_mode, f"0..{fw.size - 1} (forward modes)")
         shape = m.shape[0, fw[spec.arrangement_mode]]
-    ph = arrangement_phases(rotor, planes, shape)
+    if spec.balance_grade is not None:
+        U = iso_specific_unbalance(spec.balance_grade, n_max) * share  # g mm
+    else:
+        U = api_plane_unbalance(rotor, planes, rad_s_to_rpm(n_max), shape)
+    U = U * spec.unbalance_scale
+    ph = np.where(U > 0, arrangement_phases(rotor, planes, shape), 0.0)  # a plane on a node line: no phase
     made = [
         {"node": int(p), "magnitude_g_mm": float(u), "phase_deg": float(np.degrees(a)), "mass_share_kg": float(w)}
         for p, u, a, w in zip(planes, U, ph, share, strict=True)
