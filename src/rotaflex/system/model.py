@@ -291,7 +291,7 @@ def _pair(m: Mapping, where: str, base):
         inline = {**{k: v for k, v in cfg.items() if k in PAIR_KEYS}, **inline}
     if "pinion" not in inline or "wheel" not in inline:
         raise InputError(f"{where}.pinion", "<missing>", "[pinion] and [wheel] tables (or pair_file)")
-    return pair_from_mapping(inline, where)
+    return pair_from_mapping(inline, where).spur_only("system", where)
 
 
 def _station(rotor: Rotor, node, position, where, keys=("node", "position")) -> int:

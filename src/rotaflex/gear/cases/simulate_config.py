@@ -339,13 +339,17 @@ class GearCaseConfig:
             return None
         from rotaflex.gear.pair.drawing import PairSpec
 
-        return PairSpec(
-            pinion=self.pinion,
-            wheel=self.wheel,
-            center_distance=self.center_distance,
-            backlash=self.backlash,
-            driver=self.driver or "pinion",
-        ).check()
+        return (
+            PairSpec(
+                pinion=self.pinion,
+                wheel=self.wheel,
+                center_distance=self.center_distance,
+                backlash=self.backlash,
+                driver=self.driver or "pinion",
+            )
+            .check()
+            .spur_only("gear simulate")
+        )
 
 
 #: tables and keys only ``gear static`` reads (a file may carry both verbs' tables)

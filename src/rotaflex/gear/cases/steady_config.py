@@ -249,9 +249,11 @@ class TorsionalCaseConfig:
         """The checked drawing pair, or None with ``[gear]``."""
         if self.pinion is None:
             return None
-        return PairSpec(
-            pinion=self.pinion, wheel=self.wheel, center_distance=self.center_distance, backlash=self.backlash
-        ).check()
+        return (
+            PairSpec(pinion=self.pinion, wheel=self.wheel, center_distance=self.center_distance, backlash=self.backlash)
+            .check()
+            .spur_only("gear steady")
+        )
 
 
 SCHEMA = TorsionalCaseConfig
