@@ -356,6 +356,7 @@ class GearCaseConfig:
 STATIC_ONLY = {
     "load": None,
     "analysis": None,
+    "face": None,
     "mesh": ("n_radii",),
     # gear steady's tables and keys (a [pinion]/[wheel] file may serve every verb)
     "mesh_stiffness": None,

@@ -264,6 +264,7 @@ SCHEMA = TorsionalCaseConfig
 OTHER_VERBS = (
     ("load", None),
     ("analysis", None),
+    ("face", None),
     ("solver", None),
     ("output", None),
     ("driver", None),

@@ -53,6 +53,7 @@ from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import deg_to_rad, rad_to_deg
 from rotaflex.gear.pair.geometry import GearGeometry, ProfileRelief, _inv_inverse, involute
+from rotaflex.gear.pair.lead import LeadSpec
 
 __all__ = [
     "ReliefSpec",
@@ -218,6 +219,7 @@ class GearSpec:
     blank: BlankSpec = param(BlankSpec())
     tip_relief: ReliefSpec | None = param(None)
     root_relief: ReliefSpec | None = param(None)
+    lead: LeadSpec | None = param(None, doc="lead modifications (crowning, end relief, slope deviation)")
     support: Literal["root_clamp", "rim"] = param(
         "rim", doc="tooth tied to the rigid disk at the root circle, or through a rim sector"
     )
@@ -560,6 +562,11 @@ class PairSpec:
         """beta_w: tan(beta_w) = tan(beta_b) / cos(alpha_wt) [rad]."""
         return math.atan(math.tan(self.base_helix_angle) / math.cos(self.operating_pressure_angle))
 
+    @property
+    def sliced(self) -> bool:
+        """True when the face width is modelled in slices: a helical pair or lead modifications."""
+        return self.helical or any(g.lead is not None and g.lead.active for g in (self.pinion, self.wheel))
+
     def helical_summary(self) -> dict:
         """ISO 21771 helical quantities (SI, angles in degrees where named so); empty for spur."""
         if not self.helical:
@@ -643,6 +650,16 @@ class PairSpec:
         for g, name in ((p, "pinion"), (w, "wheel")):  # hand given exactly for helical gears
             if (g.helix_angle_deg > 0.0) != (g.hand is not None):
                 g._plain(name)
+        for g, name in ((p, "pinion"), (w, "wheel")):
+            if g.lead is not None:
+                g.lead.check(g.face_width, f"{name}.lead")
+        if self.sliced and w.face_width != p.face_width:
+            raise InputError(
+                "wheel.face_width",
+                w.face_width,
+                f"equal to pinion.face_width = {p.face_width} m for a helical or lead-modified pair "
+                "(the sliced face model has one common face)",
+            )
         g1, g2 = self.gears  # undercut, relief limits (GearGeometry / geometry())
         for g, name in ((g1, "pinion"), (g2, "wheel")):
             lim = MIN_TIP_THICKNESS_COEF * g.module
