@@ -23,6 +23,7 @@ from rotaflex.core.result import Result, register_result
 from rotaflex.core.units import rad_to_deg
 from rotaflex.gear.cases.simulate_config import without
 from rotaflex.gear.pair.drawing import SUMMARY_UNITS, GearSpec, PairSpec, pair_meshes
+from rotaflex.gear.pair.lead import FaceConfig
 from rotaflex.gear.pair.tooth_mesh import COARSE, DEFAULT, build_tooth_mesh
 from rotaflex.gear.static.loaded_te import loaded_te, pair_line
 from rotaflex.gear.static.tooth_analysis import iso6336_stiffness, weber_contact_compliance
@@ -69,19 +70,6 @@ class AnalysisConfig:
     compliance_diameters_wheel: tuple[float, ...] = param((), unit="m", gt=0.0)
     refinement: tuple[int, ...] = param(
         (1, 2), ge=1, le=4, doc="mesh refinement factors of the compliance study (x preset)"
-    )
-
-
-@dataclasses.dataclass(frozen=True)
-class FaceConfig:
-    """The face width in slices (helical or lead-modified pairs; docs/gear-helical.md)."""
-
-    slices: int = param(20, ge=1, le=400, doc="slices over the face width")
-    coupling_length_coef: float = param(
-        1.0, ge=0.0, le=20.0, doc="shear-layer coupling length between slices / normal module"
-    )
-    misalignment: float = param(
-        0.0, unit="rad", ge=-0.01, le=0.01, doc="tilt of the wheel relative to the pinion in the plane of action"
     )
 
 

@@ -43,6 +43,7 @@ from rotaflex.gear.cases.steady_size import check_size
 from rotaflex.gear.pair.drawing import MIN_YOUNGS_MODULUS, PairSpec
 from rotaflex.gear.pair.drawing import GearSpec as DrawingGearSpec
 from rotaflex.gear.pair.geometry import GearGeometry, contact_ratio
+from rotaflex.gear.pair.lead import FaceConfig
 
 __all__ = [
     "SCHEMA",
@@ -229,6 +230,7 @@ class TorsionalCaseConfig:
     sweep: SweepSpec = param(SweepSpec())
     iso: IsoSpec = param(IsoSpec())
     model: ModelSpec = param(ModelSpec())
+    face: FaceConfig = param(FaceConfig(), doc="[pinion]/[wheel] helical or lead-modified: the face in slices")
     pinion: DrawingGearSpec | None = param(None, doc="gear 1 as on a drawing (instead of [gear])")
     wheel: DrawingGearSpec | None = param(None, doc="gear 2 as on a drawing")
     center_distance: float | None = param(None, unit="m", gt=0.0, doc="[pinion]/[wheel]: working centre distance")
@@ -249,11 +251,18 @@ class TorsionalCaseConfig:
         """The checked drawing pair, or None with ``[gear]``."""
         if self.pinion is None:
             return None
-        return (
-            PairSpec(pinion=self.pinion, wheel=self.wheel, center_distance=self.center_distance, backlash=self.backlash)
-            .check()
-            .spur_only("gear steady")
-        )
+        pair = PairSpec(
+            pinion=self.pinion, wheel=self.wheel, center_distance=self.center_distance, backlash=self.backlash
+        ).check()
+        if self.model.method != "lumped":  # the FE tooth window is transverse (spur) only
+            pair.spur_only("gear steady with model.method = 'elastic_teeth'")
+            for name in ("pinion", "wheel"):
+                lead = getattr(self, name).lead
+                if lead is not None and lead.active:
+                    raise InputError(
+                        f"{name}.lead", "a table", "omitted with model.method = 'elastic_teeth' (lumped only)"
+                    )
+        return pair
 
 
 SCHEMA = TorsionalCaseConfig
@@ -264,7 +273,6 @@ SCHEMA = TorsionalCaseConfig
 OTHER_VERBS = (
     ("load", None),
     ("analysis", None),
-    ("face", None),
     ("solver", None),
     ("output", None),
     ("driver", None),

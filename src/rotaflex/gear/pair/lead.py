@@ -25,7 +25,7 @@ import numpy as np
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
 
-__all__ = ["LeadSpec"]
+__all__ = ["LeadSpec", "FaceConfig"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -65,3 +65,17 @@ class LeadSpec:
             t = np.clip((np.abs(z) - (0.5 * b - length)) / length, 0.0, 1.0)
             c = c + self.end_relief * (t if self.end_relief_shape == "linear" else t**2)
         return c
+
+
+@dataclasses.dataclass(frozen=True)
+class FaceConfig:
+    """``[face]`` of gear static and gear steady: the face width in slices (helical or
+    lead-modified pairs; docs/gear-helical.md)."""
+
+    slices: int = param(20, ge=1, le=400, doc="slices over the face width")
+    coupling_length_coef: float = param(
+        1.0, ge=0.0, le=20.0, doc="shear-layer coupling length between slices / normal module"
+    )
+    misalignment: float = param(
+        0.0, unit="rad", ge=-0.01, le=0.01, doc="tilt of the wheel relative to the pinion in the plane of action"
+    )
