@@ -203,3 +203,20 @@ def test_bad_face_input_names_the_key():
             }
         )
     assert err.value.field == "wheel.face_width"
+
+
+def test_lead_modification_depths_by_hand():
+    from rotaflex.gear.pair.lead import LeadSpec
+
+    b = 0.04
+    z = np.array([-0.02, -0.015, 0.0, 0.01, 0.02])
+    crown = LeadSpec(crowning=6e-6).depth(z, b)
+    np.testing.assert_allclose(crown, 6e-6 * (2 * z / b) ** 2, rtol=1e-14)
+    assert crown[0] == pytest.approx(6e-6) and crown[2] == 0.0
+    # linear end relief of 10 um over 10 mm from each end: 5 um at 5 mm from the end
+    rel = LeadSpec(end_relief=10e-6, end_relief_length=0.01).depth(z, b)
+    np.testing.assert_allclose(rel, [10e-6, 5e-6, 0.0, 0.0, 10e-6], rtol=1e-12, atol=1e-20)
+    par = LeadSpec(end_relief=10e-6, end_relief_length=0.01, end_relief_shape="parabolic").depth(z, b)
+    assert par[1] == pytest.approx(2.5e-6)
+    slope = LeadSpec(slope_deviation=-4e-6).depth(z, b)
+    np.testing.assert_allclose(slope, -4e-6 * z / b, rtol=1e-14)

@@ -190,6 +190,9 @@ def _contact(kv, nb, kc, gap, force, max_iter=200):
     Returns (slice loads [N], approach delta [m], tangent stiffness [N/m]).
     """
     n = kv.size
+    if np.ptp(gap) == 0.0:  # uniform gap: a uniform approach shears nothing, all in parallel
+        k_tot = kv.sum()
+        return kv * (force / k_tot), gap[0] + force / k_tot, k_tot
     kmat = np.diag(kv)
     if nb.size:
         kmat[nb, nb] += kc
@@ -197,9 +200,6 @@ def _contact(kv, nb, kc, gap, force, max_iter=200):
         kmat[nb, nb + 1] -= kc
         kmat[nb + 1, nb] -= kc
     act = np.ones(n, dtype=bool)
-    if not gap.any() and not nb.size:  # plain slices, no modification: all in parallel
-        k_tot = kv.sum()
-        return kv * (force / k_tot), force / k_tot, k_tot
     seen = set()
     for it in range(max_iter):
         a, o = np.nonzero(act)[0], np.nonzero(~act)[0]
