@@ -182,6 +182,14 @@ def test_spur_only_verbs_refuse_a_helical_pair_naming_the_key():
     with pytest.raises(InputError) as err:
         p.spur_only("system", "gear_mesh[0]")
     assert err.value.field == "gear_mesh[0].pinion.helix_angle_deg"
+    # a lead-modified spur pair too (its lead would be ignored)
+    lead = _pair(20, 40, 2e-3, 0.0, 0.02)
+    for g in ("pinion", "wheel"):
+        lead[g].pop("hand")
+    lead["wheel"]["lead"] = {"crowning": 5e-6}
+    with pytest.raises(InputError) as err:
+        pair_from_mapping(lead).spur_only("gear simulate")
+    assert err.value.field == "wheel.lead"
     # a hand on a spur gear is refused too (it would say nothing)
     with pytest.raises(InputError) as err:
         pair_from_mapping(_pair(20, 40, 2e-3, 0.0, 0.02))

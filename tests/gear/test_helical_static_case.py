@@ -41,6 +41,11 @@ def test_helical_static_outputs(result):
     assert s["axial_force"]["value"] == pytest.approx(s["axial_force_check"]["value"], rel=1e-12)
     beta_b = math.radians(s["geometry_base_helix_angle_deg"]["value"])
     assert s["normal_force"]["value"] == pytest.approx(s["force"]["value"] / math.cos(beta_b), rel=1e-12)
+    # tilting moments of the axial force at the working pitch radii r_w = a z / (z1 + z2)
+    a = s["geometry_center_distance"]["value"]
+    for name, z in (("pinion", 20), ("wheel", 40)):
+        moment = s["axial_force"]["value"] * a * z / 60
+        assert s[f"tilting_moment_{name}"]["value"] == pytest.approx(moment, rel=1e-12)
     ds = result.dataset
     # every slice load of one tooth pair is >= 0 and the crowned face carries most at mid-face
     ll = ds["line_load"].values

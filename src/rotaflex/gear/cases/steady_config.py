@@ -256,12 +256,6 @@ class TorsionalCaseConfig:
         ).check()
         if self.model.method != "lumped":  # the FE tooth window is transverse (spur) only
             pair.spur_only("gear steady with model.method = 'elastic_teeth'")
-            for name in ("pinion", "wheel"):
-                lead = getattr(self, name).lead
-                if lead is not None and lead.active:
-                    raise InputError(
-                        f"{name}.lead", "a table", "omitted with model.method = 'elastic_teeth' (lumped only)"
-                    )
         return pair
 
 

@@ -591,14 +591,23 @@ class PairSpec:
         }
 
     def spur_only(self, verb: str, where: str = "") -> PairSpec:
-        """Refuse a helical pair in a verb that models spur pairs only (``where``: the prefix of
-        the pair's tables in the user's file); return self."""
+        """Refuse a helical or lead-modified pair in a verb whose tooth model is one transverse
+        section (``where``: the prefix of the pair's tables in the user's file); return self."""
+        pre = f"{where}." if where else ""
         if self.helical:
             raise InputError(
-                f"{where}.pinion.helix_angle_deg" if where else "pinion.helix_angle_deg",
+                f"{pre}pinion.helix_angle_deg",
                 self.pinion.helix_angle_deg,
                 f"0 in {verb} (spur pairs only; helical pairs run in gear static and gear steady)",
             )
+        for name in ("pinion", "wheel"):
+            lead = getattr(self, name).lead
+            if lead is not None and lead.active:
+                raise InputError(
+                    f"{pre}{name}.lead",
+                    "a table",
+                    f"omitted in {verb} (lead modifications run in gear static and gear steady)",
+                )
         return self
 
     def summary(self) -> dict:
