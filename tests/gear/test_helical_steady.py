@@ -86,3 +86,23 @@ def test_elastic_teeth_refuses_a_helical_pair():
     with pytest.raises(InputError) as err:
         run_torsional(cfg)
     assert err.value.field == "pinion.helix_angle_deg"
+
+
+def test_iso_kv_input_takes_the_helical_terms():
+    from rotaflex.gear.cases.steady import build_system
+    from rotaflex.gear.cases.steady_config import checked
+    from rotaflex.gear.cases.steady_output import iso_data
+
+    cfg = checked(_cfg(20000.0))
+    sys, eps = build_system(cfg)
+    iso = iso_data(cfg, sys, eps, 0.02)
+    eps_b = 0.02 * math.sin(BETA) / (math.pi * 2e-3)
+    assert iso.eps_gamma == pytest.approx(eps + eps_b, rel=1e-12)
+    # c' of ISO 6336-1 with virtual teeth z_n = z / (cos^2(beta_b) cos(beta)), x_n, cos(beta)
+    bb = math.asin(math.sin(BETA) * math.cos(math.radians(20.0)))
+    zn = 1 / (math.cos(bb) ** 2 * math.cos(BETA))
+    z1, z2, x1 = 20 * zn, 40 * zn, 0.2
+    q = 0.04723 + 0.15551 / z1 + 0.25791 / z2 - 0.00635 * x1 - 0.11654 * x1 / z1 + 0.00529 * x1**2
+    c_prime = 1 / q * 0.8 * 0.975 * math.cos(BETA)  # N/(mm um); F_t/b > 100 N/mm here
+    assert iso.c_single == pytest.approx(c_prime * 1e9, rel=1e-12)
+    assert iso.c_gamma_alpha == pytest.approx(c_prime * 1e9 * (0.75 * eps + 0.25), rel=1e-12)
