@@ -101,9 +101,14 @@ def test_validate_config_accepts_every_shipped_example():
     import tomllib
     from pathlib import Path
 
+    from rotaflex.core.errors import InputError
     from rotaflex.gear.cases.simulate import validate_config
 
     for path in sorted((Path(__file__).resolve().parents[2] / "examples" / "gear").glob("*.toml")):
         cfg = {k: v for k, v in tomllib.loads(path.read_text()).items() if k != "domain"}
         cfg.setdefault("mesh", {})["preset"] = "coarse"  # cheap assembly; limits checked alike
+        if cfg.get("pinion", {}).get("helix_angle_deg", 0.0) > 0.0:  # static + steady only
+            with pytest.raises(InputError, match="pinion.helix_angle_deg"):
+                validate_config(cfg)
+            continue
         assert validate_config(cfg) is None, path.name

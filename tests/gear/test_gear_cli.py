@@ -11,6 +11,7 @@ from typer.testing import CliRunner
 
 from rotaflex.cli import app
 from rotaflex.core.config import from_mapping
+from rotaflex.core.errors import InputError
 from rotaflex.gear.cases.simulate import GearCaseConfig
 from rotaflex.gear.cases.simulate_config import load_config
 
@@ -29,6 +30,13 @@ PAPER_CASES = (
 @pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.stem)
 def test_every_gear_example_is_a_valid_config(path):
     data = tomllib.loads(path.read_text())
+    if data.get("pinion", {}).get("helix_angle_deg", 0.0) > 0.0:  # a helical pair: gear static + steady
+        from rotaflex.gear.cases.static import load_config as load_static
+
+        assert load_static(data).pair.helical
+        with pytest.raises(InputError, match="pinion.helix_angle_deg"):
+            _ = load_config(data).pair
+        return
     cfg = load_config(data)
     if cfg.pinion is None:  # the paper's cases
         assert cfg == from_mapping(GearCaseConfig, {k: v for k, v in data.items() if k != "domain"})

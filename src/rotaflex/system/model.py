@@ -321,12 +321,12 @@ def _pair(m: Mapping, where: str, base, centres: tuple[float, str] | None = None
         raise InputError(f"{where}.pinion", "<missing>", "[pinion] and [wheel] tables (or pair_file)")
     if centres is not None and "center_distance" not in inline and "backlash" not in inline:
         try:
-            return pair_from_mapping({**inline, "center_distance": centres[0]}, where)
+            return pair_from_mapping({**inline, "center_distance": centres[0]}, where).spur_only("system", where)
         except InputError as err:  # the user wrote the centres, not a centre distance: name those
             if not err.field.endswith("center_distance"):
                 raise
             raise InputError(centres[1], f"{centres[0]:.6g} m from the pinion's rotor", err.allowed) from None
-    return pair_from_mapping(inline, where)
+    return pair_from_mapping(inline, where).spur_only("system", where)
 
 
 def _station(rotor: Rotor, node, position, where, keys=("node", "position")) -> int:

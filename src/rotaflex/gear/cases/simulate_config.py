@@ -339,19 +339,24 @@ class GearCaseConfig:
             return None
         from rotaflex.gear.pair.drawing import PairSpec
 
-        return PairSpec(
-            pinion=self.pinion,
-            wheel=self.wheel,
-            center_distance=self.center_distance,
-            backlash=self.backlash,
-            driver=self.driver or "pinion",
-        ).check()
+        return (
+            PairSpec(
+                pinion=self.pinion,
+                wheel=self.wheel,
+                center_distance=self.center_distance,
+                backlash=self.backlash,
+                driver=self.driver or "pinion",
+            )
+            .check()
+            .spur_only("gear simulate")
+        )
 
 
 #: tables and keys only ``gear static`` reads (a file may carry both verbs' tables)
 STATIC_ONLY = {
     "load": None,
     "analysis": None,
+    "face": None,
     "mesh": ("n_radii",),
     # gear steady's tables and keys (a [pinion]/[wheel] file may serve every verb)
     "mesh_stiffness": None,

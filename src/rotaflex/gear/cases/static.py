@@ -23,6 +23,7 @@ from rotaflex.core.result import Result, register_result
 from rotaflex.core.units import rad_to_deg
 from rotaflex.gear.cases.simulate_config import without
 from rotaflex.gear.pair.drawing import SUMMARY_UNITS, GearSpec, PairSpec, pair_meshes
+from rotaflex.gear.pair.lead import FaceConfig
 from rotaflex.gear.pair.tooth_mesh import COARSE, DEFAULT, build_tooth_mesh
 from rotaflex.gear.static.loaded_te import loaded_te, pair_line
 from rotaflex.gear.static.tooth_analysis import iso6336_stiffness, weber_contact_compliance
@@ -86,6 +87,12 @@ class StaticConfig:
     driver: Literal["pinion", "wheel"] = param("pinion")
     mesh: StaticMeshConfig = param(StaticMeshConfig())
     analysis: AnalysisConfig = param(AnalysisConfig())
+    face: FaceConfig = param(FaceConfig())
+
+    @property
+    def sliced(self) -> bool:
+        """The face width in slices: a helical pair, lead modifications or a misalignment."""
+        return self.pair.sliced or self.face.misalignment != 0.0
 
     @property
     def pair(self) -> PairSpec:
@@ -214,7 +221,7 @@ def _check_size(cfg: StaticConfig) -> None:
 
 
 #: units of the ISO 6336-1 entries of the static summary (the others are factors, "1")
-ISO_UNITS = {"q": "mm um/N", "k_single": "N/m", "k_gamma": "N/m"}
+ISO_UNITS = {"q": "mm um/N", "k_single": "N/m", "k_gamma": "N/m", "k_gamma_beta": "N/m"}
 
 
 @register_result
@@ -261,6 +268,18 @@ class StaticResult(Result):
         ax[1].set_xlabel(f"{ds.attrs['driver']} roll angle over one pair's engagement [deg]")
         ax[1].legend()
         figs["load_share_fillet_stress"] = fig
+        if "line_load" in ds:  # sliced face: load per unit length over face width and roll angle
+            fig, ax = new_figure(1, 1)
+            mesh = ax.pcolormesh(
+                ds["z"].values * 1e3,
+                rad_to_deg(ds["tooth_roll"].values),
+                ds["line_load"].values * 1e-3,
+                shading="nearest",
+            )
+            fig.colorbar(mesh, ax=ax, label="load per unit length of contact line [N/mm]")
+            ax.set_xlabel("axial position from mid-face [mm]")
+            ax.set_ylabel("pinion roll angle of the mid-face contact [deg]")
+            figs["line_load"] = fig
         return figs
 
 
@@ -346,10 +365,21 @@ def _run(cfg: StaticConfig, config: dict, t0: float, tick) -> StaticResult:
     ang = np.linspace(0.0, g_len / g1.base_radius, n)
     s_eng = line.s_start + g1.base_radius * ang
     cyc, cyc0 = loaded_te(line, s_cyc), loaded_te(line0, s_cyc)
-    eng, eng0 = loaded_te(line, s_eng), loaded_te(line0, s_eng)
-    share = eng["share"][:, 2]
-    share0 = eng0["share"][:, 2]
-    stress = line.fillet_stress(s_eng, eng["pair_load"][:, 2])
+    hel = None
+    if cfg.sliced:  # face width in slices over the same transverse FE data
+        from rotaflex.gear.cases.static_helical import sliced_results
+
+        hel = sliced_results(cfg, pair, line, line0, s_cyc, s_eng)
+        cyc, cyc0 = hel.cyc, hel.cyc0
+        eng_te, share, share0, stress, total_share = hel.eng_te, hel.share, hel.share0, hel.stress, hel.total_share
+        pair_k, pair_name = hel.pair_stiffness, "stiffness of one tooth pair (sum of its slices)"
+    else:
+        eng, eng0 = loaded_te(line, s_eng), loaded_te(line0, s_eng)
+        share = eng["share"][:, 2]
+        share0 = eng0["share"][:, 2]
+        stress = line.fillet_stress(s_eng, eng["pair_load"][:, 2])
+        eng_te, total_share = eng["te"], eng["share"].sum(axis=1)
+        pair_k, pair_name = 1.0 / line.compliance(s_eng), "stiffness of one tooth pair"
     tick()
     # roll angle of the driving gear in its direction of motion (wheel driving: the contact
     # runs from the pinion tip to its root)
@@ -366,7 +396,14 @@ def _run(cfg: StaticConfig, config: dict, t0: float, tick) -> StaticResult:
     ft_b = cfg.load.torque / g1.pitch_radius / (b * 1e3)
     # C_R: mean of the two blanks' factors (one value per pair enters c')
     c_r = 0.5 * (pair.pinion.blank_factor() + pair.wheel.blank_factor())
-    iso = iso6336_stiffness(g1, g2, load_per_width=ft_b, eps_alpha=pair.contact_ratio, c_r=c_r)
+    iso = iso6336_stiffness(
+        g1,
+        g2,
+        load_per_width=ft_b,
+        eps_alpha=pair.contact_ratio,
+        c_r=c_r,
+        **({"helix_angle": pair.pinion.helix_angle, "base_helix_angle": pair.base_helix_angle} if pair.helical else {}),
+    )
     study = _compliance_study(cfg, pair, force, tick)
 
     def v(dims, data, units, long_name):
@@ -377,11 +414,11 @@ def _run(cfg: StaticConfig, config: dict, t0: float, tick) -> StaticResult:
         "ste_unrelieved": v("cycle", cyc0["te"][flip], "m", "loaded STE without relief"),
         "mesh_stiffness": v("cycle", cyc["stiffness"][flip], "N/m", "mesh stiffness"),
         "mesh_stiffness_unrelieved": v("cycle", cyc0["stiffness"][flip], "N/m", "mesh stiffness without relief"),
-        "ste_engagement": v("engagement", eng["te"][flip], "m", "loaded STE"),
+        "ste_engagement": v("engagement", eng_te[flip], "m", "loaded STE"),
         "load_share": v("engagement", share[flip], "1", "load share of the reference pair"),
         "load_share_unrelieved": v("engagement", share0[flip], "1", "load share without relief"),
-        "total_share": v("engagement", eng["share"].sum(axis=1)[flip], "1", "sum of all pairs' load shares"),
-        "pair_stiffness": v("engagement", 1.0 / line.compliance(s_eng)[flip], "N/m", "stiffness of one tooth pair"),
+        "total_share": v("engagement", total_share[flip], "1", "sum of all pairs' load shares"),
+        "pair_stiffness": v("engagement", pair_k[flip], "N/m", pair_name),
         "relief_gap": v("engagement", line.gap(s_eng)[flip], "m", "unloaded relief gap"),
         "fillet_stress": v(
             ("engagement", "gear"), stress[flip], "Pa", "tension-side fillet stress (30-deg tangent point)"
@@ -440,6 +477,20 @@ def _run(cfg: StaticConfig, config: dict, t0: float, tick) -> StaticResult:
             "FE single-pair max, no relief, per b",
         ),
     }
+    coords = {}
+    if hel is not None:
+        scal.update(hel.scalars)
+        scal["iso_c_gamma_beta"] = (iso["c_gamma_beta"], "N/(mm um)", "ISO 6336-1 c_gamma_beta = 0.85 c_gamma_alpha")
+        scal["axial_force_check"] = (
+            cfg.load.torque
+            * np.tan(pair.working_helix_angle)
+            / (g1.base_radius / np.cos(pair.operating_pressure_angle)),
+            "N",
+            "T tan(beta_w) / r_w1",
+        )
+        for key, (dims, val, unit, name) in hel.data.items():
+            data[key] = v(dims, val[flip] if dims == "cycle" else val, unit, name)
+        coords = {k: (k, val, {"units": unit, "long_name": name}) for k, (val, unit, name) in hel.coords.items()}
     for key, (val, unit, name) in scal.items():
         data[key] = ((), float(val), {"units": unit, "long_name": name})
     lv = np.array(cfg.analysis.refinement)
@@ -464,10 +515,13 @@ def _run(cfg: StaticConfig, config: dict, t0: float, tick) -> StaticResult:
             "gear": ["pinion", "wheel"],
             "level": ("level", lv, {"long_name": "mesh refinement factor"}),
             "measure": ["structural", "load_point", "with_contact"],
+            **coords,
         },
     )
     geo = pair.summary()
     geo["iso"] = {k: iso[k] for k in ("q", "C_M", "C_R", "C_B", "eps_alpha", "k_single", "k_gamma")}
+    if hel is not None:
+        geo["iso"]["k_gamma_beta"] = iso["k_gamma_beta"]
     ds.attrs.update(
         status="success",
         message=(

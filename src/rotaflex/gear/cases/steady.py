@@ -46,7 +46,7 @@ from rotaflex.gear.cases.steady_config import (
     checked,
     validate_config,
 )
-from rotaflex.gear.cases.steady_output import iso_data, iso_tip_relief, node_names, point_extras
+from rotaflex.gear.cases.steady_output import helical_extras, iso_data, iso_tip_relief, node_names, point_extras
 from rotaflex.gear.cases.steady_size import announce_kernels, check_model_size
 from rotaflex.gear.models.chain import OperatingPoint, State, TorsionalSystem
 from rotaflex.gear.models.mesh_stiffness import contact_pattern_mesh, mesh_table_from_static
@@ -200,7 +200,15 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
         pd = pair_data(cfg)
         g1, g2 = pd.gears
         line = pair_line_of(cfg)
-        mesh = loaded_mesh_table(line, line.force, cfg.mesh_stiffness.table_points)
+        if cfg.pair.sliced or cfg.face.misalignment != 0.0:  # helical / lead-modified: the sliced face
+            from rotaflex.gear.models.mesh_stiffness import sliced_mesh_table
+            from rotaflex.gear.static.helical import face_model
+
+            f = cfg.face
+            face = face_model(cfg.pair, f.slices, f.coupling_length_coef, f.misalignment)
+            mesh = sliced_mesh_table(line, face, line.force, cfg.mesh_stiffness.table_points)
+        else:
+            mesh = loaded_mesh_table(line, line.force, cfg.mesh_stiffness.table_points)
         eps = contact_ratio(g1, g2, pd.center_distance)
         if pd.inertias is not None and t.inertia is None:
             inertia = pd.inertias
@@ -345,6 +353,7 @@ def run_torsional(config: dict, *, progress: bool = False, initial_state: dict |
         iso = iso_data(cfg, sys, eps, face_width)
         points = continuation(point, speeds, directions)
         res = sweep_dataset(points, speeds, directions, sys, op.torque, iso=iso, started=t0)
+        helical_extras(res.dataset, cfg.pair, op.torque, sys.base_radius[1])
     else:
         res, _ = _steady_point(cfg, sys, eps, model, face_width, state, kw, progress=bar)
     bar.close()

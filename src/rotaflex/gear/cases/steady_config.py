@@ -44,6 +44,7 @@ from rotaflex.gear.models.mesh_stiffness import DEFAULT_DAMPING_RATIO
 from rotaflex.gear.pair.drawing import MIN_YOUNGS_MODULUS, PairSpec
 from rotaflex.gear.pair.drawing import GearSpec as DrawingGearSpec
 from rotaflex.gear.pair.geometry import GearGeometry, contact_ratio
+from rotaflex.gear.pair.lead import FaceConfig
 
 __all__ = [
     "SCHEMA",
@@ -230,6 +231,7 @@ class TorsionalCaseConfig:
     sweep: SweepSpec = param(SweepSpec())
     iso: IsoSpec = param(IsoSpec())
     model: ModelSpec = param(ModelSpec())
+    face: FaceConfig = param(FaceConfig(), doc="[pinion]/[wheel] helical or lead-modified: the face in slices")
     pinion: DrawingGearSpec | None = param(None, doc="gear 1 as on a drawing (instead of [gear])")
     wheel: DrawingGearSpec | None = param(None, doc="gear 2 as on a drawing")
     center_distance: float | None = param(None, unit="m", gt=0.0, doc="[pinion]/[wheel]: working centre distance")
@@ -250,9 +252,12 @@ class TorsionalCaseConfig:
         """The checked drawing pair, or None with ``[gear]``."""
         if self.pinion is None:
             return None
-        return PairSpec(
+        pair = PairSpec(
             pinion=self.pinion, wheel=self.wheel, center_distance=self.center_distance, backlash=self.backlash
         ).check()
+        if self.model.method != "lumped":  # the FE tooth window is transverse (spur) only
+            pair.spur_only("gear steady with model.method = 'elastic_teeth'")
+        return pair
 
 
 SCHEMA = TorsionalCaseConfig

@@ -10,7 +10,7 @@ from rotaflex.gear.cases.steady_config import TorsionalCaseConfig
 from rotaflex.gear.models.chain import OperatingPoint, TorsionalSystem, iso_input, natural_frequencies
 from rotaflex.gear.static.iso6336_kv import iso_kv
 
-__all__ = ["iso_data", "iso_tip_relief", "node_names", "point_extras"]
+__all__ = ["helical_extras", "iso_data", "iso_tip_relief", "node_names", "point_extras"]
 
 
 def iso_tip_relief(cfg) -> float:
@@ -34,7 +34,10 @@ def iso_data(cfg, sys: TorsionalSystem, eps: float, face_width: float):
         pair = cfg.pair
         c_r = 1.0 if pair is None else 0.5 * (pair.pinion.blank_factor() + pair.wheel.blank_factor())
         load = iso.application_factor * cfg.operation.torque / g2.pitch_radius / (face_width * 1e3)  # N/mm
-        c = iso6336_stiffness(g1, g2, load_per_width=load, eps_alpha=eps, c_r=c_r)
+        helix = {}
+        if pair is not None and pair.helical:
+            helix = {"helix_angle": pair.pinion.helix_angle, "base_helix_angle": pair.base_helix_angle}
+        c = iso6336_stiffness(g1, g2, load_per_width=load, eps_alpha=eps, c_r=c_r, **helix)
         stiff = {"c_single": c["c_single"] * 1e9, "c_gamma_alpha": c["c_gamma"] * 1e9}  # N/(mm um) -> N/m^2
     return iso_input(
         sys,
@@ -46,6 +49,7 @@ def iso_data(cfg, sys: TorsionalSystem, eps: float, face_width: float):
         f_f_eff=iso.f_f_eff,
         tip_relief=iso_tip_relief(cfg),
         application_factor=iso.application_factor,
+        overlap_ratio=0.0 if cfg.pair is None else cfg.pair.overlap_ratio,
         **stiff,
     )
 
@@ -76,6 +80,7 @@ def point_extras(res, sys: TorsionalSystem, st, cfg: TorsionalCaseConfig, eps: f
         )
     for name, j in zip(("pinion", "wheel"), sys.inertia, strict=True):
         ds[f"inertia_{name}"] = ((), float(j), {"units": "kg m^2", "long_name": f"{name} polar inertia used"})
+    helical_extras(ds, cfg.pair, op.torque, sys.base_radius[1])
     iso = iso_data(cfg, sys, eps, face_width)
     kv = float(iso_kv(iso, [rpm_to_rad_s(op.speed_rpm)])[0])
     ds["iso_kv"] = ((), kv, {"units": "1", "long_name": "ISO 6336-1 method B K_v"})
@@ -119,3 +124,36 @@ def node_names(sys: TorsionalSystem, cfg: TorsionalCaseConfig) -> list[str]:
 
     op = cfg.operation
     return build_chain(sys, OperatingPoint(op.speed_rpm, op.torque)).names
+
+
+def helical_extras(ds, pair, torque: float, base_radius_out: float) -> None:
+    """Axial mesh force of a helical pair into a point's or a sweep's dataset ``ds``.
+
+    The lumped mesh force F acts along the transverse line of action; the flank normal is
+    inclined by the base helix angle, so the axial force is ``F tan(beta_b)`` (static: ``T_out
+    tan(beta_b) / r_b2 = T_out tan(beta_w) / r_w2``). ``torque`` on the output gear [N m]."""
+    if pair is None or not pair.helical:
+        return
+    import math
+
+    t = math.tan(pair.base_helix_angle)
+    ds["axial_force_static"] = (
+        (),
+        torque / base_radius_out * t,
+        {"units": "N", "long_name": "T_out tan(beta_b) / r_b2"},
+    )
+    if "mesh_force" in ds:
+        ds["axial_mesh_force"] = (
+            ds["mesh_force"].dims,
+            ds["mesh_force"].values * t,
+            {"units": "N", "long_name": "axial mesh force F tan(beta_b)"},
+        )
+    for key in ("force_max", "force_min"):
+        if key in ds:
+            ds[f"axial_{key}"] = (
+                ds[key].dims,
+                ds[key].values * t,
+                {"units": "N", "long_name": f"axial mesh force ({key} tan(beta_b))"},
+            )
+    ds["base_helix_angle"] = ((), pair.base_helix_angle, {"units": "rad", "long_name": "base helix angle beta_b"})
+    ds["overlap_ratio"] = ((), pair.overlap_ratio, {"units": "1", "long_name": "overlap ratio eps_beta"})

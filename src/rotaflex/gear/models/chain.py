@@ -346,6 +346,7 @@ def iso_input(
     f_f_eff: float = 0.0,
     tip_relief: float = 0.0,
     application_factor: float = 1.0,
+    overlap_ratio: float = 0.0,
 ) -> IsoKvInput:
     """ISO 6336-1 method B data for the torsional model's pair.
 
@@ -355,7 +356,8 @@ def iso_input(
     when given (``c_single``, ``c_gamma_alpha``, e.g. from
     :func:`rotaflex.gear.static.tooth_analysis.iso6336_stiffness`); otherwise ``c_gamma_alpha = k_mean / b``
     (the model's mean mesh stiffness) and ``c' = c_gamma_alpha / (0.75 eps_alpha + 0.25)``
-    (ISO's relation between the two).
+    (ISO's relation between the two). ``contact_ratio`` is eps_alpha; ISO's C_v coefficients take
+    the total contact ratio eps_gamma = eps_alpha + ``overlap_ratio`` (helical pairs).
     """
     c_g = sys.mesh.mean_stiffness / face_width if c_gamma_alpha is None else c_gamma_alpha
     c1 = c_g / (0.75 * contact_ratio + 0.25) if c_single is None else c_single
@@ -366,7 +368,7 @@ def iso_input(
         c_gamma_alpha=c_g,
         m_red=reduced_mass_per_width(sys.inertia, sys.base_radius, face_width),
         load_per_width=application_factor * torque / r2 / face_width,
-        eps_gamma=contact_ratio,
+        eps_gamma=contact_ratio + overlap_ratio,
         f_pb_eff=f_pb_eff,
         f_f_eff=f_f_eff,
         tip_relief=tip_relief,

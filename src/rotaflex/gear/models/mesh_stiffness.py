@@ -52,6 +52,7 @@ __all__ = [
     "gear_mesh",
     "harmonic_mesh",
     "loaded_mesh_table",
+    "sliced_mesh_table",
     "mesh_table_from_static",
 ]
 
@@ -213,6 +214,22 @@ def loaded_mesh_table(line: PairLine, force: float, n: int = 400):
     return MeshTable(lt["stiffness"], lt["te"] - force / lt["stiffness"], "linear", float(force))
 
 
+def sliced_mesh_table(line: PairLine, face, force: float, n: int = 400):
+    """Lumped mesh table of a helical or lead-modified pair at ``force`` [N] (transverse, along
+    the line of action): the sliced face's tangent stiffness ``k(phi)`` and the unloaded TE
+    ``e = TE_loaded - force / k`` (:func:`rotaflex.gear.static.helical.sliced_te`; ``face`` its
+    :class:`~rotaflex.gear.static.helical.FaceModel`), as :func:`loaded_mesh_table` for spur pairs."""
+    from rotaflex.gear.static.helical import sliced_te
+
+    s = line.s_start + np.arange(n) / n * line.base_pitch
+    if force != line.force:
+        import dataclasses
+
+        line = dataclasses.replace(line, force=force)
+    lt = sliced_te(line, face, s)
+    return MeshTable(lt["stiffness"], lt["te"] - force / lt["stiffness"], "linear")
+
+
 # ------------------------------------------------------------------------ the pair's mesh
 @dataclass(frozen=True)
 class GearMesh:
@@ -340,7 +357,15 @@ def gear_mesh(
         (e1, nu1, _), (e2, nu2, _) = pair.pinion.material.values, pair.wheel.material.values
         meshes = gear_meshes(pair, mesh_preset, relief=relief)
         line = pair_line(g1, g2, *meshes, a, force, (e1, nu1, e2, nu2), n_radii)
-        table = loaded_mesh_table(line, force, table_points)
+        if pair.sliced:  # helical or lead-modified: the face in slices ([face] defaults)
+            from rotaflex.gear.pair.lead import FaceConfig
+            from rotaflex.gear.static.helical import face_model
+
+            f = FaceConfig()
+            face = face_model(pair, f.slices, f.coupling_length_coef, f.misalignment)
+            table = sliced_mesh_table(line, face, force, table_points)
+        else:
+            table = loaded_mesh_table(line, force, table_points)
     elif source == "static_fe":
         from rotaflex.gear.static.tooth_analysis import mesh_stiffness
 
@@ -353,7 +378,8 @@ def gear_mesh(
 
         r1 = g1.module * g1.teeth / 2.0  # ISO's F_t is at the reference circle
         load = torque / r1 / (min(g1.face_width, g2.face_width) * 1e3)
-        k = iso6336_stiffness(g1, g2, load, eps_alpha=pair.contact_ratio)["k_gamma"]
+        helix = {"helix_angle": pair.pinion.helix_angle, "base_helix_angle": pair.base_helix_angle}
+        k = iso6336_stiffness(g1, g2, load, eps_alpha=pair.contact_ratio, **(helix if pair.helical else {}))["k_gamma"]
         table = MeshTable(np.full(table_points, k), np.zeros(table_points), "linear")
     elif source == "harmonic":
         if k_mean is None or not k_mean > 0:

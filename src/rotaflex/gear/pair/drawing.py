@@ -6,8 +6,25 @@ with :func:`rotaflex.core.config.from_mapping`; derived quantities are propertie
 :meth:`PairSpec.check` raises :class:`~rotaflex.core.errors.InputError` naming the dotted field
 (``pinion.profile_shift``, ``wheel.tip_relief.amount`` ...) for a pair that cannot run.
 
-Formulas (ISO 21771, external spur gears, SI inside)
----------------------------------------------------
+Formulas (ISO 21771, external spur and helical gears, SI inside)
+----------------------------------------------------------------
+A helical gear (``helix_angle_deg`` beta > 0) is given in its normal section: ``module`` is the
+normal module m_n, ``pressure_angle_deg`` the normal pressure angle alpha_n, ``profile_shift``
+the normal shift x_n, the height coefficients are relative to m_n. Its transverse section is
+the spur gear of module ``m_t = m_n / cos(beta)``, pressure angle ``tan(alpha_t) = tan(alpha_n) /
+cos(beta)``, coefficients ``h_a* cos(beta)``, ``h_f* cos(beta)``, ``x_n cos(beta)`` (the same
+radii and the same transverse thickness ``s_t = m_t (pi/2 + 2 x_n tan(alpha_n))``), which
+:meth:`GearSpec.geometry` returns, so every formula below holds in the transverse plane. The
+generating rack's tip round is a circle in that section whose tangent point on the straight
+flank lies at the normal section's height (form point and undercut limit exact; the true
+section is an ellipse, which shapes the fillet only: ``GearSpec._transverse_rack_tip_coef``). Helical
+quantities (:meth:`PairSpec.helical_summary`): base helix angle ``tan(beta_b) = tan(beta)
+cos(alpha_t)``, lead ``p_z = 2 pi r / tan(beta)``, axial pitch ``p_x = pi m_n / sin(beta)``,
+overlap ratio ``eps_beta = b sin(beta) / (pi m_n)`` (b the common face width), total contact
+ratio ``eps_gamma = eps_alpha + eps_beta``, working helix angle ``tan(beta_w) = tan(beta_b) /
+cos(alpha_wt)``; normal backlash ``j_bn = j_wt cos(alpha_wt) cos(beta_b)``. beta = 0 takes the
+spur code path unchanged.
+
 * reference radius ``r = m z / 2``, base radius ``r_b = r cos(alpha)``, base pitch
   ``p_b = pi m cos(alpha)``;
 * tip / root radius ``r_a = r + (h_a* + x) m``, ``r_f = r + (x - h_f*) m`` unless given;
@@ -27,6 +44,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from typing import Literal
 
 import numpy as np
@@ -35,6 +53,7 @@ from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import deg_to_rad, rad_to_deg
 from rotaflex.gear.pair.geometry import GearGeometry, ProfileRelief, _inv_inverse, involute
+from rotaflex.gear.pair.lead import LeadSpec
 
 __all__ = [
     "ReliefSpec",
@@ -73,7 +92,28 @@ SUMMARY_UNITS = {
         for g in ("pinion", "wheel")
         for r in ("tip_radius", "root_radius", "form_radius", "start_of_active_profile_radius")
     },
+    # helical pairs only (PairSpec.helical_summary)
+    "helix_angle_deg": "deg",
+    "pinion_hand": "text",
+    "transverse_module": "m",
+    "transverse_pressure_angle_deg": "deg",
+    "base_helix_angle_deg": "deg",
+    "working_helix_angle_deg": "deg",
+    "pinion_lead": "m",
+    "wheel_lead": "m",
+    "axial_pitch": "m",
+    "transverse_base_pitch": "m",
+    "common_face_width": "m",
+    "overlap_ratio": "1",
+    "total_contact_ratio": "1",
 }
+
+#: coefficients given relative to the normal module (transverse ones = these x cos(beta))
+_NORMAL_COEFS = ("addendum_coef", "dedendum_coef", "profile_shift", "rack_tip_radius_coef")
+
+#: largest helix angle accepted [deg] (exclusive): beyond it the transverse section of a
+#: narrow-face pair is no longer a useful model and ISO 6336's helical terms are out of range
+MAX_HELIX_ANGLE_DEG = 45.0
 
 #: the keys of :class:`ReliefSpec` that say where a relief starts (exactly one is given)
 RELIEF_STARTS = ("start_diameter", "start_roll_deg", "start_fraction")
@@ -159,15 +199,19 @@ def _annulus(rho: float, width: float, r_in: float, r_out: float) -> float:
 
 @dataclasses.dataclass(frozen=True)
 class GearSpec:
-    """One external spur gear as on a drawing."""
+    """One external spur or helical gear as on a drawing (helical: normal-section values)."""
 
     teeth: int = param(gt=5, doc="number of teeth z")
-    module: float = param(unit="m", gt=0.0, le=0.1, doc="module m in metres (3 mm: 3e-3)")
+    module: float = param(unit="m", gt=0.0, le=0.1, doc="(normal) module m_n in metres (3 mm: 3e-3)")
     face_width: float = param(unit="m", gt=0.0, le=2.0, doc="face width b in metres")
-    pressure_angle_deg: float = param(20.0, unit="deg", gt=5.0, lt=45.0)
-    addendum_coef: float = param(1.0, gt=0.0, le=2.0, doc="h_a / m")
-    dedendum_coef: float = param(1.25, gt=0.0, le=2.5, doc="h_f / m (= rack addendum)")
-    profile_shift: float = param(0.0, ge=-1.0, le=1.5, doc="profile shift coefficient x")
+    pressure_angle_deg: float = param(20.0, unit="deg", gt=5.0, lt=45.0, doc="(normal) pressure angle alpha_n")
+    addendum_coef: float = param(1.0, gt=0.0, le=2.0, doc="h_a / m_n")
+    dedendum_coef: float = param(1.25, gt=0.0, le=2.5, doc="h_f / m_n (= rack addendum)")
+    profile_shift: float = param(0.0, ge=-1.0, le=1.5, doc="(normal) profile shift coefficient x_n")
+    helix_angle_deg: float = param(
+        0.0, unit="deg", ge=0.0, lt=MAX_HELIX_ANGLE_DEG, doc="reference helix angle beta (0: spur)"
+    )
+    hand: Literal["left", "right"] | None = param(None, doc="hand of the helix (required when beta > 0)")
     rack_tip_radius_coef: float = param(0.38, ge=0.0, le=0.6, doc="tool tip radius / m")
     tip_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit r_a (else ISO)")
     root_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit r_f (else ISO)")
@@ -175,28 +219,76 @@ class GearSpec:
     blank: BlankSpec = param(BlankSpec())
     tip_relief: ReliefSpec | None = param(None)
     root_relief: ReliefSpec | None = param(None)
+    lead: LeadSpec | None = param(None, doc="lead modifications (crowning, end relief, slope deviation)")
     support: Literal["root_clamp", "rim"] = param(
         "rim", doc="tooth tied to the rigid disk at the root circle, or through a rim sector"
     )
     rim_depth_coef: float = param(2.0, gt=0.0, le=6.0, doc="rim depth below r_f / m ('rim')")
 
     # ------------------------------------------------------------------ geometry
+    @property
+    def helix_angle(self) -> float:
+        """Reference helix angle beta [rad]."""
+        return deg_to_rad(self.helix_angle_deg)
+
+    @property
+    def transverse_pressure_angle(self) -> float:
+        """alpha_t = atan(tan(alpha_n) / cos(beta)) [rad] (alpha_n for a spur gear)."""
+        a_n = deg_to_rad(self.pressure_angle_deg)
+        if self.helix_angle_deg == 0.0:
+            return a_n
+        return math.atan(math.tan(a_n) / math.cos(self.helix_angle))
+
+    def _transverse_rack_tip_coef(self, c: float) -> float:
+        """rho_fP / m_t of the circle standing for the rack's tip round in the transverse section:
+        its tangent point on the straight flank at the height of the normal section's,
+        rho_t (1 - sin(alpha_t)) = rho_fP (1 - sin(alpha_n)), so the form point, the undercut
+        limit and the root circle are exact (the true section is an ellipse of semi-axes rho_fP,
+        rho_fP / cos(beta); only the fillet's shape is approximated)."""
+        a_n = deg_to_rad(self.pressure_angle_deg)
+        rho_t = self.rack_tip_radius_coef * (1.0 - math.sin(a_n)) / (1.0 - math.sin(self.transverse_pressure_angle))
+        return rho_t * c
+
     def _plain(self, where: str) -> GearGeometry:
+        """The transverse section as a spur :class:`GearGeometry` (module docstring)."""
+        if self.helix_angle_deg > 0.0 and self.hand is None:
+            raise InputError(f"{where}.hand", None, "'left' or 'right' for a helical gear (helix_angle_deg > 0)")
+        if self.helix_angle_deg == 0.0 and self.hand is not None:
+            raise InputError(f"{where}.hand", self.hand, "omitted for a spur gear (helix_angle_deg = 0)")
+        c = math.cos(self.helix_angle) if self.helix_angle_deg > 0.0 else 1.0
         try:
+            if c == 1.0:
+                return GearGeometry(
+                    module=self.module,
+                    teeth=self.teeth,
+                    face_width=self.face_width,
+                    pressure_angle=deg_to_rad(self.pressure_angle_deg),
+                    addendum_coef=self.addendum_coef,
+                    dedendum_coef=self.dedendum_coef,
+                    profile_shift=self.profile_shift,
+                    rack_tip_radius_coef=self.rack_tip_radius_coef,
+                    tip_radius=self.tip_radius,
+                    root_radius=self.root_radius,
+                )
             return GearGeometry(
-                module=self.module,
+                module=self.module / c,
                 teeth=self.teeth,
                 face_width=self.face_width,
-                pressure_angle=deg_to_rad(self.pressure_angle_deg),
-                addendum_coef=self.addendum_coef,
-                dedendum_coef=self.dedendum_coef,
-                profile_shift=self.profile_shift,
-                rack_tip_radius_coef=self.rack_tip_radius_coef,
+                pressure_angle=self.transverse_pressure_angle,
+                addendum_coef=self.addendum_coef * c,
+                dedendum_coef=self.dedendum_coef * c,
+                profile_shift=self.profile_shift * c,
+                rack_tip_radius_coef=self._transverse_rack_tip_coef(c),
                 tip_radius=self.tip_radius,
                 root_radius=self.root_radius,
             )
         except InputError as exc:
-            raise InputError(f"{where}.{exc.field}", exc.value, exc.allowed) from None
+            if c == 1.0 or exc.field not in _NORMAL_COEFS:
+                raise InputError(f"{where}.{exc.field}", exc.value, exc.allowed) from None
+            # the transverse coefficients are the user's normal ones times cos(beta): say the
+            # bound in the user's (normal) terms
+            allowed = re.sub(r"^([<>]=) (-?[0-9.]+)", lambda m: f"{m[1]} {float(m[2]) / c:.4f}", exc.allowed)
+            raise InputError(f"{where}.{exc.field}", getattr(self, exc.field), allowed) from None
 
     def _relief(self, rel: ReliefSpec | None, g: GearGeometry, where: str, sap: float | None):
         if rel is None:
@@ -362,8 +454,10 @@ class PairSpec:
     @property
     def operating_pressure_angle_no_backlash(self) -> float:
         """alpha_w from inv(alpha_w) = inv(alpha) + 2 tan(alpha) (x1 + x2)/(z1 + z2) [rad]."""
-        a = self.pinion._plain("pinion").pressure_angle
-        inv_w = float(involute(a)) + 2.0 * (self.pinion.profile_shift + self.wheel.profile_shift) * math.tan(a) / (
+        # transverse section: alpha_t and x_t = x_n cos(beta), so tan(alpha_t) x_t = tan(alpha_n) x_n
+        g1, g2 = self.pinion._plain("pinion"), self.wheel._plain("wheel")
+        a = g1.pressure_angle
+        inv_w = float(involute(a)) + 2.0 * (g1.profile_shift + g2.profile_shift) * math.tan(a) / (
             self.pinion.teeth + self.wheel.teeth
         )
         return _inv_inverse(inv_w)
@@ -380,6 +474,8 @@ class PairSpec:
         aw = math.acos((g1.base_radius + g2.base_radius) / a)
         rw1, rw2 = g1.base_radius / math.cos(aw), g2.base_radius / math.cos(aw)
         j_wt = 2.0 * math.pi * rw1 / g1.teeth - thickness_at(g1, rw1) - thickness_at(g2, rw2)
+        if self.helical:
+            return j_wt * math.cos(aw) * math.cos(self.base_helix_angle)
         return j_wt * math.cos(aw)
 
     @property
@@ -434,6 +530,86 @@ class PairSpec:
             out.append(math.hypot(g.base_radius, s))
         return out[0], out[1]
 
+    # ---------------------------------------------------------------- helical
+    @property
+    def helical(self) -> bool:
+        """True for a helical pair (beta > 0)."""
+        return self.pinion.helix_angle_deg > 0.0
+
+    @property
+    def base_helix_angle(self) -> float:
+        """beta_b: tan(beta_b) = tan(beta) cos(alpha_t) [rad] (0 for spur)."""
+        p = self.pinion
+        return math.atan(math.tan(p.helix_angle) * math.cos(p.transverse_pressure_angle))
+
+    @property
+    def face_width(self) -> float:
+        """Common face width b = min(b1, b2) [m] (ISO 6336: the smaller one)."""
+        return min(self.pinion.face_width, self.wheel.face_width)
+
+    @property
+    def overlap_ratio(self) -> float:
+        """eps_beta = b sin(beta) / (pi m_n) (0 for spur)."""
+        return self.face_width * math.sin(self.pinion.helix_angle) / (math.pi * self.pinion.module)
+
+    @property
+    def total_contact_ratio(self) -> float:
+        """eps_gamma = eps_alpha + eps_beta."""
+        return self.contact_ratio + self.overlap_ratio
+
+    @property
+    def working_helix_angle(self) -> float:
+        """beta_w: tan(beta_w) = tan(beta_b) / cos(alpha_wt) [rad]."""
+        return math.atan(math.tan(self.base_helix_angle) / math.cos(self.operating_pressure_angle))
+
+    @property
+    def sliced(self) -> bool:
+        """True when the face width is modelled in slices: a helical pair or lead modifications."""
+        return self.helical or any(g.lead is not None and g.lead.active for g in (self.pinion, self.wheel))
+
+    def helical_summary(self) -> dict:
+        """ISO 21771 helical quantities (SI, angles in degrees where named so); empty for spur."""
+        if not self.helical:
+            return {}
+        p = self.pinion
+        g1, g2 = self.pinion._plain("pinion"), self.wheel._plain("wheel")
+        tb = math.tan(p.helix_angle)
+        return {
+            "helix_angle_deg": p.helix_angle_deg,
+            "pinion_hand": p.hand,
+            "transverse_module": g1.module,
+            "transverse_pressure_angle_deg": rad_to_deg(p.transverse_pressure_angle),
+            "base_helix_angle_deg": rad_to_deg(self.base_helix_angle),
+            "working_helix_angle_deg": rad_to_deg(self.working_helix_angle),
+            "pinion_lead": 2.0 * math.pi * g1.pitch_radius / tb,
+            "wheel_lead": 2.0 * math.pi * g2.pitch_radius / tb,
+            "axial_pitch": math.pi * p.module / math.sin(p.helix_angle),
+            "transverse_base_pitch": g1.base_pitch,
+            "common_face_width": self.face_width,
+            "overlap_ratio": self.overlap_ratio,
+            "total_contact_ratio": self.total_contact_ratio,
+        }
+
+    def spur_only(self, verb: str, where: str = "") -> PairSpec:
+        """Refuse a helical or lead-modified pair in a verb whose tooth model is one transverse
+        section (``where``: the prefix of the pair's tables in the user's file); return self."""
+        pre = f"{where}." if where else ""
+        if self.helical:
+            raise InputError(
+                f"{pre}pinion.helix_angle_deg",
+                self.pinion.helix_angle_deg,
+                f"0 in {verb} (spur pairs only; helical pairs run in gear static and gear steady)",
+            )
+        for name in ("pinion", "wheel"):
+            lead = getattr(self, name).lead
+            if lead is not None and lead.active:
+                raise InputError(
+                    f"{pre}{name}.lead",
+                    "a table",
+                    f"omitted in {verb} (lead modifications run in gear static and gear steady)",
+                )
+        return self
+
     def summary(self) -> dict:
         """Pair geometry numbers (SI; angles in degrees where named so); units in
         :data:`SUMMARY_UNITS`."""
@@ -457,6 +633,7 @@ class PairSpec:
             out[f"{name}_root_radius"] = g.root_radius_
             out[f"{name}_form_radius"] = g.form_radius
             out[f"{name}_start_of_active_profile_radius"] = r_sap
+        out.update(self.helical_summary())
         return out
 
     # ------------------------------------------------------------------ checks
@@ -470,6 +647,27 @@ class PairSpec:
                 "wheel.pressure_angle_deg",
                 w.pressure_angle_deg,
                 f"equal to pinion.pressure_angle_deg = {p.pressure_angle_deg}",
+            )
+        if p.helix_angle_deg != w.helix_angle_deg:
+            raise InputError(
+                "wheel.helix_angle_deg",
+                w.helix_angle_deg,
+                f"equal to pinion.helix_angle_deg = {p.helix_angle_deg} (parallel axes)",
+            )
+        if p.hand is not None and p.hand == w.hand:
+            raise InputError("wheel.hand", w.hand, f"the opposite of pinion.hand = '{p.hand}' (external pair)")
+        for g, name in ((p, "pinion"), (w, "wheel")):  # hand given exactly for helical gears
+            if (g.helix_angle_deg > 0.0) != (g.hand is not None):
+                g._plain(name)
+        for g, name in ((p, "pinion"), (w, "wheel")):
+            if g.lead is not None:
+                g.lead.check(g.face_width, f"{name}.lead")
+        if self.sliced and w.face_width != p.face_width:
+            raise InputError(
+                "wheel.face_width",
+                w.face_width,
+                f"equal to pinion.face_width = {p.face_width} m for a helical or lead-modified pair "
+                "(the sliced face model has one common face)",
             )
         g1, g2 = self.gears  # undercut, relief limits (GearGeometry / geometry())
         for g, name in ((g1, "pinion"), (g2, "wheel")):

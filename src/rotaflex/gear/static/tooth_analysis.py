@@ -414,6 +414,8 @@ def iso6336_stiffness(
     *,
     eps_alpha: float | None = None,
     c_r: float = 1.0,
+    helix_angle: float = 0.0,
+    base_helix_angle: float = 0.0,
 ) -> dict:
     """ISO 6336-1 (method B) single stiffness c' and mesh stiffness c_gamma_alpha.
 
@@ -428,6 +430,12 @@ def iso6336_stiffness(
     load at the *reference* circle (not the base circle) and ``b`` the face width;
     ``eps_alpha`` defaults to the contact ratio at the no-backlash centre distance.
 
+    Helical pairs (``helix_angle`` beta > 0 [rad], ``base_helix_angle`` beta_b [rad], ``g1``,
+    ``g2`` the transverse sections): q' takes the virtual numbers of teeth ``z_n = z /
+    (cos^2(beta_b) cos(beta))`` and the normal profile shifts ``x_n = x_t / cos(beta)``, c'
+    the factor cos(beta), and ``c_gamma_beta = 0.85 c_gamma_alpha`` (ISO 6336-1:2006, 9.3);
+    h_fP/m and alpha in C_B are the normal-section values.
+
     Returns
     -------
     dict
@@ -436,6 +444,11 @@ def iso6336_stiffness(
     """
     c = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
     z1, z2, x1, x2 = g1.teeth, g2.teeth, g1.profile_shift, g2.profile_shift
+    cos_b = 1.0
+    if helix_angle > 0.0:
+        cos_b = math.cos(helix_angle)
+        zn = 1.0 / (math.cos(base_helix_angle) ** 2 * cos_b)
+        z1, z2, x1, x2 = z1 * zn, z2 * zn, x1 / cos_b, x2 / cos_b
     q = (
         c[0]
         + c[1] / z1
@@ -450,6 +463,10 @@ def iso6336_stiffness(
     c_th = 1.0 / q
 
     def cb(g):
+        if helix_angle > 0.0:  # normal section: h_fP / m_n and alpha_n
+            h_fp = g.cutter_addendum / (g.module * cos_b)
+            alpha = math.atan(math.tan(g.pressure_angle) * cos_b)
+            return (1.0 + 0.5 * (1.2 - h_fp)) * (1.0 - C_B_SLOPE * (STANDARD_PRESSURE_ANGLE - alpha))
         h_fp = g.cutter_addendum / g.module
         return (1.0 + 0.5 * (1.2 - h_fp)) * (1.0 - C_B_SLOPE * (STANDARD_PRESSURE_ANGLE - g.pressure_angle))
 
@@ -459,6 +476,8 @@ def iso6336_stiffness(
     if load_per_width is not None and load_per_width < 100.0:
         f_load = (load_per_width / 100.0) ** 0.25
     c_single = c_th * c_m * c_r * c_b * f_load
+    if helix_angle > 0.0:
+        c_single = c_single * cos_b
     eps = contact_ratio(g1, g2) if eps_alpha is None else float(eps_alpha)
     c_gamma = c_single * (0.75 * eps + 0.25)
     bw = min(g1.face_width, g2.face_width) * 1e3  # mm
@@ -477,6 +496,8 @@ def iso6336_stiffness(
         "load_factor": f_load,
         "eps_alpha": eps,
         "k_th_gamma": c_th * (0.75 * eps + 0.25) * to_n_per_m,
+        "c_gamma_beta": 0.85 * c_gamma,
+        "k_gamma_beta": 0.85 * c_gamma * to_n_per_m,
     }
 
 

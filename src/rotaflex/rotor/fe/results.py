@@ -141,7 +141,7 @@ class CampbellResult(_FEResult):
         crit = json.loads(self.dataset.attrs.get("critical_speeds", "[]"))
         return [
             {
-                "speed_rpm": c["speed"] * 30 / np.pi,
+                "speed_rpm": rad_s_to_rpm(c["speed"]),
                 "frequency_hz": c["frequency"] / (2 * np.pi),
                 "harmonic": c["harmonic"],
                 "whirl": c["whirl"],
