@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from rotaflex.core.compiled import entry, inner
+from rotaflex.floating.kernels import motion_profile, profile_value
 
 
 @inner
@@ -194,3 +195,222 @@ def constraints(q, clamp, g, G):
         G[k + 2, d + 2] = -1.0
         G[k, d + 2] = py
         G[k + 1, d + 2] = -px
+
+
+@inner
+def _prescribe(q, v, qdd, fixed, hold, fdof, pres, t):
+    """Fixed DOFs at their held values; with ``pres[5] >= 0`` the frame angle DOF ``fdof + 2``
+    follows :func:`rotaflex.floating.kernels.motion_profile`."""
+    for i in range(q.shape[0]):
+        if fixed[i]:
+            q[i], v[i], qdd[i] = hold[i], 0.0, 0.0
+    if pres[5] >= 0.0:
+        ang, om, al = motion_profile(pres, t)
+        q[fdof + 2], v[fdof + 2], qdd[fdof + 2] = hold[fdof + 2] + ang, om, al
+
+
+@entry
+def load_factors(t, prof, par, lam):
+    """Profile values ``lam`` (nl + 1,) of the loads at ``t``; the last (distributed load) is 1."""
+    _loads_at(t, prof, par, lam)
+
+
+@inner
+def _loads_at(t, prof, par, lam):
+    for i in range(prof.shape[0]):
+        lam[i] = profile_value(prof[i], par[i], t)
+    lam[lam.shape[0] - 1] = 1.0
+
+
+@inner
+def _step(q, v, qdd, a, t1, h, M, beam, loads, clamp, fixed, hold, pres, coef, work):
+    """One generalized-alpha step to ``t1`` (Arnold & Bruls 2007 form of Chung & Hulbert 1993):
+    equilibrium ``M q'' + f_int(q, q') - f_ext(q, t) + G^T lam = 0``, ``g(q) = 0`` at ``t1``;
+    the acceleration-like ``a`` carries the algorithmic damping. Returns (converged, iterations).
+    """
+    conn, L0, kap0, stiff, eta = beam
+    node, kind, frame, amp, ref, prof, par, dist, ref_dof = loads
+    am, af, beta, gamma, tol, max_iter = coef
+    f, K, fe, Ke, g, G, lam, mult, A, rhs = work
+    n = q.shape[0]
+    nc = g.shape[0]
+    fdof = n - 3
+    bp = (1.0 - am) / (beta * h * h * (1.0 - af))
+    gp = gamma / (beta * h)
+    # predictor: q'' = 0 at t1
+    a_new = (af * qdd - am * a) / (1.0 - am)
+    q += h * v + h * h * ((0.5 - beta) * a + beta * a_new)
+    v += h * ((1.0 - gamma) * a + gamma * a_new)
+    qdd[:] = 0.0
+    _prescribe(q, v, qdd, fixed, hold, fdof, pres, t1)
+    _loads_at(t1, prof, par, lam)
+    mult[:] = 0.0
+    for it in range(1, int(max_iter) + 1):
+        internal(q, v, conn, L0, kap0, stiff, eta, gp, f, K, True)
+        external(q, lam, node, kind, frame, amp, ref, ref_dof, dist, fe, Ke, True)
+        if nc:
+            constraints(q, clamp, g, G)
+        for i in range(n):
+            r = f[i] - fe[i]
+            for j in range(n):
+                r += M[i, j] * qdd[j]
+                A[i, j] = bp * M[i, j] + K[i, j] + Ke[i, j]
+            for k in range(nc):
+                r += G[k, i] * mult[k]
+                A[i, n + k] = G[k, i]
+                A[n + k, i] = G[k, i]
+            rhs[i] = -r
+        for k in range(nc):
+            rhs[n + k] = -g[k]
+            for j in range(nc):
+                A[n + k, n + j] = 0.0
+        for i in range(n):
+            if fixed[i] or (pres[5] >= 0.0 and i == fdof + 2):
+                for j in range(n + nc):
+                    A[i, j] = 0.0
+                    A[j, i] = 0.0
+                A[i, i] = 1.0
+                rhs[i] = 0.0
+        dx = np.linalg.solve(A, rhs)
+        step = 0.0
+        for i in range(n):
+            q[i] += dx[i]
+            v[i] += gp * dx[i]
+            qdd[i] += bp * dx[i]
+            step = max(step, abs(dx[i]))
+        for k in range(nc):
+            mult[k] += dx[n + k]
+        if not np.isfinite(step):
+            return False, it
+        if step <= tol:
+            a[:] = a_new + (1.0 - af) / (1.0 - am) * qdd
+            return True, it
+    return False, int(max_iter)
+
+
+@inner
+def _drive_force(q, qdd, M, G, mult, fe, fi, driven, R):
+    """Force the drive applies on the driven DOFs: ``M q'' + f_int - f_ext + G^T lam`` there."""
+    n = q.shape[0]
+    for i in range(n):
+        R[i] = 0.0
+        if not driven[i]:
+            continue
+        r = fi[i] - fe[i]
+        for j in range(n):
+            r += M[i, j] * qdd[j]
+        for k in range(G.shape[0]):
+            r += G[k, i] * mult[k]
+        R[i] = r
+
+
+@entry
+def integrate(q, v, qdd, a, mult, works, times, is_out, M, beam, loads, clamp, fixed, hold, pres, coef, max_halvings):
+    """Generalized-alpha over the step end times ``times`` (the first is the start).
+
+    The state ``q, v, qdd`` and the acceleration-like ``a`` (equal to ``qdd`` at the very start),
+    the clamp multipliers ``mult`` (3 nc,) and the works so far ``works`` (2,) [J] are updated in
+    place, so a run can go on in chunks (for progress).
+    Returns ``(status, Q, V, energy (nout, 4), steps, iterations)``: status 0 done, 1 a step
+    failed to converge after ``max_halvings`` halvings (arrays filled up to the failure);
+    energy columns: kinetic, strain, work of the applied loads, work of the drive on the fixed
+    and prescribed DOFs, each [J], the works by the trapezoidal rule over each interval.
+    """
+    n = q.shape[0]
+    nc = 3 * clamp.shape[0]
+    nl = loads[0].shape[0]
+    work = (
+        np.zeros(n),
+        np.zeros((n, n)),
+        np.zeros(n),
+        np.zeros((n, n)),
+        np.zeros(nc),
+        np.zeros((nc, n)),
+        np.zeros(nl + 1),
+        np.zeros(nc),
+        np.zeros((n + nc, n + nc)),
+        np.zeros(n + nc),
+    )
+    conn, L0, kap0, stiff, eta = beam
+    node, kind, frame, amp, ref, prof, par, dist, ref_dof = loads
+    nout = 0
+    for k in range(times.shape[0]):
+        if is_out[k]:
+            nout += 1
+    Q = np.full((nout, n), np.nan)
+    V = np.full((nout, n), np.nan)
+    E = np.full((nout, 4), np.nan)
+    driven = fixed.copy()
+    if pres[5] >= 0.0:
+        driven[n - 1] = True
+    fe0, fe1, fi = np.zeros(n), np.zeros(n), np.zeros(n)
+    R0, R1 = np.zeros(n), np.zeros(n)
+    lam = np.zeros(nl + 1)
+    Kd = np.zeros((1, 1))
+    G = np.zeros((nc, n))
+    g = np.zeros(nc)
+    w_ext = works[0]
+    w_fix = works[1]
+    iters = 0
+    steps = 0
+    j = 0
+    qs, vs, qdds, as_ = q.copy(), v.copy(), qdd.copy(), a.copy()
+    _loads_at(times[0], prof, par, lam)
+    external(q, lam, node, kind, frame, amp, ref, ref_dof, dist, fe0, Kd, False)
+    internal(q, v, conn, L0, kap0, stiff, eta, 0.0, fi, Kd, False)
+    if nc:
+        constraints(q, clamp, g, G)
+    _drive_force(q, qdd, M, G, mult, fe0, fi, driven, R0)
+    for k in range(times.shape[0]):
+        if k > 0:
+            q_old = q.copy()
+            # the interval in 2^m equal sub-steps, m raised until every sub-step converges
+            t0, t1 = times[k - 1], times[k]
+            ok = False
+            for m in range(max_halvings + 1):
+                qs[:], vs[:], qdds[:], as_[:] = q, v, qdd, a
+                nsub = 2**m
+                hs = (t1 - t0) / nsub
+                ok = True
+                for s in range(nsub):
+                    conv, it = _step(
+                        qs, vs, qdds, as_, t0 + (s + 1) * hs, hs, M, beam, loads, clamp, fixed, hold, pres, coef, work
+                    )
+                    iters += it
+                    steps += 1
+                    if not conv:
+                        ok = False
+                        break
+                if ok:
+                    break
+            if not ok:
+                works[0], works[1] = w_ext, w_fix
+                return 1, Q, V, E, steps, iters
+            q[:], v[:], qdd[:], a[:] = qs, vs, qdds, as_
+            _loads_at(t1, prof, par, lam)
+            external(q, lam, node, kind, frame, amp, ref, ref_dof, dist, fe1, Kd, False)
+            internal(q, v, conn, L0, kap0, stiff, eta, 0.0, fi, Kd, False)
+            if nc:
+                constraints(q, clamp, g, G)
+            _drive_force(q, qdd, M, G, work[7], fe1, fi, driven, R1)
+            for i in range(n):
+                dq = q[i] - q_old[i]
+                w_ext += 0.5 * (fe0[i] + fe1[i]) * dq
+                w_fix += 0.5 * (R0[i] + R1[i]) * dq
+            fe0[:] = fe1
+            R0[:] = R1
+            mult[:] = work[7]
+        if is_out[k]:
+            ekin = 0.0
+            for i in range(n):
+                for jj in range(n):
+                    ekin += 0.5 * v[i] * M[i, jj] * v[jj]
+            Q[j] = q
+            V[j] = v
+            E[j, 0] = ekin
+            E[j, 1] = internal(q, v, conn, L0, kap0, stiff, 0.0, 0.0, fi, Kd, False)
+            E[j, 2] = w_ext
+            E[j, 3] = w_fix
+            j += 1
+    works[0], works[1] = w_ext, w_fix
+    return 0, Q, V, E, steps, iters
