@@ -242,7 +242,8 @@ class PointLoads:
         """Loads at material points (split onto the two nodes of their element by the linear
         shape functions). ``kinds``: ``force``/``torque``; ``frames``: ``body``, ``inertial``,
         ``material``; ``vectors``: (fx, fy) [N] or (mz, 0) [N m]; ``distributed``: (wx, wy) [N/m]
-        on every element, fixed in space (gravity: ``rho_a g``)."""
+        on every element or (ne, 2) one per element, fixed in space (gravity: ``rho_a g``).
+        A point on the rigid hub loads the frame DOFs (material frame = body frame there)."""
         codes = {"body": 0, "inertial": 1, "material": 2}
         rows = []
         n = len(points)
@@ -250,11 +251,9 @@ class PointLoads:
         pars = [(0.0, 0.0, 0.0, 0.0)] * n if pars is None else pars
         for i in range(n):
             a, b, xi = beam.locate(points[i], f"loads[{i}].point")
-            if a < 0:
-                raise InputError(
-                    f"loads[{i}].point", list(points[i]), "a point on a beam (the exact body loads its nodes)"
-                )
             fr = codes[frames[i]]
+            if a < 0:  # on the rigid hub: the frame's DOFs (X, Y, phi) sit like one more node
+                a, b, xi, fr = beam.n_nodes, beam.n_nodes, 0.0, 0 if fr == 2 else fr
             for node, w in ((a, 1.0 - xi), (b, xi)):
                 if w == 0.0:
                     continue
@@ -264,7 +263,7 @@ class PointLoads:
         dist = np.zeros((len(beam.conn), 5))
         dist[:, 0:2] = beam.conn
         dist[:, 2] = L0
-        dist[:, 3:5] = np.asarray(distributed, dtype=float)[:2]
+        dist[:, 3:5] = np.broadcast_to(np.asarray(distributed, dtype=float)[..., :2], (len(beam.conn), 2))
         idx = [r[5] for r in rows]
         return PointLoads(
             node=np.array([r[0] for r in rows], dtype=np.int64),
@@ -288,12 +287,13 @@ class StaticSolution:
     strain_energy: float
 
 
-def residual(beam: ExactBeam, loads: PointLoads, q, lam_scale: float, want_k=True):
-    """``f_int - lam f_ext`` (n,) and its tangent (n, n) at ``q``."""
+def residual(beam: ExactBeam, loads: PointLoads, q, lam_scale, want_k=True):
+    """``f_int - lam f_ext`` (n,) and its tangent (n, n) at ``q``; ``lam_scale``: one factor for
+    all loads or one per load and the distributed load last (nl + 1,)."""
     n = beam.n_dof
     f, K = np.zeros(n), np.zeros((n, n)) if want_k else np.zeros((1, 1))
     fe, Ke = np.zeros(n), np.zeros((n, n)) if want_k else np.zeros((1, 1))
-    lam = np.full(len(loads.node) + 1, lam_scale)
+    lam = np.broadcast_to(np.asarray(lam_scale, dtype=float), (len(loads.node) + 1,)).copy()
     kap0 = np.zeros(len(beam.conn))
     energy = ek.internal(q, q, beam.conn, beam.reference_lengths(), kap0, beam.stiffness, 0.0, 0.0, f, K, want_k)
     ek.external(
@@ -313,9 +313,23 @@ def residual(beam: ExactBeam, loads: PointLoads, q, lam_scale: float, want_k=Tru
     return f - fe, K + Ke, energy
 
 
-def solve_static(beam: ExactBeam, loads: PointLoads, *, q0=None, tol=1e-10, max_iter=25, first_step=0.1, min_step=1e-5):
-    """Static equilibrium under the loads at full value (frame fixed at the origin) by Newton's
-    method with adaptive load stepping.
+def solve_static(
+    beam: ExactBeam,
+    loads: PointLoads,
+    *,
+    q0=None,
+    start=None,
+    target=None,
+    tol=1e-10,
+    max_iter=25,
+    first_step=0.1,
+    min_step=1e-5,
+):
+    """Static equilibrium under the loads at full value (frame held where ``q0`` has it) by
+    Newton's method with adaptive load stepping.
+
+    ``start``/``target``: load factors per load (and the distributed load last, (nl + 1,)) at
+    ``q0`` and to reach (default 0 and 1): the path ``start + f (target - start)``, ``f`` 0 -> 1.
 
     Each step raises the load fraction by ``d`` and iterates to ``|r| <= tol (|f_ext| + ...)``;
     a step that fails is halved, one that converges in <= 6 iterations lets the next grow 1.5x.
@@ -333,29 +347,35 @@ def solve_static(beam: ExactBeam, loads: PointLoads, *, q0=None, tol=1e-10, max_
     fixed = np.zeros(n, dtype=bool)
     fixed[beam.frame_dof :] = True
     free = np.flatnonzero(~fixed)
-    r_full, _, _ = residual(beam, loads, q, 1.0, want_k=False)
-    scale = max(float(np.abs(r_full[free]).max()), 1e-300)
+    nl = len(loads.node) + 1
+    lam0 = np.zeros(nl) if start is None else np.broadcast_to(np.asarray(start, dtype=float), (nl,))
+    lam1 = np.ones(nl) if target is None else np.broadcast_to(np.asarray(target, dtype=float), (nl,))
+    r_full, _, _ = residual(beam, loads, q, np.maximum(np.abs(lam0), np.abs(lam1)), want_k=False)
+    r_int, _, _ = residual(beam, loads, q, 0.0, want_k=False)
+    scale = max(float(np.abs(r_full[free]).max()), float(np.abs(r_int[free]).max()), 1e-300)
     lam, d, fractions, iters = 0.0, first_step, [0.0], 0
     last_res = np.inf
     while lam < 1.0:
-        target = min(1.0, lam + d)
-        qt, ok, last_res, it = _newton(beam, loads, q.copy(), target, clamp, free, nc, tol * scale, max_iter)
+        nxt = min(1.0, lam + d)
+        qt, ok, last_res, it = _newton(
+            beam, loads, q.copy(), lam0 + nxt * (lam1 - lam0), clamp, free, nc, tol * scale, max_iter
+        )
         iters += it
         if ok:
-            q, lam = qt, target
+            q, lam = qt, nxt
             fractions.append(lam)
             d = d * 1.5 if it <= 6 else d
             continue
         d *= 0.5
         if d < min_step:
             raise LoadSteppingError(lam, last_res, tol * scale)
-    _, _, energy = residual(beam, loads, q, 1.0, want_k=False)
+    _, _, energy = residual(beam, loads, q, lam1, want_k=False)
     log.info("static equilibrium in %d load steps, %d Newton iterations", len(fractions) - 1, iters)
     return StaticSolution(q, np.array(fractions), iters, float(energy))
 
 
 def _newton(beam, loads, q, lam, clamp, free, nc, tol, max_iter):
-    """Newton iterations of the bordered system ``[K G^T; G 0]`` at load fraction ``lam``."""
+    """Newton iterations of the bordered system ``[K G^T; G 0]`` at load factors ``lam``."""
     n = beam.n_dof
     nf = len(free)
     g, G = np.zeros(nc), np.zeros((nc, n))
