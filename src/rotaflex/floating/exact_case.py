@@ -88,10 +88,11 @@ def _pieces(cfg, exact: ExactConfig):
             raise InputError(
                 f"{where}.file", a.file, "a beam appendage (length, e, rho, section) for body.model = 'exact'"
             )
-        if a.spatial or abs(a.direction[2]) > 0 or abs(a.root[2]) > 0:
-            raise InputError(
-                f"{where}.direction", list(a.direction), "in the hub's x-y plane, spatial = false (planar)"
-            )
+        if a.spatial:
+            raise InputError(f"{where}.spatial", True, "false with body.model = 'exact' (planar)")
+        for key in ("direction", "root"):
+            if abs(getattr(a, key)[2]) > 0:
+                raise InputError(f"{where}.{key}", list(getattr(a, key)), "in the hub's x-y plane (z = 0; planar)")
         for key in ("length", "e", "rho"):
             if getattr(a, key) is None:
                 raise InputError(f"{where}.{key}", "<missing>", "a number > 0 for a beam appendage")
@@ -134,6 +135,8 @@ def build(case, body) -> tuple[ExactBeam, str, PointLoads]:
                 "prescribed", "<table>", "no [prescribed] motion for a free-free exact beam (use a cantilever or a hub)"
             )
         frame = "fixed"
+    if case.slew is not None and np.abs(np.asarray(case.slew.axis)[:2]).max() > 0:
+        raise InputError("slew.axis", list(case.slew.axis), "[0, 0, 1] (planar exact body)")
     if case.prescribed is not None and np.abs(np.asarray(case.prescribed.axis)[:2]).max() > 0:
         raise InputError("prescribed.axis", list(case.prescribed.axis), "[0, 0, 1] (planar exact body)")
     return beam, frame, _loads(case, beam, frame, exact)
