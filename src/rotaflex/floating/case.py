@@ -257,7 +257,8 @@ def build_body(cfg: BodyConfig, loads=()):
 
 
 def _build_body(cfg: BodyConfig, loads=()):
-    from rotaflex.floating.body import point_body, uniform_beam
+    from rotaflex.floating.beam import uniform_beam
+    from rotaflex.floating.body import point_body
 
     att = [tuple(p) for p in cfg.attachment_points]
     mom = []

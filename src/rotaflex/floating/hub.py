@@ -2,7 +2,7 @@
 
 The spacecraft engineer's first model: a hub (rigid body of mass ``m_h`` and inertia ``I_h``
 about its centre, the body origin) carrying one or more appendages clamped at their roots. Each
-appendage is an attached-frame body (a cantilever :func:`~rotaflex.floating.body.uniform_beam`,
+appendage is an attached-frame body (a cantilever :func:`~rotaflex.floating.beam.uniform_beam`,
 e.g. from :func:`beam_appendage` with material and section, or
 :func:`~rotaflex.floating.modes_file.load_modes` with ``frame = "attached"``) placed at ``root``
 with its local x axis along ``direction``. The combined body uses the hub frame: the appendage
@@ -20,7 +20,8 @@ from __future__ import annotations
 import numpy as np
 
 from rotaflex.core.errors import InputError
-from rotaflex.floating.body import Body, check_inertia, integrals, plain, rigid_body, uniform_beam
+from rotaflex.floating.beam import uniform_beam
+from rotaflex.floating.body import Body, check_inertia, integrals, plain, rigid_body
 from rotaflex.floating.model import Load
 
 
