@@ -237,11 +237,13 @@ def _step(q, v, qdd, a, t1, h, M, beam, loads, clamp, fixed, hold, pres, coef, w
     fdof = n - 3
     bp = (1.0 - am) / (beta * h * h * (1.0 - af))
     gp = gamma / (beta * h)
-    # predictor: q'' = 0 at t1
-    a_new = (af * qdd - am * a) / (1.0 - am)
-    q += h * v + h * h * ((0.5 - beta) * a + beta * a_new)
+    qdd_n = qdd.copy()
+    # predictor: q unchanged (robust where a tiny rotary inertia meets a step load: predicting
+    # with the start acceleration throws such a section by radians and Newton then settles on
+    # a spurious high-energy branch); v, q'' and a consistent with it
+    a_new = (-h * v - h * h * (0.5 - beta) * a) / (beta * h * h)
     v += h * ((1.0 - gamma) * a + gamma * a_new)
-    qdd[:] = 0.0
+    qdd[:] = ((1.0 - am) * a_new + am * a - af * qdd) / (1.0 - af)
     _prescribe(q, v, qdd, fixed, hold, fdof, pres, t1)
     _loads_at(t1, prof, par, lam)
     mult[:] = 0.0
@@ -283,7 +285,7 @@ def _step(q, v, qdd, a, t1, h, M, beam, loads, clamp, fixed, hold, pres, coef, w
         if not np.isfinite(step):
             return False, it
         if step <= tol:
-            a[:] = a_new + (1.0 - af) / (1.0 - am) * qdd
+            a[:] = ((1.0 - af) * qdd + af * qdd_n - am * a) / (1.0 - am)
             return True, it
     return False, int(max_iter)
 

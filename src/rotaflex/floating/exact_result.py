@@ -38,7 +38,11 @@ def frame_motion(beam: ExactBeam, Q: np.ndarray, V: np.ndarray):
     xi = xy - c[:, None, :]
     s = np.einsum("k,tk->t", m, r0[:, 0] * xi[..., 1] - r0[:, 1] * xi[..., 0])
     co = np.einsum("k,tk->t", m, r0[:, 0] * xi[..., 0] + r0[:, 1] * xi[..., 1])
-    phi = np.unwrap(np.arctan2(s, co))
+    # the fit gives the angle modulo 2 pi; the integrated section angles are continuous, so
+    # take the branch nearest their mass-weighted mean (right however coarse the output times)
+    th = np.einsum("k,tk->t", m, Q[:, 2 : 3 * n : 3]) / m.sum()
+    phi = np.arctan2(s, co)
+    phi = phi + 2 * np.pi * np.round((th - phi) / (2 * np.pi))
     # rigid-fit spin: sum m xi x v / sum m |xi|^2
     w = np.einsum("k,tk->t", m, xi[..., 0] * (vxy - cv[:, None])[..., 1] - xi[..., 1] * (vxy - cv[:, None])[..., 0])
     w = w / np.einsum("k,tk->t", m, (xi**2).sum(axis=-1))
