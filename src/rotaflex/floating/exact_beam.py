@@ -83,6 +83,7 @@ class ExactBeam:
     hub_mass: float = 0.0
     hub_inertia: float = 0.0
     hub_radius: float = 0.0
+    lumped: bool = False
 
     @property
     def n_nodes(self) -> int:
@@ -119,7 +120,9 @@ class ExactBeam:
 
     def mass_matrix(self) -> np.ndarray:
         """Consistent mass (n, n) [kg, kg m^2]: ``rho A`` on x, y and ``rho I`` on theta with
-        linear shape functions (``L0 / 6 [[2, 1], [1, 2]]``), the hub on the frame DOFs."""
+        linear shape functions (``L0 / 6 [[2, 1], [1, 2]]``), the hub on the frame DOFs; with
+        ``lumped`` its row sums on the diagonal (``L0 / 2`` to each node: the errors of soft
+        one-point stiffness and lumped inertia cancel in the higher modes, docs/floating.md)."""
         n = self.n_dof
         M = np.zeros((n, n))
         for e, (a, b) in enumerate(self.conn):
@@ -131,6 +134,8 @@ class ExactBeam:
                 M[ib, ib] += 2 * m
                 M[ia, ib] += m
                 M[ib, ia] += m
+        if self.lumped:
+            M = np.diag(M.sum(axis=1))
         d = self.frame_dof
         M[d, d] = M[d + 1, d + 1] = self.hub_mass
         M[d + 2, d + 2] = self.hub_inertia
@@ -183,7 +188,7 @@ def straight(length, n_el, *, ea, ga, ei, rho_a, rho_i=None, start=(0.0, 0.0), a
     return nodes, np.full(n_el + 1, float(angle)), conn, stiff, np.full(n_el, float(rho_a)), np.full(n_el, float(ri)), s
 
 
-def assemble(pieces, clamped, *, hub_mass=0.0, hub_inertia=0.0, hub_radius=0.0) -> ExactBeam:
+def assemble(pieces, clamped, *, hub_mass=0.0, hub_inertia=0.0, hub_radius=0.0, lumped=False) -> ExactBeam:
     """One :class:`ExactBeam` from :func:`straight` pieces; ``clamped[i]``: clamp piece i's first
     node to the frame where it is."""
     nodes, angles, conn, stiff, ra, ri, beam_of, arc, clamps, lengths = [], [], [], [], [], [], [], [], [], []
@@ -215,6 +220,7 @@ def assemble(pieces, clamped, *, hub_mass=0.0, hub_inertia=0.0, hub_radius=0.0) 
         hub_mass=float(hub_mass),
         hub_inertia=float(hub_inertia),
         hub_radius=float(hub_radius),
+        lumped=bool(lumped),
     )
 
 

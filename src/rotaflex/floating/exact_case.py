@@ -58,8 +58,14 @@ class ExactConfig:
     time_step: float | None = param(None, unit="s", gt=0.0, doc="largest step (default: first period / 200)")
     rho_inf: float = param(0.9, ge=0.0, le=1.0, doc="generalized-alpha spectral radius at infinity (1: no damping)")
     gravity: tuple[float, float, float] = param((0.0, 0.0, 0.0), unit="m/s^2", doc="gravity (inertial)")
+    mass: str = param(
+        "consistent",
+        doc="'consistent' or 'lumped' (lumped: much smaller errors in the higher modes, docs/floating.md)",
+    )
 
     def __post_init__(self):
+        if self.mass not in ("consistent", "lumped"):
+            raise InputError("body.exact.mass", self.mass, "'consistent' or 'lumped'")
         if self.analysis not in ("dynamic", "static", "both"):
             raise InputError("body.exact.analysis", self.analysis, "'dynamic', 'static' or 'both'")
 
@@ -124,7 +130,7 @@ def build(case, body) -> tuple[ExactBeam, str, PointLoads]:
     """The exact beam of a prepared case, its frame kind and its loads."""
     exact = case.body.exact or ExactConfig()
     pieces, clamped, hub = _pieces(case.body, exact)
-    beam = assemble(pieces, clamped, **hub)
+    beam = assemble(pieces, clamped, **hub, lumped=exact.mass == "lumped")
     if case.body.type == "hub":
         frame = "prescribed" if case.prescribed is not None else "free"
     elif clamped[0]:
