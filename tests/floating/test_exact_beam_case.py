@@ -171,3 +171,21 @@ def test_free_beam_torque_pulse_obeys_the_impulse_theorem():
     case, body, plan = prepare(cfg)
     run(case, body, plan, progress=seen.append)
     assert seen == sorted(seen) and seen[-1] == pytest.approx(2.0) and len(seen) > 10
+
+
+def test_gravity_sags_the_cantilever_like_its_distributed_weight():
+    # small sag (1e-5 L): the linear cantilever under its weight, w L^4 / (8 EI), w = rho_a g
+    cfg = {
+        "body": {
+            "type": "beam",
+            "model": "exact",
+            "beam": {"length": 2.0, "rho_a": 3.0, "ei": 5.0e5, "support": "cantilever"},
+            "exact": {"elements": 32, "analysis": "static", "gravity": [0.0, -9.81, 0.0]},
+        },
+        "solver": {"t_end": 1.0, "dt_out": 1.0},
+        "outputs": {"tip": [2.0, 0.0, 0.0]},
+    }
+    res = run_case(cfg)
+    sag = res.dataset["point_deflection"].sel(solution="static", point="tip").values[-1, 1]
+    # one-point linear elements: O(h^2), 32 elements ~1e-3
+    assert sag == pytest.approx(-3.0 * 9.81 * 2.0**4 / (8 * 5.0e5), rel=2e-3)

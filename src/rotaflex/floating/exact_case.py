@@ -149,7 +149,7 @@ def build(case, body) -> tuple[ExactBeam, str, PointLoads]:
 
 
 def _loads(case, beam: ExactBeam, frame: str, exact: ExactConfig) -> PointLoads:
-    from rotaflex.floating.solve import _PROFILES
+    from rotaflex.floating.kernels import PROFILES
 
     pts, kinds, frames, vecs, profs, pars = [], [], [], [], [], []
     free_beam = frame == "fixed" and len(beam.clamps) == 0
@@ -171,7 +171,7 @@ def _loads(case, beam: ExactBeam, frame: str, exact: ExactConfig) -> PointLoads:
         kinds.append(ld.kind)
         frames.append(ld.frame)
         vecs.append((v[2], 0.0) if ld.kind == "torque" else (v[0], v[1]))
-        profs.append(_PROFILES[ld.profile])
+        profs.append(PROFILES.index(ld.profile))
         pars.append((ld.start, ld.duration, ld.frequency, ld.phase))
     g = np.asarray(exact.gravity, dtype=float)
     if g[2] != 0:
