@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
@@ -50,7 +51,7 @@ class ExactConfig:
         None, unit="N", gt=0.0, doc="shear stiffness (default: 5/6 E A / 2.6 (nu 0.3), or 3.2e5 EI / L^2)"
     )
     rho_i: float | None = param(None, unit="kg m", ge=0.0, doc="rotary inertia per length (default rho_a EI / EA)")
-    analysis: str = param(
+    analysis: Literal["dynamic", "static", "both"] = param(
         "dynamic",
         doc="'dynamic' (time history), 'static' (equilibrium under the loads at each output time, "
         "inertia ignored, frame held) or 'both'",
@@ -58,7 +59,7 @@ class ExactConfig:
     time_step: float | None = param(None, unit="s", gt=0.0, doc="largest step (default: first period / 200)")
     rho_inf: float = param(0.9, ge=0.0, le=1.0, doc="generalized-alpha spectral radius at infinity (1: no damping)")
     gravity: tuple[float, float, float] = param((0.0, 0.0, 0.0), unit="m/s^2", doc="gravity (inertial)")
-    mass: str = param(
+    mass: Literal["consistent", "lumped"] = param(
         "consistent",
         doc="'consistent' or 'lumped' (lumped: much smaller errors in the higher modes, docs/floating.md)",
     )
