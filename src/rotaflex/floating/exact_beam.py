@@ -61,8 +61,8 @@ class ExactBeam:
     conn : (ne, 2) int element nodes.
     stiffness : (ne, 3) ``EA`` [N], ``GA`` [N] (shear, with its shear coefficient), ``EI`` [N m^2].
     rho_a, rho_i : (ne,) mass [kg/m] and rotary inertia [kg m] per length.
-    clamps : (nc, 3) ``node, alpha`` ... as ``(node, rx, ry, alpha)`` rows (nc, 4): node clamped
-        at ``(rx, ry)`` of the frame with section angle ``phi + alpha``.
+    clamps : (nc, 4) rows ``(node, rx, ry, alpha)``: the node is clamped at ``(rx, ry)`` [m] of
+        the frame with section angle ``phi + alpha`` [rad].
     beam_of : (nn,) int which beam a node belongs to; ``arclength`` (nn,) its distance from the
         beam's first node [m]; ``lengths`` per beam [m].
     hub_mass, hub_inertia : rigid hub carrying the frame [kg], [kg m^2] about its centre (the
