@@ -238,10 +238,11 @@ def _step(q, v, qdd, a, t1, h, M, beam, loads, clamp, fixed, hold, pres, coef, w
     bp = (1.0 - am) / (beta * h * h * (1.0 - af))
     gp = gamma / (beta * h)
     qdd_n = qdd.copy()
-    # predictor: q unchanged (robust where a tiny rotary inertia meets a step load: predicting
-    # with the start acceleration throws such a section by radians and Newton then settles on
-    # a spurious high-energy branch); v, q'' and a consistent with it
-    a_new = (-h * v - h * h * (0.5 - beta) * a) / (beta * h * h)
+    # predictor: constant velocity, no acceleration term (extrapolating with the start
+    # acceleration threw a section of tiny rotary inertia under a step moment by radians and
+    # Newton then settled on a spurious high-energy branch); v, q'' and a consistent with it
+    q += h * v
+    a_new = (-h * h * (0.5 - beta) * a) / (beta * h * h)
     v += h * ((1.0 - gamma) * a + gamma * a_new)
     qdd[:] = ((1.0 - am) * a_new + am * a - af * qdd) / (1.0 - af)
     _prescribe(q, v, qdd, fixed, hold, fdof, pres, t1)
