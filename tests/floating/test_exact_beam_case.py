@@ -128,6 +128,8 @@ def test_spin_up_case_runs_on_the_exact_beam():
         (("body", "hub", "appendages", 0, "e"), 0.0, "body.hub.appendages[0].e"),
         (("body", "hub", "appendages", 0, "spatial"), True, "body.hub.appendages[0].spatial"),
         (("slew", "axis"), [1.0, 0.0, 0.0], "slew.axis"),
+        (("solver", "max_steps"), 100, "solver.max_steps"),  # the step budget, checked up front
+        (("body", "exact", "mass"), "diagonal", "body.exact.mass"),
     ],
 )
 def test_bad_input_names_the_key(path, value, key):
