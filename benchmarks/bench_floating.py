@@ -7,7 +7,7 @@ Run: PYTHONPATH=src python benchmarks/bench_floating.py
 
 import numpy as np
 
-from rotaflex.floating.body import uniform_beam
+from rotaflex.floating.beam import uniform_beam
 from rotaflex.floating.model import Load, Settings
 from rotaflex.floating.solve import point_motion, simulate
 

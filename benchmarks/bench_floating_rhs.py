@@ -37,7 +37,7 @@ CASES = {
 def _run(method: str, n: int, t_end: float):
     import numpy as np
 
-    from rotaflex.floating.body import uniform_beam
+    from rotaflex.floating.beam import uniform_beam
     from rotaflex.floating.model import Load, Prescribed, Settings
     from rotaflex.floating.solve import simulate
 

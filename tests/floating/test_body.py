@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.floating.body import gamma, integrals, m_tilde, point_body, uniform_beam
+from rotaflex.floating.beam import uniform_beam
+from rotaflex.floating.body import gamma, integrals, m_tilde, point_body
 from rotaflex.floating.fe import frame_body, straight_beam_nodes
 
 BETA_FF = np.array([4.7300, 7.8532, 10.9956])  # free-free beta L (issue / textbooks)

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from rotaflex.floating import kernels
-from rotaflex.floating.body import phi_hat, skew, uniform_beam
+from rotaflex.floating.beam import uniform_beam
+from rotaflex.floating.body import phi_hat, skew
 from rotaflex.floating.reduction import first_order_matrices, paper_matrices, planar_eq42
 from rotaflex.floating.solve import pack_body, pack_loads
 

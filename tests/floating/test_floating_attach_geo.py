@@ -5,7 +5,8 @@ import pytest
 import sympy as sp
 
 from rotaflex.core.errors import InputError
-from rotaflex.floating.body import integrals, m_tilde, point_body, uniform_beam
+from rotaflex.floating.beam import uniform_beam
+from rotaflex.floating.body import integrals, m_tilde, point_body
 from rotaflex.floating.fe import frame_body, straight_beam_nodes
 from rotaflex.floating.model import Initial, Settings
 from rotaflex.floating.solve import geometric_stiffness, invariants, simulate

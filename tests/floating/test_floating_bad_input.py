@@ -134,7 +134,7 @@ def test_step_budget_is_estimated_before_the_run():
     solver.max_steps, the estimate and how to raise it), not found exhausted after minutes."""
     import tomllib
 
-    from rotaflex.floating.body import uniform_beam
+    from rotaflex.floating.beam import uniform_beam
     from rotaflex.floating.hub import free_frequencies
 
     cfg = tomllib.loads(BEAM)

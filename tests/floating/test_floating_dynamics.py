@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from rotaflex.floating.body import integrals, uniform_beam
+from rotaflex.floating.beam import uniform_beam
+from rotaflex.floating.body import integrals
 from rotaflex.floating.model import Initial, Load, Prescribed, Settings
 from rotaflex.floating.solve import invariants, point_motion, simulate
 

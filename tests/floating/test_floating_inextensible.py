@@ -5,7 +5,7 @@ import pytest
 from scipy.integrate import quad
 
 from rotaflex.core.errors import InputError
-from rotaflex.floating.body import uniform_beam
+from rotaflex.floating.beam import uniform_beam
 from rotaflex.floating.model import Initial, Load, Prescribed, Settings
 from rotaflex.floating.solve import point_motion, simulate
 

@@ -10,7 +10,7 @@ prescribed motion (docs/floating.md, "Many modes").
 import numpy as np
 import pytest
 
-from rotaflex.floating.body import uniform_beam
+from rotaflex.floating.beam import uniform_beam
 from rotaflex.floating.model import Load, Settings
 from rotaflex.floating.solve import invariants, point_motion, simulate
 

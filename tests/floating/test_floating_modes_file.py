@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from rotaflex.core.errors import InputError
-from rotaflex.floating.body import integrals, uniform_beam
+from rotaflex.floating.beam import uniform_beam
+from rotaflex.floating.body import integrals
 from rotaflex.floating.case import run_case
 from rotaflex.floating.modes_file import load_modes, save_modes
 

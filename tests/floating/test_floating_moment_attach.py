@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from rotaflex.floating.body import integrals, uniform_beam
+from rotaflex.floating.beam import uniform_beam
+from rotaflex.floating.body import integrals
 from rotaflex.floating.case import BodyConfig, build_body, from_mapping
 from rotaflex.floating.fe import frame_body, straight_beam_nodes
 from rotaflex.floating.model import Load

@@ -4,7 +4,7 @@ import numpy as np
 from typer.testing import CliRunner
 
 from rotaflex.cli import app
-from rotaflex.floating.body import uniform_beam
+from rotaflex.floating.beam import uniform_beam
 from rotaflex.floating.model import Load, Settings
 from rotaflex.floating.solve import simulate
 

@@ -8,7 +8,8 @@ kernels, xarray) are imported only when a solver runs.
 """
 
 from rotaflex.floating.api import State, run
-from rotaflex.floating.body import Body, integrals, point_body, uniform_beam
+from rotaflex.floating.beam import uniform_beam
+from rotaflex.floating.body import Body, integrals, point_body
 from rotaflex.floating.model import Initial, Load, Prescribed, Settings
 from rotaflex.floating.modes_file import load_modes
 

@@ -502,13 +502,3 @@ def _point_body(masses, positions, shapes, frequencies, stiffness, rotation_shap
         extra_inertia=extra,
         params={"source": "point_body"},
     )
-
-
-def __getattr__(name: str):
-    """The analytic beam lives in :mod:`rotaflex.floating.beam`; its names stay importable from
-    here (``from rotaflex.floating.body import uniform_beam``) without an import cycle."""
-    if name in ("uniform_beam", "beam_roots", "beam_mode"):
-        from rotaflex.floating import beam
-
-        return getattr(beam, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -35,6 +35,7 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, param
 from rotaflex.core.errors import InputError
+from rotaflex.floating.exact_case import ExactConfig
 from rotaflex.floating.model import Initial, Load, Prescribed, Settings, Vec3, load_from
 
 #: budgets checked before anything is allocated (memory and run time grow like n^2 and n^4)
@@ -160,6 +161,12 @@ class BodyConfig:
         False,
         doc="add attachment modes at every load point: unit-force shapes for forces, unit-moment shapes for torques",
     )
+    model: Literal["modal", "exact"] = param(
+        "modal",
+        doc="modal (linear elastic body in a moving frame) or exact (planar geometrically exact beam, "
+        "for deflections beyond ~1 % of L; docs/floating.md 'When to use which body')",
+    )
+    exact: ExactConfig | None = param(None, doc="[body.exact]: mesh and integrator of the exact body")
 
     def __post_init__(self):
         if getattr(self, self.type) is None:
@@ -250,7 +257,8 @@ def build_body(cfg: BodyConfig, loads=()):
 
 
 def _build_body(cfg: BodyConfig, loads=()):
-    from rotaflex.floating.body import point_body, uniform_beam
+    from rotaflex.floating.beam import uniform_beam
+    from rotaflex.floating.body import point_body
 
     att = [tuple(p) for p in cfg.attachment_points]
     mom = []
@@ -406,6 +414,14 @@ def prepare(config: dict):
             body.shape_fn(np.array([pt], dtype=float))
         except InputError as exc:
             raise InputError(f"outputs.{name}", list(pt), exc.allowed) from None
+    if case.body.model == "exact":
+        from rotaflex.floating.exact_case import check
+
+        if case.paraview is not None and case.paraview.solution not in (None, "full", "prescribed"):
+            raise InputError(
+                "paraview.solution", case.paraview.solution, "unset with body.model = 'exact' (one solution)"
+            )
+        return case, body, check(case, body)
     methods = ["full", "perturbation"] if case.solver.method == "both" else [case.solver.method]
     if case.prescribed is not None:
         if case.solver.method == "perturbation":
@@ -526,6 +542,8 @@ def run_case(config: dict, *, progress: bool | str = False):
 
     t0 = time.perf_counter()
     case, body, methods = prepare(config)
+    if case.body.model == "exact":
+        return _run_exact(case, body, methods, progress, t0)
     _announce_kernels(case, methods)
     sols = []
     for m in methods:
@@ -534,22 +552,53 @@ def run_case(config: dict, *, progress: bool | str = False):
             sols.append(simulate(body, case.loads, case.initial, case.solver, m, case.prescribed, progress=call))
     resolved = json.loads(json.dumps(dataclasses.asdict(case)))
     result = build_result(body, sols, dict(case.outputs), resolved, time.perf_counter() - t0)
-    if case.slew is not None:
-        sl = case.slew
-        result.dataset.attrs["manoeuvre"] = json.dumps(
-            {
-                "profile": sl.profile,
-                "drive": sl.drive,
-                "angle": sl.angle,
-                "axis": list(np.asarray(sl.axis) / np.linalg.norm(sl.axis)),
-                "start": sl.start,
-                "end": sl.end,
-                "settle_tolerance": sl.settle_tolerance,
-            }
-        )
+    _set_manoeuvre(result, case)
     if case.paraview is not None:
         from rotaflex.floating.paraview import frames
 
         name = case.paraview.solution or sols[0].method
         result.paraview = (name, frames(result, body, solution=name, every=case.paraview.every))
     return result
+
+
+def _run_exact(case, body, plan, progress, t0):
+    """``run_case`` for ``body.model = "exact"`` (``plan`` from :func:`rotaflex.floating.exact_case.check`)."""
+    from rotaflex.core.jit import announce_compilation
+    from rotaflex.floating import exact_kernels
+    from rotaflex.floating.exact_case import run
+    from rotaflex.floating.exact_result import build_exact_result, paraview_frames
+
+    announce_compilation("exact-beam", [exact_kernels.integrate], EXACT_COMPILE_SECONDS)
+    label = {"dynamic": "", "static": "static", "both": "exact, then static"}[plan["exact"].analysis]
+    with _progress_for(progress, label, case.solver.t_end) as bar:
+        sols = run(case, body, plan, progress=bar.update if progress else None)
+    resolved = json.loads(json.dumps(dataclasses.asdict(case)))
+    result = build_exact_result(
+        plan["beam"], sols, dict(case.outputs), resolved, time.perf_counter() - t0, plan["frame"]
+    )
+    _set_manoeuvre(result, case)
+    if case.paraview is not None:
+        result.paraview = (sols[0].method, paraview_frames(result, case.paraview.every))
+    return result
+
+
+def _set_manoeuvre(result, case) -> None:
+    """The slew (if any) as ``attrs["manoeuvre"]`` (read by the summary's residual vibration)."""
+    if case.slew is None:
+        return
+    sl = case.slew
+    result.dataset.attrs["manoeuvre"] = json.dumps(
+        {
+            "profile": sl.profile,
+            "drive": sl.drive,
+            "angle": sl.angle,
+            "axis": list(np.asarray(sl.axis) / np.linalg.norm(sl.axis)),
+            "start": sl.start,
+            "end": sl.end,
+            "settle_tolerance": sl.settle_tolerance,
+        }
+    )
+
+
+#: first-run compilation of the exact-beam kernels [s]: 28 s CPU measured cold (docs/floating.md)
+EXACT_COMPILE_SECONDS = 30.0

@@ -2,7 +2,7 @@
 
 The spacecraft engineer's first model: a hub (rigid body of mass ``m_h`` and inertia ``I_h``
 about its centre, the body origin) carrying one or more appendages clamped at their roots. Each
-appendage is an attached-frame body (a cantilever :func:`~rotaflex.floating.body.uniform_beam`,
+appendage is an attached-frame body (a cantilever :func:`~rotaflex.floating.beam.uniform_beam`,
 e.g. from :func:`beam_appendage` with material and section, or
 :func:`~rotaflex.floating.modes_file.load_modes` with ``frame = "attached"``) placed at ``root``
 with its local x axis along ``direction``. The combined body uses the hub frame: the appendage
@@ -20,7 +20,8 @@ from __future__ import annotations
 import numpy as np
 
 from rotaflex.core.errors import InputError
-from rotaflex.floating.body import Body, check_inertia, integrals, plain, rigid_body, uniform_beam
+from rotaflex.floating.beam import uniform_beam
+from rotaflex.floating.body import Body, check_inertia, integrals, plain, rigid_body
 from rotaflex.floating.model import Load
 
 
@@ -70,6 +71,18 @@ def beam_appendage(
     >>> round(float(b.mass), 3)
     2.7
     """
+    for key, v in (("length", length), ("e", e), ("rho", rho)):
+        if v is None or not (np.isfinite(v) and v > 0):
+            raise InputError(f"{where}.{key}", v, "a number > 0")
+    area, i_y, i_z = section(width, thickness, area, second_moment, where)
+    b = uniform_beam(length, rho * area, e * i_y, n_modes, ei_z=e * i_z, spatial=spatial, support="cantilever")
+    return b
+
+
+def section(width, thickness, area, second_moment, where: str) -> tuple[float, float, float]:
+    """Area [m^2] and second moments in and out of the slew plane [m^4] of an appendage section:
+    rectangular (``width`` out of plane, ``thickness`` in plane) or ``area``/``second_moment``
+    given (the same in both planes); errors name ``where.<key>``."""
     rect = width is not None or thickness is not None
     direct = area is not None or second_moment is not None
     if rect == direct or (rect and (width is None or thickness is None)) or (direct and None in (area, second_moment)):
@@ -78,18 +91,12 @@ def beam_appendage(
             width,
             "either width and thickness (rectangular section) or area and second_moment, not both",
         )
-    for key, v in (("length", length), ("e", e), ("rho", rho), ("width", width), ("thickness", thickness)):
-        if v is not None and not (np.isfinite(v) and v > 0):
-            raise InputError(f"{where}.{key}", v, "a number > 0")
-    for key, v in (("area", area), ("second_moment", second_moment)):
+    for key, v in (("width", width), ("thickness", thickness), ("area", area), ("second_moment", second_moment)):
         if v is not None and not (np.isfinite(v) and v > 0):
             raise InputError(f"{where}.{key}", v, "a number > 0")
     if rect:
-        area, i_y, i_z = width * thickness, width * thickness**3 / 12.0, thickness * width**3 / 12.0
-    else:
-        i_y = i_z = second_moment
-    b = uniform_beam(length, rho * area, e * i_y, n_modes, ei_z=e * i_z, spatial=spatial, support="cantilever")
-    return b
+        return width * thickness, width * thickness**3 / 12.0, thickness * width**3 / 12.0
+    return area, second_moment, second_moment
 
 
 def _frame_to(direction, where: str) -> np.ndarray:

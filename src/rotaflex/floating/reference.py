@@ -323,7 +323,7 @@ def modal_counterpart(
     prescribed spin-up (``kinematics = "inextensible"``: the exact inextensible kinematics,
     clamped-spin only). Returns ``(tip deflection along body y [m], z angle [rad])``.
     """
-    from rotaflex.floating.body import uniform_beam
+    from rotaflex.floating.beam import uniform_beam
     from rotaflex.floating.model import Load, Prescribed, Settings
     from rotaflex.floating.solve import point_motion, simulate
 

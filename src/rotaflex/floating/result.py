@@ -54,6 +54,7 @@ class FloatingResult(Result):
                 "value": np.degrees(sel["euler_123"].values[-1]).tolist(),
                 "unit": "deg",
             }
+        out.update(deflection_measure(ds))
         if "manoeuvre" in ds.attrs:
             out.update(residual_vibration(ds))
         if {"full", "perturbation"} <= set(ds["solution"].values) and ds.sizes["point"]:
@@ -125,6 +126,8 @@ class FloatingResult(Result):
             ax.legend(fontsize=7)
             ax.grid(alpha=0.3)
             figs["deflection"] = fig
+        if "modal_displacement" not in ds:  # the exact body has no modes
+            return figs
         fig, ax = new_figure()
         s0 = ds["solution"].values[0]
         q = ds["modal_displacement"].sel(solution=s0).values
@@ -136,6 +139,37 @@ class FloatingResult(Result):
         ax.grid(alpha=0.3)
         figs["modal"] = fig
         return figs
+
+
+#: largest deflection / L up to which the modal body is adequate: measured tip errors <= 1e-3
+#: relative for end forces, slews and spin-up (docs/floating.md "When to use which body")
+MODAL_LIMIT = 0.01
+
+
+def deflection_measure(ds) -> dict:
+    """``<solution>.max_deflection_to_length`` (the largest deflection of the body's nodes, or of
+    the output points for the modal body, over the body length) and
+    ``<solution>.modal_body_adequate`` (that measure <= :data:`MODAL_LIMIT`)."""
+    length = ds.attrs.get("body_length")
+    if not length:
+        return {}
+    out = {}
+    for s in ds["solution"].values:
+        sel = ds.sel(solution=s)
+        if "deflection_to_length" in ds:
+            r = sel["deflection_to_length"].values
+        elif ds.sizes["point"]:
+            r = np.linalg.norm(sel["point_deflection"].values, axis=-1) / length
+        else:
+            continue
+        r = float(np.nanmax(r)) if np.isfinite(r).any() else float("nan")
+        out[f"{s}.max_deflection_to_length"] = {"value": r, "unit": "1"}
+        out[f"{s}.modal_body_adequate"] = {
+            "value": bool(r <= MODAL_LIMIT),
+            "note": f"modal body adequate up to deflection / L = {MODAL_LIMIT:g} (tip error <= 1e-3 "
+            "relative measured); beyond, use body.model = 'exact' (docs/floating.md)",
+        }
+    return out
 
 
 def _length_unit(peak: float) -> tuple[float, str]:
@@ -335,6 +369,8 @@ def build_result(body, solutions, points: dict, config: dict | None = None, wall
             "geometric_stiffness": int(any(s.geometric for s in solutions)),
             "kinematics": solutions[0].kinematics,
             "solver_wall_times": json.dumps({s.method: s.wall_time for s in solutions}),
+            "body_model": "modal",
+            "body_length": float(body.length or 0.0),
         }
     )
     return FloatingResult(ds)

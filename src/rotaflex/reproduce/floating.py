@@ -61,7 +61,8 @@ def _eq44_check(body) -> Check:
 
 
 def _reduction_checks() -> list[Check]:
-    from rotaflex.floating.body import phi_hat, skew, uniform_beam
+    from rotaflex.floating.beam import uniform_beam
+    from rotaflex.floating.body import phi_hat, skew
     from rotaflex.floating.reduction import first_order_matrices, paper_matrices, planar_eq42
 
     b = uniform_beam(2.0, 1.5, 30.0, 4, support="cantilever")
@@ -151,7 +152,7 @@ def _reduction_checks() -> list[Check]:
 
 def _planar(out: Path, fast: bool):
     from rotaflex.core.plotting import new_figure, save_figure
-    from rotaflex.floating.body import uniform_beam
+    from rotaflex.floating.beam import uniform_beam
     from rotaflex.floating.model import Load, Settings
     from rotaflex.floating.result import build_result
     from rotaflex.floating.solve import point_motion, simulate
@@ -378,7 +379,7 @@ def _slew3d(out: Path, fast: bool):
 def _spinup(out: Path, fast: bool):
     from rotaflex.core.plotting import new_figure, save_figure
     from rotaflex.core.report import expect_warning
-    from rotaflex.floating.body import uniform_beam
+    from rotaflex.floating.beam import uniform_beam
     from rotaflex.floating.model import Prescribed, Settings
     from rotaflex.floating.result import build_result
     from rotaflex.floating.solve import point_motion, simulate
@@ -570,7 +571,7 @@ def _design_checks() -> list[Check]:
     """Attitude output, moment attachment shapes, load stiffening, follower loads (all cheap)."""
     from scipy.linalg import eigh
 
-    from rotaflex.floating.body import uniform_beam
+    from rotaflex.floating.beam import uniform_beam
     from rotaflex.floating.model import Initial, Settings
     from rotaflex.floating.solve import simulate
 
