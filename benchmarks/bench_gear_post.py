@@ -61,8 +61,9 @@ def sizes() -> None:
             p = res.to_netcdf(Path(d) / "result.nc")
             size = p.stat().st_size
         mem = sum(v.nbytes for v in res.dataset.variables.values())
+        what = "coarse mesh, 0.2 deg" if TINY else "default mesh"
         print(
-            f"4000 rpm, {'coarse mesh, 0.2 deg' if TINY else 'default mesh'}, every = {every}: {res.dataset.sizes['time']} records, "
+            f"4000 rpm, {what}, every = {every}: {res.dataset.sizes['time']} records, "
             f"result.nc {size / 1e6:.1f} MB, in memory {mem / 1e6:.1f} MB "
             f"({time.perf_counter() - t:.1f} s)",
             flush=True,
