@@ -5,12 +5,17 @@ per kernel the number of specialisations (signatures compiled) and the compile t
 the kernels it compiled inside it ("self" time), largest first. Then the same command again
 with the cache now warm, for the second-run time.
 
-Run: python benchmarks/bench_compile.py [CASE ...]   (cases: see CASES; default all)
+Run: python benchmarks/bench_compile.py [CASE ...] [--tiny]   (cases: see CASES; default all)
 The printed tables are the source of the compile figures in docs/performance.md.
+
+``--tiny`` runs the ``rotor-disk`` case with numba's usual cache (warm after the first run)
+instead of an empty one: an empty cache is what this script measures, and compiling from it
+takes tens of seconds per case; tiny checks that the probe, the runs and the report work.
 """
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import subprocess
@@ -72,11 +77,14 @@ with open(out, "w") as fh:
 """
 
 
-def run(args: list[str], cache: Path) -> dict:
-    """One CLI process with numba's cache in ``cache``; its compile records and times."""
+def run(args: list[str], cache: Path | None) -> dict:
+    """One CLI process with numba's cache in ``cache`` (None: numba's usual cache); its compile
+    records and times."""
     with tempfile.TemporaryDirectory(prefix="rotaflex-compile-") as tmp:
         argv = [a.format(ex=ROOT / "examples", out=Path(tmp) / "out") for a in args]
-        env = {**os.environ, "PYTHONPATH": str(ROOT / "src"), "NUMBA_CACHE_DIR": str(cache)}
+        env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+        if cache is not None:
+            env["NUMBA_CACHE_DIR"] = str(cache)
         rec = Path(tmp) / "records.json"
         t0 = time.perf_counter()
         proc = subprocess.run(
@@ -114,7 +122,18 @@ def report(name: str, cold: dict, warm: dict) -> str:
 
 
 def main() -> None:
-    names = sys.argv[1:] or list(CASES)
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("cases", nargs="*", help="cases to run: " + ", ".join(CASES) + " (default: all)")
+    ap.add_argument("--tiny", action="store_true", help="rotor-disk on the usual numba cache (checks it runs)")
+    a = ap.parse_args()
+    if a.tiny:
+        cold = run(CASES["rotor-disk"], None)
+        warm = run(CASES["rotor-disk"], None)
+        print(report("rotor-disk (usual numba cache)", cold, warm))
+        return
+    names = a.cases or list(CASES)
+    if unknown := set(names) - set(CASES):
+        ap.error(f"unknown case(s) {', '.join(sorted(unknown))}; choose from {', '.join(CASES)}")
     for name in names:
         with tempfile.TemporaryDirectory(prefix="rotaflex-numba-cache-") as cache:
             cold = run(CASES[name], Path(cache))

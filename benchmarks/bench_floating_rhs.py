@@ -12,6 +12,8 @@ printed too: the comparison only means something when they are equal.
 Run: PYTHONPATH=src python benchmarks/bench_floating_rhs.py [REV] [--rounds 7] [--repeat 3]
 (default REV: the parent of the commit that added the inextensible kinematics, cf9d0c3^).
 Without git (or with ``--worker``) it prints the working tree's numbers only.
+``--tiny``: no revision, this tree only, in this process, each case over 0.2 s, one repeat
+(checks the script runs).
 """
 
 from __future__ import annotations
@@ -52,8 +54,9 @@ def _run(method: str, n: int, t_end: float):
     return simulate(body, loads, settings=Settings(t_end=t_end), method=method)
 
 
-def worker(repeat: int, wall: bool = False) -> dict:
-    """Best-of-``repeat`` cost per evaluation [us] of each case this tree supports."""
+def worker(repeat: int, wall: bool = False, t_span: float | None = None) -> dict:
+    """Best-of-``repeat`` cost per evaluation [us] of each case this tree supports (each over
+    its own span, or ``t_span`` [s])."""
     if not wall:  # simulate() times its integrator section with time.perf_counter: CPU time instead
         import time
         import types
@@ -69,7 +72,7 @@ def worker(repeat: int, wall: bool = False) -> dict:
             continue
         best = None
         for _ in range(repeat):
-            s = _run(method, n, t_end)
+            s = _run(method, n, t_span or t_end)
             if best is None or s.wall_time < best.wall_time:
                 best = s
         out[name] = {"us": 1e6 * best.wall_time / best.nfev, "nfev": best.nfev, "nstep": best.nstep}
@@ -138,16 +141,29 @@ def main() -> None:
     ap.add_argument("--wall", action="store_true", help="wall time instead of the process CPU time")
     ap.add_argument("--src", type=Path, help="the tree to compare (default: this checkout's src/)")
     ap.add_argument("--keep", type=Path, help="extract REV here and reuse it next time (default: a temporary dir)")
+    ap.add_argument("--tiny", action="store_true", help="this tree only, 0.2 s per case, one repeat (checks it runs)")
     a = ap.parse_args()
     if a.worker:
         print(json.dumps(worker(a.repeat, a.wall)))
+        return
+    if a.tiny:
+        print("--tiny: no comparison; this tree only, 0.2 s per case, one repeat:")
+        numbers = worker(1, a.wall, t_span=0.2)
+        this_tree(numbers)
+        if missing := set(CASES) - set(numbers):  # on this tree every case must run
+            sys.exit(f"cases that failed on this tree: {', '.join(sorted(missing))}")
         return
     try:
         compare(a.rev, a.rounds, a.repeat, a.src, a.keep, a.wall)
     except (subprocess.CalledProcessError, FileNotFoundError) as exc:
         print(f"no comparison ({exc}); this tree only:")
-        for name, v in worker(a.repeat, a.wall).items():
-            print(f"{name:40s} {v['us']:8.3f} us/evaluation, {v['nfev']} evaluations")
+        this_tree(worker(a.repeat, a.wall))
+
+
+def this_tree(numbers: dict) -> None:
+    """Print :func:`worker`'s numbers."""
+    for name, v in numbers.items():
+        print(f"{name:40s} {v['us']:8.3f} us/evaluation, {v['nfev']} evaluations")
 
 
 if __name__ == "__main__":

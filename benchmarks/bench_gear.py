@@ -11,7 +11,10 @@ speed-up and the peak / RMS difference of the contact force (reduced method: pap
 interpolated at its times). ``--rpm 20000`` for the 20000 rpm case. Last, the cost of the
 unequal drawing-pair example (examples/gear/unequal_shifted_relief.toml) over a short span.
 
-    PYTHONPATH=src python benchmarks/bench_gear.py [--coarse] [--span DEG] [--rpm RPM]
+    PYTHONPATH=src python benchmarks/bench_gear.py [--coarse] [--span DEG] [--rpm RPM] [--tiny]
+
+``--tiny``: the coarse mesh over 0.2 deg (a few hundred steps), a short warm-up and 5 repetitions
+in the step split, one reduced-method time step; checks the script runs.
 """
 
 from __future__ import annotations
@@ -37,7 +40,10 @@ def main() -> None:
     ap.add_argument("--coarse", action="store_true")
     ap.add_argument("--span", type=float, default=None, help="rotation span [deg]")
     ap.add_argument("--rpm", type=float, default=4000.0)
+    ap.add_argument("--tiny", action="store_true", help="coarse mesh, 0.2 deg, few repetitions (checks it runs)")
     args = ap.parse_args()
+    if args.tiny:
+        args.coarse, args.span = True, args.span or 0.2
     g = paper.geometry()
     mesh = build_tooth_mesh(g, **(COARSE if args.coarse else DEFAULT))
     model = dynamics.build_model(g, g, mesh, mesh, **paper.material())
@@ -74,8 +80,8 @@ def main() -> None:
         f" / {r['iter_vel'].mean():.2f} / {r['iter_acc'].mean():.2f}"
     )
     print(f"  peak contact force {r['force_peak'].max():.1f} N")
-    step_split(model, th2, ths, rpm)
-    compare(model, out, rpm, th2, ths, span)
+    step_split(model, th2, ths, rpm, *((200, 5) if args.tiny else ()))
+    compare(model, out, rpm, th2, ths, span, n_reduced=1 if args.tiny else None)
     unequal(args.span or 2.0)
 
 
@@ -235,8 +241,9 @@ def unequal(span_deg: float) -> None:
     )
 
 
-def compare(model, ref, rpm, th2, ths, span):
-    """Rows for the direct multiplier solve and the large-step method vs paper_rk4."""
+def compare(model, ref, rpm, th2, ths, span, n_reduced=None):
+    """Rows for the direct multiplier solve and the large-step method vs paper_rk4 (at most
+    ``n_reduced`` time steps of the large-step method; None: all that are stable)."""
     from rotaflex.gear.models import reduced
 
     tr, fr = ref.records["time"], ref.records["force"]
@@ -278,9 +285,8 @@ def compare(model, ref, rpm, th2, ths, span):
     red = reduced.build_reduced(model, 20)
     t_build = time.thread_time() - t0
     om = float(rpm_to_rad_s(rpm)[0])
-    for dt in (2e-6, 5e-4 / om, 5e-7, 2.5e-7):
-        if dt > reduced.time_step_limit(red, rpm_to_rad_s(rpm)):
-            continue
+    stable = [dt for dt in (2e-6, 5e-4 / om, 5e-7, 2.5e-7) if dt <= reduced.time_step_limit(red, rpm_to_rad_s(rpm))]
+    for dt in stable[:n_reduced]:
         kw = dict(speeds=rpm_to_rad_s(rpm), torque=paper.TORQUE, theta_2=th2, theta_s=ths, dt=dt)
         reduced.simulate_reduced(red, span=20 * om * dt, **kw)  # compile / cache load
         o = reduced.simulate_reduced(red, span=span, **kw)

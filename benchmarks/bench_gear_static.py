@@ -2,9 +2,12 @@
 """Gear FE/static benchmark: mesh sizes, stable dt, tooth-compliance convergence, mesh stiffness,
 ISO 6336-1 comparison, root stress and timings. Prints numbers; asserts nothing.
 
-Run: PYTHONPATH=src python benchmarks/bench_gear_static.py
+Run: PYTHONPATH=src python benchmarks/bench_gear_static.py [--tiny]
+(``--tiny``: the coarse mesh only, one refinement level, 40 samples of the mesh cycle, the
+20/40 example on the coarse mesh with 12 angles; checks the script runs.)
 """
 
+import argparse
 import math
 import time
 
@@ -32,6 +35,8 @@ from rotaflex.gear.static.tooth_analysis import (
 E, NU, RHO = paper.YOUNGS_MODULUS, paper.POISSON_RATIO, paper.DENSITY
 G = paper.geometry()
 F = paper.TORQUE / G.base_radius
+#: --tiny: the smallest sizes (set by main)
+TINY = False
 
 
 def timed(fn, *a, repeat=3, **kw):
@@ -44,6 +49,15 @@ def timed(fn, *a, repeat=3, **kw):
 
 
 def main():
+    global TINY
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--tiny", action="store_true", help="coarse mesh, one level, few samples (checks it runs)")
+    TINY = ap.parse_args().tiny
+    analyses()
+    static_command()
+
+
+def analyses():
     th_s, th_2 = contact_angles(G, G)
     print(
         f"geometry: r_b={G.base_radius:.6f} m  g_alpha={path_of_contact(G, G):.5f} m  "
@@ -51,12 +65,13 @@ def main():
         f"theta_2={math.degrees(th_2):.3f} deg  form radius={G.form_radius:.6f} m"
     )
     print("\nmesh                 elements nodes  min_edge[mm] aspect  dt_RK4[s]  build[ms] K[ms] dt[ms]")
-    for name, kw in (
+    meshes = (
         ("COARSE", COARSE),
         ("DEFAULT", DEFAULT),
         ("2x", {k: 2 * v for k, v in DEFAULT.items()}),
         ("4x", {k: 4 * v for k, v in DEFAULT.items()}),
-    ):
+    )
+    for name, kw in meshes[:1] if TINY else meshes:
         m, tb = timed(build_tooth_mesh, G, **kw)
         _, tk = timed(stiffness_matrix, m, E, NU)
         dt, td = timed(stable_time_step, m, E, NU, RHO, repeat=1)
@@ -65,13 +80,13 @@ def main():
             f"{name:20s} {m.n_elements:8d} {m.n_nodes:5d}  {q['min_edge'] * 1e3:10.3f} "
             f"{q['max_aspect_ratio']:7.2f}  {dt:.3e}  {tb * 1e3:8.1f} {tk * 1e3:5.1f} {td * 1e3:6.1f}"
         )
-    m = build_tooth_mesh(G, **DEFAULT)
+    m = build_tooth_mesh(G, **(COARSE if TINY else DEFAULT))
     print(f"  HRZ mass total {lumped_mass(m, RHO).sum() / 2:.6e} kg, min nodal {lumped_mass(m, RHO).min():.3e} kg")
 
     radii = np.array([G.form_radius * 1.001, 0.0430, G.pitch_radius, 0.0460, 0.0472])
     print("\ntooth compliance along the line of action [um/kN]: structural (centreline point) | load-point")
     print("refine  elements  " + "  ".join(f"r={r * 1e3:.2f}mm" for r in radii))
-    for k in (1, 2, 3, 4, 6):
+    for k in (1,) if TINY else (1, 2, 3, 4, 6):
         mk = build_tooth_mesh(G, **{key: k * v for key, v in DEFAULT.items()})
         c, t = timed(tooth_compliance, mk, radii, E, NU, force=F, repeat=1)
         print(
@@ -83,7 +98,7 @@ def main():
         )
 
     print("\nrim depth (modules) vs structural compliance at the pitch radius [um/kN] (sides tied)")
-    for rd in (1.0, 2.0, 3.0, 4.0):
+    for rd in (1.0,) if TINY else (1.0, 2.0, 3.0, 4.0):
         mk = build_tooth_mesh(G, n_flank=20, n_through=10, n_fillet=4, n_rim=int(4 * rd), rim_depth_coef=rd)
         c = tooth_compliance(mk, np.array([G.pitch_radius]), E, NU, force=F)
         print(f"  {rd:.0f}: {c.structural[0] * 1e9:.5f}")
@@ -94,11 +109,11 @@ def main():
     iso = iso6336_stiffness(G, G, load_per_width=22.25 / G.pitch_radius / b)
     # one-cycle mean: mesh stiffness over one base pitch (uniform samples, endpoint excluded)
     line = pair_line(G, G, m, m, center_distance_no_backlash(G, G), F, (E, NU, E, NU))
-    n_cyc = 4000
+    n_cyc = 40 if TINY else 4000
     cyc = loaded_te(line, line.s_start + G.base_pitch * np.arange(n_cyc) / n_cyc)
     k_cycle_mean = float(cyc["stiffness"].mean())
     single = ms.pair_stiffness[(ms.angle > ms.theta_2) & (ms.angle < ms.theta_s - ms.theta_2)]
-    print(f"\npair/mesh stiffness (DEFAULT mesh, {t:.2f} s):")
+    print(f"\npair/mesh stiffness ({'COARSE' if TINY else 'DEFAULT'} mesh, {t:.2f} s):")
     print(
         f"  single pair k: min {ms.pair_stiffness.min():.4e}  max {ms.pair_stiffness.max():.4e} N/m"
         f"  -> max per width {ms.pair_stiffness.max() / b / 1e6:.2f} N/(mm um)"
@@ -125,7 +140,7 @@ def main():
     )
 
     print("\nroot stress at the 30-deg tangent points, load F at r = 47.2 mm on the right flank [MPa] (left, right)")
-    for k in (1, 2, 3, 4):
+    for k in (1,) if TINY else (1, 2, 3, 4):
         mk = build_tooth_mesh(G, **{key: k * v for key, v in DEFAULT.items()})
         u = solve_static(mk, surface_load(mk, 0.0472, F, 8e-5), E, NU)
         print(f"  {k}x: {np.round(root_stress(mk, u, E, NU) / 1e6, 2)}")
@@ -141,8 +156,10 @@ def static_command():
     cfg = load_toml(Path(__file__).resolve().parents[1] / "examples/gear/unequal_shifted_relief.toml")
     print("\ngear static, examples/gear/unequal_shifted_relief.toml (20/40, x 0.25/0.1, tip relief)")
     print("preset   refinement  wall[s]  STE mean[um]  p-p[um]  p-p no relief[um]  k mean[N/um]  c'[N/(mm um)]")
-    for preset, refine in (("coarse", [1]), ("default", [1]), ("default", [1, 2]), ("fine", [1])):
-        c = dict(cfg, mesh={"preset": preset, "n_radii": 9}, analysis={"n_angles": 240, "refinement": refine})
+    runs = (("coarse", [1, 2]),) if TINY else (("coarse", [1]), ("default", [1]), ("default", [1, 2]), ("fine", [1]))
+    for preset, refine in runs:
+        n_angles = 20 if TINY else 240
+        c = dict(cfg, mesh={"preset": preset, "n_radii": 9}, analysis={"n_angles": n_angles, "refinement": refine})
         t = time.perf_counter()
         ds = run_static(c).dataset
         wall = time.perf_counter() - t
@@ -172,7 +189,7 @@ def static_command():
         " root clamp (all nodes inside the root circle tied)"
     )
     radii = np.array([0.0425, G.pitch_radius, 0.0470])
-    for k in (1, 2):
+    for k in (1,) if TINY else (1, 2):
         kw = {key: k * v for key, v in DEFAULT.items()}
         rim = tooth_compliance(build_tooth_mesh(G, **kw), radii, E, NU, force=F).structural
         clamp = tooth_compliance(build_tooth_mesh(G, **kw, support="root_circle"), radii, E, NU, force=F).structural
@@ -184,4 +201,3 @@ def static_command():
 
 if __name__ == "__main__":
     main()
-    static_command()

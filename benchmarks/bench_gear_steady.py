@@ -14,10 +14,12 @@ on 2 local worker processes and on a 2-worker ``--scheduler dask-local`` cluster
 the whole command (interpreter, pool/cluster start, 80 cases written to disk, figures) and the
 largest K_v difference from the in-process sweep above (same model and continuation order).
 
-Run: PYTHONPATH=src python benchmarks/bench_gear_steady.py [OUT_DIR] [--no-cli]
-(OUT_DIR: save figures)
+Run: PYTHONPATH=src python benchmarks/bench_gear_steady.py [OUT_DIR] [--no-cli] [--tiny]
+(OUT_DIR: save figures; ``--tiny``: the coarse tooth mesh, 10-cycle points, one repeat, 2 speeds
+in process and through the command line on 2 local workers; checks the script runs.)
 """
 
+import argparse
 import os
 import subprocess
 import sys
@@ -36,6 +38,7 @@ from rotaflex.gear.models.chain import (
 )
 from rotaflex.gear.models.mesh_stiffness import mesh_table_from_static
 from rotaflex.gear.pair.geometry import GearGeometry, contact_ratio
+from rotaflex.gear.pair.tooth_mesh import COARSE, build_tooth_mesh
 from rotaflex.gear.solvers.steady_driver import sweep_steady
 from rotaflex.gear.static.tooth_analysis import iso6336_stiffness, mesh_stiffness
 
@@ -43,9 +46,11 @@ G = GearGeometry(module=3.175e-3, teeth=28, face_width=6.35e-3, tip_radius=0.047
 TORQUE = 22.25
 
 
-def main(out_dir=None):
+def main(out_dir=None, tiny=False):
+    cycles, repeat, n_speeds = (10, 1, 2) if tiny else (50, 5, 40)
     t = time.perf_counter()
-    ms = mesh_stiffness(G, G, 210e9, 0.3, torque=TORQUE)
+    meshes = {"mesh1": build_tooth_mesh(G, **COARSE), "mesh2": build_tooth_mesh(G, **COARSE)} if tiny else {}
+    ms = mesh_stiffness(G, G, 210e9, 0.3, torque=TORQUE, **meshes)
     mesh = mesh_table_from_static(ms, G.teeth)
     print(
         f"static FE mesh stiffness table: {time.perf_counter() - t:.2f} s; one-cycle mean "
@@ -62,15 +67,15 @@ def main(out_dir=None):
         f"{60 * nf['frequency'][0] / 28:.0f} rpm, 2x {30 * nf['frequency'][0] / 28:.0f} rpm"
     )
     op = OperatingPoint(speed_rpm=10000.0, torque=TORQUE)
-    steady_state(system, op, fixed_cycles=50)  # compile / load the cached kernel
+    steady_state(system, op, fixed_cycles=cycles)  # compile / load the cached kernel
     best = np.inf
-    for _ in range(5):
+    for _ in range(repeat):
         t = time.perf_counter()
-        res, _ = steady_state(system, op, fixed_cycles=50)
+        res, _ = steady_state(system, op, fixed_cycles=cycles)
         best = min(best, time.perf_counter() - t)
     print(
-        f"one steady-state point, 50 mesh cycles, {res.dataset.attrs['samples_per_cycle']} "
-        f"steps/cycle: {best * 1e3:.1f} ms (best of 5); K_v {res.dataset['dynamic_factor'].item():.3f}"
+        f"one steady-state point, {cycles} mesh cycles, {res.dataset.attrs['samples_per_cycle']} "
+        f"steps/cycle: {best * 1e3:.1f} ms (best of {repeat}); K_v {res.dataset['dynamic_factor'].item():.3f}"
     )
     t = time.perf_counter()
     res, _ = steady_state(system, op)
@@ -79,13 +84,13 @@ def main(out_dir=None):
     eps = contact_ratio(G, G)
     iso_c = iso6336_stiffness(G, G, TORQUE / G.pitch_radius / G.face_width / 1e3)  # ISO F_t: reference circle
     iso = iso_input(system, TORQUE, G.face_width, eps, c_single=iso_c["c_single"] * 1e9, f_pb_eff=5e-6, f_f_eff=4e-6)
-    speeds = np.linspace(2000.0, 22000.0, 40)
+    speeds = np.linspace(2000.0, 22000.0, n_speeds)
     t = time.perf_counter()
     sw = sweep_steady(system, TORQUE, speeds, iso=iso)
     wall = time.perf_counter() - t
     ds = sw.dataset
     print(
-        f"40-speed up-and-down sweep (80 steady states): {wall:.2f} s; {sw.message}; "
+        f"{n_speeds}-speed up-and-down sweep ({2 * n_speeds} steady states): {wall:.2f} s; {sw.message}; "
         f"largest up/down K_v difference {sw.hysteresis():.3f}"
     )
     print(
@@ -111,35 +116,50 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "sweep" / "gear_dynamic_factor.toml"
 
 
-def cli_sweeps(reference) -> None:
-    """The example continuation sweep through ``rotaflex sweep`` on 2 processes and dask-local."""
+def cli_sweeps(reference, tiny: bool = False) -> None:
+    """The example continuation sweep through ``rotaflex sweep`` on 2 processes and dask-local,
+    at the speeds of ``reference``. ``tiny``: the coarse tooth mesh, 2 local processes only (a
+    Dask cluster's start costs more than the tiny sweep; ``bench_sweep.py --tiny`` runs one),
+    and a failed command ends the script with exit 1."""
     import xarray as xr
 
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    base = [sys.executable, "-m", "rotaflex", "sweep", str(EXAMPLE), "--vary", "operation.speed_rpm=2000:22000:40"]
+    n = reference.sizes["speed"]
+    base = [sys.executable, "-m", "rotaflex", "sweep", str(EXAMPLE), "--vary", f"operation.speed_rpm=2000:22000:{n}"]
     base += ["--vary", "model.method=lumped", "--continuation", "operation.speed_rpm", "-j", "2", "--quiet"]
+    runs = (("2 local workers", []), ("dask-local, 2 workers", ["--scheduler", "dask-local"]))
+    if tiny:
+        base += ["--vary", "model.mesh_preset=coarse"]
+        runs = runs[:1]
+        print("--tiny: coarse tooth mesh, 2 local workers only (no Dask cluster)")
     print(f"load average before: {os.getloadavg()[0]:.2f}")
     with tempfile.TemporaryDirectory() as tmp:
-        for tag, extra in (("2 local workers", []), ("dask-local, 2 workers", ["--scheduler", "dask-local"])):
+        for tag, extra in runs:
             out = Path(tmp) / tag.split()[0].replace(",", "")
             t = time.perf_counter()
             proc = subprocess.run([*base, "--out", str(out), *extra], env=env, capture_output=True, text=True)
             wall = time.perf_counter() - t
             if proc.returncode not in (0, 1):
                 print(f"rotaflex sweep ({tag}) failed: {proc.stderr.strip()[-400:]}")
+                if tiny:
+                    sys.exit(f"rotaflex sweep ({tag}) failed")
                 continue
             with xr.open_dataset(out / "sweep.nc") as ds:
                 kv = ds["dynamic_factor"].squeeze(drop=True).transpose("direction", "operation_speed_rpm").values
                 cases = float(ds["case_wall_time"].sum())
             diff = float(np.nanmax(np.abs(kv - reference.dynamic_factor.values)))
             print(
-                f"rotaflex sweep --continuation, {tag}: {wall:.1f} s for 80 cases (sum of case times "
+                f"rotaflex sweep --continuation, {tag}: {wall:.1f} s for {2 * n} cases (sum of case times "
                 f"{cases:.1f} s); max |K_v - in-process sweep| = {diff:.2e}; {proc.stdout.strip()}"
             )
 
 
 if __name__ == "__main__":
-    args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    ref = main(args[0] if args else None)
-    if "--no-cli" not in sys.argv:
-        cli_sweeps(ref)
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out_dir", nargs="?", help="save figures here")
+    ap.add_argument("--no-cli", action="store_true", help="skip the command-line sweeps")
+    ap.add_argument("--tiny", action="store_true", help="coarse mesh, 2 speeds, one repeat (checks it runs)")
+    a = ap.parse_args()
+    ref = main(a.out_dir, a.tiny)
+    if not a.no_cli:
+        cli_sweeps(ref, a.tiny)

@@ -8,7 +8,9 @@ the runner's breakdown (starting workers, running cases, of which the client wri
 files, combining), the sum of the cases' own times and the load average before and after. One
 BLAS thread (set before numpy loads).
 
-Run: python benchmarks/bench_geared_rotor.py [--sweep-only] [--speeds 40] [-j 2] [--whole]
+Run: python benchmarks/bench_geared_rotor.py [--sweep-only] [--speeds 40] [-j 2] [--whole] [--tiny]
+(``--tiny``: 5 Campbell speeds, 10 response speeds, 20-cycle steady states, one repeat, and the
+sweep over 2 speeds with 20-30 cycles each; checks the script runs.)
 """
 
 from __future__ import annotations
@@ -32,6 +34,8 @@ from rotaflex.system.steady import SteadySettings, steady_state  # noqa: E402
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "system" / "gearbox.toml"
 RPM = np.pi / 30
+#: repeats of every timing (--tiny: 1)
+REPEAT: int | None = None
 
 
 def config(source: str = "harmonic") -> dict:
@@ -61,7 +65,7 @@ def timed(fn, *a, repeat=3, **kw):
     """Best of ``repeat`` runs: CPU time of this process (what a loaded machine does not inflate;
     one BLAS thread) and wall time, printed together."""
     best, wall, out = np.inf, np.inf, None
-    for _ in range(repeat):
+    for _ in range(REPEAT or repeat):
         t0, c0 = time.perf_counter(), time.process_time()
         out = fn(*a, **kw)
         best = min(best, time.process_time() - c0)
@@ -70,7 +74,7 @@ def timed(fn, *a, repeat=3, **kw):
     return best, out
 
 
-def _sweep_child(out: str, speeds: int, jobs: int, split: bool, q) -> None:
+def _sweep_child(out: str, speeds: int, jobs: int, split: bool, q, cycles: tuple[int, int] = (20, 40)) -> None:
     """One continuation sweep in a fresh process; puts (wall, breakdown, case times, failed)."""
     import logging
 
@@ -86,7 +90,7 @@ def _sweep_child(out: str, speeds: int, jobs: int, split: bool, q) -> None:
     log.setLevel(logging.INFO)
     log.addHandler(Keep())
     cfg = {"domain": "system", "verb": "steady", **config("contact_pattern")}
-    cfg["steady"] = {"speed_rpm": 1000.0, "min_cycles": 20, "max_cycles": 40, "eval_cycles": 10}
+    cfg["steady"] = {"speed_rpm": 1000.0, "min_cycles": cycles[0], "max_cycles": cycles[1], "eval_cycles": 10}
     t0 = time.perf_counter()
     res = sweep_config(
         cfg, [f"steady.speed_rpm=1000:5000:{speeds}"], out, jobs, continuation="steady.speed_rpm", split_down=split
@@ -98,8 +102,9 @@ def _sweep_child(out: str, speeds: int, jobs: int, split: bool, q) -> None:
     q.put((wall, breakdown, times, res.n_failed, float(np.nanmax(cycles))))
 
 
-def sweep(speeds: int = 40, jobs: int = 2, split: bool = True) -> None:
-    """The up/down continuation sweep in a spawned process; CPU of its whole process tree."""
+def sweep(speeds: int = 40, jobs: int = 2, split: bool = True, cycles: tuple[int, int] = (20, 40)) -> None:
+    """The up/down continuation sweep in a spawned process; CPU of its whole process tree
+    (``cycles``: the fewest and most mesh cycles per steady state)."""
     import multiprocessing as mp
     import queue
     import tempfile
@@ -110,7 +115,7 @@ def sweep(speeds: int = 40, jobs: int = 2, split: bool = True) -> None:
     ctx = mp.get_context("spawn")
     q = ctx.Queue()
     load0 = os.getloadavg()
-    p = ctx.Process(target=_sweep_child, args=(str(out), speeds, jobs, split, q))
+    p = ctx.Process(target=_sweep_child, args=(str(out), speeds, jobs, split, q, cycles))
     p.start()
     root = psutil.Process(p.pid)
     cpu: dict[int, float] = {}
@@ -151,25 +156,30 @@ def main() -> None:
     ap.add_argument("--speeds", type=int, default=40)
     ap.add_argument("-j", "--jobs", type=int, default=2)
     ap.add_argument("--whole", action="store_true", help="whole up/down chains instead of --split-down")
+    ap.add_argument("--tiny", action="store_true", help="few speeds and cycles, one repeat (checks it runs)")
     args = ap.parse_args()
+    global REPEAT
+    REPEAT = 1 if args.tiny else None
     if not args.sweep_only:
-        solvers()
+        solvers(args.tiny)
     if not args.no_sweep:
-        sweep(args.speeds, args.jobs, not args.whole)
+        speeds = 2 if args.tiny else args.speeds
+        sweep(speeds, args.jobs, not args.whole, (20, 30) if args.tiny else (20, 40))
 
 
-def solvers() -> None:
+def solvers(tiny: bool = False) -> None:
     box = model()
+    n_camp, n_resp, cycles = (5, 10, 20) if tiny else (50, 500, 40)
     print(f"model: 2 rotors x 20 elements, {box.n_dof} DOFs, one mesh")
-    sp = np.linspace(0.0, 6000.0, 50) * RPM
+    sp = np.linspace(0.0, 6000.0, n_camp) * RPM
     t, c = timed(campbell, box, sp, 16)
     tf, cf = timed(campbell, box, sp, 16, reduce=False, repeat=1)
     d = np.max(np.abs(np.sort(c.modes.wd, 1) - np.sort(cf.modes.wd, 1)) / np.sort(cf.modes.wd, 1))
     print(
-        f"campbell 50 speeds x 16 modes: {t:.3f} s reduced (target <= 1 s), {tf:.3f} s all DOFs; "
+        f"campbell {n_camp} speeds x 16 modes: {t:.3f} s reduced (target <= 1 s), {tf:.3f} s all DOFs; "
         f"max relative frequency difference {d:.1e}"
     )
-    sp = np.linspace(100.0, 6000.0, 500) * RPM
+    sp = np.linspace(100.0, 6000.0, n_resp) * RPM
     t, r = timed(forced_response, box, sp, harmonics=3, probes=[(0, 10), (1, 10)])
     tf, rf = timed(forced_response, box, sp, harmonics=3, probes=[(0, 10), (1, 10)], cutoff=None, repeat=1)
     errs = {
@@ -177,16 +187,16 @@ def solvers() -> None:
         for k in ("dte", "mesh_force", "bearing_force")
     }
     print(
-        f"TE response 500 speeds x 3 harmonics: {t:.3f} s reduced (target <= 1 s), {tf:.3f} s all DOFs; "
+        f"TE response {n_resp} speeds x 3 harmonics: {t:.3f} s reduced (target <= 1 s), {tf:.3f} s all DOFs; "
         "max difference / peak: " + ", ".join(f"{k} {v:.1e}" for k, v in errs.items())
     )
-    st = SteadySettings(min_cycles=40, max_cycles=40, check_every=40, eval_cycles=10)
+    st = SteadySettings(min_cycles=cycles, max_cycles=cycles, check_every=cycles, eval_cycles=10)
     steady_state(box, 300.0, st)  # compile / load the kernel cache
     for source in ("harmonic", "contact_pattern"):
         b = model(source)
         t, s = timed(steady_state, b, 300.0, st)
         print(
-            f"steady state, {source} mesh, 50 mesh cycles at 2865 rpm: {t:.3f} s (target <= 0.5 s); "
+            f"steady state, {source} mesh, {cycles + 10} mesh cycles at 2865 rpm: {t:.3f} s (target <= 0.5 s); "
             f"{s.steps_per_cycle} steps/cycle, basis {s.basis_size}, energy balance error {s.energy_error:.1e}"
         )
 

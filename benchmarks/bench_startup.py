@@ -12,8 +12,9 @@ Targets (issue 25): ``--help`` <= 0.2 s, ``rotor campbell`` on the Friswell exam
 the rotor disk's first solve <= 0.1 s as reported, numba not imported by verbs that compile
 nothing. Bytecode is cached as an installed package's is (PYTHONDONTWRITEBYTECODE is unset).
 
-Run: python benchmarks/bench_startup.py [--tree DIR] [--repeats N] [--importtime VERB | --phases VERB]
-(``benchmarks/compare.py`` uses these functions to compare two revisions.)
+Run: python benchmarks/bench_startup.py [--tree DIR] [--repeats N] [--importtime VERB | --phases VERB] [--tiny]
+(``benchmarks/compare.py`` uses these functions to compare two revisions; ``--tiny``: the ``help``
+verb only, one repeat, checks the script runs.)
 """
 
 from __future__ import annotations
@@ -220,7 +221,11 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--importtime", choices=list(VERBS), help="print the slowest imports of this verb and stop")
     ap.add_argument("--phases", choices=list(VERBS), help="print where this verb's process time goes and stop")
+    ap.add_argument("--tiny", action="store_true", help="the help verb, one repeat (checks it runs)")
     a = ap.parse_args()
+    verbs = {"help": VERBS["help"]} if a.tiny else VERBS
+    if a.tiny:
+        a.repeats = 1
     tree = a.tree.resolve()
     if a.importtime:
         print(importtime(VERBS[a.importtime], tree))
@@ -228,7 +233,7 @@ def main() -> None:
     if a.phases:
         print(phases(VERBS[a.phases], tree, a.repeats))
         return
-    for name, args in VERBS.items():
+    for name, args in verbs.items():
         run_process(args, tree)  # warm-up: bytecode, OS file cache, cached rotor equations
         runs = [run_process(args, tree) for _ in range(a.repeats)]
         loaded = run_process(args, tree, probe=True)

@@ -2,6 +2,7 @@
 
     PYTHONPATH=src python benchmarks/bench_sweep_chains.py [--example gear|system] [--speeds 40] [-j 2]
     PYTHONPATH=src python benchmarks/bench_sweep_chains.py --base DIR [--rounds 3] [--modes split]
+    PYTHONPATH=src python benchmarks/bench_sweep_chains.py --tiny
 
 ``gear``: examples/sweep/gear_dynamic_factor.toml over operation.speed_rpm 2000-22000 rpm;
 ``system``: examples/system/gearbox.toml with the ``steady`` verb over steady.speed_rpm
@@ -26,6 +27,9 @@ the gear example, 42 variables), xarray's own ``to_netcdf`` against rotaflex's
 alternated ``--rounds`` x 10 times each; and the CPU time of the whole ``Result.save`` without
 figures (what a sweep writes per case).
 
+``--tiny``: the gear example over 2 speeds on the coarse tooth mesh, whole and split chains on
+``-j`` processes (checks the script runs; no second tree).
+
 Numbers depend on the machine's load: the load average is printed beside them.
 """
 
@@ -49,6 +53,8 @@ EXAMPLES = {
 
 #: fixed overrides (as in docs/geared-rotor.md's measurement: 50 mesh cycles per steady state)
 EXTRA = {"system": ["steady.max_cycles=50"]}
+#: --tiny: overrides of the gear example (the coarse FE tooth mesh)
+TINY_EXTRA = ["model.mesh_preset=coarse"]
 
 
 def _config(example: str, root: Path = ROOT) -> dict:
@@ -68,20 +74,21 @@ def _cpu() -> float:
     return me.ru_utime + me.ru_stime
 
 
-def _run(example: str, speeds: int, jobs: int, split: bool, out: Path, tree: Path = ROOT):
-    """One sweep in a fresh process, with rotaflex and the example from ``tree``."""
+def _run(example: str, speeds: int, jobs: int, split: bool, out: Path, tree: Path = ROOT, extra: tuple = ()):
+    """One sweep in a fresh process, with rotaflex and the example from ``tree`` (``extra``:
+    more overrides)."""
     import multiprocessing as mp
 
     ctx = mp.get_context("spawn")
     q = ctx.Queue()
-    p = ctx.Process(target=_child, args=(example, speeds, jobs, split, str(out), q, str(tree)))
+    p = ctx.Process(target=_child, args=(example, speeds, jobs, split, str(out), q, str(tree), list(extra)))
     p.start()
     res = q.get()
     p.join()
     return res
 
 
-def _child(example, speeds, jobs, split, out, q, tree=str(ROOT)) -> None:
+def _child(example, speeds, jobs, split, out, q, tree=str(ROOT), extra=()) -> None:
     import sys
 
     sys.path.insert(0, str(Path(tree) / "src"))  # before rotaflex is imported here or by the pool
@@ -100,7 +107,7 @@ def _child(example, speeds, jobs, split, out, q, tree=str(ROOT)) -> None:
     t0, c0 = time.perf_counter(), _cpu()
     res = sweep_config(
         _config(example, Path(tree)),
-        [f"{key}={lo:g}:{hi:g}:{speeds}", *EXTRA.get(example, [])],
+        [f"{key}={lo:g}:{hi:g}:{speeds}", *EXTRA.get(example, []), *extra],
         out,
         jobs,
         continuation=key,
@@ -231,7 +238,11 @@ def main() -> None:
     ap.add_argument("--base", help="a second tree (src/, examples/) to run interleaved with this one")
     ap.add_argument("--rounds", type=int, default=3, help="--base, netcdf: rounds of paired runs")
     ap.add_argument("--modes", default="whole,split", help="--base: modes to run (whole, split)")
+    ap.add_argument("--tiny", action="store_true", help="gear example, 2 speeds, coarse mesh (checks it runs)")
     args = ap.parse_args()
+    extra = ()
+    if args.tiny:
+        args.example, args.speeds, args.base, extra = "gear", 2, None, TINY_EXTRA
     root = Path(tempfile.mkdtemp(prefix="bench_chains_"))
     if args.base:
         print(f"{args.example}: {args.speeds} speeds up and down, -j {args.jobs}, this tree vs {args.base}")
@@ -249,7 +260,9 @@ def main() -> None:
     for split in (False, True):
         tag = "split" if split else "whole"
         load = os.getloadavg()[0]
-        wall, cpu, failed, breakdown, busy, down, wcpu = _run(args.example, args.speeds, args.jobs, split, root / tag)
+        wall, cpu, failed, breakdown, busy, down, wcpu = _run(
+            args.example, args.speeds, args.jobs, split, root / tag, extra=extra
+        )
         runs[tag] = down
         print(
             f"  {tag:5s}: {wall:6.1f} s wall, client CPU {cpu:5.1f} s, workers' CPU {wcpu:5.1f} s, sum of case "

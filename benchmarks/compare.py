@@ -13,7 +13,10 @@ loaded machine wall time is noisy; CPU time less so; the paired ratio is the num
 
 Run: python benchmarks/compare.py REV [-n 7] [--bench help,campbell,disk]
      python benchmarks/compare.py 9eff67c --cmd "spinup=floating simulate {ex}/floating/spinup_beam.toml --out {out}"
-(``{ex}``: the tree's examples/, ``{out}``: a fresh output directory.)
+     python benchmarks/compare.py --tiny
+(``{ex}``: the tree's examples/, ``{out}``: a fresh output directory. ``--tiny``: no revision is
+checked out; the working tree is paired with itself on ``help``, one repeat (checks the script
+runs; the ratio is then ~1 by construction).)
 """
 
 from __future__ import annotations
@@ -98,13 +101,21 @@ def table(runs: dict, names: list[str]) -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("rev", help="git revision to compare the working tree with (e.g. main, 9eff67c)")
+    ap.add_argument("rev", nargs="?", help="git revision to compare the working tree with (e.g. main, 9eff67c)")
     ap.add_argument("-n", "--repeats", type=int, default=7, help="paired repeats per benchmark (default 7)")
     ap.add_argument("--bench", default=",".join(DEFAULT), help="comma-separated: " + ", ".join(BENCHMARKS))
     ap.add_argument(
         "--cmd", action="append", default=[], metavar="NAME=ARGS", help="an extra benchmark: rotaflex arguments"
     )
+    ap.add_argument("--tiny", action="store_true", help="the working tree against itself on help, 1 repeat")
     a = ap.parse_args()
+    if a.tiny:
+        runs = measure({"help": BENCHMARKS["help"]}, {"working": ROOT, "again": ROOT}, 1, lambda m: None)
+        print("--tiny: the working tree paired with itself, 1 repeat")
+        print(table(runs, ["working", "again"]))
+        return
+    if a.rev is None:
+        ap.error("REV is required (or --tiny)")
     benches = {}
     for name in filter(None, a.bench.split(",")):
         if name not in BENCHMARKS:
