@@ -33,32 +33,22 @@ log = logging.getLogger("rotaflex.reproduce")
 #: the idle 2-core development machine with two sections at a time (2026-11-26, 118 checks,
 #: 67.2 s in all; the sweep section's own pool then has one process)
 MEASURED_FAST_S: dict[str, float] = {"rotor": 8.4, "gear": 65.7, "floating": 15.8, "geared_rotor": 3.5, "sweep": 20.5}
-#: ``--fast`` wall time of each target before its fast settings were cut down [s] (idle machine,
-#: 2026-11-26); the full settings did not change, so the full-time estimate scales these
-FAST_BEFORE_CUTS_S: dict[str, float] = {
-    "rotor": 16.7,
-    "gear": 95.0,
-    "floating": 22.5,
-    "geared_rotor": 5.4,
-    "sweep": 32.7,
-}
-#: full settings over ``--fast``, from the two totals last measured together on that machine
-#: (214 s / 75.2 s); applied to :data:`FAST_BEFORE_CUTS_S`
-FULL_OVER_FAST = 214.0 / 75.2
+#: full-settings time of each target [s], kernels and equations cached: the CPU time each
+#: section reported in a serial run (``--jobs 0``) of ``reproduce all`` on the 2-core machine
+#: (2026-11-28, 121 checks); a section runs on one core, so its CPU time is its wall time on a
+#: free core
+MEASURED_FULL_S: dict[str, float] = {"rotor": 16.6, "gear": 138.8, "floating": 73.4, "geared_rotor": 5.3, "sweep": 32.1}
 #: extra time of the first run after install [s]: sympy deriving the rotor equations, numba
-#: compiling the gear and floating kernels (all cached afterwards). Gear and floating: the
-#: compile times ``reproduce all --fast`` reported in a fresh clone with an empty numba cache
-#: on the idle 2-core machine (2026-11-26; 149 s wall in all against 67 s cached); rotor: its
-#: section with an empty equation cache (``ROTAFLEX_CACHE_DIR``) minus with a full one, same day
-#: and machine (15.1 - 8.4 s)
-FIRST_RUN_S: dict[str, float] = {"rotor": 7.0, "gear": 66.0, "floating": 33.0}
+#: compiling the kernels (all cached afterwards): the CPU time of each section in the first
+#: serial run after install minus that of the second (same day and machine as
+#: :data:`MEASURED_FULL_S`); rotor: its section with an empty equation cache minus a full one
+#: (2026-11-26)
+FIRST_RUN_S: dict[str, float] = {"rotor": 7.0, "gear": 94.1, "floating": 61.5, "geared_rotor": 12.5}
 
 
 def expected_seconds(name: str, fast: bool) -> float:
     """Expected wall time of one reproduce target [s] (kernels cached)."""
-    if fast:
-        return MEASURED_FAST_S.get(name, 30.0)
-    return FAST_BEFORE_CUTS_S.get(name, 30.0) * FULL_OVER_FAST
+    return (MEASURED_FAST_S if fast else MEASURED_FULL_S).get(name, 30.0)
 
 
 def cpu_seconds() -> float:
