@@ -215,6 +215,46 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
         raise typer.Exit(1) from None
 
 
+#: warnings that mean a number of the answer is not to be trusted: an ill-conditioned solve
+#: (scipy's LinAlgWarning), an overflow or a 0/0 (numpy's RuntimeWarning with these words);
+#: printed before the one-line summary they were noise, now they fail the result
+NUMERIC_WARNINGS = {"LinAlgWarning": (), "RuntimeWarning": ("overflow", "invalid value")}
+
+
+class numeric_warnings:
+    """Collect the warnings of a run instead of printing them (a context manager yielding the list)."""
+
+    def __enter__(self) -> list:
+        import warnings
+
+        self._ctx = warnings.catch_warnings(record=True)
+        caught = self._ctx.__enter__()
+        warnings.simplefilter("always")
+        return caught
+
+    def __exit__(self, *exc) -> bool:
+        self._ctx.__exit__(*exc)
+        return False
+
+
+def flag_numeric_warnings(result, caught: list) -> None:
+    """A successful ``result`` during whose run numpy or scipy warned of a number it could not
+    trust becomes ``failed_check`` naming the first such warning (its line, without the path)."""
+
+    def numeric(w) -> bool:
+        words = NUMERIC_WARNINGS.get(w.category.__name__)
+        return words is not None and (not words or any(x in str(w.message) for x in words))
+
+    bad = [w for w in caught if numeric(w)]
+    if bad and getattr(result, "status", None) == "success" and hasattr(result, "failed_check"):
+        w = bad[0]
+        text = str(w.message).splitlines()[0] if str(w.message) else ""
+        where = f"{Path(w.filename).parent.name}/{Path(w.filename).name}:{w.lineno}"
+        result.failed_check(
+            "numerics", f"{w.category.__name__} in {where}: {text}", "no overflow, 0/0 or singular solve"
+        )
+
+
 def _figure_options(fmt: str, dpi: int) -> None:
     from rotaflex.core.plotting import FORMATS
 
@@ -434,11 +474,12 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
                 validate(domain, body)
             say = None if quiet else (lambda m: typer.echo(m, err=True))
             with claim_out_dir(out_dir):
-                with _limit_threads(), CompileTimer(say) as compiling:
+                with _limit_threads(), CompileTimer(say) as compiling, numeric_warnings() as caught:
                     fn = command(domain, verb)  # the verb's modules: imported with collection paused
                     resume()  # the verb's own objects are collected as usual
                     # bars only on a terminal (a log would get every redraw)
                     result = fn(body, progress=not quiet)  # bar or log lines
+                flag_numeric_warnings(result, caught)
                 if say and compiling.seconds >= 0.5:
                     say(f"numba kernels compiled in {compiling.seconds:.1f} s (first run only; cached afterwards)")
                 # through the dataset and configure(): domain results may override save(out, figures=)
@@ -448,7 +489,8 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
                 paths = result.save(out_dir, figures=not no_figures)
                 resume()
             typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out_dir}")
-            if result.status != "success":
+            if result.status != "success":  # stdout says what was written, stderr why it failed
+                typer.echo(f"error: {result.status}: {result.message} (result kept in {out_dir})", err=True)
                 raise typer.Exit(1)
 
         guarded(go, debug)

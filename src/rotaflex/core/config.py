@@ -173,7 +173,10 @@ def from_mapping(cls: type[T], data: Any, where: str = "") -> T:
             kwargs[name] = _convert(data[name], hints[name], f.metadata, f"{prefix}{name}")
         elif f.default is _MISSING and f.default_factory is _MISSING:
             raise InputError(f"{prefix}{name}", "<missing>", f"a value{_range_text(f.metadata)} (required)")
-    return cls(**kwargs)
+    try:
+        return cls(**kwargs)
+    except InputError as exc:  # checks in __post_init__ name keys relative to this table
+        raise exc.relocated(where) from None
 
 
 def unknown_key(field: str, value: Any, allowed: Sequence[str]) -> InputError:
@@ -204,35 +207,38 @@ def to_mapping(obj: Any) -> dict[str, Any]:
 MAX_CONFIG_BYTES = 4 * 2**20
 
 
-def load_toml(path: str | Path) -> dict[str, Any]:
+def load_toml(path: str | Path, field: str = "config", typed: str | None = None) -> dict[str, Any]:
     """Read a TOML file (at most :data:`MAX_CONFIG_BYTES`), every failure an :class:`InputError`.
 
     Refused with the file named: missing, a directory, unreadable, too large (or endless, like
-    ``/dev/zero``), not UTF-8, not valid TOML, nested too deeply.
+    ``/dev/zero``), not UTF-8, not valid TOML, nested too deeply. ``field`` is the key that named
+    the file (``"gear_mesh[0].pair_file"``), ``"config"`` for the file given on the command line;
+    ``typed`` the path as written there when ``path`` was resolved from it.
     """
-    text_path = str(path)
+    text_path = str(path) if typed is None else typed
     path = Path(path)
     try:
         with path.open("rb") as fh:
             raw = fh.read(MAX_CONFIG_BYTES + 1)
     except FileNotFoundError:
-        raise InputError("config", text_path, "an existing TOML file") from None
+        where = "" if str(path) == text_path else f" (looked for {path})"
+        raise InputError(field, text_path, f"an existing TOML file{where}") from None
     except IsADirectoryError:
-        raise InputError("config", text_path, "a TOML file, not a directory") from None
+        raise InputError(field, text_path, "a TOML file, not a directory") from None
     except OSError as exc:
-        raise InputError("config", text_path, f"a readable TOML file ({exc.strerror})") from None
+        raise InputError(field, text_path, f"a readable TOML file ({exc.strerror})") from None
     if len(raw) > MAX_CONFIG_BYTES:
-        raise InputError("config", text_path, f"a TOML file of at most {MAX_CONFIG_BYTES // 2**20} MiB")
+        raise InputError(field, text_path, f"a TOML file of at most {MAX_CONFIG_BYTES // 2**20} MiB")
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise InputError("config", text_path, f"a UTF-8 text file (byte {exc.start} is not UTF-8)") from None
+        raise InputError(field, text_path, f"a UTF-8 text file (byte {exc.start} is not UTF-8)") from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError("config", text_path, f"valid TOML ({exc})") from None
+        raise InputError(field, text_path, f"valid TOML ({exc})") from None
     except RecursionError:
-        raise InputError("config", text_path, "TOML nested less deeply (arrays/tables nested too deep)") from None
+        raise InputError(field, text_path, "TOML nested less deeply (arrays/tables nested too deep)") from None
 
 
 def budget(field: str, value: Any, estimate: float, limit: float, what: str) -> None:

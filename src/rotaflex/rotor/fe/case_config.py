@@ -12,6 +12,7 @@ import numpy as np
 
 from rotaflex.core.config import from_mapping, param, unknown_key
 from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.bounds import check_frequencies, check_speeds
 from rotaflex.rotor.fe.model import ROTOR_KEYS, RPM, Bearing, Disk, Material, PointMass, Rotor, Shaft
 
 __all__ = [
@@ -236,6 +237,10 @@ def parse(config: dict, analysis: str):
         rotor = rotor.resolved if same else _resolve_static_loads(rotor, st)
     spec = from_mapping(ANALYSES[analysis], config.get(analysis, {}), analysis)
     _check_size(rotor, spec, analysis)
+    check_speeds(rotor, st, "static")
+    check_speeds(rotor, spec, analysis)
+    if hasattr(spec, "frequency_hz"):
+        check_frequencies(rotor, f"{analysis}.frequency_hz", spec.frequency_hz)
     return rotor, spec
 
 

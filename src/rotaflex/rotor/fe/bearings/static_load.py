@@ -21,6 +21,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.model import bearing_path
 
 RPM = np.pi / 30.0
 
@@ -119,7 +120,11 @@ def resolve_static_loads(
     total = float(np.hypot(*applied))
     if total <= 0:
         i = idx[0]
-        raise InputError(f"bearing[{i}].fluid_film.load", "static", "an explicit [Fx, Fy]: no gravity and no load")
+        raise InputError(
+            f"{bearing_path(i, rotor.bearing[i])}.fluid_film.load",
+            "static",
+            "an explicit [Fx, Fy]: no gravity and no load",
+        )
     current = np.tile(applied / nb, (nb, 1))  # journal loads on the bearings [N]; shared equally to start
     for b in range(nb):
         if b not in idx and rotor.bearing[b].fluid_film is not None:
@@ -129,7 +134,7 @@ def resolve_static_loads(
         for i in idx:
             if np.hypot(*current[i]) <= 1e-9 * total:
                 raise InputError(
-                    f"bearing[{i}].fluid_film.load",
+                    f"{bearing_path(i, rotor.bearing[i])}.fluid_film.load",
                     "static",
                     f"an explicit [Fx, Fy]: the static analysis leaves this bearing unloaded "
                     f"({np.hypot(*current[i]):.3g} N of {total:.6g} N), and a film cannot hold an unloaded journal",
@@ -144,7 +149,7 @@ def resolve_static_loads(
         if change <= tol:
             return StaticLoads(_with_loads(rotor, current, idx, None), current, it, change, speed)
     raise InputError(
-        f"bearing[{worst}].fluid_film.load",
+        f"{bearing_path(worst, rotor.bearing[worst])}.fluid_film.load",
         "static",
         f"an explicit [Fx, Fy]: the static-load iteration (reactions -> coefficients at {speed / RPM:.6g} rpm -> "
         f"static analysis) did not converge in {max_iter} passes (last change {change:.3g} of the total load "
