@@ -7,6 +7,7 @@ physically (exit 2, the key as written), and an answer that fails its own checks
 
 import math
 
+import numpy as np
 import pytest
 from _cli import edited, verb_on
 
@@ -74,3 +75,71 @@ def test_ill_conditioned_solve_is_failed_check_without_warnings(capsys, tmp_path
 
     code, line = verb_on(capsys, tmp_path, "rotor modal", edited(FRISWELL, heavy))
     assert code == 1 and "check 'numerics' failed: LinAlgWarning" in line, line
+
+
+FILM = "rotor/fe_fluid_film.toml"
+PADS = "rotor/fe_fluid_film_tilting_pad.toml"
+
+
+def _film(key, value, names=("left",)):
+    def edit(d):
+        for name in names:
+            d["bearing"][name]["fluid_film"][key] = value
+
+    return edit
+
+
+FILM_REFUSED = [
+    (FILM, _film("viscosity", 1e12), "bearing.left.fluid_film.viscosity = 1000000000000.0"),
+    (FILM, _film("load", [0.0, -1e-300]), "bearing.left.fluid_film.load = [0.0, -1e-300]"),
+    (FILM, _film("n_speeds", 1_000_000), "bearing.left.fluid_film.n_speeds = 1000000"),
+    (FILM, _film("n_theta", 10_000_000), "bearing.left.fluid_film.n_theta = 10000000"),
+    (FILM, _film("n_z", 1_000_000), "bearing.left.fluid_film.n_z = 1000000"),
+]
+
+
+@pytest.mark.parametrize(("rel", "edit", "start"), FILM_REFUSED, ids=[r[2].split(" =")[0] for r in FILM_REFUSED])
+def test_fluid_film_refused_before_computing(capsys, tmp_path, rel, edit, start):
+    """Was an internal RuntimeError (1e12 Pa s, 1e-300 N) or ran until killed (1e6 speeds, 1e7
+    grid nodes); now refused in well under a second, before any film is solved."""
+    import time
+
+    t0 = time.perf_counter()
+    code, line = verb_on(capsys, tmp_path, "rotor static", edited(rel, edit))
+    assert code == 2 and line.startswith("error: " + start), line
+    assert time.perf_counter() - t0 < 10
+
+
+def test_tilting_pad_preload_refused_on_the_preload(capsys, tmp_path):
+    """Preload 0.999 of an 80 um pad clearance leaves 80 nm: below the roughness of the surfaces.
+    Was internal ValueError; now the preload is named (exit 2)."""
+    code, line = verb_on(capsys, tmp_path, "rotor static", edited(PADS, _film("preload", 0.999, ("left", "right"))))
+    assert code == 2 and line.startswith("error: bearing.left.fluid_film.preload = 0.999 "), line
+
+
+def test_tilting_pad_high_preload_runs(capsys, tmp_path):
+    """Preload 0.9 (8 um assembled clearance) is physical: it runs (was internal ValueError: the
+    equilibrium search started outside the preloaded pads)."""
+    from _cli import dump, run
+
+    path = tmp_path / "case.toml"
+    path.write_text(dump(edited(PADS, _film("preload", 0.9, ("left", "right")))))
+    code, out, err = run(capsys, "rotor", "static", path, "--out", tmp_path / "o", "-q", "--no-figures")
+    assert code == 0 and err == "", err
+
+
+def test_fluid_film_tables_of_different_lengths_are_padded(capsys, tmp_path):
+    """docs: a shorter table is padded with NaN (was internal AlignmentError)."""
+    import xarray as xr
+    from _cli import dump, run
+
+    path = tmp_path / "case.toml"
+    path.write_text(dump(edited(FILM, _film("n_speeds", 20, ("right",)))))
+    code, _, err = run(capsys, "rotor", "static", path, "--out", tmp_path / "o", "-q")
+    assert code == 0 and err == "", err
+    with xr.open_dataset(tmp_path / "o" / "result.nc") as ds:
+        rpm = ds["ff_speed_rpm"].sel(fluid_film="right").values
+        assert ds.sizes["ff_speed"] == 50
+        assert np.all(np.isfinite(rpm[:20])) and np.all(np.isnan(rpm[20:]))
+        assert rpm[0] == pytest.approx(500) and rpm[19] == pytest.approx(12000)  # the table's own range
+        assert np.all(np.isfinite(ds["ff_speed_rpm"].sel(fluid_film="left").values))

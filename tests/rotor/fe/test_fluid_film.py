@@ -256,13 +256,13 @@ def test_example_config_feeds_the_bearing_table_to_the_rotor():
 @pytest.mark.parametrize(
     "change, field",
     [
-        ({"kxx": 1e6}, "bearing[0].kxx"),
-        ({"fluid_film": {"n_z": 7}}, "bearing[0].fluid_film.n_z"),
-        ({"fluid_film": {"clearance": 60.0}}, "bearing[0].fluid_film.clearance"),
-        ({"fluid_film": {"load": [0.0, 0.0]}}, "bearing[0].fluid_film.load"),
-        ({"fluid_film": {"speed_rpm": [900.0, 500.0]}}, "bearing[0].fluid_film.speed_rpm"),
-        ({"fluid_film": {"load": [0.0, -4e5]}}, "bearing[0].fluid_film.speed_rpm"),
-        ({"fluid_film": {"viscosity": -1.0}}, "bearing[0].fluid_film.viscosity"),
+        ({"kxx": 1e6}, "bearing.left.kxx"),
+        ({"fluid_film": {"n_z": 7}}, "bearing.left.fluid_film.n_z"),
+        ({"fluid_film": {"clearance": 60.0}}, "bearing.left.fluid_film.clearance"),
+        ({"fluid_film": {"load": [0.0, 0.0]}}, "bearing.left.fluid_film.load"),
+        ({"fluid_film": {"speed_rpm": [900.0, 500.0]}}, "bearing.left.fluid_film.speed_rpm"),
+        ({"fluid_film": {"load": [0.0, -4e5]}}, "bearing.left.fluid_film.speed_rpm"),
+        ({"fluid_film": {"viscosity": -1.0}}, "bearing.left.fluid_film.viscosity"),
     ],
 )
 def test_bad_fluid_film_input_names_the_field(change, field):
