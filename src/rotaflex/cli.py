@@ -222,29 +222,55 @@ NUMERIC_WARNINGS = {"LinAlgWarning": (), "RuntimeWarning": ("overflow", "invalid
 
 
 class numeric_warnings:
-    """Collect the warnings of a run instead of printing them (a context manager yielding the list)."""
+    """Hold the warnings and log records of a run instead of printing them (a context manager
+    yielding the list of warnings): the run's outcome is one line; the log records of a run
+    that succeeds are printed after it (:func:`flag_numeric_warnings`), else dropped."""
 
     def __enter__(self) -> list:
+        import logging
         import warnings
 
         self._ctx = warnings.catch_warnings(record=True)
         caught = self._ctx.__enter__()
         warnings.simplefilter("always")
+        self.records: list = []
+        self._handlers = list(logging.getLogger().handlers)
+        for h in self._handlers:
+            h.addFilter(self._hold)
+        caught.append(self)  # the held records travel with the list
         return caught
+
+    def _hold(self, record) -> bool:
+        if not any(r is record for r in self.records):
+            self.records.append(record)
+        return False
 
     def __exit__(self, *exc) -> bool:
         self._ctx.__exit__(*exc)
+        for h in self._handlers:
+            h.removeFilter(self._hold)
         return False
+
+    def release(self) -> None:
+        """Print the held log records (once)."""
+        records, self.records = self.records, []
+        for r in records:
+            for h in self._handlers:
+                if r.levelno >= h.level:
+                    h.handle(r)
 
 
 def flag_numeric_warnings(result, caught: list) -> None:
     """A successful ``result`` during whose run numpy or scipy warned of a number it could not
-    trust becomes ``failed_check`` naming the first such warning (its line, without the path)."""
+    trust becomes ``failed_check`` naming the first such warning (its line, without the path);
+    the run's log records are printed if it still succeeds."""
 
     def numeric(w) -> bool:
         words = NUMERIC_WARNINGS.get(w.category.__name__)
         return words is not None and (not words or any(x in str(w.message) for x in words))
 
+    held = [w for w in caught if isinstance(w, numeric_warnings)]
+    caught = [w for w in caught if not isinstance(w, numeric_warnings)]
     bad = [w for w in caught if numeric(w)]
     if bad and getattr(result, "status", None) == "success" and hasattr(result, "failed_check"):
         w = bad[0]
@@ -253,6 +279,9 @@ def flag_numeric_warnings(result, caught: list) -> None:
         result.failed_check(
             "numerics", f"{w.category.__name__} in {where}: {text}", "no overflow, 0/0 or singular solve"
         )
+    if getattr(result, "status", None) == "success":
+        for h in held:
+            h.release()
 
 
 def _figure_options(fmt: str, dpi: int) -> None:

@@ -93,3 +93,71 @@ def test_relocated_keeps_paths_of_the_whole_file():
     e = InputError("bearing[0].fluid_film.viscosity", 0.0, "x").relocated("", {"bearing[0]": "bearing.left"})
     assert e.field == "bearing.left.fluid_film.viscosity"
     assert InputError("rotor[1].x", 1, "y").relocated("rotor[1]").field == "rotor[1].x"  # already absolute
+
+
+def test_default_tool_round_adapts_to_a_25_degree_rack():
+    """Pressure angle 25 deg (allowed) was refused as ``pinion.rack_tip_radius_coef = 0.38``, a
+    key the user never wrote. The default now becomes the full round of the rack tip, which
+    for the ISO 53 rack (dedendum 1.25 m) is rho/m = (pi/4 - 1.25 tan a) cos a / (1 - sin a)."""
+    import math
+
+    from rotaflex.gear.pair.drawing import pair_from_mapping
+
+    gear = {"module": 2e-3, "face_width": 0.02, "pressure_angle_deg": 25.0}
+    pair = pair_from_mapping({"pinion": {**gear, "teeth": 20}, "wheel": {**gear, "teeth": 40}})
+    a = math.radians(25.0)
+    full = (math.pi / 4 - 1.25 * math.tan(a)) * math.cos(a) / (1 - math.sin(a))
+    for g in pair.gears:
+        assert g.rack_tip_radius_coef == pytest.approx(full, rel=1e-9)
+    with pytest.raises(InputError) as err:  # written by the user: still refused, on that key
+        pair_from_mapping(
+            {"pinion": {**gear, "teeth": 20, "rack_tip_radius_coef": 0.38}, "wheel": {**gear, "teeth": 40}}
+        )
+    assert err.value.field == "pinion.rack_tip_radius_coef"
+    gear20 = {**gear, "pressure_angle_deg": 20.0}  # 20 deg: the ISO 53 value, unchanged
+    pair = pair_from_mapping({"pinion": {**gear20, "teeth": 20}, "wheel": {**gear20, "teeth": 40}})
+    assert pair.gears[0].rack_tip_radius_coef == 0.38
+
+
+def test_centre_distance_below_base_circles_names_it(capsys, tmp_path):
+    """Was internal ValueError: math domain error (acos of more than 1)."""
+
+    def close(d):
+        d["gear_mesh"][0]["center_distance"] = 0.05
+        d["rotor"][1]["center"] = [0.05, 0.0]
+
+    code, line = verb_on(capsys, tmp_path, "system modal", edited("system/gearbox.toml", close))
+    assert code == 2 and line.startswith("error: gear_mesh[0].center_distance = 0.05 is invalid: expected >= 0.09 m")
+
+
+@pytest.mark.parametrize(
+    ("path", "value", "start"),
+    [
+        (("slew", "duration"), 1e-300, "slew.duration = 1e-300"),
+        (("body", "hub", "appendages", 0, "thickness"), 1e300, "body.hub.appendages[0].thickness = 1e+300"),
+        (("body", "hub", "mass"), float("nan"), "body.hub.mass = nan"),
+    ],
+)
+def test_floating_extremes_refused(capsys, tmp_path, path, value, start):
+    """Were ZeroDivisionError / OverflowError: a quantity with a unit must lie within 1e-30..1e30 SI."""
+
+    def edit(d):
+        node = d
+        for k in path[:-1]:
+            node = node[k]
+        node[path[-1]] = value
+
+    code, line = verb_on(capsys, tmp_path, "floating simulate", edited("floating/hub_appendage_slew.toml", edit))
+    assert code == 2 and line.startswith("error: " + start), line
+
+
+def test_failed_run_is_one_line_on_stderr(capsys, tmp_path):
+    """A run that fails (a slew of 1e-29 s: the integrator stops) prints one line on stderr
+    (the library's log line is not printed beside it), exit 1, the result kept."""
+
+    def edit(d):
+        d["slew"]["duration"] = 1e-29
+
+    code, line = verb_on(capsys, tmp_path, "floating simulate", edited("floating/hub_appendage_slew.toml", edit))
+    assert code == 1 and line.startswith("error: failed: "), line
+    assert (tmp_path / "o" / "result.nc").exists()

@@ -157,6 +157,10 @@ def _annulus(rho: float, width: float, r_in: float, r_out: float) -> float:
     return 0.5 * math.pi * rho * width * (r_out**4 - r_in**4)
 
 
+#: the tool tip radius / module of ISO 53 profile A, used unless it does not fit the rack
+DEFAULT_RACK_TIP_RADIUS_COEF = 0.38
+
+
 @dataclasses.dataclass(frozen=True)
 class GearSpec:
     """One external spur gear as on a drawing."""
@@ -168,7 +172,9 @@ class GearSpec:
     addendum_coef: float = param(1.0, gt=0.0, le=2.0, doc="h_a / m")
     dedendum_coef: float = param(1.25, gt=0.0, le=2.5, doc="h_f / m (= rack addendum)")
     profile_shift: float = param(0.0, ge=-1.0, le=1.5, doc="profile shift coefficient x")
-    rack_tip_radius_coef: float = param(0.38, ge=0.0, le=0.6, doc="tool tip radius / m")
+    rack_tip_radius_coef: float | None = param(
+        None, ge=0.0, le=0.6, doc="tool tip radius / m (default 0.38, or the full round where that does not fit)"
+    )
     tip_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit r_a (else ISO)")
     root_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit r_f (else ISO)")
     material: MaterialSpec = param(MaterialSpec())
@@ -182,21 +188,33 @@ class GearSpec:
 
     # ------------------------------------------------------------------ geometry
     def _plain(self, where: str) -> GearGeometry:
+        coef = DEFAULT_RACK_TIP_RADIUS_COEF if self.rack_tip_radius_coef is None else self.rack_tip_radius_coef
         try:
-            return GearGeometry(
-                module=self.module,
-                teeth=self.teeth,
-                face_width=self.face_width,
-                pressure_angle=deg_to_rad(self.pressure_angle_deg),
-                addendum_coef=self.addendum_coef,
-                dedendum_coef=self.dedendum_coef,
-                profile_shift=self.profile_shift,
-                rack_tip_radius_coef=self.rack_tip_radius_coef,
-                tip_radius=self.tip_radius,
-                root_radius=self.root_radius,
-            )
+            try:
+                return self._geometry(coef)
+            except InputError as exc:
+                if self.rack_tip_radius_coef is not None or exc.field != "rack_tip_radius_coef":
+                    raise
+            # the default tool round does not fit this rack (pressure angles above ~22 deg): the
+            # full round of its tip, as a hob for such a gear is made
+            full = self._geometry(0.0)
+            return self._geometry(min(coef, full._rack_tip_radius_max() / self.module * (1 - 1e-12)))
         except InputError as exc:
             raise InputError(f"{where}.{exc.field}", exc.value, exc.allowed) from None
+
+    def _geometry(self, rack_tip_radius_coef: float) -> GearGeometry:
+        return GearGeometry(
+            module=self.module,
+            teeth=self.teeth,
+            face_width=self.face_width,
+            pressure_angle=deg_to_rad(self.pressure_angle_deg),
+            addendum_coef=self.addendum_coef,
+            dedendum_coef=self.dedendum_coef,
+            profile_shift=self.profile_shift,
+            rack_tip_radius_coef=rack_tip_radius_coef,
+            tip_radius=self.tip_radius,
+            root_radius=self.root_radius,
+        )
 
     def _relief(self, rel: ReliefSpec | None, g: GearGeometry, where: str, sap: float | None):
         if rel is None:
@@ -387,9 +405,15 @@ class PairSpec:
         """Centre distance used [m]: given, from the backlash, or the no-backlash one."""
         if self.center_distance is not None and self.backlash is not None:
             raise InputError("backlash", self.backlash, "omitted when center_distance is given")
-        if self.center_distance is not None:
-            return self.center_distance
         a0 = self.center_distance_no_backlash
+        if self.center_distance is not None:
+            if self.center_distance < a0 * (1.0 - 1e-12):  # before any angle is taken of it
+                raise InputError(
+                    "center_distance",
+                    self.center_distance,
+                    f">= {a0:.6g} m (the no-backlash centre distance; smaller gives negative backlash)",
+                )
+            return self.center_distance
         if not self.backlash:
             return a0
         from scipy.optimize import brentq
@@ -545,4 +569,8 @@ def pair_meshes(pair: PairSpec, mesh_kw: dict, *, relief: bool = True):
 
 def pair_from_mapping(data: dict, where: str = "") -> PairSpec:
     """Build and check a :class:`PairSpec` from its TOML tables (``pinion``, ``wheel``, ...)."""
-    return from_mapping(PairSpec, data, where).check()
+    pair = from_mapping(PairSpec, data, where)
+    try:
+        return pair.check()
+    except InputError as exc:  # the pair's keys sit in the table ``where`` (gear_mesh[0] of a system)
+        raise exc.relocated(where) from None
