@@ -53,7 +53,7 @@ NoFigures = Annotated[bool, typer.Option("--no-figures", help="Skip figures.")]
 MAX_JOBS = 1024
 #: files that mark a directory as an earlier output of a command (never replace anything else)
 RESULT_MARKERS = ("result.nc", "summary.json")
-SWEEP_MARKERS = ("sweep.json", "sweep.nc", "cases")
+SWEEP_MARKERS = ("sweep.json", "sweep.nc", "cases", ".mp")
 REPORT_MARKERS = ("report.md", "checks.json", "index.html", *REPRODUCE)
 
 
@@ -107,6 +107,8 @@ _received = 0
 _UNSAFE = tuple(f"{os.sep}{m}{os.sep}" for m in ("numba", "llvmlite", "h5py", "h5netcdf", "netCDF4")) + (
     f"{os.sep}weakref.py",
 )
+#: the command runs in a process of its own (the console script), not inside a caller's
+_standalone = False
 #: seconds between attempts to deliver a deferred interrupt
 _RETRY = 0.02
 
@@ -407,6 +409,8 @@ def sweep(
     """
 
     def go():
+        from contextlib import nullcontext
+
         from tqdm.contrib.logging import logging_redirect_tqdm
 
         from rotaflex.core import plotting
@@ -414,7 +418,7 @@ def sweep(
         from rotaflex.core.io import check_out_dir, claim_out_dir
         from rotaflex.core.provenance import provenance
         from rotaflex.sweep import plan_study, sweep_config
-        from rotaflex.sweep.backends import executor_for
+        from rotaflex.sweep.backends import executor_for, mp_temp_dir
 
         _figure_options(fmt, dpi)
         if jobs is not None and not 0 <= jobs <= MAX_JOBS:
@@ -434,6 +438,9 @@ def sweep(
 
         with (
             claim_out_dir(out_dir),
+            # a sweep killed with SIGKILL leaves no /tmp/pymp-* behind; only in a process of its own:
+            # the directory is process-wide and outlives this command (its fork server listens there)
+            nullcontext(mp_temp_dir(out_dir) if _standalone else None),
             executor_for(jobs, scheduler) as executor,
             logging_redirect_tqdm(),
             _limit_threads(),
@@ -658,6 +665,8 @@ def main(argv: list[str] | None = None) -> int:
     output is flushed: the interpreter's teardown of h5py and numba objects after an
     interrupted or failed write could crash (SIGSEGV) and replace the exit status.
     """
+    global _standalone
+    _standalone = argv is None
     old = _install_signals()
     try:
         code = _main(argv)
