@@ -161,3 +161,19 @@ def test_failed_run_is_one_line_on_stderr(capsys, tmp_path):
     code, line = verb_on(capsys, tmp_path, "floating simulate", edited("floating/hub_appendage_slew.toml", edit))
     assert code == 1 and line.startswith("error: failed: "), line
     assert (tmp_path / "o" / "result.nc").exists()
+
+
+def test_continuation_refusal_names_the_option_not_an_internal_target(capsys, tmp_path):
+    """Was ``--continuation = 'rotaflex.system.case:run_case'``: now the key as typed and the fix."""
+    from _cli import dump, run
+
+    def no_verb(d):
+        d["domain"] = "system"
+
+    path = tmp_path / "g.toml"
+    path.write_text(dump(edited("system/gearbox.toml", no_verb)))
+    args = ["sweep", path, "--out", tmp_path / "o", "--vary", "steady.speed_rpm=2000:3000:3"]
+    code, _, err = run(capsys, *args, "--continuation", "steady.speed_rpm", "-q")
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert err.startswith("error: --continuation = 'steady.speed_rpm' is invalid"), err
+    assert 'add verb = "steady"' in err and "rotaflex." not in err
