@@ -184,12 +184,16 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
     swallowed the interrupt and the command went on. ``--debug`` re-raises with traceback.
     """
     import logging  # here, not at the top: ~20 ms that --help and usage errors do not need
+    import warnings
 
     from rotaflex.core.io import WriteFailed
 
     logging.basicConfig(level=logging.DEBUG if debug else logging.WARNING, format="%(message)s")
     try:
-        out = fn()
+        with warnings.catch_warnings():  # the outcome is one line: no warning printed before it
+            if not debug:  # (a run's own numeric warnings are judged by flag_numeric_warnings)
+                warnings.simplefilter("ignore")
+            out = fn()
         if _received in SIGNAL_EXIT:
             raise Terminated() if _received == signal.SIGTERM else KeyboardInterrupt()
         return out

@@ -69,9 +69,9 @@ def _range_text(meta: Mapping[str, Any]) -> str:
 INT_LIMIT = 2**63 - 1
 
 
-#: magnitudes a physical quantity of a machine can take in SI units (a key with a unit, other
-#: than 0): beyond, the value is a typing slip, and its square or reciprocal leaves the floats
-#: (a slew of 1e-300 s divided by zero, an appendage 1e300 m thick overflowed)
+#: magnitudes a number of a machine's config can take in SI units (other than 0; ratios and
+#: direction components too): beyond, the value is a typing slip, and its square or reciprocal
+#: leaves the floats (a slew of 1e-300 s divided by zero, an appendage 1e300 m thick overflowed)
 SI_MIN, SI_MAX = 1e-30, 1e30
 SI_WHY = " (1e30 kg is half the Sun's mass, 1e-30 s a millionth of the time light takes to cross a proton)"
 
@@ -114,7 +114,7 @@ def _convert(value: Any, tp: Any, meta: Mapping[str, Any], where: str) -> Any:
         if not math.isfinite(value):
             raise InputError(where, value, f"a finite number{_range_text(meta)}")
         _check_range(value, meta, where, "a number")
-        if meta.get("unit") and value != 0 and not SI_MIN <= abs(value) <= SI_MAX:
+        if value != 0 and not SI_MIN <= abs(value) <= SI_MAX:
             raise InputError(where, value, f"a number{_range_text(meta)} of magnitude {SI_MIN:g} to {SI_MAX:g}{SI_WHY}")
         return float(value)
     if tp is int:
