@@ -69,9 +69,10 @@ def _range_text(meta: Mapping[str, Any]) -> str:
 INT_LIMIT = 2**63 - 1
 
 
-#: magnitudes a number of a machine's config can take in SI units (other than 0; ratios and
-#: direction components too): beyond, the value is a typing slip, and its square or reciprocal
-#: leaves the floats (a slew of 1e-300 s divided by zero, an appendage 1e300 m thick overflowed)
+#: magnitudes a number of a machine's config can take in SI units (other than 0; the upper
+#: bound also for numbers without a unit, such as direction components): beyond, the value is a
+#: typing slip, and its square or reciprocal leaves the floats (a slew of 1e-300 s divided by
+#: zero, an appendage 1e300 m thick overflowed)
 SI_MIN, SI_MAX = 1e-30, 1e30
 SI_WHY = " (1e30 kg is half the Sun's mass, 1e-30 s a millionth of the time light takes to cross a proton)"
 
@@ -114,8 +115,10 @@ def _convert(value: Any, tp: Any, meta: Mapping[str, Any], where: str) -> Any:
         if not math.isfinite(value):
             raise InputError(where, value, f"a finite number{_range_text(meta)}")
         _check_range(value, meta, where, "a number")
-        if value != 0 and not SI_MIN <= abs(value) <= SI_MAX:
-            raise InputError(where, value, f"a number{_range_text(meta)} of magnitude {SI_MIN:g} to {SI_MAX:g}{SI_WHY}")
+        low = SI_MIN if meta.get("unit") else 0.0  # a tolerance without a unit may be tiny
+        if value != 0 and not low <= abs(value) <= SI_MAX:
+            span = f"{SI_MIN:g} to {SI_MAX:g}" if low else f"at most {SI_MAX:g}"
+            raise InputError(where, value, f"a number{_range_text(meta)} of magnitude {span}{SI_WHY}")
         return float(value)
     if tp is int:
         if isinstance(value, bool) or not isinstance(value, int):
