@@ -53,7 +53,7 @@ NoFigures = Annotated[bool, typer.Option("--no-figures", help="Skip figures.")]
 MAX_JOBS = 1024
 #: files that mark a directory as an earlier output of a command (never replace anything else)
 RESULT_MARKERS = ("result.nc", "summary.json")
-SWEEP_MARKERS = ("sweep.json", "sweep.nc", "cases")
+SWEEP_MARKERS = ("sweep.json", "sweep.nc", "cases", ".mp")
 REPORT_MARKERS = ("report.md", "checks.json", "index.html", *REPRODUCE)
 
 
@@ -107,6 +107,8 @@ _received = 0
 _UNSAFE = tuple(f"{os.sep}{m}{os.sep}" for m in ("numba", "llvmlite", "h5py", "h5netcdf", "netCDF4")) + (
     f"{os.sep}weakref.py",
 )
+#: the command runs in a process of its own (the console script), not inside a caller's
+_standalone = False
 #: seconds between attempts to deliver a deferred interrupt
 _RETRY = 0.02
 
@@ -182,13 +184,17 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
     swallowed the interrupt and the command went on. ``--debug`` re-raises with traceback.
     """
     import logging  # here, not at the top: ~20 ms that --help and usage errors do not need
+    import warnings
 
     from rotaflex.core.examples import IncompleteInstall
     from rotaflex.core.io import WriteFailed
 
     logging.basicConfig(level=logging.DEBUG if debug else logging.WARNING, format="%(message)s")
     try:
-        out = fn()
+        with warnings.catch_warnings():  # the outcome is one line: no warning printed before it
+            if not debug:  # (a run's own numeric warnings are judged by flag_numeric_warnings)
+                warnings.simplefilter("ignore")
+            out = fn()
         if _received in SIGNAL_EXIT:
             raise Terminated() if _received == signal.SIGTERM else KeyboardInterrupt()
         return out
@@ -214,6 +220,75 @@ def guarded(fn: Callable[[], Any], debug: bool) -> Any:
         text = str(exc).splitlines()[0] if str(exc) else ""
         typer.echo(f"error: internal error {type(exc).__name__}: {text} (rerun with --debug for details)", err=True)
         raise typer.Exit(1) from None
+
+
+#: warnings that mean a number of the answer is not to be trusted: an ill-conditioned solve
+#: (scipy's LinAlgWarning), an overflow or a 0/0 (numpy's RuntimeWarning with these words);
+#: printed before the one-line summary they were noise, now they fail the result
+NUMERIC_WARNINGS = {"LinAlgWarning": (), "RuntimeWarning": ("overflow", "invalid value")}
+
+
+class numeric_warnings:
+    """Hold the warnings and log records of a run instead of printing them (a context manager
+    yielding the list of warnings): the run's outcome is one line; the log records of a run
+    that succeeds are printed after it (:func:`flag_numeric_warnings`), else dropped."""
+
+    def __enter__(self) -> list:
+        import logging
+        import warnings
+
+        self._ctx = warnings.catch_warnings(record=True)
+        caught = self._ctx.__enter__()
+        warnings.simplefilter("always")
+        self.records: list = []
+        self._handlers = list(logging.getLogger().handlers)
+        for h in self._handlers:
+            h.addFilter(self._hold)
+        caught.append(self)  # the held records travel with the list
+        return caught
+
+    def _hold(self, record) -> bool:
+        if not any(r is record for r in self.records):
+            self.records.append(record)
+        return False
+
+    def __exit__(self, *exc) -> bool:
+        self._ctx.__exit__(*exc)
+        for h in self._handlers:
+            h.removeFilter(self._hold)
+        return False
+
+    def release(self) -> None:
+        """Print the held log records (once)."""
+        records, self.records = self.records, []
+        for r in records:
+            for h in self._handlers:
+                if r.levelno >= h.level:
+                    h.handle(r)
+
+
+def flag_numeric_warnings(result, caught: list) -> None:
+    """A successful ``result`` during whose run numpy or scipy warned of a number it could not
+    trust becomes ``failed_check`` naming the first such warning (its line, without the path);
+    the run's log records are printed if it still succeeds."""
+
+    def numeric(w) -> bool:
+        words = NUMERIC_WARNINGS.get(w.category.__name__)
+        return words is not None and (not words or any(x in str(w.message) for x in words))
+
+    held = [w for w in caught if isinstance(w, numeric_warnings)]
+    caught = [w for w in caught if not isinstance(w, numeric_warnings)]
+    bad = [w for w in caught if numeric(w)]
+    if bad and getattr(result, "status", None) == "success" and hasattr(result, "failed_check"):
+        w = bad[0]
+        text = str(w.message).splitlines()[0] if str(w.message) else ""
+        where = f"{Path(w.filename).parent.name}/{Path(w.filename).name}:{w.lineno}"
+        result.failed_check(
+            "numerics", f"{w.category.__name__} in {where}: {text}", "no overflow, 0/0 or singular solve"
+        )
+    if getattr(result, "status", None) == "success":
+        for h in held:
+            h.release()
 
 
 def _figure_options(fmt: str, dpi: int) -> None:
@@ -365,6 +440,8 @@ def sweep(
     """
 
     def go():
+        from contextlib import nullcontext
+
         from tqdm.contrib.logging import logging_redirect_tqdm
 
         from rotaflex.core import plotting
@@ -372,7 +449,7 @@ def sweep(
         from rotaflex.core.io import check_out_dir, claim_out_dir
         from rotaflex.core.provenance import provenance
         from rotaflex.sweep import plan_study, sweep_config
-        from rotaflex.sweep.backends import executor_for
+        from rotaflex.sweep.backends import executor_for, mp_temp_dir
 
         _figure_options(fmt, dpi)
         if jobs is not None and not 0 <= jobs <= MAX_JOBS:
@@ -392,6 +469,9 @@ def sweep(
 
         with (
             claim_out_dir(out_dir),
+            # a sweep killed with SIGKILL leaves no /tmp/pymp-* behind; only in a process of its own:
+            # the directory is process-wide and outlives this command (its fork server listens there)
+            nullcontext(mp_temp_dir(out_dir) if _standalone else None),
             executor_for(jobs, scheduler) as executor,
             logging_redirect_tqdm(),
             _limit_threads(),
@@ -470,11 +550,12 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
                 validate(domain, body)
             say = None if quiet else (lambda m: typer.echo(m, err=True))
             with claim_out_dir(out_dir):
-                with _limit_threads(), CompileTimer(say) as compiling:
+                with _limit_threads(), CompileTimer(say) as compiling, numeric_warnings() as caught:
                     fn = command(domain, verb)  # the verb's modules: imported with collection paused
                     resume()  # the verb's own objects are collected as usual
                     # bars only on a terminal (a log would get every redraw)
                     result = fn(body, progress=not quiet)  # bar or log lines
+                flag_numeric_warnings(result, caught)
                 if say and compiling.seconds >= 0.5:
                     say(f"numba kernels compiled in {compiling.seconds:.1f} s (first run only; cached afterwards)")
                 # through the dataset and configure(): domain results may override save(out, figures=)
@@ -486,7 +567,9 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
             typer.echo(f"{result.status}: {result.message} -> {len(paths)} files in {out_dir}")
             from rotaflex.core.result import completed
 
-            if not completed(result.status):  # a finding (e.g. not_periodic) is not a failure
+            # a finding (e.g. not_periodic) is not a failure; stdout says what was written, stderr why it failed
+            if not completed(result.status):
+                typer.echo(f"error: {result.status}: {result.message} (result kept in {out_dir})", err=True)
                 raise typer.Exit(1)
 
         guarded(go, debug)
@@ -658,6 +741,8 @@ def main(argv: list[str] | None = None) -> int:
     output is flushed: the interpreter's teardown of h5py and numba objects after an
     interrupted or failed write could crash (SIGSEGV) and replace the exit status.
     """
+    global _standalone
+    _standalone = argv is None
     old = _install_signals()
     try:
         code = _main(argv)

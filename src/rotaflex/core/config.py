@@ -69,6 +69,14 @@ def _range_text(meta: Mapping[str, Any]) -> str:
 INT_LIMIT = 2**63 - 1
 
 
+#: magnitudes a number of a machine's config can take in SI units (other than 0; the upper
+#: bound also for numbers without a unit, such as direction components): beyond, the value is a
+#: typing slip, and its square or reciprocal leaves the floats (a slew of 1e-300 s divided by
+#: zero, an appendage 1e300 m thick overflowed)
+SI_MIN, SI_MAX = 1e-30, 1e30
+SI_WHY = " (1e30 kg is half the Sun's mass, 1e-30 s a millionth of the time light takes to cross a proton)"
+
+
 def _check_range(x: float, meta: Mapping[str, Any], where: str, kind: str) -> None:
     ok = (
         (meta.get("gt") is None or x > meta["gt"])
@@ -107,6 +115,10 @@ def _convert(value: Any, tp: Any, meta: Mapping[str, Any], where: str) -> Any:
         if not math.isfinite(value):
             raise InputError(where, value, f"a finite number{_range_text(meta)}")
         _check_range(value, meta, where, "a number")
+        low = SI_MIN if meta.get("unit") else 0.0  # a tolerance without a unit may be tiny
+        if value != 0 and not low <= abs(value) <= SI_MAX:
+            span = f"{SI_MIN:g} to {SI_MAX:g}" if low else f"at most {SI_MAX:g}"
+            raise InputError(where, value, f"a number{_range_text(meta)} of magnitude {span}{SI_WHY}")
         return float(value)
     if tp is int:
         if isinstance(value, bool) or not isinstance(value, int):
@@ -173,7 +185,10 @@ def from_mapping(cls: type[T], data: Any, where: str = "") -> T:
             kwargs[name] = _convert(data[name], hints[name], f.metadata, f"{prefix}{name}")
         elif f.default is _MISSING and f.default_factory is _MISSING:
             raise InputError(f"{prefix}{name}", "<missing>", f"a value{_range_text(f.metadata)} (required)")
-    return cls(**kwargs)
+    try:
+        return cls(**kwargs)
+    except InputError as exc:  # checks in __post_init__ name keys relative to this table
+        raise exc.relocated(where) from None
 
 
 def unknown_key(field: str, value: Any, allowed: Sequence[str]) -> InputError:
@@ -204,35 +219,38 @@ def to_mapping(obj: Any) -> dict[str, Any]:
 MAX_CONFIG_BYTES = 4 * 2**20
 
 
-def load_toml(path: str | Path) -> dict[str, Any]:
+def load_toml(path: str | Path, field: str = "config", typed: str | None = None) -> dict[str, Any]:
     """Read a TOML file (at most :data:`MAX_CONFIG_BYTES`), every failure an :class:`InputError`.
 
     Refused with the file named: missing, a directory, unreadable, too large (or endless, like
-    ``/dev/zero``), not UTF-8, not valid TOML, nested too deeply.
+    ``/dev/zero``), not UTF-8, not valid TOML, nested too deeply. ``field`` is the key that named
+    the file (``"gear_mesh[0].pair_file"``), ``"config"`` for the file given on the command line;
+    ``typed`` the path as written there when ``path`` was resolved from it.
     """
-    text_path = str(path)
+    text_path = str(path) if typed is None else typed
     path = Path(path)
     try:
         with path.open("rb") as fh:
             raw = fh.read(MAX_CONFIG_BYTES + 1)
     except FileNotFoundError:
-        raise InputError("config", text_path, "an existing TOML file") from None
+        where = "" if str(path) == text_path else f" (looked for {path})"
+        raise InputError(field, text_path, f"an existing TOML file{where}") from None
     except IsADirectoryError:
-        raise InputError("config", text_path, "a TOML file, not a directory") from None
+        raise InputError(field, text_path, "a TOML file, not a directory") from None
     except OSError as exc:
-        raise InputError("config", text_path, f"a readable TOML file ({exc.strerror})") from None
+        raise InputError(field, text_path, f"a readable TOML file ({exc.strerror})") from None
     if len(raw) > MAX_CONFIG_BYTES:
-        raise InputError("config", text_path, f"a TOML file of at most {MAX_CONFIG_BYTES // 2**20} MiB")
+        raise InputError(field, text_path, f"a TOML file of at most {MAX_CONFIG_BYTES // 2**20} MiB")
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise InputError("config", text_path, f"a UTF-8 text file (byte {exc.start} is not UTF-8)") from None
+        raise InputError(field, text_path, f"a UTF-8 text file (byte {exc.start} is not UTF-8)") from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError("config", text_path, f"valid TOML ({exc})") from None
+        raise InputError(field, text_path, f"valid TOML ({exc})") from None
     except RecursionError:
-        raise InputError("config", text_path, "TOML nested less deeply (arrays/tables nested too deep)") from None
+        raise InputError(field, text_path, "TOML nested less deeply (arrays/tables nested too deep)") from None
 
 
 def budget(field: str, value: Any, estimate: float, limit: float, what: str) -> None:

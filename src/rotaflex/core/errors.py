@@ -4,7 +4,7 @@ from __future__ import annotations
 
 
 class InputError(ValueError):
-    """A bad input value: names the field, the value and what is allowed.
+    """A bad input value: names the field as the user wrote it, the value and what is allowed.
 
     Parameters
     ----------
@@ -14,11 +14,42 @@ class InputError(ValueError):
         The value given.
     allowed : str
         What would have been accepted, e.g. ``"a number > 0"``.
+    mentions : tuple of str
+        Keys named in ``allowed`` (``"max_dof"`` in "raise max_dof"), relative to the same table
+        as ``field``: :meth:`relocated` moves them with it.
     """
 
-    def __init__(self, field: str, value: object, allowed: str):
-        self.field, self.value, self.allowed = field, value, allowed
+    def __init__(self, field: str, value: object, allowed: str, mentions: tuple[str, ...] = ()):
+        self.field, self.value, self.allowed, self.mentions = field, value, allowed, tuple(mentions)
         super().__init__(f"{field} = {shown(value)} is invalid: expected {allowed}")
+
+    def relocated(self, prefix: str = "", rename: dict[str, str] | None = None) -> InputError:
+        """This error with its key path as the user wrote it in the whole file.
+
+        Parameters
+        ----------
+        prefix : str
+            Dotted path of the table the field is relative to (``"rotor[0]"``); added unless
+            the field already starts with it.
+        rename : dict, optional
+            Path prefixes to replace after that (``{"bearing[0]": "bearing.left"}`` where a
+            table of named tables was read as a list).
+        """
+
+        def move(key: str) -> str:
+            if prefix and not (key == prefix or key.startswith((prefix + ".", prefix + "["))):
+                key = f"{prefix}.{key}"
+            for old, new in (rename or {}).items():
+                if key == old or key.startswith((old + ".", old + "[")):
+                    key = new + key[len(old) :]
+            return key
+
+        allowed = self.allowed
+        for m in self.mentions:
+            allowed = allowed.replace(m, move(m))
+        out = InputError(move(self.field), self.value, allowed, tuple(move(m) for m in self.mentions))
+        out.__cause__ = self.__cause__
+        return out
 
 
 class CheckFailed(RuntimeError):
@@ -32,6 +63,7 @@ class CheckFailed(RuntimeError):
 def shown(value: object, limit: int = 60) -> str:
     """``repr(value)`` as typed, shortened in the middle when very long (a 400-digit integer);
     booleans as TOML spells them."""
+    value = plain(value)
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**limit:
@@ -40,6 +72,16 @@ def shown(value: object, limit: int = 60) -> str:
     text = repr(value)
     text = text.replace("\n", " ").replace("\r", " ")
     return text if len(text) <= limit else text[: limit - 20] + "..." + text[-15:]
+
+
+def plain(value: object) -> object:
+    """NumPy scalars and arrays as the Python numbers and lists the user typed (a message shows
+    ``0.0``, not ``np.float64(0.0)``); anything else unchanged."""
+    if type(value).__module__ == "numpy" and hasattr(value, "tolist"):
+        return value.tolist()
+    if isinstance(value, (list, tuple)) and any(type(v).__module__ == "numpy" for v in value):
+        return type(value)(plain(v) for v in value)
+    return value
 
 
 class ConvergenceError(RuntimeError):

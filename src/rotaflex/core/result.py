@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import gc
+import importlib
 import json
 import time
 from pathlib import Path
@@ -58,6 +59,9 @@ class Result:
     def __init__(self, dataset):
         self.dataset = dataset
         self.dataset.attrs.setdefault("result_kind", self.kind)
+        # where the class lives: load_result imports it in a process that has not (a resumed
+        # sweep's client reading a case's final state)
+        self.dataset.attrs.setdefault("result_class", f"{type(self).__module__}:{type(self).__qualname__}")
 
     # -- provenance ---------------------------------------------------------------------
     @property
@@ -210,4 +214,11 @@ def load_result(path: str | Path) -> Result:
     defer_dask()  # numpy data: no dask import (0.1 s) to ask whether they are dask data
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         ds = ds.load()
-    return _KINDS.get(ds.attrs.get("result_kind", ""), Result)(ds)
+    kind = ds.attrs.get("result_kind", "")
+    module = str(ds.attrs.get("result_class", "")).partition(":")[0]
+    if kind not in _KINDS and module.startswith("rotaflex."):  # registered when its module is imported
+        try:
+            importlib.import_module(module)
+        except ImportError:  # a class of another version: the generic Result
+            pass
+    return _KINDS.get(kind, Result)(ds)

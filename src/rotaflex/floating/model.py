@@ -46,9 +46,9 @@ class Load:
 
     def __post_init__(self):
         if self.profile in ("ramp", "bang-bang", "pulse") and self.duration <= 0.0:
-            raise InputError("loads.duration", self.duration, f"a duration > 0 s for a {self.profile}")
+            raise InputError("duration", self.duration, f"a duration > 0 s for a {self.profile}")
         if self.profile == "sinusoid" and self.frequency <= 0.0:
-            raise InputError("loads.frequency", self.frequency, "a frequency > 0 Hz for a sinusoid")
+            raise InputError("frequency", self.frequency, "a frequency > 0 Hz for a sinusoid")
 
     def breakpoints(self) -> list[float]:
         t0, d = self.start, self.duration

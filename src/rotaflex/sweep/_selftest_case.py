@@ -116,6 +116,8 @@ class ChainResult(Result):
 def run_chain(config: dict, *, progress: bool = False, initial_state: dict | None = None) -> Result:
     """``run_case`` plus ``running_sum = previous sum + x`` and ``position = previous count + 1``."""
     base = run_case(config, progress=progress).dataset
+    for key in ("result_kind", "result_class"):  # a ChainResult (it has the final state), not a Result
+        base.attrs.pop(key, None)
     start = initial_state or {"sum": 0.0, "count": 0}
     x = from_mapping(SelftestConfig, config).x
     base["running_sum"] = ((), start["sum"] + x, {"units": "m"})

@@ -223,6 +223,39 @@ def _quiet_resource_tracker() -> None:
         os.environ["PYTHONWARNINGS"] = f"{current},{rule}" if current else rule
 
 
+#: longest path of the temporary directory multiprocessing is given inside an output: the fork
+#: server listens on a socket there (``listener-XXXXXXXX``) and AF_UNIX paths end at 107 bytes
+MAX_MP_DIR = 80
+
+
+def mp_temp_dir(out_dir: str | Path) -> Path | None:
+    """Give multiprocessing its temporary directory inside ``out_dir`` (``.mp``), not ``/tmp``.
+
+    The client's fork server listens on a socket in that directory, which multiprocessing
+    removes at a normal exit; a client killed with SIGKILL cannot, and left a ``/tmp/pymp-*``
+    directory per killed sweep. Inside the output, the next run in it removes what a killed run
+    left. Nothing changes when this process has its directory already (a fork server started
+    by an earlier sweep of the same process) or the path would be too long for a socket.
+    Returns the directory used, or None.
+    """
+    import shutil
+    from multiprocessing import process, util
+
+    d = Path(out_dir) / ".mp"
+    config = process.current_process()._config
+    if config.get("tempdir") == str(d):
+        return d
+    shutil.rmtree(d, ignore_errors=True)  # left by a killed run in this output
+    if config.get("tempdir") is not None or len(str(d.resolve())) > MAX_MP_DIR:
+        return None
+    d.mkdir(parents=True)
+    config["tempdir"] = str(d.resolve())
+    util.Finalize(None, shutil.rmtree, args=(str(d.resolve()), True), exitpriority=-100)
+    # the fork server and the workers (other processes) make their own: there too
+    os.environ["TMPDIR"] = str(d.resolve())
+    return d
+
+
 def process_pool(
     max_workers: int | None = None, preload: tuple[str, ...] = (), probe: bool = True, niceness: int = 0
 ) -> ProcessPoolExecutor:

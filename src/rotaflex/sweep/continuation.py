@@ -51,14 +51,28 @@ log = logging.getLogger("rotaflex.sweep")
 DIRECTIONS = ("up", "down")
 
 
-def check_continuable(fn: Callable, target: str) -> None:
-    """InputError unless ``fn`` takes the ``initial_state`` keyword of a continuation."""
+def continuable(fn: Callable) -> bool:
+    """``fn`` takes the ``initial_state`` keyword of a continuation."""
     try:
-        params = inspect.signature(fn).parameters
+        return "initial_state" in inspect.signature(fn).parameters
     except (TypeError, ValueError):  # pragma: no cover - builtins
-        params = {}
-    if "initial_state" not in params:
-        raise InputError("--continuation", target, "a verb whose function accepts initial_state (e.g. gear steady)")
+        return False
+
+
+def check_continuable(fn: Callable, key: str, domain: str, verb: str) -> None:
+    """InputError unless ``fn`` (the function of ``rotaflex <domain> <verb>``) takes the
+    ``initial_state`` keyword; names the option as typed and the verbs of the domain that can."""
+    if continuable(fn):
+        return
+    from rotaflex.core.domains import COMMANDS, command
+
+    able = [v for v in COMMANDS.get(domain, {}) if continuable(command(domain, v))]
+    fix = f'add verb = "{able[0]}" to the file' if able else f"no {domain} verb can"
+    raise InputError(
+        "--continuation",
+        key,
+        f"a sweep of a verb that starts from the previous case's state ({domain} {verb} does not; {fix})",
+    )
 
 
 def chain_cases(cases: Sequence[Case], key: str, split: bool = False) -> tuple[list[Case], list[list[str]]]:

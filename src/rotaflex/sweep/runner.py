@@ -478,8 +478,16 @@ def run_sweep(
 
 
 def _pending_chains(cases: list[Case], chains, out: Path | None, records: dict[str, CaseRecord]):
-    """Per chain: the cases still to run (after the longest finished prefix) and the state the
-    first of them starts from (the saved final state of the prefix's last case)."""
+    """The runs still to do: per stretch of unfinished cases of a chain, those cases and the
+    state the first of them starts from (the saved final state of the case before it; None at
+    the start of a chain).
+
+    A chain is resumed wherever it was left, not only after its longest finished prefix: a
+    client killed while one case's files were written leaves later cases finished (they were
+    written by the writer pool meanwhile), and those are reused; the unfinished case is run
+    again from its predecessor's saved state, so each later case still follows from the state
+    it was computed from. A finished case whose state cannot be read is run again too.
+    """
     from rotaflex.sweep.continuation import saved_state
 
     by_id = {c.id: c for c in cases}
@@ -488,19 +496,32 @@ def _pending_chains(cases: list[Case], chains, out: Path | None, records: dict[s
     pending: list[deque[Case]] = []
     states: list[Any] = []
     for chain in chains:
-        done: list[CaseRecord] = []
-        for cid in chain:
-            rec = _read_done(by_id[cid], out / "cases" / cid) if out is not None else None
-            if rec is None:  # a finished case (any status but error) has a state to go on from
-                break
-            done.append(rec)
-        state = saved_state(out / "cases" / done[-1].id) if done else None
-        if done and state is None:
-            done = []  # no state to continue from: the whole chain again
-        for rec in done:
-            records[rec.id] = rec
-        pending.append(deque(by_id[cid] for cid in chain[len(done) :]))
-        states.append(state)
+        done = [_read_done(by_id[cid], out / "cases" / cid) if out is not None else None for cid in chain]
+        start: dict[int, Any] = {}  # finished case -> its saved state, where a stretch follows it
+        k = 1
+        while k < len(chain):
+            if done[k] is None and done[k - 1] is not None and k - 1 not in start:
+                start[k - 1] = saved_state(out / "cases" / chain[k - 1])
+                if start[k - 1] is None:  # no state to go on from: that case again too
+                    done[k - 1] = None
+                    del start[k - 1]
+                    k = max(k - 1, 1)  # the case before it now needs a state in turn
+                    continue
+            k += 1
+        k = 0
+        while k < len(chain):
+            if done[k] is not None:
+                k += 1
+                continue
+            end = k
+            while end < len(chain) and done[end] is None:
+                end += 1
+            pending.append(deque(by_id[cid] for cid in chain[k:end]))
+            states.append(start.get(k - 1))
+            k = end
+        for cid, rec in zip(chain, done, strict=True):
+            if rec is not None:
+                records[cid] = rec
     return pending, states
 
 

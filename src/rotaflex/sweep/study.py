@@ -153,7 +153,7 @@ def plan_study(
     if continuation is not None:
         from rotaflex.sweep.continuation import chain_cases, check_continuable
 
-        check_continuable(fn, target)
+        check_continuable(fn, continuation, domain, verb)
         study.cases, study.chains = chain_cases(cases, continuation, split_down)
         study.continuation = continuation
     return study

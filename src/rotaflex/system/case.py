@@ -201,13 +201,31 @@ def _speed(box, value, where) -> float:
     v = value if value is not None else drive_speed_rpm(box)
     if v is None:
         raise InputError(f"{where}.speed_rpm", "<missing>", "a drive speed [rpm] (or a rotor's speed_rpm)")
+    _check_drive_speed(box, float(v), f"{where}.speed_rpm", v)
     return rpm_to_rad_s(float(v))
 
 
-def _range(rng, n, where):
+def _range(rng, n, where, box=None):
     if rng[1] <= rng[0]:
         raise InputError(f"{where}.speed_rpm", list(rng), "[start, stop] with stop > start")
+    if box is not None:
+        _check_drive_speed(box, float(rng[1]), f"{where}.speed_rpm", list(rng))
     return rpm_to_rad_s(np.linspace(rng[0], rng[1], n))
+
+
+def _check_drive_speed(box, rpm: float, key: str, shown) -> None:
+    """Refuse a drive speed at which some rotor passes its rim-speed bound
+    (:func:`rotaflex.rotor.fe.bounds.max_speed`: hoop strain 1)."""
+    from rotaflex.rotor.fe.bounds import max_speed
+
+    limit = rad_s_to_rpm(min(max_speed(pr.rotor) / pr.ratio for pr in box.rotors))
+    if not abs(rpm) <= limit:
+        raise InputError(
+            key,
+            shown,
+            f"drive speeds of at most {limit:.4g} rpm (there a rotor's rim speed reaches the bar wave speed "
+            "sqrt(E/rho): a hoop strain of 1, far beyond any material)",
+        )
 
 
 def run_modal(config: dict, *, progress: bool = False):
@@ -268,7 +286,7 @@ def run_campbell(config: dict, *, progress: bool = False):
 
     t0 = time.perf_counter()
     box, spec = parse(config, "campbell")
-    speeds = _range(spec.speed_rpm, spec.n_speeds, "campbell")
+    speeds = _range(spec.speed_rpm, spec.n_speeds, "campbell", box)
     n_modes, note = clamp_modes(spec.n_modes, free_dofs(box).size, "campbell.n_modes")
     c = campbell(box, speeds, n_modes, spec.harmonics, reduce=spec.reduce)
     m = c.modes
@@ -340,7 +358,7 @@ def run_response(config: dict, *, progress: bool = False):
 
     t0 = time.perf_counter()
     box, spec = parse(config, "response")
-    speeds = _range(spec.speed_rpm, spec.n_speeds, "response")
+    speeds = _range(spec.speed_rpm, spec.n_speeds, "response", box)
     probes = _probes(box, spec.probes)
     r = forced_response(
         box, speeds, harmonics=spec.harmonics, probes=probes, excitation=spec.excitation, cutoff=spec.cutoff

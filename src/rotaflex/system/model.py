@@ -91,7 +91,9 @@ class MeshSpec:
     k_pair: float | None = param(None, unit="N/m", gt=0, doc="contact_pattern source: one pair's stiffness")
     unloaded_te_pp: float = param(0.0, unit="m", ge=0, doc="contact_pattern source: TE peak-to-peak")
     stiffness: Literal["mean", "varying"] = param("varying", doc="time-domain runs: k(phi) or its mean")
-    damping_ratio: float = param(DEFAULT_DAMPING_RATIO, ge=0, doc="c_m = 2 zeta sqrt(k_mean m_red)")
+    damping_ratio: float = param(
+        DEFAULT_DAMPING_RATIO, ge=0, le=1, doc="c_m = 2 zeta sqrt(k_mean m_red); <= 1 (critical)"
+    )
     back_contact: bool = param(True, doc="back-flank contact after the backlash in time-domain runs")
     blanks: bool = param(True, doc="add the gear blanks as disks on their nodes")
     # the pair, as in `gear static` (read by rotaflex.gear.pair_from_mapping, here for the template)
@@ -315,7 +317,7 @@ def _pair(m: Mapping, where: str, base, centres: tuple[float, str] | None = None
         p = Path(path)
         if not p.is_absolute() and base is not None:
             p = Path(base) / p
-        cfg = load_toml(p)
+        cfg = load_toml(p, f"{where}.pair_file", path)
         inline = {**{k: v for k, v in cfg.items() if k in PAIR_KEYS}, **inline}
     if "pinion" not in inline or "wheel" not in inline:
         raise InputError(f"{where}.pinion", "<missing>", "[pinion] and [wheel] tables (or pair_file)")
@@ -422,6 +424,7 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
                 raise InputError(f"{w}.torque", "<missing>", "a pinion torque [N m] > 0 (or a [load] on this mesh)")
             # the load torque seen at the pinion through this mesh (rigid gears, no losses)
             torque = t_load if load[0] == rp else t_load / (pair.wheel.teeth / pair.pinion.teeth)
+        _check_te(m, pair, w)
         gm = gear_mesh(
             pair,
             torque,
@@ -433,6 +436,7 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
             te_harmonics=m.te_harmonics,
             k_pair=m.k_pair,
             unloaded_te_pp=m.unloaded_te_pp,
+            where=w,
         )
         cp, cw = np.asarray(spec.rotor[rp].center, float), np.asarray(spec.rotor[rw].center, float)
         dist = float(np.hypot(*(cw - cp)))
@@ -520,6 +524,21 @@ def _coupling_stations(spec: GearboxSpec, models, i: int, index) -> tuple[tuple[
             f"{w}.torsional_stiffness", "<missing>", "a torsional stiffness [N m/rad] > 0 (or rigid = true)"
         )
     return (ra, na), (rb, nb)
+
+
+def _check_te(m: MeshSpec, pair, where: str) -> None:
+    """Refuse a transmission error larger than a tenth of the module: the worst accuracy grade of
+    ISO 1328-1 (grade 11 at module 3 mm: total profile deviation ~0.1 mm, 0.03 module) stays well
+    below it, and an error of a whole module would move the contact off the working flank."""
+    limit = 0.1 * min(g.module for g in pair.gears)
+    for key, value, te in (
+        ("unloaded_te_pp", m.unloaded_te_pp, m.unloaded_te_pp),
+        ("te_harmonics", list(m.te_harmonics), 2 * sum(abs(x) for x in m.te_harmonics)),
+    ):
+        if not te <= limit:
+            raise InputError(
+                f"{where}.{key}", value, f"a transmission error (peak-to-peak) of at most {limit:.4g} m (0.1 module)"
+            )
 
 
 def _check_speeds(spec, ratio, sense, d_r, names) -> None:

@@ -113,9 +113,12 @@ def check_assembly(box) -> None:
     """Refuse a gearbox whose dense system matrices alone exceed the memory limit, blaming the
     rotor with the most DOFs (its shaft elements)."""
     i = max(range(len(box.rotors)), key=lambda k: box.layout[k][1] + box.layout[k][2])
-    elements = sum(s.elements for s in box.spec.rotor[i].shaft)
-    field = f"rotor[{i}].shaft.elements"
-    require_memory(field, elements, _assembly_bytes(box.n_dof, len(box.rotors)), f"the {box.n_dof}-DOF system matrices")
+    shafts = box.spec.rotor[i].shaft
+    j = max(range(len(shafts)), key=lambda k: shafts[k].elements)  # the section to coarsen first
+    field = f"rotor[{i}].shaft[{j}].elements"
+    require_memory(
+        field, shafts[j].elements, _assembly_bytes(box.n_dof, len(box.rotors)), f"the {box.n_dof}-DOF system matrices"
+    )
 
 
 def check_modal(n_dof: int, n_free: int, n_rotors: int, field: str, value) -> dict:

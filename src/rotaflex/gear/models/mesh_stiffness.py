@@ -305,6 +305,7 @@ def gear_mesh(
     te_harmonics=(),
     k_pair: float | None = None,
     unloaded_te_pp: float = 0.0,
+    where: str = "mesh",
 ) -> GearMesh:
     """The mesh of a drawing pair at a pinion torque: stiffness/TE table and geometry.
 
@@ -329,6 +330,8 @@ def gear_mesh(
         ``"harmonic"`` source: mean stiffness [N/m], cosine amplitudes [N/m], TE sine amplitudes [m].
     k_pair, unloaded_te_pp : float
         ``"contact_pattern"`` source: stiffness of one pair [N/m], TE peak-to-peak [m].
+    where : str
+        Key path of the table holding these keys in the user's config (``"gear_mesh[0]"``).
 
     Examples
     --------
@@ -340,9 +343,9 @@ def gear_mesh(
     True
     """
     if source not in SOURCES:
-        raise InputError("mesh.source", source, "one of " + ", ".join(SOURCES))
+        raise InputError(f"{where}.source", source, "one of " + ", ".join(SOURCES))
     if not (math.isfinite(torque) and torque > 0):
-        raise InputError("torque", torque, "a pinion torque > 0 [N m]")
+        raise InputError(f"{where}.torque", torque, "a pinion torque > 0 [N m]")
     g1, g2 = pair.gears
     if not relief:
         import dataclasses
@@ -371,7 +374,7 @@ def gear_mesh(
 
         (e1, nu1, _), (e2, nu2, _) = pair.pinion.material.values, pair.wheel.material.values
         if (e1, nu1) != (e2, nu2):
-            raise InputError("mesh.source", source, "'loaded_te' for gears of different materials")
+            raise InputError(f"{where}.source", source, "'loaded_te' for gears of different materials")
         table = mesh_table_from_static(mesh_stiffness(g1, g2, e1, nu1, torque=torque), g1.teeth, table_points)
     elif source == "iso6336":
         from rotaflex.gear.static.tooth_analysis import iso6336_stiffness
@@ -383,11 +386,19 @@ def gear_mesh(
         table = MeshTable(np.full(table_points, k), np.zeros(table_points), "linear")
     elif source == "harmonic":
         if k_mean is None or not k_mean > 0:
-            raise InputError("mesh.k_mean", k_mean, "a mean mesh stiffness > 0 [N/m] for source 'harmonic'")
+            raise InputError(
+                f"{where}.k_mean",
+                "<missing>" if k_mean is None else k_mean,
+                "a mean mesh stiffness > 0 [N/m] for source 'harmonic'",
+            )
         table = harmonic_mesh(k_mean, k_harmonics, te_harmonics, table_points)
     else:
         if k_pair is None or not k_pair > 0:
-            raise InputError("mesh.k_pair", k_pair, "a single-pair stiffness > 0 [N/m] for source 'contact_pattern'")
+            raise InputError(
+                f"{where}.k_pair",
+                "<missing>" if k_pair is None else k_pair,
+                "a single-pair stiffness > 0 [N/m] for source 'contact_pattern'",
+            )
         table = contact_pattern_mesh(k_pair, pair.contact_ratio, table_points, unloaded_te_pp)
     return GearMesh(
         table=table,

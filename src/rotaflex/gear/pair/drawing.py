@@ -197,6 +197,10 @@ def _annulus(rho: float, width: float, r_in: float, r_out: float) -> float:
     return 0.5 * math.pi * rho * width * (r_out**4 - r_in**4)
 
 
+#: the tool tip radius / module of ISO 53 profile A, used unless it does not fit the rack
+DEFAULT_RACK_TIP_RADIUS_COEF = 0.38
+
+
 @dataclasses.dataclass(frozen=True)
 class GearSpec:
     """One external spur or helical gear as on a drawing (helical: normal-section values)."""
@@ -212,7 +216,9 @@ class GearSpec:
         0.0, unit="deg", ge=0.0, lt=MAX_HELIX_ANGLE_DEG, doc="reference helix angle beta (0: spur)"
     )
     hand: Literal["left", "right"] | None = param(None, doc="hand of the helix (required when beta > 0)")
-    rack_tip_radius_coef: float = param(0.38, ge=0.0, le=0.6, doc="tool tip radius / m")
+    rack_tip_radius_coef: float | None = param(
+        None, ge=0.0, le=0.6, doc="tool tip radius / m_n (default 0.38, or the full round where that does not fit)"
+    )
     tip_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit r_a (else ISO)")
     root_radius: float | None = param(None, unit="m", gt=0.0, doc="explicit r_f (else ISO)")
     material: MaterialSpec = param(MaterialSpec())
@@ -239,49 +245,36 @@ class GearSpec:
             return a_n
         return math.atan(math.tan(a_n) / math.cos(self.helix_angle))
 
-    def _transverse_rack_tip_coef(self, c: float) -> float:
+    def _transverse_rack_tip_coef(self, c: float, coef: float) -> float:
         """rho_fP / m_t of the circle standing for the rack's tip round in the transverse section:
         its tangent point on the straight flank at the height of the normal section's,
         rho_t (1 - sin(alpha_t)) = rho_fP (1 - sin(alpha_n)), so the form point, the undercut
         limit and the root circle are exact (the true section is an ellipse of semi-axes rho_fP,
         rho_fP / cos(beta); only the fillet's shape is approximated)."""
         a_n = deg_to_rad(self.pressure_angle_deg)
-        rho_t = self.rack_tip_radius_coef * (1.0 - math.sin(a_n)) / (1.0 - math.sin(self.transverse_pressure_angle))
+        rho_t = coef * (1.0 - math.sin(a_n)) / (1.0 - math.sin(self.transverse_pressure_angle))
         return rho_t * c
 
     def _plain(self, where: str) -> GearGeometry:
-        """The transverse section as a spur :class:`GearGeometry` (module docstring)."""
+        """The transverse section as a spur :class:`GearGeometry` (module docstring). Without a
+        ``rack_tip_radius_coef`` the tool round is 0.38 m_n, or the full round of the rack's tip
+        where that does not fit (pressure angles above ~22 deg), as a hob for such a gear is made."""
         if self.helix_angle_deg > 0.0 and self.hand is None:
             raise InputError(f"{where}.hand", None, "'left' or 'right' for a helical gear (helix_angle_deg > 0)")
         if self.helix_angle_deg == 0.0 and self.hand is not None:
             raise InputError(f"{where}.hand", self.hand, "omitted for a spur gear (helix_angle_deg = 0)")
         c = math.cos(self.helix_angle) if self.helix_angle_deg > 0.0 else 1.0
+        coef = DEFAULT_RACK_TIP_RADIUS_COEF if self.rack_tip_radius_coef is None else self.rack_tip_radius_coef
         try:
-            if c == 1.0:
-                return GearGeometry(
-                    module=self.module,
-                    teeth=self.teeth,
-                    face_width=self.face_width,
-                    pressure_angle=deg_to_rad(self.pressure_angle_deg),
-                    addendum_coef=self.addendum_coef,
-                    dedendum_coef=self.dedendum_coef,
-                    profile_shift=self.profile_shift,
-                    rack_tip_radius_coef=self.rack_tip_radius_coef,
-                    tip_radius=self.tip_radius,
-                    root_radius=self.root_radius,
-                )
-            return GearGeometry(
-                module=self.module / c,
-                teeth=self.teeth,
-                face_width=self.face_width,
-                pressure_angle=self.transverse_pressure_angle,
-                addendum_coef=self.addendum_coef * c,
-                dedendum_coef=self.dedendum_coef * c,
-                profile_shift=self.profile_shift * c,
-                rack_tip_radius_coef=self._transverse_rack_tip_coef(c),
-                tip_radius=self.tip_radius,
-                root_radius=self.root_radius,
-            )
+            try:
+                return self._geometry(coef, c)
+            except InputError as exc:
+                if self.rack_tip_radius_coef is not None or exc.field != "rack_tip_radius_coef":
+                    raise
+            full = self._geometry(0.0, c)
+            t = full._rack_tip_radius_max() / full.module  # the largest transverse coefficient
+            normal = t if c == 1.0 else t / self._transverse_rack_tip_coef(c, 1.0)
+            return self._geometry(min(coef, normal * (1 - 1e-12)), c)
         except InputError as exc:
             if c == 1.0 or exc.field not in _NORMAL_COEFS:
                 raise InputError(f"{where}.{exc.field}", exc.value, exc.allowed) from None
@@ -289,6 +282,34 @@ class GearSpec:
             # bound in the user's (normal) terms
             allowed = re.sub(r"^([<>]=) (-?[0-9.]+)", lambda m: f"{m[1]} {float(m[2]) / c:.4f}", exc.allowed)
             raise InputError(f"{where}.{exc.field}", getattr(self, exc.field), allowed) from None
+
+    def _geometry(self, coef: float, c: float) -> GearGeometry:
+        """The transverse section with the normal tool tip coefficient ``coef`` (``c = cos(beta)``)."""
+        if c == 1.0:
+            return GearGeometry(
+                module=self.module,
+                teeth=self.teeth,
+                face_width=self.face_width,
+                pressure_angle=deg_to_rad(self.pressure_angle_deg),
+                addendum_coef=self.addendum_coef,
+                dedendum_coef=self.dedendum_coef,
+                profile_shift=self.profile_shift,
+                rack_tip_radius_coef=coef,
+                tip_radius=self.tip_radius,
+                root_radius=self.root_radius,
+            )
+        return GearGeometry(
+            module=self.module / c,
+            teeth=self.teeth,
+            face_width=self.face_width,
+            pressure_angle=self.transverse_pressure_angle,
+            addendum_coef=self.addendum_coef * c,
+            dedendum_coef=self.dedendum_coef * c,
+            profile_shift=self.profile_shift * c,
+            rack_tip_radius_coef=self._transverse_rack_tip_coef(c, coef),
+            tip_radius=self.tip_radius,
+            root_radius=self.root_radius,
+        )
 
     def _relief(self, rel: ReliefSpec | None, g: GearGeometry, where: str, sap: float | None):
         if rel is None:
@@ -483,9 +504,15 @@ class PairSpec:
         """Centre distance used [m]: given, from the backlash, or the no-backlash one."""
         if self.center_distance is not None and self.backlash is not None:
             raise InputError("backlash", self.backlash, "omitted when center_distance is given")
-        if self.center_distance is not None:
-            return self.center_distance
         a0 = self.center_distance_no_backlash
+        if self.center_distance is not None:
+            if self.center_distance < a0 * (1.0 - 1e-12):  # before any angle is taken of it
+                raise InputError(
+                    "center_distance",
+                    self.center_distance,
+                    f">= {a0:.6g} m (the no-backlash centre distance; smaller gives negative backlash)",
+                )
+            return self.center_distance
         if not self.backlash:
             return a0
         from scipy.optimize import brentq
@@ -743,4 +770,8 @@ def pair_meshes(pair: PairSpec, mesh_kw: dict, *, relief: bool = True):
 
 def pair_from_mapping(data: dict, where: str = "") -> PairSpec:
     """Build and check a :class:`PairSpec` from its TOML tables (``pinion``, ``wheel``, ...)."""
-    return from_mapping(PairSpec, data, where).check()
+    pair = from_mapping(PairSpec, data, where)
+    try:
+        return pair.check()
+    except InputError as exc:  # the pair's keys sit in the table ``where`` (gear_mesh[0] of a system)
+        raise exc.relocated(where) from None

@@ -13,6 +13,7 @@ import numpy as np
 from rotaflex.core.config import from_mapping, param, unknown_key
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rpm_to_rad_s
+from rotaflex.rotor.fe.bounds import check_frequencies, check_speeds
 from rotaflex.rotor.fe.model import ROTOR_KEYS, Bearing, Disk, Material, PointMass, Rotor, Shaft
 from rotaflex.rotor.fe.stability import StabilitySpec
 
@@ -250,6 +251,10 @@ def parse(config: dict, analysis: str):
         rotor = rotor.resolved if same else _resolve_static_loads(rotor, st)
     spec = from_mapping(ANALYSES[analysis], config.get(analysis, {}), analysis)
     _check_size(rotor, spec, analysis)
+    check_speeds(rotor, st, "static")  # physical bounds first (rim speed), then the tables' ranges
+    check_speeds(rotor, spec, analysis)
+    if hasattr(spec, "frequency_hz"):
+        check_frequencies(rotor, f"{analysis}.frequency_hz", spec.frequency_hz)
     speeds = getattr(spec, "speed_rpm", None)
     if speeds is not None:  # ucs has none; static's default is each table's lowest
         rotor.check_speeds(rpm_to_rad_s(np.atleast_1d(np.asarray(speeds, float))), f"{analysis}.speed_rpm")

@@ -28,6 +28,7 @@ def add_fluid_film_tables(ds: xr.Dataset, rotor: Rotor) -> xr.Dataset:
         if el.table is None:
             continue
         t = el.table.to_dataset().drop_vars("speed").rename({"speed": "ff_speed"})
+        t = t.assign_coords(ff_speed=range(t.sizes["ff_speed"]))  # an index: the outer join pads with NaN
         t = t.rename({k: f"ff_{k}" for k in t.data_vars})
         t["ff_node"] = node
         t["ff_load_x"] = xr.DataArray(b.fluid_film.load[0], attrs={"units": "N"})
@@ -37,7 +38,7 @@ def add_fluid_film_tables(ds: xr.Dataset, rotor: Rotor) -> xr.Dataset:
     if not parts:
         return ds
     tables = xr.concat(parts, dim="fluid_film", join="outer", combine_attrs="override")
-    tables = tables.assign_coords(fluid_film=names)
+    tables = tables.assign_coords(fluid_film=names).drop_vars("ff_speed")
     for k in tables.data_vars:  # concat keeps the first part's attributes; make sure of the units
         tables[k].attrs = parts[0][k].attrs
     return ds.merge(tables)

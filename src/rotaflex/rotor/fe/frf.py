@@ -27,12 +27,15 @@ DIRECTIONS = ("x", "y", "theta_x", "theta_y")
 KINDS = {"receptance": 0, "mobility": 1, "accelerance": 2}
 
 
-def dof_index(rotor: Rotor, node: int, direction: str, where: str = "frf") -> int:
-    """Global DOF number of ``direction`` (x, y, theta_x, theta_y) at ``node``."""
+def dof_index(
+    rotor: Rotor, node: int, direction: str, where: str = "frf", keys: tuple[str, str] = ("node", "direction")
+) -> int:
+    """Global DOF number of ``direction`` (x, y, theta_x, theta_y) at ``node``; errors name
+    ``where`` + the key of the node / the direction (``keys``) as the config spells them."""
     if not 0 <= node < rotor.n_nodes:
-        raise InputError(f"{where}.node", node, f"an existing node 0..{rotor.n_nodes - 1}")
+        raise InputError(f"{where}.{keys[0]}", node, f"an existing node 0..{rotor.n_nodes - 1}")
     if direction not in DIRECTIONS:
-        raise InputError(f"{where}.direction", direction, "one of " + ", ".join(DIRECTIONS))
+        raise InputError(f"{where}.{keys[1]}", direction, "one of " + ", ".join(DIRECTIONS))
     return NDOF_NODE * node + DIRECTIONS.index(direction)
 
 

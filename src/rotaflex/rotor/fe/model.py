@@ -173,6 +173,18 @@ class Bearing:
                 object.__setattr__(self, key, (float(getattr(self, key)),))
 
 
+def table_key(array: str, name: str) -> str:
+    """``bearing.left`` for the table ``[bearing.left]`` (the name quoted where TOML needs it)."""
+    bare = name and all(c.isascii() and (c.isalnum() or c in "_-") for c in name)
+    return f"{array}.{name}" if bare else f'{array}."{name}"'
+
+
+def bearing_path(i: int, b: Bearing) -> str:
+    """The key path of bearing ``i`` as the user wrote it: ``bearing.left`` for a named
+    ``[bearing.left]`` table, ``bearing[i]`` for the i-th ``[[bearing]]``."""
+    return table_key("bearing", b.name) if b.name else f"bearing[{i}]"
+
+
 @dataclass(frozen=True)
 class Rotor:
     """Rotor-bearing FE model (frozen). Build from TOML with :meth:`from_toml` or directly.
@@ -213,12 +225,13 @@ class Rotor:
         if not isinstance(data, Mapping):
             raise InputError(where or "config", data, "a table")
         data = dict(data)
-        named = {}  # "bearing[0]" -> "bearing.left": errors name the tables as the user wrote them
+        prefix = f"{where}." if where else ""
+        rename = {}  # errors name the user's tables: bearing.left, not bearing[0]
         for key in ("shaft", "disk", "point_mass", "bearing"):
             v = data.get(key)
             if isinstance(v, Mapping):  # [bearing.left] named tables: sweepable by dotted key
                 data[key] = [{**({"name": k} if key == "bearing" else {}), **t} for k, t in v.items()]
-                named.update({f"{key}[{i}]": f"{key}.{k}" for i, k in enumerate(v)})
+                rename.update({f"{prefix}{key}[{i}]": f"{prefix}{table_key(key, k)}" for i, k in enumerate(v)})
         if isinstance(data.get("bearing"), list):
             data["bearing"] = [
                 {k: ([v] if k in COEFFICIENTS and isinstance(v, (int, float)) else v) for k, v in b.items()}
@@ -228,11 +241,8 @@ class Rotor:
             ]
         try:
             return from_mapping(cls, data, where)
-        except InputError as err:
-            head, dot, rest = err.field.partition(".")
-            if head not in named:
-                raise
-            raise InputError(named[head] + dot + rest, err.value, err.allowed) from None
+        except InputError as exc:
+            raise exc.relocated("", rename) from None
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Rotor:
@@ -267,19 +277,19 @@ class Rotor:
 
     def _check_size(self) -> None:
         """Refuse, before anything is assembled, a mesh beyond ``max_dof`` or the memory limit."""
-        from rotaflex.core.limits import require, require_memory
+        from rotaflex.core.limits import require_memory
 
         counts = [s.elements if not s.layer else 0 for s in self.shaft]
         i = int(np.argmax(counts))
         n_dof = NDOF_NODE * (sum(counts) + 1) + 2 * sum(b.pedestal is not None for b in self.bearing)
-        require(
-            f"shaft[{i}].elements",
-            counts[i],
-            n_dof,
-            self.max_dof,
-            "lateral DOFs",
-            "raise the top-level max_dof if you mean it (dense solvers: time grows as DOFs^3)",
-        )
+        if not n_dof <= self.max_dof:
+            raise InputError(
+                f"shaft[{i}].elements",
+                counts[i],
+                f"a value needing at most {self.max_dof:.3g} lateral DOFs (this needs ~{n_dof:.3g}; raise max_dof "
+                "if you mean it (dense solvers: time grows as DOFs^3))",
+                ("max_dof",),
+            )
         # assembly holds M, K, G, Kst and the speed-dependent K, C copies: ~8 dense n x n arrays
         require_memory(f"shaft[{i}].elements", counts[i], 8 * 8.0 * n_dof**2, "the assembled matrices")
 
@@ -533,11 +543,6 @@ class Rotor:
             for i, p in enumerate(self.point_mass)
         ]
 
-    def bearing_where(self, i: int) -> str:
-        """The config path of bearing ``i`` as the user wrote it: ``bearing.NAME`` or ``bearing[i]``."""
-        name = self.bearing[i].name
-        return f"bearing.{name}" if name else f"bearing[{i}]"
-
     @functools.cached_property
     def bearings(self) -> list[tuple[int, int | None, BearingElement]]:
         """(node, other node or None for ground, element) per bearing."""
@@ -545,7 +550,7 @@ class Rotor:
             return self.resolved.bearings
         out = []
         for i, b in enumerate(self.bearing):
-            where = self.bearing_where(i)
+            where = bearing_path(i, b)
             n = self.station(b.node, b.position, where)
             m = self.station(b.to_node, b.to_position, where, False, ("to_node", "to_position"))
             if m == n:
@@ -636,7 +641,7 @@ class Rotor:
         ped = {i: p for p, (i, _) in enumerate(self.pedestals)}
         out = []
         for i, b in enumerate(self.bearing):
-            where = self.bearing_where(i)
+            where = bearing_path(i, self.bearing[i])
             a = NDOF_NODE * self.station(b.node, b.position, where) + np.arange(2)
             other = self.station(b.to_node, b.to_position, where, False, ("to_node", "to_position"))
             if i in ped:

@@ -71,7 +71,32 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
         + f"; max deflection {r[jd] * 1e6:.4g} um at node {jd}; max moment {mm[jm]:.4g} N m at z = {s.z[jm]:.4g} m"
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
-    return StaticResult(add_fluid_film_tables(ds, rotor))
+    res = StaticResult(add_fluid_film_tables(ds, rotor))
+    _check_static(res, s)
+    return res
+
+
+#: largest bending slope [rad] of a linear static answer: small-rotation beam theory takes
+#: sin(theta) = tan(theta) = theta, off by 0.3 % at 0.1 rad
+MAX_SLOPE = 0.1
+#: largest imbalance of applied loads and reactions, relative to the applied load
+MAX_IMBALANCE = 1e-6
+
+
+def _check_static(res, s) -> None:
+    """Mark a static answer outside linear theory or out of equilibrium as ``failed_check``
+    (a 1e300 N load; a disk so heavy that the solve loses the equilibrium to round-off)."""
+    from rotaflex.rotor.fe.model import NDOF_NODE
+
+    slope = np.abs(np.concatenate([s.q[2::NDOF_NODE], s.q[3::NDOF_NODE]]))
+    applied = float(np.hypot(*s.load_total))
+    imbalance = float(np.hypot(*(s.load_total + s.reactions.sum(0)))) / applied if applied > 0 else 0.0
+    if not (np.all(np.isfinite(s.q)) and np.all(np.isfinite(s.reactions))):
+        res.failed_check("finite answer", "non-finite deflections or reactions", "finite values")
+    elif not slope.max(initial=0.0) <= MAX_SLOPE:
+        res.failed_check("small slopes", f"{slope.max():.3g} rad", f"<= {MAX_SLOPE} rad for linear beam theory")
+    elif not imbalance <= MAX_IMBALANCE:
+        res.failed_check("equilibrium", f"{imbalance:.3g} of the applied load", f"<= {MAX_IMBALANCE:g}")
 
 
 def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
@@ -93,8 +118,8 @@ def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
     for i, (a, da, b, db) in enumerate(pairs):
         b = a if b is None else b
         db = da if db is None else db
-        ins.append(dof_index(rotor, a, da, f"frf.pair[{i}].input_node"))
-        outs.append(dof_index(rotor, b, db, f"frf.pair[{i}].output_node"))
+        ins.append(dof_index(rotor, a, da, f"frf.pair[{i}]", ("input_node", "input_direction")))
+        outs.append(dof_index(rotor, b, db, f"frf.pair[{i}]", ("output_node", "output_direction")))
         labels.append(f"{db}{b}/{'F' if da in 'xy' else 'M'}{da}{a}")
     w = np.linspace(f0, f1, spec.n_frequencies) * 2 * np.pi
     speed = rpm_to_rad_s(spec.speed_rpm)

@@ -37,6 +37,35 @@ from rotaflex.rotor.fe.bearings.reynolds import ReynoldsGrid, solve_film
 from rotaflex.rotor.fe.bearings.tilting_pad import PadSet, tilting_pad_equilibrium
 
 EPS_MAX = {"short": 0.995, "finite": 0.97}  #: largest eccentricity ratio the solvers accept
+#: thinnest assembled film of a tilting pad [m]: ground journal and pad surfaces are Ra 0.2-0.8 um
+MIN_FILM = 1e-6
+#: largest Sommerfeld number: the short bearing's eps ~ 0.4 / S (L/D = 0.5), 4e-7 clearances here
+MAX_SOMMERFELD = 1e6
+#: heaviest lubricant [Pa s]: ISO VG 1500 gear oil is ~1.4 Pa s at 40 C, cold bright stock ~10
+MAX_VISCOSITY = 10.0
+#: largest coefficient table (speeds) and film grid (nodes of one pad's or the plain film's grid)
+MAX_SPEEDS = 10_000
+MAX_GRID = 100_000
+#: largest film solves per table: speeds x pads x grid nodes (the example: 50 x 1 x 936)
+MAX_FILM_WORK = 5e7
+
+
+def check_film_size(ff: FluidFilm, where: str) -> None:
+    """Refuse a table or film grid beyond :data:`MAX_SPEEDS`, :data:`MAX_GRID`, :data:`MAX_FILM_WORK`
+    before anything is computed, as every other table is sized (:mod:`rotaflex.core.limits`)."""
+    from rotaflex.core.limits import require
+
+    require(f"{where}.n_speeds", ff.n_speeds, ff.n_speeds, MAX_SPEEDS, "table speeds")
+    if ff.model == "short":
+        return
+    grid = ff.n_theta * (ff.n_z + 1)
+    key, value = (f"{where}.n_theta", ff.n_theta) if ff.n_theta >= ff.n_z else (f"{where}.n_z", ff.n_z)
+    require(key, value, grid, MAX_GRID, "film grid nodes (n_theta x (n_z + 1))")
+    pads = ff.pads if ff.type == "tilting_pad" else 1
+    work = ff.n_speeds * pads * grid
+    if ff.type == "tilting_pad" and pads * grid > MAX_GRID:
+        require(f"{where}.pads", ff.pads, pads * grid, MAX_GRID, "film grid nodes over all pads")
+    require(f"{where}.n_speeds", ff.n_speeds, work, MAX_FILM_WORK, "film grid nodes x table speeds")
 
 
 @dataclass(frozen=True)
@@ -91,6 +120,39 @@ class FluidFilm:
             raise InputError(f"{where}.model", self.model, '"finite" for tilting pads')
         if self.type == "tilting_pad" and self.pads * self.pad_arc_deg >= 360:
             raise InputError(f"{where}.pad_arc_deg", self.pad_arc_deg, f"pads x arc < 360 deg ({self.pads} pads)")
+        if self.type == "tilting_pad" and (1 - self.preload) * self.clearance < MIN_FILM:
+            raise InputError(
+                f"{where}.preload",
+                self.preload,
+                f"a preload leaving an assembled clearance (1 - preload) x clearance >= {MIN_FILM:g} m (a thinner film "
+                "is below the surface roughness of ground journals and pads, Ra 0.2-0.8 um: no full film)",
+            )
+        if self.load != "static":
+            self.check_sommerfeld(float(np.hypot(*self.load)), where)
+        check_film_size(self, where)
+
+    def check_sommerfeld(self, load: float, where: str) -> None:
+        """Refuse a journal load so small for the film (Sommerfeld number above :data:`MAX_SOMMERFELD`
+        at the top speed) that the journal would sit ~1e-6 clearances from the centre."""
+        R, c = self.diameter / 2, self.clearance
+        top = rpm_to_rad_s(self.speed_rpm[1])
+        S = (
+            self.viscosity * top / (2 * np.pi) * self.length * self.diameter * (R / c) ** 2 / load
+            if load > 0
+            else np.inf
+        )
+        if not S <= MAX_SOMMERFELD:
+            heavy = self.viscosity > MAX_VISCOSITY
+            key, value = (
+                ("viscosity", self.viscosity) if heavy else ("load", list(self.load) if self.load != "static" else load)
+            )
+            raise InputError(
+                f"{where}.{key}",
+                value,
+                f"a film with Sommerfeld number mu N L D (R/c)^2 / W <= {MAX_SOMMERFELD:g} at the top speed (here "
+                f"{S:.3g}: the journal would sit within ~{0.4 / S:.1g} clearances of the centre, an unloaded film); "
+                + (f"lubricating oils have mu <= {MAX_VISCOSITY:g} Pa s" if heavy else "a larger journal load"),
+            )
 
     @property
     def speeds(self) -> np.ndarray:
@@ -242,6 +304,7 @@ def coefficients_from_reaction(ff: FluidFilm, reaction, speeds=None, where: str 
     R, L, c, mu = ff.diameter / 2, ff.length, ff.clearance, ff.viscosity
     reaction = np.asarray(reaction, float)
     W = float(np.hypot(*reaction))
+    ff.check_sommerfeld(W, where)  # a load from the static analysis, checked like a given one
     film = _Film(ff)
     n = speeds.size
     shapes = {"eps": n, "att": n, "pos": (n, 2), "S": n, "k": (n, 2, 2), "c": (n, 2, 2)}
@@ -285,7 +348,7 @@ def _tilting_pad_table(ff: FluidFilm, reaction, speeds, where, out) -> FluidFilm
         ff.n_theta,
         ff.n_z,
     )
-    e = -0.3 * reaction / W  # start below the load line's bearing centre
+    e = -0.3 * (1 - ff.preload) * reaction / W  # start below the centre, inside every preloaded pad
     for m, w in enumerate(speeds):
         if w <= 0:
             raise InputError(f"{where}.speed_rpm", float(round(rad_s_to_rpm(w), 6)), "speeds > 0 (no film at rest)")

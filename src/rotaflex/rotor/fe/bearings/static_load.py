@@ -22,6 +22,7 @@ import numpy as np
 
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
+from rotaflex.rotor.fe.model import bearing_path
 
 
 @dataclass(frozen=True)
@@ -118,7 +119,11 @@ def resolve_static_loads(
     total = float(np.hypot(*applied))
     if total <= 0:
         i = idx[0]
-        raise InputError(f"bearing[{i}].fluid_film.load", "static", "an explicit [Fx, Fy]: no gravity and no load")
+        raise InputError(
+            f"{bearing_path(i, rotor.bearing[i])}.fluid_film.load",
+            "static",
+            "an explicit [Fx, Fy]: no gravity and no load",
+        )
     current = np.tile(applied / nb, (nb, 1))  # journal loads on the bearings [N]; shared equally to start
     for b in range(nb):
         if b not in idx and rotor.bearing[b].fluid_film is not None:
@@ -128,7 +133,7 @@ def resolve_static_loads(
         for i in idx:
             if np.hypot(*current[i]) <= 1e-9 * total:
                 raise InputError(
-                    f"bearing[{i}].fluid_film.load",
+                    f"{bearing_path(i, rotor.bearing[i])}.fluid_film.load",
                     "static",
                     f"an explicit [Fx, Fy]: the static analysis leaves this bearing unloaded "
                     f"({np.hypot(*current[i]):.3g} N of {total:.6g} N), and a film cannot hold an unloaded journal",
@@ -143,7 +148,7 @@ def resolve_static_loads(
         if change <= tol:
             return StaticLoads(_with_loads(rotor, current, idx, None), current, it, change, speed)
     raise InputError(
-        f"bearing[{worst}].fluid_film.load",
+        f"{bearing_path(worst, rotor.bearing[worst])}.fluid_film.load",
         "static",
         f"an explicit [Fx, Fy]: the static-load iteration (reactions -> coefficients at "
         f"{rad_s_to_rpm(speed):.6g} rpm -> "

@@ -105,9 +105,12 @@ class PadSet:
 def tilting_pad_equilibrium(pads: PadSet, target, e0, p_cav, where, speed):
     """Journal position e (2,) with sum of pad forces = target (dimensionless), by Newton."""
     e = np.asarray(e0, float)
-    F, K, sols = pads.state(*e, p_cav)
+    try:
+        F, K, sols = pads.state(*e, p_cav)
+    except ValueError:  # the start touches a pad: reported as no equilibrium below
+        F = None
     scale = np.hypot(*target)
-    for _ in range(60):
+    for _ in range(60 if F is not None else 0):
         r = F - target
         if np.hypot(*r) < 1e-9 * scale:
             return e, sols
