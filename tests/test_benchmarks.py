@@ -6,6 +6,9 @@ script takes ``--tiny``: the same code path at the smallest size that still exer
 ``benchmarks/bench_*.py`` found by glob (a new benchmark without ``--tiny`` fails it) and for
 the other runnable scripts listed in :data:`OTHER_SCRIPTS`, and asserts exit 0 and at least one
 printed number.
+
+Marked ``bench`` (deselected by default: about 100 s of CPU, most of it worker pools and
+figures); ``.ci/run`` and the README's test command run it after the suite.
 """
 
 from __future__ import annotations
@@ -17,6 +20,8 @@ import sys
 from pathlib import Path
 
 import pytest
+
+pytestmark = pytest.mark.bench
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCHMARKS = ROOT / "benchmarks"

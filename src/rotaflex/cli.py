@@ -469,7 +469,7 @@ def sweep(
 
         with (
             claim_out_dir(out_dir),
-            # a sweep killed with SIGKILL leaves no /tmp/pymp-* behind; only in a process of its own:
+            # a sweep killed with SIGKILL leaves no pymp-* temporary directory; only in a process of its own:
             # the directory is process-wide and outlives this command (its fork server listens there)
             nullcontext(mp_temp_dir(out_dir) if _standalone else None),
             executor_for(jobs, scheduler) as executor,

@@ -3,10 +3,9 @@
 import pytest
 
 from rotaflex.reproduce import (
-    FAST_BEFORE_CUTS_S,
     FIRST_RUN_S,
-    FULL_OVER_FAST,
     MEASURED_FAST_S,
+    MEASURED_FULL_S,
     estimate,
     expected_seconds,
 )
@@ -18,11 +17,11 @@ def test_estimate_adds_the_measured_stage_times():
     # below 90 s in seconds, else in whole minutes
     said = f"about {fast:.0f} s" if fast < 90 else f"about {fast / 60:.0f} min"
     assert f"{said} on 2 cores with --fast" in estimate(names, True, load=0.0, cores=2)
-    # the full settings were not cut with --fast: their estimate scales the fast times before the cuts
-    before = sum(FAST_BEFORE_CUTS_S[n] for n in names)
-    full = before * FULL_OVER_FAST
-    assert f"about {full / 60:.0f} min on 2 cores once" in estimate(names, False, load=0.0, cores=2)
-    assert sum(expected_seconds(n, False) for n in names) == pytest.approx(214.0 * before / 75.2)
+    # the full settings: each section's own measured time, one after the other on one worker
+    full = sum(MEASURED_FULL_S[n] for n in names)
+    said = f"about {full:.0f} s" if full < 90 else f"about {full / 60:.0f} min"
+    assert f"{said} on 2 cores once" in estimate(names, False, load=0.0, cores=2)
+    assert sum(expected_seconds(n, False) for n in names) == pytest.approx(full)
     first = sum(FIRST_RUN_S.values())
     assert f"compiles them (about {first / 60:.0f} min" in estimate(names, True, load=0.0, cores=2)
 

@@ -232,7 +232,7 @@ def mp_temp_dir(out_dir: str | Path) -> Path | None:
     """Give multiprocessing its temporary directory inside ``out_dir`` (``.mp``), not ``/tmp``.
 
     The client's fork server listens on a socket in that directory, which multiprocessing
-    removes at a normal exit; a client killed with SIGKILL cannot, and left a ``/tmp/pymp-*``
+    removes at a normal exit; a client killed with SIGKILL cannot, and left a ``pymp-*`` temporary
     directory per killed sweep. Inside the output, the next run in it removes what a killed run
     left. Nothing changes when this process has its directory already (a fork server started
     by an earlier sweep of the same process) or the path would be too long for a socket.

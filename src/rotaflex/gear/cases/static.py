@@ -332,6 +332,25 @@ def _stages(cfg: StaticConfig) -> int:
     return 1 + int(relieved) + 1 + 2 * len(cfg.analysis.refinement)
 
 
+def _refinement_changes(study: dict) -> dict:
+    """Dataset variables: the largest relative change of each compliance measure between the
+    last two mesh refinement levels, per gear (none with a single level)."""
+    out = {}
+    for gname, (_radii, rows) in study.items():
+        if rows.shape[0] > 1:
+            ch = np.abs(rows[-1] - rows[-2]) / np.abs(rows[-1])  # (measure, n)
+            for i, mname in enumerate(("structural", "load_point", "with_contact")):
+                long_name = (
+                    f"max relative change of the {mname} compliance between the last two refinement levels ({gname})"
+                )
+                out[f"refinement_change_{gname}_{mname}"] = (
+                    (),
+                    float(ch[i].max()),
+                    {"units": "1", "long_name": long_name},
+                )
+    return out
+
+
 def _run(cfg: StaticConfig, config: dict, t0: float, tick) -> StaticResult:
     """:func:`run_static` after the config is read; ``tick()`` after each stage."""
     import xarray as xr
@@ -494,19 +513,7 @@ def _run(cfg: StaticConfig, config: dict, t0: float, tick) -> StaticResult:
     for key, (val, unit, name) in scal.items():
         data[key] = ((), float(val), {"units": unit, "long_name": name})
     lv = np.array(cfg.analysis.refinement)
-    for gname, (_radii, rows) in study.items():
-        if rows.shape[0] > 1:
-            ch = np.abs(rows[-1] - rows[-2]) / np.abs(rows[-1])  # (measure, n)
-            for i, mname in enumerate(("structural", "load_point", "with_contact")):
-                data[f"refinement_change_{gname}_{mname}"] = (
-                    (),
-                    float(ch[i].max()),
-                    {
-                        "units": "1",
-                        "long_name": f"max relative change of the {mname} compliance "
-                        f"between the last two refinement levels ({gname})",
-                    },
-                )
+    data.update(_refinement_changes(study))
     ds = xr.Dataset(
         data,
         coords={

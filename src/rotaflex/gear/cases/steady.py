@@ -200,7 +200,7 @@ def build_system(cfg: TorsionalCaseConfig) -> tuple[TorsionalSystem, float]:
         pd = pair_data(cfg)
         g1, g2 = pd.gears
         line = pair_line_of(cfg)
-        if cfg.pair.sliced or cfg.face.misalignment != 0.0:  # helical / lead-modified: the sliced face
+        if cfg.pair is not None and (cfg.pair.sliced or cfg.face.misalignment != 0.0):  # helical / lead-modified
             from rotaflex.gear.models.mesh_stiffness import sliced_mesh_table
             from rotaflex.gear.static.helical import face_model
 

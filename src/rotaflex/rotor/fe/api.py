@@ -183,8 +183,7 @@ def stability_in_bands(rotor: Rotor, bands, n_speeds: int = STABILITY_SPEEDS) ->
     >>> stability_in_bands(r, [(300.0, 400.0)])["stable"]
     True
     """
-    from scipy.optimize import brentq
-
+    from rotaflex.rotor.fe.critical import brent_root
     from rotaflex.rotor.fe.modal import STABILITY_TOL
 
     out = {"stable": True, "min_log_dec": np.inf, "speed_min": np.nan, "frequency": np.nan}
@@ -203,7 +202,9 @@ def stability_in_bands(rotor: Rotor, bands, n_speeds: int = STABILITY_SPEEDS) ->
         b = bad[0]
         onset = float(sp[0])
         if b > 0:
-            onset = brentq(lambda w: _least_damping(rotor, [w])[0][0] + STABILITY_TOL, sp[b - 1], sp[b], rtol=1e-6)
+            onset = brent_root(
+                lambda w: _least_damping(rotor, [w])[0][0] + STABILITY_TOL, sp[b - 1], sp[b], xtol=2e-12, rtol=1e-6
+            )
         if out["stable"] or onset < out["onset"]:
             out.update(stable=False, onset=float(onset), band=(float(lo), float(hi)))
     return out

@@ -40,7 +40,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from scipy.optimize import brentq
 
 from rotaflex.core.config import param
 from rotaflex.core.errors import InputError
@@ -148,6 +147,8 @@ class LabyrinthElement(ComputedBearing):
     # -- zeroth order -------------------------------------------------------------------
     def _march(self, m: float) -> np.ndarray | None:
         """Pressures P_0..P_NT passing ``m`` through every tooth; None if a tooth cannot pass it."""
+        from scipy.optimize import brentq  # here, so that importing the bearing kinds does not load it
+
         sp, p = self.spec, [self.spec.inlet_pressure]
         for k in range(sp.teeth):
             pu = p[-1]
@@ -161,6 +162,8 @@ class LabyrinthElement(ComputedBearing):
         return np.array(p)
 
     def _leakage(self) -> tuple[float, np.ndarray, bool]:
+        from scipy.optimize import brentq
+
         sp = self.spec
 
         def g(m):
@@ -187,6 +190,8 @@ class LabyrinthElement(ComputedBearing):
     @functools.lru_cache(maxsize=256)  # noqa: B019 - elements live as long as their model
     def zeroth(self, speed: float) -> Zeroth:
         """Centred solution at spin ``speed`` [rad/s]: leakage, pressures, cavity swirl."""
+        from scipy.optimize import brentq
+
         m, p, choked = self.leak
         R, v = self.spec.radius, [self.spec.preswirl * self.spec.radius * speed]
         for i in range(1, self.nc + 1):

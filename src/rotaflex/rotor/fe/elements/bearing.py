@@ -12,6 +12,7 @@ last interval's secant for linear tables, the end derivative for pchip).
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -109,8 +110,42 @@ def outside(x: np.ndarray | None, xi: np.ndarray) -> np.ndarray:
     return (xi < lo * (1 - RANGE_TOL) - RANGE_TOL) | (xi > hi * (1 + RANGE_TOL) + RANGE_TOL)
 
 
+class ElementMatrices(ABC):
+    """The element contract's matrices at one speed, from :meth:`coefficients` and :meth:`mass`
+    (docs/architecture.md): what every bearing kind shares."""
+
+    @abstractmethod
+    def coefficients(self, speed, whirl=None) -> tuple[np.ndarray, np.ndarray]:
+        """Stiffness and damping (n, 2, 2) [N/m, N s/m] at spin speeds ``speed`` [rad/s] (n,)
+        and whirl frequencies ``whirl`` [rad/s] (None: synchronous)."""
+
+    @abstractmethod
+    def mass(self, speed) -> np.ndarray:
+        """Mass coefficients (n, 2, 2) [kg] at the spin speeds ``speed`` [rad/s]."""
+
+    def outputs(self, speed) -> dict:
+        """The kind's own results over speed [dict of xarray.DataArray]: none."""
+        return {}
+
+    def K(self, speed: float = 0.0) -> np.ndarray:
+        """Stiffness (2, 2) [N/m] at ``speed`` [rad/s] (synchronous whirl)."""
+        return self.coefficients(speed)[0][0]
+
+    def C(self, speed: float = 0.0) -> np.ndarray:
+        """Damping (2, 2) [N s/m] at ``speed`` [rad/s] (synchronous whirl)."""
+        return self.coefficients(speed)[1][0]
+
+    def M(self, speed: float = 0.0) -> np.ndarray:
+        """Mass (2, 2) [kg] on the translations at ``speed`` [rad/s]."""
+        return self.mass(speed)[0]
+
+    def G(self) -> np.ndarray:
+        """Gyroscopic (2, 2): zero."""
+        return np.zeros((2, 2))
+
+
 @dataclass(frozen=True)
-class BearingElement:
+class BearingElement(ElementMatrices):
     """Bearing between a node's translations and ground (or another node's translations).
 
     The force on the rotor is f = -K [x, y] - C [x', y'] - M [x'', y''] with
@@ -222,26 +257,6 @@ class BearingElement:
         speed = np.atleast_1d(np.asarray(speed, float))
         return np.broadcast_to(self.m, (speed.size, 2, 2)).copy()
 
-    def M(self) -> np.ndarray:
-        """Mass (2, 2) [kg] on the translations."""
-        return np.array(self.m, float)
-
-    def outputs(self, speed) -> dict:
-        """The kind's own results over speed: none."""
-        return {}
-
-    def K(self, speed: float = 0.0) -> np.ndarray:
-        """Stiffness (2, 2) [N/m] at ``speed`` [rad/s] (synchronous whirl)."""
-        return self.coefficients(speed)[0][0]
-
-    def C(self, speed: float = 0.0) -> np.ndarray:
-        """Damping (2, 2) [N s/m] at ``speed`` [rad/s] (synchronous whirl)."""
-        return self.coefficients(speed)[1][0]
-
-    def G(self) -> np.ndarray:
-        """Gyroscopic (2, 2): zero."""
-        return np.zeros((2, 2))
-
     @classmethod
     def from_table(cls, b, where: str = "bearing") -> BearingElement:
         """The element of a linear bearing: coefficients constant or tabulated over speed and/or whirl
@@ -317,7 +332,7 @@ class BearingElement:
         )
 
 
-class ComputedBearing:
+class ComputedBearing(ElementMatrices):
     """Base of the bearing kinds whose coefficients are computed at any speed (seals, magnetic
     bearings): the element contract of docs/architecture.md with no speed table.
 
@@ -331,9 +346,6 @@ class ComputedBearing:
     static_load_dependent = False
     name = "bearing"
 
-    def coefficients(self, speed, whirl=None) -> tuple[np.ndarray, np.ndarray]:  # pragma: no cover - abstract
-        raise NotImplementedError
-
     def out_of_range(self, speed, whirl=None) -> list[str]:
         """No table to leave: computed at any speed and whirl frequency."""
         return []
@@ -341,23 +353,3 @@ class ComputedBearing:
     def mass(self, speed) -> np.ndarray:
         """Added mass (n_speed, 2, 2) [kg]: zero."""
         return np.zeros((np.atleast_1d(speed).size, 2, 2))
-
-    def outputs(self, speed) -> dict:
-        """The kind's own results over speed [dict of xarray.DataArray]: none."""
-        return {}
-
-    def K(self, speed: float = 0.0) -> np.ndarray:
-        """Stiffness (2, 2) [N/m] at ``speed`` [rad/s] (synchronous whirl)."""
-        return self.coefficients(speed)[0][0]
-
-    def C(self, speed: float = 0.0) -> np.ndarray:
-        """Damping (2, 2) [N s/m] at ``speed`` [rad/s] (synchronous whirl)."""
-        return self.coefficients(speed)[1][0]
-
-    def M(self, speed: float = 0.0) -> np.ndarray:
-        """Added mass (2, 2) [kg] at ``speed`` [rad/s]."""
-        return self.mass(speed)[0]
-
-    def G(self) -> np.ndarray:
-        """Gyroscopic (2, 2): zero."""
-        return np.zeros((2, 2))
