@@ -33,17 +33,22 @@ log = logging.getLogger("rotaflex.reproduce")
 #: the idle 2-core development machine with two sections at a time (2026-11-26, 118 checks,
 #: 67.2 s in all; the sweep section's own pool then has one process)
 MEASURED_FAST_S: dict[str, float] = {"rotor": 8.4, "gear": 65.7, "floating": 15.8, "geared_rotor": 3.5, "sweep": 20.5}
-#: full-settings time of each target [s], kernels and equations cached: the CPU time each
-#: section reported in a serial run (``--jobs 0``) of ``reproduce all`` on the 2-core machine
-#: (2026-11-28, 121 checks); a section runs on one core, so its CPU time is its wall time on a
-#: free core
-MEASURED_FULL_S: dict[str, float] = {"rotor": 16.6, "gear": 138.8, "floating": 73.4, "geared_rotor": 5.3, "sweep": 32.1}
+#: full-settings wall time of each target [s], kernels and equations cached: ``reproduce all``
+#: of a wheel install on the idle 2-core machine, two sections at a time (2026-11-28, 121
+#: checks, 190.5 s in all). The sweep section's work runs in its own worker pool, so its wall
+#: time (109 s) is far above the CPU time its process reports (30 s)
+MEASURED_FULL_S: dict[str, float] = {
+    "rotor": 15.4,
+    "gear": 138.5,
+    "floating": 79.0,
+    "geared_rotor": 5.1,
+    "sweep": 109.2,
+}
 #: extra time of the first run after install [s]: sympy deriving the rotor equations, numba
-#: compiling the kernels (all cached afterwards): the CPU time of each section in the first
-#: serial run after install minus that of the second (same day and machine as
-#: :data:`MEASURED_FULL_S`); rotor: its section with an empty equation cache minus a full one
-#: (2026-11-26)
-FIRST_RUN_S: dict[str, float] = {"rotor": 7.0, "gear": 94.1, "floating": 61.5, "geared_rotor": 12.5}
+#: compiling the kernels (all cached afterwards): the compile time each section reported in the
+#: first run after that install (same day and machine as :data:`MEASURED_FULL_S`: 266.6 s in
+#: all); rotor: its first run minus its second (empty equation cache)
+FIRST_RUN_S: dict[str, float] = {"rotor": 8.9, "gear": 89.0, "floating": 64.1, "sweep": 8.5}
 
 
 def expected_seconds(name: str, fast: bool) -> float:
