@@ -1,7 +1,8 @@
 """Global matrices of a gearbox: rotor/fe lateral blocks, torsional blocks, mesh coupling vectors.
 
 Global DOF vector: rotor after rotor, each ``[lateral (4 per node, rotor/fe order), twist (1 per
-node, if torsion)]``. The equations of motion about the static state at drive speed Omega are
+node, if torsion), axial w (1 per node, only on rotors carrying a helical mesh)]``. The
+equations of motion about the static state at drive speed Omega are
 
     M q'' + (C + sum_r Omega_r G_r + sum_m c_m g_m g_m^T) q' + (K + sum_m k_m g_m g_m^T) q = f
 
@@ -17,12 +18,14 @@ matrices of every earlier model are the same arrays as before couplings existed.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
 
 from rotaflex.rotor.fe.model import Rotor
+from rotaflex.rotor.fe.torsion_axial import axial_matrices
 from rotaflex.system.model import Gearbox
 
 _XG, _WG = np.polynomial.legendre.leggauss(5)
@@ -54,7 +57,13 @@ def torsion_matrices(rotor: Rotor) -> tuple[np.ndarray, np.ndarray]:
 
 def coupling_vector(box: Gearbox, mesh: int) -> np.ndarray:
     """g of a mesh (n_dof,): ``delta = g^T q - e``; also the generalised force per unit mesh
-    force is ``-g`` (the force ``+F n`` on the driven gear, ``-F n`` on the driver)."""
+    force is ``-g`` (the force ``+F n`` on the driven gear, ``-F n`` on the driver).
+
+    For a helical mesh delta and F stay transverse (the gear package's tables: k along the
+    transverse line of action, F = T / r_b): g is the flank-normal derivative g_n divided by
+    cos(beta_b), so the axial DOFs get ``sigma tan(beta_b)`` and the tilts that times the pitch
+    point's arm (k g g^T = k_n g_n g_n^T with k_n = k / cos^2(beta_b); docs/geared-rotor.md).
+    """
     m = box.meshes[mesh]
     g = np.zeros(box.n_dof)
     (rd, nd), (rf, nf) = m.driver, m.driven
@@ -64,6 +73,12 @@ def coupling_vector(box: Gearbox, mesh: int) -> np.ndarray:
     g[box.lateral_dof(rf, nf, 1)] -= m.normal[1]
     g[box.torsion_dof(rd, nd)] += m.sense * m.radius[0]
     g[box.torsion_dof(rf, nf)] += m.sense * m.radius[1]
+    if m.helix > 0:  # the flank normal's axial part, per unit transverse deflection
+        t = m.axial_sign * math.tan(m.helix)
+        for (r, node), arm, side in (((rd, nd), m.arms[0], 1.0), ((rf, nf), m.arms[1], -1.0)):
+            g[box.axial_dof(r, node)] += side * t
+            g[box.lateral_dof(r, node, 2)] += side * t * arm[1]  # (theta x r_P) . e_z
+            g[box.lateral_dof(r, node, 3)] -= side * t * arm[0]
     return g
 
 
@@ -109,8 +124,12 @@ def matrices(box: Gearbox) -> Matrices:
     n = box.n_dof
     M, K0 = np.zeros((n, n)), np.zeros((n, n))
     Gs = []
+    C0 = np.zeros((n, n))
     for i, pr in enumerate(box.rotors):
         off, nl, nt = box.layout[i]
+        if pr.axial:  # bars and thrust bearings (constant): axial DOFs after the twists
+            sa = slice(off + nl + nt, off + nl + nt + pr.rotor.n_nodes)
+            K0[sa, sa], M[sa, sa], C0[sa, sa] = axial_matrices(pr.rotor)
         sl = slice(off, off + nl)
         M[sl, sl] = pr.rotor.M
         K0[sl, sl] = pr.rotor.K_shaft
@@ -124,7 +143,6 @@ def matrices(box: Gearbox) -> Matrices:
     g = np.array([coupling_vector(box, i) for i in range(len(box.meshes))]).reshape(-1, n)
     k = np.array([m.k_mean for m in box.meshes])
     c = np.array([m.damping for m in box.meshes])
-    C0 = np.zeros((n, n))
     if box.load is not None and box.spec.load is not None and box.spec.load.damping > 0:
         i = box.torsion_dof(*box.load)
         C0[i, i] = box.spec.load.damping

@@ -158,6 +158,7 @@ class PlacedRotor:
     sense: int
     ratio: float
     torsion: bool
+    axial: bool = False  # an axial DOF w per node (rotors carrying a helical mesh)
 
 
 @dataclass(frozen=True)
@@ -166,6 +167,10 @@ class MeshElement:
 
     ``driver``/``driven`` are (rotor index, node); ``normal`` is the line of action n (force on
     the driven gear +F n); ``sense`` is s_d; ``radius`` = (r_bd, r_bf); ``backlash`` [m] along n.
+    Helical meshes: ``helix`` is the base helix angle beta_b [rad], ``axial_sign`` sigma (the flank
+    normal is ``cos(beta_b) n + sigma sin(beta_b) e_z``), ``arms`` the vectors (x, y) [m] from the
+    driver's and the driven gear's centre to the pitch point (docs/geared-rotor.md, "Helical
+    meshes"); 0, 0, () for spur meshes.
     """
 
     gear: Any  # rotaflex.gear.GearMesh
@@ -178,6 +183,9 @@ class MeshElement:
     damping: float
     backlash: float
     spec: MeshSpec
+    helix: float = 0.0
+    axial_sign: int = 0
+    arms: tuple = ()
 
     @property
     def k_mean(self) -> float:
@@ -238,18 +246,32 @@ class Gearbox:
     # -- derived ---------------------------------------------------------------------------
     @functools.cached_property
     def layout(self) -> list[tuple[int, int, int]]:
-        """Per rotor (offset, n lateral DOFs, n torsional DOFs) in the global DOF vector."""
+        """Per rotor (offset, n lateral DOFs, n torsional DOFs) in the global DOF vector; a rotor
+        with axial DOFs (:attr:`PlacedRotor.axial`) has its n_nodes axial DOFs after its twists."""
         out, off = [], 0
         for pr in self.rotors:
             nl, nt = pr.rotor.n_dof, pr.rotor.n_nodes if pr.torsion else 0
             out.append((off, nl, nt))
-            off += nl + nt
+            off += nl + nt + (pr.rotor.n_nodes if pr.axial else 0)
         return out
 
     @property
     def n_dof(self) -> int:
         off, nl, nt = self.layout[-1]
-        return off + nl + nt
+        return off + nl + nt + (self.rotors[-1].rotor.n_nodes if self.rotors[-1].axial else 0)
+
+    @property
+    def axial(self) -> bool:
+        """True when a rotor carries axial DOFs (a helical mesh)."""
+        return any(pr.axial for pr in self.rotors)
+
+    def axial_dof(self, rotor: int, node: int) -> int:
+        """Global index of the axial displacement w of a node (after the rotor's twists; only
+        rotors carrying a helical mesh have it)."""
+        off, nl, nt = self.layout[rotor]
+        if not self.rotors[rotor].axial:
+            raise InputError(f"rotor[{rotor}]", self.rotors[rotor].name, "a rotor carrying a helical gear mesh")
+        return off + nl + nt + node
 
     def lateral_dof(self, rotor: int, node: int, axis: int = 0) -> int:
         """Global index of lateral DOF ``axis`` (0 x, 1 y, 2 theta_x, 3 theta_y) of a node."""
@@ -323,12 +345,24 @@ def _pair(m: Mapping, where: str, base, centres: tuple[float, str] | None = None
         raise InputError(f"{where}.pinion", "<missing>", "[pinion] and [wheel] tables (or pair_file)")
     if centres is not None and "center_distance" not in inline and "backlash" not in inline:
         try:
-            return pair_from_mapping({**inline, "center_distance": centres[0]}, where).spur_only("system", where)
+            return _system_pair(pair_from_mapping({**inline, "center_distance": centres[0]}, where), where)
         except InputError as err:  # the user wrote the centres, not a centre distance: name those
             if not err.field.endswith("center_distance"):
                 raise
             raise InputError(centres[1], f"{centres[0]:.6g} m from the pinion's rotor", err.allowed) from None
-    return pair_from_mapping(inline, where).spur_only("system", where)
+    return _system_pair(pair_from_mapping(inline, where), where)
+
+
+def _system_pair(pair, where: str):
+    """A pair the geared-rotor model takes: spur, or helical without lead modifications (the
+    mesh is one lumped contact at mid-face; a lead modification would move it)."""
+    if not pair.helical:
+        return pair.spur_only("system", where)
+    for name in ("pinion", "wheel"):
+        lead = getattr(pair, name).lead
+        if lead is not None and lead.active:
+            raise InputError(f"{where}.{name}.lead", "a table", "omitted in system (lead modifications: gear static)")
+    return pair
 
 
 def _station(rotor: Rotor, node, position, where, keys=("node", "position")) -> int:
@@ -470,7 +504,10 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
                 ip = gm.inertia[k]
                 disk = Disk(node=node, mass=mass, Id=0.5 * ip, Ip=ip)  # thin disk: Id = Ip / 2
                 models[r] = dataclasses.replace(models[r], disk=(*models[r].disk, disk))
-        built.append(MeshElement(gm, d, f, toward[i], rot @ loc, s, (float(rb[0]), float(rb[1])), c_m, backlash, m))
+        helical = _helical_terms(pair, toward[i], s, gam, rb, alpha) if pair.helical else {}
+        built.append(
+            MeshElement(gm, d, f, toward[i], rot @ loc, s, (float(rb[0]), float(rb[1])), c_m, backlash, m, **helical)
+        )
     couplings = []
     for i, (c, (a, b)) in enumerate(zip(spec.coupling, joints, strict=True)):
         for (r, node), part in ((a, c.split), (b, 1.0 - c.split)):  # the coupling's mass on its hubs
@@ -489,11 +526,47 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
         raise InputError("drive.rotor", spec.drive.rotor, "a rotor with torsion = true")
     if load is not None and not spec.rotor[load[0]].torsion and spec.load.torque > 0:
         raise InputError("load.rotor", spec.load.rotor, "a rotor with torsion = true (a load torque twists it)")
+    axial = _axial_rotors(spec, built, names)
     placed = tuple(
-        PlacedRotor(r.name, models[i], np.asarray(r.center, float), sense[i], ratio[i], r.torsion)
+        PlacedRotor(r.name, models[i], np.asarray(r.center, float), sense[i], ratio[i], r.torsion, i in axial)
         for i, r in enumerate(spec.rotor)
     )
     return Gearbox(placed, tuple(built), (d_r, d_n), spec.drive.kind, load, t_load, spec, tuple(couplings))
+
+
+def _helical_terms(pair, pinion_drives: bool, s_d: int, gamma: float, rb, alpha: float) -> dict:
+    """MeshElement fields of a helical mesh: base helix angle, axial sign, pitch-point arms.
+
+    The flank normal at the contact is ``N = cos(beta_b) n - h_d s_d sin(beta_b) e_z`` (h_d = +1
+    for a right-hand driver): N is normal to the helix through the contact, whose tangent is
+    ``e_z + h_d tan(beta) / r e_z x r_P`` (derivation in docs/geared-rotor.md).
+    """
+    hand = (pair.pinion if pinion_drives else pair.wheel).hand
+    u = np.array([math.cos(gamma), math.sin(gamma)])  # driver centre -> driven centre
+    r_wd, r_wf = rb[0] / math.cos(alpha), rb[1] / math.cos(alpha)  # operating pitch radii
+    return {
+        "helix": float(pair.base_helix_angle),
+        "axial_sign": -(1 if hand == "right" else -1) * s_d,
+        "arms": (r_wd * u, -r_wf * u),
+    }
+
+
+def _axial_rotors(spec: GearboxSpec, built, names) -> set[int]:
+    """Rotors carrying a helical mesh (they get axial DOFs); each needs a thrust support."""
+    out = {}
+    for i, m in enumerate(built):
+        if m.helix > 0:
+            for r, _ in (m.driver, m.driven):
+                out.setdefault(r, i)
+    for r, i in out.items():
+        if not any(b.kzz > 0 for b in spec.rotor[r].bearing):
+            raise InputError(
+                f"rotor[{r}].bearing[].kzz",
+                "<missing>",
+                f"an axial (thrust) stiffness > 0 [N/m] on a bearing of rotor {names[r]!r}: it carries the "
+                f"helical gear_mesh[{i}], whose axial force needs an axial support",
+            )
+    return set(out)
 
 
 def _coupling_stations(spec: GearboxSpec, models, i: int, index) -> tuple[tuple[int, int], tuple[int, int]]:

@@ -148,6 +148,14 @@ class Bearing:
     mxy: float = param(0.0, unit="kg")
     myx: float = param(0.0, unit="kg")
     myy: float = param(0.0, unit="kg")
+    kzz: float = param(
+        0.0,
+        unit="N/m",
+        ge=0,
+        le=MAX_BEARING["k"],
+        doc="axial (thrust) stiffness, constant (axial DOFs, docs/geared-rotor.md)",
+    )
+    czz: float = param(0.0, unit="N s/m", ge=0, le=MAX_BEARING["c"], doc="axial (thrust) damping, constant")
     speed_rpm: tuple[float, ...] | None = param(None, unit="rpm", ge=0, doc="speeds of tabulated coefficients")
     whirl_hz: tuple[float, ...] | None = param(
         None, unit="Hz", ge=0, doc="whirl frequencies of coefficients tabulated over frequency (frequency dependent)"

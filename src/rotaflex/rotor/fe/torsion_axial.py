@@ -5,8 +5,9 @@ motions are uncoupled from the lateral DOFs and from each other. Each shaft elem
 two-node element with linear interpolation: torsion K = G J / L [[1, -1], [-1, 1]],
 M = rho J L / 6 [[2, 1], [1, 2]]; axial the same with E A and rho A. J and A follow the
 (tapered) section at Gauss points, as for the bending element. Disks add Ip (torsion) and m
-(axial); point masses add m (axial). Bearings do not restrain these DOFs, so the rotor is free:
-the first frequency is the rigid-body mode at 0 (reported).
+(axial); point masses add m (axial). Bearings do not restrain the twist; their axial (thrust)
+stiffness ``kzz`` restrains w (:func:`axial_matrices`). Without thrust stiffness the rotor is free
+axially: the first frequency is the rigid-body mode at 0 (reported).
 """
 
 from __future__ import annotations
@@ -45,6 +46,23 @@ def _assemble(rotor: Rotor, kind: str) -> tuple[np.ndarray, np.ndarray]:
     return K, M
 
 
+def axial_matrices(rotor: Rotor) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Axial stiffness, mass and damping (n_nodes, n_nodes) [N/m, kg, N s/m]: the shaft's linear
+    two-node bar elements, disk and point masses, and the bearings' thrust springs and dampers
+    ``kzz``/``czz`` (to ground, or between the bearing's node and its ``to_node``)."""
+    K, M = _assemble(rotor, "axial")
+    C = np.zeros_like(K)
+    for b, (node, other, _) in zip(rotor.bearing, rotor.bearings, strict=True):
+        for X, v in ((K, b.kzz), (C, b.czz)):
+            if v:
+                X[node, node] += v
+                if other is not None:
+                    X[other, other] += v
+                    X[node, other] -= v
+                    X[other, node] -= v
+    return K, M, C
+
+
 def torsional_modes(rotor: Rotor, n_modes: int = 6) -> tuple[np.ndarray, np.ndarray]:
     """Torsional natural frequencies [rad/s] (first: rigid rotation, 0) and mode shapes (m, n_nodes)."""
     K, M = _assemble(rotor, "torsion")
@@ -52,8 +70,9 @@ def torsional_modes(rotor: Rotor, n_modes: int = 6) -> tuple[np.ndarray, np.ndar
 
 
 def axial_modes(rotor: Rotor, n_modes: int = 6) -> tuple[np.ndarray, np.ndarray]:
-    """Axial natural frequencies [rad/s] (first: rigid translation, 0) and mode shapes (m, n_nodes)."""
-    K, M = _assemble(rotor, "axial")
+    """Axial natural frequencies [rad/s] (first: rigid translation, 0, without thrust stiffness) and
+    mode shapes (m, n_nodes)."""
+    K, M, _ = axial_matrices(rotor)
     return _solve(K, M, n_modes)
 
 
