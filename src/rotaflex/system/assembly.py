@@ -192,6 +192,20 @@ def constraint(box: Gearbox) -> tuple[np.ndarray, np.ndarray | None]:
     return masters, T
 
 
+def load_vector(box: Gearbox) -> np.ndarray:
+    """Static load vector (full DOFs): load torque against its rotor's rotation; with a torque
+    drive, the drive torque that balances it (no losses: T_in Omega_in = T_L Omega_L)."""
+    f = np.zeros(box.n_dof)
+    if box.load is not None and box.load_torque > 0:
+        r, node = box.load
+        f[box.torsion_dof(r, node)] -= box.rotors[r].sense * box.load_torque
+        if box.drive_kind == "torque":
+            d, dn = box.drive
+            t_in = box.load_torque * box.rotors[r].ratio / box.rotors[d].ratio
+            f[box.torsion_dof(d, dn)] += box.rotors[d].sense * t_in
+    return f
+
+
 def free_dofs(box: Gearbox) -> np.ndarray:
     """DOFs solved for (see :func:`constraint`): all but the drive node's twist under a
     constant-speed drive and the DOFs that follow another through a rigid coupling."""

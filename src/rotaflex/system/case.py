@@ -255,10 +255,13 @@ def run_modal(config: dict, *, progress: bool = False):
         coords={"mode": np.arange(nm), "group": m.groups, "dof": np.arange(box.n_dof)},
     )
     extra = {}
+    shares = _helical_shares(box, ds, m.shape[0], w, ("mode",))
     for k in range(nm):
         extra[f"mode_{k}_frequency_hz"] = {"value": float(m.wn[0, k] / (2 * np.pi)), "unit": "Hz"}
         extra[f"mode_{k}_mesh_energy"] = {"value": float(m.mesh_energy[0, k]), "unit": "1"}
         extra[f"mode_{k}_torsional_fraction"] = {"value": float(m.torsional_fraction[0, k]), "unit": "1"}
+        for key, v in shares.items():
+            extra[f"mode_{k}_{key}"] = {"value": float(v[k]), "unit": "1"}
     k_mesh = int(np.argmax(m.mesh_energy[0]))
     mesh_msg = "no gear mesh"  # a train of couplings only
     if len(box.meshes):
@@ -276,6 +279,32 @@ def run_modal(config: dict, *, progress: bool = False):
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return SystemModalResult(ds)
+
+
+def _helical_shares(box, ds, shapes, speed: float, dims) -> dict:
+    """Add the axial and tilting energy shares of the modes (:func:`.helical.modal_shares`) to
+    ``ds`` for a box with helical meshes; returns them ({} for spur boxes: nothing changes)."""
+    if not box.axial:
+        return {}
+    from rotaflex.system.helical import SHARES, modal_shares
+
+    shares = modal_shares(box, shapes, speed)
+    for key, v in shares.items():
+        ds[key] = (dims, v, {"units": "1", "long_name": SHARES[key]})
+    return shares
+
+
+def _helical_static(box, ds, extra: dict, speed: float) -> None:
+    """Add the static thrust reactions, axial mesh forces and tilting moments (helical boxes)."""
+    if not box.axial:
+        return
+    from rotaflex.system.helical import static_outputs
+
+    data, coords, more = static_outputs(box, speed)
+    for key, v in data.items():
+        ds[key] = v
+    ds.coords.update(coords)
+    extra.update(more)
 
 
 def run_campbell(config: dict, *, progress: bool = False):
@@ -309,6 +338,7 @@ def run_campbell(config: dict, *, progress: bool = False):
             "line": [ln["name"] for ln in c.lines],
         },
     )
+    _helical_shares(box, ds, m.shape, 0.0, ("speed", "mode"))
     mesh_x = [cr for cr in c.crossings if cr["line"].startswith("mesh")]
     extra = {
         f"crossing_{i}_rpm": {
@@ -395,6 +425,13 @@ def run_response(config: dict, *, progress: bool = False):
         "peak_bearing_force": {"value": float(fb.sum(2).max()), "unit": "N"},
         "peak_dte": {"value": float(np.abs(r.dte).sum(-1).max()), "unit": "m"},
     }
+    if box.axial:
+        from rotaflex.system.helical import mesh_axial_force
+
+        fa = np.abs(mesh_axial_force(box, np.moveaxis(r.mesh_force, 0, -1)))
+        ds["axial_mesh_force"] = (("speed", "harmonic", "mesh"), fa, {"units": "N", "long_name": "dynamic, amplitude"})
+        extra["peak_dynamic_axial_force"] = {"value": float(fa.sum(1).max()), "unit": "N"}
+        _helical_static(box, ds, extra, float(np.median(speeds)))
     msg = (
         f"{spec.n_speeds} speeds x {spec.harmonics} TE harmonics; largest dynamic mesh force "
         f"{f_sum[0, i]:.4g} N (sum over harmonics) at {rad_s_to_rpm(speeds[i]):.0f} rpm; static "
@@ -478,6 +515,8 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
             "long_name": "pinion twist as mesh phase, peak-to-peak (left out by the nominal phase)",
         },
     }
+    if box.axial:
+        _steady_axial(box, ds, extra, s, w)
     msg = (
         f"{rad_s_to_rpm(w):g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss "
         f"{100 * s.contact_loss[0]:.1f} % of the "
@@ -488,6 +527,21 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
     ds.attrs["samples_per_cycle"] = spc
     ds.attrs["mesh_frequency"] = s.mesh_frequency
     return SystemSteadyResult(ds)
+
+
+def _steady_axial(box, ds, extra: dict, s, speed: float) -> None:
+    """Thrust reactions, axial mesh forces and tilting moments of a steady state (helical)."""
+    from rotaflex.system.helical import mesh_axial_force, tilting_moments
+
+    _helical_static(box, ds, extra, speed)
+    fa = mesh_axial_force(box, s.force)
+    tm = np.linalg.norm(tilting_moments(box, s.force), axis=-1)
+    ds["axial_bearing_force"] = (("time", "thrust"), s.axial_force, {"units": "N", "long_name": "on the rotor"})
+    ds["axial_mesh_force"] = (("time", "mesh"), fa, {"units": "N", "long_name": "on the driven gear"})
+    ds["tilting_moment"] = (("time", "mesh", "gear"), tm, {"units": "N m", "long_name": "|moment| of the axial force"})
+    extra["axial_bearing_force_max"] = {"value": float(np.abs(s.axial_force).max(initial=0.0)), "unit": "N"}
+    extra["axial_mesh_force_max"] = {"value": float(np.abs(fa).max()), "unit": "N"}
+    extra["tilting_moment_max"] = {"value": float(tm.max()), "unit": "N m"}
 
 
 def _harmonics(x, spc, orders=(1, 2, 3)):

@@ -43,7 +43,7 @@ class SystemModes(EigenvalueView):
     shape : (s, m, n_dof) complex, full DOF vector (constrained DOFs 0), v^H M v = 1
     energy : (s, m, n_groups) kinetic-energy fractions per group (:attr:`groups`)
     mesh_energy : (s, m) mesh strain-energy fraction
-    groups : list of str, ``"<rotor>.lateral"`` / ``"<rotor>.torsion"``
+    groups : list of str, ``"<rotor>.lateral"`` / ``"<rotor>.torsion"`` (/ ``"<rotor>.axial"``)
     """
 
     speed: np.ndarray
@@ -70,6 +70,9 @@ def groups(box: Gearbox) -> tuple[list[str], list[np.ndarray]]:
         if nt:
             names.append(f"{pr.name}.torsion")
             idx.append(np.arange(off + nl, off + nl + nt))
+        if pr.axial:  # rotors carrying a helical mesh
+            names.append(f"{pr.name}.axial")
+            idx.append(np.arange(off + nl + nt, off + nl + nt + pr.rotor.n_nodes))
     return names, idx
 
 

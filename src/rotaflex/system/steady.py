@@ -20,7 +20,8 @@ import numpy as np
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.gear.results.steady import detect_period
-from rotaflex.system.assembly import matrices, reduced_basis, system_matrices
+from rotaflex.system.assembly import load_vector, matrices, reduced_basis, system_matrices
+from rotaflex.system.helical import axial_reactions
 from rotaflex.system.model import Gearbox
 from rotaflex.system.size import DEFAULT_MAX_STEPS, check_assembly, check_steady
 
@@ -75,6 +76,7 @@ class SteadyState:
     final_phase: np.ndarray
     basis_size: int
     phase_shift: np.ndarray
+    axial_force: np.ndarray | None = None  # (n, n_thrust) [N]: thrust bearings (helical meshes)
 
     @property
     def contact_loss(self) -> np.ndarray:
@@ -91,20 +93,6 @@ class SteadyState:
         res = self.energy - self.energy[0] - w
         ref = max(np.max(np.abs(self.energy - self.energy[0])), np.sum(np.abs(p[:, 0])) * self.dt, 1e-300)
         return float(np.max(np.abs(res)) / ref)
-
-
-def _loads(box: Gearbox, n: int) -> np.ndarray:
-    """Static load vector (full DOFs): load torque against its rotor's rotation; with a torque
-    drive, the drive torque that balances it (no losses: T_in Omega_in = T_L Omega_L)."""
-    f = np.zeros(n)
-    if box.load is not None and box.load_torque > 0:
-        r, node = box.load
-        f[box.torsion_dof(r, node)] -= box.rotors[r].sense * box.load_torque
-        if box.drive_kind == "torque":
-            d, dn = box.drive
-            t_in = box.load_torque * box.rotors[r].ratio / box.rotors[d].ratio
-            f[box.torsion_dof(d, dn)] += box.rotors[d].sense * t_in
-    return f
 
 
 def _periodicity(dte: np.ndarray, spc: int, scale: float, tol: float) -> tuple[int, float]:
@@ -142,7 +130,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     P = P @ V
     Kr, Dr = V.T @ Kr @ V, V.T @ Dr @ V
     w_top = float(np.sqrt(max(w2.max(), 0.0)))
-    f_full = _loads(box, box.n_dof)
+    f_full = load_vector(box)
     fr = P.T @ mats.project(f_full)
     gr = mats.project(mats.g) @ P
     r = P.shape[1]
@@ -253,6 +241,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         rp, node = m.driver if m.pinion_is_driver else m.driven
         shift[:, j] = m.gear.teeth[0] * box.rotors[rp].sense * (xs @ Tfull[box.torsion_dof(rp, node)]) / (2 * np.pi)
     t_eval = t0 + dt * np.arange(n + 1)
+    axial = axial_reactions(box, xs @ Tfull.T, vs @ Tfull.T) if box.axial else None
     q_end = Tfull @ x
     qd_end = Tfull @ v
     return SteadyState(
@@ -276,6 +265,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         (phase0 + nu * (t0 + n * dt)) % 1.0,
         r,
         shift,
+        axial,
     )
 
 

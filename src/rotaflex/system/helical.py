@@ -1,0 +1,153 @@
+"""Outputs of helical meshes in a gearbox: axial mesh forces, tilting moments, thrust reactions.
+
+A helical mesh (:func:`~.assembly.coupling_vector`) pushes the two gears apart axially with
+``F_a = tan(beta_b) F`` (F: the transverse mesh force, along the transverse line of action) and
+tilts each gear with the moment of that axial force at the pitch point, ``r_P x F_a e_z``
+(magnitude ``F_a r_w``). The axial displacements w of the rotors carrying a helical mesh are
+held by the bearings' thrust springs and dampers ``kzz``/``czz``; their reactions on the rotor
+are ``-kzz (w - w_other) - czz (w' - w_other')``. Everything here is for boxes with
+:attr:`~.model.Gearbox.axial`; spur boxes have none of it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from rotaflex.system.assembly import Matrices, bearing_matrices, load_vector, matrices, system_matrices
+from rotaflex.system.model import Gearbox
+
+
+def thrust_bearings(box: Gearbox) -> list[tuple[int, int, int | None, float, float, str]]:
+    """(rotor, node, other node or None, kzz [N/m], czz [N s/m], label) of every bearing with an
+    axial stiffness or damping on a rotor with axial DOFs; label ``"<rotor>:<node>"``."""
+    out = []
+    for r, pr in enumerate(box.rotors):
+        if not pr.axial:
+            continue
+        for b, (node, other, _) in zip(pr.rotor.bearing, pr.rotor.bearings, strict=True):
+            if b.kzz or b.czz:
+                out.append((r, node, other, b.kzz, b.czz, f"{pr.name}:{node}"))
+    return out
+
+
+def axial_reactions(box: Gearbox, q: np.ndarray, qd: np.ndarray | None = None) -> np.ndarray:
+    """Axial forces [N] of the thrust bearings on the rotor (..., n_thrust) at full DOF vectors
+    q (..., n_dof) [m] and velocities qd (same shape, or None: static)."""
+    out = []
+    for r, node, other, k, c, _ in thrust_bearings(box):
+        i = box.axial_dof(r, node)
+        w = q[..., i] - (q[..., box.axial_dof(r, other)] if other is not None else 0.0)
+        f = -k * w
+        if qd is not None:
+            f = f - c * (qd[..., i] - (qd[..., box.axial_dof(r, other)] if other is not None else 0.0))
+        out.append(f)
+    return np.stack(out, -1) if out else np.zeros((*np.shape(q)[:-1], 0))
+
+
+def mesh_axial_force(box: Gearbox, force: np.ndarray) -> np.ndarray:
+    """Axial force [N] on the driven gear of each mesh (..., n_mesh) from transverse mesh forces
+    ``force`` (..., n_mesh) [N]: ``sigma tan(beta_b) F`` along +z (the driver gets the opposite)."""
+    t = np.array([m.axial_sign * math.tan(m.helix) for m in box.meshes])
+    return force * t
+
+
+def tilting_moments(box: Gearbox, force: np.ndarray) -> np.ndarray:
+    """Tilting moments [N m] (..., n_mesh, 2 gears (driver, driven), 2 (M_x, M_y)) of the axial
+    mesh force at the pitch point about each gear's centre, from transverse mesh forces
+    ``force`` (..., n_mesh) [N]: ``r_P x (F_a e_z) = F_a (r_y, -r_x)``."""
+    fa = mesh_axial_force(box, force)
+    out = np.zeros((*np.shape(force), 2, 2))
+    for j, m in enumerate(box.meshes):
+        if m.helix > 0:
+            for k, (arm, side) in enumerate(((m.arms[0], -1.0), (m.arms[1], 1.0))):
+                out[..., j, k, 0] = side * fa[..., j] * arm[1]
+                out[..., j, k, 1] = -side * fa[..., j] * arm[0]
+    return out
+
+
+def static_state(box: Gearbox, speed: float, mats: Matrices | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Static state under the load with the mean mesh stiffness and mean TE at drive ``speed``
+    [rad/s]: (q full DOFs [m, rad], transverse mesh forces (n_mesh,) [N]). With a torque drive
+    the rigid twist is left out (least squares), as the steady state's start."""
+    mats = matrices(box) if mats is None else mats
+    _, _, K = system_matrices(box, speed, mats)
+    e = np.array([m.gear.table.unloaded_te.mean() for m in box.meshes])
+    g = mats.project(mats.g)
+    rhs = mats.project(load_vector(box)) + g.T @ (mats.k_mean * e)
+    p = np.linalg.lstsq(K, rhs, rcond=1e-12)[0]
+    q = mats.expand(p)
+    return q, mats.k_mean * (mats.g @ q - e)
+
+
+def modal_shares(box: Gearbox, shapes: np.ndarray, speed: float = 0.0) -> dict[str, np.ndarray]:
+    """Axial and tilting shares of modes with full shapes (..., n_dof):
+
+    ``axial_kinetic`` (exact: M is block diagonal over the axial DOFs), ``tilt_kinetic`` (the
+    tilt DOFs' diagonal block of M over ``v^H M v``; the beam's consistent mass couples tilts
+    and translations, so it is a share of the diagonal, not a partition) and ``axial_strain``
+    (strain energy of the shafts' bars and thrust springs over the mode's ``v^H K v``, mesh and
+    bearings at drive ``speed`` [rad/s] included; the bars and thrust springs act on the axial
+    DOFs alone, so their energy is exact; the mesh's axial part is not separable from it)."""
+    mats = matrices(box)
+    ax = np.array([box.axial_dof(r, n) for r, pr in enumerate(box.rotors) if pr.axial for n in range(pr.rotor.n_nodes)])
+    tilt = np.array(
+        [box.lateral_dof(r, n, a) for r, pr in enumerate(box.rotors) for n in range(pr.rotor.n_nodes) for a in (2, 3)]
+    )
+    v = np.asarray(shapes)
+
+    def quad(X, idx=None):
+        if idx is None:
+            return np.real(np.sum(np.conj(v) * (v @ X.T), -1))
+        return np.real(np.sum(np.conj(v[..., idx]) * (v[..., idx] @ X[np.ix_(idx, idx)].T), -1))
+
+    Kb, _ = bearing_matrices(box, speed)
+    K = mats.K0 + Kb + (mats.g.T * mats.k_mean) @ mats.g
+    total_m = np.maximum(quad(mats.M), 1e-300)
+    total_k = np.maximum(quad(0.5 * (K + K.T)), 1e-300)
+    return {
+        "axial_kinetic": quad(mats.M, ax) / total_m,
+        "tilt_kinetic": quad(mats.M, tilt) / total_m,
+        "axial_strain": quad(mats.K0, ax) / total_k,
+    }
+
+
+#: long names of the modal shares (units 1)
+SHARES = {
+    "axial_kinetic": "kinetic-energy fraction in the axial DOFs",
+    "tilt_kinetic": "tilt DOFs' diagonal block of the kinetic energy / total",
+    "axial_strain": "strain-energy fraction of the shafts' bars and thrust bearings",
+}
+
+
+def static_outputs(box: Gearbox, speed: float) -> tuple[dict, dict, dict]:
+    """Dataset variables, coordinates and summary entries of the static state of a box with
+    axial DOFs at drive ``speed`` [rad/s]: thrust bearing reactions, axial mesh forces and the
+    tilting moments of the axial mesh force on each gear."""
+    q, F = static_state(box, speed)
+    ra = axial_reactions(box, q)
+    fa = mesh_axial_force(box, F)
+    tm = tilting_moments(box, F)
+    names = [t[-1] for t in thrust_bearings(box)]
+    data = {
+        "static_axial_bearing_force": ("thrust", ra, {"units": "N", "long_name": "thrust bearing force on the rotor"}),
+        "static_axial_mesh_force": ("mesh", fa, {"units": "N", "long_name": "axial mesh force on the driven gear"}),
+        "static_tilting_moment": (
+            ("mesh", "gear", "moment_axis"),
+            tm,
+            {"units": "N m", "long_name": "moment of the axial mesh force about the gear centre"},
+        ),
+    }
+    coords = {"thrust": names, "gear": ["driver", "driven"], "moment_axis": ["x", "y"]}
+    extra = {f"static_axial_force_{n}": {"value": float(f), "unit": "N"} for n, f in zip(names, ra, strict=True)}
+    for j, m in enumerate(box.meshes):
+        if m.helix > 0:
+            extra[f"mesh{j}_static_axial_force"] = {
+                "value": float(fa[j]),
+                "unit": "N",
+                "long_name": "on the driven gear",
+            }
+            for k, gear in enumerate(("driver", "driven")):
+                extra[f"mesh{j}_static_tilting_moment_{gear}"] = {"value": float(np.hypot(*tm[j, k])), "unit": "N m"}
+    return data, coords, extra
