@@ -7,7 +7,9 @@ e.g. ISO 21771 / Niemann-Winter), and the spur model in the limit beta -> 0.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,8 +17,14 @@ import scipy.linalg as sla
 
 from rotaflex.core.errors import InputError
 from rotaflex.gear import pair_from_mapping
+from rotaflex.rotor.fe.torsion_axial import axial_modes
+from rotaflex.system.assembly import matrices, system_matrices, undamped_modes
+from rotaflex.system.helical import axial_reactions, modal_shares, static_state, tilting_moments
 from rotaflex.system.modal import modal
 from rotaflex.system.model import Gearbox
+from rotaflex.system.steady import SteadySettings, steady_state
+
+ROOT = Path(__file__).resolve().parents[2]
 
 RIGID = {"E": 2.1e17, "G": 8.1e16, "rho": 7800.0}  # shafts 1e6 x steel, steel's density
 D, L = 0.05, 0.1  # shaft diameter, length [m]
@@ -36,20 +44,22 @@ def _pair(beta: float):
     return pair_from_mapping({"pinion": _gear(20, beta, "right"), "wheel": _gear(40, beta, "left")})
 
 
-def _config(beta: float, kzz=KA, rotation: str = "ccw") -> dict:
-    """Two rigid one-element rotors, laterally rigid bearings at both ends, a thrust bearing at
-    node 0, the gears as disks at node 1, a constant-speed drive at the input's node 0."""
+def _config(beta: float, kzz=KA, rotation: str = "ccw", rigid: bool = True) -> dict:
+    """Two one-element rotors with bearings at both ends (rigid: shafts 1e6 x steel, bearings
+    1e14 N/m; else steel, 2e8 N/m), a thrust bearing at node 0, the gears as disks at node 1, a
+    constant-speed drive at the input's node 0."""
     a = _pair(beta).working_center_distance
 
     def rotor(name, x, gear, ka):
         m, Id, Ip = DISK[gear]
-        brg = [{"node": n, "kxx": 1e14, "kyy": 1e14} for n in (0, 1)]
+        kb = 1e14 if rigid else 2e8
+        brg = [{"node": n, "kxx": kb, "kyy": kb} for n in (0, 1)]
         if ka:
             brg[0]["kzz"] = ka
         return {
             "name": name,
             "center": [x, 0.0],
-            "shaft": [{"outer_diameter": D, "length": L, "elements": 1, **RIGID}],
+            "shaft": [{"outer_diameter": D, "length": L, "elements": 1, **(RIGID if rigid else {})}],
             "disk": [{"node": 1, "mass": m, "Id": Id, "Ip": Ip}],
             "bearing": brg,
         }
@@ -113,3 +123,139 @@ def test_rigid_two_gear_frequencies_match_the_hand_derived_3dof_problem(beta):
 def test_helical_mesh_without_thrust_bearing_is_refused_naming_kzz():
     with pytest.raises(InputError, match=r"rotor\[1\]\.bearing\[\]\.kzz"):
         Gearbox.from_mapping(_config(15.0, kzz=(1e8, 0.0)))
+
+
+def _undamped(box) -> np.ndarray:
+    M, _, K = system_matrices(box, 0.0)
+    return undamped_modes(M, K)[0]
+
+
+def _no_tilt(box):
+    """The same box with the pitch-point arms zeroed: the axial mesh force without its moment."""
+    meshes = tuple(dataclasses.replace(m, arms=(np.zeros(2), np.zeros(2))) for m in box.meshes)
+    return dataclasses.replace(box, meshes=meshes)
+
+
+def test_beta_to_zero_tends_to_the_spur_modes_plus_the_rotors_axial_modes():
+    """As beta -> 0 the helical box's frequencies tend to the spur box's plus each rotor's
+    uncoupled axial modes (rotor/fe ``axial_modes``, thrust springs included). First order in
+    beta: the axial force's moment at the pitch point, ``F tan(beta_b) r_w``, acts on the tilts,
+    which the spur modes already move, so it shifts them at first order (the energy's cross term
+    ``2 k tan(beta_b) (g_t^T v)(g_a^T v)``); without the moment arms the coupling reaches only the
+    new axial DOFs and the shift is second order (tan^2(beta_b); the transverse geometry's
+    cos(beta) too)."""
+    spur = Gearbox.from_mapping(_config(0.0, rigid=False))
+    axial = [axial_modes(pr.rotor, pr.rotor.n_nodes)[0] for pr in spur.rotors]
+    ref = np.sort(np.concatenate([_undamped(spur), *axial]))
+    err, err_no_tilt = [], []
+    betas = (1.0, 0.5, 0.25)
+    for beta in betas:
+        box = Gearbox.from_mapping(_config(beta, rigid=False))
+        err.append(np.max(np.abs(np.sort(_undamped(box)) - ref) / ref))
+        err_no_tilt.append(np.max(np.abs(np.sort(_undamped(_no_tilt(box))) - ref) / ref))
+    order = np.log2(np.array(err[:-1]) / np.array(err[1:]))
+    order2 = np.log2(np.array(err_no_tilt[:-1]) / np.array(err_no_tilt[1:]))
+    assert err[-1] < 5e-4 and np.all(np.abs(order - 1) < 0.15), (err, order)
+    assert err_no_tilt[-1] < 1e-5 and np.all(np.abs(order2 - 2) < 0.2), (err_no_tilt, order2)
+
+
+def test_beta_zero_with_axial_dofs_is_the_spur_system_exactly():
+    """A spur box given axial DOFs: the spur matrices unchanged bit for bit, no coupling to the
+    axial block, the frequencies the union of both."""
+    spur = Gearbox.from_mapping(_config(0.0, rigid=False))
+    ax = dataclasses.replace(spur, rotors=tuple(dataclasses.replace(pr, axial=True) for pr in spur.rotors))
+    ms, ma = matrices(spur), matrices(ax)
+    old = np.concatenate([np.arange(o, o + nl + nt) for o, nl, nt in ax.layout])
+    new = np.setdiff1d(np.arange(ax.n_dof), old)
+    for Xs, Xa in ((ms.M, ma.M), (ms.K0, ma.K0), (ms.g.T @ ms.g, ma.g.T @ ma.g)):
+        assert np.array_equal(Xa[np.ix_(old, old)], Xs)
+    assert not np.any(ma.g[:, new])
+    axial = [axial_modes(pr.rotor, pr.rotor.n_nodes)[0] for pr in spur.rotors]
+    np.testing.assert_allclose(np.sort(_undamped(ax)), np.sort(np.concatenate([_undamped(spur), *axial])), rtol=1e-10)
+
+
+@pytest.mark.parametrize("beta", [0.0, 15.0])
+def test_axial_torsional_coupling_only_for_a_helix(beta):
+    """The stiffness block between the axial DOFs and the twists is ``k sigma tan(beta_b) s_d
+    r_b`` (zero for spur), and the mesh mode carries axial kinetic energy only for beta > 0."""
+    box = Gearbox.from_mapping(_config(beta, rigid=False))
+    if beta == 0:
+        box = dataclasses.replace(box, rotors=tuple(dataclasses.replace(pr, axial=True) for pr in box.rotors))
+    mats = matrices(box)
+    Km = (mats.g.T * mats.k_mean) @ mats.g
+    m = box.meshes[0]
+    pair = _pair(beta)
+    t = math.tan(pair.base_helix_angle)
+    # right-hand pinion driving counter-clockwise: thrust on the pinion along +z, i.e. sigma = -1
+    want = K_MESH * (-t) * 1 * pair.gears[0].base_radius
+    got = Km[box.axial_dof(*m.driver), box.torsion_dof(*m.driver)]
+    assert got == pytest.approx(want, rel=1e-12, abs=1e-300)
+    shapes = modal(box, 0.0, 8).shape[0]
+    k = int(np.argmax(np.abs(shapes @ mats.g[0])))  # the mode that strains the mesh most
+    share = modal_shares(box, shapes, 0.0)["axial_kinetic"][k]
+    assert (share > 1e-3) if beta else (share < 1e-20)
+
+
+@pytest.mark.parametrize("rotation", ["ccw", "cw"])
+def test_static_forces_follow_the_helical_force_laws(rotation):
+    """Under a load torque T on the wheel (T_p = T / 2 on the pinion): the resultant the mesh
+    applies to the driven gear is T_p / (r_b1 cos(beta_b)); each rotor's thrust bearing takes
+    T_p tan(beta_w) / r_w1 with the hand rule's sign (right-hand pinion driving: thrust on the
+    pinion along its rotation vector); tilting moments F_a r_w."""
+    beta, T_load = 20.0, 200.0
+    cfg = _config(beta, rotation=rotation, rigid=False)
+    cfg["load"] = {"rotor": "out", "node": 1, "torque": T_load}
+    box = Gearbox.from_mapping(cfg)
+    pair = _pair(beta)
+    Tp = T_load / 2
+    rb1, rw1, rw2 = (
+        pair.gears[0].base_radius,
+        *(g.base_radius / math.cos(pair.operating_pressure_angle) for g in pair.gears),
+    )
+    q, F = static_state(box, 0.0)
+    mats = matrices(box)
+    m = box.meshes[0]
+    f, node = m.driven
+    dofs = [box.lateral_dof(f, node, 0), box.lateral_dof(f, node, 1), box.axial_dof(f, node)]
+    normal = np.linalg.norm(-F[0] * mats.g[0, dofs])
+    assert normal == pytest.approx(Tp / (rb1 * math.cos(pair.base_helix_angle)), rel=1e-9)
+    fa = Tp * math.tan(pair.working_helix_angle) / rw1
+    spin = 1.0 if rotation == "ccw" else -1.0
+    r_in, r_out = axial_reactions(box, q)  # one thrust bearing per rotor, on the rotor
+    assert r_in == pytest.approx(-spin * fa, rel=1e-9)  # the mesh pushes the pinion along +spin z
+    assert r_out == pytest.approx(spin * fa, rel=1e-9)
+    tm = np.linalg.norm(tilting_moments(box, F)[0], axis=-1)
+    np.testing.assert_allclose(tm, [fa * rw1, fa * rw2], rtol=1e-9)
+
+
+def test_steady_state_energy_balance_with_a_helical_mesh():
+    """Varying mesh stiffness and TE, thrust dampers: E - E0 = int P dt, and the thrust
+    reactions' mean over the evaluated cycles is near the static one (small TE, 5 % stiffness
+    variation)."""
+    cfg = _config(15.0, rigid=False)
+    cfg["load"] = {"rotor": "out", "node": 1, "torque": 200.0, "damping": 2.0}
+    for r in cfg["rotor"]:
+        r["bearing"][0]["czz"] = 2.0e3
+    cfg["gear_mesh"][0].update(k_harmonics=[0.05 * K_MESH], te_harmonics=[2e-7], damping_ratio=0.05)
+    del cfg["gear_mesh"][0]["torque"]
+    box = Gearbox.from_mapping(cfg)
+    st = SteadySettings(steps_per_cycle=128, min_cycles=10, max_cycles=30, eval_cycles=4)
+    s = steady_state(box, 300.0, st)
+    assert s.energy_error < 2e-3, s.energy_error
+    q, _ = static_state(box, 300.0)
+    static = axial_reactions(box, q)
+    np.testing.assert_allclose(s.axial_force.mean(0), static, rtol=0.05)
+
+
+def test_cli_helical_mesh_without_thrust_bearing_exits_2_naming_kzz(tmp_path):
+    from typer.testing import CliRunner
+
+    from rotaflex.cli import app
+
+    text = (ROOT / "examples/system/helical_gearbox.toml").read_text()
+    cfg = tmp_path / "bad.toml"
+    cfg.write_text(text.replace("kzz = 1.5e8", "kzz = 0.0"))
+    r = CliRunner().invoke(app, ["system", "modal", str(cfg), "--out", str(tmp_path / "o"), "-q", "--no-figures"])
+    assert r.exit_code == 2
+    lines = [ln for ln in r.output.strip().splitlines() if ln]
+    assert len(lines) == 1 and "rotor[1].bearing[].kzz" in lines[0], r.output
