@@ -112,7 +112,7 @@ def test_rigid_two_gear_frequencies_match_the_hand_derived_3dof_problem(beta):
     wn = np.sort(modal(box, 0.0, 3).wn[0])
     ref = _hand_frequencies(beta)
     # shafts 1e6 x steel, bearings 1e14 N/m: the rigid-body model
-    np.testing.assert_allclose(wn, ref, rtol=2e-5)
+    np.testing.assert_allclose(wn, ref, rtol=1e-5)  # measured 1.9e-6
     # the check discriminates: the uncoupled (spur) frequencies are > 1 % away
     (m1, _), (m2, J2) = _rigid_masses()["pinion"], _rigid_masses()["wheel"]
     rb2 = _pair(beta).gears[1].base_radius
@@ -241,10 +241,10 @@ def test_steady_state_energy_balance_with_a_helical_mesh():
     box = Gearbox.from_mapping(cfg)
     st = SteadySettings(steps_per_cycle=128, min_cycles=10, max_cycles=30, eval_cycles=4)
     s = steady_state(box, 300.0, st)
-    assert s.energy_error < 2e-3, s.energy_error
+    assert s.energy_error < 1e-5, s.energy_error  # measured 3.0e-6 (1.3e-5 at 64 steps, 7.4e-7 at 256)
     q, _ = static_state(box, 300.0)
     static = axial_reactions(box, q)
-    np.testing.assert_allclose(s.axial_force.mean(0), static, rtol=0.05)
+    np.testing.assert_allclose(s.axial_force.mean(0), static, rtol=1e-2)  # measured 9e-4
 
 
 def test_cli_helical_mesh_without_thrust_bearing_exits_2_naming_kzz(tmp_path):

@@ -32,18 +32,24 @@ def thrust_bearings(box: Gearbox) -> list[tuple[int, int, int | None, float, flo
     return out
 
 
-def axial_reactions(box: Gearbox, q: np.ndarray, qd: np.ndarray | None = None) -> np.ndarray:
+def axial_reactions(
+    box: Gearbox, q: np.ndarray, qd: np.ndarray | None = None, basis: np.ndarray | None = None
+) -> np.ndarray:
     """Axial forces [N] of the thrust bearings on the rotor (..., n_thrust) at full DOF vectors
-    q (..., n_dof) [m] and velocities qd (same shape, or None: static)."""
-    out = []
-    for r, node, other, k, c, _ in thrust_bearings(box):
-        i = box.axial_dof(r, node)
-        w = q[..., i] - (q[..., box.axial_dof(r, other)] if other is not None else 0.0)
-        f = -k * w
-        if qd is not None:
-            f = f - c * (qd[..., i] - (qd[..., box.axial_dof(r, other)] if other is not None else 0.0))
-        out.append(f)
-    return np.stack(out, -1) if out else np.zeros((*np.shape(q)[:-1], 0))
+    q (..., n_dof) [m] and velocities qd (same shape, or None: static). With ``basis`` (n_dof,
+    r), q and qd are coordinates in it (q_full = basis q): only the thrust rows are expanded."""
+    brg = thrust_bearings(box)
+    A = np.zeros((len(brg), box.n_dof))  # axial displacement across each thrust bearing
+    for b, (r, node, other, *_) in enumerate(brg):
+        A[b, box.axial_dof(r, node)] = 1.0
+        if other is not None:
+            A[b, box.axial_dof(r, other)] = -1.0
+    if basis is not None:
+        A = A @ basis
+    k = np.array([b[3] for b in brg])
+    c = np.array([b[4] for b in brg])
+    f = -k * (q @ A.T)
+    return f if qd is None else f - c * (qd @ A.T)
 
 
 def mesh_axial_force(box: Gearbox, force: np.ndarray) -> np.ndarray:

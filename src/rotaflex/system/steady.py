@@ -241,7 +241,7 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
         rp, node = m.driver if m.pinion_is_driver else m.driven
         shift[:, j] = m.gear.teeth[0] * box.rotors[rp].sense * (xs @ Tfull[box.torsion_dof(rp, node)]) / (2 * np.pi)
     t_eval = t0 + dt * np.arange(n + 1)
-    axial = axial_reactions(box, xs @ Tfull.T, vs @ Tfull.T) if box.axial else None
+    axial = axial_reactions(box, xs, vs, Tfull) if box.axial else None
     q_end = Tfull @ x
     qd_end = Tfull @ v
     return SteadyState(

@@ -625,7 +625,7 @@ class PairSpec:
             raise InputError(
                 f"{pre}pinion.helix_angle_deg",
                 self.pinion.helix_angle_deg,
-                f"0 in {verb} (spur pairs only; helical pairs run in gear static and gear steady)",
+                f"0 in {verb} (spur pairs only; helical pairs run in gear static, lumped gear steady and system)",
             )
         for name in ("pinion", "wheel"):
             lead = getattr(self, name).lead
