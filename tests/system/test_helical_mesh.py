@@ -22,6 +22,7 @@ from rotaflex.system.assembly import matrices, system_matrices, undamped_modes
 from rotaflex.system.helical import axial_reactions, modal_shares, static_state, tilting_moments
 from rotaflex.system.modal import modal
 from rotaflex.system.model import Gearbox
+from rotaflex.system.response import forced_response
 from rotaflex.system.steady import SteadySettings, steady_state
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -259,3 +260,25 @@ def test_cli_helical_mesh_without_thrust_bearing_exits_2_naming_kzz(tmp_path):
     assert r.exit_code == 2
     lines = [ln for ln in r.output.strip().splitlines() if ln]
     assert len(lines) == 1 and "rotor[1].bearing[].kzz" in lines[0], r.output
+
+
+def test_te_response_thrust_reactions_match_the_hand_derived_forced_problem():
+    """Rigid two-gear case (as the 3-DOF frequency test) excited by a TE harmonic e at the mesh
+    frequency w (z_p Omega): ``(K - w^2 M) X = k a e`` written by hand; the thrust reactions are
+    ``-k_a1 w_1`` and ``-k_a2 w_2`` and the dynamic mesh force ``k (a^T X - e)``."""
+    beta, e, speed = 15.0, 1e-6, 100.0  # mesh frequency 2000 rad/s, below the lowest mode (~4200)
+    cfg = _config(beta)
+    cfg["gear_mesh"][0].update(te_harmonics=[e], damping_ratio=0.0)
+    box = Gearbox.from_mapping(cfg)
+    r = forced_response(box, [speed], harmonics=1, cutoff=None)
+    pair = _pair(beta)
+    t = math.tan(pair.base_helix_angle)
+    (m1, _), (m2, J2) = _rigid_masses()["pinion"], _rigid_masses()["wheel"]
+    a = np.array([pair.gears[1].base_radius, t, -t])
+    K = K_MESH * np.outer(a, a) + np.diag([0.0, KA[0], KA[1]])
+    w = 20 * speed
+    X = np.linalg.solve(K - w**2 * np.diag([J2, m1, m2]), K_MESH * a * e)
+    thrust = np.abs([KA[0] * X[1], KA[1] * X[2]])
+    np.testing.assert_allclose(np.abs(r.axial_bearing_force[0, 0, 0]), thrust, rtol=1e-5)
+    assert abs(r.mesh_force[0, 0, 0]) == pytest.approx(abs(K_MESH * (a @ X - e)), rel=1e-5)
+    assert thrust.min() > 1.0  # N (8.7 and 9.1 N): the check is not of zeros

@@ -430,7 +430,10 @@ def run_response(config: dict, *, progress: bool = False):
 
         fa = np.abs(mesh_axial_force(box, np.moveaxis(r.mesh_force, 0, -1)))
         ds["axial_mesh_force"] = (("speed", "harmonic", "mesh"), fa, {"units": "N", "long_name": "dynamic, amplitude"})
+        fb_a = np.abs(r.axial_bearing_force)
+        ds["axial_bearing_force"] = ((*dims, "thrust"), fb_a, {"units": "N", "long_name": "thrust, amplitude"})
         extra["peak_dynamic_axial_force"] = {"value": float(fa.sum(1).max()), "unit": "N"}
+        extra["peak_axial_bearing_force"] = {"value": float(fb_a.sum(2).max()), "unit": "N"}
         _helical_static(box, ds, extra, float(np.median(speeds)))
     msg = (
         f"{spec.n_speeds} speeds x {spec.harmonics} TE harmonics; largest dynamic mesh force "

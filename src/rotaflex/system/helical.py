@@ -32,22 +32,27 @@ def thrust_bearings(box: Gearbox) -> list[tuple[int, int, int | None, float, flo
     return out
 
 
+def thrust_operator(box: Gearbox, basis: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A, kzz, czz): A (n_thrust, n_dof) gives the axial displacement across each thrust
+    bearing of full DOF vectors (``A @ basis`` with a basis (n_dof, r)); kzz [N/m], czz [N s/m]."""
+    brg = thrust_bearings(box)
+    A = np.zeros((len(brg), box.n_dof))
+    for b, (r, node, other, *_) in enumerate(brg):
+        A[b, box.axial_dof(r, node)] = 1.0
+        if other is not None:
+            A[b, box.axial_dof(r, other)] = -1.0
+    k = np.array([b[3] for b in brg])
+    c = np.array([b[4] for b in brg])
+    return (A if basis is None else A @ basis), k, c
+
+
 def axial_reactions(
     box: Gearbox, q: np.ndarray, qd: np.ndarray | None = None, basis: np.ndarray | None = None
 ) -> np.ndarray:
     """Axial forces [N] of the thrust bearings on the rotor (..., n_thrust) at full DOF vectors
     q (..., n_dof) [m] and velocities qd (same shape, or None: static). With ``basis`` (n_dof,
     r), q and qd are coordinates in it (q_full = basis q): only the thrust rows are expanded."""
-    brg = thrust_bearings(box)
-    A = np.zeros((len(brg), box.n_dof))  # axial displacement across each thrust bearing
-    for b, (r, node, other, *_) in enumerate(brg):
-        A[b, box.axial_dof(r, node)] = 1.0
-        if other is not None:
-            A[b, box.axial_dof(r, other)] = -1.0
-    if basis is not None:
-        A = A @ basis
-    k = np.array([b[3] for b in brg])
-    c = np.array([b[4] for b in brg])
+    A, k, c = thrust_operator(box, basis)
     f = -k * (q @ A.T)
     return f if qd is None else f - c * (qd @ A.T)
 

@@ -23,6 +23,7 @@ import numpy as np
 
 from rotaflex.core.errors import InputError
 from rotaflex.system.assembly import bearing_matrices, matrices, reduced_basis
+from rotaflex.system.helical import thrust_operator
 from rotaflex.system.model import Gearbox
 from rotaflex.system.size import check_assembly, check_response
 
@@ -98,6 +99,8 @@ class ForcedResponse:
     bearing_force : (mesh, s, h, n_bearing, 2) [N];  orbit : (mesh, s, h, n_probe, 2) [m]
     bearings : list of (rotor name, node);  probes : list of (rotor name, node)
     static_force : (mesh,) [N]
+    axial_bearing_force : (mesh, s, h, n_thrust) [N] thrust bearing forces on the rotors
+        (boxes with helical meshes; None otherwise)
     """
 
     speed: np.ndarray
@@ -111,6 +114,7 @@ class ForcedResponse:
     bearings: list
     probes: list
     static_force: np.ndarray
+    axial_bearing_force: np.ndarray | None = None
 
 
 def forced_response(
@@ -153,6 +157,9 @@ def forced_response(
         Tb[b] = Tfull[rows[b]]
         if other is not None:
             Tb[b] -= Tfull[[box.lateral_dof(i, other, 0), box.lateral_dof(i, other, 1)]]
+    if box.axial:  # thrust bearings (helical meshes): axial displacement across each
+        Ta, ka, ca = thrust_operator(box, Tfull)
+        fa = np.zeros((nm, ns, nh, ka.size), complex)
     Tp = np.zeros((len(probes), 2, P.shape[1]))
     for p, (r, n) in enumerate(probes):
         Tp[p] = Tfull[[box.lateral_dof(r, n, 0), box.lateral_dof(r, n, 1)]]
@@ -204,10 +211,15 @@ def forced_response(
             bf[j] = -(fk + 1j * wm[..., None, None] * fc)
         if len(probes):
             orb[j] = np.einsum("par,shr->shpa", Tp, Q)
+        if box.axial:
+            fa[j] = -(ka + 1j * wm[..., None] * ca) * (Q @ Ta.T)
     names = [(box.rotors[i].name, node) for i, node, _ in brg]
     pnames = [(box.rotors[r].name, n) for r, n in probes]
     f0 = np.array([m.gear.torque / m.gear.base_radius[0] for m in box.meshes])
-    return ForcedResponse(speeds, freq, E, out["dte"], out["deflection"], out["mesh_force"], bf, orb, names, pnames, f0)
+    fa = fa if box.axial else None
+    return ForcedResponse(
+        speeds, freq, E, out["dte"], out["deflection"], out["mesh_force"], bf, orb, names, pnames, f0, fa
+    )
 
 
 def orbit_semi_axes(X: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
