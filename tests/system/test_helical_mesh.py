@@ -316,3 +316,26 @@ def test_cli_modal_on_the_helical_example_reports_axial_shares(tmp_path):
     assert float(ds.axial_kinetic.max()) > 0.9  # the thrust-bearing modes
     s = json.loads((out / "summary.json").read_text())
     assert s["mode_0_axial_kinetic"]["unit"] == "1"
+
+
+def test_thrust_springs_to_ground_and_between_nodes_in_the_axial_matrices():
+    """kzz/czz of a bearing to ground add on the node's diagonal; between two nodes (to_node)
+    they add the two-node spring [[k, -k], [-k, k]] (the bars' E A / L removed for the check)."""
+    from rotaflex.rotor.fe.model import Bearing, Rotor, Shaft
+    from rotaflex.rotor.fe.torsion_axial import axial_matrices
+
+    shaft = (Shaft(outer_diameter=0.05, length=0.3, elements=3),)
+    lateral = [Bearing(node=n, kxx=1e8, kyy=1e8) for n in (0, 3)]
+    bare = Rotor(shaft=shaft, bearing=tuple(lateral))
+    thrust = (Bearing(node=0, kzz=3e7, czz=50.0), Bearing(node=1, to_node=3, kzz=2e7, czz=20.0))
+    rotor = Rotor(shaft=shaft, bearing=(*lateral, *thrust))
+    K0, M0, C0 = axial_matrices(bare)
+    K, M, C = axial_matrices(rotor)
+    want_k, want_c = np.zeros((4, 4)), np.zeros((4, 4))
+    want_k[0, 0], want_c[0, 0] = 3e7, 50.0
+    want_k[np.ix_([1, 3], [1, 3])] += 2e7 * np.array([[1, -1], [-1, 1]])
+    want_c[np.ix_([1, 3], [1, 3])] += 20.0 * np.array([[1, -1], [-1, 1]])
+    np.testing.assert_allclose(K - K0, want_k, rtol=1e-12, atol=1e-6)
+    np.testing.assert_array_equal(C, want_c)
+    np.testing.assert_array_equal(M, M0)
+    assert not np.any(C0)
