@@ -176,31 +176,3 @@ def unbalance_response_study(
     if operating_range_rpm is not None:
         spec["operating_range_rpm"] = list(operating_range_rpm)
     return run_unbalance({**_rotor_tables(rotor), "unbalance": spec})
-
-
-def api_reference() -> str:
-    """Markdown reference of this module's functions and the methods of the results they return,
-    from their signatures and docstrings (docs/library.md holds it; a test keeps it current)."""
-    import inspect
-
-    from rotaflex.rotor.fe.results import CampbellResult, ModalResult, UnbalanceResult
-
-    def block(name: str, obj) -> str:
-        doc = inspect.getdoc(obj) or ""
-        return f"### `{name}{inspect.signature(obj)}`\n\n```text\n{doc}\n```\n"
-
-    parts = [
-        block(f"rotaflex.rotor.fe.{n}", globals()[n]) for n in ("modes", "campbell_diagram", "unbalance_response_study")
-    ]
-    for cls, names in (
-        (ModalResult, ("summary", "plot", "plot_mode", "plot_orbits")),
-        (CampbellResult, ("summary", "plot", "plot_campbell", "critical")),
-        (UnbalanceResult, ("summary", "plot", "plot_bode", "plot_orbit")),
-    ):
-        for n in names:
-            attr = inspect.getattr_static(cls, n)
-            if isinstance(attr, property):
-                parts.append(f"### `{cls.__name__}.{n}` (property)\n\n```text\n{inspect.getdoc(attr)}\n```\n")
-            else:
-                parts.append(block(f"{cls.__name__}.{n}", getattr(cls, n)))
-    return "\n".join(parts)
