@@ -112,6 +112,12 @@ class Machine:
     load : LoadSpec, optional
         The driven load (``[load]``).
 
+    Attributes
+    ----------
+    gearbox : Gearbox
+        The built model (placed rotors, meshes, couplings; :class:`rotaflex.system.Gearbox`),
+        for the solver functions of :mod:`rotaflex.system` (``modal(machine.gearbox, ...)``).
+
     Notes
     -----
     Construction checks the machine as ``rotaflex system`` checks a file (names, stations,
