@@ -13,7 +13,7 @@ import numpy as np
 
 from rotaflex.core.io import defer_dask, replace_dir, write_json_atomic, write_netcdf
 
-#: statuses of a run that completed with a physical finding rather than a failure: the results
+#: The statuses of a run that completed with a physical finding rather than a failure; the results
 #: are written and count as done (exit 0, not "failed" in a sweep); the status word and the
 #: message say what was found. ``not_periodic``: a steady state that did not settle within
 #: its cycle budget (quasi-periodic or chaotic motion near a jump), evaluated over its last cycles.

@@ -129,7 +129,7 @@ def inertial_rate_matrix(sequence: str, angles, convention: str = "right-handed"
 
 
 def singularity_measure(sequence: str, angles) -> np.ndarray:
-    """``|det E|``: 0 at gimbal lock, 1 farthest from it (|cos a1| or |sin a1|)."""
+    """``|det E|``: 0 at gimbal lock, 1 farthest from it (``|cos a1|`` or ``|sin a1|``)."""
     check_sequence(sequence)
     mid = _angles(angles)[..., 1]
     return np.abs(np.sin(mid)) if is_proper(sequence) else np.abs(np.cos(mid))

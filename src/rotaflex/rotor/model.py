@@ -203,10 +203,14 @@ class FreeBody:
 
     Attributes
     ----------
-    inertia : (3,) principal moments about body x, y, z [kg m^2]
-    initial_angles : Euler angles of ``formulation.sequence`` [rad] giving the initial attitude
-    initial_body_rate : body-frame angular velocity at t = 0 [rad/s]
-    torque : constant applied torque [N m] in the frame ``torque_frame``
+    inertia : tuple of 3 float
+        Principal moments about body x, y and z [kg m^2].
+    initial_angles : tuple of 3 float
+        Euler angles of ``formulation.sequence`` [rad] giving the initial attitude.
+    initial_body_rate : tuple of 3 float
+        Body-frame angular velocity at t = 0 [rad/s].
+    torque : tuple of 3 float
+        Constant applied torque [N m] in the frame ``torque_frame``.
     """
 
     inertia: tuple[float, float, float] = param((1.0, 1.0, 2.0), unit="kg m^2", gt=0, doc="principal inertias")

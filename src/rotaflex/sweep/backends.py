@@ -183,6 +183,7 @@ class SerialExecutor(Executor):
     _max_workers = 1
 
     def submit(self, fn, /, *args, **kwargs):
+        """Call ``fn(*args, **kwargs)`` now; the returned future holds its result or exception."""
         fut: Future = Future()
         try:
             fut.set_result(fn(*args, **kwargs))

@@ -70,7 +70,7 @@ class CaseRecord:
 
     @property
     def ok(self) -> bool:
-        """Done: success or a finding (:func:`rotaflex.core.result.completed`)."""
+        """True when done (success or a finding; :func:`rotaflex.core.result.completed`)."""
         from rotaflex.core.result import completed
 
         return completed(self.status)

@@ -106,6 +106,11 @@ class _SystemResult(Result):
         box = _box(self)
         return {} if box is None else {"system": system_figure(box)}
 
+    def plot_model(self):
+        """Plan and side views of the machine (``system.png``); None when the model cannot be
+        rebuilt from the stored config (a pair file moved since the run)."""
+        return self._model().get("system")
+
 
 @register_result
 class SystemModalResult(_SystemResult):
@@ -114,10 +119,14 @@ class SystemModalResult(_SystemResult):
     kind = "system_modal"
 
     def plot(self) -> dict:
+        return {**self._model(), "energy_split": self.plot_energy()}
+
+    def plot_energy(self):
+        """Kinetic-energy split of each mode over the rotors and the mesh strain energy
+        (``energy_split.png``)."""
         from rotaflex.core.plotting import new_figure
 
         ds = self.dataset
-        figs = self._model()
         fig, ax = new_figure()
         nm = ds.sizes["mode"]
         bottom = np.zeros(nm)
@@ -130,8 +139,7 @@ class SystemModalResult(_SystemResult):
         ax.set_xticks(x, [f"{f * HZ:.0f}" for f in ds["natural_frequency"].values], rotation=60, fontsize=7)
         ax.set(xlabel="mode frequency [Hz]", ylabel="energy fraction")
         ax.legend(fontsize=7)
-        figs["energy_split"] = fig
-        return figs
+        return fig
 
 
 @register_result
@@ -141,10 +149,14 @@ class SystemCampbellResult(_SystemResult):
     kind = "system_campbell"
 
     def plot(self) -> dict:
+        return {**self._model(), "campbell": self.plot_campbell()}
+
+    def plot_campbell(self):
+        """Tracked damped frequencies coloured by mesh strain energy, the mesh-order and 1X
+        lines and the mesh-mode crossings (``campbell.png``)."""
         from rotaflex.core.plotting import new_figure
 
         ds = self.dataset
-        figs = self._model()
         fig, ax = new_figure(figsize=(7, 5))
         sp = ds["speed"].values
         me = ds["mesh_energy"].values
@@ -170,8 +182,7 @@ class SystemCampbellResult(_SystemResult):
                 ax.plot(rad_s_to_rpm(cr["speed"]), cr["frequency"] * HZ, "ko", mfc="none", ms=6)
         ax.set_ylim(0, ymax)
         ax.set(xlabel="drive speed [rpm]", ylabel="damped natural frequency [Hz]")
-        figs["campbell"] = fig
-        return figs
+        return fig
 
 
 @register_result
@@ -181,10 +192,16 @@ class SystemResponseResult(_SystemResult):
     kind = "system_response"
 
     def plot(self) -> dict:
+        figs = {**self._model(), "response": self.plot_response()}
+        if self.dataset.sizes.get("probe", 0):
+            figs["orbits"] = self.plot_orbits()
+        return figs
+
+    def plot_response(self):
+        """DTE, dynamic mesh force and bearing forces per TE harmonic vs speed (``response.png``)."""
         from rotaflex.core.plotting import new_figure
 
         ds = self.dataset
-        figs = self._model()
         rpm = ds["speed_rpm"].values
         fig, ax = new_figure(3, 1, sharex=True, figsize=(7, 8))
         for h in range(ds.sizes["harmonic"]):
@@ -198,15 +215,20 @@ class SystemResponseResult(_SystemResult):
         for a in ax:
             a.legend(fontsize=6)
             a.grid(alpha=0.3, which="both")
-        figs["response"] = fig
-        if ds.sizes.get("probe", 0):
-            fig2, a2 = new_figure()
-            for p in range(ds.sizes["probe"]):
-                a2.semilogy(rpm, ds["orbit_major"].values[0, :, :, p].sum(-1) * 1e6, label=str(ds["probe"].values[p]))
-            a2.set(xlabel="drive speed [rpm]", ylabel="orbit semi-major axis, sum of h [µm]")
-            a2.legend(fontsize=7)
-            figs["orbits"] = fig2
-        return figs
+        return fig
+
+    def plot_orbits(self):
+        """Orbit semi-major axis of every probe vs speed (``orbits.png``)."""
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        rpm = ds["speed_rpm"].values
+        fig2, a2 = new_figure()
+        for p in range(ds.sizes["probe"]):
+            a2.semilogy(rpm, ds["orbit_major"].values[0, :, :, p].sum(-1) * 1e6, label=str(ds["probe"].values[p]))
+        a2.set(xlabel="drive speed [rpm]", ylabel="orbit semi-major axis, sum of h [µm]")
+        a2.legend(fontsize=7)
+        return fig2
 
 
 @register_result
@@ -227,10 +249,13 @@ class SystemSteadyResult(_SystemResult):
         }
 
     def plot(self) -> dict:
+        return {**self._model(), "time_series": self.plot_time_series()}
+
+    def plot_time_series(self):
+        """DTE, mesh force and bearing forces over the last cycles (``time_series.png``)."""
         from rotaflex.core.plotting import new_figure
 
         ds = self.dataset
-        figs = self._model()
         t = ds["time"].values
         fig, ax = new_figure(3, 1, sharex=True, figsize=(7, 8))
         ax[0].plot(t * 1e3, ds["dte"].values[:, 0] * 1e6)
@@ -243,8 +268,7 @@ class SystemSteadyResult(_SystemResult):
             ax[2].plot(t * 1e3, f, label=str(ds["bearing"].values[b]), lw=0.8)
         ax[2].set(xlabel="time [ms]", ylabel="|bearing force| [N]")
         ax[2].legend(fontsize=6)
-        figs["time_series"] = fig
-        return figs
+        return fig
 
 
 def torsional_dataset(model, w, shape, lines, margin, passed, operating, speed_range, required):
@@ -278,10 +302,14 @@ class TorsionalResult(_SystemResult):
     kind = "system_torsional"
 
     def plot(self) -> dict:
+        return {**self._model(), "interference": self.plot_interference(), "torsional_modes": self.plot_modes()}
+
+    def plot_interference(self):
+        """Natural frequencies with their +-10 % bands against the excitation lines, the
+        operating range and the crossings (``interference.png``)."""
         from rotaflex.core.plotting import new_figure
 
         ds = self.dataset
-        figs = self._model()
         fig, ax = new_figure(figsize=(7, 5))
         lo, hi = ds["speed_range"].values
         op = ds["operating_speed"].values
@@ -309,15 +337,21 @@ class TorsionalResult(_SystemResult):
             xlabel="drive speed [rpm]", ylabel="frequency [Hz]", title="torsional interference diagram (±10 % bands)"
         )
         ax.legend(fontsize=7, loc="upper left")
-        figs["interference"] = fig
+        return fig
+
+    def plot_modes(self):
+        """Torsional mode shapes, twist per station (``torsional_modes.png``)."""
+        from rotaflex.core.plotting import new_figure
+
+        ds = self.dataset
+        fn = ds["natural_frequency"].values * HZ
         fig2, bx = new_figure(figsize=(8, 4))
         for k in range(ds.sizes["mode"]):
             bx.plot(ds["shape"].values[k], "o-", ms=3, label=f"{fn[k]:.4g} Hz")
         bx.set_xticks(np.arange(ds.sizes["station"]), ds["station"].values, rotation=90, fontsize=6)
         bx.set(ylabel="twist (largest = 1)", title="torsional mode shapes")
         bx.legend(fontsize=7)
-        figs["torsional_modes"] = fig2
-        return figs
+        return fig2
 
 
 def _element_torques(box, model, theta):
@@ -404,6 +438,10 @@ class StartupResult(_SystemResult):
     kind = "system_startup"
 
     def plot(self) -> dict:
+        return {**self._model(), "startup": self.plot_startup()}
+
+    def plot_startup(self):
+        """Rotor speeds, motor and load torque, and the transmitted torque vs time (``startup.png``)."""
         from rotaflex.core.plotting import new_figure
 
         ds = self.dataset
@@ -424,4 +462,4 @@ class StartupResult(_SystemResult):
             ax[2].plot(t, ds["shaft_torque"].values[:, j], label=f"shaft {ds['element'].values[j]}", lw=0.8)
         ax[2].set(xlabel="time [s]", ylabel="transmitted torque [N m]")
         ax[2].legend(fontsize=7)
-        return {**self._model(), "startup": fig}
+        return fig

@@ -578,8 +578,8 @@ class Rotor:
 
     @functools.cached_property
     def pedestals(self) -> list[tuple[int, Pedestal]]:
-        """(bearing index, pedestal) of the bearings on pedestals, in the order of their DOFs: pedestal
-        p has x at ``n_rotor_dof + 2 p`` and y after it."""
+        """The (bearing index, pedestal) pairs of the bearings on pedestals, in the order of their
+        DOFs; pedestal p has x at ``n_rotor_dof + 2 p`` and y after it."""
         return [(i, b.pedestal) for i, b in enumerate(self.bearing) if b.pedestal is not None]
 
     @property
@@ -644,8 +644,8 @@ class Rotor:
 
     @functools.cached_property
     def bearing_dofs(self) -> list[tuple[np.ndarray, np.ndarray | None]]:
-        """DOFs (x, y) of both ends of each bearing: its node's, and the other node's, its
-        pedestal's or None (ground). From the schema, so the mass assembly needs no element."""
+        """The DOFs (x, y) of both ends of each bearing (its node's; and the other node's, its
+        pedestal's or None for the ground). From the schema, so the mass assembly needs no element."""
         ped = {i: p for p, (i, _) in enumerate(self.pedestals)}
         out = []
         for i, b in enumerate(self.bearing):

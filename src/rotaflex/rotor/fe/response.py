@@ -12,7 +12,7 @@ reported (x(t) = |Q_x| cos(Omega t + phase), so a lag is a negative phase).
 Definitions used (API 684 style): on the amplitude-vs-speed curve at a probe, each peak at
 N_c has half-power speeds N_1 < N_c < N_2 where the amplitude is peak / sqrt(2); the
 amplification factor is AF = N_c / (N_2 - N_1) and the separation margin from the operating
-speed N_op is SM = |N_op - N_c| / N_op * 100 %.
+speed N_op is SM = ``|N_op - N_c| / N_op * 100`` %.
 """
 
 from __future__ import annotations
@@ -124,7 +124,7 @@ def peaks(
     list of dict
         ``speed`` (N_c, refined by a parabola through the three highest samples), ``amplitude``,
         ``n1``, ``n2`` (half-power speeds, nan if outside the range), ``af`` (N_c / (N_2 - N_1)),
-        ``sm_percent`` (|N_op - N_c| / N_op * 100, nan without an operating speed),
+        ``sm_percent`` (``|N_op - N_c| / N_op * 100``, nan without an operating speed),
         ``sm_required_percent`` (:func:`api684_required_margin`, nan without an operating speed)
         and ``sm_ok`` (1.0 if the margin meets the requirement, 0.0 if not, nan without one).
     """

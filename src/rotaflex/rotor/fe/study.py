@@ -31,27 +31,58 @@ from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.model import ROTOR_KEYS, Rotor
 
-__all__ = ["campbell_diagram", "modes", "unbalance_response_study"]
+__all__ = ["campbell_diagram", "modes", "rotor_tables", "speed_in_rpm", "unbalance_response_study"]
 
 
-def _rotor_tables(rotor: Rotor) -> dict:
-    """The rotor as the case file's tables (the runners read those: one validation path)."""
+def rotor_tables(rotor: Rotor, where: str = "rotor") -> dict:
+    """The rotor as the case file's tables (the runners read those: one validation path).
+
+    Parameters
+    ----------
+    rotor : Rotor
+    where : str
+        The argument's name in messages when ``rotor`` is not a :class:`Rotor`.
+
+    Returns
+    -------
+    dict
+        ``shaft``, ``disk``, ``point_mass``, ``bearing``, ``material``, ``free``, ``max_dof``
+        as plain data (SI), as :meth:`Rotor.from_mapping` reads them.
+    """
     if not isinstance(rotor, Rotor):
-        raise InputError("rotor", type(rotor).__name__, "a rotaflex.rotor.fe.Rotor")
+        raise InputError(where, type(rotor).__name__, "a rotaflex.rotor.fe.Rotor")
     plain = dataclasses.asdict(rotor)
     return {k: plain[k] for k in ROTOR_KEYS}
 
 
-def _speed_rpm(speed_rpm, speed, what: str, pair: bool):
-    """The speed(s) in rpm from exactly one of ``speed_rpm`` [rpm] and ``speed`` [rad/s]."""
+def speed_in_rpm(speed_rpm, speed, what: str, pair: bool, name: str = "speed"):
+    """The speed(s) in rpm from exactly one of ``speed_rpm`` [rpm] and ``speed`` [rad/s].
+
+    Parameters
+    ----------
+    speed_rpm, speed : float or (float, float) or None
+        The arguments as the user passed them; exactly one is not None.
+    what : str
+        The analysis table the speed belongs to (``campbell``), for messages.
+    pair : bool
+        A ``(start, stop)`` range (True) or one speed (False).
+    name : str
+        The argument's stem: ``speed`` for ``speed_rpm=``/``speed=``, ``operating_speed`` for
+        ``operating_speed_rpm=``/``operating_speed=``.
+
+    Returns
+    -------
+    float or list of float
+        The speed(s) [rpm].
+    """
     if (speed_rpm is None) == (speed is None):
         raise InputError(
-            f"{what}.speed_rpm",
+            f"{what}.{name}_rpm",
             "<both>" if speed_rpm is not None else "<missing>",
-            "one of speed_rpm= [rpm] or speed= [rad/s]",
+            f"one of {name}_rpm= [rpm] or {name}= [rad/s]",
         )
     value = speed_rpm if speed is None else speed
-    key = f"{what}.{'speed_rpm' if speed is None else 'speed'}"
+    key = f"{what}.{f'{name}_rpm' if speed is None else name}"
     if pair:
         if isinstance(value, (int, float)) or len(value) != 2:
             raise InputError(key, value, "a (start, stop) pair")
@@ -82,8 +113,8 @@ def modes(rotor: Rotor, *, speed_rpm: float | None = None, speed: float | None =
     """
     from rotaflex.rotor.fe.case import run_modal
 
-    rpm = _speed_rpm(speed_rpm, speed, "modal", pair=False)
-    return run_modal({**_rotor_tables(rotor), "modal": {"speed_rpm": rpm, "n_modes": n_modes}})
+    rpm = speed_in_rpm(speed_rpm, speed, "modal", pair=False)
+    return run_modal({**rotor_tables(rotor), "modal": {"speed_rpm": rpm, "n_modes": n_modes}})
 
 
 def campbell_diagram(
@@ -121,7 +152,7 @@ def campbell_diagram(
     from rotaflex.rotor.fe.case import run_campbell
 
     spec = {
-        "speed_rpm": _speed_rpm(speed_rpm, speed, "campbell", pair=True),
+        "speed_rpm": speed_in_rpm(speed_rpm, speed, "campbell", pair=True),
         "n_speeds": n_speeds,
         "n_modes": n_modes,
         "harmonics": [float(h) for h in harmonics],
@@ -130,7 +161,7 @@ def campbell_diagram(
         spec["operating_range_rpm"] = list(operating_range_rpm)
     if frequency_limit_hz is not None:
         spec["frequency_limit_hz"] = frequency_limit_hz
-    return run_campbell({**_rotor_tables(rotor), "campbell": spec})
+    return run_campbell({**rotor_tables(rotor), "campbell": spec})
 
 
 def unbalance_response_study(
@@ -168,39 +199,11 @@ def unbalance_response_study(
 
     masses = [dataclasses.asdict(u) if dataclasses.is_dataclass(u) else dict(u) for u in unbalance]
     spec = {
-        "speed_rpm": _speed_rpm(speed_rpm, speed, "unbalance", pair=True),
+        "speed_rpm": speed_in_rpm(speed_rpm, speed, "unbalance", pair=True),
         "n_speeds": n_speeds,
         "probes": [int(p) for p in probes],
         "mass": [{k: v for k, v in m.items() if v is not None} for m in masses],
     }
     if operating_range_rpm is not None:
         spec["operating_range_rpm"] = list(operating_range_rpm)
-    return run_unbalance({**_rotor_tables(rotor), "unbalance": spec})
-
-
-def api_reference() -> str:
-    """Markdown reference of this module's functions and the methods of the results they return,
-    from their signatures and docstrings (docs/library.md holds it; a test keeps it current)."""
-    import inspect
-
-    from rotaflex.rotor.fe.results import CampbellResult, ModalResult, UnbalanceResult
-
-    def block(name: str, obj) -> str:
-        doc = inspect.getdoc(obj) or ""
-        return f"### `{name}{inspect.signature(obj)}`\n\n```text\n{doc}\n```\n"
-
-    parts = [
-        block(f"rotaflex.rotor.fe.{n}", globals()[n]) for n in ("modes", "campbell_diagram", "unbalance_response_study")
-    ]
-    for cls, names in (
-        (ModalResult, ("summary", "plot", "plot_mode", "plot_orbits")),
-        (CampbellResult, ("summary", "plot", "plot_campbell", "critical")),
-        (UnbalanceResult, ("summary", "plot", "plot_bode", "plot_orbit")),
-    ):
-        for n in names:
-            attr = inspect.getattr_static(cls, n)
-            if isinstance(attr, property):
-                parts.append(f"### `{cls.__name__}.{n}` (property)\n\n```text\n{inspect.getdoc(attr)}\n```\n")
-            else:
-                parts.append(block(f"{cls.__name__}.{n}", getattr(cls, n)))
-    return "\n".join(parts)
+    return run_unbalance({**rotor_tables(rotor), "unbalance": spec})

@@ -1,0 +1,368 @@
+"""Geared and coupled machines from Python, with the command line's results: rotors built as
+:class:`rotaflex.rotor.fe.Rotor` objects, joined by gear meshes (:class:`MeshSpec`) and
+couplings (:class:`CouplingSpec`), driven (:class:`DriveSpec`) against a load
+(:class:`LoadSpec`), make a :class:`Machine`. A machine is the TOML file's model tables as
+Python objects: :meth:`Machine.to_mapping` gives the tables ``rotaflex system`` reads, and the
+analyses below run the runners of ``rotaflex system <verb>`` on them (same validation, same
+messages naming the same keys, same numbers, same figures).
+
+Speeds are the drive rotor's, explicit in their names: ``speed_rpm=`` [rpm] or ``speed=``
+[rad/s] (one of them), for one speed or a ``(start, stop)`` range.
+
+Examples
+--------
+>>> from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+>>> from rotaflex.system.study import CouplingSpec, DriveSpec, Machine, MachineRotor, torsional_analysis
+>>> def rotor(d, length, disk_node, mass, ip):
+...     brg = dict(kxx=1e8, kyy=1e8)
+...     return Rotor(shaft=(Shaft(outer_diameter=d, length=length, elements=4),),
+...                  disk=(Disk(node=disk_node, mass=mass, Id=ip / 2, Ip=ip),),
+...                  bearing=(Bearing(node=1, **brg), Bearing(node=3, **brg)))
+>>> machine = Machine(
+...     rotors={"motor": MachineRotor(rotor(0.075, 0.9, 2, 120.0, 1.2), speed_rpm=1480.0),
+...             "pump": rotor(0.06, 0.8, 4, 25.0, 0.35)},
+...     couplings=(CouplingSpec(rotor_a="motor", node_a=4, rotor_b="pump", node_b=0,
+...                             torsional_stiffness=1.2e4),),
+...     drive=DriveSpec(rotor="motor", node=2),
+... )
+>>> t = torsional_analysis(machine, operating_speed_rpm=(1440, 1500), n_modes=2)
+>>> t.status, round(float(t.dataset["natural_frequency"][0]) / 6.283185307179586)
+('success', 31)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.model import Rotor
+from rotaflex.rotor.fe.study import rotor_tables, speed_in_rpm
+from rotaflex.system.case import ExcitationSpec, Probe
+from rotaflex.system.coupling import CouplingSpec
+from rotaflex.system.model import DriveSpec, Gearbox, LoadSpec, MeshSpec
+
+__all__ = [
+    "CouplingSpec",
+    "DriveSpec",
+    "ExcitationSpec",
+    "LoadSpec",
+    "Machine",
+    "MachineRotor",
+    "MeshSpec",
+    "Probe",
+    "campbell_diagram",
+    "mesh_response",
+    "modes",
+    "startup",
+    "steady_state_study",
+    "torsional_analysis",
+]
+
+
+@dataclass(frozen=True)
+class MachineRotor:
+    """A rotor of a machine with its placement (a ``[[rotor]]`` table's own keys).
+
+    Parameters
+    ----------
+    rotor : Rotor
+        The FE rotor (shaft, disks, bearings; SI).
+    center : (float, float)
+        (x, y) of the shaft axis in the gearbox plane [m]; rotors joined by a coupling share it.
+    speed_rpm : float, optional
+        Nominal speed [rpm] (the drive speed of analyses that take no speed; checked against
+        the gear ratios).
+    rotation : {"ccw", "cw"}, optional
+        Sense seen from +z (default: from the drive and the meshes).
+    torsion : bool
+        A twist DOF at every node (needed under a gear, a torsional coupling or the drive).
+    """
+
+    rotor: Rotor
+    center: tuple[float, float] = (0.0, 0.0)
+    speed_rpm: float | None = None
+    rotation: Literal["ccw", "cw"] | None = None
+    torsion: bool = True
+
+
+def _plain(spec: Any) -> dict:
+    """A spec dataclass as its TOML table: keys left at None are left out (TOML has no None)."""
+    return {k: v for k, v in dataclasses.asdict(spec).items() if v is not None}
+
+
+@dataclass(frozen=True)
+class Machine:
+    """Rotors joined by gear meshes and couplings, a drive and a load (frozen, SI).
+
+    Parameters
+    ----------
+    rotors : mapping of str to Rotor or MachineRotor
+        The rotors by name (the names the meshes, couplings, drive and load use); a bare
+        :class:`~rotaflex.rotor.fe.Rotor` sits at (0, 0) with torsion.
+    meshes : tuple of MeshSpec
+        Gear meshes (``[[gear_mesh]]`` tables: the pair as gear static's ``pinion``/``wheel``
+        tables or a ``pair_file``).
+    couplings : tuple of CouplingSpec
+        Shaft couplings (``[[coupling]]`` tables).
+    drive : DriveSpec
+        The motor (``[drive]``).
+    load : LoadSpec, optional
+        The driven load (``[load]``).
+
+    Attributes
+    ----------
+    gearbox : Gearbox
+        The built model (placed rotors, meshes, couplings; :class:`rotaflex.system.Gearbox`),
+        for the solver functions of :mod:`rotaflex.system` (``modal(machine.gearbox, ...)``).
+
+    Notes
+    -----
+    Construction checks the machine as ``rotaflex system`` checks a file (names, stations,
+    centres, ratios, pairs) and raises :class:`~rotaflex.core.errors.InputError` naming the key
+    as the file would have it (``coupling[0].torsional_stiffness``, ``rotor[1].center``).
+    """
+
+    rotors: Mapping[str, Rotor | MachineRotor]
+    meshes: tuple[MeshSpec, ...] = ()
+    couplings: tuple[CouplingSpec, ...] = ()
+    drive: DriveSpec | None = None
+    load: LoadSpec | None = None
+    gearbox: Gearbox = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "gearbox", _build(self.to_mapping()))
+
+    def to_mapping(self) -> dict:
+        """The machine as the model tables of a ``rotaflex system`` file (plain data, SI; rpm
+        where a key says so): what :meth:`rotaflex.system.Gearbox.from_mapping` reads."""
+        if not isinstance(self.rotors, Mapping) or not self.rotors:
+            raise InputError("rotor", self.rotors, "a mapping of rotor names to Rotor or MachineRotor objects")
+        defaults = {f.name: f.default for f in dataclasses.fields(Rotor)}
+        rotors = []
+        for i, (name, r) in enumerate(self.rotors.items()):
+            placed = r if isinstance(r, MachineRotor) else MachineRotor(r)
+            tables = rotor_tables(placed.rotor, f"rotor[{i}]")
+            # keys left at their default are left out, as a file that does not write them
+            table = {k: v for k, v in tables.items() if k == "shaft" or v != defaults[k]}
+            place = {k: v for k, v in _plain(placed).items() if k != "rotor"}
+            rotors.append({"name": name, **place, **table})
+        out: dict[str, Any] = {"rotor": rotors}
+        for key, items, kind in (("gear_mesh", self.meshes, MeshSpec), ("coupling", self.couplings, CouplingSpec)):
+            for i, item in enumerate(items):
+                if not isinstance(item, kind):
+                    raise InputError(f"{key}[{i}]", type(item).__name__, f"a {kind.__name__}")
+            if items:
+                out[key] = [_plain(item) for item in items]
+        for key, item, kind in (("drive", self.drive, DriveSpec), ("load", self.load, LoadSpec)):
+            if item is not None:
+                if not isinstance(item, kind):
+                    raise InputError(key, type(item).__name__, f"a {kind.__name__}")
+                out[key] = _plain(item)
+        return out
+
+
+def _build(model: dict) -> Gearbox:
+    """The gearbox of the model tables through the runners' own cache (built once: the
+    analyses below find it there)."""
+    from rotaflex.system.case import _gearbox
+
+    return _gearbox(model, None)
+
+
+def _run(machine: Machine, analysis: str, table: dict):
+    from rotaflex.core.domains import command
+
+    if not isinstance(machine, Machine):
+        raise InputError("machine", type(machine).__name__, "a rotaflex.system.study.Machine")
+    return command("system", analysis)({**machine.to_mapping(), analysis: table})
+
+
+def _optional(**kw) -> dict:
+    return {k: v for k, v in kw.items() if v is not None}
+
+
+def modes(machine: Machine, *, speed_rpm: float | None = None, speed: float | None = None, n_modes: int = 12):
+    """Coupled modes at one drive speed with their energy split (``rotaflex system modal``).
+
+    Parameters
+    ----------
+    machine : Machine
+    speed_rpm, speed : float, optional
+        Drive speed [rpm] or [rad/s] (one of them; neither: the rotors' ``speed_rpm``).
+    n_modes : int
+        Modes reported, lowest first.
+
+    Returns
+    -------
+    SystemModalResult
+        ``.dataset`` (frequencies [rad/s], damping ratio, energy split, shapes),
+        ``.summary()``, ``.plot_energy()``, ``.plot_model()``, ``.plot()``.
+    """
+    rpm = None if speed_rpm is None and speed is None else speed_in_rpm(speed_rpm, speed, "modal", pair=False)
+    return _run(machine, "modal", _optional(speed_rpm=rpm, n_modes=n_modes))
+
+
+def campbell_diagram(
+    machine: Machine,
+    *,
+    speed_rpm: tuple[float, float] | None = None,
+    speed: tuple[float, float] | None = None,
+    n_speeds: int = 50,
+    n_modes: int = 12,
+    harmonics: Iterable[float] = (1.0, 2.0, 3.0),
+    reduce: bool = True,
+):
+    """Campbell diagram over drive speeds with mesh-order lines (``rotaflex system campbell``).
+
+    Parameters
+    ----------
+    machine : Machine
+    speed_rpm, speed : (float, float)
+        Drive-speed range [rpm] or [rad/s] (one of them).
+    n_speeds, n_modes : int
+    harmonics : iterable of float
+        Mesh orders drawn and crossed.
+    reduce : bool
+        Solve in a reduced basis (modes and load shapes); False: all DOFs.
+
+    Returns
+    -------
+    SystemCampbellResult
+        ``.dataset`` (tracked frequencies [rad/s] vs ``speed``), ``.summary()`` (mesh-order
+        crossings), ``.plot_campbell()``, ``.plot()``.
+    """
+    rng = speed_in_rpm(speed_rpm, speed, "campbell", pair=True)
+    table = {"speed_rpm": rng, "n_speeds": n_speeds, "n_modes": n_modes, "reduce": reduce}
+    return _run(machine, "campbell", {**table, "harmonics": [float(h) for h in harmonics]})
+
+
+def torsional_analysis(
+    machine: Machine,
+    *,
+    operating_speed_rpm: tuple[float, float] | None = None,
+    operating_speed: tuple[float, float] | None = None,
+    speed_rpm: tuple[float, float] | None = None,
+    speed: tuple[float, float] | None = None,
+    n_modes: int = 8,
+    margin: float = 0.10,
+    excitation: Iterable[ExcitationSpec] = (),
+):
+    """Torsional modes, interference diagram and API 684 separation margins (``rotaflex system
+    torsional``).
+
+    Parameters
+    ----------
+    machine : Machine
+    operating_speed_rpm, operating_speed : (float, float), optional
+        Drive-speed operating range (min, max continuous) [rpm] or [rad/s] (at most one; neither:
+        the rotors' ``speed_rpm``).
+    speed_rpm, speed : (float, float), optional
+        Diagram range [rpm] or [rad/s] (at most one; default 0 to 1.25 x the operating maximum).
+    n_modes : int
+    margin : float
+        Required separation (API 684: 0.10).
+    excitation : iterable of ExcitationSpec
+        Excitation lines (default: 1X and 2X of each rotor, 1x and 2x of each mesh).
+
+    Returns
+    -------
+    TorsionalResult
+        ``.dataset`` (frequencies [rad/s], shapes, margins), ``.summary()`` (API 684 verdict),
+        ``.plot_interference()``, ``.plot_modes()``, ``.plot()``.
+    """
+    table = _optional(n_modes=n_modes, margin=margin)
+    if operating_speed_rpm is not None or operating_speed is not None:
+        table["operating_speed_rpm"] = speed_in_rpm(
+            operating_speed_rpm, operating_speed, "torsional", pair=True, name="operating_speed"
+        )
+    if speed_rpm is not None or speed is not None:
+        table["speed_rpm"] = speed_in_rpm(speed_rpm, speed, "torsional", pair=True)
+    excitation = [_plain(e) if isinstance(e, ExcitationSpec) else dict(e) for e in excitation]
+    if excitation:
+        table["excitation"] = excitation
+    return _run(machine, "torsional", table)
+
+
+def startup(machine: Machine, *, duration: float = 5.0, n_out: int = 2001, max_frequency_hz: float | None = None):
+    """Run-up from rest under the drive's torque-speed curve against the load (``rotaflex
+    system startup``).
+
+    Parameters
+    ----------
+    machine : Machine
+        Its :class:`DriveSpec` gives ``curve_speed_rpm`` [rpm] and ``curve_torque`` [N m].
+    duration : float
+        Simulated time [s].
+    n_out : int
+        Samples written.
+    max_frequency_hz : float, optional
+        Highest torsional mode kept [Hz] (default: all).
+
+    Returns
+    -------
+    StartupResult
+        ``.dataset`` (speeds, torques vs ``time`` [s]), ``.summary()``, ``.plot_startup()``,
+        ``.plot()``.
+    """
+    return _run(machine, "startup", _optional(duration=duration, n_out=n_out, max_frequency_hz=max_frequency_hz))
+
+
+def mesh_response(
+    machine: Machine,
+    *,
+    speed_rpm: tuple[float, float] | None = None,
+    speed: tuple[float, float] | None = None,
+    n_speeds: int = 500,
+    harmonics: int = 3,
+    excitation: Literal["loaded_te", "unloaded_te"] = "loaded_te",
+    probes: Iterable[Probe] = (),
+):
+    """Linear response to the transmission-error harmonics vs drive speed (``rotaflex system
+    response``).
+
+    Parameters
+    ----------
+    machine : Machine
+        With at least one gear mesh.
+    speed_rpm, speed : (float, float)
+        Drive-speed range [rpm] or [rad/s] (one of them).
+    n_speeds, harmonics : int
+    excitation : {"loaded_te", "unloaded_te"}
+    probes : iterable of Probe
+        Orbit nodes (default: the gear nodes).
+
+    Returns
+    -------
+    SystemResponseResult
+        ``.dataset`` (DTE [m], mesh and bearing forces [N], orbits vs ``speed``), ``.summary()``,
+        ``.plot_response()``, ``.plot_orbits()``, ``.plot()``.
+    """
+    rng = speed_in_rpm(speed_rpm, speed, "response", pair=True)
+    table = {"speed_rpm": rng, "n_speeds": n_speeds, "harmonics": harmonics, "excitation": excitation}
+    plist = [_plain(p) if isinstance(p, Probe) else dict(p) for p in probes]
+    return _run(machine, "response", {**table, **({"probes": plist} if plist else {})})
+
+
+def steady_state_study(machine: Machine, *, speed_rpm: float | None = None, speed: float | None = None, **settings):
+    """Nonlinear steady state at one drive speed, with contact loss (``rotaflex system steady``).
+
+    Parameters
+    ----------
+    machine : Machine
+        With at least one gear mesh.
+    speed_rpm, speed : float, optional
+        Drive speed [rpm] or [rad/s] (one of them; neither: the rotors' ``speed_rpm``).
+    **settings
+        Other keys of the ``[steady]`` table (``min_cycles``, ``max_cycles``, ``tol``, ...).
+
+    Returns
+    -------
+    SystemSteadyResult
+        ``.dataset`` (DTE, mesh and bearing forces vs ``time`` [s]), ``.summary()`` (dynamic
+        factor), ``.plot_time_series()``, ``.plot()``.
+    """
+    rpm = None if speed_rpm is None and speed is None else speed_in_rpm(speed_rpm, speed, "steady", pair=False)
+    return _run(machine, "steady", {**_optional(speed_rpm=rpm), **settings})

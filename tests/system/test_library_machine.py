@@ -1,0 +1,207 @@
+"""Machines built in Python (rotaflex.system.study): the same model, numbers, messages and
+figures as the TOML path of ``rotaflex system`` (issue 37, "The library")."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import runpy
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rotaflex.core.config import load_toml
+from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+from rotaflex.rotor.fe.materials import MATERIALS
+from rotaflex.system import Gearbox
+from rotaflex.system.case import run_campbell, run_modal, run_response, run_startup, run_steady, run_torsional
+from rotaflex.system.study import (
+    DriveSpec,
+    LoadSpec,
+    Machine,
+    MachineRotor,
+    MeshSpec,
+    campbell_diagram,
+    mesh_response,
+    modes,
+    startup,
+    steady_state_study,
+    torsional_analysis,
+)
+
+ROOT = Path(__file__).resolve().parents[2]
+TOML = ROOT / "examples" / "system" / "motor_coupling_pump.toml"
+SCRIPT = ROOT / "examples" / "python" / "coupled_train.py"
+
+
+@pytest.fixture(scope="module")
+def example(tmp_path_factory):
+    """examples/python/coupled_train.py run in this process (its figures written to a tmp dir)."""
+    out = tmp_path_factory.mktemp("coupled_train")
+    argv, sys.argv = sys.argv, ["coupled_train.py", str(out)]
+    try:
+        ns = runpy.run_path(str(SCRIPT), run_name="__main__")
+    finally:
+        sys.argv = argv
+    return ns, out
+
+
+def test_python_train_gives_the_toml_numbers(example):
+    """The Python-built train and examples/system/motor_coupling_pump.toml through the runners
+    the CLI calls: the same model (equal specs) and the same frequencies to 1e-12."""
+    ns, out = example
+    assert (out / "interference.png").exists() and (out / "campbell.png").exists()
+    cfg = load_toml(TOML)
+    assert ns["machine"].gearbox.spec == Gearbox.from_mapping(cfg).spec
+    pairs = (
+        (ns["torsion"], run_torsional(cfg), "natural_frequency"),
+        (ns["coupled"], run_modal(cfg), "damped_frequency"),
+        (ns["camp"], run_campbell(cfg), "damped_frequency"),
+    )
+    for lib, cli, var in pairs:
+        a, b = lib.dataset[var].values, cli.dataset[var].values
+        assert a.shape == b.shape and a.size
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=0)
+    assert ns["torsion"].summary()["api684_verdict"] == run_torsional(cfg).summary()["api684_verdict"]
+
+
+def test_lowest_torsional_mode_is_the_two_inertia_mode(example):
+    """Independent check: the motor and pump inertias on the coupling spring in series with the
+    two shaft lengths between them (a two-inertia system). The shafts' own inertia, lumped
+    here at the ends, is 2 % of the total, so the closed form is good to about that."""
+    ns, _ = example
+    steel = MATERIALS["steel"]
+    jp = {d: math.pi * d**4 / 32 for d in (0.075, 0.06)}
+    j_motor = 1.2 + steel.rho * jp[0.075] * 0.9 + 0.05 / 2  # core + shaft + half the coupling
+    j_pump = 0.35 + steel.rho * jp[0.06] * 0.8 + 0.05 / 2
+    flex = 1 / 1.2e4 + 0.45 / (steel.G * jp[0.075]) + 0.8 / (steel.G * jp[0.06])  # core to impeller
+    f = math.sqrt((j_motor + j_pump) / (j_motor * j_pump) / flex) / (2 * math.pi)
+    got = float(ns["torsion"].dataset["natural_frequency"][0]) / (2 * math.pi)
+    assert got == pytest.approx(f, rel=0.02)
+
+
+def _gear_rotor(d, k, disk=None):
+    b = dict(kxx=k, kyy=k, cxx=500.0, cyy=500.0)
+    return Rotor(
+        shaft=(Shaft(outer_diameter=d, length=0.24, elements=6),),
+        bearing=(Bearing(node=1, **b), Bearing(node=5, **b)),
+        disk=() if disk is None else (disk,),
+    )
+
+
+def geared_machine(out_center=(0.0901, 0.0), **mesh) -> Machine:
+    """tests/system/conftest.py's two-shaft 20/40 gearbox (``config()``), written in Python."""
+    gears = {
+        "pinion": {"teeth": 20, "module": 3e-3, "face_width": 0.025, "blank": {"kind": "solid", "bore_diameter": 0.03}},
+        "wheel": {"teeth": 40, "module": 3e-3, "face_width": 0.025, "blank": {"kind": "solid", "bore_diameter": 0.04}},
+    }
+    keys = dict(pinion_rotor="in", pinion_node=3, wheel_rotor="out", wheel_node=3, source="harmonic", k_mean=4e8)
+    keys.update(damping_ratio=0.07, center_distance=0.0901)
+    return Machine(
+        rotors={
+            "in": _gear_rotor(0.035, 2e8, Disk(node=0, mass=1.0, Id=1e-3, Ip=1.5e-3)),
+            "out": MachineRotor(_gear_rotor(0.045, 3e8), center=out_center),
+        },
+        meshes=(MeshSpec(**{**keys, **gears, **mesh}),),
+        drive=DriveSpec(rotor="in", node=0, kind="torque"),
+        load=LoadSpec(rotor="out", node=6, torque=100.0, inertia=0.02),
+    )
+
+
+def test_geared_machine_gives_the_toml_numbers(make):
+    box = geared_machine()
+    cfg = make()
+    assert box.gearbox.spec == Gearbox.from_mapping(cfg).spec
+    lib = modes(box, speed_rpm=3000.0, n_modes=8)
+    cli = run_modal({**cfg, "modal": {"speed_rpm": 3000.0, "n_modes": 8}})
+    np.testing.assert_allclose(lib.dataset["damped_frequency"], cli.dataset["damped_frequency"], rtol=1e-12)
+    rad = modes(box, speed=3000.0 * math.pi / 30, n_modes=8)  # the same speed in rad/s
+    np.testing.assert_allclose(rad.dataset["damped_frequency"], lib.dataset["damped_frequency"], rtol=1e-12)
+    assert set(lib.plot()) == {"system", "energy_split"}
+
+
+def test_response_steady_and_startup_give_the_toml_numbers(make, example):
+    """The time-domain and frequency-response analyses on short runs: the Python machines and
+    their TOML twins through the CLI runners, equal to 1e-12."""
+    te = (1e-6,)
+    lib = mesh_response(geared_machine(te_harmonics=te), speed_rpm=(500.0, 6000.0), n_speeds=20)
+    cli = run_response({**make(te=te), "response": {"speed_rpm": [500.0, 6000.0], "n_speeds": 20}})
+    assert float(lib.dataset["mesh_force"].max()) > 0
+    np.testing.assert_allclose(lib.dataset["mesh_force"], cli.dataset["mesh_force"], rtol=1e-12)
+    one, two = lib.plot_response(), lib.plot()["response"]
+    la, lb = one.axes[1].get_lines(), two.axes[1].get_lines()
+    assert la and all(np.array_equal(a.get_xydata(), b.get_xydata()) for a, b in zip(la, lb, strict=True))
+    settings = {"min_cycles": 2, "max_cycles": 4, "eval_cycles": 2}
+    lib = steady_state_study(geared_machine(), speed_rpm=3000.0, **settings)
+    cli = run_steady({**make(), "steady": {"speed_rpm": 3000.0, **settings}})
+    np.testing.assert_allclose(lib.dataset["mesh_force"], cli.dataset["mesh_force"], rtol=1e-12)
+    run = {"duration": 0.05, "n_out": 11, "max_frequency_hz": 400.0}
+    lib = startup(example[0]["machine"], **run)
+    cli = run_startup({**load_toml(TOML), "startup": run})
+    assert float(lib.dataset["rotor_speed"][-1, 0]) > 0
+    np.testing.assert_allclose(lib.dataset["rotor_speed"], cli.dataset["rotor_speed"], rtol=1e-12)
+
+
+def _message(fn) -> str:
+    with pytest.raises(InputError) as err:
+        fn()
+    return str(err.value)
+
+
+def test_bad_machines_get_the_toml_messages(make, example):
+    """The same mistake in Python and in the file gives the same message, naming the file's key."""
+    for key, value, kwargs in (
+        ("pinion_node", 9, {"pinion_node": 9}),
+        ("damping_ratio", 2.0, {"damping_ratio": 2.0}),
+    ):
+        cfg = make()
+        cfg["gear_mesh"][0][key] = value
+        py = _message(lambda kw=kwargs: geared_machine(**kw))
+        assert py == _message(lambda c=cfg: Gearbox.from_mapping(c)) and "gear_mesh[0]" in py
+    cfg = make()
+    cfg["rotor"][1]["center"] = [0.1, 0.0]
+    py = _message(lambda: geared_machine(out_center=(0.1, 0.0)))
+    assert py == _message(lambda: Gearbox.from_mapping(cfg)) and py.startswith("rotor[1].center")
+    cfg = make()  # a response needs an excitation: refused naming the key that gives one
+    py = _message(lambda: mesh_response(geared_machine(), speed_rpm=(500.0, 6000.0), n_speeds=20))
+    cli = _message(lambda: run_response({**cfg, "response": {"speed_rpm": [500.0, 6000.0], "n_speeds": 20}}))
+    assert py == cli and py.startswith("gear_mesh[0].te_harmonics")
+    machine = example[0]["machine"]
+    toml = load_toml(TOML)
+    del toml["coupling"][0]["torsional_stiffness"]
+    soft = dataclasses.replace(machine.couplings[0], torsional_stiffness=None)
+    py = _message(lambda: dataclasses.replace(machine, couplings=(soft,)))
+    assert py == _message(lambda: Gearbox.from_mapping(toml)) and py.startswith("coupling[0].torsional_stiffness")
+
+
+def test_speeds_are_explicit_in_their_names():
+    box = geared_machine()
+    with pytest.raises(InputError, match="one of speed_rpm"):
+        campbell_diagram(box, speed_rpm=(0, 3000), speed=(0, 314))
+    with pytest.raises(InputError, match="one of speed_rpm"):
+        campbell_diagram(box)
+    with pytest.raises(TypeError):
+        modes(box, 3000.0)  # a bare number has no unit: refused
+    with pytest.raises(InputError, match="torsional.operating_speed_rpm"):
+        torsional_analysis(box, operating_speed_rpm=(1, 2), operating_speed=(0.1, 0.2))
+
+
+def test_plot_methods_are_the_cli_figures(example):
+    """Each plot method draws what the CLI's file of that name shows (one implementation)."""
+    ns, _ = example
+    for res, method, key in (
+        (ns["torsion"], "plot_interference", "interference"),
+        (ns["torsion"], "plot_modes", "torsional_modes"),
+        (ns["camp"], "plot_campbell", "campbell"),
+        (ns["coupled"], "plot_energy", "energy_split"),
+    ):
+        one, cli = getattr(res, method)(), res.plot()[key]
+        la, lb = one.axes[0].get_lines(), cli.axes[0].get_lines()
+        assert len(la) == len(lb) and la
+        for x, y in zip(la, lb, strict=True):
+            assert np.array_equal(x.get_xydata(), y.get_xydata(), equal_nan=True)
+    assert set(ns["torsion"].plot()) == {"system", "interference", "torsional_modes"}
+    assert ns["camp"].plot_model() is not None
