@@ -94,19 +94,5 @@ def _internal_reference(app, env, node, contnode):
     return None
 
 
-#: members whose docstring breaks the build and lives in a file another change owns right now;
-#: each entry names the fix (remove it once made)
-_SKIP = {
-    # ``z_p |Omega_p|`` reads as a substitution: write it ``z_p |Omega_p|`` in double backquotes
-    "rotaflex.system.model.Gearbox.mesh_frequency",
-}
-
-
-def _skip(app, what, name, obj, skip, options):
-    qualname = f"{getattr(obj, '__module__', '')}.{getattr(obj, '__qualname__', '')}"
-    return True if qualname in _SKIP else None
-
-
 def setup(app):
     app.connect("missing-reference", _internal_reference)
-    app.connect("autodoc-skip-member", _skip)

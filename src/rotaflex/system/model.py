@@ -289,7 +289,7 @@ class Gearbox:
         return np.array([pr.sense * pr.ratio * drive_speed for pr in self.rotors])
 
     def mesh_frequency(self, mesh: int, drive_speed: float) -> float:
-        """Mesh angular frequency z_p |Omega_p| [rad/s] of a mesh at a drive speed [rad/s]."""
+        """Mesh angular frequency ``z_p |Omega_p|`` [rad/s] of a mesh at a drive speed [rad/s]."""
         m = self.meshes[mesh]
         rp = m.driver[0] if m.pinion_is_driver else m.driven[0]
         return m.gear.teeth[0] * self.rotors[rp].ratio * drive_speed
