@@ -137,3 +137,30 @@ def test_bad_liquid_seal_input_names_the_key(change, key):
     with pytest.raises(InputError) as err:
         Rotor.from_mapping(data)
     assert err.value.field == f"bearing.ring.liquid_seal.{key}"
+
+
+@pytest.mark.slow
+def test_childs_mu_are_the_symbolic_solution():
+    """sympy: the first-order equations (inertia on w(z) - w(0), as Childs) integrated along z and
+    expanded in s = i (W - w/2) give mu3 (mu0 - mu1 T s + mu2 T^2 s^2) exactly (13 s; the fast
+    numerical test above checks the same at three speeds)."""
+    sp = pytest.importorskip("sympy")
+    z, L, H, rho, V, xi, m0, sig, B, s = sp.symbols("z L H rho V xi m0 sigma B s", positive=True)
+    w0 = sp.Symbol("w0")
+    tau0 = sig * H * rho * V**2 / L  # lambda rho V^2 with sigma = lambda L / H
+    a = -s / H  # dw/dz for h = -1
+    dpdz = -((-(m0 - 1) * tau0 / H - rho * V * s) + tau0 * B / V * (w0 + a * z) - rho * H * s * a * z) / H
+    p = -(1 + xi) * rho * V * w0 + sp.integrate(dpdz, (z, 0, z))
+    p = p.subs(w0, sp.solve(sp.Eq(p.subs(z, L), 0), w0)[0])
+    G = sp.integrate(p, (z, 0, L))  # force / (pi R), unit orbit
+    E = (1 + xi) / (2 * (1 + xi + B * sig))
+    den = 1 + xi + 2 * sig
+    mu = [
+        2 * sig**2 * E * (1 - m0) / den,
+        -2 * sig**2 * (E / sig + B / 2 * (sp.Rational(1, 6) + E)) / den,
+        sig * (sp.Rational(1, 6) + E) / den,
+    ]
+    mu3 = den * rho * V**2 / 2 * L / (sig * H)  # pi R dP / lambda without pi R
+    series = sp.series(G, s, 0, 3).removeO()
+    for n in range(3):
+        assert sp.simplify(series.coeff(s, n) / (mu3 * (L / V) ** n) - mu[n]) == 0
