@@ -27,8 +27,9 @@ continuity gives Cr dw/dz = s h and the axial momentum
 -Cr dp/dz = ((m0 - 1) tau0 / Cr + rho V s) h + dtau/dW w - rho Cr s (w - a w(0)),
 p(0) = -(1 + xi) rho V w(0), p(L) = 0. With a = 1 (Childs' closed form) the local acceleration
 of the inlet-velocity perturbation w(0) is left out and the Taylor coefficients of the force in
-s are exactly mu0, mu1, mu2 (sympy; tested numerically); a = 0 keeps it (C +21 %, M +14 % for a
-neck ring; not Childs' published result, kept to show the sensitivity, docs/stability.md).
+s are exactly mu0, mu1, mu2 (sympy and numerical tests); a = 0 keeps it (``inlet_acceleration``:
+C -17 %, M -56 % for the neck ring of the tests; not Childs' published result, kept to show the
+sensitivity, docs/stability.md).
 """
 
 from __future__ import annotations
