@@ -50,8 +50,10 @@ def test_black_symmetries():
         assert abs(m) < 1e-8 * M
 
 
-def test_axial_integration_against_a_numerical_one():
-    """The closed-form p(z), w(z) of the first-order equations = a shooting solution (RK45 to 1e-12)."""
+@pytest.mark.parametrize("inlet_acceleration", [False, True])
+def test_axial_integration_against_a_numerical_one(inlet_acceleration):
+    """The closed-form p(z), w(z) of the first-order equations = a shooting solution (RK45 to 1e-12),
+    with the local acceleration of the inlet-velocity perturbation w(0) left out (Childs) or kept."""
     el: LiquidSealElement = element(LiquidSeal(**SEAL), "s")
     speed, W = 1000.0, 700.0
     sp, m0 = el.spec, HIRS[1]
@@ -62,20 +64,35 @@ def test_axial_integration_against_a_numerical_one():
     tau_w = tau0 / V * (1 + (1 + m0) / (1 + (u / V) ** 2))
     s, h = 1j * (W - speed / 2), -1.0
 
-    def rhs(z, y):  # y = [w, p, int p]
-        w, p = y[0], y[1]
-        dw = s * h / Cr
-        dp = -(((m0 - 1) * tau0 / Cr + rho * V * s) * h + (tau_w - rho * Cr * s) * w) / Cr
-        return [dw, dp, p]
-
     def shoot(w0):
+        def rhs(z, y):  # y = [w, p, int p]
+            w, p = y[0], y[1]
+            dw = s * h / Cr
+            accelerated = w if inlet_acceleration else w - w0
+            dp = -(((m0 - 1) * tau0 / Cr + rho * V * s) * h + tau_w * w - rho * Cr * s * accelerated) / Cr
+            return [dw, dp, p]
+
         y0 = [w0, -(1 + xi) * rho * V * w0, 0.0]
         return solve_ivp(rhs, (0, L), np.array(y0, complex), rtol=1e-12, atol=1e-14).y[:, -1]
 
     a, b = shoot(0.0), shoot(1.0)
     w0 = -a[1] / (b[1] - a[1])  # p(L) = 0 (linear in w0)
     int_p = a[2] + w0 * (b[2] - a[2])
-    assert el.impedance(speed, s) == pytest.approx(np.pi * R * np.conj(int_p), rel=1e-8)
+    assert el.impedance(speed, s, inlet_acceleration) == pytest.approx(np.pi * R * np.conj(int_p), rel=1e-8)
+
+
+@pytest.mark.parametrize("speed", [0.0, 300.0, 1000.0])
+def test_closed_form_is_the_first_order_solution(speed):
+    """Childs' mu0, mu1, mu2 (K, k, C, c, M) = the Taylor coefficients, about W = w/2, of the force
+    of the first-order equations integrated along z (second formulation, central differences)."""
+    el = element(LiquidSeal(**SEAL), "s")
+    closed, expanded = np.array(el.constants(speed)), np.array(el.expanded(speed))
+    assert closed[4] > 1.0 and closed[2] > 1e4  # kg, N s/m: nonzero, a test that can fail
+    scale = np.array([closed[0], closed[0], closed[2], closed[2], closed[4], closed[4]])
+    assert np.abs(expanded - closed) / scale == pytest.approx(np.zeros(6), abs=1e-8)
+    # the local acceleration of w(0), which Childs' closed form leaves out, lowers C and M: measured
+    full = np.array(el.expanded(speed, inlet_acceleration=True))
+    assert full[2] < 0.85 * closed[2] and full[4] < 0.5 * closed[4]
 
 
 def test_added_mass_enters_the_eigenproblem():
@@ -120,3 +137,30 @@ def test_bad_liquid_seal_input_names_the_key(change, key):
     with pytest.raises(InputError) as err:
         Rotor.from_mapping(data)
     assert err.value.field == f"bearing.ring.liquid_seal.{key}"
+
+
+@pytest.mark.slow
+def test_childs_mu_are_the_symbolic_solution():
+    """sympy: the first-order equations (inertia on w(z) - w(0), as Childs) integrated along z and
+    expanded in s = i (W - w/2) give mu3 (mu0 - mu1 T s + mu2 T^2 s^2) exactly (13 s; the fast
+    numerical test above checks the same at three speeds)."""
+    sp = pytest.importorskip("sympy")
+    z, L, H, rho, V, xi, m0, sig, B, s = sp.symbols("z L H rho V xi m0 sigma B s", positive=True)
+    w0 = sp.Symbol("w0")
+    tau0 = sig * H * rho * V**2 / L  # lambda rho V^2 with sigma = lambda L / H
+    a = -s / H  # dw/dz for h = -1
+    dpdz = -((-(m0 - 1) * tau0 / H - rho * V * s) + tau0 * B / V * (w0 + a * z) - rho * H * s * a * z) / H
+    p = -(1 + xi) * rho * V * w0 + sp.integrate(dpdz, (z, 0, z))
+    p = p.subs(w0, sp.solve(sp.Eq(p.subs(z, L), 0), w0)[0])
+    G = sp.integrate(p, (z, 0, L))  # force / (pi R), unit orbit
+    E = (1 + xi) / (2 * (1 + xi + B * sig))
+    den = 1 + xi + 2 * sig
+    mu = [
+        2 * sig**2 * E * (1 - m0) / den,
+        -2 * sig**2 * (E / sig + B / 2 * (sp.Rational(1, 6) + E)) / den,
+        sig * (sp.Rational(1, 6) + E) / den,
+    ]
+    mu3 = den * rho * V**2 / 2 * L / (sig * H)  # pi R dP / lambda without pi R
+    series = sp.series(G, s, 0, 3).removeO()
+    for n in range(3):
+        assert sp.simplify(series.coeff(s, n) / (mu3 * (L / V) ** n) - mu[n]) == 0

@@ -70,8 +70,8 @@ def frf(rotor: Rotor, frequencies, speed: float = 0.0, inputs=(0,), outputs=None
     w = np.atleast_1d(np.asarray(frequencies, float))
     inputs = list(inputs)
     outputs = inputs if outputs is None else list(outputs)
-    K, C = rotor.KC(speed)
-    D = K[0][None] - w[:, None, None] ** 2 * rotor.M[None] + 1j * w[:, None, None] * (C[0] + speed * rotor.G)[None]
+    M, K, C = rotor.MKC(speed)
+    D = K[0][None] - w[:, None, None] ** 2 * M[0][None] + 1j * w[:, None, None] * (C[0] + speed * rotor.G)[None]
     E = np.zeros((rotor.n_dof, len(inputs)))
     E[inputs, np.arange(len(inputs))] = 1.0
     X = np.linalg.solve(D, np.broadcast_to(E, (w.size, *E.shape)))

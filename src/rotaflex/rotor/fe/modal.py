@@ -119,8 +119,8 @@ class Modes(EigenvalueView):
 
 def _state_matrices(rotor: Rotor, speeds: np.ndarray, whirl: np.ndarray | None = None) -> np.ndarray:
     n = rotor.n_dof
-    K, C = rotor.KC(speeds, whirl)
-    Minv = _minv(rotor)
+    M, K, C = rotor.MKC(speeds, whirl)
+    Minv = _minv(M)
     A = np.zeros((speeds.size, 2 * n, 2 * n))
     A[:, :n, n:] = np.eye(n)
     A[:, n:, :n] = -Minv @ K
@@ -128,9 +128,13 @@ def _state_matrices(rotor: Rotor, speeds: np.ndarray, whirl: np.ndarray | None =
     return A
 
 
-def _minv(rotor: Rotor) -> np.ndarray:
+def _minv(M: np.ndarray) -> np.ndarray:
+    """Inverse of the mass matrices (n_speed, n_dof, n_dof): one inverse when they are all equal
+    (no speed-dependent added mass), as before elements had mass."""
     try:
-        return sla.inv(rotor.M)
+        if np.array_equal(M, np.broadcast_to(M[0], M.shape)):
+            return sla.inv(M[0])[None]
+        return np.linalg.inv(M)
     except np.linalg.LinAlgError:
         raise InputError("disk", "<rotary inertia>", "a non-singular mass matrix (every node needs inertia)") from None
 
@@ -359,11 +363,15 @@ class CampbellData:
 
 def _reduced_state_matrices(rotor: Rotor, speeds: np.ndarray, n_basis: int) -> tuple[np.ndarray, np.ndarray]:
     """State matrices projected on the lowest ``n_basis`` undamped modes of (K_sym(mid speed), M)."""
-    K, C = rotor.KC(speeds)
-    Km = K[speeds.size // 2]
-    _, T = sla.eigh(0.5 * (Km + Km.T), rotor.M, subset_by_index=(0, n_basis - 1))  # T^T M T = I
+    M, K, C = rotor.MKC(speeds)
+    mid = speeds.size // 2
+    Km = K[mid]
+    _, T = sla.eigh(0.5 * (Km + Km.T), M[mid], subset_by_index=(0, n_basis - 1))  # T^T M T = I at mid speed
     Kr = T.T @ K @ T
     Dr = T.T @ (C + speeds[:, None, None] * rotor.G[None]) @ T
+    if not np.array_equal(M, np.broadcast_to(M[mid], M.shape)):  # added mass varying with speed
+        Mri = np.linalg.inv(T.T @ M @ T)
+        Kr, Dr = Mri @ Kr, Mri @ Dr
     A = np.zeros((speeds.size, 2 * n_basis, 2 * n_basis))
     A[:, :n_basis, n_basis:] = np.eye(n_basis)
     A[:, n_basis:, :n_basis] = -Kr

@@ -684,26 +684,42 @@ class Rotor:
         return self._base["C"]
 
     def KC(self, speeds, whirl=None, key: str = "speed") -> tuple[np.ndarray, np.ndarray]:
-        """Stiffness and damping (n_speed, n_dof, n_dof) at spin speeds [rad/s].
+        """Stiffness and damping (n_speed, n_dof, n_dof) at spin speeds [rad/s]: :meth:`MKC` without M."""
+        return self.MKC(speeds, whirl, key)[1:]
 
+    def MKC(self, speeds, whirl=None, key: str = "speed", include=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Mass, stiffness and damping (n_speed, n_dof, n_dof) at spin speeds [rad/s].
+
+        The one assembly of the bearing elements: every analysis takes its matrices from here.
         Bearings are interpolated at ``speeds`` and, for frequency-dependent ones, at the whirl
-        frequencies ``whirl`` [rad/s] (same shape; None: synchronous, whirl = speed). Includes the
+        frequencies ``whirl`` [rad/s] (same shape; None: synchronous, whirl = speed). M is
+        :attr:`M` plus each element's ``mass(speed)`` (a liquid seal's added mass; the constant
+        mass coefficients of a table bearing are already in :attr:`M`). K and C include the
         Rayleigh damping and the pedestals' springs and dampers. A speed outside a table whose
-        extrapolation is ``"refuse"`` raises :class:`InputError` naming ``key``.
+        extrapolation is ``"refuse"`` raises :class:`InputError` naming ``key``. ``include``: one
+        flag per bearing (None: all), the bearings left out contribute nothing (stability's
+        element contributions).
         """
         speeds = np.atleast_1d(np.asarray(speeds, float))
         self.check_speeds(speeds, key)
-        K = np.broadcast_to(self._base["K"], (speeds.size, self.n_dof, self.n_dof)).copy()
-        C = np.broadcast_to(self._base["C"], K.shape).copy()
-        for (_, _, el), (a, b) in zip(self.bearings, self.bearing_dofs, strict=True):
+        include = [True] * len(self.bearing) if include is None else include
+        shape = (speeds.size, self.n_dof, self.n_dof)
+        M = np.broadcast_to(self._base["M"], shape).copy()
+        K = np.broadcast_to(self._base["K"], shape).copy()
+        C = np.broadcast_to(self._base["C"], shape).copy()
+        for keep, (_, _, el), (a, b) in zip(include, self.bearings, self.bearing_dofs, strict=True):
+            if not keep:
+                continue
             kb, cb = el.coefficients(speeds, whirl)
             _couple(K, kb, a, b)
             _couple(C, cb, a, b)
+            if not isinstance(el, BearingElement):  # a table's mass coefficients are in _base
+                _couple(M, el.mass(speeds), a, b)
         for p, (_, ped) in enumerate(self.pedestals):
             j = self.n_rotor_dof + 2 * p + np.arange(2)
             K[:, j, j] += [ped.kxx, ped.kyy]
             C[:, j, j] += [ped.cxx, ped.cyy]
-        return K, C
+        return M, K, C
 
     def _check_supported(self) -> None:
         """Refuse a model whose bearings leave a rigid-body motion of the shaft unrestrained.

@@ -92,9 +92,9 @@ def unbalance_response(
     Q = np.empty_like(F)
     chunks = [np.arange(speeds.size)] if progress is None else np.array_split(np.arange(speeds.size), 10)
     for idx in (c for c in chunks if c.size):
-        K, C = rotor.KC(speeds[idx])
+        M, K, C = rotor.MKC(speeds[idx])
         w = speeds[idx, None, None]
-        D = K - w**2 * rotor.M[None] + 1j * w * (C + w * rotor.G[None])
+        D = K - w**2 * M + 1j * w * (C + w * rotor.G[None])
         Q[idx] = np.linalg.solve(D, F[idx, :, None])[..., 0]
         if progress is not None:
             progress(idx[-1] + 1, speeds.size)

@@ -143,34 +143,15 @@ class _System:
             self.seal.append(registry.kind_of(b) in registry.SEALS)
 
     def matrices(self, include, whirl=None):
-        """M, K, C (C with the gyroscopic term) with the bearings whose flag in ``include`` is set."""
-        r = self.rotor
-        M, K, C = r.M.copy(), r.K_shaft.copy(), self.speed * r.G
-        sp = np.array([self.speed])
+        """M, K, C (C with the gyroscopic term) with the bearings whose flag in ``include`` is set
+        (``Rotor.MKC``: the same assembly as every other analysis)."""
         wh = None if whirl is None else np.array([whirl])
-        for keep, (node, other, el) in zip(include, r.bearings, strict=True):
-            if not keep:
-                continue
-            kb, cb = (a[0] for a in el.coefficients(sp, wh))
-            mb = el.mass(sp)[0]
-            for A, b in ((K, kb), (C, cb), (M, mb)):
-                _scatter(A, node, other, b)
-        return M, K, C
+        M, K, C = (a[0] for a in self.rotor.MKC(np.array([self.speed]), wh, include=include))
+        return M, K, C + self.speed * self.rotor.G
 
     @property
     def frequency_dependent(self) -> bool:
         return any(el.frequency_dependent for _, _, el in self.rotor.bearings)
-
-
-def _scatter(A: np.ndarray, node: int, other: int | None, b: np.ndarray) -> None:
-    """Add a 2x2 block between a node's translations and ground (or another node), as Rotor.KC does."""
-    i = NDOF_NODE * node + np.arange(2)
-    A[i[:, None], i] += b
-    if other is not None:
-        j = NDOF_NODE * other + np.arange(2)
-        A[j[:, None], j] += b
-        A[i[:, None], j] -= b
-        A[j[:, None], i] -= b
 
 
 def _forward(M, K, C, n: int) -> tuple[complex, np.ndarray]:

@@ -12,6 +12,7 @@ coupling of the disks and shaft (from the Ip (Omega + theta_x' theta_y) kinetic 
 ``method="direct"`` integrates all DOFs with the Newmark average-acceleration rule (implicit,
 unconditionally stable: the shaft's high modes make the full system stiff), ``steps_per_output``
 steps per output interval; a nonlinear force is converged by fixed-point iteration in each step.
+Elements with added mass (liquid seals) enter M at the mid speed Omega_mid of the run.
 ``method="modal"`` projects on the lowest undamped modes of (K(Omega_mid), M), which removes the
 stiff modes, and integrates with the adaptive DOP853 scheme.
 
@@ -147,7 +148,9 @@ def transient(
     n = rotor.n_dof
     grid = _speed_grid(rotor, min(speed_start, speed_end), max(speed_start, speed_end))
     Kg, Cg = rotor.KC(grid)
-    M, G, Kst = rotor.M, rotor.G, rotor.Kst
+    # a seal's added mass enters at the mid speed of the run (constant M in the integrators)
+    M = rotor.MKC(0.5 * (speed_start + speed_end))[0][0]
+    G, Kst = rotor.G, rotor.Kst
     disks = dict(rotor.disks)
     if large_rotation_model not in ("euler_123", "quaternion"):
         raise InputError("transient.large_rotation_model", large_rotation_model, "'euler_123' or 'quaternion'")

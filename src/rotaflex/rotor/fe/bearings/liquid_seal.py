@@ -1,29 +1,40 @@
-"""Liquid annular seal (``[bearing.NAME.liquid_seal]``): short-seal bulk-flow model with added mass.
+"""Liquid annular seal (``[bearing.NAME.liquid_seal]``): Childs' short-seal model with added mass.
 
-The short-seal assumptions of Black & Jenssen (1970) and Childs (1983, "Dynamic analysis of
-turbulent annular seals based on Hirs' lubrication equation", J. Lubr. Technol. 105, 429-436):
-a plain annulus of radius R, length L and radial clearance Cr, circumferential velocity fully
-developed at R w / 2, circumferential pressure gradients negligible against axial ones, Hirs'
-turbulent wall shear (both walls)
+Childs (1983), "Dynamic analysis of turbulent annular seals based on Hirs' lubrication
+equation", J. Lubr. Technol. 105, 429-436; Childs (1993), Turbomachinery Rotordynamics, ch. 3
+(the short-seal solution in the Black-Jenssen form). A plain annulus of radius R, length L and
+radial clearance Cr; circumferential velocity fully developed at R w / 2 (inlet swirl ratio 0.5:
+a swirl brake or a seal fed without preswirl is not modelled differently), circumferential
+pressure gradients negligible against axial ones, Hirs' turbulent wall shear on both walls
 
     tau_z = rho n0 (2 H / nu)^m0 (W^2 + (R w / 2)^2)^((1 + m0)/2) W,   n0 = 0.066, m0 = -0.25,
 
 an entrance loss P(0) = P_in - (1 + xi) rho W(0)^2 / 2 and P(L) = P_out. The centred flow has the
 axial velocity V of dP = (1 + xi + 2 sigma) rho V^2 / 2, sigma = lambda L / Cr with
-lambda = n0 Ra^m0 (1 + 1/(4 b^2))^((1+m0)/2), Ra = 2 Cr V / nu, b = V / (R w).
+lambda = n0 Ra^m0 (1 + 1/(4 b^2))^((1+m0)/2), Ra = 2 Cr V / nu, b = V / (R w). The coefficients
 
-First order (this module's derivation of the equations above): on a circular orbit at whirl W the
-clearance h = -r cos(theta - W t), and with s = i (W - w/2) continuity gives
-Cr dw/dz = s h, the axial momentum
--Cr dp/dz = ((m0 - 1) tau0 / Cr + rho V s) h + (dtau/dW - rho Cr s) w,
-both integrated in closed form along z (w linear, p quadratic) with p(0) = -(1 + xi) rho V w(0) and
-p(L) = 0. The force G(s) = pi R int conj(p) dz is a function of W - w/2 only; its Taylor expansion
-to second order about W = w/2 gives constant coefficients in Childs' form:
-K = K0 - M w^2 / 4, k = C w / 2, c = M w (and a cross-coupled mass m, nearly zero).
+    K = mu3 (mu0 - mu2 T^2 w^2 / 4),  k = mu3 mu1 T w / 2,  C = mu3 mu1 T,  c = mu3 mu2 T^2 w,
+    M = mu3 mu2 T^2,  (m = 0)
+    mu0 = 2 sigma^2 E (1 - m0) / (1 + xi + 2 sigma)
+    mu1 = 2 sigma^2 [E / sigma + B / 2 (1/6 + E)] / (1 + xi + 2 sigma)
+    mu2 = sigma (1/6 + E) / (1 + xi + 2 sigma)
+    mu3 = pi R dP / lambda,  T = L / V,  E = (1 + xi) / (2 (1 + xi + B sigma)),
+    B = 1 + 4 b^2 (1 + m0) / (1 + 4 b^2).
+
+:meth:`LiquidSealElement.impedance` integrates the first-order bulk-flow equations along z in
+closed form (a second formulation): on a circular orbit at whirl W, with s = i (W - w/2),
+continuity gives Cr dw/dz = s h and the axial momentum
+-Cr dp/dz = ((m0 - 1) tau0 / Cr + rho V s) h + dtau/dW w - rho Cr s (w - a w(0)),
+p(0) = -(1 + xi) rho V w(0), p(L) = 0. With a = 1 (Childs' closed form) the local acceleration
+of the inlet-velocity perturbation w(0) is left out and the Taylor coefficients of the force in
+s are exactly mu0, mu1, mu2 (sympy and numerical tests); a = 0 keeps it (``inlet_acceleration``:
+C -17 %, M -56 % for the neck ring of the tests; not Childs' published result, kept to show the
+sensitivity, docs/stability.md).
 """
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -82,41 +93,73 @@ class LiquidSealElement(ComputedBearing):
         V = brentq(res, 1e-9 * hi, hi, xtol=1e-14 * hi, rtol=1e-14)
         return V, lam(V), lam(V) * sp.length / sp.clearance
 
-    def impedance(self, speed: float, s) -> np.ndarray:
-        """G(s) [N/m] for a unit orbit, s = i (W - w/2) [1/s] (force on the rotor = -G (x + i y))."""
+    def impedance(self, speed: float, s, inlet_acceleration: bool = False) -> np.ndarray:
+        """G(s) [N/m] for a unit orbit, s = i (W - w/2) [1/s] (force on the rotor = -G (x + i y)).
+
+        The first-order equations integrated along z in closed form (w linear, p quadratic).
+        ``inlet_acceleration``: keep rho Cr s w(0) in the axial momentum (False: Childs' model).
+        """
         sp, m0 = self.spec, HIRS[1]
         R, L, Cr, rho, xi = sp.radius, sp.length, sp.clearance, sp.density, sp.entrance_loss
         V, lam, _ = self.flow(speed)
         u = R * speed / 2
         tau0 = lam * rho * V**2
-        tau_w = tau0 / V * (1 + (1 + m0) / (1 + (u / V) ** 2))  # d tau / d W at fixed u
+        tau_w = tau0 / V * (1 + (1 + m0) / (1 + (u / V) ** 2))  # d tau / d W at fixed u: tau0 B / V
         h = -1.0
         s = np.asarray(s, complex)
         a = s * h / Cr  # dw/dz
         alpha = ((m0 - 1) * tau0 / Cr + rho * V * s) * h
-        beta = tau_w - rho * Cr * s
-        w0 = -(alpha * L + beta * a * L**2 / 2) / (Cr * (1 + xi) * rho * V + beta * L)
+        # -Cr dp/dz = alpha + beta0 w(0) + beta1 a z: the inertia -rho Cr s acts on w(z) - w(0)
+        # (Childs) or on all of w (inlet_acceleration)
+        beta1 = tau_w - rho * Cr * s
+        beta0 = beta1 if inlet_acceleration else np.full_like(s, tau_w)
+        w0 = -(alpha * L + beta1 * a * L**2 / 2) / (Cr * (1 + xi) * rho * V + beta0 * L)
         p0 = -(1 + xi) * rho * V * w0
-        int_p = p0 * L - (alpha * L**2 / 2 + beta * (w0 * L**2 / 2 + a * L**3 / 6)) / Cr
+        int_p = p0 * L - (alpha * L**2 / 2 + beta0 * w0 * L**2 / 2 + beta1 * a * L**3 / 6) / Cr
         return np.pi * R * np.conj(int_p)
 
-    def constants(self, speed: float) -> tuple[float, float, float, float, float, float]:
-        """K, k, C, c [N/m, N s/m], M, m [kg] at spin ``speed`` [rad/s] (Taylor expansion about W = w/2)."""
+    def childs(self, speed: float) -> dict:
+        """Childs' short-seal constants at spin ``speed`` [rad/s]: mu0, mu1, mu2 [-], mu3 [N/m],
+        T [s], B, E, b [-], sigma, lambda, V [m/s]."""
+        sp, m0 = self.spec, HIRS[1]
+        xi = sp.entrance_loss
+        V, lam, sig = self.flow(speed)
+        q = 1.0 / (1.0 + (sp.radius * speed / (2 * V)) ** 2)  # 4 b^2 / (1 + 4 b^2), finite at w = 0
+        B = 1 + (1 + m0) * q
+        E = (1 + xi) / (2 * (1 + xi + B * sig))
+        den = 1 + xi + 2 * sig
+        return {
+            "mu0": 2 * sig**2 * E * (1 - m0) / den,
+            "mu1": 2 * sig**2 * (E / sig + B / 2 * (1 / 6 + E)) / den,
+            "mu2": sig * (1 / 6 + E) / den,
+            "mu3": np.pi * sp.radius * (sp.inlet_pressure - sp.outlet_pressure) / lam,
+            "T": sp.length / V,
+            "B": B,
+            "E": E,
+            "b": V / (sp.radius * speed) if speed > 0 else np.inf,
+            "sigma": sig,
+            "lambda": lam,
+            "V": V,
+        }
+
+    def expanded(self, speed: float, inlet_acceleration: bool = False) -> tuple[float, ...]:
+        """K, k, C, c, M, m at ``speed`` [rad/s] from :meth:`impedance`: its Taylor expansion to second
+        order about W = w/2 (central differences, step 1e-3 of the inverse transit time): the
+        second formulation of :meth:`constants` (``inlet_acceleration=False``) or the variant."""
         V = self.flow(speed)[0]
-        d = 1e-3 * V / self.spec.length  # step in x = W - w/2 [rad/s]: 1e-3 of the inverse transit time
-        g0, gp, gm = (self.impedance(speed, 1j * x) for x in (0.0, d, -d))
-        # G as a function of x: Re = K0 + c0 x - M x^2, Im = C x - k0 + m x^2
-        K0, M = g0.real, -(gp.real - 2 * g0.real + gm.real) / d**2
+        d = 1e-3 * V / self.spec.length
+        g0, gp, gm = (self.impedance(speed, 1j * x, inlet_acceleration) for x in (0.0, d, -d))
+        # G as a function of x = W - w/2: Re = K0 + c0 x - M x^2, Im = C x - k0 + m x^2
+        K0, M = g0.real, -(gp.real - 2 * g0.real + gm.real) / (2 * d**2)  # f'' = 2 x (coefficient of x^2)
         c0 = (gp.real - gm.real) / (2 * d)
-        C, m = (gp.imag - gm.imag) / (2 * d), (gp.imag - 2 * g0.imag + gm.imag) / d**2
+        C, m = (gp.imag - gm.imag) / (2 * d), (gp.imag - 2 * g0.imag + gm.imag) / (2 * d**2)
         k0 = -g0.imag
-        # back to W = x + w/2: K + W c - W^2 M and W C - k + W^2 m
-        x0 = speed / 2
-        K = K0 - c0 * x0 - M * x0**2
-        c = c0 + 2 * M * x0
-        k = k0 + C * x0 - m * x0**2
-        C = C - 2 * m * x0
-        return K, k, C, c, M, m
+        x0 = speed / 2  # back to W = x + w/2: K + W c - W^2 M and W C - k + W^2 m
+        return K0 - c0 * x0 - M * x0**2, k0 + C * x0 - m * x0**2, C - 2 * m * x0, c0 + 2 * M * x0, M, m
+
+    def constants(self, speed: float) -> tuple[float, float, float, float, float, float]:
+        """K, k, C, c [N/m, N s/m], M, m [kg] at spin ``speed`` [rad/s] (Childs' short seal, m = 0)."""
+        return _constants(self, float(speed))
 
     def coefficients(self, speed, whirl=None) -> tuple[np.ndarray, np.ndarray]:
         speed = np.atleast_1d(np.asarray(speed, float))
@@ -147,6 +190,15 @@ class LiquidSealElement(ComputedBearing):
             ),
             "axial_velocity": xr.DataArray(V, dims=("seal_speed",), attrs={"units": "m/s"}),
         }
+
+
+@functools.lru_cache(maxsize=4096)
+def _constants(el: LiquidSealElement, speed: float) -> tuple[float, float, float, float, float, float]:
+    """K, k, C, c, M, m of ``el`` at ``speed`` (cached: coefficients and mass ask for the same speeds)."""
+    d = el.childs(speed)
+    mu3, T, w = d["mu3"], d["T"], speed
+    M = mu3 * d["mu2"] * T**2
+    return (mu3 * d["mu0"] - M * w**2 / 4, mu3 * d["mu1"] * T * w / 2, mu3 * d["mu1"] * T, M * w, M, 0.0)
 
 
 def element(spec: LiquidSeal, where: str) -> LiquidSealElement:

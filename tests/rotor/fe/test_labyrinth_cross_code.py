@@ -1,0 +1,105 @@
+"""Labyrinth seal: the sign of the cross-coupled stiffness against the swirl development, and a
+cross-code comparison with LABY3 (Scharrer's labyrinth code, as ported in ROSS)."""
+
+import numpy as np
+import pytest
+
+from rotaflex.rotor.fe.bearings.labyrinth import Labyrinth, element
+
+# ROSS's golden seal case "rotor" (petrobras/ross, ross/tests/test_seals_golden.py and
+# ross/tests/data/seals_golden.json): 16 teeth on the rotor, shaft diameter 145 mm, Cr = 0.25 mm,
+# pitch and tooth height 3.175 mm, tooth width 0.1524 mm, air (molar mass 28.96807, gamma 1.41,
+# viscosity 1.7747e-5 Pa s), 308 -> 94.3 kPa at 283.15 K, preswirl 0.3, 6000 and 9000 rpm.
+LABY3 = dict(
+    teeth=16,
+    pitch=3.175e-3,
+    tooth_height=3.175e-3,
+    tooth_width=0.1524e-3,
+    clearance=0.25e-3,
+    radius=0.0725,
+    inlet_pressure=308000.0,
+    outlet_pressure=94300.0,
+    inlet_temperature=283.15,
+    teeth_on="rotor",
+    preswirl=0.3,
+    gas=None,
+    molar_mass=0.02896807,
+    gamma=1.41,
+    viscosity=1.7746561138374613e-05,
+)
+SPEED_RPM = np.array([6000.0, 9000.0])
+PRESWIRL = (0.0, 0.3, 0.6, 0.9)
+# LABY3 (ROSS 2.3.0 LabyrinthSeal, one speed per call, manual gas properties as above, the energy
+# equation's outlet state tz = [283.15, 282.609] K, muz = [1.77466e-5, 1.76879e-5] Pa s):
+# (K [N/m], k [N/m], C [N s/m], c [N s/m]) per "teeth_on preswirl rpm". The rows "rotor 0.3" are
+# ROSS's own golden values (ross/tests/data/seals_golden.json, case "rotor").
+LABY3_COEFFICIENTS = {
+    "rotor 0.0 6000": (-21019.1, -19157.5, 15.809, 22.098),
+    "rotor 0.0 9000": (-52182.9, -28209.3, 21.9909, 41.8562),
+    "rotor 0.3 6000": (-23274.5, -6737.4, 15.6843, 29.6609),
+    "rotor 0.3 9000": (-57642.5, -6679.62, 22.8308, 51.6428),
+    "rotor 0.6 6000": (-26545, 5253.42, 15.842, 38.2758),
+    "rotor 0.6 9000": (-65123.1, 14915.7, 24.615, 63.3254),
+    "rotor 0.9 6000": (-31370.4, 16544.3, 16.2522, 48.5578),
+    "rotor 0.9 9000": (-75992.9, 36663, 27.6459, 78.0881),
+    "stator 0.0 6000": (-18968.6, -9554.21, 12.083, 9.59616),
+    "stator 0.0 9000": (-44741.7, -15498.4, 16.6444, 18.8249),
+    "stator 0.3 6000": (-20517.2, 1812.86, 14.0298, 19.5116),
+    "stator 0.3 9000": (-48366.3, 5614.88, 19.6546, 31.7478),
+    "stator 0.6 6000": (-22783.8, 14189.2, 16.0291, 28.0884),
+    "stator 0.6 9000": (-52993.2, 27915.6, 23.2619, 42.747),
+    "stator 0.9 6000": (-25532.9, 27255.4, 18.2625, 35.8908),
+    "stator 0.9 9000": (-58160.7, 51250.4, 27.6177, 52.6465),
+}
+LABY3_LEAKAGE = 0.024915519366403998  #: kg/s, seals_golden.json case "rotor" (newer ROSS)
+
+
+def _coefficients(**change):
+    el = element(Labyrinth(**{**LABY3, **change}), "lab")
+    w = SPEED_RPM * np.pi / 30
+    K, C = el.coefficients(w)
+    return el, w, K[:, 0, 0], K[:, 0, 1], C[:, 0, 0], C[:, 0, 1]
+
+
+@pytest.mark.parametrize("teeth_on", ["rotor", "stator"])
+def test_against_laby3(teeth_on):
+    """Same geometry, gas, speeds and preswirls as the LABY3 runs. The leakage models differ (here
+    Neumann with the Childs-Scharrer carry-over mu_2 = 2.05; LABY3 Vermes' carry-over
+    1 / sqrt(1 - 8.52 / ((pitch - width) / Cr + 7.23)) = 1.34 with Martin's formula, and an energy
+    equation where this model is isothermal): this model leaks 37 % more, and the coefficients
+    follow the leakage. Tolerances: the largest measured difference over the 16 cases plus a
+    margin (K -26 %, C +10 %, c -41 %; k within 0.26 of the sweep's largest |k|). The sign of k,
+    the physics asked about, agrees in all 16 cases: negative at zero preswirl on both sides."""
+    ours = {p: _coefficients(teeth_on=teeth_on, preswirl=p)[2:] for p in PRESWIRL}
+    for j, rpm in enumerate(SPEED_RPM):
+        ref = {p: LABY3_COEFFICIENTS[f"{teeth_on} {p} {rpm:.0f}"] for p in PRESWIRL}
+        k_scale = max(abs(r[1]) for r in ref.values())
+        for p in PRESWIRL:
+            K, k, C, c = (x[j] for x in ours[p])
+            K3, k3, C3, c3 = ref[p]
+            assert K == pytest.approx(K3, rel=0.30)
+            assert C == pytest.approx(C3, rel=0.12)
+            assert c == pytest.approx(c3, rel=0.45)
+            assert np.sign(k) == np.sign(k3) and abs(k - k3) < 0.3 * k_scale
+        assert ref[0.0][1] < 0 and ours[0.0][1][j] < 0  # zero preswirl: negative (stabilising) k
+
+
+def test_leakage_against_laby3():
+    el, w, *_ = _coefficients()
+    leak = float(el.outputs(w)["leakage"].values.ravel()[0])
+    assert leak == pytest.approx(LABY3_LEAKAGE, rel=0.45)  # measured +37 % (carry-over 2.05 vs 1.34)
+
+
+def test_cross_coupling_sign_follows_the_swirl_development():
+    """k is the sum of a destabilising part that grows with the cavity swirl and a stabilising part
+    from the swirl's growth along the seal (the perturbed leakage carries the swirl increment).
+    With zero preswirl the swirl grows from 0 (teeth on the rotor drive it hardest): k < 0; with a
+    preswirl near the swirl the seal settles to (the smooth rotor and toothed stator of the same
+    seal hold it near 0.31) k > 0; it grows with preswirl; at zero speed and zero preswirl k = 0."""
+    _, w, _, k_rotor0, _, _ = _coefficients(preswirl=0.0)
+    el, _, _, k_stator, _, _ = _coefficients(teeth_on="stator", preswirl=0.3)
+    v = el.zeroth(w[0]).v / (LABY3["radius"] * w[0])
+    assert np.ptp(v) < 0.1 * v[0]  # the swirl stays within 10 % of the preswirl along the seal
+    assert np.all(k_rotor0 < 0) and np.all(k_stator > 0)
+    ks = [_coefficients(preswirl=p)[3][0] for p in (0.0, 0.3, 0.6, 0.9)]
+    assert np.all(np.diff(ks) > 0)
