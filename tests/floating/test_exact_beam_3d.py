@@ -11,13 +11,19 @@ section: the rotation ``exp(s M~ / EI)``); rigid-motion invariance and the energ
 
 from __future__ import annotations
 
+import tomllib
+from pathlib import Path
+
 import numpy as np
 import pytest
 from test_exact_beam_static import elastica_tip
+from typer.testing import CliRunner
 
+from rotaflex.cli import app
 from rotaflex.core.errors import InputError
 from rotaflex.core.threads import limit_blas_threads
 from rotaflex.floating import exact_kernels3d as ek3
+from rotaflex.floating.case import prepare, run_case
 from rotaflex.floating.exact_beam import LoadSteppingError, PointLoads, cantilever
 from rotaflex.floating.exact_beam3d import PointLoads3D, arc3d, assemble3d, cantilever3d, solve_static, straight3d
 from rotaflex.rotation import quaternion_from_matrix, rotation_matrix
@@ -287,3 +293,77 @@ def test_load_beyond_reach_reports_the_fraction():
 def test_section_rotations_stay_unit_quaternions():
     _, R = tip3d(10.0, 8, rotation_matrix("123", (0.2, 0.3, 0.4)))
     assert R @ R.T == pytest.approx(np.eye(3), abs=1e-14)
+
+
+# ---------------------------------------------------------------------------------------------
+# the case file: body.exact.dimension = 3
+# ---------------------------------------------------------------------------------------------
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "floating" / "exact_beam_3d_bend.toml"
+
+
+def bend_config() -> dict:
+    cfg = tomllib.loads(EXAMPLE.read_text())
+    cfg.pop("domain")
+    return cfg
+
+
+def test_bend_example_through_the_case_file_is_the_mirrored_literature_bend():
+    # the example turns from x towards y (the literature from y towards x): the same bend
+    # mirrored in the plane x = y, so its tip is the published one with x and y swapped
+    res = run_case(bend_config())
+    ds = res.dataset.sel(solution="static")
+    tip = ds["point_position"].sel(point="tip").values
+    assert tip[0] == pytest.approx((100 / np.sqrt(2), 100 - 100 / np.sqrt(2), 0.0), abs=1e-12)
+    for k, load in ((1, 300.0), (2, 600.0)):
+        _, lit = bend45(load)
+        assert tip[k] == pytest.approx(lit[[1, 0, 2]], abs=1e-8)
+    assert float(ds["deflection_to_length"].max()) > 0.5
+    assert res.dataset.attrs["kinematics"] == "geometrically exact (3-D Simo-Reissner beam)"
+
+
+@pytest.mark.parametrize(
+    ("edit", "key"),
+    [
+        (("body", "exact", "gj", 0.0), "body.exact.gj"),
+        (("body", "exact", "ea", -1.0), "body.exact.ea"),
+        (("body", "exact", "ga", 0.0), "body.exact.ga"),
+        (("body", "beam", "ei", 0.0), "body.beam.ei"),
+        (("body", "beam", "ei_z", -2.0), "body.beam.ei_z"),
+        (("body", "exact", "dimension", 4), "body.exact.dimension"),
+        (("body", "exact", "analysis", "dynamic"), "body.exact.analysis"),
+        (("outputs", "tip", [80.0, 0.0, 0.0]), "outputs.tip"),
+    ],
+)
+def test_bad_3d_case_names_the_key(edit, key):
+    cfg = bend_config()
+    *path, last, value = edit
+    node = cfg
+    for p in path:
+        node = node[p]
+    node[last] = value
+    with pytest.raises(InputError) as err:
+        prepare(cfg)
+    assert err.value.field == key
+
+
+def test_planar_case_refuses_3d_keys():
+    cfg = bend_config()
+    cfg["body"]["exact"]["dimension"] = 2
+    with pytest.raises(InputError) as err:
+        prepare(cfg)
+    assert err.value.field in ("body.exact.gj", "body.exact.bend_radius")
+
+
+def test_cli_one_line_errors(tmp_path):
+    text = EXAMPLE.read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("gj = 833333.3333333334", "gj = 0.0"))
+    res = CliRunner().invoke(app, ["floating", "simulate", str(bad), "--out", str(tmp_path / "o"), "--no-figures"])
+    assert res.exit_code == 2
+    assert "body.exact.gj" in res.output and len(res.output.strip().splitlines()) == 1
+    # a load far past what 8 elements and the step budget can follow: exit 1, the fraction named
+    far = tmp_path / "far.toml"
+    far.write_text(text.replace("vector = [0.0, 0.0, 600.0]", "vector = [0.0, 0.0, 6.0e9]"))
+    res = CliRunner().invoke(app, ["floating", "simulate", str(far), "--out", str(tmp_path / "p"), "--no-figures"])
+    assert res.exit_code == 1, res.output
+    assert "load fraction" in res.output and len(res.output.strip().splitlines()) == 1

@@ -64,7 +64,20 @@ class ExactConfig:
         doc="'consistent' or 'lumped' (lumped: much smaller errors in the higher modes, docs/floating.md)",
     )
 
+    dimension: Literal[2, 3] = param(
+        2, doc="2: the planar Reissner beam (x-y plane); 3: the 3-D Simo-Reissner beam (static, cantilever)"
+    )
+    gj: float | None = param(None, unit="N m^2", gt=0.0, doc="3-D: torsional stiffness (default (EI2 + EI3) / 2.6)")
+    bend_radius: float | None = param(
+        None, unit="m", gt=0.0, doc="3-D: the beam bent in the x-y plane towards +y with this radius (default straight)"
+    )
+
     def __post_init__(self):
+        if self.dimension not in (2, 3):
+            raise InputError("body.exact.dimension", self.dimension, "2 (planar) or 3")
+        for key in ("gj", "bend_radius"):
+            if self.dimension == 2 and getattr(self, key) is not None:
+                raise InputError(f"body.exact.{key}", getattr(self, key), "unset unless body.exact.dimension = 3")
         if self.mass not in ("consistent", "lumped"):
             raise InputError("body.exact.mass", self.mass, "'consistent' or 'lumped'")
         if self.analysis not in ("dynamic", "static", "both"):
@@ -234,6 +247,10 @@ def first_frequency(body) -> float:
 def check(case, body):
     """Build and check everything a run needs (bad input raises before any integration)."""
     exact = case.body.exact or ExactConfig()
+    if exact.dimension == 3:
+        from rotaflex.floating.exact_case3d import check as check3d
+
+        return check3d(case)
     beam, frame, loads = build(case, body)
     q0, v0 = initial_state(case, beam, frame)
     w1 = first_frequency(body)
@@ -266,6 +283,11 @@ def run(case, body, plan, progress=None):
     from rotaflex.floating.solve import _breaks
 
     exact = plan["exact"]
+    if exact.dimension == 3:
+        from rotaflex.core.jit import announce_compilation
+        from rotaflex.floating import exact_kernels3d
+
+        announce_compilation("exact-beam-3d", [exact_kernels3d], 30.0)
     sols = []
     if exact.analysis != "static":
         eta = 2.0 * case.body.damping_ratio / plan["w1"] if case.body.damping_ratio > 0 else 0.0
