@@ -50,7 +50,10 @@ class ExactBeam3D:
     quats : (nn, 4) reference section rotations (unit quaternions, frame axes).
     conn : (ne, 2) int element nodes.
     stiffness : (ne, 6) ``EA, GA2, GA3`` [N], ``GJ, EI2, EI3`` [N m^2].
-    rho_a : (ne,) mass per length [kg/m] (gravity).
+    rho_a : (ne,) mass per length [kg/m].
+    rho_i : (ne, 3) rotary inertia per length about the section axes ``e1, e2, e3`` [kg m]
+        (default ``rho_a (EI2 + EI3, EI2, EI3) / EA``: the section whose ``I / A`` these
+        stiffnesses imply).
     clamps : (nc, 8) rows ``(node, rx, ry, rz, a0, a1, a2, a3)``: the node is clamped at ``r``
         [m] of the frame with section rotation ``R_F R(a)``.
     beam_of, arclength, lengths : which beam a node belongs to, its distance from the beam's
@@ -66,6 +69,7 @@ class ExactBeam3D:
     beam_of: np.ndarray
     arclength: np.ndarray
     lengths: tuple[float, ...]
+    rho_i: np.ndarray | None = None
     #: constraint equations per clamp (position and rotation)
     clamp_size = 6
 
@@ -98,6 +102,34 @@ class ExactBeam3D:
 
     def reference_lengths(self) -> np.ndarray:
         return np.linalg.norm(self.nodes[self.conn[:, 1]] - self.nodes[self.conn[:, 0]], axis=1)
+
+    def rotary_inertia(self) -> np.ndarray:
+        """(ne, 3) rotary inertia per length about ``e1, e2, e3`` [kg m]."""
+        if self.rho_i is not None:
+            return np.asarray(self.rho_i, dtype=float)
+        st = self.stiffness
+        return self.rho_a[:, None] * np.column_stack([st[:, 4] + st[:, 5], st[:, 4], st[:, 5]]) / st[:, :1]
+
+    def mass_matrix(self) -> np.ndarray:
+        """Mass (n, n) in increment layout [kg, kg m^2]: consistent ``rho A`` on the
+        translations (linear shape functions, ``L0 / 6 [[2, 1], [1, 2]]``) and the rotary
+        inertia lumped, ``L0 / 2`` of each element to each of its nodes, in section axes (the
+        rotational equations are written with the material angular velocity)."""
+        n = self.n_dof
+        M = np.zeros((n, n))
+        L0 = self.reference_lengths()
+        ri = self.rotary_inertia()
+        for e, (a, b) in enumerate(self.conn):
+            m = self.rho_a[e] * L0[e] / 6.0
+            for k in range(3):
+                ia, ib = 6 * a + k, 6 * b + k
+                M[ia, ia] += 2 * m
+                M[ib, ib] += 2 * m
+                M[ia, ib] += m
+                M[ib, ia] += m
+                M[6 * a + 3 + k, 6 * a + 3 + k] += 0.5 * L0[e] * ri[e, k]
+                M[6 * b + 3 + k, 6 * b + 3 + k] += 0.5 * L0[e] * ri[e, k]
+        return M
 
     def reference_strains(self) -> tuple[np.ndarray, np.ndarray]:
         """``Gamma0``, ``K0`` (ne, 3) of the reference configuration (its stress-free strains)."""

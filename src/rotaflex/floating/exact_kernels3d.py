@@ -293,3 +293,16 @@ def element_strains(q, conn, L0, gam0, kap0, out):
         )
         out[e, 0:3] = gam
         out[e, 3:6] = kap
+
+
+@entry
+def advance_material(q, q_ref, dx):
+    """``q = q_ref (+) dx`` with material rotation increments (6 per block): positions
+    ``x_ref + dx``, rotations ``R_ref exp(dth~)`` (the Lie-group time step's update)."""
+    for blk in range(dx.shape[0] // 6):
+        for k in range(3):
+            q[7 * blk + k] = q_ref[7 * blk + k] + dx[6 * blk + k]
+        qn = qmul(q_ref[7 * blk + 3 : 7 * blk + 7], qexp(dx[6 * blk + 3 : 6 * blk + 6]))
+        nrm = np.sqrt(qn[0] ** 2 + qn[1] ** 2 + qn[2] ** 2 + qn[3] ** 2)
+        for k in range(4):
+            q[7 * blk + 3 + k] = qn[k] / nrm
