@@ -39,6 +39,8 @@ STIFF_RATIO = 3.2e5
 POISSON, SHEAR_COEFFICIENT = 0.3, 5.0 / 6.0
 #: default time step: this fraction of the first elastic period
 STEPS_PER_PERIOD = 200
+#: first-run compilation of the 3-D kernels [s] (docs/floating.md)
+COMPILE_SECONDS_3D = 30.0
 
 
 @dataclass(frozen=True)
@@ -250,7 +252,7 @@ def check(case, body):
     if exact.dimension == 3:
         from rotaflex.floating.exact_case3d import check as check3d
 
-        return check3d(case)
+        return check3d(case, body)
     beam, frame, loads = build(case, body)
     q0, v0 = initial_state(case, beam, frame)
     w1 = first_frequency(body)
@@ -286,8 +288,10 @@ def run(case, body, plan, progress=None):
     if exact.dimension == 3:
         from rotaflex.core.jit import announce_compilation
         from rotaflex.floating import exact_kernels3d
+        from rotaflex.floating.exact_case3d import run as run3d
 
-        announce_compilation("exact-beam-3d", [exact_kernels3d], 30.0)
+        announce_compilation("exact-beam-3d", [exact_kernels3d], COMPILE_SECONDS_3D)
+        return run3d(case, plan, progress)
     sols = []
     if exact.analysis != "static":
         eta = 2.0 * case.body.damping_ratio / plan["w1"] if case.body.damping_ratio > 0 else 0.0

@@ -6,7 +6,8 @@ What a 3-D case may hold (the rest is refused, naming the key): ``[body] type = 
 along z; default ``ei``); ``[body.exact]`` adds ``gj`` (default ``(EI2 + EI3) / 2.6``: a solid
 circular section, Poisson's ratio 0.3), ``ea``, ``ga`` (both directions) and ``bend_radius`` (the
 beam curved in the x-y plane towards +y with that radius, a circular arc of the beam's length);
-``analysis = "static"`` (the equilibrium path at the output times; no 3-D dynamics yet).
+``analysis``: ``"static"`` (the equilibrium path at the output times), ``"dynamic"`` (Lie-group
+generalized-alpha, :mod:`rotaflex.floating.exact_solve3d`; no material damping) or ``"both"``.
 
 Points (loads, outputs) are material coordinates: ``[s, 0, 0]`` is the section at arclength
 ``s`` from the root (for a straight beam its position; for a bent one where it sits on the arc).
@@ -32,9 +33,9 @@ def _refuse_unsupported(case, exact):
         where = "body.type" if cfg.type != "beam" else "body.beam.support"
         got = cfg.type if cfg.type != "beam" else cfg.beam.support
         raise InputError(where, got, "a 'beam' with support = 'cantilever' for body.exact.dimension = 3")
-    if exact.analysis != "static":
+    if cfg.damping_ratio > 0:
         raise InputError(
-            "body.exact.analysis", exact.analysis, "'static' with body.exact.dimension = 3 (no 3-D dynamics yet)"
+            "body.damping_ratio", cfg.damping_ratio, "0 with body.exact.dimension = 3 (no 3-D material damping yet)"
         )
     for key in ("prescribed", "slew"):
         if getattr(case, key) is not None:
@@ -98,12 +99,57 @@ def _loads(case, beam: ExactBeam3D) -> PointLoads3D:
     return PointLoads3D.build(beam, pts, kinds, frames, vecs, profs, pars, distributed=beam.rho_a[:, None] * g)
 
 
-def check(case):
-    """Build and check everything a 3-D run needs (bad input raises before any solve)."""
+def check(case, body):
+    """Build and check everything a 3-D run needs (bad input raises before any solve); the
+    default time step is the planar one's (:func:`rotaflex.floating.exact_case.check`)."""
+    from rotaflex.floating.exact_case import STEPS_PER_PERIOD, first_frequency
+
     beam, loads = build(case)
     for name, pt in case.outputs.items():
         material_point(beam, pt, f"outputs.{name}")
-    return {"beam": beam, "frame": "fixed", "loads": loads, "q0": beam.reference_state(), "exact": case.body.exact}
+    exact = case.body.exact
+    w1 = first_frequency(body)
+    h = exact.time_step or min(case.solver.dt_out, 2 * np.pi / w1 / STEPS_PER_PERIOD)
+    if exact.analysis != "static":
+        from rotaflex.core.limits import require
+        from rotaflex.floating.exact_solve import time_grid
+
+        steps = len(time_grid(case.solver.t_end, case.solver.dt_out, h)[0]) - 1
+        require(
+            "solver.max_steps",
+            case.solver.max_steps,
+            steps,
+            case.solver.max_steps,
+            f"generalized-alpha steps (t_end = {case.solver.t_end:g} s, step {h:.4g} s)",
+            "raise solver.max_steps, or a longer body.exact.time_step, or a shorter solver.t_end",
+        )
+    q0 = beam.reference_state()
+    return {"beam": beam, "frame": "fixed", "loads": loads, "q0": q0, "h": h, "w1": w1, "exact": exact}
+
+
+def run(case, plan, progress=None):
+    """The 3-D solutions of a checked case: ``exact`` (Lie-group generalized-alpha,
+    :func:`rotaflex.floating.exact_solve3d.simulate_exact3d`) and/or ``static``."""
+    from rotaflex.floating.exact_case import quasi_static
+    from rotaflex.floating.exact_solve3d import simulate_exact3d
+
+    exact = plan["exact"]
+    sols = []
+    if exact.analysis != "static":
+        sols.append(
+            simulate_exact3d(
+                plan["beam"],
+                plan["loads"],
+                t_end=case.solver.t_end,
+                dt_out=case.solver.dt_out,
+                time_step=plan["h"],
+                rho_inf=exact.rho_inf,
+                progress=progress if exact.analysis == "dynamic" else None,
+            )
+        )
+    if exact.analysis != "dynamic":
+        sols.append(quasi_static(plan, case.solver.t_end, case.solver.dt_out, progress))
+    return sols
 
 
 def points(beam: ExactBeam3D, outputs: dict) -> dict:
