@@ -313,8 +313,12 @@ def bend_config() -> dict:
 def test_bend_example_through_the_case_file_is_the_mirrored_literature_bend():
     # the example turns from x towards y (the literature from y towards x): the same bend
     # mirrored in the plane x = y, so its tip is the published one with x and y swapped
-    res = run_case(bend_config())
+    cfg = bend_config()
+    cfg["paraview"] = {}
+    res = run_case(cfg)
     ds = res.dataset.sel(solution="static")
+    # the ParaView series is the node polyline of the solution
+    assert res.paraview[1].positions == pytest.approx(ds["node_position"].values)
     tip = ds["point_position"].sel(point="tip").values
     assert tip[0] == pytest.approx((100 / np.sqrt(2), 100 - 100 / np.sqrt(2), 0.0), abs=1e-12)
     for k, load in ((1, 300.0), (2, 600.0)):

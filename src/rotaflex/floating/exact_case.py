@@ -173,7 +173,9 @@ def _loads(case, beam: ExactBeam, frame: str, exact: ExactConfig) -> PointLoads:
         v = np.asarray(ld.vector, dtype=float)
         if ld.kind == "force" and v[2] != 0 or ld.kind == "torque" and np.abs(v[:2]).max() > 0:
             raise InputError(
-                f"loads[{i}].vector", list(ld.vector), "in the x-y plane: a force [fx, fy, 0] or a torque [0, 0, mz]"
+                f"loads[{i}].vector",
+                list(ld.vector),
+                "in the x-y plane: a force [fx, fy, 0] or a torque [0, 0, mz] (3-D loads: body.exact.dimension = 3)",
             )
         if ld.kind == "force" and ld.frame == "body" and free_beam:
             raise InputError(
