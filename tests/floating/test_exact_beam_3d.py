@@ -469,3 +469,36 @@ def test_dynamic_case_balances_the_work_of_a_follower_load():
     assert float(np.abs(ds["energy_balance"]).max()) < 1e-3 * work
     # out of the plane and large: the tip left the x-y plane by 5 % of L or more
     assert abs(float(ds["point_position"].sel(point="tip")[-1, 2])) > 0.05
+
+
+def test_bend_is_path_independent():
+    # the same load reached by other load steps: the interpolation depends on the current
+    # rotations only, so the equilibrium is the same (Crisfield & Jelenic 1999)
+    b, tip = bend45(600.0)
+    loads = PointLoads3D.build(b, [b.nodes[-1]], ["force"], ["inertial"], [(0.0, 0.0, 600.0)])
+    other = b.node_positions(solve_static(b, loads, first_step=0.37).q)[-1]
+    assert other == pytest.approx(tip, abs=1e-8)
+
+
+def test_small_loads_follow_linear_theory_for_each_stiffness():
+    # torsion T L / GJ; bending out of the plane P L^3 / 3 EI2 + P L / GA3 and in it with EI3,
+    # GA2; extension P L / EA (loads 1e-7 of the bending scale: the linear limit)
+    L, n = 2.0, 32
+    ea, ga2, ga3, gj, ei2, ei3 = 300.0, 40.0, 60.0, 0.7, 2.0, 5.0
+    b = cantilever3d(L, n, ea=ea, ga=(ga2, ga3), gj=gj, ei2=ei2, ei3=ei3)
+    P = 1e-7
+
+    def tip(kind, vec):
+        loads = PointLoads3D.build(b, [(L, 0, 0)], [kind], ["inertial"], [vec])
+        q = solve_static(b, loads).q
+        return b.node_positions(q)[-1] - (L, 0, 0), q[7 * n + 3 : 7 * n + 7]
+
+    _, e = tip("torque", (P, 0, 0))
+    assert 2 * e[1] == pytest.approx(P * L / gj, rel=1e-6)
+    u, _ = tip("force", (0, 0, P))
+    # the one-point element's bending is P L^3 / 3 EI (1 + 1 / (4 n^2)) (planar test)
+    assert u[2] == pytest.approx(P * L**3 / (3 * ei2) + P * L / ga3, rel=5e-4)
+    u, _ = tip("force", (0, P, 0))
+    assert u[1] == pytest.approx(P * L**3 / (3 * ei3) + P * L / ga2, rel=5e-4)
+    u, _ = tip("force", (P, 0, 0))
+    assert u[0] == pytest.approx(P * L / ea, rel=1e-6)
