@@ -84,10 +84,24 @@ class ExactBeam:
     hub_inertia: float = 0.0
     hub_radius: float = 0.0
     lumped: bool = False
+    #: constraint equations per clamp (planar: x, y, angle)
+    clamp_size = 3
 
     @property
     def n_nodes(self) -> int:
         return len(self.nodes)
+
+    def residual(self, loads, q, lam_scale, want_k=True):
+        """:func:`residual` of this body (the static driver calls it through the body)."""
+        return residual(self, loads, q, lam_scale, want_k)
+
+    def constrain(self, q, clamp, g, G):
+        """Clamp gaps ``g`` and Jacobian ``G`` (:func:`rotaflex.floating.exact_kernels.constraints`)."""
+        ek.constraints(q, clamp, g, G)
+
+    def advance(self, q, free, dx):
+        """Add the Newton correction ``dx`` to the free DOFs of ``q`` in place."""
+        q[free] += dx
 
     @property
     def n_dof(self) -> int:
@@ -348,7 +362,7 @@ def solve_static(
     """
     n = beam.n_dof
     clamp = beam.clamp_table()
-    nc = 3 * len(clamp)
+    nc = clamp.shape[0] * beam.clamp_size
     q = beam.reference_state() if q0 is None else np.array(q0, dtype=float)
     fixed = np.zeros(n, dtype=bool)
     fixed[beam.frame_dof :] = True
@@ -356,8 +370,8 @@ def solve_static(
     nl = len(loads.node) + 1
     lam0 = np.zeros(nl) if start is None else np.broadcast_to(np.asarray(start, dtype=float), (nl,))
     lam1 = np.ones(nl) if target is None else np.broadcast_to(np.asarray(target, dtype=float), (nl,))
-    r_full, _, _ = residual(beam, loads, q, np.maximum(np.abs(lam0), np.abs(lam1)), want_k=False)
-    r_int, _, _ = residual(beam, loads, q, 0.0, want_k=False)
+    r_full, _, _ = beam.residual(loads, q, np.maximum(np.abs(lam0), np.abs(lam1)), want_k=False)
+    r_int, _, _ = beam.residual(loads, q, 0.0, want_k=False)
     scale = max(float(np.abs(r_full[free]).max()), float(np.abs(r_int[free]).max()), 1e-300)
     lam, d, fractions, iters = 0.0, first_step, [0.0], 0
     last_res = np.inf
@@ -375,7 +389,7 @@ def solve_static(
         d *= 0.5
         if d < min_step:
             raise LoadSteppingError(lam, last_res, tol * scale)
-    _, _, energy = residual(beam, loads, q, lam1, want_k=False)
+    _, _, energy = beam.residual(loads, q, lam1, want_k=False)
     log.info("static equilibrium in %d load steps, %d Newton iterations", len(fractions) - 1, iters)
     return StaticSolution(q, np.array(fractions), iters, float(energy))
 
@@ -388,9 +402,9 @@ def _newton(beam, loads, q, lam, clamp, free, nc, tol, max_iter):
     mult = np.zeros(nc)
     res, step = np.inf, np.inf
     for it in range(1, max_iter + 1):
-        r, K, _ = residual(beam, loads, q, lam)
+        r, K, _ = beam.residual(loads, q, lam)
         if nc:
-            ek.constraints(q, clamp, g, G)
+            beam.constrain(q, clamp, g, G)
             r = r + G.T @ mult
         res = float(np.abs(r[free]).max()) if nf else 0.0
         cres = float(np.abs(g).max()) if nc else 0.0
@@ -412,7 +426,7 @@ def _newton(beam, loads, q, lam, clamp, free, nc, tol, max_iter):
             dx = np.linalg.solve(A, -np.concatenate([r[free], g]))
         except np.linalg.LinAlgError:
             return q, False, res, it
-        q[free] += dx[:nf]
+        beam.advance(q, free, dx[:nf])
         mult += dx[nf:]
         step = float(np.abs(dx[:nf]).max()) if nf else 0.0
         if np.abs(dx[:nf]).max() > 10.0 * beam.length:

@@ -39,6 +39,8 @@ STIFF_RATIO = 3.2e5
 POISSON, SHEAR_COEFFICIENT = 0.3, 5.0 / 6.0
 #: default time step: this fraction of the first elastic period
 STEPS_PER_PERIOD = 200
+#: first-run compilation of the 3-D kernels [s]: 19 s CPU measured cold (docs/floating.md)
+COMPILE_SECONDS_3D = 20.0
 
 
 @dataclass(frozen=True)
@@ -64,7 +66,20 @@ class ExactConfig:
         doc="'consistent' or 'lumped' (lumped: much smaller errors in the higher modes, docs/floating.md)",
     )
 
+    dimension: Literal[2, 3] = param(
+        2, doc="2: the planar Reissner beam (x-y plane); 3: the 3-D Simo-Reissner beam (static, cantilever)"
+    )
+    gj: float | None = param(None, unit="N m^2", gt=0.0, doc="3-D: torsional stiffness (default (EI2 + EI3) / 2.6)")
+    bend_radius: float | None = param(
+        None, unit="m", gt=0.0, doc="3-D: the beam bent in the x-y plane towards +y with this radius (default straight)"
+    )
+
     def __post_init__(self):
+        if self.dimension not in (2, 3):
+            raise InputError("body.exact.dimension", self.dimension, "2 (planar) or 3")
+        for key in ("gj", "bend_radius"):
+            if self.dimension == 2 and getattr(self, key) is not None:
+                raise InputError(f"body.exact.{key}", getattr(self, key), "unset unless body.exact.dimension = 3")
         if self.mass not in ("consistent", "lumped"):
             raise InputError("body.exact.mass", self.mass, "'consistent' or 'lumped'")
         if self.analysis not in ("dynamic", "static", "both"):
@@ -158,7 +173,9 @@ def _loads(case, beam: ExactBeam, frame: str, exact: ExactConfig) -> PointLoads:
         v = np.asarray(ld.vector, dtype=float)
         if ld.kind == "force" and v[2] != 0 or ld.kind == "torque" and np.abs(v[:2]).max() > 0:
             raise InputError(
-                f"loads[{i}].vector", list(ld.vector), "in the x-y plane: a force [fx, fy, 0] or a torque [0, 0, mz]"
+                f"loads[{i}].vector",
+                list(ld.vector),
+                "in the x-y plane: a force [fx, fy, 0] or a torque [0, 0, mz] (3-D loads: body.exact.dimension = 3)",
             )
         if ld.kind == "force" and ld.frame == "body" and free_beam:
             raise InputError(
@@ -234,6 +251,10 @@ def first_frequency(body) -> float:
 def check(case, body):
     """Build and check everything a run needs (bad input raises before any integration)."""
     exact = case.body.exact or ExactConfig()
+    if exact.dimension == 3:
+        from rotaflex.floating.exact_case3d import check as check3d
+
+        return check3d(case, body)
     beam, frame, loads = build(case, body)
     q0, v0 = initial_state(case, beam, frame)
     w1 = first_frequency(body)
@@ -266,6 +287,13 @@ def run(case, body, plan, progress=None):
     from rotaflex.floating.solve import _breaks
 
     exact = plan["exact"]
+    if exact.dimension == 3:
+        from rotaflex.core.jit import announce_compilation
+        from rotaflex.floating import exact_kernels3d
+        from rotaflex.floating.exact_case3d import run as run3d
+
+        announce_compilation("exact-beam-3d", [exact_kernels3d], COMPILE_SECONDS_3D)
+        return run3d(case, plan, progress)
     sols = []
     if exact.analysis != "static":
         eta = 2.0 * case.body.damping_ratio / plan["w1"] if case.body.damping_ratio > 0 else 0.0

@@ -135,13 +135,65 @@ def datasets(beam: ExactBeam, sol, points: dict):
     }
 
 
-def build_exact_result(beam: ExactBeam, solutions, points: dict, config: dict | None, wall_time: float, frame: str):
-    """A :class:`~rotaflex.floating.result.FloatingResult` of exact-beam solutions."""
+def datasets3d(beam, sol, points: dict):
+    """:func:`datasets` of a 3-D exact beam (:class:`~rotaflex.floating.exact_beam3d.ExactBeam3D`)
+    clamped to a fixed frame at the origin: node and point positions, deflections from the
+    reference positions, section quaternions (``node_quaternion`` instead of ``node_angle``),
+    strain energy; a static solution has zero velocities."""
+    from rotaflex.floating.exact_case3d import points as reference_points
+    from rotaflex.rotation import euler_from_quaternion, quaternion_to_matrix
+
+    n = beam.n_nodes
+    T = len(sol.q)
+    blocks = sol.q.reshape(T, -1, 7)
+    xyz, quat = blocks[:, :n, :3], blocks[:, :n, 3:]
+    frame_q = blocks[:, n, 3:]
+    refs = reference_points(beam, points)
+    names = list(refs)
+    pxyz = np.zeros((T, len(names), 3))
+    pref = np.zeros((len(names), 3))
+    for j, name in enumerate(names):
+        a, b, xi = beam.locate(refs[name], f"outputs.{name}")
+        pref[j] = refs[name]
+        pxyz[:, j] = (1 - xi) * xyz[:, a] + xi * xyz[:, b]
+    node_def = xyz - beam.nodes[None]
+    zeros3 = np.zeros((T, 3))
+    e = sol.energy
+    tax = ("time", "axis")
+    return {
+        "position": (tax, blocks[:, n, :3], "m", "origin of the reference frame (inertial)"),
+        "quaternion": (("time", "quat"), frame_q, "1", "attitude of the reference frame"),
+        "rotation_matrix": (("time", "row", "col"), quaternion_to_matrix(frame_q), "1", "attitude matrix A"),
+        "euler_123": (tax, euler_from_quaternion("123", frame_q), "rad", "Euler 1-2-3 angles of the frame"),
+        "velocity": (tax, zeros3, "m/s", "V_o (body axes; fixed frame)"),
+        "angular_velocity": (tax, zeros3, "rad/s", "w (body axes; fixed frame)"),
+        "point_position": (("time", "point", "axis"), pxyz, "m", "inertial position of output points"),
+        "point_deflection": (("time", "point", "axis"), pxyz - pref[None], "m", "deflection of output points"),
+        "energy": (("time",), e[:, 0] + e[:, 1], "J", "kinetic + strain energy"),
+        "work_of_loads": (("time",), e[:, 2], "J", "work of the applied loads since the start"),
+        "work_of_drive": (("time",), e[:, 3], "J", "work of the ground since the start"),
+        "energy_balance": (("time",), sol.balance, "J", "energy - energy(0) - work_of_loads - work_of_drive"),
+        "node_position": (("time", "node", "axis"), xyz, "m", "node positions (inertial)"),
+        "node_quaternion": (("time", "node", "quat"), quat, "1", "section rotations (inertial, scalar first)"),
+        "node_deflection": (("time", "node", "axis"), node_def, "m", "node deflection (frame axes)"),
+        "deflection_to_length": (
+            ("time",),
+            np.linalg.norm(node_def, axis=-1).max(axis=1) / beam.length,
+            "1",
+            "largest node deflection / longest beam length",
+        ),
+    }
+
+
+def build_exact_result(beam, solutions, points: dict, config: dict | None, wall_time: float, frame: str):
+    """A :class:`~rotaflex.floating.result.FloatingResult` of exact-beam solutions (planar
+    :class:`ExactBeam` or 3-D :class:`~rotaflex.floating.exact_beam3d.ExactBeam3D`)."""
     import xarray as xr
 
     from rotaflex.floating.result import FloatingResult
 
-    parts = [datasets(beam, s, points) for s in solutions]
+    three_d = not isinstance(beam, ExactBeam)
+    parts = [(datasets3d if three_d else datasets)(beam, s, points) for s in solutions]
     data = {}
     for key, (dims, _, unit, ln) in parts[0].items():
         vals = np.stack([p[key][1] for p in parts])
@@ -166,14 +218,17 @@ def build_exact_result(beam: ExactBeam, solutions, points: dict, config: dict | 
             "message": " | ".join(f"{s.method}: {s.message}" for s in solutions),
             "wall_time": float(wall_time),
             "config": json.dumps(config or {}),
-            "body": f"exact planar beam ({len(beam.conn)} elements, {len(beam.lengths)} beam(s))",
+            "body": f"exact {'3-D' if three_d else 'planar'} beam ({len(beam.conn)} elements, "
+            f"{len(beam.lengths)} beam(s))",
             "body_model": "exact",
             "body_length": beam.length,
             "floating_frame": {"fixed": "fixed", "prescribed": "prescribed", "free": "hub"}[frame]
             if len(beam.clamps)
             else "centre of mass, best-fit rotation",
             "geometric_stiffness": 0,
-            "kinematics": "geometrically exact (planar Reissner beam)",
+            "kinematics": "geometrically exact (3-D Simo-Reissner beam)"
+            if three_d
+            else "geometrically exact (planar Reissner beam)",
             "solver_wall_times": json.dumps({s.method: s.wall_time for s in solutions}),
             "connectivity": json.dumps(beam.conn.tolist()),
         }
