@@ -212,25 +212,28 @@ def free_dofs(box: Gearbox) -> np.ndarray:
     return constraint(box)[0]
 
 
-def bearing_matrices(box: Gearbox, drive_speed: float) -> tuple[np.ndarray, np.ndarray]:
+def bearing_matrices(box: Gearbox, drive_speed: float, with_mass: bool = False):
     """Bearing stiffness and damping (n_dof, n_dof) at a drive speed [rad/s] (each rotor's bearings
-    at its own speed magnitude)."""
+    at its own speed magnitude), from each rotor's one element assembly (``Rotor.MKC``).
+    ``with_mass``: also the elements' added mass (a liquid seal's; zero for every other kind), the
+    third of (K, C, M)."""
     n = box.n_dof
-    K, C = np.zeros((n, n)), np.zeros((n, n))
+    K, C, M = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
     for i, pr in enumerate(box.rotors):
         off, nl, _ = box.layout[i]
         sl = slice(off, off + nl)
-        kr, cr = pr.rotor.KC(abs(pr.ratio * drive_speed))
+        mr, kr, cr = pr.rotor.MKC(abs(pr.ratio * drive_speed))
         K[sl, sl] = kr[0] - pr.rotor.K_shaft
         C[sl, sl] = cr[0]
-    return K, C
+        M[sl, sl] = mr[0] - pr.rotor.M
+    return (K, C, M) if with_mass else (K, C)
 
 
 def system_matrices(box: Gearbox, drive_speed: float, mats: Matrices | None = None, mesh: bool = True):
     """(M, D, K) on the free DOFs at a drive speed [rad/s]: D = C + gyroscopic (+ c_m g g^T),
     K = shafts + bearings (+ k_mean g g^T with ``mesh``)."""
     mats = matrices(box) if mats is None else mats
-    Kb, Cb = bearing_matrices(box, drive_speed)
+    Kb, Cb, Mb = bearing_matrices(box, drive_speed, with_mass=True)
     K = mats.K0 + Kb
     D = Cb + mats.C0
     for G, w in zip(mats.G, box.speeds(drive_speed), strict=True):
@@ -238,7 +241,7 @@ def system_matrices(box: Gearbox, drive_speed: float, mats: Matrices | None = No
     if mesh and len(mats.k_mean):
         K = K + (mats.g.T * mats.k_mean) @ mats.g
         D = D + (mats.g.T * mats.c_mesh) @ mats.g
-    return mats.reduce(mats.M), mats.reduce(D), mats.reduce(K)
+    return mats.reduce(mats.M + Mb), mats.reduce(D), mats.reduce(K)
 
 
 def undamped_modes(M: np.ndarray, K: np.ndarray, n: int | None = None) -> tuple[np.ndarray, np.ndarray]:

@@ -94,7 +94,7 @@ def _energy(box: Gearbox, mats: Matrices, K_full: np.ndarray, v: np.ndarray):
 def _pencil(box, mats, basis):
     """Function of the drive speed giving (M, D, K) on the free DOFs or in ``basis``; with
     speed-independent bearings the projections are made once (D = D0 + Omega G_sum)."""
-    constant = all(el.speeds is None for pr in box.rotors for _, _, el in pr.rotor.bearings)
+    constant = all(el.speed_independent for pr in box.rotors for _, _, el in pr.rotor.bearings)
     P = np.eye(mats.free.size) if basis is None else basis
     if not constant:
 
@@ -229,7 +229,7 @@ def campbell(
             lam_t[s, rows], v_t[s, rows] = lam[cols], v[cols]
             mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
         prev = v_t[s]
-    if all(el.speeds is None for pr in box.rotors for _, _, el in pr.rotor.bearings):
+    if all(el.speed_independent for pr in box.rotors for _, _, el in pr.rotor.bearings):
         # speed-independent bearings: one stiffness matrix, energies of all speeds in one product
         e, me = _energy(box, mats, _stiffness_full(box, mats, 0.0), v_t.reshape(ns * n_modes, -1))
         e, me = e.reshape(ns, n_modes, -1), me.reshape(ns, n_modes)

@@ -148,7 +148,7 @@ def forced_response(
     K0 = P.T @ mats.reduce(mats.K0) @ P
     Gr = [P.T @ mats.reduce(G) @ P for G in mats.G]
     g = mats.project(mats.g) @ P  # (n_mesh, r)
-    constant = all(el.speeds is None for pr in box.rotors for _, _, el in pr.rotor.bearings)
+    constant = all(el.speed_independent for pr in box.rotors for _, _, el in pr.rotor.bearings)
     brg = [(i, node, other) for i, pr in enumerate(box.rotors) for node, other, _ in pr.rotor.bearings]
     rows = [[box.lateral_dof(i, n, 0), box.lateral_dof(i, n, 1)] for i, n, _ in brg]
     # displacement across each bearing (relative to its second node, or ground)
@@ -165,14 +165,16 @@ def forced_response(
         Tp[p] = Tfull[[box.lateral_dof(r, n, 0), box.lateral_dof(r, n, 1)]]
     # bearing matrices per speed (once if constant)
     sel = [0] if constant else range(ns)
-    Kb, Cb, kbn, cbn = [], [], [], []
+    Kb, Cb, Mb, kbn, cbn = [], [], [], [], []
     for s in sel:
-        Kf, Cf = bearing_matrices(box, speeds[s])
+        Kf, Cf, Mf = bearing_matrices(box, speeds[s], with_mass=True)
+        Mb.append(P.T @ mats.reduce(Mf) @ P)
         Kb.append(P.T @ mats.reduce(Kf) @ P)
         Cb.append(P.T @ mats.reduce(Cf + mats.C0) @ P)
         kbn.append(np.array([Kf[np.ix_(r, r)] for r in rows]).reshape(len(rows), 2, 2))
         cbn.append(np.array([Cf[np.ix_(r, r)] for r in rows]).reshape(len(rows), 2, 2))
-    Kb, Cb, kbn, cbn = (np.array(x) for x in (Kb, Cb, kbn, cbn))  # (1 or ns, ...)
+    Kb, Cb, Mb, kbn, cbn = (np.array(x) for x in (Kb, Cb, Mb, kbn, cbn))  # (1 or ns, ...)
+    M = M[None] + Mb  # seals' added mass (zero for every other element)
     K = K0[None] + Kb + ((g.T * mats.k_mean) @ g)[None]
     Gsum = sum(pr.sense * pr.ratio * G for pr, G in zip(box.rotors, Gr, strict=True))
     D = Cb + ((g.T * mats.c_mesh) @ g)[None] + speeds[:, None, None] * Gsum[None]  # (ns, r, r)
@@ -193,9 +195,9 @@ def forced_response(
     for j in range(nm):
         wm = hs[None, :] * np.array([box.mesh_frequency(j, w0) for w0 in speeds])[:, None]  # (ns, nh)
         freq[j] = wm
-        H = np.empty((ns, nh, *M.shape), complex)  # K + i w D - w^2 M, written in place
+        H = np.empty((ns, nh, *M.shape[-2:]), complex)  # K + i w D - w^2 M, written in place
         H.real[...] = K[:, None]
-        H.real[...] -= wm[..., None, None] ** 2 * M
+        H.real[...] -= wm[..., None, None] ** 2 * M[:, None]
         np.multiply(wm[..., None, None], D[:, None], out=H.imag)
         zk = mats.k_mean[j] + 1j * wm * mats.c_mesh[j]  # (ns, nh)
         rhs = g[j][None, None, :] * (zk * E[j][None, :])[..., None]

@@ -127,6 +127,11 @@ class ElementMatrices(ABC):
         """The kind's own results over speed [dict of xarray.DataArray]: none."""
         return {}
 
+    @property
+    def speed_independent(self) -> bool:
+        """True when the matrices are the same at every spin speed (one assembly serves all)."""
+        return False
+
     def K(self, speed: float = 0.0) -> np.ndarray:
         """Stiffness (2, 2) [N/m] at ``speed`` [rad/s] (synchronous whirl)."""
         return self.coefficients(speed)[0][0]
@@ -184,6 +189,11 @@ class BearingElement(ElementMatrices):
     ) -> BearingElement:
         """Speed-independent coefficients [N/m, N s/m]."""
         return cls(np.array([[[kxx, kxy], [kyx, kyy]]], float), np.array([[[cxx, cxy], [cyx, cyy]]], float), None, name)
+
+    @property
+    def speed_independent(self) -> bool:
+        """True for a single-row table (no speeds)."""
+        return self.speeds is None
 
     @property
     def static_load_dependent(self) -> bool:
