@@ -38,6 +38,7 @@ from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
 from rotaflex.gear import PairSpec
 from rotaflex.gear.models.mesh_stiffness import DEFAULT_DAMPING_RATIO, mesh_damping
+from rotaflex.gear.pair.lead import FaceConfig
 from rotaflex.rotor.fe.model import ROTOR_KEYS, Bearing, Disk, Material, PointMass, Rotor, Shaft
 from rotaflex.system.coupling import CouplingElement, CouplingSpec
 from rotaflex.system.coupling import element as coupling_element
@@ -107,8 +108,8 @@ class MeshSpec:
         doc="helical: resultant at mid-face or at the load distribution's centroid (default: centroid "
         "with lead modifications or a misalignment, else mid-face)",
     )
-    misalignment: float = param(
-        0.0, unit="rad", ge=-0.01, le=0.01, doc="helical: tilt of the wheel to the pinion in the plane of action"
+    face: FaceConfig | None = param(
+        None, doc="helical: gear static's [face] (slices, coupling, misalignment) for the contact point"
     )
 
 
@@ -373,23 +374,21 @@ def _contact_offset(m: MeshSpec, pair, gm, where: str) -> float:
     """Axial offset z_c [m] of a mesh's contact from mid-face: 0 at ``contact_point =
     "mid_face"`` (the default without lead modifications and misalignment), else the centroid of
     the sliced face's load at the mesh's mean load (:mod:`.face_load`)."""
-    mode = m.contact_point
+    mode, f = m.contact_point, m.face or FaceConfig()
     if not pair.helical:
         if mode == "load_centroid":
             raise InputError(f"{where}.contact_point", mode, "'mid_face' or omitted for a spur pair (helical only)")
-        if m.misalignment:
-            raise InputError(f"{where}.misalignment", m.misalignment, "0 for a spur pair (helical meshes only)")
+        if m.face is not None:
+            raise InputError(f"{where}.face", "a table", "omitted for a spur pair (helical meshes only)")
         return 0.0
     if mode is None:
-        mode = "load_centroid" if m.misalignment or _lead(pair) else "mid_face"
+        mode = "load_centroid" if f.misalignment or _lead(pair) else "mid_face"
     if mode == "mid_face":
         return 0.0
-    from rotaflex.gear.pair.lead import FaceConfig
     from rotaflex.gear.static.helical import face_model
     from rotaflex.system.face_load import contact_offset, face_line
 
-    f = FaceConfig()  # the slices of the gear package's mesh tables (gear_mesh)
-    face = face_model(pair, f.slices, f.coupling_length_coef, m.misalignment, where=f"{where}.face")
+    face = face_model(pair, f.slices, f.coupling_length_coef, f.misalignment, where=f"{where}.face")
     return contact_offset(face_line(pair, gm, face, m.source, m.mesh_preset), face)
 
 
