@@ -109,11 +109,13 @@ def test_slope_deviation_and_misalignment_of_the_same_gap_give_the_same_offset()
     assert slope == pytest.approx(tilt, rel=1e-9, abs=1e-12)
 
 
-def test_crowning_free_end_relief_differs_from_crowning_only_by_the_gap_shape():
-    """End relief at both ends plus a slope: the relief unloads both ends alike, so the offset
-    keeps the slope's sign (load towards -z)."""
-    cfg = _with_lead(_config(), "pinion", end_relief=5e-6, end_relief_length=0.004, slope_deviation=8e-6)
-    assert _offset(cfg) < 0.0
+def test_end_relief_with_a_slope_keeps_the_slope_side_and_pulls_the_load_inwards():
+    """End relief at both ends (no crowning) added to a slope deviation: the relief unloads both
+    ends, most where the load is highest (-z), so the offset keeps the slope's sign but is
+    smaller in magnitude."""
+    slope = _offset(_with_lead(_config(), "pinion", slope_deviation=8e-6))
+    both = _offset(_with_lead(_config(), "pinion", end_relief=5e-6, end_relief_length=0.004, slope_deviation=8e-6))
+    assert slope < both < 0.0
 
 
 def test_pure_misalignment_centroid_matches_the_trapezoid_of_the_gear_side_end_loads():
