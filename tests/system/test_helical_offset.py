@@ -196,6 +196,11 @@ def test_spur_pair_refuses_the_load_centroid():
         Gearbox.from_mapping(cfg)
 
 
+def test_too_many_slices_for_the_face_are_refused_naming_the_mesh_key():
+    with pytest.raises(InputError, match=r"^gear_mesh\[0\]\.pinion\.face_width .*gear_mesh\[0\]\.face\.slices"):
+        Gearbox.from_mapping(_config(face={"slices": 400, "misalignment": 1e-5}))
+
+
 def test_cli_unknown_contact_point_exits_2_naming_the_key(tmp_path):
     from pathlib import Path
 

@@ -388,7 +388,10 @@ def _contact_offset(m: MeshSpec, pair, gm, where: str) -> float:
     from rotaflex.gear.static.helical import face_model
     from rotaflex.system.face_load import contact_offset, face_line
 
-    face = face_model(pair, f.slices, f.coupling_length_coef, f.misalignment, where=f"{where}.face")
+    try:
+        face = face_model(pair, f.slices, f.coupling_length_coef, f.misalignment, where=f"{where}.face")
+    except InputError as err:  # the gear package names the pair's keys: put them under the mesh
+        raise err.relocated(where) from None
     return contact_offset(face_line(pair, gm, face, m.source, m.mesh_preset), face)
 
 
