@@ -60,7 +60,7 @@ def test_rotor_keys_and_sub_tables(sections):
 
 def test_gear_mesh_keys_with_the_pair_of_gear_static(sections):
     gear_fields = typing.get_type_hints(PairSpec)["pinion"]
-    assert _names(MeshSpec) - {"pinion", "wheel"} <= sections["gear_mesh"]
+    assert _names(MeshSpec) - {"pinion", "wheel"} <= _listed(sections, "gear_mesh")  # keys and sub-tables (face)
     assert set(PAIR_KEYS) - {"pinion", "wheel"} <= sections["gear_mesh"]
     for gear in ("pinion", "wheel"):
         assert _names(gear_fields) <= _listed(sections, f"gear_mesh.{gear}"), gear

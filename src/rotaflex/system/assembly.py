@@ -63,6 +63,9 @@ def coupling_vector(box: Gearbox, mesh: int) -> np.ndarray:
     transverse line of action, F = T / r_b): g is the flank-normal derivative g_n divided by
     cos(beta_b), so the axial DOFs get ``sigma tan(beta_b)`` and the tilts that times the pitch
     point's arm (k g g^T = k_n g_n g_n^T with k_n = k / cos^2(beta_b); docs/geared-rotor.md).
+    A contact at ``z_c`` = :attr:`~.model.MeshElement.offset` from mid-face adds the arm
+    ``z_c e_z``: ``z_c (-n_y, n_x)`` on the tilts (theta_x, theta_y) of the driver, the opposite
+    on the driven gear.
     """
     m = box.meshes[mesh]
     g = np.zeros(box.n_dof)
@@ -79,6 +82,9 @@ def coupling_vector(box: Gearbox, mesh: int) -> np.ndarray:
             g[box.axial_dof(r, node)] += side * t
             g[box.lateral_dof(r, node, 2)] += side * t * arm[1]  # (theta x r_P) . e_z
             g[box.lateral_dof(r, node, 3)] -= side * t * arm[0]
+            if m.offset:  # contact z_c off mid-face: (theta x z_c e_z) . n = z_c (n_x theta_y - n_y theta_x)
+                g[box.lateral_dof(r, node, 2)] -= side * m.offset * m.normal[1]
+                g[box.lateral_dof(r, node, 3)] += side * m.offset * m.normal[0]
     return g
 
 

@@ -65,9 +65,11 @@ def mesh_axial_force(box: Gearbox, force: np.ndarray) -> np.ndarray:
 
 
 def tilting_moments(box: Gearbox, force: np.ndarray) -> np.ndarray:
-    """Tilting moments [N m] (..., n_mesh, 2 gears (driver, driven), 2 (M_x, M_y)) of the axial
-    mesh force at the pitch point about each gear's centre, from transverse mesh forces
-    ``force`` (..., n_mesh) [N]: ``r_P x (F_a e_z) = F_a (r_y, -r_x)``."""
+    """Tilting moments [N m] (..., n_mesh, 2 gears (driver, driven), 2 (M_x, M_y)) of the mesh
+    force about each gear's centre, from transverse mesh forces ``force`` (..., n_mesh) [N]:
+    the axial force's at the pitch point, ``r_P x (F_a e_z) = F_a (r_y, -r_x)``, plus, with the
+    contact at ``z_c`` off mid-face (:attr:`~.model.MeshElement.offset`), the transverse force's
+    ``z_c e_z x F n = F z_c (-n_y, n_x)`` (on the driven gear; the driver's are opposite)."""
     fa = mesh_axial_force(box, force)
     out = np.zeros((*np.shape(force), 2, 2))
     for j, m in enumerate(box.meshes):
@@ -75,6 +77,9 @@ def tilting_moments(box: Gearbox, force: np.ndarray) -> np.ndarray:
             for k, (arm, side) in enumerate(((m.arms[0], -1.0), (m.arms[1], 1.0))):
                 out[..., j, k, 0] = side * fa[..., j] * arm[1]
                 out[..., j, k, 1] = -side * fa[..., j] * arm[0]
+                if m.offset:
+                    out[..., j, k, 0] -= side * force[..., j] * m.offset * m.normal[1]
+                    out[..., j, k, 1] += side * force[..., j] * m.offset * m.normal[0]
     return out
 
 
@@ -161,4 +166,16 @@ def static_outputs(box: Gearbox, speed: float) -> tuple[dict, dict, dict]:
             }
             for k, gear in enumerate(("driver", "driven")):
                 extra[f"mesh{j}_static_tilting_moment_{gear}"] = {"value": float(np.hypot(*tm[j, k])), "unit": "N m"}
+            if m.offset:
+                extra[f"mesh{j}_contact_offset"] = {
+                    "value": m.offset,
+                    "unit": "m",
+                    "long_name": "axial position of the mesh contact from mid-face (+z)",
+                }
+    if any(m.offset for m in box.meshes):
+        data["contact_offset"] = (
+            "mesh",
+            np.array([m.offset for m in box.meshes]),
+            {"units": "m", "long_name": "axial position of the mesh contact from mid-face (+z)"},
+        )
     return data, coords, extra

@@ -38,6 +38,7 @@ from rotaflex.core.config import from_mapping, load_toml, param
 from rotaflex.core.errors import InputError
 from rotaflex.gear import PairSpec
 from rotaflex.gear.models.mesh_stiffness import DEFAULT_DAMPING_RATIO, mesh_damping
+from rotaflex.gear.pair.lead import FaceConfig
 from rotaflex.rotor.fe.model import ROTOR_KEYS, Bearing, Disk, Material, PointMass, Rotor, Shaft
 from rotaflex.system.coupling import CouplingElement, CouplingSpec
 from rotaflex.system.coupling import element as coupling_element
@@ -102,6 +103,14 @@ class MeshSpec:
     center_distance: float | None = param(None, unit="m", gt=0, doc="working centre distance (default: no backlash)")
     backlash: float | None = param(None, unit="m", ge=0, doc="normal backlash (alternative to center_distance)")
     driver: Literal["pinion", "wheel"] = param("pinion", doc="gear that drives (must be on the drive side)")
+    contact_point: Literal["mid_face", "load_centroid"] | None = param(
+        None,
+        doc="helical: resultant at mid-face or at the load distribution's centroid (default: centroid "
+        "with lead modifications or a misalignment, else mid-face)",
+    )
+    face: FaceConfig | None = param(
+        None, doc="helical: gear static's [face] (slices, coupling, misalignment) for the contact point"
+    )
 
 
 @dataclass(frozen=True)
@@ -170,7 +179,8 @@ class MeshElement:
     Helical meshes: ``helix`` is the base helix angle beta_b [rad], ``axial_sign`` sigma (the flank
     normal is ``cos(beta_b) n + sigma sin(beta_b) e_z``), ``arms`` the vectors (x, y) [m] from the
     driver's and the driven gear's centre to the pitch point (docs/geared-rotor.md, "Helical
-    meshes"); 0, 0, () for spur meshes.
+    meshes"), ``offset`` the axial position z_c [m] of the contact from mid-face (the load
+    distribution's centroid, :mod:`.face_load`); 0, 0, (), 0 for spur meshes.
     """
 
     gear: Any  # rotaflex.gear.GearMesh
@@ -186,6 +196,7 @@ class MeshElement:
     helix: float = 0.0
     axial_sign: int = 0
     arms: tuple = ()
+    offset: float = 0.0
 
     @property
     def k_mean(self) -> float:
@@ -354,15 +365,39 @@ def _pair(m: Mapping, where: str, base, centres: tuple[float, str] | None = None
 
 
 def _system_pair(pair, where: str):
-    """A pair the geared-rotor model takes: spur, or helical without lead modifications (the
-    mesh is one lumped contact at mid-face; a lead modification would move it)."""
+    """A pair the geared-rotor model takes: spur without lead modifications, or helical (lead
+    modifications move its contact point, :mod:`.face_load`)."""
+    return pair if pair.helical else pair.spur_only("system", where)
+
+
+def _contact_offset(m: MeshSpec, pair, gm, where: str) -> float:
+    """Axial offset z_c [m] of a mesh's contact from mid-face: 0 at ``contact_point =
+    "mid_face"`` (the default without lead modifications and misalignment), else the centroid of
+    the sliced face's load at the mesh's mean load (:mod:`.face_load`)."""
+    mode, f = m.contact_point, m.face or FaceConfig()
     if not pair.helical:
-        return pair.spur_only("system", where)
-    for name in ("pinion", "wheel"):
-        lead = getattr(pair, name).lead
-        if lead is not None and lead.active:
-            raise InputError(f"{where}.{name}.lead", "a table", "omitted in system (lead modifications: gear static)")
-    return pair
+        if mode == "load_centroid":
+            raise InputError(f"{where}.contact_point", mode, "'mid_face' or omitted for a spur pair (helical only)")
+        if m.face is not None:
+            raise InputError(f"{where}.face", "a table", "omitted for a spur pair (helical meshes only)")
+        return 0.0
+    if mode is None:
+        mode = "load_centroid" if f.misalignment or _lead(pair) else "mid_face"
+    if mode == "mid_face":
+        return 0.0
+    from rotaflex.gear.static.helical import face_model
+    from rotaflex.system.face_load import contact_offset, face_line
+
+    try:
+        face = face_model(pair, f.slices, f.coupling_length_coef, f.misalignment, where=f"{where}.face")
+    except InputError as err:  # the gear package names the pair's keys: put them under the mesh
+        raise err.relocated(where) from None
+    return contact_offset(face_line(pair, gm, face, m.source, m.mesh_preset), face)
+
+
+def _lead(pair) -> bool:
+    """True when a gear of the pair has an active lead modification."""
+    return any(g.lead is not None and g.lead.active for g in (pair.pinion, pair.wheel))
 
 
 def _station(rotor: Rotor, node, position, where, keys=("node", "position")) -> int:
@@ -505,6 +540,9 @@ def _build(spec: GearboxSpec, models: list[Rotor], pairs: list) -> Gearbox:
                 disk = Disk(node=node, mass=mass, Id=0.5 * ip, Ip=ip)  # thin disk: Id = Ip / 2
                 models[r] = dataclasses.replace(models[r], disk=(*models[r].disk, disk))
         helical = _helical_terms(pair, toward[i], s, gam, rb, alpha) if pair.helical else {}
+        offset = _contact_offset(m, pair, gm, w)
+        if offset:
+            helical["offset"] = offset
         built.append(
             MeshElement(gm, d, f, toward[i], rot @ loc, s, (float(rb[0]), float(rb[1])), c_m, backlash, m, **helical)
         )
