@@ -148,3 +148,157 @@ def legend_outside(ax, **kw: Any):
 
 #: line styles that stay distinguishable where curves overlap (also in black and white)
 STYLES = ("-", "--", "-.", ":", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 2)))
+
+
+#: pixels two boxes may share before they count as overlapping (antialiased edges touch)
+_LAYOUT_SLACK_PX = 1.0
+
+
+def _drawn_texts(fig, renderer) -> list[tuple[str, Any]]:
+    """``(description, bbox)`` of every text the saved image shows, legends as one box each.
+
+    Texts: figure texts and titles, axes titles, axis labels, the tick labels matplotlib draws
+    (inside the view interval), axis offset texts, axes texts and annotations; a legend's
+    entries are inside its own frame, so the legend counts as one box.
+    """
+    out: list[tuple[str, Any]] = []
+
+    def add(where: str, t) -> None:
+        if t is None or not t.get_visible() or not t.get_text().strip():
+            return
+        box = t.get_window_extent(renderer)
+        if box.width > 0 and box.height > 0:
+            out.append((f"{where} '{t.get_text().strip()[:40]}'", box))
+
+    for t in fig.texts:  # suptitle, supxlabel, fig.text(...)
+        add("figure text", t)
+    for name in ("_suptitle", "_supxlabel", "_supylabel"):
+        t = getattr(fig, name, None)
+        if t is not None and t not in fig.texts:
+            add("figure title", t)
+    for i, ax in enumerate(fig.axes):
+        if not ax.get_visible():
+            continue
+        tag = f"axes {i}" + (f" ({ax.get_title()[:30]!r})" if ax.get_title() else "")
+        for t in (ax.title, getattr(ax, "_left_title", None), getattr(ax, "_right_title", None)):
+            add(f"{tag} title", t)
+        for axis in ax._axis_map.values():  # x, y (and z in 3D)
+            if not axis.get_visible():  # e.g. the shared x axis of a twinx
+                continue
+            add(f"{tag} axis label", axis.label)
+            add(f"{tag} offset text", axis.offsetText)
+            # the ticks matplotlib draws: those inside the view interval (its own selection)
+            for tick in axis._update_ticks():
+                add(f"{tag} tick label", tick.label1)
+                add(f"{tag} tick label", tick.label2)
+        for t in ax.texts:  # ax.text and ax.annotate
+            add(f"{tag} text", t)
+    for i, leg in enumerate(_legends(fig)):
+        if leg.get_visible():
+            out.append((f"legend {i}", leg.get_window_extent(renderer)))
+    return out
+
+
+def _legends(fig) -> list:
+    """Every legend of ``fig``: the figure's and each axes'."""
+    legs = list(fig.legends)
+    legs += [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+    return legs
+
+
+def _densify(d, step: float = 2.0):
+    """The polyline ``d`` (display px, shape (n, 2)) with points every ``step`` px or closer."""
+    import numpy as np
+
+    seg = np.diff(d, axis=0)
+    n = np.maximum(1, np.ceil(np.hypot(seg[:, 0], seg[:, 1]) / step).astype(int))
+    start = np.repeat(d[:-1], n, axis=0)
+    frac = (np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)) / np.repeat(n, n)
+    return np.vstack([start + np.repeat(seg, n, axis=0) * frac[:, None], d[-1:]])
+
+
+def _data_points(ax) -> Any:
+    """Display coordinates [px] of the drawn data of ``ax``: the curves of data lines (vertices
+    and every 2 px between them), vertices of other lines (reference lines such as ``axhline``
+    are placed in axes coordinates) and scatter offsets; only those inside the axes (clipped
+    points are not drawn), shape (n, 2)."""
+    import numpy as np
+
+    pts = []
+    for line in ax.get_lines():
+        if not line.get_visible():
+            continue
+        xy = np.asarray(line.get_xydata(), float)
+        d = line.get_transform().transform(xy[np.all(np.isfinite(xy), axis=1)])
+        if line.get_transform() == ax.transData and line.get_linestyle() not in ("None", "", " ") and len(d) > 1:
+            d = _densify(d)  # a sparse curve crosses a box between its vertices
+        pts.append(d)
+    for coll in ax.collections:
+        offsets = np.asarray(coll.get_offsets(), float)
+        if coll.get_visible() and offsets.ndim == 2 and len(offsets) > 1:  # scatter-like
+            xy = offsets[np.all(np.isfinite(offsets), axis=1)]
+            pts.append(coll.get_offset_transform().transform(xy))
+    if not pts:
+        return np.zeros((0, 2))
+    d = np.concatenate([p.reshape(-1, 2) for p in pts])
+    box = ax.get_window_extent()
+    inside = (d[:, 0] >= box.x0) & (d[:, 0] <= box.x1) & (d[:, 1] >= box.y0) & (d[:, 1] <= box.y1)
+    return d[inside]
+
+
+def layout_problems(fig) -> list[str]:
+    """What a reader of the saved ``fig`` cannot read, measured from the rendered artists.
+
+    The figure is drawn (constrained layout done, as :func:`save_figure` would) and the boxes
+    the renderer gives are compared:
+
+    * two texts overlapping (titles, axis labels, tick labels, offset texts, texts and
+      annotations, legends; more than :data:`_LAYOUT_SLACK_PX` px in both directions),
+    * a text or legend reaching outside the figure,
+    * a legend whose box contains drawn data (a point of a data curve, vertices and every 2 px
+      between them, or a scatter point) of any axes, twin axes included.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        A figure with a canvas (as :func:`new_figure` makes).
+
+    Returns
+    -------
+    list of str
+        One sentence per problem; empty when the figure is readable.
+
+    Examples
+    --------
+    >>> fig, ax = new_figure()
+    >>> _ = ax.plot([0, 1], [0, 1], label="line")
+    >>> _ = ax.legend(loc="upper left")  # the line runs from lower left to upper right
+    >>> layout_problems(fig)
+    []
+    """
+    import numpy as np
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    problems: list[str] = []
+    texts = _drawn_texts(fig, renderer)
+    s = _LAYOUT_SLACK_PX
+    for i, (wa, a) in enumerate(texts):
+        for wb, b in texts[i + 1 :]:
+            if min(a.x1, b.x1) - max(a.x0, b.x0) > s and min(a.y1, b.y1) - max(a.y0, b.y0) > s:
+                problems.append(f"{wa} overlaps {wb}")
+    page = fig.bbox
+    for w, a in texts:
+        if a.x0 < page.x0 - s or a.y0 < page.y0 - s or a.x1 > page.x1 + s or a.y1 > page.y1 + s:
+            problems.append(f"{w} reaches outside the figure")
+    for leg in _legends(fig):
+        if not leg.get_visible():
+            continue
+        box = leg.get_window_extent(renderer)
+        for i, ax in enumerate(fig.axes):
+            d = _data_points(ax)
+            n = int(np.count_nonzero((d[:, 0] > box.x0) & (d[:, 0] < box.x1) & (d[:, 1] > box.y0) & (d[:, 1] < box.y1)))
+            if n:
+                title = leg.get_title().get_text() or ", ".join(t.get_text() for t in leg.get_texts()[:2])
+                problems.append(f"legend ({title[:40]!r}) covers {n} data points of axes {i}")
+    return problems
