@@ -302,3 +302,44 @@ def layout_problems(fig) -> list[str]:
                 title = leg.get_title().get_text() or ", ".join(t.get_text() for t in leg.get_texts()[:2])
                 problems.append(f"legend ({title[:40]!r}) covers {n} data points of axes {i}")
     return problems
+
+
+#: API 684's largest separation margins: 16 % below the minimum, 26 % above the maximum speed
+API_MARGINS = (0.16, 0.26)
+
+
+def shade_operating_bands(axes, bands, *, margins: bool = False, alpha: float = 0.15) -> None:
+    """Shade operating speed ranges on axes whose x is speed in rpm (each axes once).
+
+    Parameters
+    ----------
+    axes : sequence of matplotlib.axes.Axes
+        Axes to shade; the first carries the legend labels, the others repeat them (a figure
+        legend built from several axes shows each label once).
+    bands : sequence of (float, float)
+        ``(lo, hi)`` operating ranges [rad/s]; ``lo == hi`` is one operating speed, drawn as a
+        line (a band of zero width would not show).
+    margins : bool
+        Also hatch API 684's largest separation margins (:data:`API_MARGINS`) beside each
+        band on the first axes.
+    alpha : float
+        Opacity of the shading.
+    """
+    from rotaflex.core.units import rad_s_to_rpm
+
+    for i, (lo, hi) in enumerate(bands):
+        lo_rpm, hi_rpm = rad_s_to_rpm(lo), rad_s_to_rpm(hi)
+        for a in axes:
+            if hi > lo:
+                a.axvspan(
+                    lo_rpm, hi_rpm, color="tab:green", alpha=alpha, lw=0, label="operating range" if i == 0 else None
+                )
+            else:
+                a.axvline(lo_rpm, color="tab:green", lw=2.0, label="operating speed" if i == 0 else None)
+        if margins:
+            below, above = API_MARGINS
+            hatch = {"fill": False, "hatch": "//", "ec": "tab:green", "lw": 0, "alpha": 0.5}
+            axes[0].axvspan(lo_rpm * (1 - below), lo_rpm, **hatch)
+            axes[0].axvspan(
+                hi_rpm, hi_rpm * (1 + above), **hatch, label="largest API margins (16 % / 26 %)" if i == 0 else None
+            )

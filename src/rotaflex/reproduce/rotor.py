@@ -514,10 +514,17 @@ def _fig13(out: Path, n_out: int) -> FigureEntry:
 
 
 def _with_fe_section(section: Section, out: Path, fast: bool) -> Section:
-    """Append the finite-element rotor-bearing figures and checks to the rotor section."""
+    """The rotor section with the finite-element rotor-bearing model as its own part (its own
+    heading and wall time in the report: it is not about Euler angles or quaternions)."""
+    import time
+
+    from rotaflex.core.jit import CompileTimer
     from rotaflex.reproduce.rotor_fe import fe_section
 
-    fe = fe_section(out, fast=fast)
-    section.figures += fe.figures
-    section.notes.append(f"{fe.title}: {fe.intro}")
+    t0 = time.perf_counter()
+    with CompileTimer() as compiling:
+        fe = fe_section(out, fast=fast)
+    fe.compile_time = compiling.seconds
+    fe.wall_time = time.perf_counter() - t0 - compiling.seconds
+    section.parts.append(fe)
     return section
