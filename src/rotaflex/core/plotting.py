@@ -343,3 +343,49 @@ def shade_operating_bands(axes, bands, *, margins: bool = False, alpha: float = 
             axes[0].axvspan(
                 hi_rpm, hi_rpm * (1 + above), **hatch, label="largest API margins (16 % / 26 %)" if i == 0 else None
             )
+
+
+def place_labels(ax, items, *, fontsize: float = 7.0, max_shift: int = 12) -> list:
+    """Write labels beside data points, none over another or outside the axes.
+
+    Each label starts right of its point (vertically centred on it); where its box, measured
+    by the renderer after the figure's layout is done, overlaps a label placed before or
+    leaves the axes, it is moved up or down by its own height (0, +1, -1, +2, -2, ... up to
+    ``max_shift``) and kept at the first free place (at the last try, if none is free, where
+    :func:`layout_problems` will report it). Labels do not take part in the layout, so placing
+    them moves nothing already measured.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    items : iterable of (float, float, str, color)
+        ``(x, y, text, color)``: the point in data coordinates, the label and its colour.
+    fontsize : float
+        Font size [pt].
+    max_shift : int
+        Largest shift tried, in label heights.
+
+    Returns
+    -------
+    list of matplotlib.text.Annotation
+    """
+    fig = ax.figure
+    fig.canvas.draw()  # the layout first: boxes measured after it stay where they are
+    renderer = fig.canvas.get_renderer()
+    area = ax.get_window_extent(renderer)
+    placed: list = []
+    for x, y, text, color in sorted(items, key=lambda it: it[1]):
+        t = ax.annotate(
+            text, (x, y), xytext=(3, 0), textcoords="offset points", fontsize=fontsize, color=color, va="center"
+        )
+        t.set_in_layout(False)
+        height_pt = t.get_window_extent(renderer).height * 72.0 / fig.dpi
+        for k in range(2 * max_shift + 1):
+            shift = (k + 1) // 2 * (1 if k % 2 else -1) if k else 0
+            t.set_position((3, shift * height_pt * 1.05))
+            box = t.get_window_extent(renderer)
+            inside = box.y0 >= area.y0 and box.y1 <= area.y1 and box.x1 <= area.x1
+            if inside and not any(box.overlaps(o.get_window_extent(renderer)) for o in placed):
+                break
+        placed.append(t)
+    return placed
