@@ -9,6 +9,7 @@ nothing): they are freed like any object, no ``close`` needed.
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 from typing import Any
@@ -255,6 +256,8 @@ def layout_problems(fig) -> list[str]:
     * two texts overlapping (titles, axis labels, tick labels, offset texts, texts and
       annotations, legends; more than :data:`_LAYOUT_SLACK_PX` px in both directions),
     * a text or legend reaching outside the figure,
+    * an axis with a unit drawn with a scale offset (``1e-6`` above the axis: the reader must
+      multiply; a prefixed unit says it at once),
     * a legend whose box contains drawn data (a point of a data curve, vertices and every 2 px
       between them, or a scatter point) of any axes, twin axes included.
 
@@ -291,6 +294,14 @@ def layout_problems(fig) -> list[str]:
     for w, a in texts:
         if a.x0 < page.x0 - s or a.y0 < page.y0 - s or a.x1 > page.x1 + s or a.y1 > page.y1 + s:
             problems.append(f"{w} reaches outside the figure")
+    for i, ax in enumerate(fig.axes):
+        for axis in ax._axis_map.values():
+            offset = axis.offsetText.get_text().strip() if axis.get_visible() else ""
+            unit = re.search(r"\[([^\]]*)\]\s*$", axis.label.get_text())
+            if offset and unit and unit.group(1).strip() not in ("", "-", "1"):
+                problems.append(
+                    f"axes {i} axis '{axis.label.get_text()}' is scaled by '{offset}': draw it in a prefixed unit"
+                )
     for leg in _legends(fig):
         if not leg.get_visible():
             continue
