@@ -491,7 +491,7 @@ def _fig13(out: Path, n_out: int) -> FigureEntry:
         data,
         "Spherical-coordinate quaternion EOM (eq. 38). M_q = 4 sin^2(phi/2) (...) vanishes at phi = 2 k pi, "
         "so the paper's start (phi = 0) is singular: we start at phi = pi/2 and integration stops at the "
-        f"first singular instant phi = 2 pi (t = {t_sing:.4f} s). {rb.message}",
+        f"first singular instant phi = 2 pi (t = {t_sing:.4f} s).",
         [
             Check(
                 "start at phi = 0 refused as singular",
@@ -499,7 +499,7 @@ def _fig13(out: Path, n_out: int) -> FigureEntry:
                 "",
                 "status 'singular' at t = 0",
                 r0.status == "singular",
-                r0.message,
+                "refused before the first step: M_q is singular at phi = 0",
             ),
             Check(
                 "integration stops at the singular time (body energy)",
@@ -510,6 +510,7 @@ def _fig13(out: Path, n_out: int) -> FigureEntry:
                 "the singular mass matrix is detected by an event, not integrated through",
             ),
         ],
+        log=[rb.message, r0.message],
     )
 
 
