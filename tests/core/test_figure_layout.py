@@ -11,6 +11,8 @@ figure. Then every figure the commands draw (issue 37), on small runs of the shi
 
 from __future__ import annotations
 
+import functools
+import importlib
 import tomllib
 from pathlib import Path
 
@@ -105,29 +107,58 @@ def _config(rel: str, **tables) -> dict:
     return cfg
 
 
-def test_rotor_campbell_unbalance_and_modal_figures():
-    from rotaflex.rotor.fe.case import run_campbell, run_modal, run_unbalance
+#: (command, example, table overrides): small runs, each about 1-3 s of CPU with its figures
+RUNS = {
+    "rotor campbell": (
+        "rotor/fe_friswell_5_9_1.toml",
+        {"campbell": {"n_speeds": 16, "operating_range_rpm": [2500, 3500]}},
+    ),
+    "rotor unbalance": ("rotor/fe_friswell_5_9_1.toml", {"unbalance": {"n_speeds": 80}}),
+    "rotor modal": ("rotor/fe_friswell_5_9_1.toml", {}),
+    "system campbell": ("system/gearbox.toml", {"campbell": {"n_speeds": 8}}),
+    "system response": ("system/gearbox.toml", {"response": {"n_speeds": 40}}),
+}
 
-    cfg = _config("rotor/fe_fluid_film.toml", campbell={"n_speeds": 16}, unbalance={"n_speeds": 80})
-    _assert_readable(run_campbell(cfg).plot(), "rotor campbell")
-    _assert_readable(run_unbalance(cfg).plot(), "rotor unbalance")
-    _assert_readable(run_modal(cfg).plot(), "rotor modal")
+
+def _run(command: str, example: str, overrides: dict) -> dict:
+    """The figures ``rotaflex <command> <example>`` writes (the verb's runner, in process)."""
+    from rotaflex.core.domains import COMMANDS
+
+    domain, verb = command.split()
+    module, name = COMMANDS[domain][verb].split(":")
+    return getattr(importlib.import_module(module), name)(_config(example, **overrides)).plot()
 
 
-def test_system_campbell_and_response_figures():
-    from rotaflex.system.case import run_campbell, run_response
+@functools.cache
+def _figures(command: str) -> dict:
+    """The figures of one of :data:`RUNS`, run once for every test that reads them."""
+    return _run(command, *RUNS[command])
 
-    cfg = _config("system/gearbox.toml", campbell={"n_speeds": 12}, response={"n_speeds": 60})
-    campbell, response = run_campbell(cfg).plot(), run_response(cfg).plot()
-    _assert_readable(campbell, "system campbell")
-    _assert_readable(response, "system response")
-    # words an engineer uses (gearbox.toml: one 20/40 mesh, rotors "input" and "output",
-    # bearings at nodes 1 and 9 of each): no dataset keys such as "mesh0 x2", "input:1", "h = 1"
-    tags = {t.get_text() for t in campbell["campbell"].axes[0].texts}
+
+@pytest.mark.parametrize("command", list(RUNS))
+def test_command_figures_are_readable(command):
+    _assert_readable(_figures(command), command)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("command", ["rotor campbell", "rotor unbalance", "rotor modal"])
+def test_fluid_film_rotor_figures_are_readable(command):
+    """The same on the fluid-film example (bearing coefficient figure, an unstable mode, the
+    operating range in the log-dec panel): about 4 s of CPU each."""
+    overrides = {"campbell": {"n_speeds": 16}, "unbalance": {"n_speeds": 80}}
+    _assert_readable(_run(command, "rotor/fe_fluid_film.toml", overrides), command)
+
+
+def test_system_figures_speak_an_engineers_words():
+    # gearbox.toml: one 20/40 mesh, rotors "input" and "output", bearings at nodes 1 and 9 of
+    # each: no dataset keys such as "mesh0 x2", "input:1", "h = 1" on the figures
+    campbell = _figures("system campbell")["campbell"]
+    tags = {t.get_text() for t in campbell.axes[0].texts}
     assert tags == {"1× mesh frequency", "2× mesh frequency", "3× mesh frequency", "1X input", "1X output"}
-    legends = [t.get_text() for ax in response["response"].axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+    response = _figures("system response")["response"]
+    legends = [t.get_text() for ax in response.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
     assert {"1× mesh frequency", "input, node 1", "output, node 9"} <= set(legends)
-    labels = " ".join(ax.get_ylabel() for ax in response["response"].axes)
+    labels = " ".join(ax.get_ylabel() for ax in response.axes)
     assert not any(raw in labels + " ".join(legends) for raw in (":", "h =", "sum of h"))
     assert "0-pk" in labels
 
