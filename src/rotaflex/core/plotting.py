@@ -183,7 +183,7 @@ def _drawn_texts(fig, renderer) -> list[tuple[str, Any]]:
         tag = f"axes {i}" + (f" ({ax.get_title()[:30]!r})" if ax.get_title() else "")
         for t in (ax.title, getattr(ax, "_left_title", None), getattr(ax, "_right_title", None)):
             add(f"{tag} title", t)
-        for axis in ax._axis_map.values():  # x, y (and z in 3D)
+        for axis in _axes_of(ax):
             if not axis.get_visible():  # e.g. the shared x axis of a twinx
                 continue
             add(f"{tag} axis label", axis.label)
@@ -198,6 +198,11 @@ def _drawn_texts(fig, renderer) -> list[tuple[str, Any]]:
         if leg.get_visible():
             out.append((f"legend {i}", leg.get_window_extent(renderer)))
     return out
+
+
+def _axes_of(ax) -> list:
+    """The axis objects of ``ax``: x, y (and z of a 3-D axes)."""
+    return [ax.xaxis, ax.yaxis] + ([ax.zaxis] if hasattr(ax, "zaxis") else [])
 
 
 def _legends(fig) -> list:
@@ -295,7 +300,7 @@ def layout_problems(fig) -> list[str]:
         if a.x0 < page.x0 - s or a.y0 < page.y0 - s or a.x1 > page.x1 + s or a.y1 > page.y1 + s:
             problems.append(f"{w} reaches outside the figure")
     for i, ax in enumerate(fig.axes):
-        for axis in ax._axis_map.values():
+        for axis in _axes_of(ax):
             offset = axis.offsetText.get_text().strip() if axis.get_visible() else ""
             unit = re.search(r"\[([^\]]*)\]\s*$", axis.label.get_text())
             if offset and unit and unit.group(1).strip() not in ("", "-", "1"):
