@@ -296,7 +296,7 @@ def dynamics_sweep_figure(ds) -> dict[str, Any]:
                 ax.axvline(
                     speed_k,
                     color="C3",
-                    ls=(":", "--", "-.", (0, (1, 3)))[k - 1],
+                    ls=":",  # which k: the legend entry gives its speed
                     lw=1,
                     label=f"{k} f_mesh = {fn_label}: {speed_k * to_rpm:,.0f} rpm" if ax is axes[0, 0] else None,
                 )
