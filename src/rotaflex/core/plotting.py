@@ -224,10 +224,10 @@ def _densify(d, step: float = 2.0):
 
 
 def _data_points(ax) -> Any:
-    """Display coordinates [px] of the drawn data of ``ax``: the curves of data lines (vertices
-    and every 2 px between them), vertices of other lines (reference lines such as ``axhline``
-    are placed in axes coordinates) and scatter offsets; only those inside the axes (clipped
-    points are not drawn), shape (n, 2)."""
+    """Display coordinates [px] of the drawn data of ``ax``: every line drawn with a line style
+    (curves, and marked speeds or levels such as ``axvline``), vertices and every 2 px between
+    them; marker-only lines and scatter offsets at their points; only those inside the axes
+    (clipped points are not drawn), shape (n, 2)."""
     import numpy as np
 
     pts = []
@@ -236,8 +236,8 @@ def _data_points(ax) -> Any:
             continue
         xy = np.asarray(line.get_xydata(), float)
         d = line.get_transform().transform(xy[np.all(np.isfinite(xy), axis=1)])
-        if line.get_transform() == ax.transData and line.get_linestyle() not in ("None", "", " ") and len(d) > 1:
-            d = _densify(d)  # a sparse curve crosses a box between its vertices
+        if line.get_linestyle() not in ("None", "", " ") and len(d) > 1:
+            d = _densify(d)  # a sparse curve (or a marker line such as axvline) crosses a box between its vertices
         pts.append(d)
     for coll in ax.collections:
         offsets = np.asarray(coll.get_offsets(), float)
