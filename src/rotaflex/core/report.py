@@ -84,11 +84,19 @@ class FigureEntry:
     data: str = ""  # NetCDF behind the figure, relative path
     description: str = ""
     checks: list[Check] = field(default_factory=list)
+    #: the solvers' own status messages behind the figure: folded away under "Solver log", never
+    #: in the text a reader signs off (they are written for debugging, not for a report)
+    log: list[str] = field(default_factory=list)
 
 
 @dataclass
 class Section:
-    """One domain's part of the report."""
+    """One domain's part of the report.
+
+    ``parts`` are further sections the same reproduce module computed (e.g. the FE rotor model
+    beside the rotor-rotation paper): the report shows each under its own heading, right after
+    this one, with its own wall time (not included in this one's).
+    """
 
     title: str
     intro: str = ""
@@ -98,6 +106,14 @@ class Section:
     wall_time: float = float("nan")
     compile_time: float = 0.0  # numba kernel compilation inside the section [s], not in wall_time
     provenance: dict = field(default_factory=dict)
+    parts: list[Section] = field(default_factory=list)
+
+    def flat(self) -> list[Section]:
+        """This section followed by its parts, the report's order (each without parts, so that
+        flattening twice changes nothing)."""
+        from dataclasses import replace
+
+        return [replace(self, parts=[])] + [q for p in self.parts for q in p.flat()]
 
     def all_checks(self) -> list[Check]:
         """Verification checks (pass/fail), excluding the paper's claims and information rows."""
@@ -125,6 +141,17 @@ OUTCOMES: dict[str, tuple[str, str, str]] = {
 }
 
 
+def md_cell(text: object) -> str:
+    """``text`` as one cell of a Markdown table: ``|`` escaped (an unescaped one starts a new
+    cell, also inside backticks), line breaks as spaces (one ends the row)."""
+    return " ".join(str(text).replace("|", "\\|").split())
+
+
+def md_row(*cells: object) -> str:
+    """One Markdown table row of :func:`md_cell` cells."""
+    return "| " + " | ".join(md_cell(c) for c in cells) + " |"
+
+
 def _md_checks(checks: list[Check]) -> list[str]:
     if not checks:
         return []
@@ -132,8 +159,16 @@ def _md_checks(checks: list[Check]) -> list[str]:
     for c in checks:
         mark = OUTCOMES[c.outcome][0]
         result = f"**{c.outcome}**" if c.outcome in ("FAIL", "claim does not hold") else c.outcome
-        rows.append(f"| {mark} | {c.name} | {c.value_text()} | {c.criterion} | {result} | {c.note} |")
+        rows.append(md_row(mark, c.name, c.value_text(), c.criterion, result, c.note))
     return rows + [""]
+
+
+def _md_log(log: list[str]) -> list[str]:
+    """Solver messages folded away (``<details>``: GitHub and most Markdown viewers fold it)."""
+    if not log:
+        return []
+    items = "".join(f"<li>{html.escape(m)}</li>" for m in log)
+    return [f"<details><summary>Solver log</summary><ul>{items}</ul></details>", ""]
 
 
 def _time_text(s: Section) -> str:
@@ -143,14 +178,22 @@ def _time_text(s: Section) -> str:
     return text
 
 
-def _caption(caption: str) -> str:
-    """``Paper's caption: ...``, or ``Added figure: ...`` for one the paper does not have."""
+#: how a reproduce module marks a figure the paper does not have: ``(not in the paper) text``,
+#: ``(not in the papers; text)``, ``(no figure in the paper: text)``
+_ADDED = re.compile(
+    r"^\((?:not in the papers?|no figure in the papers?)\s*(?:[;:,]\s*(?P<inner>[^)]*))?\)\s*(?P<rest>.*)$", re.S
+)
+
+
+def _caption(caption: str) -> str | None:
+    """The caption line: ``Paper's caption: ...``, ``Added figure (not in the paper): ...`` for
+    one the paper does not have, or None when there is no caption to show (no line at all)."""
     c = caption.strip()
-    for tag in ("(not in the paper;", "(not in the paper)"):
-        if c.startswith(tag):
-            rest = c[len(tag) :].strip().rstrip(")").strip() if tag.endswith(";") else c[len(tag) :].strip()
-            return "Added figure (not in the paper)" + (f": {rest}" if rest else ".")
-    return f"Paper's caption: {c}"
+    m = _ADDED.match(c)
+    if m is None:
+        return f"Paper's caption: {c}" if c else None
+    text = "; ".join(t.strip() for t in (m["inner"] or "", m["rest"]) if t.strip())
+    return f"Added figure (not in the paper): {text}" if text else None
 
 
 def anchor(*parts: str) -> str:
@@ -232,6 +275,7 @@ def render_markdown(
     glossary : dict, optional
         Term -> meaning; only the terms that occur in the report are listed.
     """
+    sections = [q for s in sections for q in s.flat()]
     lines = [f"# {title}", "", _summary(sections), ""]
     body: list[str] = []
     if intro:
@@ -240,7 +284,7 @@ def render_markdown(
             body += [p, ""]
     body += ['<a id="legend"></a>', "", "## How to read the check tables", ""]
     body += ["| mark | result | meaning |", "|---|---|---|"]
-    body += [f"| {m} | {k} | {why} |" for k, (m, _c, why) in OUTCOMES.items()]
+    body += [md_row(m, k, why) for k, (m, _c, why) in OUTCOMES.items()]
     body += [""]
     for s in sections:
         body += [f'<a id="{anchor(s.title)}"></a>', "", f"## {s.title}", ""]
@@ -250,19 +294,22 @@ def render_markdown(
             body += [s.intro, ""]
         body += _md_checks(s.checks)
         for f in s.figures:
-            body += [f'<a id="{_figure_id(s, f)}"></a>', "", f"### {f.label}", "", f"> {_caption(f.caption)}", ""]
+            body += [f'<a id="{_figure_id(s, f)}"></a>', "", f"### {f.label}", ""]
+            cap = _caption(f.caption)
+            body += [f"> {cap}", ""] if cap else []
             body += [f"![{f.label}]({f.image})", ""]
             if f.description:
                 body += [f.description, ""]
             if f.data:
                 body += [f"Data: [`{f.data}`]({f.data})", ""]
             body += _md_checks(f.checks)
+            body += _md_log(f.log)
         if s.notes:
             body += ["### Notes", ""] + [f"- {n}" for n in s.notes] + [""]
     terms = used_glossary("\n".join(lines + body), glossary or {})
     if terms:
         body += ['<a id="glossary"></a>', "", "## Glossary of symbols and acronyms", ""]
-        body += ["| term | meaning |", "|---|---|"] + [f"| {k} | {v} |" for k, v in terms.items()] + [""]
+        body += ["| term | meaning |", "|---|---|"] + [md_row(k, v) for k, v in terms.items()] + [""]
     toc = ["## Contents", ""] + [
         f"{'  ' * level}- [{text}](#{ident})" for level, text, ident in _toc(sections, bool(intro), bool(terms))
     ]
@@ -301,6 +348,7 @@ def render_html(
 ) -> str:
     """``index.html``: the same content as :func:`render_markdown`, one self-contained page."""
     e = html.escape
+    sections = [q for s in sections for q in s.flat()]
     body = [f"<h1>{e(title)}</h1><p>{_summary(sections).replace('**', '')}</p>"]
     parts: list[str] = []
     text_parts: list[str] = [title]  # the text a reader sees, for the glossary
@@ -325,11 +373,15 @@ def render_html(
         parts.append(_html_checks(s.checks))
         for f in s.figures:
             data = f"<p>Data: <a href='{e(f.data)}'>{e(f.data)}</a></p>" if f.data else ""
+            cap = _caption(f.caption)
+            cap = f"<p><i>{e(cap)}</i></p>" if cap else ""
+            log = "".join(f"<li>{e(m)}</li>" for m in f.log)
+            log = f"<details><summary>Solver log</summary><ul>{log}</ul></details>" if log else ""
             parts.append(
                 f"<div class='fig'><h3 id='{_figure_id(s, f)}'>{e(f.label)}</h3><div class='row'>"
                 f"<img src='{e(f.image)}' alt='{e(f.label)}'>"
-                f"<div class='cap'><p><i>{e(_caption(f.caption))}</i></p>"
-                f"<p>{e(f.description)}</p>{data}</div></div>{_html_checks(f.checks)}</div>"
+                f"<div class='cap'>{cap}"
+                f"<p>{e(f.description)}</p>{data}</div></div>{_html_checks(f.checks)}{log}</div>"
             )
             text_parts += [f.label, f.caption, f.description]
             text_parts += [f"{c.name} {c.criterion} {c.note} {c.unit}" for c in f.checks]
@@ -373,6 +425,7 @@ def write_report(
     from rotaflex.core.provenance import provenance as _prov
 
     out_dir = Path(out_dir)
+    sections = [q for s in sections for q in s.flat()]
     prov = {**_prov(), **(provenance or {})}
     fmt = _figure_format()
     if fmt != "png":

@@ -265,8 +265,9 @@ def _planar(out: Path, fast: bool):
 
 
 def _slew3d(out: Path, fast: bool):
-    from rotaflex.core.plotting import new_figure, save_figure
+    from rotaflex.core.plotting import save_figure
     from rotaflex.floating.fe import frame_body
+    from rotaflex.floating.figures import full_vs_perturbation_figure
     from rotaflex.floating.model import Load, Settings
     from rotaflex.floating.result import build_result
     from rotaflex.floating.solve import invariants, point_motion, simulate
@@ -306,23 +307,10 @@ def _slew3d(out: Path, fast: bool):
     (out / "floating").mkdir(parents=True, exist_ok=True)
     res.to_netcdf(out / "floating" / "slew_3d.nc")
     uf, up = point_motion(b, f, tipp)[1][:, 0], point_motion(b, p, tipp)[1][:, 0]
-    fig, ax = new_figure(2, 1, figsize=(7, 6))
-    for a in range(3):
-        ax[0].plot(
-            f.time,
-            ds_e := res.dataset["euler_123"].sel(solution="full").values[:, a],
-            f"C{a}",
-            label=f"full {'xyz'[a]}",
-        )
-        ax[0].plot(p.time, res.dataset["euler_123"].sel(solution="perturbation").values[:, a], f"C{a}:")
-        ax[1].plot(f.time, uf[:, a], f"C{a}", label=f"full u_{'xyz'[a]}")
-        ax[1].plot(p.time, up[:, a], f"C{a}:", label=f"perturbation u_{'xyz'[a]}")
-    del ds_e
-    ax[0].set_ylabel("Euler 1-2-3 [rad]")
-    ax[0].legend(fontsize=7)
-    ax[1].set_ylabel("tip deflection (body) [m]")
-    ax[1].set_xlabel("time [s]")
-    ax[1].legend(fontsize=7, ncol=2)
+    ds = res.dataset["euler_123"]
+    fig = full_vs_perturbation_figure(
+        f.time, ds.sel(solution="full").values, uf, p.time, ds.sel(solution="perturbation").values, up
+    )
     save_figure(fig, out / "floating" / "slew_3d.png")
     P, H, E, cm = invariants(b, f)
     after = f.time >= 6.0
@@ -459,7 +447,7 @@ def _spinup(out: Path, fast: bool):
             "",
             "1",
             sf.status == "diverged",
-            sf.message[:160],
+            "the integration stops where the deflection grows without bound",
         ),
     ]
     return FigureEntry(
@@ -469,6 +457,7 @@ def _spinup(out: Path, fast: bool):
         data="floating/spinup.nc",
         description="Prescribed spin-up of a cantilever in its root-attached frame; tip deflection.",  # noqa: E501
         checks=checks,
+        log=[sf.message],
     )
 
 

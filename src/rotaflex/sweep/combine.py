@@ -92,7 +92,8 @@ def combine(records, attrs: dict[str, Any] | None = None, units: dict[str, str] 
     xarray.Dataset
         Dimensions: the swept parameters (grid, identifier-safe names from :func:`dim_name`,
         the config key in each coordinate's ``config_key`` attribute) or ``case``. Variables: each numeric summary
-        scalar (``units`` attribute from the summary; NaN where a case failed), ``status``,
+        scalar (``units`` attribute from the summary, its ``long_name`` as ``description``;
+        NaN where a case failed), ``status``,
         ``error`` (first line), ``case_id``, ``attempts``, ``case_wall_time`` [s].
     """
     import xarray as xr
@@ -120,6 +121,7 @@ def combine(records, attrs: dict[str, Any] | None = None, units: dict[str, str] 
 
     names: list[str] = []
     units: dict[str, str] = {}
+    about: dict[str, str] = {}  # the summary's long_name: what the number is (drawn as a note)
     numeric: dict[str, bool] = {}
     for r in records:
         for name, item in r.summary.items():
@@ -129,6 +131,8 @@ def combine(records, attrs: dict[str, Any] | None = None, units: dict[str, str] 
                 names.append(name)
                 units[name] = str(item.get("unit", ""))
                 numeric[name] = True
+            if item.get("long_name") and name not in about:
+                about[name] = str(item["long_name"])
             numeric[name] &= item.get("value") is None or _is_number(item.get("value"))
 
     def filled(kind: str):
@@ -152,7 +156,9 @@ def combine(records, attrs: dict[str, Any] | None = None, units: dict[str, str] 
         extra["case_id"][idx] = r.id
         extra["attempts"][idx] = r.attempts
         extra["case_wall_time"][idx] = r.wall_time
-    variables = {n: (dims, a, {"units": units[n]}) for n, a in data.items()}
+    variables = {
+        n: (dims, a, {"units": units[n], **({"description": about[n]} if n in about else {})}) for n, a in data.items()
+    }
     variables["status"] = (dims, extra["status"].astype(str), {"units": ""})
     variables["error"] = (dims, extra["error"].astype(str), {"units": ""})
     variables["case_id"] = (dims, extra["case_id"].astype(str), {"units": ""})

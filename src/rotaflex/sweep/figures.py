@@ -180,6 +180,36 @@ def uninformative(var) -> str:
     return ""
 
 
+def proportional(ds, name: str, x: str) -> float | None:
+    """The factor ``a`` when ``name`` is a speed or frequency equal to ``a`` times the swept
+    speed or frequency ``x`` at every point (to :data:`CONSTANT_RTOL`), e.g. the speed in
+    rad/s or the mesh frequency of a sweep over the speed in rpm: its panel would draw the
+    abscissa against itself. None otherwise (other quantities proportional to the swept one
+    are results: their panels stay)."""
+    rate = ("rpm", "rad/s", "rad s-1", "Hz", "1/s")
+    if name == x or x not in ds[name].dims:
+        return None
+    units = str(ds[name].attrs.get("units", "")).strip(), str(ds[x].attrs.get("units", "")).strip() or _key_unit(x)
+    if not all(u in rate for u in units):
+        return None
+    y, xv = xr_broadcast(ds[name], ds[x])
+    y, xv = np.asarray(y, float).ravel(), np.asarray(xv, float).ravel()
+    ok = np.isfinite(y) & np.isfinite(xv) & (xv != 0)
+    if ok.sum() < 2 or np.ptp(xv[ok]) == 0:
+        return None
+    ratio = y[ok] / xv[ok]
+    a = float(np.median(ratio))
+    return a if a != 0 and float(np.ptp(ratio)) <= CONSTANT_RTOL * abs(a) else None
+
+
+def xr_broadcast(a, b):
+    """``a`` and ``b`` (xarray) broadcast against each other, as NumPy arrays."""
+    import xarray as xr
+
+    a2, b2 = xr.broadcast(a, b)
+    return a2.values, b2.values
+
+
 def generic_figures(ds, only: set[str] | None = None) -> dict[str, Any]:
     """Every numeric summary scalar against the first swept parameter (panels of 3 x 3):
     ``summary_vs_<key>`` for results, ``diagnostics_vs_<key>`` for solver diagnostics.
@@ -209,14 +239,14 @@ def _generic_plan(ds) -> dict[str, tuple[str, list[str], str, str]]:
     key = ds[x].attrs.get("config_key", x)
     leaf = key.rsplit(".", 1)[-1]
     plan = {}
-    dropped = {n: uninformative(ds[n]) for n in names}
+    dropped = {n: uninformative(ds[n]) or ("proportional" if proportional(ds, n, x) else "") for n in names}
     for stem, diagnostic, title in (
         (f"summary_vs_{leaf}", False, "Results"),
         (f"diagnostics_vs_{leaf}", True, "Solver diagnostics"),
     ):
         group = [n for n in names if _is_diagnostic(n) == diagnostic]
         shown = [n for n in group if not dropped[n]]
-        note = _dropped_note(ds, [n for n in group if dropped[n]], dropped)
+        note = _dropped_note(ds, [n for n in group if dropped[n]], dropped, x)
         for start in range(0, len(shown), _PANELS_PER_FIGURE):
             suffix = "" if start == 0 else f"_{start // _PANELS_PER_FIGURE + 1}"
             chunk = shown[start : start + _PANELS_PER_FIGURE]
@@ -224,21 +254,29 @@ def _generic_plan(ds) -> dict[str, tuple[str, list[str], str, str]]:
     return plan
 
 
-def _dropped_note(ds, names: list[str], why: dict[str, str]) -> str:
-    """``"Not drawn: constant: a = 3 m, ...; round-off only: b (< 1e-12 m)"``."""
+def _dropped_note(ds, names: list[str], why: dict[str, str], x: str | None = None) -> str:
+    """``"Not drawn (constant: a = 3 m, ...; round-off only: b; proportional to the swept
+    speed: speed = 0.1047 x speed [rad/s])"``."""
     parts = []
-    for kind in ("constant", "round-off"):
+    kinds = {"constant": "constant", "round-off": "round-off only"}
+    if x is not None:
+        xlabel = _label(ds[x], ds[x].attrs.get("config_key", x))
+        kinds["proportional"] = f"proportional to the swept {_words(ds[x].attrs.get('config_key', x))}"
+    for kind, title in kinds.items():
         items = []
         for n in (n for n in names if why[n] == kind):
             unit = str(ds[n].attrs.get("units", ""))
+            unit = f" {unit}" if unit and unit != "1" else ""
             v = np.asarray(ds[n].values, dtype=float)
             v = v[np.isfinite(v)]
             if kind == "constant" and v.size:
-                items.append(f"{n} = {v[0]:.4g}{' ' + unit if unit and unit != '1' else ''}")
+                items.append(f"{n} = {v[0]:.4g}{unit}")
+            elif kind == "proportional":
+                items.append(f"{n}{f' [{unit.strip()}]' if unit else ''} = {proportional(ds, n, x):.4g} × {xlabel}")
             else:
                 items.append(n)
         if items:
-            parts.append(f"{'constant' if kind == 'constant' else 'round-off only'}: " + ", ".join(items))
+            parts.append(f"{title}: " + ", ".join(items))
     return ("Not drawn (" + "; ".join(parts) + ")") if parts else ""
 
 
@@ -266,6 +304,8 @@ def _panel_figure(ds, x: str, chunk: list[str], title: str, note: str = ""):
         ax.set_xlabel(_label(ds[x]))
         # wrapped, so that a long label never runs into the neighbouring panel
         ax.set_ylabel("\n".join(textwrap.wrap(_label(ds[name], unit=unit), 30)), fontsize=8)
+        if ds[name].attrs.get("description"):  # what the number is, in the domain's words
+            ax.set_title("\n".join(textwrap.wrap(ds[name].attrs["description"], 55)), fontsize=7)
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[len(chunk) :]:
         ax.set_visible(False)

@@ -495,13 +495,29 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
         "speed_rpm": {"value": rad_s_to_rpm(w), "unit": "rpm"},
         "mesh_frequency": {"value": s.mesh_frequency, "unit": "Hz"},
         "dynamic_factor": {"value": float(F.max() / f0), "unit": "1", "long_name": "max mesh force / static"},
-        "force_max": {"value": float(F.max()), "unit": "N"},
-        "force_min": {"value": float(F.min()), "unit": "N"},
-        "force_h1": {"value": float(amp[0]), "unit": "N"},
-        "force_h2": {"value": float(amp[1]), "unit": "N"},
-        "force_h3": {"value": float(amp[2]), "unit": "N"},
+        "force_max": {"value": float(F.max()), "unit": "N", "long_name": "largest mesh force (static + dynamic)"},
+        "force_min": {
+            "value": float(F.min()),
+            "unit": "N",
+            # a viscous mesh damper c d(delta)/dt acts while the flanks touch: as they separate
+            # it pulls, so the total force dips below 0 in the steps before contact is lost
+            "long_name": "smallest mesh force (static + dynamic); below 0: the mesh damper pulls as the "
+            "teeth separate (contact lost where contact_loss_fraction > 0) or back-flank contact",
+        },
+        **{
+            f"force_h{h}": {
+                "value": float(amp[h - 1]),
+                "unit": "N",
+                "long_name": f"mesh force amplitude (0-pk) at {h}× mesh frequency",
+            }
+            for h in (1, 2, 3)
+        },
         "dte_pp": {"value": float(dte.max() - dte.min()), "unit": "m"},
-        "contact_loss_fraction": {"value": float(s.contact_loss[0]), "unit": "1"},
+        "contact_loss_fraction": {
+            "value": float(s.contact_loss[0]),
+            "unit": "1",
+            "long_name": "fraction of the evaluated samples with the teeth out of contact",
+        },
         "bearing_force_max": {
             "value": float(np.abs(s.bearing_force).max()) if s.bearing_force.size else 0.0,
             "unit": "N",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 
@@ -10,6 +11,25 @@ from rotaflex.core.result import Result, register_result
 from rotaflex.core.units import rad_s_to_rpm
 
 HZ = 1 / (2 * np.pi)
+#: excitation-line names of the Campbell dataset: ``mesh<i> x<order>`` (see system.modal)
+_MESH_LINE = re.compile(r"mesh(\d+) x(\S+)$")
+
+
+def excitation_name(name: str, n_mesh: int = 1) -> str:
+    """An excitation line's name as an engineer writes it: ``mesh0 x2`` -> ``2× mesh frequency``
+    (``2× mesh 0 frequency`` when the gearbox has several meshes), ``input 1X`` -> ``1X input``."""
+    m = _MESH_LINE.match(name)
+    if m:
+        return f"{m.group(2)}× mesh{f' {m.group(1)}' if n_mesh > 1 else ''} frequency"
+    if name.endswith(" 1X"):
+        return f"1X {name[:-3]}"
+    return name
+
+
+def bearing_name(name: str) -> str:
+    """A bearing's dataset name ``<rotor>:<node>`` as a legend entry: ``input, node 1``."""
+    rotor, _, node = name.rpartition(":")
+    return f"{rotor}, node {node}" if rotor else name
 
 
 def system_figure(box):
@@ -80,8 +100,11 @@ def system_figure(box):
                     lw=0.5,
                 )
             )
-        bx.annotate(pr.name, (z[0], y0), fontsize=8, xytext=(-30, 0), textcoords="offset points")
+        # the name right of the shaft's end, inside the axes (left of it, it met the tick labels)
+        bx.annotate(pr.name, (z[-1], y0), fontsize=8, xytext=(10, 0), textcoords="offset points", va="center")
     bx.autoscale_view()
+    lo, hi = bx.get_xlim()
+    bx.set_xlim(lo, hi + 0.2 * (hi - lo))
     bx.set(xlabel="z [m]", ylabel="x of the shaft axis [m]", title="shafts, gears (blue), bearings (orange)")
     return fig
 
@@ -153,16 +176,17 @@ class SystemCampbellResult(_SystemResult):
 
     def plot_campbell(self):
         """Tracked damped frequencies coloured by mesh strain energy, the mesh-order and 1X
-        lines and the mesh-mode crossings (``campbell.png``)."""
-        from rotaflex.core.plotting import new_figure
+        lines (labelled inside the axes) and the mesh-mode crossings (``campbell.png``)."""
+        from rotaflex.core.plotting import new_figure, place_labels
 
         ds = self.dataset
-        fig, ax = new_figure(figsize=(7, 5))
+        fig, ax = new_figure(figsize=(7.6, 5))
         sp = ds["speed"].values
+        rpm = rad_s_to_rpm(sp)
         me = ds["mesh_energy"].values
         for k in range(ds.sizes["mode"]):
             sc = ax.scatter(
-                rad_s_to_rpm(sp),
+                rpm,
                 ds["damped_frequency"].values[:, k] * HZ,
                 c=me[:, k],
                 s=6,
@@ -172,16 +196,23 @@ class SystemCampbellResult(_SystemResult):
             )
         fig.colorbar(sc, ax=ax, label="mesh strain-energy fraction")
         ymax = float(np.nanmax(ds["damped_frequency"].values)) * HZ * 1.05
+        n_mesh = len({m.group(1) for n in ds["line"].values if (m := _MESH_LINE.match(str(n)))})
+        ends = []
         for name, f in zip(ds["line"].values, ds["line_factor"].values, strict=True):
-            style = "-" if str(name).startswith("mesh") else ":"
-            ax.plot(rad_s_to_rpm(sp), f * sp * HZ, style, lw=0.8, c="tab:red" if style == "-" else "0.4")
-            xe = min(sp[-1], ymax / HZ / f if f > 0 else sp[-1])
-            ax.annotate(str(name), (rad_s_to_rpm(xe), f * xe * HZ), fontsize=6)
+            mesh = str(name).startswith("mesh")
+            ax.plot(rpm, f * sp * HZ, "-" if mesh else ":", lw=0.8, c="tab:red" if mesh else "0.3")
+            xe = min(sp[-1], ymax / HZ / f if f > 0 else sp[-1])  # where the line leaves the axes
+            ends.append(
+                (rad_s_to_rpm(xe), f * xe * HZ, excitation_name(str(name), n_mesh), "tab:red" if mesh else "0.3")
+            )
         for cr in json.loads(ds.attrs.get("crossings", "[]")):
             if cr["line"].startswith("mesh") and cr["mesh_energy"] > 0.05:
                 ax.plot(rad_s_to_rpm(cr["speed"]), cr["frequency"] * HZ, "ko", mfc="none", ms=6)
         ax.set_ylim(0, ymax)
+        ax.set_xlim(rpm[0], rpm[-1] * 1.22)  # room right of the data for the line labels
         ax.set(xlabel="drive speed [rpm]", ylabel="damped natural frequency [Hz]")
+        ax.set_title("Campbell diagram (o: mesh-order crossing of a mode with > 5 % mesh strain energy)", fontsize=9)
+        place_labels(ax, ends)
         return fig
 
 
@@ -199,35 +230,55 @@ class SystemResponseResult(_SystemResult):
 
     def plot_response(self):
         """DTE, dynamic mesh force and bearing forces per TE harmonic vs speed (``response.png``)."""
-        from rotaflex.core.plotting import new_figure
+        from rotaflex.core.plotting import STYLES, legend_outside, new_figure
 
         ds = self.dataset
         rpm = ds["speed_rpm"].values
-        fig, ax = new_figure(3, 1, sharex=True, figsize=(7, 8))
-        for h in range(ds.sizes["harmonic"]):
-            ax[0].semilogy(rpm, ds["dte"].values[0, :, h] * 1e6, label=f"h = {h + 1}")
-            ax[1].semilogy(rpm, ds["mesh_force"].values[0, :, h], label=f"h = {h + 1}")
+        nh = ds.sizes["harmonic"]
+        fig, ax = new_figure(3, 1, sharex=True, figsize=(7.6, 8))
+        for h in range(nh):
+            order = f"{h + 1}× mesh frequency"
+            ax[0].semilogy(rpm, ds["dte"].values[0, :, h] * 1e6, ls=STYLES[h % len(STYLES)], label=order)
+            ax[1].semilogy(rpm, ds["mesh_force"].values[0, :, h], ls=STYLES[h % len(STYLES)], label=order)
         for b in range(ds.sizes["bearing"]):
-            ax[2].semilogy(rpm, ds["bearing_force"].values[0, :, :, b].sum(-1), label=str(ds["bearing"].values[b]))
-        ax[0].set_ylabel("DTE [µm]")
-        ax[1].set_ylabel("dynamic mesh force [N]")
-        ax[2].set(ylabel="bearing force, sum of h [N]", xlabel="drive speed [rpm]")
+            name = bearing_name(str(ds["bearing"].values[b]))
+            ax[2].semilogy(rpm, ds["bearing_force"].values[0, :, :, b].sum(-1), label=name)
+        ax[0].set_ylabel("DTE amplitude, 0-pk [µm]")
+        ax[1].set_ylabel("dynamic mesh force\namplitude, 0-pk [N]")
+        ax[2].set(ylabel="bearing force,\nbound on the peak [N]", xlabel="drive speed [rpm]")
+        ax[0].set_title(
+            f"response to the first {nh} harmonics of the static transmission error\n"
+            "DTE and mesh force: each harmonic's amplitude (0-pk); bearing force: "
+            "sum over the harmonics of √(|F_x|² + |F_y|²)",
+            fontsize=8,
+        )
+        legend_outside(ax[0], title="excitation")
+        legend_outside(ax[2], title="bearing (shaft, node)")
         for a in ax:
-            a.legend(fontsize=6)
             a.grid(alpha=0.3, which="both")
         return fig
 
     def plot_orbits(self):
         """Orbit semi-major axis of every probe vs speed (``orbits.png``)."""
-        from rotaflex.core.plotting import new_figure
+        from rotaflex.core.plotting import legend_outside, new_figure
 
         ds = self.dataset
         rpm = ds["speed_rpm"].values
+        nh = ds.sizes["harmonic"]
         fig2, a2 = new_figure()
         for p in range(ds.sizes["probe"]):
-            a2.semilogy(rpm, ds["orbit_major"].values[0, :, :, p].sum(-1) * 1e6, label=str(ds["probe"].values[p]))
-        a2.set(xlabel="drive speed [rpm]", ylabel="orbit semi-major axis, sum of h [µm]")
-        a2.legend(fontsize=7)
+            a2.semilogy(
+                rpm,
+                ds["orbit_major"].values[0, :, :, p].sum(-1) * 1e6,
+                label=bearing_name(str(ds["probe"].values[p])),
+            )
+        a2.set(
+            xlabel="drive speed [rpm]",
+            ylabel=f"orbit semi-major axis, sum of\nthe {nh} harmonics [µm]",
+            title="orbit size per probe (sum of the harmonic semi-major axes, an upper bound)",
+        )
+        a2.title.set_fontsize(8)
+        legend_outside(a2, title="probe (shaft, node)")
         return fig2
 
 

@@ -161,7 +161,7 @@ class SpeedSweepResult(Result):
 
         ds = self.dataset
         sp = ds["speed"].values
-        fig, ax = new_figure(2, 1, sharex=True)
+        fig, ax = new_figure(2, 1, sharex=True, figsize=(9.0, 7.2))
         for di, d in enumerate(ds["direction"].values):
             mk = "^-" if d == "up" else "v--"
             ax[0].plot(sp, ds["dynamic_factor"].values[di], mk, ms=3, label=f"model, {d}")
@@ -190,6 +190,7 @@ class SpeedSweepResult(Result):
             ax[0].text(n_e1, 1.01, "n_E1", transform=ax[0].get_xaxis_transform(), fontsize=7, ha="center", va="bottom")
         ax[0].set(ylabel="K_v = F_max / F_static [-]")
         ax[1].set(xlabel="pinion speed [rpm]", ylabel="DTE peak-to-peak [µm]")
-        ax[0].legend(fontsize=7)
-        ax[1].legend(fontsize=7)
+        # one legend right of the panels (the lower panel's entries are the upper one's):
+        # inside either panel it covered points wherever the curves went
+        fig.legend(*ax[0].get_legend_handles_labels(), loc="outside right upper", fontsize=7)
         return {"speed_sweep": fig}

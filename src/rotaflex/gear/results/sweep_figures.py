@@ -13,7 +13,7 @@ import numpy as np
 
 from rotaflex.core.units import deg_to_rad
 from rotaflex.gear.pair import paper
-from rotaflex.sweep.figures import _base_config, _find, _get, _label, _lines, _speed_dim
+from rotaflex.sweep.figures import _STYLES, _base_config, _find, _get, _label, _lines, _speed_dim, display_scale
 
 #: gear-domain defaults (the paper's pair) used when the config omits them
 GEAR_DEFAULTS = {
@@ -279,30 +279,30 @@ def dynamics_sweep_figure(ds) -> dict[str, Any]:
     else:
         fn, fn_label = est["natural_frequency"], "f_n (ISO estimate)"
     panels = [n for n in (kv, dte) if n is not None]
-    fig, axes = new_figure(len(panels), 1, squeeze=False, sharex=True, figsize=(6.8, 3.3 * len(panels) + 0.6))
+    fig, axes = new_figure(len(panels), 1, squeeze=False, sharex=True, figsize=(8.4, 3.3 * len(panels) + 0.6))
     xs = np.asarray(ds[x].values, dtype=float)
     for ax, name in zip(axes[:, 0], panels, strict=True):
-        for label, xv, yv in _lines(ds, name, x):
-            ax.plot(xv, yv, "o-", ms=3, label=label or None)
-        ax.set_ylabel(_label(ds[name]))
+        factor, shown_unit = display_scale(ds[name])  # a DTE of 8e-6 m drawn as 8 um, no axis offset
+        for i, (label, xv, yv) in enumerate(_lines(ds, name, x)):
+            ax.plot(xv, np.asarray(yv, float) * factor, _STYLES[i % len(_STYLES)], ms=3, label=label or None)
+        ax.set_ylabel(_label(ds[name], unit=shown_unit))
         ax.grid(alpha=0.3)
         if to_rpm is None:
             continue
         for k in range(1, 5):
             speed_k = 60 * fn / (k * z) / to_rpm  # k z n / 60 = f_n
             if xs.min() <= speed_k <= xs.max():
-                ax.axvline(speed_k, color="C3", ls=":", lw=1)
-                ax.annotate(
-                    f"{k} f_mesh = {fn_label}",
-                    (speed_k, 1),
-                    xycoords=("data", "axes fraction"),
-                    xytext=(2, -10),
-                    textcoords="offset points",
-                    fontsize=7,
+                # named in the legend, not written across the panel's curves
+                ax.axvline(
+                    speed_k,
                     color="C3",
-                    rotation=90,
-                    va="top",
+                    ls=":",  # which k: the legend entry gives its speed
+                    lw=1,
+                    label=f"{k} f_mesh = {fn_label}: {speed_k * to_rpm:,.0f} rpm" if ax is axes[0, 0] else None,
                 )
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    if labels:  # outside the panels, right of them: inside, it would cover points
+        fig.legend(handles, labels, loc="outside right upper", fontsize=7)
     if to_rpm is not None:
         top = axes[0, 0].secondary_xaxis(
             "top", functions=(lambda v: v * to_rpm * z / 60, lambda f: f * 60 / (z * to_rpm))

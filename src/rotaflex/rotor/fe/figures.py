@@ -78,7 +78,7 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
     ``frequency_limit_hz``: modes whose frequency stays above it are left out, and the
     frequency axis stops there.
     """
-    from rotaflex.core.plotting import new_figure
+    from rotaflex.core.plotting import new_figure, shade_operating_bands
 
     fig, (ax, al) = new_figure(2, 1, sharex=True, figsize=(8.4, 7.6), height_ratios=(2.2, 1))
     speed = np.asarray(speed)
@@ -90,36 +90,7 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
     top = np.nanmax(f_all[:, shown]) * 1.08 if shown else 1.0
     if frequency_limit_hz is not None:  # the frequency axis is the range asked for
         top = frequency_limit_hz
-    for i, (lo, hi) in enumerate(bands):
-        for a in (ax, al):
-            a.axvspan(
-                rad_s_to_rpm(lo),
-                rad_s_to_rpm(hi),
-                color="tab:green",
-                alpha=0.15,
-                lw=0,
-                label="operating range" if i == 0 else None,
-            )
-        ax.axvspan(rad_s_to_rpm(lo) * 0.84, rad_s_to_rpm(lo), fill=False, hatch="//", ec="tab:green", lw=0, alpha=0.5)
-        ax.axvspan(
-            rad_s_to_rpm(lo),
-            rad_s_to_rpm(hi),
-            color="tab:green",
-            alpha=0.15,
-            lw=0,
-            label="operating range" if i == 0 else None,
-        )
-        ax.axvspan(rad_s_to_rpm(lo) * 0.84, rad_s_to_rpm(lo), fill=False, hatch="//", ec="tab:green", lw=0, alpha=0.5)
-        ax.axvspan(
-            rad_s_to_rpm(hi),
-            rad_s_to_rpm(hi) * 1.26,
-            fill=False,
-            hatch="//",
-            ec="tab:green",
-            lw=0,
-            alpha=0.5,
-            label="largest API margins (16 % / 26 %)" if i == 0 else None,
-        )
+    shade_operating_bands((ax, al), bands, margins=True)
     labels = []
     ld_top = 0.2
     for k in shown:
@@ -214,24 +185,12 @@ def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
     ``limit`` [m]: the vibration limit (peak-to-peak) drawn as a line; ``bands`` [(lo, hi) rad/s]
     shaded; peaks marked with their speed and amplification factor.
     """
-    from rotaflex.core.plotting import new_figure
+    from rotaflex.core.plotting import new_figure, shade_operating_bands
 
     fig, (a1, a2) = new_figure(2, 1, sharex=True, figsize=(8.4, 7.0), height_ratios=(2, 1))
     rpm = rad_s_to_rpm(ds["speed"].values)
     um = 1e6
-    for i, (lo, hi) in enumerate(bands):
-        for a in (a1, a2):
-            if hi > lo:
-                a.axvspan(
-                    rad_s_to_rpm(lo),
-                    rad_s_to_rpm(hi),
-                    color="tab:green",
-                    alpha=0.12,
-                    lw=0,
-                    label="operating range" if i == 0 and a is a1 else None,
-                )
-            else:  # one operating speed: a band of zero width would not show
-                a.axvline(rad_s_to_rpm(lo), color="tab:green", lw=2.0, label="operating speed" if a is a1 else None)
+    shade_operating_bands((a1, a2), bands, alpha=0.12)
     for j, p in enumerate(ds["probe"].values):
         X = ds["x_real"].values[:, j] + 1j * ds["x_imag"].values[:, j]
         Y = ds["y_real"].values[:, j] + 1j * ds["y_imag"].values[:, j]
