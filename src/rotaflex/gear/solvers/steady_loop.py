@@ -19,7 +19,6 @@ from typing import Any, Protocol
 import numpy as np
 
 from rotaflex.core.errors import InputError
-from rotaflex.gear.models.chain_system import natural_frequencies
 from rotaflex.gear.results.steady import METRIC_UNITS, Periodicity, SteadyStateResult, detect_period, steady_metrics
 
 __all__ = ["SteadyMethod", "periodicity", "run_steady", "until_periodic"]
@@ -163,6 +162,10 @@ def run_steady(
         final state for continuation.
     """
     import xarray as xr
+
+    # here, not at the top: the geared-rotor steady state imports this module for
+    # until_periodic and should not load the chain's compiled kernels with it
+    from rotaflex.gear.models.chain_system import natural_frequencies
 
     if fixed_cycles is not None and fixed_cycles < max(eval_cycles, 2):
         raise InputError("fixed_cycles", fixed_cycles, f">= {max(eval_cycles, 2)}")
