@@ -15,6 +15,11 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+# loaded with the module, as before the tracking was shared: the mesh modes of a geared rotor
+# give close MACs, where assign_modes solves the assignment with scipy.optimize, so its import
+# (~9 MB, ~0.17 s) would otherwise land inside the first Campbell diagram of a run
+import scipy.optimize  # noqa: F401
+
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.modal import EigenvalueView, line_crossings, track_modes
