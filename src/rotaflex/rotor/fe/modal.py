@@ -416,7 +416,7 @@ def track_modes(cands, n_osc, n_modes: int) -> tuple[np.ndarray, np.ndarray, np.
         Per speed, in speed order: eigenvalues (m,) [1/s] and shapes (m, n); read once (a
         generator keeps one speed's candidates in memory at a time).
     n_osc : array_like of int (s,)
-        Oscillatory, trackable eigenvalues per speed.
+        Oscillatory, trackable eigenvalues per speed (its length is the number of speeds).
     n_modes : int
         Tracks to start at the first speed.
 
@@ -424,53 +424,49 @@ def track_modes(cands, n_osc, n_modes: int) -> tuple[np.ndarray, np.ndarray, np.
     -------
     lam (s, t) complex [1/s], shapes (s, t, n) complex, smallest MAC of each step (s,) [-]
     """
+    ns = len(n_osc)
     cands = iter(cands)
     lam0, v0 = next(cands)
     n = v0.shape[-1]
     k = min(n_modes, lam0.size)
-    cols_l, cols_v = [list(lam0[:k])], [list(v0[:k])]  # per speed, per track
-    mac_min = [1.0]
+    # filled in place (the tracks' shapes are the largest array of a Campbell diagram); widened
+    # only when a track starts late
+    lam_t = np.full((ns, max(k, n_modes)), complex(np.nan, np.nan))
+    v_t = np.zeros((ns, max(k, n_modes), n), complex)
+    lam_t[0, :k], v_t[0, :k] = lam0[:k], v0[:k]
+    tracks = k
+    mac_min = np.ones(ns)
     before = v0  # the candidates of the speed before
     for s, (lam, v) in enumerate(cands, start=1):
-        prev = np.array(cols_v[-1]).reshape(-1, n)
-        live = np.flatnonzero([np.any(row) for row in prev])
-        row_l = [complex(np.nan, np.nan)] * len(prev)
-        row_v = [np.zeros(n, complex) for _ in prev]
+        prev = v_t[s - 1, :tracks]
+        live = np.flatnonzero(np.any(prev != 0, axis=1))
         taken = set()
-        mac_min.append(1.0)
         if live.size and lam.size:
             mm = mac(prev[live], v)
             rows, cols = assign_modes(mm)
-            for r, c in zip(rows, cols, strict=True):
-                row_l[live[r]], row_v[live[r]] = lam[c], v[c]
-                taken.add(int(c))
+            lam_t[s, live[rows]], v_t[s, live[rows]] = lam[cols], v[cols]
+            taken = {int(c) for c in cols}
             mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
-        new = int(n_osc[s] - n_osc[s - 1]) if len(prev) >= n_modes else max(n_modes - len(prev), 0)
+        new = int(n_osc[s] - n_osc[s - 1]) if tracks >= n_modes else max(n_modes - tracks, 0)
         if new > 0:
-            top = max((x.imag for x in row_l if np.isfinite(x)), default=np.inf)
+            top = max((x.imag for x in lam_t[s, :tracks] if np.isfinite(x)), default=np.inf)
             free = [
                 c
                 for c in range(lam.size)
-                if c not in taken and _trackable(lam[c]) and (len(prev) < n_modes or lam[c].imag <= top)
+                if c not in taken and _trackable(lam[c]) and (tracks < n_modes or lam[c].imag <= top)
             ]
             if free and before.size:  # the newly oscillatory: least like any mode of the speed before
                 kin = mac(v[free], before).max(axis=1)
                 free = [free[i] for i in np.argsort(kin, kind="stable")]
-            for c in free[:new]:
-                row_l.append(lam[c])
-                row_v.append(v[c])
-        cols_l.append(row_l)
-        cols_v.append(row_v)
+            add = free[:new]
+            if tracks + len(add) > lam_t.shape[1]:
+                grow = tracks + len(add) - lam_t.shape[1]
+                lam_t = np.concatenate([lam_t, np.full((ns, grow), complex(np.nan, np.nan))], 1)
+                v_t = np.concatenate([v_t, np.zeros((ns, grow, n), complex)], 1)
+            lam_t[s, tracks : tracks + len(add)], v_t[s, tracks : tracks + len(add)] = lam[add], v[add]
+            tracks += len(add)
         before = v
-    ns = len(cols_l)
-    t = max(len(r) for r in cols_l)
-    lam_t = np.full((ns, max(t, n_modes)), complex(np.nan, np.nan))
-    v_t = np.zeros((ns, max(t, n_modes), n), complex)
-    for s in range(ns):
-        lam_t[s, : len(cols_l[s])] = cols_l[s]
-        if cols_v[s]:
-            v_t[s, : len(cols_v[s])] = np.array(cols_v[s])
-    return lam_t, v_t, np.array(mac_min)
+    return lam_t, v_t, mac_min
 
 
 def line_crossings(speeds: np.ndarray, wd: np.ndarray, factor: float) -> list[tuple[int, int, float, float]]:
