@@ -8,6 +8,7 @@ before any computation starts, and a run holds its output directory until it end
 """
 
 import gc
+import inspect
 import os
 import signal
 import sys
@@ -513,15 +514,43 @@ def sweep(
 SPEED_OPTION = {("rotor", "modal"): "modal.speed_rpm"}
 
 
+def _command(run: Callable[..., None], speed_key: str | None) -> Callable[..., None]:
+    """The typer command of ``run``: the options of every ``rotaflex <domain> <verb>``, written once
+    (typer reads them from the signature), with ``--speed`` where the verb has a speed key."""
+    P = inspect.Parameter
+
+    def opt(name: str, annotation: Any, default: Any = P.empty) -> inspect.Parameter:
+        return P(name, P.POSITIONAL_OR_KEYWORD, default=default, annotation=annotation)
+
+    params = [opt("config", Annotated[Path, typer.Argument(help="TOML case file.")]), opt("out", Out)]
+    if speed_key is not None:
+        help_ = f"Spin speed [rpm] replacing {speed_key}; repeat for several speeds."
+        params.append(opt("speed", Annotated[list[float] | None, typer.Option("--speed", help=help_)], None))
+    params += [
+        opt("no_figures", NoFigures, False),
+        opt("fmt", Format, "png"),
+        opt("dpi", Dpi, 150),
+        opt("quiet", Quiet, False),
+        opt("debug", Debug, False),
+    ]
+
+    def command(**options: Any) -> None:
+        run(**options)
+
+    command.__signature__ = inspect.Signature(params)
+    command.__doc__ = run.__doc__
+    return command
+
+
 def _run_command(domain: str, verb: str) -> Callable[..., None]:
     def run(
-        config: Annotated[Path, typer.Argument(help="TOML case file.")],
-        out: Out,
-        no_figures: NoFigures = False,
-        fmt: Format = "png",
-        dpi: Dpi = 150,
-        quiet: Quiet = False,
-        debug: Debug = False,
+        config: Path,
+        out: str,
+        no_figures: bool = False,
+        fmt: str = "png",
+        dpi: int = 150,
+        quiet: bool = False,
+        debug: bool = False,
         speed: list[float] | None = None,
     ) -> None:
         def go():
@@ -579,40 +608,7 @@ def _run_command(domain: str, verb: str) -> Callable[..., None]:
         if verb == "simulate"
         else f"Run '{verb}' on one {domain} case from CONFIG; write result.nc, summary.json, figures."
     )
-    if (domain, verb) not in SPEED_OPTION:
-
-        def run_plain(
-            config: Annotated[Path, typer.Argument(help="TOML case file.")],
-            out: Out,
-            no_figures: NoFigures = False,
-            fmt: Format = "png",
-            dpi: Dpi = 150,
-            quiet: Quiet = False,
-            debug: Debug = False,
-        ) -> None:
-            run(config, out, no_figures, fmt, dpi, quiet, debug)
-
-        run_plain.__doc__ = run.__doc__
-        return run_plain
-    key = SPEED_OPTION[(domain, verb)]
-
-    def run_speed(
-        config: Annotated[Path, typer.Argument(help="TOML case file.")],
-        out: Out,
-        speed: Annotated[
-            list[float] | None,
-            typer.Option("--speed", help=f"Spin speed [rpm] replacing {key}; repeat for several speeds."),
-        ] = None,
-        no_figures: NoFigures = False,
-        fmt: Format = "png",
-        dpi: Dpi = 150,
-        quiet: Quiet = False,
-        debug: Debug = False,
-    ) -> None:
-        run(config, out, no_figures, fmt, dpi, quiet, debug, speed)
-
-    run_speed.__doc__ = run.__doc__
-    return run_speed
+    return _command(run, SPEED_OPTION.get((domain, verb)))
 
 
 def _template_command(domain: str) -> Callable[..., None]:

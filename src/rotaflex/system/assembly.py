@@ -26,33 +26,15 @@ import scipy.linalg as sla
 
 from rotaflex.rotor.fe.model import Rotor
 from rotaflex.rotor.fe.torsion_axial import axial_matrices
+from rotaflex.rotor.fe.torsion_axial import torsion_matrices as fe_torsion_matrices
 from rotaflex.system.model import Gearbox
-
-_XG, _WG = np.polynomial.legendre.leggauss(5)
-_XI, _W = 0.5 * (_XG + 1.0), 0.5 * _WG
 
 
 def torsion_matrices(rotor: Rotor) -> tuple[np.ndarray, np.ndarray]:
-    """Torsional stiffness and mass (n_nodes, n_nodes) of an FE rotor: linear two-node shaft
-    elements (``G J / L``, consistent mass ``rho J L / 6 [[2, 1], [1, 2]]``, J at Gauss points of
-    the taper) plus the disks' polar inertias. The same model as rotor/fe's torsional modes
-    (tested equal)."""
-    e = rotor.elements
-    do = e["do_l"][:, None] + (e["do_r"] - e["do_l"])[:, None] * _XI[None, :]
-    di = e["di_l"][:, None] + (e["di_r"] - e["di_l"])[:, None] * _XI[None, :]
-    J = np.pi / 32 * (do**4 - di**4)
-    L = e["L"]
-    ke = (e["G"] * (J @ _W) / L)[:, None, None] * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    N = np.stack([1 - _XI, _XI], -1)
-    me = np.einsum("ng,gi,gj->nij", (e["rho"] * L)[:, None] * J * _W[None, :], N, N)
-    n = rotor.n_nodes
-    K, M = np.zeros((n, n)), np.zeros((n, n))
-    idx = np.arange(L.size)[:, None] + np.arange(2)[None, :]
-    np.add.at(K, (idx[:, :, None], idx[:, None, :]), ke)
-    np.add.at(M, (idx[:, :, None], idx[:, None, :]), me)
-    for node, d in rotor.disks:
-        M[node, node] += d.Ip
-    return K, M
+    """Torsional stiffness and mass (n_nodes, n_nodes) of an FE rotor: rotor/fe's
+    :func:`~rotaflex.rotor.fe.torsion_axial.torsion_matrices` (linear two-node shaft elements,
+    ``G J / L``, consistent mass, J at Gauss points of the taper, disks' polar inertias)."""
+    return fe_torsion_matrices(rotor)
 
 
 def coupling_vector(box: Gearbox, mesh: int) -> np.ndarray:

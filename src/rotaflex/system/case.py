@@ -205,9 +205,15 @@ def _speed(box, value, where) -> float:
     return rpm_to_rad_s(float(v))
 
 
+def _ordered(rng, key: str, *, equal: bool = False) -> None:
+    """Refuse a speed pair [rpm] out of order: ``[start, stop]`` with stop > start, or with
+    ``equal`` a ``[min, max]`` with max >= min (InputError naming ``key``, the pair as typed)."""
+    if rng[1] < rng[0] or (rng[1] == rng[0] and not equal):
+        raise InputError(key, list(rng), "[min, max], max >= min" if equal else "[start, stop] with stop > start")
+
+
 def _range(rng, n, where, box=None):
-    if rng[1] <= rng[0]:
-        raise InputError(f"{where}.speed_rpm", list(rng), "[start, stop] with stop > start")
+    _ordered(rng, f"{where}.speed_rpm")
     if box is not None:
         _check_drive_speed(box, float(rng[1]), f"{where}.speed_rpm", list(rng))
     return rpm_to_rad_s(np.linspace(rng[0], rng[1], n))
@@ -622,12 +628,12 @@ def run_torsional(config: dict, *, progress: bool = False):
             )
         op = (rpm_to_rad_s(n), rpm_to_rad_s(n))
     else:
+        _ordered(spec.operating_speed_rpm, "torsional.operating_speed_rpm", equal=True)
         op = tuple(rpm_to_rad_s(spec.operating_speed_rpm))
-        if op[1] < op[0]:
-            raise InputError("torsional.operating_speed_rpm", list(spec.operating_speed_rpm), "[min, max], max >= min")
+    if spec.speed_rpm is not None:
+        _ordered(spec.speed_rpm, "torsional.speed_rpm")
+    # the default range 0 ... 1.25 x the operating maximum (> 0 rpm by the schema) is never empty
     rng = (0.0, 1.25 * op[1]) if spec.speed_rpm is None else tuple(rpm_to_rad_s(spec.speed_rpm))
-    if rng[1] <= rng[0]:
-        raise InputError("torsional.speed_rpm", list(spec.speed_rpm), "[start, stop] with stop > start")
     model = torsional_model(box)
     w, shape = torsional_modes(model, spec.n_modes)
     lines = excitation_lines(box, _excitations(box, spec))

@@ -14,11 +14,15 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
-from scipy.optimize import linear_sum_assignment
+
+# loaded with the module, as before the tracking was shared: the mesh modes of a geared rotor
+# give close MACs, where assign_modes solves the assignment with scipy.optimize, so its import
+# (~9 MB, ~0.17 s) would otherwise land inside the first Campbell diagram of a run
+import scipy.optimize  # noqa: F401
 
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm
-from rotaflex.rotor.fe.modal import EigenvalueView, mac
+from rotaflex.rotor.fe.modal import EigenvalueView, line_crossings, track_modes
 from rotaflex.system.assembly import (
     Matrices,
     free_dofs,
@@ -196,7 +200,8 @@ def excitation_lines(box: Gearbox, harmonics=(1, 2, 3)) -> list[dict]:
 def campbell(
     box: Gearbox, speeds, n_modes: int = 12, harmonics=(1, 2, 3), reduce: bool = True, extra: int = 6
 ) -> SystemCampbell:
-    """Campbell diagram over drive speeds [rad/s], modes tracked by MAC (Hungarian assignment).
+    """Campbell diagram over drive speeds [rad/s], modes tracked by MAC (rotor/fe's
+    :func:`~rotaflex.rotor.fe.modal.track_modes`, the Hungarian assignment of the total MAC).
 
     ``reduce`` solves in the basis of :func:`reduction_basis` at the middle speed (the benchmark
     prints the difference to the full solve); False: all DOFs.
@@ -213,22 +218,10 @@ def campbell(
         basis = reduction_basis(box, float(speeds[speeds.size // 2]), n_cand, mats)
         n_cand = min(n_cand, basis.shape[1])
     ns = speeds.size
-    lam_t = np.full((ns, n_modes), np.nan + 0j)
-    v_t = np.zeros((ns, n_modes, box.n_dof), complex)
-    mac_min = np.ones(ns)
-    prev = None
     pencil = _pencil(box, mats, basis)
-    for s in range(ns):
-        lam, v = _solve(box, mats, speeds[s], n_cand, basis, pencil)
-        if prev is None:
-            k = min(n_modes, lam.size)
-            lam_t[s, :k], v_t[s, :k] = lam[:k], v[:k]
-        else:
-            mm = mac(prev, v)
-            rows, cols = linear_sum_assignment(-mm)
-            lam_t[s, rows], v_t[s, rows] = lam[cols], v[cols]
-            mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
-        prev = v_t[s]
+    cands = (_solve(box, mats, w, n_cand, basis, pencil) for w in speeds)
+    # rotor/fe's tracking; the candidates are oscillatory modes only, so no track starts late
+    lam_t, v_t, mac_min = track_modes(cands, np.zeros(ns, int), n_modes)
     if all(el.speed_independent for pr in box.rotors for _, _, el in pr.rotor.bearings):
         # speed-independent bearings: one stiffness matrix, energies of all speeds in one product
         e, me = _energy(box, mats, _stiffness_full(box, mats, 0.0), v_t.reshape(ns * n_modes, -1))
@@ -244,28 +237,25 @@ def campbell(
 
 
 def crossings(modes: SystemModes, lines: list[dict]) -> list[dict]:
-    """Speeds where a tracked damped frequency crosses an excitation line (linear interpolation)."""
+    """Speeds where a tracked damped frequency crosses an excitation line (rotor/fe's
+    :func:`~rotaflex.rotor.fe.modal.line_crossings`, quantities interpolated alike)."""
     sp, wd = modes.speed, modes.wd
     tf = modes.torsional_fraction
     out = []
     for li, line in enumerate(lines):
-        for k in range(wd.shape[1]):
-            d = wd[:, k] - line["factor"] * sp
-            for s in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
-                t = d[s] / (d[s] - d[s + 1])
-                x = sp[s] + t * (sp[s + 1] - sp[s])
-                out.append(
-                    {
-                        "mode": k,
-                        "line": line["name"],
-                        "line_index": li,
-                        "speed": float(x),
-                        "frequency": float(line["factor"] * x),
-                        "mesh_energy": float(
-                            modes.mesh_energy[s, k] + t * (modes.mesh_energy[s + 1, k] - modes.mesh_energy[s, k])
-                        ),
-                        "torsional_fraction": float(tf[s, k] + t * (tf[s + 1, k] - tf[s, k])),
-                    }
-                )
+        for k, s, t, x in line_crossings(sp, wd, line["factor"]):
+            out.append(
+                {
+                    "mode": k,
+                    "line": line["name"],
+                    "line_index": li,
+                    "speed": float(x),
+                    "frequency": float(line["factor"] * x),
+                    "mesh_energy": float(
+                        modes.mesh_energy[s, k] + t * (modes.mesh_energy[s + 1, k] - modes.mesh_energy[s, k])
+                    ),
+                    "torsional_fraction": float(tf[s, k] + t * (tf[s + 1, k] - tf[s, k])),
+                }
+            )
     out.sort(key=lambda c: c["speed"])
     return out

@@ -19,7 +19,8 @@ import numpy as np
 
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm
-from rotaflex.gear.results.steady import detect_period
+from rotaflex.gear.results.steady import Periodicity, detect_period
+from rotaflex.gear.solvers.steady_loop import until_periodic
 from rotaflex.system.assembly import load_vector, matrices, reduced_basis, system_matrices
 from rotaflex.system.helical import axial_reactions
 from rotaflex.system.model import Gearbox
@@ -95,12 +96,11 @@ class SteadyState:
         return float(np.max(np.abs(res)) / ref)
 
 
-def _periodicity(dte: np.ndarray, spc: int, scale: float, tol: float) -> tuple[int, float]:
-    """(period, change) of the DTE history (whole cycles, oldest first) by the cycle comparison
+def _periodicity(dte: np.ndarray, spc: int, scale: float, tol: float) -> Periodicity:
+    """Period and change of the DTE history (whole cycles, oldest first) by the cycle comparison
     of gear steady (:func:`rotaflex.gear.results.steady.detect_period`, periods 1 ... 4, the last
     p cycles against the p before, relative to ``scale``); only the last 8 cycles are read."""
-    per = detect_period(dte[-8 * spc :], spc, tol, max_period=4, scale=scale)
-    return per.period, per.change
+    return detect_period(dte[-8 * spc :], spc, tol, max_period=4, scale=scale)
 
 
 def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = None, state=None) -> SteadyState:
@@ -192,22 +192,31 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     static_force = np.array([m.gear.torque / m.gear.base_radius[0] for m in box.meshes])
     scale = float(np.max(static_force / kmean))  # the largest static deflection
     hist = {k: [] for k in ("dte", "d", "F", "E", "P")}
-    t0, cycles, period, change = 0.0, 0, 0, np.inf
-    block = st.check_every
-    while True:
-        n = block * spc
+    clock = [0.0]  # time at the end of the blocks run [s]
+
+    def advance(n_cycles):
+        n = n_cycles * spc
         bufs = _buffers(n, r, nm)
-        run_rk4(rd, ms, x, v, t0, dt, n, *bufs)
+        run_rk4(rd, ms, x, v, clock[0], dt, n, *bufs)
         for key, b in zip(("dte", "d", "F", "E", "P"), bufs[2:], strict=True):
             hist[key].append(b[:-1])  # the last sample starts the next block
-        t0 += n * dt
-        cycles += block
+        clock[0] += n * dt
         if not np.all(np.isfinite(x)):
             raise InputError("steady.steps_per_cycle", spc, "more steps per cycle (the integration diverged)")
-        dte = np.concatenate(hist["dte"][-(8 // block + 2) :])[:, 0]  # >= the 8 cycles the test reads
-        period, change = _periodicity(dte, spc, scale, st.tol)
-        if (cycles >= st.min_cycles and change <= st.tol) or cycles >= st.max_cycles:
-            break
+
+    def last_dte():
+        return np.concatenate(hist["dte"][-(8 // st.check_every + 2) :])[:, 0]  # >= the 8 cycles the test reads
+
+    # gear steady's loop (whole blocks of check_every cycles, checked from min_cycles on)
+    cycles, per = until_periodic(
+        advance,
+        lambda: _periodicity(last_dte(), spc, scale, st.tol),
+        block=st.check_every,
+        min_cycles=st.min_cycles,
+        max_cycles=st.max_cycles,
+        whole_blocks=True,
+    )
+    t0, period, change, dte = clock[0], per.period, per.change, last_dte()
     # evaluation cycles with full histories
     n = st.eval_cycles * spc
     bufs = _buffers(n, r, nm)
@@ -217,7 +226,8 @@ def steady_state(box: Gearbox, speed: float, settings: SteadySettings | None = N
     power = np.concatenate([*hist["P"], P_e])
     if period == 0:  # the evaluated cycles may show a period the last block did not
         # dte_e[0] is the state the last block ended in (not in ``dte``): whole cycles, no gap
-        period, change = _periodicity(np.concatenate([dte, dte_e[:-1, 0]]), spc, scale, st.tol)
+        per = _periodicity(np.concatenate([dte, dte_e[:-1, 0]]), spc, scale, st.tol)
+        period, change = per.period, per.change
     # bearing forces from the physical displacements of the evaluated cycles
     Tfull = mats.expand(P)
     from rotaflex.system.assembly import bearing_matrices

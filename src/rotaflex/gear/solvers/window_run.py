@@ -1,7 +1,7 @@
 """Time integration, energy balance and steady state of the travelling-window model.
 
 Same chain, drive laws, step-size rule and steady-state procedure as the lumped torsional model
-(both through :func:`rotaflex.gear.solvers.steady_driver.run_steady`), so the two give directly comparable results;
+(both through :func:`rotaflex.gear.solvers.steady_loop.run_steady`), so the two give directly comparable results;
 here the step also resolves the highest tooth frequency in contact
 (:attr:`WindowModel.highest_frequency`).
 """
@@ -17,7 +17,7 @@ from rotaflex.core.errors import DivergenceError
 from rotaflex.gear.kernels.window import WindowArgs, run_window_rk4
 from rotaflex.gear.models.chain import OperatingPoint, build_chain, initial_state, natural_frequencies
 from rotaflex.gear.models.window import WindowModel
-from rotaflex.gear.solvers.steady_driver import run_steady
+from rotaflex.gear.solvers.steady_loop import run_steady
 from rotaflex.gear.static.loaded_te import loaded_te
 
 __all__ = ["WindowState", "WindowSteady", "cycle_steps", "simulate", "energy_balance", "steady_state"]
@@ -208,7 +208,7 @@ def energy_balance(model: WindowModel, op: OperatingPoint, hist: dict) -> dict:
 
 @dataclass
 class WindowSteady:
-    """The window model as a :class:`~rotaflex.gear.solvers.steady_driver.SteadyMethod`."""
+    """The window model as a :class:`~rotaflex.gear.solvers.steady_loop.SteadyMethod`."""
 
     model: WindowModel
     op: OperatingPoint
@@ -249,7 +249,7 @@ def steady_state(model: WindowModel, op: OperatingPoint, *, state: WindowState |
     """Run until periodic, then evaluate the last ``eval_cycles`` mesh cycles.
 
     The procedure, tolerances, keywords and metrics of
-    :func:`rotaflex.gear.solvers.steady_driver.run_steady` (as the lumped model), plus
+    :func:`rotaflex.gear.solvers.steady_loop.run_steady` (as the lumped model), plus
     ``fillet_stress_max_pinion`` / ``_wheel`` [Pa] (quasi-static: the FE tooth's stress per
     newton times the pair's spring force) and the ``pairs_in_contact`` history.
 

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from rotaflex.rotor.fe.modal import CampbellData, campbell, critical_whirl, mac, modal
+from rotaflex.rotor.fe.modal import CampbellData, campbell, critical_whirl, line_crossings, mac, modal
 from rotaflex.rotor.fe.model import Rotor
 
 
@@ -119,48 +119,44 @@ def critical_speeds(
     n_cand = min(n_modes + 6, rotor.n_dof)
     out = []
 
-    def crossings(h, k):  # speed steps where mode k's damped frequency crosses h Omega
-        d = wd[:, k] - h * scan
-        return np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0)
-
-    tracks = range(wd.shape[1])  # the n_modes tracks and those of modes oscillating from inside the scan
-    total = sum(crossings(h, k).size for h in harmonics for k in tracks)
+    # the Campbell diagram's crossings (every track, also those of modes oscillating from inside
+    # the scan) bracket the roots; each is also the interpolated fallback
+    brackets = {h: line_crossings(scan, wd, h) for h in harmonics}
+    total = sum(len(b) for b in brackets.values())
     for h in harmonics:
-        for k in tracks:
-            d = wd[:, k] - h * scan
-            for s in crossings(h, k):
-                ref = c.modes.shape[s, k]
-                count = [0]
+        for k, s, _, interpolated in brackets[h]:
+            ref = c.modes.shape[s, k]
+            count = [0]
 
-                def g(w, ref=ref, count=count, h=h):
-                    count[0] += 1
-                    m = modal(rotor, w, n_cand)
-                    j = int(np.argmax(mac(ref[None], m.shape[0])[0]))
-                    return m.wd[0, j] - h * w
-
-                try:
-                    root = brent_root(g, scan[s], scan[s + 1], xtol=xtol * scan[s + 1], rtol=4 * np.finfo(float).eps)
-                    how = "direct"
-                except ValueError:  # the MAC-matched mode has no sign change (a near-degenerate pair): interpolate
-                    root = scan[s] + d[s] / (d[s] - d[s + 1]) * (scan[s + 1] - scan[s])
-                    how = "interpolated"
-                m = modal(rotor, root, n_cand)
+            def g(w, ref=ref, count=count, h=h):
+                count[0] += 1
+                m = modal(rotor, w, n_cand)
                 j = int(np.argmax(mac(ref[None], m.shape[0])[0]))
-                out.append(
-                    {
-                        "mode": k,
-                        "harmonic": float(h),
-                        "speed": float(root),
-                        "frequency": float(h * root),
-                        "whirl": critical_whirl(float(m.forward_fraction[0, j])),
-                        "shape_whirl": str(m.whirl[0, j]),
-                        "forward_fraction": float(m.forward_fraction[0, j]),
-                        "log_dec": float(m.log_dec[0, j]),
-                        "evaluations": count[0],
-                        "solve": how,
-                    }
-                )
-                if progress is not None:
-                    progress(len(out), total)
+                return m.wd[0, j] - h * w
+
+            try:
+                root = brent_root(g, scan[s], scan[s + 1], xtol=xtol * scan[s + 1], rtol=4 * np.finfo(float).eps)
+                how = "direct"
+            except ValueError:  # the MAC-matched mode has no sign change (a near-degenerate pair): interpolate
+                root = interpolated
+                how = "interpolated"
+            m = modal(rotor, root, n_cand)
+            j = int(np.argmax(mac(ref[None], m.shape[0])[0]))
+            out.append(
+                {
+                    "mode": k,
+                    "harmonic": float(h),
+                    "speed": float(root),
+                    "frequency": float(h * root),
+                    "whirl": critical_whirl(float(m.forward_fraction[0, j])),
+                    "shape_whirl": str(m.whirl[0, j]),
+                    "forward_fraction": float(m.forward_fraction[0, j]),
+                    "log_dec": float(m.log_dec[0, j]),
+                    "evaluations": count[0],
+                    "solve": how,
+                }
+            )
+            if progress is not None:
+                progress(len(out), total)
     out.sort(key=lambda x: x["speed"])
     return out

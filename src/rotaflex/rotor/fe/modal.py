@@ -406,61 +406,107 @@ def _trackable(lam) -> np.ndarray:
         return -lam.real / np.abs(lam) < TRACK_ZETA
 
 
-def _track(cands, n_osc: np.ndarray, n_modes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def track_modes(cands, n_osc, n_modes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Tracked modes (s, t) from the candidates ``(lam (m,), v (m, n))`` of each speed.
 
-    The ``n_modes`` lowest modes of the first speed start the tracks; at each later speed the
-    tracks are matched to the candidates by the largest total MAC (:func:`assign_modes`). When
-    more eigenvalues are oscillatory with a damping ratio below :data:`TRACK_ZETA` than at the
-    speed before (a real pair became a complex one),
-    as many unmatched candidates, lowest in frequency and below the highest tracked mode (or
-    any, while fewer than ``n_modes`` are tracked), start new tracks there (NaN before).
-    Returns eigenvalues (s, t), shapes (s, t, n) and the smallest MAC of each step (s,).
+    The one mode tracking of every Campbell diagram (FE rotor and machine,
+    :func:`rotaflex.system.modal.campbell`). The ``n_modes`` lowest modes of the first speed
+    start the tracks; at each later speed the tracks are matched to the candidates by the
+    largest total MAC (:func:`assign_modes`). When more eigenvalues are oscillatory with a
+    damping ratio below :data:`TRACK_ZETA` than at the speed before (``n_osc`` rises: a real
+    pair became a complex one), as many unmatched candidates, lowest in frequency and below the
+    highest tracked mode (or any, while fewer than ``n_modes`` are tracked), start new tracks
+    there (NaN before); a constant ``n_osc`` keeps the tracks the first speed started.
+
+    Parameters
+    ----------
+    cands : iterable of (ndarray, ndarray)
+        Per speed, in speed order: eigenvalues (m,) [1/s] and shapes (m, n); read once (a
+        generator keeps one speed's candidates in memory at a time).
+    n_osc : array_like of int (s,)
+        Oscillatory, trackable eigenvalues per speed (its length is the number of speeds).
+    n_modes : int
+        Tracks to start at the first speed.
+
+    Returns
+    -------
+    lam (s, t) complex [1/s], shapes (s, t, n) complex, smallest MAC of each step (s,) [-]
     """
-    ns, n = len(cands), cands[0][1].shape[-1]
-    lam0, v0 = cands[0]
+    ns = len(n_osc)
+    cands = iter(cands)
+    lam0, v0 = next(cands)
+    n = v0.shape[-1]
     k = min(n_modes, lam0.size)
-    cols_l, cols_v = [list(lam0[:k])], [list(v0[:k])]  # per speed, per track
+    # filled in place (the tracks' shapes are the largest array of a Campbell diagram); widened
+    # only when a track starts late
+    lam_t = np.full((ns, max(k, n_modes)), complex(np.nan, np.nan))
+    v_t = np.zeros((ns, max(k, n_modes), n), complex)
+    lam_t[0, :k], v_t[0, :k] = lam0[:k], v0[:k]
+    tracks = k
     mac_min = np.ones(ns)
-    start = [0] * k
-    for s in range(1, ns):
-        lam, v = cands[s]
-        prev = np.array(cols_v[-1]).reshape(-1, n)
-        live = np.flatnonzero([np.any(row) for row in prev])
-        row_l = [complex(np.nan, np.nan)] * len(prev)
-        row_v = [np.zeros(n, complex) for _ in prev]
+    before = v0  # the candidates of the speed before
+    for s, (lam, v) in enumerate(cands, start=1):
+        prev = v_t[s - 1, :tracks]
+        live = np.flatnonzero(np.any(prev != 0, axis=1))
         taken = set()
         if live.size and lam.size:
             mm = mac(prev[live], v)
             rows, cols = assign_modes(mm)
-            for r, c in zip(rows, cols, strict=True):
-                row_l[live[r]], row_v[live[r]] = lam[c], v[c]
-                taken.add(int(c))
+            lam_t[s, live[rows]], v_t[s, live[rows]] = lam[cols], v[cols]
+            taken = {int(c) for c in cols}
             mac_min[s] = float(mm[rows, cols].min()) if rows.size else np.nan
-        new = int(n_osc[s] - n_osc[s - 1]) if len(prev) >= n_modes else max(n_modes - len(prev), 0)
-        top = max((x.imag for x in row_l if np.isfinite(x)), default=np.inf)
-        free = [
-            c
-            for c in range(lam.size)
-            if c not in taken and _trackable(lam[c]) and (len(prev) < n_modes or lam[c].imag <= top)
-        ]
-        if free and cands[s - 1][1].size:  # the newly oscillatory: least like any mode of the speed before
-            kin = mac(v[free], cands[s - 1][1]).max(axis=1)
-            free = [free[i] for i in np.argsort(kin, kind="stable")]
-        for c in free[: max(new, 0)]:
-            row_l.append(lam[c])
-            row_v.append(v[c])
-            start.append(s)
-        cols_l.append(row_l)
-        cols_v.append(row_v)
-    t = max(len(r) for r in cols_l)
-    lam_t = np.full((ns, max(t, n_modes)), complex(np.nan, np.nan))
-    v_t = np.zeros((ns, max(t, n_modes), n), complex)
-    for s in range(ns):
-        lam_t[s, : len(cols_l[s])] = cols_l[s]
-        if cols_v[s]:
-            v_t[s, : len(cols_v[s])] = np.array(cols_v[s])
+        new = int(n_osc[s] - n_osc[s - 1]) if tracks >= n_modes else max(n_modes - tracks, 0)
+        if new > 0:
+            top = max((x.imag for x in lam_t[s, :tracks] if np.isfinite(x)), default=np.inf)
+            free = [
+                c
+                for c in range(lam.size)
+                if c not in taken and _trackable(lam[c]) and (tracks < n_modes or lam[c].imag <= top)
+            ]
+            if free and before.size:  # the newly oscillatory: least like any mode of the speed before
+                kin = mac(v[free], before).max(axis=1)
+                free = [free[i] for i in np.argsort(kin, kind="stable")]
+            add = free[:new]
+            if tracks + len(add) > lam_t.shape[1]:
+                grow = tracks + len(add) - lam_t.shape[1]
+                lam_t = np.concatenate([lam_t, np.full((ns, grow), complex(np.nan, np.nan))], 1)
+                v_t = np.concatenate([v_t, np.zeros((ns, grow, n), complex)], 1)
+            lam_t[s, tracks : tracks + len(add)], v_t[s, tracks : tracks + len(add)] = lam[add], v[add]
+            tracks += len(add)
+        before = v
     return lam_t, v_t, mac_min
+
+
+def line_crossings(speeds: np.ndarray, wd: np.ndarray, factor: float) -> list[tuple[int, int, float, float]]:
+    """Where tracked damped frequencies cross an excitation line ``omega = factor * Omega``.
+
+    The one crossing interpolation of every Campbell diagram (critical speeds of the FE rotor,
+    line crossings of the machine): a sign change of ``wd - factor * Omega`` between two
+    speeds, interpolated linearly.
+
+    Parameters
+    ----------
+    speeds : ndarray (s,)
+        Speeds [rad/s], increasing.
+    wd : ndarray (s, t)
+        Damped natural frequencies of the tracked modes [rad/s] (NaN: no crossing there).
+    factor : float
+        Excitation frequency per unit speed [-] (harmonic, order x ratio).
+
+    Returns
+    -------
+    list of (mode, step, fraction, speed)
+        Track ``mode``, the step ``s`` it crosses between speeds ``s`` and ``s + 1``, the
+        interpolation fraction ``t`` in [0, 1] (for quantities interpolated the same way) and
+        the crossing speed [rad/s]; modes in order, speeds ascending within a mode.
+    """
+    out = []
+    for k in range(wd.shape[1]):
+        d = wd[:, k] - factor * speeds
+        for s in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
+            t = d[s] / (d[s] - d[s + 1])
+            out.append((k, int(s), t, speeds[s] + t * (speeds[s + 1] - speeds[s])))
+    return out
 
 
 def campbell(
@@ -506,26 +552,22 @@ def campbell(
             lams, vecs = batched_eig(A, progress=progress)
         cands = [_select(lams[s], vecs[s], n, n_cand, rotor.n_rotor_dof) for s in range(speeds.size)]
         n_osc = np.sum(_oscillatory(lams) & _trackable(lams), axis=-1)
-    lam_t, v_t, mac_min = _track(cands, n_osc, n_modes)
+    lam_t, v_t, mac_min = track_modes(cands, n_osc, n_modes)
     modes = Modes(speeds, lam_t, v_t, rotor.n_rotor_dof)
     wd, fw = modes.wd, modes.forward_fraction
     critical = []
     for h in harmonics:
-        for k in range(wd.shape[1]):
-            d = wd[:, k] - h * speeds
-            for s in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
-                t = d[s] / (d[s] - d[s + 1])
-                sp = speeds[s] + t * (speeds[s + 1] - speeds[s])
-                frac = fw[s, k] + t * (fw[s + 1, k] - fw[s, k])
-                critical.append(
-                    {
-                        "mode": k,
-                        "harmonic": float(h),  # 0.5X is 0.5, not int(0.5) = 0
-                        "speed": float(sp),
-                        "frequency": float(h * sp),
-                        "whirl": critical_whirl(frac),
-                    }
-                )
+        for k, s, t, sp in line_crossings(speeds, wd, h):
+            frac = fw[s, k] + t * (fw[s + 1, k] - fw[s, k])
+            critical.append(
+                {
+                    "mode": k,
+                    "harmonic": float(h),  # 0.5X is 0.5, not int(0.5) = 0
+                    "speed": float(sp),
+                    "frequency": float(h * sp),
+                    "whirl": critical_whirl(frac),
+                }
+            )
     critical.sort(key=lambda c: c["speed"])
     ld, bad_all = modes.log_dec, modes.unstable
     unstable = []

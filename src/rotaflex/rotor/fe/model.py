@@ -27,11 +27,11 @@ from rotaflex.rotor.fe.bearings.fluid_film import FluidFilm
 from rotaflex.rotor.fe.bearings.labyrinth import Labyrinth
 from rotaflex.rotor.fe.bearings.liquid_seal import LiquidSeal
 from rotaflex.rotor.fe.bearings.magnetic import Magnetic
+from rotaflex.rotor.fe.bearings.static_load import resolve_static_loads
 from rotaflex.rotor.fe.elements import BearingElement, DiskElement, PointMassElement, shaft_matrices
 from rotaflex.rotor.fe.elements.bearing import COEFFICIENTS, MASS_COEFFICIENTS, MAX_BEARING, flat
+from rotaflex.rotor.fe.layout import NDOF_NODE, bearing_path, table_key
 from rotaflex.rotor.fe.materials import Material, material
-
-NDOF_NODE = 4  #: [x, y, theta_x, theta_y]
 
 #: plausibility bounds of the inputs (SI). Lengths beyond them are almost always millimetres typed
 #: as metres; moduli and coefficients beyond them overflow the assembly or its conditioning.
@@ -181,18 +181,6 @@ class Bearing:
                 object.__setattr__(self, key, (float(getattr(self, key)),))
 
 
-def table_key(array: str, name: str) -> str:
-    """``bearing.left`` for the table ``[bearing.left]`` (the name quoted where TOML needs it)."""
-    bare = name and all(c.isascii() and (c.isalnum() or c in "_-") for c in name)
-    return f"{array}.{name}" if bare else f'{array}."{name}"'
-
-
-def bearing_path(i: int, b: Bearing) -> str:
-    """The key path of bearing ``i`` as the user wrote it: ``bearing.left`` for a named
-    ``[bearing.left]`` table, ``bearing[i]`` for the i-th ``[[bearing]]``."""
-    return table_key("bearing", b.name) if b.name else f"bearing[{i}]"
-
-
 @dataclass(frozen=True)
 class Rotor:
     """Rotor-bearing FE model (frozen). Build from TOML with :meth:`from_toml` or directly.
@@ -279,8 +267,6 @@ class Rotor:
         for other loads); the rotor itself when there is none."""
         if not self.static_load_bearings:
             return self
-        from rotaflex.rotor.fe.bearings.static_load import resolve_static_loads
-
         return resolve_static_loads(self).rotor
 
     def _check_size(self) -> None:

@@ -28,7 +28,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from rotaflex.core.errors import InputError
-from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
+from rotaflex.rotor.fe.layout import NDOF_NODE
+
+# The rotor arrives as an argument (a rotaflex.rotor.fe.model.Rotor) and is not imported: the
+# model resolves ``load = "static"`` through bearings/static_load.py, which calls this module,
+# so this module sits below the model.
 
 #: standard gravity [m/s^2]
 STANDARD_GRAVITY = 9.80665
@@ -67,19 +71,19 @@ class StaticData:
         """Magnitude of each bearing's static load |F_b| [N], shape (n_bearing,)."""
         return np.hypot(self.reactions[:, 0], self.reactions[:, 1])
 
-    def deflection(self, rotor: Rotor) -> np.ndarray:
+    def deflection(self, rotor) -> np.ndarray:
         """Node translations (n_nodes, 2): x and y [m]."""
         return self.q[: rotor.n_rotor_dof].reshape(rotor.n_nodes, NDOF_NODE)[:, :2]
 
 
-def default_speed(rotor: Rotor) -> float:
+def default_speed(rotor) -> float:
     """Spin speed [rad/s] a static analysis uses by default: 0, or the lowest speed every bearing table covers."""
     lows = [el.speeds[0] for _, _, el in rotor.bearings if el.speeds is not None]
     return float(max(lows)) if lows else 0.0
 
 
 def static_analysis(
-    rotor: Rotor,
+    rotor,
     *,
     gravity: float = STANDARD_GRAVITY,
     direction=(0.0, -1.0),
@@ -161,7 +165,7 @@ def static_analysis(
     return StaticData(q, reactions, z, V, Mb, stress, total)
 
 
-def _shaft_weight(rotor: Rotor) -> float:
+def _shaft_weight(rotor) -> float:
     """Shaft mass alone [kg], coaxial layers included (exact for a linear taper: the area is quadratic in z)."""
     out = 0.0
     for e in (rotor.elements, rotor.layer_elements):
@@ -173,7 +177,7 @@ def _shaft_weight(rotor: Rotor) -> float:
     return out
 
 
-def _mass_per_length(rotor: Rotor, t: np.ndarray) -> np.ndarray:
+def _mass_per_length(rotor, t: np.ndarray) -> np.ndarray:
     """Mass per length [kg/m] at the fractions ``t`` of each main element (ne, t.size): the main
     section's plus that of the coaxial layers on it (mass-only layers included)."""
     out = np.zeros((rotor.elements["L"].size, t.size))
@@ -185,7 +189,7 @@ def _mass_per_length(rotor: Rotor, t: np.ndarray) -> np.ndarray:
     return out
 
 
-def _diagrams(rotor: Rotor, point: np.ndarray, g: np.ndarray, n_sub: int):
+def _diagrams(rotor, point: np.ndarray, g: np.ndarray, n_sub: int):
     """Shear, moment and stress at cuts: n_sub + 1 per element, both limits at each node."""
     e, zn = rotor.elements, rotor.nodes
     ne = e["L"].size
@@ -219,7 +223,7 @@ def _diagrams(rotor: Rotor, point: np.ndarray, g: np.ndarray, n_sub: int):
     return z.ravel(), V.reshape(-1, 2), M.reshape(-1, 2), stress.ravel()
 
 
-def deflection_curve(rotor: Rotor, q: np.ndarray, n_sub: int = 8) -> np.ndarray:
+def deflection_curve(rotor, q: np.ndarray, n_sub: int = 8) -> np.ndarray:
     """Deflection (c, 2) [m] at the cuts of :func:`static_analysis` (``n_sub + 1`` per element).
 
     Interpolated within each element by its own interdependent Timoshenko shape functions

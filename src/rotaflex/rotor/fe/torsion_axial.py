@@ -63,9 +63,16 @@ def axial_matrices(rotor: Rotor) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return K, M, C
 
 
+def torsion_matrices(rotor: Rotor) -> tuple[np.ndarray, np.ndarray]:
+    """Torsional stiffness [N m/rad] and mass [kg m^2] (n_nodes, n_nodes) of the FE rotor: the one
+    torsional shaft assembly (the machine's twist blocks, :func:`rotaflex.system.assembly.matrices`,
+    are these)."""
+    return _assemble(rotor, "torsion")
+
+
 def torsional_modes(rotor: Rotor, n_modes: int = 6) -> tuple[np.ndarray, np.ndarray]:
     """Torsional natural frequencies [rad/s] (first: rigid rotation, 0) and mode shapes (m, n_nodes)."""
-    K, M = _assemble(rotor, "torsion")
+    K, M = torsion_matrices(rotor)
     return _solve(K, M, n_modes)
 
 

@@ -22,7 +22,8 @@ import numpy as np
 
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
-from rotaflex.rotor.fe.model import bearing_path
+from rotaflex.rotor.fe.layout import bearing_path
+from rotaflex.rotor.fe.static import STANDARD_GRAVITY, static_analysis
 
 
 @dataclass(frozen=True)
@@ -107,8 +108,6 @@ def resolve_static_loads(
         Naming ``bearing[i].fluid_film.load`` when a bearing carries no load (a film cannot
         hold a journal at zero load) or the iteration does not converge.
     """
-    from rotaflex.rotor.fe.static import STANDARD_GRAVITY, static_analysis
-
     gravity = STANDARD_GRAVITY if gravity is None else gravity
     idx = rotor.static_load_bearings
     speed = reference_speed(rotor) if speed is None else float(speed)
