@@ -3,7 +3,9 @@
 Config keys with a non-SI unit say so (``speed_rpm``, ``pressure_angle_deg``); the module that
 reads the config converts them here, once, and everything behind it sees SI (rad/s, rad).
 Scalars give a float, array-likes an ``ndarray``. The arithmetic is that of ``x * pi / 30`` and
-``math.radians`` (bit-identical to the expressions they replace).
+``math.radians``: bit-identical to the gear package's earlier expressions; the rotor package
+used ``x * (pi / 30)``, which differs by an ulp for some speeds (what that moves and why is in
+docs/architecture.md, "Rules the layout keeps").
 
 Examples
 --------
