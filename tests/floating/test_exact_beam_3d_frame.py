@@ -165,3 +165,19 @@ def test_small_slow_slew_is_the_modal_body():
         err.append(np.abs(exact[:, :2] - modal[:, :2]).max() / peak)
     assert err[1] < 0.015
     assert 1.7 < np.log2(err[0] / err[1]) < 2.4, err
+
+
+def test_a_3d_run_announces_only_the_3d_kernels(monkeypatch):
+    import rotaflex.core.jit as jit
+
+    said = []
+    monkeypatch.setattr(jit, "announce_compilation", lambda what, kernels, seconds: said.append(what) or False)
+    cfg = copy.deepcopy(SPIN_UP)
+    cfg["body"]["exact"]["dimension"] = 3
+    cfg["solver"]["t_end"] = cfg["solver"]["dt_out"] = 0.04
+    run_case(cfg)
+    assert said == ["exact-beam-3d"]
+    cfg["body"]["exact"]["dimension"] = 2
+    said.clear()
+    run_case(cfg)
+    assert said == ["exact-beam"]
