@@ -103,24 +103,36 @@ def _motion_scale(beam: ExactBeam3D, pres, t_end: float) -> float:
     return m * beam.length * float(np.max(np.abs(prof[:, 1]) + prof[:, 0] ** 2))
 
 
-def _skew(v):
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+def _skew_all(v: np.ndarray) -> np.ndarray:
+    """(k, 3, 3) skew matrices ``v~`` of the rows of ``v`` (k, 3)."""
+    S = np.zeros((len(v), 3, 3))
+    S[:, 0, 1], S[:, 0, 2], S[:, 1, 2] = -v[:, 2], v[:, 1], -v[:, 0]
+    S[:, 1, 0], S[:, 2, 0], S[:, 2, 1] = v[:, 2], -v[:, 1], v[:, 0]
+    return S
 
 
-def _tangent_operator(dq: np.ndarray) -> np.ndarray:
-    """Block-diagonal ``T`` (n, n): identity on translations, the right Jacobian of the
-    exponential map ``Jr(dTheta)`` on each rotation (``R exp(dTheta + d) = R exp(dTheta) exp(Jr d)``)."""
-    T = np.eye(len(dq))
-    for b in range(len(dq) // 6):
-        v = dq[6 * b + 3 : 6 * b + 6]
-        th = float(np.linalg.norm(v))
-        if th < 1e-4:
-            c1, c2 = 0.5 - th * th / 24.0, 1.0 / 6.0 - th * th / 120.0
-        else:
-            c1, c2 = (1.0 - np.cos(th)) / th**2, (th - np.sin(th)) / th**3
-        S = _skew(v)
-        T[6 * b + 3 : 6 * b + 6, 6 * b + 3 : 6 * b + 6] = np.eye(3) - c1 * S + c2 * S @ S
-    return T
+def _exp_jacobians(dq: np.ndarray) -> np.ndarray:
+    """(nb, 3, 3) right Jacobians of the exponential map ``Jr(dTheta)`` of each block's rotation
+    increment (``R exp(dTheta + d) = R exp(dTheta) exp(Jr d)``): the rotation blocks of the
+    tangent operator ``T`` (identity on the translations)."""
+    v = dq.reshape(-1, 6)[:, 3:]
+    th = np.linalg.norm(v, axis=1)
+    small = th < 1e-4
+    ts = np.where(small, 1.0, th)
+    c1 = np.where(small, 0.5 - th * th / 24.0, (1.0 - np.cos(ts)) / ts**2)
+    c2 = np.where(small, 1.0 / 6.0 - th * th / 120.0, (ts - np.sin(ts)) / ts**3)
+    S = _skew_all(v)
+    return np.eye(3) - c1[:, None, None] * S + c2[:, None, None] * S @ S
+
+
+def _times_tangent(K: np.ndarray, dq: np.ndarray) -> np.ndarray:
+    """``K T`` (n, n) for the block-diagonal tangent operator ``T`` of :func:`_exp_jacobians`
+    (only the rotation columns change: each 3-column block times its ``Jr``)."""
+    nb = len(dq) // 6
+    out = K.copy()
+    o4 = out.reshape(len(K), nb, 6)
+    o4[:, :, 3:] = np.einsum("rbk,bkl->rbl", o4[:, :, 3:], _exp_jacobians(dq))
+    return out
 
 
 class _Equations:
@@ -137,6 +149,11 @@ class _Equations:
         for c in beam.clamps[:, 0].astype(int):
             self.fixed[6 * c : 6 * c + 6] = True
         self.free = np.flatnonzero(~self.fixed)
+        self.Jd = np.diag(self.M).copy()
+        # row and column indices (nb, 3, 3) of the diagonal rotation blocks
+        base = 6 * np.arange(n // 6)[:, None, None] + 3
+        self.rot_r = base + np.arange(3)[None, :, None]
+        self.rot_c = base + np.arange(3)[None, None, :]
 
     def load_factors(self, t: float) -> np.ndarray:
         ld = self.loads
@@ -151,31 +168,33 @@ class _Equations:
     def residual(self, q, v, vd, t, want_k=True):
         """Equations of motion (n,) at state ``q``, velocities ``v`` (translations inertial,
         rotations material) and their rates ``vd``; with ``want_k`` the iteration blocks
-        ``(K in section axes, C_gyro)``."""
+        ``(K in section axes, C_gyro)``. Vectorised over the nodes (block views, no Python loop
+        per node)."""
         r, K, _ = self.forces(q, t, want_k)
-        nb = self.beam.n_dof // 6
+        n = self.beam.n_dof
+        nb = n // 6
         R = quaternion_to_matrix(q.reshape(nb, 7)[:, 3:])
+        W = v.reshape(nb, 6)[:, 3:]
+        J = self.Jd.reshape(nb, 6)[:, 3:]
+        rb = r.reshape(nb, 6)
+        m = np.einsum("bji,bj->bi", R, rb[:, 3:])  # R^T m: the moments in section axes
         out = self.M @ vd
-        Jd = np.diag(self.M)
-        C = np.zeros_like(self.M) if want_k else None
-        G = np.zeros_like(self.M) if want_k else None
-        for b in range(nb):
-            w = v[6 * b + 3 : 6 * b + 6]
-            J = Jd[6 * b + 3 : 6 * b + 6]
-            rows = slice(6 * b + 3, 6 * b + 6)
-            out[6 * b : 6 * b + 3] += r[6 * b : 6 * b + 3]
-            m = R[b].T @ r[rows]
-            out[rows] += np.cross(w, J * w) + m
-            if want_k:
-                C[rows, rows] = _skew(w) @ np.diag(J) - _skew(J * w)
-                G[rows, rows] = _skew(m)  # d(R^T m) / dTheta at fixed m: the row's own turn
+        ob = out.reshape(nb, 6)
+        ob[:, :3] += rb[:, :3]
+        ob[:, 3:] += np.cross(W, J * W) + m
         if not want_k:
             return out, None, None
+        # gyroscopic C = W~ J - (J W)~ and G = (R^T m)~ (d(R^T m) / dTheta at fixed m: the
+        # row's own turn) on the rotation blocks of the diagonal
+        C = np.zeros((n, n))
+        C[self.rot_r, self.rot_c] = _skew_all(W) * J[:, None, :] - _skew_all(J * W)
         # spatial rows/columns -> section axes on the rotations (rows R^T, columns R)
-        S = np.eye(self.beam.n_dof)
-        for b in range(nb):
-            S[6 * b + 3 : 6 * b + 6, 6 * b + 3 : 6 * b + 6] = R[b]
-        return out, S.T @ K @ S + G, C
+        A = K.copy()
+        a4 = A.reshape(nb, 6, nb, 6)
+        a4[:, :, :, 3:] = np.einsum("aibk,bkl->aibl", a4[:, :, :, 3:], R)
+        a4[:, 3:] = np.einsum("aki,akbl->aibl", R, a4[:, 3:])
+        A[self.rot_r, self.rot_c] += _skew_all(m)
+        return out, A, C
 
     def energy(self, q, v):
         """Kinetic and strain energy [J]."""
@@ -296,7 +315,7 @@ def simulate_exact3d(
             # at round-off level (the stiff axial forces' floor)
             if it > 1 and (res <= tol * scale or step <= 1e-13 * beam.length):
                 break
-            A = eq.M + gp * C + bp * K @ _tangent_operator(dq)
+            A = eq.M + gp * C + bp * _times_tangent(K, dq)
             d = np.linalg.solve(A[np.ix_(free, free)], -r[free])
             vd1[free] += d
             a1[free] += (1.0 - af) / (1.0 - am) * d
