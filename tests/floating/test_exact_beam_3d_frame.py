@@ -181,3 +181,32 @@ def test_a_3d_run_announces_only_the_3d_kernels(monkeypatch):
     said.clear()
     run_case(cfg)
     assert said == ["exact-beam"]
+
+
+@pytest.mark.parametrize(
+    ("edit", "key"),
+    [
+        ({"slew": {"angle_deg": 10.0, "duration": 1.0, "drive": "torque"}}, "slew.drive"),
+        ({"body.exact.analysis": "both"}, "body.exact.analysis"),
+        ({"prescribed.axis": [0.0, 0.0, 0.0]}, "prescribed.axis"),
+    ],
+)
+def test_bad_moving_frame_input_names_the_key(edit, key):
+    from rotaflex.core.errors import InputError
+    from rotaflex.floating.case import prepare
+
+    cfg = copy.deepcopy(SPIN_UP)
+    cfg["body"]["exact"]["dimension"] = 3
+    for path, value in edit.items():
+        if path == "slew":
+            cfg.pop("prescribed")
+            cfg["slew"] = value
+            continue
+        *head, last = path.split(".")
+        node = cfg
+        for p in head:
+            node = node[p]
+        node[last] = value
+    with pytest.raises(InputError) as err:
+        prepare(cfg)
+    assert err.value.field == key
