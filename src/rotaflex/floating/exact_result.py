@@ -161,7 +161,9 @@ def datasets3d(beam, sol, points: dict):
     node_def = np.einsum("tji,tkj->tki", RF, xyz) - beam.nodes[None]
     pdef = np.einsum("tji,tkj->tki", RF, pxyz) - pref[None]
     zeros3 = np.zeros((T, 3))
-    w_frame = sol.v.reshape(T, -1, 6)[:, n, 3:]  # material = body axes
+    # the frame's angular velocity (material = body axes); a static solution has none
+    dyn = sol.v.shape[-1] == beam.n_dof
+    w_frame = sol.v.reshape(T, -1, 6)[:, n, 3:] if dyn else zeros3
     e = sol.energy
     tax = ("time", "axis")
     return {

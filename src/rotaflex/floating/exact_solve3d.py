@@ -252,12 +252,12 @@ def simulate_exact3d(
     vd[fixed] = vdr[fixed]
     r0, _, _ = eq.residual(q, v, vd, 0.0, want_k=False)
     vd[free] = np.linalg.solve(eq.M[np.ix_(free, free)], -r0[free])
-    r0, _, _ = eq.residual(q, v, vd, 0.0, want_k=False)
+    react0, _, _ = eq.residual(q, v, vd, 0.0, want_k=False)  # the clamps' start reaction
     a = vd.copy()
     times, is_out = time_grid(t_end, dt_out, time_step, breakpoints)
     Q, V, E = [], [], []
     work, drive, iters = 0.0, 0.0, 0
-    react_prev = np.where(fixed, r0, 0.0)
+    react_prev = np.where(fixed, react0, 0.0)
     fe_prev = _external(eq, q, 0.0)
     # force scale of the tolerance: the larger of the start's forces and momentum / step
     # (and the loads at full value, for a start from rest)
@@ -279,7 +279,7 @@ def simulate_exact3d(
     )
     scale = max(
         float(np.abs(eq.M @ vd).max()),
-        float(np.abs(r0[free]).max()),
+        float(np.abs(r0).max()),
         mom,
         float(np.abs(f_full).max()),
         _motion_scale(beam, pres, t_end),
