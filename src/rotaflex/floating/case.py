@@ -568,7 +568,8 @@ def _run_exact(case, body, plan, progress, t0):
     from rotaflex.floating.exact_case import run
     from rotaflex.floating.exact_result import build_exact_result, paraview_frames
 
-    announce_compilation("exact-beam", [exact_kernels.integrate], EXACT_COMPILE_SECONDS)
+    if plan["exact"].dimension != 3:  # the 3-D kernels are announced by exact_case.run
+        announce_compilation("exact-beam", [exact_kernels.integrate], EXACT_COMPILE_SECONDS)
     label = {"dynamic": "", "static": "static", "both": "exact, then static"}[plan["exact"].analysis]
     with _progress_for(progress, label, case.solver.t_end) as bar:
         sols = run(case, body, plan, progress=bar.update if progress else None)

@@ -13,8 +13,13 @@ Points (loads, outputs) are material coordinates: ``[s, 0, 0]`` is the section a
 ``s`` from the root (for a straight beam its position; for a bent one where it sits on the arc).
 Loads are 3-component forces and torques, ``frame = "inertial"`` (fixed direction),
 ``"material"`` (follower: given in the root's axes, turned with the section from its reference
-orientation) or ``"body"`` (the fixed frame, the same as inertial); ``body.exact.gravity`` is a
-distributed load ``rho_a g`` fixed in space.
+orientation) or ``"body"`` (the reference frame at rest, the same as inertial); ``body.exact.gravity``
+is a distributed load ``rho_a g`` fixed in space.
+
+The reference frame is fixed, or turns about its origin as ``[prescribed]`` says (any axis;
+spin-up, bang-bang or versine profiles) or as a ``[slew]`` with ``drive = "motion"``; the root
+is clamped to it (:func:`rotaflex.floating.exact_solve3d.rigid_motion`). ``analysis`` must then
+be ``"dynamic"``; a torque-driven slew needs a free hub (not in 3-D yet).
 """
 
 from __future__ import annotations
@@ -37,9 +42,12 @@ def _refuse_unsupported(case, exact):
         raise InputError(
             "body.damping_ratio", cfg.damping_ratio, "0 with body.exact.dimension = 3 (no 3-D material damping yet)"
         )
-    for key in ("prescribed", "slew"):
-        if getattr(case, key) is not None:
-            raise InputError(key, "<table>", "no [" + key + "] with body.exact.dimension = 3 (fixed root)")
+    if case.slew is not None and case.slew.drive != "motion":
+        raise InputError(
+            "slew.drive", case.slew.drive, "'motion' with body.exact.dimension = 3 (the root follows the slew)"
+        )
+    if case.prescribed is not None and exact.analysis != "dynamic":
+        raise InputError("body.exact.analysis", exact.analysis, "'dynamic' with a prescribed motion (inertia)")
     ini = case.initial
     moved = (
         any(ini.position)
@@ -124,7 +132,8 @@ def check(case, body):
             "raise solver.max_steps, or a longer body.exact.time_step, or a shorter solver.t_end",
         )
     q0 = beam.reference_state()
-    return {"beam": beam, "frame": "fixed", "loads": loads, "q0": q0, "h": h, "w1": w1, "exact": exact}
+    frame = "prescribed" if case.prescribed is not None else "fixed"
+    return {"beam": beam, "frame": frame, "loads": loads, "q0": q0, "h": h, "w1": w1, "exact": exact}
 
 
 def run(case, plan, progress=None):
@@ -132,6 +141,7 @@ def run(case, plan, progress=None):
     :func:`rotaflex.floating.exact_solve3d.simulate_exact3d`) and/or ``static``."""
     from rotaflex.floating.exact_case import quasi_static
     from rotaflex.floating.exact_solve3d import simulate_exact3d
+    from rotaflex.floating.solve import _breaks
 
     exact = plan["exact"]
     sols = []
@@ -144,6 +154,8 @@ def run(case, plan, progress=None):
                 dt_out=case.solver.dt_out,
                 time_step=plan["h"],
                 rho_inf=exact.rho_inf,
+                prescribed=None if case.prescribed is None else case.prescribed.packed(),
+                breakpoints=_breaks(case.loads, case.prescribed, case.solver.t_end),
                 progress=progress if exact.analysis == "dynamic" else None,
             )
         )

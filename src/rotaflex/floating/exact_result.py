@@ -137,9 +137,9 @@ def datasets(beam: ExactBeam, sol, points: dict):
 
 def datasets3d(beam, sol, points: dict):
     """:func:`datasets` of a 3-D exact beam (:class:`~rotaflex.floating.exact_beam3d.ExactBeam3D`)
-    clamped to a fixed frame at the origin: node and point positions, deflections from the
-    reference positions, section quaternions (``node_quaternion`` instead of ``node_angle``),
-    strain energy; a static solution has zero velocities."""
+    clamped to a frame at the origin (fixed or turning about it): node and point positions,
+    deflections from the reference positions in frame axes, section quaternions
+    (``node_quaternion`` instead of ``node_angle``), strain energy; a static solution has zero velocities."""
     from rotaflex.floating.exact_case3d import points as reference_points
     from rotaflex.rotation import euler_from_quaternion, quaternion_to_matrix
 
@@ -156,8 +156,14 @@ def datasets3d(beam, sol, points: dict):
         a, b, xi = beam.locate(refs[name], f"outputs.{name}")
         pref[j] = refs[name]
         pxyz[:, j] = (1 - xi) * xyz[:, a] + xi * xyz[:, b]
-    node_def = xyz - beam.nodes[None]
+    # deflections in the reference frame's axes (it turns about its origin when prescribed)
+    RF = quaternion_to_matrix(frame_q)
+    node_def = np.einsum("tji,tkj->tki", RF, xyz) - beam.nodes[None]
+    pdef = np.einsum("tji,tkj->tki", RF, pxyz) - pref[None]
     zeros3 = np.zeros((T, 3))
+    # the frame's angular velocity (material = body axes); a static solution has none
+    dyn = sol.v.shape[-1] == beam.n_dof
+    w_frame = sol.v.reshape(T, -1, 6)[:, n, 3:] if dyn else zeros3
     e = sol.energy
     tax = ("time", "axis")
     return {
@@ -165,13 +171,13 @@ def datasets3d(beam, sol, points: dict):
         "quaternion": (("time", "quat"), frame_q, "1", "attitude of the reference frame"),
         "rotation_matrix": (("time", "row", "col"), quaternion_to_matrix(frame_q), "1", "attitude matrix A"),
         "euler_123": (tax, euler_from_quaternion("123", frame_q), "rad", "Euler 1-2-3 angles of the frame"),
-        "velocity": (tax, zeros3, "m/s", "V_o (body axes; fixed frame)"),
-        "angular_velocity": (tax, zeros3, "rad/s", "w (body axes; fixed frame)"),
+        "velocity": (tax, zeros3, "m/s", "V_o (body axes; the origin is held)"),
+        "angular_velocity": (tax, w_frame, "rad/s", "w (body axes)"),
         "point_position": (("time", "point", "axis"), pxyz, "m", "inertial position of output points"),
-        "point_deflection": (("time", "point", "axis"), pxyz - pref[None], "m", "deflection of output points"),
+        "point_deflection": (("time", "point", "axis"), pdef, "m", "deflection of output points (frame axes)"),
         "energy": (("time",), e[:, 0] + e[:, 1], "J", "kinetic + strain energy"),
         "work_of_loads": (("time",), e[:, 2], "J", "work of the applied loads since the start"),
-        "work_of_drive": (("time",), e[:, 3], "J", "work of the ground since the start"),
+        "work_of_drive": (("time",), e[:, 3], "J", "work of the clamps (ground or prescribed frame) since the start"),
         "energy_balance": (("time",), sol.balance, "J", "energy - energy(0) - work_of_loads - work_of_drive"),
         "node_position": (("time", "node", "axis"), xyz, "m", "node positions (inertial)"),
         "node_quaternion": (("time", "node", "quat"), quat, "1", "section rotations (inertial, scalar first)"),
