@@ -416,12 +416,14 @@ def prepare(config: dict):
             raise InputError(f"outputs.{name}", list(pt), exc.allowed) from None
     if case.body.model == "exact":
         from rotaflex.floating.exact_case import check
+        from rotaflex.floating.exact_case3d import check as check3d
 
         if case.paraview is not None and case.paraview.solution not in (None, "full", "prescribed"):
             raise InputError(
                 "paraview.solution", case.paraview.solution, "unset with body.model = 'exact' (one solution)"
             )
-        return case, body, check(case, body)
+        three_d = (case.body.exact or ExactConfig()).dimension == 3
+        return case, body, (check3d if three_d else check)(case, body)
     methods = ["full", "perturbation"] if case.solver.method == "both" else [case.solver.method]
     if case.prescribed is not None:
         if case.solver.method == "perturbation":
@@ -565,11 +567,21 @@ def _run_exact(case, body, plan, progress, t0):
     """``run_case`` for ``body.model = "exact"`` (``plan`` from :func:`rotaflex.floating.exact_case.check`)."""
     from rotaflex.core.jit import announce_compilation
     from rotaflex.floating import exact_kernels
-    from rotaflex.floating.exact_case import run
+    from rotaflex.floating.exact_case import COMPILE_SECONDS_3D
+    from rotaflex.floating.exact_case import run as run2d
+    from rotaflex.floating.exact_case3d import run as run3d
     from rotaflex.floating.exact_result import build_exact_result, paraview_frames
 
-    if plan["exact"].dimension != 3:  # the 3-D kernels are announced by exact_case.run
+    if plan["exact"].dimension == 3:
+        from rotaflex.floating import exact_kernels3d
+
+        announce_compilation("exact-beam-3d", [exact_kernels3d], COMPILE_SECONDS_3D)
+
+        def run(case, body, plan, progress=None):
+            return run3d(case, plan, progress)
+    else:
         announce_compilation("exact-beam", [exact_kernels.integrate], EXACT_COMPILE_SECONDS)
+        run = run2d
     label = {"dynamic": "", "static": "static", "both": "exact, then static"}[plan["exact"].analysis]
     with _progress_for(progress, label, case.solver.t_end) as bar:
         sols = run(case, body, plan, progress=bar.update if progress else None)

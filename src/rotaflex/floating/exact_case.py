@@ -251,10 +251,6 @@ def first_frequency(body) -> float:
 def check(case, body):
     """Build and check everything a run needs (bad input raises before any integration)."""
     exact = case.body.exact or ExactConfig()
-    if exact.dimension == 3:
-        from rotaflex.floating.exact_case3d import check as check3d
-
-        return check3d(case, body)
     beam, frame, loads = build(case, body)
     q0, v0 = initial_state(case, beam, frame)
     w1 = first_frequency(body)
@@ -287,13 +283,6 @@ def run(case, body, plan, progress=None):
     from rotaflex.floating.solve import _breaks
 
     exact = plan["exact"]
-    if exact.dimension == 3:
-        from rotaflex.core.jit import announce_compilation
-        from rotaflex.floating import exact_kernels3d
-        from rotaflex.floating.exact_case3d import run as run3d
-
-        announce_compilation("exact-beam-3d", [exact_kernels3d], COMPILE_SECONDS_3D)
-        return run3d(case, plan, progress)
     sols = []
     if exact.analysis != "static":
         eta = 2.0 * case.body.damping_ratio / plan["w1"] if case.body.damping_ratio > 0 else 0.0
