@@ -199,7 +199,8 @@ def test_sweep_gear_figure_draws_dte_panel():
     assert any("DTE peak to peak" in lb for lb in labels)  # words, not the raw variable name
     dte_ax = axes[[i for i, lb in enumerate(labels) if "DTE" in lb][0]]
     data = [ln for ln in dte_ax.get_lines() if ln.get_linestyle() == "-"][0]
-    np.testing.assert_array_equal(data.get_ydata(), [2e-6, 3e-6, 5e-6])
+    assert "µm" in dte_ax.get_ylabel()  # drawn in micrometres (no 1e-6 offset on an axis in m)
+    np.testing.assert_allclose(data.get_ydata(), [2.0, 3.0, 5.0], rtol=1e-15)
 
 
 def test_recording_fillet_nodes_does_not_change_the_trajectory(gear):
