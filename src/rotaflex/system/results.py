@@ -184,19 +184,16 @@ class SystemCampbellResult(_SystemResult):
         sp = ds["speed"].values
         rpm = rad_s_to_rpm(sp)
         me = ds["mesh_energy"].values
-        for k in range(ds.sizes["mode"]):
-            sc = ax.scatter(
-                rpm,
-                ds["damped_frequency"].values[:, k] * HZ,
-                c=me[:, k],
-                s=6,
-                cmap="viridis",
-                vmin=0,
-                vmax=max(0.05, float(np.nanmax(me))),
-            )
-        fig.colorbar(sc, ax=ax, label="mesh strain-energy fraction")
-        ymax = float(np.nanmax(ds["damped_frequency"].values)) * HZ * 1.05
         n_mesh = len({m.group(1) for n in ds["line"].values if (m := _MESH_LINE.match(str(n)))})
+        # a train without gears has no mesh energy to colour by: one colour, no colour bar
+        colour = {"c": "tab:blue"} if n_mesh == 0 else {"cmap": "viridis", "vmin": 0}
+        for k in range(ds.sizes["mode"]):
+            if n_mesh:
+                colour.update(c=me[:, k], vmax=max(0.05, float(np.nanmax(me))))
+            sc = ax.scatter(rpm, ds["damped_frequency"].values[:, k] * HZ, s=6, **colour)
+        if n_mesh:
+            fig.colorbar(sc, ax=ax, label="mesh strain-energy fraction")
+        ymax = float(np.nanmax(ds["damped_frequency"].values)) * HZ * 1.05
         ends = []
         for name, f in zip(ds["line"].values, ds["line_factor"].values, strict=True):
             mesh = str(name).startswith("mesh")
@@ -211,7 +208,10 @@ class SystemCampbellResult(_SystemResult):
         ax.set_ylim(0, ymax)
         ax.set_xlim(rpm[0], rpm[-1] * 1.22)  # room right of the data for the line labels
         ax.set(xlabel="drive speed [rpm]", ylabel="damped natural frequency [Hz]")
-        ax.set_title("Campbell diagram (o: mesh-order crossing of a mode with > 5 % mesh strain energy)", fontsize=9)
+        title = "Campbell diagram" + (
+            " (o: mesh-order crossing of a mode with > 5 % mesh strain energy)" if n_mesh else ""
+        )
+        ax.set_title(title, fontsize=9)
         place_labels(ax, ends)
         return fig
 
