@@ -104,7 +104,8 @@ SIGNAL_EXIT = {signal.SIGINT: 130, signal.SIGTERM: 143}
 _received = 0
 #: code whose frames must never see an exception appear: compiled numba kernels call back into
 #: Python (numba.core.serialize) and treat an exception there as impossible (SIGSEGV); h5py's
-#: object teardown likewise; weakref/__del__ callbacks only print exceptions
+#: object teardown likewise; weakref/__del__ callbacks only print exceptions (and so does the
+#: import system's module-lock callback: frames of ``<frozen importlib._bootstrap>``)
 _UNSAFE = tuple(f"{os.sep}{m}{os.sep}" for m in ("numba", "llvmlite", "h5py", "h5netcdf", "netCDF4")) + (
     f"{os.sep}weakref.py",
 )
@@ -116,9 +117,10 @@ _RETRY = 0.02
 
 def _at_safe_point(frame) -> bool:
     while frame is not None:
-        if frame.f_code.co_filename.endswith(_UNSAFE[-1]) or frame.f_code.co_name == "__del__":
+        name = frame.f_code.co_filename
+        if name.endswith(_UNSAFE[-1]) or name.startswith("<frozen importlib") or frame.f_code.co_name == "__del__":
             return False
-        if any(u in frame.f_code.co_filename for u in _UNSAFE[:-1]):
+        if any(u in name for u in _UNSAFE[:-1]):
             return False
         frame = frame.f_back
     return True
