@@ -1,8 +1,8 @@
 """Sphinx configuration of the rotaflex API reference (built by tests/core/test_api_reference.py).
 
-Build locally from the repository root (output outside the checkout)::
+Build locally from the repository root (output in build/api, which git ignores)::
 
-    sphinx-build -b html -W --keep-going docs/api /tmp/rotaflex-api
+    sphinx-build -b html -W --keep-going docs/api build/api
 """
 
 import re

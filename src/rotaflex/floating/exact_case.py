@@ -248,6 +248,23 @@ def first_frequency(body) -> float:
     return float(np.sqrt(w2.min())) if len(w2) else float("nan")
 
 
+def check_step_budget(case, h: float) -> None:
+    """Refuse a dynamic run over its step budget (``solver.max_steps``) before it starts; ``h``
+    is the time step [s]. Planar and 3-D exact beams alike."""
+    from rotaflex.core.limits import require
+    from rotaflex.floating.exact_solve import time_grid
+
+    steps = len(time_grid(case.solver.t_end, case.solver.dt_out, h)[0]) - 1
+    require(
+        "solver.max_steps",
+        case.solver.max_steps,
+        steps,
+        case.solver.max_steps,
+        f"generalized-alpha steps (t_end = {case.solver.t_end:g} s, step {h:.4g} s)",
+        "raise solver.max_steps, or a longer body.exact.time_step, or a shorter solver.t_end",
+    )
+
+
 def check(case, body):
     """Build and check everything a run needs (bad input raises before any integration)."""
     exact = case.body.exact or ExactConfig()
@@ -261,18 +278,7 @@ def check(case, body):
         if case.prescribed is not None:
             raise InputError("body.exact.analysis", exact.analysis, "'dynamic' with a prescribed motion (inertia)")
     if exact.analysis != "static":
-        from rotaflex.core.limits import require
-        from rotaflex.floating.exact_solve import time_grid
-
-        steps = len(time_grid(case.solver.t_end, case.solver.dt_out, h)[0]) - 1
-        require(
-            "solver.max_steps",
-            case.solver.max_steps,
-            steps,
-            case.solver.max_steps,
-            f"generalized-alpha steps (t_end = {case.solver.t_end:g} s, step {h:.4g} s)",
-            "raise solver.max_steps, or a longer body.exact.time_step, or a shorter solver.t_end",
-        )
+        check_step_budget(case, h)
     return {"beam": beam, "frame": frame, "loads": loads, "q0": q0, "v0": v0, "h": h, "w1": w1, "exact": exact}
 
 

@@ -110,7 +110,7 @@ def _loads(case, beam: ExactBeam3D) -> PointLoads3D:
 def check(case, body):
     """Build and check everything a 3-D run needs (bad input raises before any solve); the
     default time step is the planar one's (:func:`rotaflex.floating.exact_case.check`)."""
-    from rotaflex.floating.exact_case import STEPS_PER_PERIOD, first_frequency
+    from rotaflex.floating.exact_case import STEPS_PER_PERIOD, check_step_budget, first_frequency
 
     beam, loads = build(case)
     for name, pt in case.outputs.items():
@@ -119,18 +119,7 @@ def check(case, body):
     w1 = first_frequency(body)
     h = exact.time_step or min(case.solver.dt_out, 2 * np.pi / w1 / STEPS_PER_PERIOD)
     if exact.analysis != "static":
-        from rotaflex.core.limits import require
-        from rotaflex.floating.exact_solve import time_grid
-
-        steps = len(time_grid(case.solver.t_end, case.solver.dt_out, h)[0]) - 1
-        require(
-            "solver.max_steps",
-            case.solver.max_steps,
-            steps,
-            case.solver.max_steps,
-            f"generalized-alpha steps (t_end = {case.solver.t_end:g} s, step {h:.4g} s)",
-            "raise solver.max_steps, or a longer body.exact.time_step, or a shorter solver.t_end",
-        )
+        check_step_budget(case, h)
     q0 = beam.reference_state()
     frame = "prescribed" if case.prescribed is not None else "fixed"
     return {"beam": beam, "frame": frame, "loads": loads, "q0": q0, "h": h, "w1": w1, "exact": exact}
