@@ -105,7 +105,8 @@ _received = 0
 #: code whose frames must never see an exception appear: compiled numba kernels call back into
 #: Python (numba.core.serialize) and treat an exception there as impossible (SIGSEGV); h5py's
 #: object teardown likewise; weakref/__del__ callbacks only print exceptions (and so does the
-#: import system's module-lock callback: frames of ``<frozen importlib._bootstrap>``)
+#: import system's module-lock callback, ``cb`` in ``<frozen importlib._bootstrap>``; the rest of
+#: an import is a safe point, so an interrupt is not held back until the run has written its output)
 _UNSAFE = tuple(f"{os.sep}{m}{os.sep}" for m in ("numba", "llvmlite", "h5py", "h5netcdf", "netCDF4")) + (
     f"{os.sep}weakref.py",
 )
@@ -118,7 +119,8 @@ _RETRY = 0.02
 def _at_safe_point(frame) -> bool:
     while frame is not None:
         name = frame.f_code.co_filename
-        if name.endswith(_UNSAFE[-1]) or name.startswith("<frozen importlib") or frame.f_code.co_name == "__del__":
+        code = frame.f_code.co_name
+        if name.endswith(_UNSAFE[-1]) or code == "__del__" or (code == "cb" and name.startswith("<frozen importlib")):
             return False
         if any(u in name for u in _UNSAFE[:-1]):
             return False
