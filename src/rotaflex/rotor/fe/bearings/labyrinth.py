@@ -10,12 +10,34 @@ Leakage per unit circumference through tooth k (Neumann's equation):
     mu_1 = pi / (pi + 2 - 5 s + 2 s^2),  s = (P_{k-1} / P_k)^((gamma-1)/gamma) - 1   (Chaplygin)
     mu_2 = sqrt(NT / (NT (1 - j) + j)),  j = 1 - (1 + 16.6 Cr / pitch)^-2         (kinetic carry-over)
 
-with mu_2 = 1 for the first tooth. mu_1 -> pi / (pi + 2) = 0.611 for a vanishing pressure drop, the
-free-streamline contraction of a slot (Kirchhoff). The same m passes every tooth: the cavity
-pressures follow by marching and m by a root search on the outlet pressure. A tooth chokes at the critical
-pressure ratio (2 / (gamma + 1))^(gamma / (gamma - 1)): below it the flow stays Neumann's at that
-ratio (proportional to the upstream pressure), the last cavity's pressure then exceeds the outlet's
-and the seal is reported choked.
+with mu_2 = 1 for the first tooth (``leakage = "neumann"``, the default). mu_1 -> pi / (pi + 2) = 0.611
+for a vanishing pressure drop, the free-streamline contraction of a slot (Kirchhoff). The same m
+passes every tooth: the cavity pressures follow by marching and m by a root search on the outlet
+pressure. A tooth chokes at the critical pressure ratio (2 / (gamma + 1))^(gamma / (gamma - 1)):
+below it the flow stays Neumann's at that ratio (proportional to the upstream pressure), the last
+cavity's pressure then exceeds the outlet's and the seal is reported choked.
+
+``leakage = "vermes"``: the leakage model of Scharrer's LABY3 (Scharrer 1988, "Theory versus
+experiment for the rotordynamic coefficients of labyrinth gas seals: part I - a two control volume
+model", J. Vib. Acoust. Stress Reliab. Des. 110, 270-280; the code as ported in ROSS). Each tooth is
+an isentropic nozzle fed by the cavity upstream, plus the part nu of the previous jet's kinetic
+energy that crosses the cavity (Vermes 1961, "A fluid mechanics approach to the labyrinth seal
+leakage problem", J. Eng. Power 83, 161-169):
+
+    m = C_d Cr rho_{k-1} r^(1/gamma) sqrt(nu w_{k-1}^2 + 2 gamma/(gamma-1) R_g T (1 - r^((gamma-1)/gamma))),
+    r = P_k / P_{k-1},  w_k = m / (C_d Cr rho_{k-1} r^(1/gamma))  (jet velocity, w_0 = 0),
+    nu = 8.52 / ((pitch - width) / Cr + 7.23)                       (Vermes' carry-over factor)
+    C_d = 0.67675 - 0.08519 x + 0.0878 x^2 - 0.01819 x^3 + 0.00111 x^4,  x = width / Cr  (LABY3)
+
+A tooth chokes at r_c = (2 / (gamma + 1) (1 + nu w_{k-1}^2 (gamma-1) / (2 gamma R_g T)))^(gamma/(gamma-1)),
+where this flow is largest and the jet sonic (LABY3 adds the carry-over term without the factor
+2 / (gamma + 1); the same for an unchoked seal). The cavities stay at the inlet temperature (the jet's kinetic energy
+is dissipated in the cavity; LABY3 keeps the jet's isentropic temperature, docs/stability.md).
+Martin's formula with Vermes' factor, m = 1.014 C_d / sqrt(1 - nu) Cr P_in / sqrt(R_g T)
+sqrt((1 - r^2) / (NT - ln r)) (Martin 1908; Vermes 1961), is LABY3's first estimate only; here
+Brent's method needs none. The first-order leakage of this option is Scharrer's (as LABY3):
+delta m_k = m (P_{k-1} delta P_{k-1} - P_k delta P_k) / (P_{k-1}^2 - P_k^2), the linearised
+Neumann form at the actual leakage m.
 
 Circumferential momentum of cavity i (length L = pitch - tooth width, depth B + Cr, area
 A = (B + Cr) L), zeroth order: m (V_i - V_{i-1}) = L (a_r tau_r - a_s tau_s), V_0 = preswirl R w,
@@ -56,6 +78,9 @@ GASES = {
 }
 BLASIUS = (0.079, -0.25)  #: n, m of the wall friction factor f = n Re^m (rotor and stator)
 CARRY_OVER = 16.6  #: j = 1 - (1 + 16.6 Cr / pitch)^-2 (Childs & Scharrer 1986)
+VERMES = (8.52, 7.23)  #: nu = 8.52 / ((pitch - width) / Cr + 7.23) (Vermes 1961)
+#: LABY3's discharge coefficient C_d(x), x = tooth width / Cr: polynomial coefficients, x^0 .. x^4
+LABY3_DISCHARGE = (0.67675, -0.08519, 0.0878, -0.01819, 0.00111)
 
 
 @dataclass(frozen=True)
@@ -73,6 +98,9 @@ class Labyrinth:
     tooth_width: float = param(0.0, unit="m", ge=0, doc="tooth tip width (cavity length = pitch - width)")
     teeth_on: Literal["stator", "rotor"] = param("stator", doc="side carrying the teeth")
     preswirl: float = param(0.0, doc="inlet swirl V_0 / (R w) (0: swirl brake)")
+    leakage: Literal["neumann", "vermes"] = param(
+        "neumann", doc="tooth flow: Neumann with Childs-Scharrer carry-over, or LABY3's (Vermes' carry-over)"
+    )
     gas: Literal["air", "nitrogen", "methane", "carbon_dioxide", "hydrogen"] | None = param(
         "air", doc="a named gas (or give molar_mass, gamma, viscosity)"
     )
@@ -109,6 +137,18 @@ def tooth_flow(p_up, p_down, clearance, rt, gamma, mu2=1.0):
     return mu1 * mu2 * clearance * np.sqrt((p_up**2 - p_down**2) / rt)
 
 
+def vermes_flow(p_up, p_down, w_up, clearance, rt, gamma, cd, nu):
+    """LABY3's tooth flow per unit circumference [kg/(s m)] (module docstring) from the cavity at
+    ``p_up`` [Pa] fed by a jet of velocity ``w_up`` [m/s], and that tooth's jet velocity [m/s];
+    below the critical ratio the tooth is choked and passes the flow of that ratio."""
+    g1 = (gamma - 1) / gamma
+    head = nu * w_up**2
+    r = np.maximum(p_down / p_up, (2 / (gamma + 1) * (1 + head * g1 / (2 * rt))) ** (1 / g1))
+    rho_t = p_up / rt * r ** (1 / gamma)
+    w = np.sqrt(head + 2 * rt / g1 * (1 - r**g1))
+    return cd * clearance * rho_t * w, w
+
+
 @dataclass(frozen=True)
 class Zeroth:
     """Centred-seal solution at one speed: leakage m [kg/(s m)], cavity pressures and swirl velocities."""
@@ -142,23 +182,42 @@ class LabyrinthElement(ComputedBearing):
         self.mu2 = np.r_[1.0, np.full(sp.teeth - 1, mu2)]
         # a tooth chokes at the critical pressure ratio: its flow stays Neumann's at that ratio below it
         self.r_choke = (2 / (self.gamma + 1)) ** (self.gamma / (self.gamma - 1))
+        x = sp.tooth_width / sp.clearance
+        self.cd = float(np.polyval(LABY3_DISCHARGE[::-1], x))
+        self.nu = VERMES[0] / (self.L / sp.clearance + VERMES[1])
         self.leak = self._leakage()
+
+    def tooth(self, k: int, pu, pd, w_up: float = 0.0):
+        """Flow [kg/(s m)] of tooth ``k`` (0-based) from ``pu`` to ``pd`` [Pa], and its jet velocity [m/s]
+        (``vermes``; 0 for ``neumann``, whose carry-over is the factor mu_2)."""
+        sp = self.spec
+        if sp.leakage == "vermes":
+            return vermes_flow(pu, pd, w_up, sp.clearance, self.rt, self.gamma, self.cd, self.nu)
+        return tooth_flow(pu, pd, sp.clearance, self.rt, self.gamma, self.mu2[k]), 0.0
+
+    def critical_ratio(self, w_up: float = 0.0) -> float:
+        """Pressure ratio P_k / P_{k-1} at which a tooth fed by a jet of ``w_up`` [m/s] chokes."""
+        if self.spec.leakage == "neumann":
+            return self.r_choke
+        g1 = (self.gamma - 1) / self.gamma
+        return (2 / (self.gamma + 1) * (1 + self.nu * w_up**2 * g1 / (2 * self.rt))) ** (1 / g1)
 
     # -- zeroth order -------------------------------------------------------------------
     def _march(self, m: float) -> np.ndarray | None:
         """Pressures P_0..P_NT passing ``m`` through every tooth; None if a tooth cannot pass it."""
         from scipy.optimize import brentq  # here, so that importing the bearing kinds does not load it
 
-        sp, p = self.spec, [self.spec.inlet_pressure]
+        sp, p, w = self.spec, [self.spec.inlet_pressure], 0.0
         for k in range(sp.teeth):
-            pu = p[-1]
+            pu, rc = p[-1], self.critical_ratio(w)
 
-            def f(pd, pu=pu, k=k):
-                return tooth_flow(pu, pd, sp.clearance, self.rt, self.gamma, self.mu2[k]) - m
+            def f(pd, pu=pu, k=k, w=w):
+                return self.tooth(k, pu, pd, w)[0] - m
 
-            if f(self.r_choke * pu) < 0:
+            if f(rc * pu) < 0:
                 return None
-            p.append(brentq(f, self.r_choke * pu, pu * (1 - 1e-15), xtol=1e-12 * pu, rtol=1e-14))
+            p.append(brentq(f, rc * pu, pu * (1 - 1e-15), xtol=1e-12 * pu, rtol=1e-14))
+            w = self.tooth(k, pu, p[-1], w)[1]
         return np.array(p)
 
     def _leakage(self) -> tuple[float, np.ndarray, bool]:
@@ -172,7 +231,8 @@ class LabyrinthElement(ComputedBearing):
             p = self._march(m)
             return -sp.inlet_pressure if p is None else p[-1] - sp.outlet_pressure
 
-        hi = tooth_flow(sp.inlet_pressure, sp.outlet_pressure, sp.clearance, self.rt, self.gamma, 2.0)
+        # no seal passes more than its first tooth against the outlet pressure (mu_2 <= 2 for neumann)
+        hi = 2.0 * self.tooth(0, sp.inlet_pressure, sp.outlet_pressure)[0]
         m = brentq(g, 0.0, hi, xtol=1e-14 * hi, rtol=1e-13)
         p = self._march(m)
         choked = p is None or abs(p[-1] - sp.outlet_pressure) > 1e-6 * sp.inlet_pressure
@@ -215,7 +275,7 @@ class LabyrinthElement(ComputedBearing):
         h = -1.0 + 0j  # unit orbit: h = -r cos(theta - W t)
         # d m_k / d P_{k-1}, d m_k / d P_k (central differences, relative step 1e-7)
         a, b = np.zeros(sp.teeth), np.zeros(sp.teeth)
-        for k in range(sp.teeth):
+        for k in range(sp.teeth if sp.leakage == "neumann" else 0):
             pu, pd = p[k], p[k + 1]
             du, dd = 1e-7 * pu, 1e-7 * pd
             fl = functools.partial(tooth_flow, clearance=sp.clearance, rt=rt, gamma=self.gamma, mu2=self.mu2[k])
@@ -225,6 +285,11 @@ class LabyrinthElement(ComputedBearing):
                 continue
             a[k] = (fl(pu + du, pd) - fl(pu - du, pd)) / (2 * du)
             b[k] = (fl(pu, pd + dd) - fl(pu, pd - dd)) / (2 * dd)
+        if sp.leakage == "vermes":  # Scharrer's linearisation (module docstring); choked last tooth: m ~ P
+            d2 = p[:-1] ** 2 - p[1:] ** 2
+            a, b = m * p[:-1] / d2, -m * p[1:] / d2
+            if z.choked:
+                a[-1], b[-1] = m / p[-2], 0.0
         # unknowns: P_1..P_NC (columns 0..nc-1), V_1..V_NC (columns nc..2nc-1)
         M = np.zeros((2 * nc, 2 * nc), complex)
         rhs = np.zeros(2 * nc, complex)
