@@ -141,6 +141,7 @@ def test_static_coefficients_match_the_nonlinear_solution(preswirl):
         ({"outlet_pressure": 7e5}, "outlet_pressure"),
         ({"outlet_pressure": 8e5}, "outlet_pressure"),
         ({"teeth": 1}, "teeth"),
+        ({"leakage": "martin"}, "leakage"),
     ],
 )
 def test_bad_seal_input_names_the_key(change, key):

@@ -123,7 +123,11 @@ def test_added_mass_enters_the_eigenproblem():
 
 @pytest.mark.parametrize(
     "change, key",
-    [({"clearance": 0.0}, "clearance"), ({"outlet_pressure": 2.1e6}, "outlet_pressure")],
+    [
+        ({"clearance": 0.0}, "clearance"),
+        ({"outlet_pressure": 2.1e6}, "outlet_pressure"),
+        ({"inlet_swirl": 2.0}, "inlet_swirl"),
+    ],
 )
 def test_bad_liquid_seal_input_names_the_key(change, key):
     data = {
@@ -164,3 +168,94 @@ def test_childs_mu_are_the_symbolic_solution():
     series = sp.series(G, s, 0, 3).removeO()
     for n in range(3):
         assert sp.simplify(series.coeff(s, n) / (mu3 * (L / V) ** n) - mu[n]) == 0
+
+
+# -- inlet swirl (Childs 1983: the circumferential velocity develops from u0 towards 1/2 along the seal) --
+
+
+@pytest.mark.parametrize("speed", [0.0, 300.0, 1000.0])
+def test_inlet_swirl_one_half_is_childs_closed_form(speed):
+    """u0 = 1/2: the swirl is developed from the inlet on, and the coefficients are Childs' mu0, mu1, mu2
+    closed form (the default model) to 1e-9."""
+    closed = np.array(element(LiquidSeal(**SEAL), "s").constants(speed))
+    half = np.array(element(LiquidSeal(**SEAL, inlet_swirl=0.5), "s").constants(speed))
+    scale = np.array([closed[0], closed[0], closed[2], closed[2], closed[4], closed[4]])
+    assert np.abs(half - closed) / scale == pytest.approx(np.zeros(6), abs=1e-9)
+
+
+@pytest.mark.parametrize("u0", [0.0, 0.25, 0.8])
+@pytest.mark.parametrize("speed", [300.0, 1000.0])
+def test_linearised_swirl_against_hirs_circumferential_momentum(speed, u0):
+    """The exponential u(z) = R w [1/2 + (u0 - 1/2) e^(-beta z)] against the zeroth-order circumferential
+    momentum with Hirs' shear on both walls, rho H V du/dz = -(tau_s + tau_r), integrated without
+    linearisation (RK45 to 1e-12): measured within 0.0034 R w (u0 = 0, 1000 rad/s), tested at 0.005."""
+    el = element(LiquidSeal(**SEAL, inlet_swirl=u0), "s")
+    n0, m0 = HIRS
+    V = el.flow(speed)[0]
+    R, H, nu = SEAL["radius"], SEAL["clearance"], SEAL["viscosity"] / SEAL["density"]
+
+    def rhs(z, y):
+        u = y[0]
+        ts = n0 / 2 * (2 * H / nu) ** m0 * np.hypot(V, u) ** (1 + m0) * u
+        tr = n0 / 2 * (2 * H / nu) ** m0 * np.hypot(V, u - R * speed) ** (1 + m0) * (u - R * speed)
+        return [-(ts + tr) / (H * V)]
+
+    z = np.linspace(0.0, SEAL["length"], 41)
+    sol = solve_ivp(rhs, (0.0, SEAL["length"]), [u0 * R * speed], rtol=1e-12, atol=1e-12, dense_output=True)
+    linear = 0.5 + (u0 - 0.5) * np.exp(-el.swirl_decay(speed) * z)
+    assert np.abs(sol.sol(z)[0] / (R * speed) - linear).max() < 0.005
+    assert abs(sol.sol(z[-1])[0] / (R * speed) - u0) > 0.05  # the swirl does develop along this seal
+
+
+def _shoot_with_swirl(el, speed, W, inlet_acceleration):
+    """G [N/m] of the first-order equations integrated along z (RK45 to 1e-12) with the swirl u(z) integrated
+    alongside from du/dz = -beta (u - R w / 2), u(0) = u0 R w: continuity Cr dw/dz = i (W - u/R) h and the
+    axial momentum with the local s(z) = i (W - u(z)/R) (module docstring of liquid_seal)."""
+    sp, m0 = el.spec, HIRS[1]
+    V, lam, _ = el.flow(speed)
+    R, L, Cr, rho, xi = sp.radius, sp.length, sp.clearance, sp.density, sp.entrance_loss
+    tau0 = lam * rho * V**2
+    tau_w = tau0 / V * (1 + (1 + m0) / (1 + (R * speed / 2 / V) ** 2))
+    beta, h = el.swirl_decay(speed), -1.0
+
+    def shoot(w0):
+        def rhs(z, y):  # y = [w, p, int p, u]
+            w, u = y[0], y[3].real
+            s = 1j * (W - u / R)
+            accelerated = w if inlet_acceleration else w - w0
+            dp = -(((m0 - 1) * tau0 / Cr + rho * V * s) * h + tau_w * w - rho * Cr * s * accelerated) / Cr
+            return [s * h / Cr, dp, y[1], -beta * (u - R * speed / 2)]
+
+        y0 = [w0, -(1 + xi) * rho * V * w0, 0.0, sp.inlet_swirl * R * speed]
+        return solve_ivp(rhs, (0, L), np.array(y0, complex), rtol=1e-12, atol=1e-14).y[:, -1]
+
+    a, b = shoot(0.0), shoot(1.0)
+    w0 = -a[1] / (b[1] - a[1])
+    return np.pi * R * np.conj(a[2] + w0 * (b[2] - a[2]))
+
+
+@pytest.mark.parametrize("inlet_acceleration", [False, True])
+@pytest.mark.parametrize("u0", [0.0, 0.8])
+def test_inlet_swirl_closed_form_against_a_numerical_integration(u0, inlet_acceleration):
+    """The closed-form G with the inlet swirl = the shooting solution with the swirl integrated (1e-8)."""
+    el = element(LiquidSeal(**SEAL, inlet_swirl=u0), "s")
+    speed, W = 1000.0, 700.0
+    G = el.impedance(speed, 1j * (W - speed / 2), inlet_acceleration)
+    assert G == pytest.approx(_shoot_with_swirl(el, speed, W, inlet_acceleration), rel=1e-8)
+
+
+def test_swirl_brake_lowers_cross_coupling():
+    """k falls with the inlet swirl (a swirl brake, u0 = 0, is the stabilising limit): K - i k = G(W = 0) of the
+    numerical integration at u0 = 0, 0.25, 0.5, 0.8 equals the element's K and k (1e-8). Measured for the
+    neck ring at 1000 rad/s: k = 4.71, 6.77, 8.83, 11.3 MN/m; K rises from 6.59 to 7.96 MN/m at u0 = 0;
+    C and M do not depend on u0 (the swirl enters G only through terms odd in s)."""
+    speed, ks = 1000.0, []
+    ref = element(LiquidSeal(**SEAL), "s").constants(speed)
+    for u0 in (0.0, 0.25, 0.5, 0.8):
+        el = element(LiquidSeal(**SEAL, inlet_swirl=u0), "s")
+        K, k, C, c, M, m = el.constants(speed)
+        G0 = _shoot_with_swirl(el, speed, 0.0, False)
+        assert K == pytest.approx(G0.real, rel=1e-8) and k == pytest.approx(-G0.imag, rel=1e-8)
+        assert C == pytest.approx(ref[2], rel=1e-9) and M == pytest.approx(ref[4], rel=1e-7)
+        ks.append(k)
+    assert np.all(np.diff(ks) > 0) and ks[0] < 0.6 * ks[2]  # u0 = 0: k 47 % below the developed swirl

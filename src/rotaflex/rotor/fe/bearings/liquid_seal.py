@@ -58,6 +58,9 @@ class LiquidSeal:
     density: float = param(unit="kg/m^3", gt=0, doc="liquid density")
     viscosity: float = param(unit="Pa s", gt=0, doc="dynamic viscosity")
     entrance_loss: float = param(0.1, ge=0, doc="entrance loss coefficient xi")
+    inlet_swirl: float | None = param(
+        None, ge=-1, le=1.5, doc="inlet swirl ratio u0 = u(0) / (R w) (none: developed at 1/2 along the seal)"
+    )
 
     def validate(self, where: str) -> None:
         if self.outlet_pressure >= self.inlet_pressure:
@@ -93,10 +96,17 @@ class LiquidSealElement(ComputedBearing):
         V = brentq(res, 1e-9 * hi, hi, xtol=1e-14 * hi, rtol=1e-14)
         return V, lam(V), lam(V) * sp.length / sp.clearance
 
+    def swirl_decay(self, speed: float) -> float:
+        """beta [1/m]: the inlet swirl relaxes as u(z) = R w [1/2 + (u0 - 1/2) e^(-beta z)] (module docstring)."""
+        V, lam, _ = self.flow(speed)
+        u = self.spec.radius * speed / 2
+        return lam / self.spec.clearance * (1 + (1 + HIRS[1]) * u**2 / (V**2 + u**2))
+
     def impedance(self, speed: float, s, inlet_acceleration: bool = False) -> np.ndarray:
         """G(s) [N/m] for a unit orbit, s = i (W - w/2) [1/s] (force on the rotor = -G (x + i y)).
 
-        The first-order equations integrated along z in closed form (w linear, p quadratic).
+        The first-order equations integrated along z in closed form; with ``inlet_swirl`` the local
+        s(z) = s - i w (u0 - 1/2) e^(-beta z) (module docstring), else s(z) = s.
         ``inlet_acceleration``: keep rho Cr s w(0) in the axial momentum (False: Childs' model).
         """
         sp, m0 = self.spec, HIRS[1]
@@ -107,15 +117,39 @@ class LiquidSealElement(ComputedBearing):
         tau_w = tau0 / V * (1 + (1 + m0) / (1 + (u / V) ** 2))  # d tau / d W at fixed u: tau0 B / V
         h = -1.0
         s = np.asarray(s, complex)
-        a = s * h / Cr  # dw/dz
-        alpha = ((m0 - 1) * tau0 / Cr + rho * V * s) * h
-        # -Cr dp/dz = alpha + beta0 w(0) + beta1 a z: the inertia -rho Cr s acts on w(z) - w(0)
-        # (Childs) or on all of w (inlet_acceleration)
-        beta1 = tau_w - rho * Cr * s
-        beta0 = beta1 if inlet_acceleration else np.full_like(s, tau_w)
-        w0 = -(alpha * L + beta1 * a * L**2 / 2) / (Cr * (1 + xi) * rho * V + beta0 * L)
+        A = (m0 - 1) * tau0 / Cr
+        # S_n = n-fold integral over (0, L) of s(z), Q = int_0^L S(z)^2 dz, S(z) = int_0^z s
+        d = 0.0 if sp.inlet_swirl is None else -1j * speed * (sp.inlet_swirl - 0.5)
+        S0, S1, S2, Q = s * L, s * L**2 / 2, s * L**3 / 6, s**2 * L**3 / 3
+        if d != 0.0:
+            b = self.swirl_decay(speed)
+            e, e2 = np.exp(-b * L), np.exp(-2 * b * L)
+            g0 = (1 - e) / b  # int_0^L e^(-b z)
+            g1 = (L - g0) / b  # int_0^L int_0^z ...
+            g2 = (L**2 / 2 - g1) / b
+            zg = (L**2 / 2 - (1 - e * (1 + b * L)) / b**2) / b  # int_0^L z (1 - e^(-b z)) / b dz
+            gg = (L - 2 * g0 + (1 - e2) / (2 * b)) / b**2  # int_0^L ((1 - e^(-b z)) / b)^2 dz
+            S0, S1, S2 = S0 + d * g0, S1 + d * g1, S2 + d * g2
+            Q = Q + 2 * s * d * zg + d**2 * gg
+        # -Cr (p(z) - p0) = A h z + rho V h S + tau_w w0 z + tau_w h S_1(z) / Cr - rho h S^2 / 2 - (1 - a) rho Cr w0 S:
+        # the inertia -rho Cr s(z) acts on w(z) - w(0) (Childs, a = 1) or on all of w (inlet_acceleration, a = 0)
+        keep = 1.0 if inlet_acceleration else 0.0
+        w0 = -(A * h * L + rho * V * h * S0 + tau_w * h * S1 / Cr - rho * h * S0**2 / 2) / (
+            Cr * (1 + xi) * rho * V + tau_w * L - keep * rho * Cr * S0
+        )
         p0 = -(1 + xi) * rho * V * w0
-        int_p = p0 * L - (alpha * L**2 / 2 + beta0 * w0 * L**2 / 2 + beta1 * a * L**3 / 6) / Cr
+        int_p = (
+            p0 * L
+            - (
+                A * h * L**2 / 2
+                + rho * V * h * S1
+                + tau_w * w0 * L**2 / 2
+                + tau_w * h * S2 / Cr
+                - rho * h * Q / 2
+                - keep * rho * Cr * w0 * S1
+            )
+            / Cr
+        )
         return np.pi * R * np.conj(int_p)
 
     def childs(self, speed: float) -> dict:
@@ -158,7 +192,8 @@ class LiquidSealElement(ComputedBearing):
         return K0 - c0 * x0 - M * x0**2, k0 + C * x0 - m * x0**2, C - 2 * m * x0, c0 + 2 * M * x0, M, m
 
     def constants(self, speed: float) -> tuple[float, float, float, float, float, float]:
-        """K, k, C, c [N/m, N s/m], M, m [kg] at spin ``speed`` [rad/s] (Childs' short seal, m = 0)."""
+        """K, k, C, c [N/m, N s/m], M, m [kg] at spin ``speed`` [rad/s]: Childs' short seal (m = 0), or with
+        ``inlet_swirl`` the coefficients of the force, quadratic in the whirl frequency (module docstring)."""
         return _constants(self, float(speed))
 
     def coefficients(self, speed, whirl=None) -> tuple[np.ndarray, np.ndarray]:
@@ -195,6 +230,8 @@ class LiquidSealElement(ComputedBearing):
 @functools.lru_cache(maxsize=4096)
 def _constants(el: LiquidSealElement, speed: float) -> tuple[float, float, float, float, float, float]:
     """K, k, C, c, M, m of ``el`` at ``speed`` (cached: coefficients and mass ask for the same speeds)."""
+    if el.spec.inlet_swirl is not None:
+        return tuple(float(x) for x in el.expanded(speed))
     d = el.childs(speed)
     mu3, T, w = d["mu3"], d["T"], speed
     M = mu3 * d["mu2"] * T**2
