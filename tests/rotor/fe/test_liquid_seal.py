@@ -259,3 +259,31 @@ def test_swirl_brake_lowers_cross_coupling():
         assert C == pytest.approx(ref[2], rel=1e-9) and M == pytest.approx(ref[4], rel=1e-7)
         ks.append(k)
     assert np.all(np.diff(ks) > 0) and ks[0] < 0.6 * ks[2]  # u0 = 0: k 47 % below the developed swirl
+
+
+def test_kanki_kawakami_short_seal():
+    """Measured short plain water seal (Kanki & Kawakami 1984; literature.KANKI_KAWAKAMI_SHORT), with
+    Childs' entrance loss 0.1 (not fitted) and the rig's inlet swirl 400 / 2000 rpm = 0.2:
+    - K = 3.964 MN/m against 3.96 / 4.01 measured (xx / yy): -0.5 % of their mean; tolerance 2.5 %,
+      twice the measured xx / yy spread (1.3 %);
+    - leakage 10 193 cm^3/s, 12.7 % above the measured 9 047 (entrance loss 0.5: 9 198, 1.7 % above):
+      tolerance 15 %, the model's own spread over Childs' entrance losses 0.1..0.5 (11 %) plus margin;
+    - |k| = 0.86 MN/m against 0.34..0.66 measured; with the swirl developed at 1/2 (the default) 1.60:
+      the inlet swirl removes 2/3 of the difference (tested: more than 60 %);
+    - not asserted (docs/stability.md): C = 15.3 kN s/m against 24.6 measured (-38 %), and the
+      measured |c| = 11.6 kN s/m against 1.06 here."""
+    from rotaflex.core.units import rpm_to_rad_s
+    from rotaflex.rotor.fe.bearings.literature import KANKI_KAWAKAMI_SHORT as ref
+
+    keys = ("radius", "length", "clearance", "density", "viscosity", "inlet_pressure", "outlet_pressure")
+    spec = {k: ref[k] for k in keys}
+    w = rpm_to_rad_s(ref["speed_rpm"])
+    u0 = ref["inlet_rotation_rpm"] / ref["speed_rpm"]
+    el = element(LiquidSeal(**spec, entrance_loss=0.1, inlet_swirl=u0), "kk")
+    K, k, C, c, M, m = el.constants(w)
+    assert K == pytest.approx(np.mean(ref["K"]), rel=2 * abs(np.diff(ref["K"])[0]) / np.mean(ref["K"]))
+    area = 2 * np.pi * ref["radius"] * ref["clearance"]
+    assert el.flow(w)[0] * area == pytest.approx(ref["leakage"], rel=0.15)
+    k_dev = element(LiquidSeal(**spec, entrance_loss=0.1), "kk").constants(w)[1]
+    k_meas = np.mean(ref["k"])
+    assert abs(k - k_meas) < 0.4 * abs(k_dev - k_meas) and k > 0

@@ -3,9 +3,9 @@
 Childs (1983), "Dynamic analysis of turbulent annular seals based on Hirs' lubrication
 equation", J. Lubr. Technol. 105, 429-436; Childs (1993), Turbomachinery Rotordynamics, ch. 3
 (the short-seal solution in the Black-Jenssen form). A plain annulus of radius R, length L and
-radial clearance Cr; circumferential velocity fully developed at R w / 2 (inlet swirl ratio 0.5:
-a swirl brake or a seal fed without preswirl is not modelled differently), circumferential
-pressure gradients negligible against axial ones, Hirs' turbulent wall shear on both walls
+radial clearance Cr; circumferential velocity fully developed at R w / 2 (inlet swirl ratio 0.5,
+the default; ``inlet_swirl`` below), circumferential pressure gradients negligible against axial
+ones, Hirs' turbulent wall shear on both walls
 
     tau_z = rho n0 (2 H / nu)^m0 (W^2 + (R w / 2)^2)^((1 + m0)/2) W,   n0 = 0.066, m0 = -0.25,
 
@@ -30,6 +30,20 @@ of the inlet-velocity perturbation w(0) is left out and the Taylor coefficients 
 s are exactly mu0, mu1, mu2 (sympy and numerical tests); a = 0 keeps it (``inlet_acceleration``:
 C -17 %, M -56 % for the neck ring of the tests; not Childs' published result, kept to show the
 sensitivity, docs/stability.md).
+
+``inlet_swirl`` u0 (Childs 1983: the circumferential velocity u enters at u0 R w and develops
+towards R w / 2). Zeroth order, rho H V du/dz = -(tau_s + tau_r) with Hirs' circumferential shears
+linearised about u = R w / 2 (their sum is rho lambda V B_t (u - R w / 2), B_t = 1 + (1 + m0) /
+(1 + 4 b^2)):
+
+    u(z) = R w [1/2 + (u0 - 1/2) e^(-beta z)],   beta = lambda B_t / Cr.
+
+The axial shear is even in u - R w / 2, so lambda, the leakage and tau0, dtau/dW keep their values
+(to first order in u0 - 1/2). First order: every s above becomes the local s(z) = i (W - u(z) / R)
+= s - i w (u0 - 1/2) e^(-beta z) (continuity and the inertia terms); the integrals of s(z) and of
+S(z)^2, S(z) = int_0^z s, are elementary and :meth:`impedance` stays closed form. The force is
+quadratic in W: K, k, C, c, M, m are its coefficients (:meth:`expanded`); u0 = 1/2 gives Childs'
+closed form, C and M do not depend on u0, k falls with u0 (swirl brakes).
 """
 
 from __future__ import annotations

@@ -9,6 +9,7 @@ Written from the literature, independently of the solvers in this package:
 - Someya (1989), four-pad tilting-pad bearing, load between pads, L/D = 0.5 (p. 83).
 - Raimondi & Boyd (1958), full 360 deg bearing, L/D = 1 (as tabulated in Shigley's Mechanical
   Engineering Design).
+- Kanki & Kawakami (1984), measured leakage and coefficients of a short plain water seal.
 - The stability threshold of a symmetric rotor on two bearings from the linearised equations:
   rigid (4x4; Lund 1987, Review of the concept of dynamic coefficients, J. Tribology 109) and
   the Jeffcott rotor (central disk on a massless flexible shaft, massless journals; 6 states).
@@ -76,6 +77,31 @@ RAIMONDI_BOYD_LD1 = [
     (0.8, 0.0446, 36.24),
     (0.9, 0.0188, 26.45),
 ]
+
+
+#: Kanki & Kawakami (1984), "Experimental study on the dynamic characteristics of pump annular seals",
+#: Proc. IMechE Conf. Vibrations in Rotating Machinery, C297/84, pp. 159-166: the short plain seal
+#: (L/D = 0.2) as transcribed in the validation case val/val02 of the public bulk-flow code
+#: trosny/bulk_flow (the paper itself was not at hand: its table or figure number is not known).
+#: Geometry [m], water at 25.6 C [kg/m^3, Pa s], pressures [Pa], speeds [rpm]; measured leakage
+#: [m^3/s], direct K_xx, K_yy [N/m] and C_xx, C_yy [N s/m], cross-coupled |K_xy|, |K_yx| [N/m] and
+#: |C_xy|, |C_yx| [N s/m] (the transcription runs the rotor backwards: magnitudes only).
+KANKI_KAWAKAMI_SHORT = {
+    "radius": 0.1,
+    "length": 0.04,
+    "clearance": 0.5e-3,
+    "density": 995.5,
+    "viscosity": 7.888e-4,
+    "inlet_pressure": 1.47e6,
+    "outlet_pressure": 0.49e6,
+    "speed_rpm": 2000.0,
+    "inlet_rotation_rpm": 400.0,
+    "leakage": 9047e-6,
+    "K": (3.96e6, 4.01e6),
+    "k": (0.664e6, 0.337e6),
+    "C": (24.82e3, 24.46e3),
+    "c": (12.3e3, 10.88e3),
+}
 
 
 def rigid_rotor_growth(w, m, diameter, length, clearance, viscosity, shaft_stiffness=np.inf):
