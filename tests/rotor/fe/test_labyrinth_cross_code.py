@@ -196,3 +196,25 @@ def test_vermes_example_passes_one_flow_through_every_tooth():
     np.testing.assert_allclose(flows, m, rtol=1e-9)
     neumann = element(type(spec)(**{**spec.__dict__, "leakage": "neumann"}), "bp")
     assert neumann.leak[0] > m
+
+
+def test_vermes_choked_seal():
+    """Three teeth, 50 and 100 bar to 1 bar on LABY3's law: the last tooth sits at its critical ratio for
+    the jet it is fed (r_c > 0.528 with carry-over), the tooth flow is homogeneous of degree one in the
+    pressures (jet velocities of degree zero), so the leakage doubles with the inlet pressure."""
+    base = dict(teeth=3, pitch=3e-3, tooth_height=3e-3, clearance=0.2e-3, radius=0.05, inlet_temperature=300.0)
+    els = [
+        element(Labyrinth(**base, inlet_pressure=p, outlet_pressure=1e5, leakage="vermes"), "lab")
+        for p in (50e5, 100e5)
+    ]
+    (m1, p1, c1), (m2, _, c2) = els[0].leak, els[1].leak
+    el = els[0]
+    w = 0.0
+    for k in range(2):
+        f, w = vermes_flow(p1[k], p1[k + 1], w, 0.2e-3, el.rt, el.gamma, el.cd, el.nu)
+        assert f == pytest.approx(m1, rel=1e-8)
+    assert c1 and c2 and p1[3] / p1[2] == pytest.approx(el.critical_ratio(w), rel=1e-6)
+    assert el.critical_ratio(w) > el.critical_ratio(0.0) == pytest.approx((2 / 2.4) ** 3.5, rel=1e-12)
+    assert m2 / m1 == pytest.approx(2.0, rel=1e-8)
+    K, C = el.coefficients([1000.0])
+    assert np.all(np.isfinite(K)) and np.all(np.isfinite(C)) and C[0, 0, 0] > 0

@@ -231,7 +231,7 @@ class LabyrinthElement(ComputedBearing):
             p = self._march(m)
             return -sp.inlet_pressure if p is None else p[-1] - sp.outlet_pressure
 
-        # no seal passes more than its first tooth against the outlet pressure (mu_2 <= 2 for neumann)
+        # bracket: twice the first tooth alone against the outlet pressure (it has no carry-over; mu_2 < 2)
         hi = 2.0 * self.tooth(0, sp.inlet_pressure, sp.outlet_pressure)[0]
         m = brentq(g, 0.0, hi, xtol=1e-14 * hi, rtol=1e-13)
         p = self._march(m)
