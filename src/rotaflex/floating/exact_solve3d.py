@@ -401,13 +401,18 @@ class HubSolution(ExactSolution):
     hub: np.ndarray | None = None
 
 
-def _projection(fixed: np.ndarray, free: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """(n, nf + 1) map from the unknowns (free increments, hub angle) to all increments: the
-    identity on the free DOFs, ``B`` (the clamped blocks' motion per unit hub angle) last."""
-    P = np.zeros((len(fixed), len(free) + 1))
-    P[free, np.arange(len(free))] = 1.0
-    P[fixed, -1] = B[fixed]
-    return P
+def _reduced(A: np.ndarray, free: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """``P^T A P`` (nf + 1, nf + 1) for the map ``P`` from the unknowns (free increments, hub
+    angle) to all increments: the identity on the free DOFs, ``B`` (the clamped blocks'
+    increments per unit hub angle, zero on the free DOFs) last."""
+    nf = len(free)
+    out = np.empty((nf + 1, nf + 1))
+    AB = A @ B
+    out[:nf, :nf] = A[np.ix_(free, free)]
+    out[:nf, nf] = AB[free]
+    out[nf, :nf] = B @ A[:, free]
+    out[nf, nf] = B @ AB
+    return out
 
 
 def simulate_hub3d(
@@ -438,7 +443,7 @@ def simulate_hub3d(
     ``B`` the clamped blocks' increments per unit ``d phi`` (``a x x`` on the translations,
     ``R0^T a`` on the material rotations) and ``r_c`` the clamped rows' residual (the force the
     hub applies to the beam). Newton's matrix is ``P^T (M + gamma' C + beta' K T) P + J`` with
-    ``P`` the map of :func:`_projection` (the turn of ``B`` with ``phi`` and the centripetal
+    ``P`` the map of :func:`_reduced` (the turn of ``B`` with ``phi`` and the centripetal
     terms' rate dependence left out: a quasi-Newton iteration, checked on the residual).
 
     At a breakpoint the step ending there sees the loads' left limit and the next starts from
@@ -460,20 +465,22 @@ def simulate_hub3d(
     nf = len(free)
 
     def clamped(phi, rate, acc):
-        """Clamped blocks' state, velocity, acceleration and ``B`` at the hub's motion."""
-        qs, vs, acs = frame_state(beam, ax, phi, rate, acc)
-        return qs, vs, acs, np.where(fixed, frame_state(beam, ax, phi, 1.0, 0.0)[1], 0.0)
+        """Clamped blocks' state, velocity, acceleration and ``B`` at the hub's motion (the
+        rigid motion is linear in the rate's square and the acceleration)."""
+        qs, B, cen = frame_state(beam, ax, phi, 1.0, 0.0)
+        B, cen = np.where(fixed, B, 0.0), np.where(fixed, cen, 0.0)
+        return qs, rate * B, acc * B + rate * rate * cen, B
 
     def accelerations(q, v, phi, rate, t):
         """Free accelerations and ``phi''`` from the equations at ``(q, v)`` (linear in them)."""
         _, _, acs, B = clamped(phi, rate, 0.0)
         vd = np.where(fixed, acs, 0.0)  # the centripetal part of the clamped accelerations
         r0 = eq.residual(q, v, vd, t, want_k=False)[0]
-        P = _projection(fixed, free, B)
-        A = P.T @ eq.M @ P
+        A = _reduced(eq.M, free, B)
         A[-1, -1] += J
         z = np.linalg.solve(A, -np.concatenate([r0[free], [B @ r0 - hub.torque_at(t)]]))
-        return vd + P @ z, float(z[-1]), r0
+        vd[free] += z[:-1]
+        return vd + B * z[-1], float(z[-1]), r0
 
     q, v, _ = frame_state(beam, ax, 0.0, 0.0, 0.0)
     ph, pw = 0.0, 0.0
@@ -523,8 +530,7 @@ def simulate_hub3d(
             if it > 1 and (res <= tol * scale or step <= 1e-13 * beam.length):
                 break
             _, K, C = eq.residual(q1, v1, vd1, te)
-            P = _projection(fixed, free, B)
-            A = P.T @ (eq.M + gp * C + bp * _times_tangent(K, dq)) @ P
+            A = _reduced(eq.M + gp * C + bp * _times_tangent(K, dq), free, B)
             A[-1, -1] += J
             d = np.linalg.solve(A, -np.concatenate([r[free], [rh]]))
             vd1[free] += d[:nf]
