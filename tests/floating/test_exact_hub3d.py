@@ -60,8 +60,11 @@ def hub_case(dimension=3, **edit) -> dict:
 
 
 def test_slew_about_z_is_the_planar_exact_hub():
-    # 60 deg in 1 s: the tips bend 0.1 L. Same element family, mass and integrator in the
-    # plane: equal to the Newton tolerance (measured 1.0e-7 m on the tip, 1.0e-7 rad on the hub)
+    # 60 deg in 1 s: the tips bend 0.1 L. Same elements and generalized-alpha in the plane; the
+    # clamps differ (planar: index-3 multipliers, the clamped nodes' velocities from the
+    # Newmark formulas; 3-D: eliminated, their velocities the hub's exactly), an O(h^2)
+    # difference: measured 4.6e-7 rad on the hub and 4.2e-7 m on the tip at h = 0.02 s
+    # (1.1e-7 and 9.6e-8 at 0.01 s)
     out = {dim: run_case(hub_case(dim)).dataset.isel(solution=0) for dim in (2, 3)}
     d2, d3 = out[2], out[3]
     assert np.abs(d2["position"].values).max() < 1e-12  # the planar free hub's centre stays put
@@ -129,12 +132,13 @@ def test_oblique_slew_angular_momentum_is_the_torque_impulse():
     tip = sol.q[-1].reshape(-1, 7)[beam.n_nodes - 1, :3]
     assert abs(np.dot(tip, AXIS) - np.dot(beam.nodes[-1], AXIS)) > 1e-4
     err = np.abs(axial_momentum(plan, sol) - impulse).max()
-    assert err < 1e-3 * np.abs(impulse).max()
+    assert err < 2e-4 * np.abs(impulse).max()
 
 
 def test_oblique_slew_energy_balance_is_second_order():
     # versine torque: kinetic + strain energy = the torque's work; the balance error falls
-    # with h^2 (measured ratio 4.0; the bearing does no work)
+    # with h^2 (measured 5.8e-6 / 1.37e-6 J at h = 0.02 / 0.01: ratio 4.25; the bearing does
+    # no work)
     errs = []
     for h in (0.02, 0.01):
         _, sol, _ = oblique(h, "versine")
@@ -142,7 +146,7 @@ def test_oblique_slew_energy_balance_is_second_order():
         assert np.all(sol.energy[:, 3] == 0.0)
     peak = np.abs(sol.energy[:, 2]).max()
     assert peak > 0.01  # the torque did work
-    assert errs[1] < 1e-3 * peak
+    assert errs[1] < 1e-4 * peak
     assert 3.3 < errs[0] / errs[1] < 4.8, errs
 
 
@@ -170,7 +174,8 @@ def test_small_slow_slew_is_the_modal_hub():
     # EI = 1 N m^2, 1 kg/m strips on a 1 kg m^2 hub, 0.1 deg in 3 s (first clamped period 1.8
     # s): tip deflection 2e-4 L, the small-deflection limit. The modal body (4 modes per
     # strip) is converged in its modes; the difference is the exact beam's mesh and step
-    # error: measured 4.2 % (4 elements) of the peak deflection, the hub angle 1.8e-3
+    # error: measured 4.2 % (4 elements) of the peak deflection, the hub angle 1.8e-3 (4, 8,
+    # 16 elements at h = 0.005 s: 4.3 %, 0.84 %, 0.17 %, observed order 2.3)
     cfg = copy.deepcopy(SMALL_SLEW)
     cfg["body"]["model"] = "modal"
     modal = run_case(cfg).dataset.isel(solution=0)

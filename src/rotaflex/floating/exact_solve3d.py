@@ -443,8 +443,9 @@ def simulate_hub3d(
     ``B`` the clamped blocks' increments per unit ``d phi`` (``a x x`` on the translations,
     ``R0^T a`` on the material rotations) and ``r_c`` the clamped rows' residual (the force the
     hub applies to the beam). Newton's matrix is ``P^T (M + gamma' C + beta' K T) P + J`` with
-    ``P`` the map of :func:`_reduced` (the turn of ``B`` with ``phi`` and the centripetal
-    terms' rate dependence left out: a quasi-Newton iteration, checked on the residual).
+    ``P`` the map of :func:`_reduced` (a quasi-Newton matrix: the turn of ``B`` and of the
+    centripetal accelerations with ``phi`` and ``phi'`` left out; adding them changed the
+    iteration count by < 0.1 % in a 720 deg slew at 25 rad/s).
 
     At a breakpoint the step ending there sees the loads' left limit and the next starts from
     accelerations re-solved with their right limit (so a piecewise-constant torque's impulse
