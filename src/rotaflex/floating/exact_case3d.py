@@ -19,7 +19,17 @@ is a distributed load ``rho_a g`` fixed in space.
 The reference frame is fixed, or turns about its origin as ``[prescribed]`` says (any axis;
 spin-up, bang-bang or versine profiles) or as a ``[slew]`` with ``drive = "motion"``; the root
 is clamped to it (:func:`rotaflex.floating.exact_solve3d.rigid_motion`). ``analysis`` must then
-be ``"dynamic"``; a torque-driven slew needs a free hub (not in 3-D yet).
+be ``"dynamic"``.
+
+``[body] type = "hub"``: beam appendages (``length``, ``e``, ``rho`` and the section of
+``[[body.hub.appendages]]``, :class:`HubBeam3D`) clamped at their roots to a rigid hub that
+turns about a fixed axis through its centre (a bearing). ``[slew] drive = "torque"``: the hub
+is free about the slew axis, with ``body.hub.inertia`` about it (``a . diag(I) a``), driven by
+the slew's torque (the rigid body's inertia about the axis times the profile's acceleration)
+and any ``[[loads]]`` torque on the hub (``|point| <= body.hub.radius``; its component along
+the axis); :func:`rotaflex.floating.exact_solve3d.simulate_hub3d`. ``drive = "motion"`` or
+``[prescribed]``: the hub follows the motion. Points are positions in hub axes on an
+appendage's axis (the planar and modal hub's convention).
 """
 
 from __future__ import annotations
