@@ -305,9 +305,22 @@ def run(case, plan, progress=None):
                 progress=progress if exact.analysis == "dynamic" else None,
             )
         )
+        if isinstance(plan["beam"], HubBeam3D):
+            _add_hub_energy(sols[-1], plan["beam"], case.body.hub.inertia)
     if exact.analysis != "dynamic":
         sols.append(quasi_static(plan, case.solver.t_end, case.solver.dt_out, progress))
     return sols
+
+
+def _add_hub_energy(sol, beam: HubBeam3D, inertia) -> None:
+    """A hub that follows a prescribed motion: its kinetic energy ``w . I w / 2`` (``w`` the
+    frame's angular velocity, ``I`` the principal moments ``inertia`` [kg m^2]) into the kinetic
+    energy and, as the work the drive spent on it (from rest), into the drive's work (the
+    planar hub's accounting, where the hub is part of the mass matrix)."""
+    w = sol.v.reshape(len(sol.v), -1, 6)[:, beam.n_nodes, 3:]
+    e_hub = 0.5 * np.einsum("tk,k,tk->t", w, np.asarray(inertia, dtype=float), w)
+    sol.energy[:, 0] += e_hub
+    sol.energy[:, 3] += e_hub - e_hub[0]
 
 
 def points(beam: ExactBeam3D, outputs: dict) -> dict:
