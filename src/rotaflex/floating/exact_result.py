@@ -166,7 +166,7 @@ def datasets3d(beam, sol, points: dict):
     w_frame = sol.v.reshape(T, -1, 6)[:, n, 3:] if dyn else zeros3
     e = sol.energy
     tax = ("time", "axis")
-    return {
+    out = {
         "position": (tax, blocks[:, n, :3], "m", "origin of the reference frame (inertial)"),
         "quaternion": (("time", "quat"), frame_q, "1", "attitude of the reference frame"),
         "rotation_matrix": (("time", "row", "col"), quaternion_to_matrix(frame_q), "1", "attitude matrix A"),
@@ -189,6 +189,12 @@ def datasets3d(beam, sol, points: dict):
             "largest node deflection / longest beam length",
         ),
     }
+    hub = getattr(sol, "hub", None)  # a free hub (rotaflex.floating.exact_solve3d.HubSolution)
+    if hub is not None:
+        out["hub_angle"] = (("time",), hub[:, 0], "rad", "hub angle about the slew axis (unwrapped)")
+        out["hub_rate"] = (("time",), hub[:, 1], "rad/s", "hub angular rate about the slew axis")
+        out["hub_torque"] = (("time",), hub[:, 2], "N m", "applied torque on the hub about the slew axis")
+    return out
 
 
 def build_exact_result(beam, solutions, points: dict, config: dict | None, wall_time: float, frame: str):
