@@ -67,7 +67,9 @@ class ExactConfig:
     )
 
     dimension: Literal[2, 3] = param(
-        2, doc="2: the planar Reissner beam (x-y plane); 3: the 3-D Simo-Reissner beam (static, cantilever)"
+        2,
+        doc="2: the planar Reissner beam (x-y plane); 3: the 3-D Simo-Reissner beam "
+        "(cantilever on a prescribed frame, or appendages of a hub on a fixed axis)",
     )
     gj: float | None = param(None, unit="N m^2", gt=0.0, doc="3-D: torsional stiffness (default (EI2 + EI3) / 2.6)")
     bend_radius: float | None = param(
