@@ -218,3 +218,68 @@ def test_vermes_choked_seal():
     assert m2 / m1 == pytest.approx(2.0, rel=1e-8)
     K, C = el.coefficients([1000.0])
     assert np.all(np.isfinite(K)) and np.all(np.isfinite(C)) and C[0, 0, 0] > 0
+
+
+# ROSS's reference states for the viscosity (test_seals_golden.py, LABYRINTH_BASE): LABY3 fits Sutherland's
+# law mu = b T^1.5 / (T + S) through them; T^1.5 / mu is linear in T, which gives b and S.
+VISCOSITY_STATES = ((283.15, 1.7746561138374613e-05), (282.60903080958565, 1.7687886306966975e-05))
+
+
+def _laby3_options(gas_constant_8314=True):
+    """LABY3's modelling choices as options (docs/stability.md), with the Sutherland constant of its fit
+    and, optionally, its gas constant 8314 J/(kmol K) (through the molar mass)."""
+    (t1, m1), (t2, m2) = VISCOSITY_STATES
+    b = (t2 - t1) / (t2**1.5 / m2 - t1**1.5 / m1)
+    mm = LABY3["molar_mass"] * (8.314462618 / 8.314 if gas_constant_8314 else 1.0)
+    return dict(
+        leakage="vermes",
+        cavity_temperature="isentropic",
+        cavity_length="pitch",
+        shear_linearisation="laby3",
+        sutherland_constant=b * t1**1.5 / m1 - t1,
+        molar_mass=mm,
+    )
+
+
+@pytest.mark.parametrize("teeth_on", ["rotor", "stator"])
+def test_laby3_options_reproduce_laby3(teeth_on):
+    """With LABY3's five modelling choices (Vermes leakage, isentropic cavities, cavity length = pitch,
+    shear perturbed in proportion to the density, LABY3's Sutherland fit) and its gas constant, the 16
+    cases agree with LABY3 to the digits it printed: measured largest difference 1.0e-5 (K 3.4e-6,
+    k 7.6e-6, C 1.0e-5, c 6.3e-6); the table rounds to 5-6 significant digits (15.809: +-3.2e-5), hence
+    5e-5. Without the gas constant (8314.46 here): 8e-5."""
+    opt = _laby3_options()
+    for p in PRESWIRL:
+        got = _coefficients(teeth_on=teeth_on, preswirl=p, **opt)[2:]
+        for j, rpm in enumerate(SPEED_RPM):
+            ref = LABY3_COEFFICIENTS[f"{teeth_on} {p} {rpm:.0f}"]
+            np.testing.assert_allclose([x[j] for x in got], ref, rtol=5e-5)
+
+
+def test_laby3_options_reproduce_the_golden_case_in_full():
+    """ROSS's golden case "rotor" at full precision (ross/tests/data/seals_golden.json): coefficients
+    to 1.6e-6 (tested 5e-6), cavity pressures to 5.3e-6, temperatures to 7.6e-7, swirl velocities to
+    1.6e-7, leakage (LABY3's circumference 2 pi (R + Cr/2)) to 4.1e-7. The rest is LABY3's stopping
+    rule: it ends its bisection on the leakage when the outlet pressure is within 1e-5 (94 299.50
+    instead of 94 300 Pa)."""
+    el, w, K, k, C, c = _coefficients(**_laby3_options())
+    np.testing.assert_allclose(K, [-23274.54876605991, -57642.48309911785], rtol=5e-6)
+    np.testing.assert_allclose(k, [-6737.397171792413, -6679.6149390768205], rtol=5e-6)
+    np.testing.assert_allclose(C, [15.684330729966703, 22.830785946358436], rtol=5e-6)
+    np.testing.assert_allclose(c, [29.660927387719177, 51.64285024515793], rtol=5e-6)
+    m, p, _ = el.leak
+    assert 2 * np.pi * (LABY3["radius"] + LABY3["clearance"] / 2) * m == pytest.approx(LABY3_LEAKAGE, rel=1e-6)
+    np.testing.assert_allclose(
+        p[[1, 5, 10, 15]], [292425.6460466775, 254245.67270889084, 198238.90653694086, 119839.17834944611], rtol=1e-5
+    )
+    t = el.outputs(w)["cavity_temperature"].values
+    np.testing.assert_allclose(
+        t[[0, 4, 9, 14]], [278.9097910469611, 267.7906502832553, 249.0992086965106, 215.18435669557775], rtol=2e-6
+    )
+    z = el.zeroth(w[0])
+    np.testing.assert_allclose(
+        z.v[[1, 5, 11, 15]], [15.375014585842333, 20.26259752746213, 24.124294186388354, 25.440971986292947], rtol=1e-6
+    )
+    # LABY3's viscosity fit passes through both of its states
+    (t1, m1), (t2, m2) = VISCOSITY_STATES
+    assert el.viscosity(t2) == pytest.approx(m2, rel=1e-12) and el.viscosity(t1) == pytest.approx(m1, rel=1e-12)
