@@ -110,6 +110,9 @@ class Labyrinth:
     shear_linearisation: Literal["exact", "laby3"] = param(
         "exact", doc="perturbed wall shear: tau ~ rho^(1+m) (density in Re), or tau ~ rho (LABY3)"
     )
+    choking: Literal["sonic_jet", "laby3"] = param(
+        "sonic_jet", doc="vermes: tooth chokes where its jet is sonic, or at LABY3's ratio, linearised unchoked"
+    )
     sutherland_constant: float | None = param(
         None, unit="K", doc="viscosity ~ T^1.5 / (T + S) from the inlet's (None: constant viscosity)"
     )
@@ -223,7 +226,10 @@ class LabyrinthElement(ComputedBearing):
         if self.spec.leakage == "neumann":
             return self.r_choke
         g1, rt = (self.gamma - 1) / self.gamma, self.rt if rt is None else rt
-        return (2 / (self.gamma + 1) * (1 + self.nu * w_up**2 * g1 / (2 * rt))) ** (1 / g1)
+        head = self.nu * w_up**2 * g1 / (2 * rt)  # the carried-over jet's share of the stagnation enthalpy
+        if self.spec.choking == "laby3":  # LABY3 adds it without the factor 2 / (gamma + 1)
+            return (2 / (self.gamma + 1) + head) ** (1 / g1)
+        return (2 / (self.gamma + 1) * (1 + head)) ** (1 / g1)
 
     def viscosity(self, t):
         """Dynamic viscosity [Pa s] at temperature ``t`` [K]: Sutherland's law through the inlet's value,
@@ -329,7 +335,7 @@ class LabyrinthElement(ComputedBearing):
         if sp.leakage == "vermes":  # Scharrer's linearisation (module docstring); choked last tooth: m ~ P
             d2 = p[:-1] ** 2 - p[1:] ** 2
             a, b = m * p[:-1] / d2, -m * p[1:] / d2
-            if z.choked:
+            if z.choked and sp.choking == "sonic_jet":  # LABY3 linearises its choked tooth as unchoked
                 a[-1], b[-1] = m / p[-2], 0.0
         # unknowns: P_1..P_NC (columns 0..nc-1), V_1..V_NC (columns nc..2nc-1)
         M = np.zeros((2 * nc, 2 * nc), complex)
