@@ -398,3 +398,25 @@ def test_choked_seal_against_laby3():
         vermes_flow(q, 0.1 * q, wj, el.spec.clearance, rt, el.gamma, el.cd, el.nu)[0] for q in (p[3] - dp, p[3] + dp)
     ]
     assert (flows[1] - flows[0]) / (2 * dp) == pytest.approx(m / p[3], rel=1e-8)
+
+
+def test_laby3_example_passes_one_flow_through_every_tooth():
+    """examples/rotor/compressor_labyrinth_laby3.toml, balance piston (LABY3's choices, methane 40 -> 12
+    bar): with each tooth fed at its upstream cavity's isentropic temperature and by the previous jet,
+    the marched pressures pass the same flow through every tooth (1e-9), the last cavity meets the
+    outlet, and T_k / T_0 = (P_k / P_0)^((gamma-1)/gamma) (1e-12)."""
+    import tomllib
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[3] / "examples" / "rotor" / "compressor_labyrinth_laby3.toml"
+    spec = Labyrinth(**tomllib.loads(path.read_text())["bearing"]["balance_piston"]["labyrinth"])
+    el = element(spec, "bp")
+    (m, p, choked), t = el.leak, el.temperature
+    assert spec.cavity_temperature == "isentropic" and spec.cavity_length == "pitch" and not choked
+    assert p[-1] == pytest.approx(spec.outlet_pressure, rel=1e-9)
+    wj, flows = 0.0, []
+    for k in range(spec.teeth):
+        f, wj = vermes_flow(p[k], p[k + 1], wj, spec.clearance, el.rg * t[k], el.gamma, el.cd, el.nu)
+        flows.append(f)
+    np.testing.assert_allclose(flows, m, rtol=1e-9)
+    np.testing.assert_allclose(t / t[0], (p / p[0]) ** ((el.gamma - 1) / el.gamma), rtol=1e-12)

@@ -2,7 +2,7 @@
 
 The model of Iwatsubo (1980) in the form of Childs & Scharrer (1986), "An Iwatsubo-based solution
 for labyrinth seals: comparison to experimental results", J. Eng. Gas Turbines Power 108,
-325-331; the gas is ideal and isothermal at the inlet temperature T (rho = P / (R_g T)).
+325-331; the gas is ideal and (by default) isothermal at the inlet temperature T (rho = P / (R_g T)).
 
 Leakage per unit circumference through tooth k (Neumann's equation):
 
@@ -30,16 +30,30 @@ leakage problem", J. Eng. Power 83, 161-169):
     C_d = 0.67675 - 0.08519 x + 0.0878 x^2 - 0.01819 x^3 + 0.00111 x^4,  x = width / Cr  (LABY3)
 
 A tooth chokes at r_c = (2 / (gamma + 1) (1 + nu w_{k-1}^2 (gamma-1) / (2 gamma R_g T)))^(gamma/(gamma-1)),
-where this flow is largest and the jet sonic (LABY3 adds the carry-over term without the factor
-2 / (gamma + 1); the same for an unchoked seal). The cavities stay at the inlet temperature (the jet's kinetic energy
-is dissipated in the cavity; LABY3 keeps the jet's isentropic temperature, docs/stability.md).
-Martin's formula with Vermes' factor, m = 1.014 C_d / sqrt(1 - nu) Cr P_in / sqrt(R_g T)
-sqrt((1 - r^2) / (NT - ln r)) (Martin 1908; Vermes 1961), is LABY3's first estimate only; here
-Brent's method needs none. The first-order leakage of this option is Scharrer's (as LABY3):
-delta m_k = m (P_{k-1} delta P_{k-1} - P_k delta P_k) / (P_{k-1}^2 - P_k^2), the linearised
-Neumann form at the actual leakage m.
+where this flow is largest and the jet sonic. Martin's formula with Vermes' factor (Martin 1908;
+Vermes 1961) is LABY3's first estimate only; here Brent's method needs none. The first-order leakage
+of this option is Scharrer's (as LABY3): delta m_k = m (P_{k-1} delta P_{k-1} - P_k delta P_k) /
+(P_{k-1}^2 - P_k^2), the linearised Neumann form at the actual leakage m; a choked last tooth
+passes delta m = m delta P_{k-1} / P_{k-1} (its flow is proportional to its upstream pressure).
 
-Circumferential momentum of cavity i (length L = pitch - tooth width, depth B + Cr, area
+LABY3's further modelling choices, each an option (defaults: this model's; docs/stability.md
+measures each one against LABY3):
+
+- ``cavity_temperature = "isentropic"``: cavity k at its jet's temperature T_k = T_{k-1}
+  r^((gamma-1)/gamma), density P_k / (R_g T_k), tooth k + 1 fed at R_g T_k (default
+  ``"isothermal"``: the jet's kinetic energy is dissipated in the cavity, total enthalpy is conserved
+  and an ideal gas keeps the inlet temperature). The perturbations stay isothermal at T_k.
+- ``cavity_length = "pitch"``: L = pitch (default pitch - tooth width) in the cavity area, the
+  hydraulic diameter, the wetted lengths and the force; Vermes' nu keeps pitch - width.
+- ``sutherland_constant = S``: mu = mu_in (T / T_in)^1.5 (T_in + S) / (T + S) at each cavity's
+  temperature (LABY3 fits S through two states); without it mu is constant.
+- ``shear_linearisation = "laby3"``: the perturbed shear tau_1 / tau = P_1 / P (the Reynolds number
+  held at its centred value); default the linearisation of the shear law itself, (1 + m0) P_1 / P.
+- ``choking = "laby3"``: r_c^((gamma-1)/gamma) = 2 / (gamma + 1) + nu w_{k-1}^2 (gamma-1) /
+  (2 gamma R_g T), and a choked last tooth linearised as an unchoked one (Scharrer's form above with
+  P_k the throat pressure), 1 / (1 - r_c^2) times the sensitivity of a choked flow.
+
+Circumferential momentum of cavity i (length L = pitch - tooth width by default, depth B + Cr, area
 A = (B + Cr) L), zeroth order: m (V_i - V_{i-1}) = L (a_r tau_r - a_s tau_s), V_0 = preswirl R w,
 wall shear tau = 1/2 n rho |u| u (rho |u| D_h / mu)^m0 (Blasius, n = 0.079, m0 = -0.25) with
 u = R w - V on the rotor and u = V on the stator, D_h = 2 (Cr + B) L / (Cr + B + L) and the wetted
@@ -131,6 +145,10 @@ class Labyrinth:
             )
         if self.tooth_width >= self.pitch:
             raise InputError(f"{where}.tooth_width", self.tooth_width, f"< pitch = {self.pitch:g} m")
+        if self.choking == "laby3" and self.leakage != "vermes":
+            raise InputError(
+                f"{where}.choking", self.choking, '"sonic_jet" (LABY3\'s choking needs leakage = "vermes")'
+            )
         s = self.sutherland_constant
         if s is not None and -self.inlet_temperature <= s < 0:  # T + S would change sign between 0 and T_in
             raise InputError(
@@ -390,7 +408,8 @@ class LabyrinthElement(ComputedBearing):
         return K, C
 
     def outputs(self, speed) -> dict:
-        """Leakage [kg/s], cavity pressures [Pa] and swirl ratios V / (R w) at the spin speeds."""
+        """Leakage [kg/s], cavity pressures [Pa] and swirl ratios V / (R w) at the spin speeds, and the
+        cavity temperatures [K] when they are isentropic."""
         import xarray as xr
 
         speed = np.atleast_1d(np.asarray(speed, float))
