@@ -109,7 +109,7 @@ class Labyrinth:
     inlet_pressure: float = param(unit="Pa", gt=0)
     outlet_pressure: float = param(unit="Pa", gt=0)
     inlet_temperature: float = param(unit="K", gt=0)
-    tooth_width: float = param(0.0, unit="m", ge=0, doc="tooth tip width (cavity length = pitch - width)")
+    tooth_width: float = param(0.0, unit="m", ge=0, doc="tooth tip width (cavity length = pitch - width by default)")
     teeth_on: Literal["stator", "rotor"] = param("stator", doc="side carrying the teeth")
     preswirl: float = param(0.0, doc="inlet swirl V_0 / (R w) (0: swirl brake)")
     leakage: Literal["neumann", "vermes"] = param(
