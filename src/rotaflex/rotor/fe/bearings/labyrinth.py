@@ -49,6 +49,10 @@ measures each one against LABY3):
   temperature (LABY3 fits S through two states); without it mu is constant.
 - ``shear_linearisation = "laby3"``: the perturbed shear tau_1 / tau = P_1 / P (the Reynolds number
   held at its centred value); default the linearisation of the shear law itself, (1 + m0) P_1 / P.
+- ``vermes_linearisation = "exact"`` (not LABY3's; the default is Scharrer's form above): the
+  derivatives of the Vermes law itself, each tooth's flow depending on its two pressures and on the
+  previous jet, w = m R_g T / (C_d Cr P_{k-1}^(1-1/gamma) P_k^(1/gamma)), so on every upstream
+  pressure (a dense d m_k / d P_j); C_d and nu keep their centred values.
 - ``choking = "laby3"``: r_c^((gamma-1)/gamma) = 2 / (gamma + 1) + nu w_{k-1}^2 (gamma-1) /
   (2 gamma R_g T), and a choked last tooth linearised as an unchoked one (Scharrer's form above with
   P_k the throat pressure), 1 / (1 - r_c^2) times the sensitivity of a choked flow.
@@ -126,6 +130,9 @@ class Labyrinth:
     )
     choking: Literal["sonic_jet", "laby3"] = param(
         "sonic_jet", doc="vermes: tooth chokes where its jet is sonic, or at LABY3's ratio, linearised unchoked"
+    )
+    vermes_linearisation: Literal["scharrer", "exact"] = param(
+        "scharrer", doc="vermes: perturbed leakage in Scharrer's (LABY3's) form, or the tooth law's own with its jets"
     )
     sutherland_constant: float | None = param(
         None, unit="K", doc="viscosity ~ T^1.5 / (T + S) from the inlet's (None: constant viscosity)"
@@ -350,7 +357,10 @@ class LabyrinthElement(ComputedBearing):
                 continue
             a[k] = (fl(pu + du, pd) - fl(pu - du, pd)) / (2 * du)
             b[k] = (fl(pu, pd + dd) - fl(pu, pd - dd)) / (2 * dd)
-        if sp.leakage == "vermes":  # Scharrer's linearisation (module docstring); choked last tooth: m ~ P
+        dm = None  # d m_k / d P_j over every station (the exact Vermes form): dense
+        if sp.leakage == "vermes" and sp.vermes_linearisation == "exact":
+            dm = self._vermes_jacobian(z)[:, 1 : nc + 1]
+        elif sp.leakage == "vermes":  # Scharrer's linearisation (module docstring); choked last tooth: m ~ P
             d2 = p[:-1] ** 2 - p[1:] ** 2
             a, b = m * p[:-1] / d2, -m * p[1:] / d2
             if z.choked and sp.choking == "sonic_jet":  # LABY3 linearises its choked tooth as unchoked
@@ -389,9 +399,39 @@ class LabyrinthElement(ComputedBearing):
             if i > 1:
                 M[q, P - 1] += a[i - 1] * dv
             rhs[q] -= (m / sp.clearance) * dv * h
+            if dm is not None:  # m_{i+1} - m_i in continuity, m1_i (V_i - V_{i-1}) in momentum
+                M[r, :nc] += dm[i] - dm[i - 1]
+                M[q, :nc] += dm[i - 1] * dv
             rhs[q] += L * (self.a_r * tr * n_r - self.a_s * ts * n_s) * self.dlndh * h
         x = np.linalg.solve(M, rhs)
         return np.pi * R * L * np.sum(np.conj(x[:nc]))
+
+    def _vermes_jacobian(self, z: Zeroth) -> np.ndarray:
+        """d m_k / d P_j [kg/(s m Pa)] of the Vermes tooth law itself (teeth x stations 0..NT, temperatures
+        frozen): tooth k depends on P_k, P_{k+1} and the jet of tooth k - 1, whose velocity
+        w = m R_g T / (C_d Cr P^(1-1/gamma) P_down^(1/gamma)) carries every upstream perturbation.
+        Central differences, relative step 1e-7; a choked last tooth is differentiated below its
+        critical ratio (its flow then follows the upstream state only)."""
+        sp, p, g = self.spec, z.p, self.gamma
+        n = sp.teeth
+        jac, dw, w = np.zeros((n, n + 1)), np.zeros(n + 1), 0.0
+
+        def flow(pu, pd, wu, rt):
+            return vermes_flow(pu, pd, wu, sp.clearance, rt, g, self.cd, self.nu)
+
+        for k in range(n):
+            pu, pd, rt = p[k], p[k + 1], self.rg * z.t[k]
+            pe = 0.5 * pd if (z.choked and k == n - 1) else pd
+            du, dd, dj = 1e-7 * pu, 1e-7 * pd, 1e-7 * max(w, 1.0)
+            row = dw * (flow(pu, pe, w + dj, rt)[0] - flow(pu, pe, w - dj, rt)[0]) / (2 * dj)
+            row[k] += (flow(pu + du, pe, w, rt)[0] - flow(pu - du, pe, w, rt)[0]) / (2 * du)
+            row[k + 1] += (flow(pu, pe + dd, w, rt)[0] - flow(pu, pe - dd, w, rt)[0]) / (2 * dd)
+            jac[k] = row
+            mk, w = flow(pu, pd, w, rt)
+            dw = w * row / mk  # d ln w = d ln m - (1 - 1/gamma) d ln P_k - (1/gamma) d ln P_{k+1}
+            dw[k] -= w * (1 - 1 / g) / pu
+            dw[k + 1] -= w / (g * pd)
+        return jac
 
     def coefficients(self, speed, whirl=None) -> tuple[np.ndarray, np.ndarray]:
         """K, C (n, 2, 2) [N/m, N s/m] at spin ``speed`` and whirl ``whirl`` [rad/s] (None: synchronous)."""
