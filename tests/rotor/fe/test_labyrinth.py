@@ -185,3 +185,41 @@ def test_choked_seal_leaks_in_proportion_to_the_inlet_pressure():
     assert not element(Labyrinth(**base, inlet_pressure=1.5e5, outlet_pressure=1e5), "lab").leak[2]
     K, C = els[0].coefficients([1000.0])
     assert np.all(np.isfinite(K)) and np.all(np.isfinite(C))
+
+
+@pytest.mark.parametrize(
+    "change, key",
+    [
+        ({"sutherland_constant": -100.0}, "sutherland_constant"),  # T + S changes sign between 0 and T_in
+        ({"choking": "laby3"}, "choking"),  # LABY3's choking is a property of its (vermes) tooth law
+        ({"cavity_length": "land"}, "cavity_length"),
+        ({"cavity_temperature": "adiabatic"}, "cavity_temperature"),
+    ],
+)
+def test_bad_laby3_option_names_the_key(change, key):
+    data = {
+        "shaft": [{"outer_diameter": 0.151, "length": 0.6, "elements": 4}],
+        "bearing": {
+            "de": {"node": 0, "kxx": 1e8, "kyy": 1e8},
+            "nde": {"node": 4, "kxx": 1e8, "kyy": 1e8},
+            "inlet": {"node": 2, "labyrinth": {**SEAL, **change}},
+        },
+    }
+    with pytest.raises(InputError) as err:
+        Rotor.from_mapping(data)
+    assert err.value.field == f"bearing.inlet.labyrinth.{key}"
+
+
+def test_isentropic_cavities_cool_and_sutherland_follows():
+    """``cavity_temperature = "isentropic"``: every cavity at T_{k-1} (P_k / P_{k-1})^((gamma-1)/gamma), so
+    T_k / T_0 = (P_k / P_0)^((gamma-1)/gamma) along the seal (1e-12); the viscosity then follows
+    Sutherland's law at each cavity's temperature: for air through 1.716e-5 Pa s at 273.15 K with
+    S = 110.4 K, the U.S. Standard Atmosphere 1976 form 1.458e-6 T^1.5 / (T + 110.4) [Pa s]."""
+    spec = {**SEAL, "outlet_pressure": 3e5, "inlet_temperature": 273.15}
+    el = element(Labyrinth(**spec, cavity_temperature="isentropic", sutherland_constant=110.4, viscosity=1.716e-5), "l")
+    t, p = el.temperature, el.leak[1]
+    np.testing.assert_allclose(t / 273.15, (p / 7e5) ** (0.4 / 1.4), rtol=1e-12)
+    assert t[-2] < 250.0
+    np.testing.assert_allclose(el.viscosity(t), 1.458e-6 * t**1.5 / (t + 110.4), rtol=2e-4)
+    out = el.outputs(np.array([1000.0]))
+    np.testing.assert_allclose(out["cavity_temperature"].values, t[1:-1])
