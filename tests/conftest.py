@@ -12,6 +12,7 @@ IDs, which pytest 9.2 no longer honours, so the groups were silently ignored
 
 from __future__ import annotations
 
+import signal
 import sys
 
 import pytest
@@ -24,6 +25,14 @@ def kernel_family(nodeid: str) -> str | None:
     """The kernel family of a test (``tests/<folder>/...`` node ID), or None."""
     parts = nodeid.split("::", 1)[0].split("/")
     return KERNEL_FAMILY.get(parts[1]) if len(parts) > 2 and parts[0] == "tests" else None
+
+
+def pytest_configure(config):
+    """Take Ctrl-C back if the suite was started with it ignored (a background job of a
+    non-interactive shell, ``nohup``): the command-line processes the signal tests start inherit
+    the disposition, and an ignored SIGINT would make them finish instead of stopping."""
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.hookimpl(optionalhook=True)
