@@ -148,14 +148,18 @@ class ExactBeam3D:
 
     def residual(self, loads, q, lam_scale, want_k=True):
         """``f_int - lam f_ext`` (n,), its tangent (n, n) and the strain energy [J] at ``q``;
-        ``lam_scale``: one factor for all loads or one per load and the distributed load last."""
+        ``lam_scale``: one factor for all loads or one per load and the distributed load last;
+        ``want_k``: False, True (the analytic tangent) or 2 (central differences of the
+        internal force, the check)."""
         n = self.n_dof
         f, K = np.zeros(n), np.zeros((n, n)) if want_k else np.zeros((1, 1))
         fe, Ke = np.zeros(n), np.zeros((n, n)) if want_k else np.zeros((1, 1))
         lam = np.broadcast_to(np.asarray(lam_scale, dtype=float), (len(loads.node) + 1,)).copy()
         gam0, kap0 = self._ref
-        energy = ek3.internal(q, self.conn, self.reference_lengths(), gam0, kap0, self.stiffness, f, K, want_k)
-        ek3.external(q, lam, loads.node, loads.kind, loads.frame, loads.amp, self.n_nodes, loads.dist, fe, Ke, want_k)
+        # one integer type for the kernel's tangent switch (a bool would compile a second variant)
+        mode = int(want_k)
+        energy = ek3.internal(q, self.conn, self.reference_lengths(), gam0, kap0, self.stiffness, f, K, mode)
+        ek3.external(q, lam, loads.node, loads.kind, loads.frame, loads.amp, self.n_nodes, loads.dist, fe, Ke, mode > 0)
         return f - fe, K + Ke, energy
 
     @property

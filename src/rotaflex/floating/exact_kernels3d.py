@@ -26,9 +26,14 @@ so it is stress-free.
 
 Internal force (virtual work with spatial spins ``dth``): ``n = R_m N`` (spatial force),
 ``d psi = Jr(psi)^-1 R_b^T (dth_b - dth_a)``, ``dth_m = dth_a + R_m Jr(psi/2) d psi / 2``
-(``Jr``: right Jacobian of the exponential map). The tangent is the central difference of the
-element force under the same multiplicative perturbations of its 12 DOFs (step 1e-6 L0 and
-1e-6 rad; error ~1e-10 relative): exact to that level, so Newton keeps its quadratic rate.
+(``Jr``: right Jacobian of the exponential map). The tangent (:func:`_element_tangent`) is the
+analytic derivative of that force under the same spatial spins, material and geometric parts
+together (the derivatives of ``Jr`` and ``Jr^-1`` included), so Newton keeps its quadratic
+rate; it is not symmetric away from equilibrium (each node's rotation block differs from its
+transpose by ``-m~``, ``m`` the node's moment: the spins do not commute). The central
+difference of the force under the same multiplicative perturbations (``want_k = 2``, steps
+1e-6 L0 and 1e-6 rad, agreeing to ~1e-10 relative) checks it and was the tangent before:
+the analytic one costs a fifth (docs/floating.md).
 
 DOF layout: state ``q`` 7 numbers per node ``(x, y, z, e0, e1, e2, e3)`` then the reference
 frame's 7; increments 6 per node ``(dx, dy, dz, dth_x, dth_y, dth_z)`` then the frame's 6.
@@ -113,8 +118,62 @@ def strains(xa, qa, xb, qb, L0, gam0, kap0):
 
 
 @inner
-def _element_force(xa, qa, xb, qb, L0, gam0, kap0, cn, cm, fe):
-    """Element internal force ``fe`` (12,): forces and moments on a, then b; returns the energy."""
+def _dcoef(th):
+    """``a'/th, b'/th, c'/th`` [-]: the derivatives of the scalar coefficients of :func:`_jr`
+    (``a, b``) and :func:`_jr_inv` (``c``) divided by the angle (``d f(|v|) / dv = f'/th v``);
+    Taylor series below 0.1 rad, where the closed forms cancel (error < 1e-9 either side)."""
+    t2 = th * th
+    if th < 0.1:
+        da = -1.0 / 12.0 + t2 / 180.0 - t2 * t2 / 6720.0 + t2 * t2 * t2 / 453600.0
+        db = -1.0 / 60.0 + t2 / 1260.0 - t2 * t2 / 60480.0 + t2 * t2 * t2 / 4989600.0
+        dc = 1.0 / 360.0 + t2 / 7560.0 + t2 * t2 / 201600.0 + t2 * t2 * t2 / 5987520.0
+        return da, db, dc
+    s, c = np.sin(th), np.cos(th)
+    da = (th * s - 2.0 * (1.0 - c)) / (t2 * t2)
+    db = (th * (1.0 - c) - 3.0 * (th - s)) / (t2 * t2 * th)
+    sh = np.sin(0.5 * th)
+    dc = -2.0 / (t2 * t2) + 1.0 / (4.0 * t2 * sh * sh) + np.cos(0.5 * th) / (2.0 * t2 * th * sh)
+    return da, db, dc
+
+
+@inner
+def _d_jr_t(u, w):
+    """``d (Jr(u)^T w) / du`` (3, 3) at fixed ``w`` (``Jr(u)^T w = w + a u x w + b u x (u x w)``)."""
+    th2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2]
+    th = np.sqrt(th2)
+    if th < 1e-4:
+        a, b = 0.5 - th2 / 24.0, 1.0 / 6.0 - th2 / 120.0
+    else:
+        a, b = (1.0 - np.cos(th)) / th2, (th - np.sin(th)) / (th2 * th)
+    da, db, _ = _dcoef(th)
+    uw = cross(u, w)
+    uuw = cross(u, uw)
+    D = -a * skew3(w) + b * np.dot(u, w) * np.eye(3)
+    for i in range(3):
+        for j in range(3):
+            D[i, j] += da * uw[i] * u[j] + db * uuw[i] * u[j] + b * (u[i] * w[j] - 2.0 * w[i] * u[j])
+    return D
+
+
+@inner
+def _d_jr_inv_t(u, h):
+    """``d (Jr(u)^-T h) / du`` (3, 3) at fixed ``h`` (``Jr^-T h = h - u x h / 2 + c u x (u x h)``)."""
+    th2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2]
+    th = np.sqrt(th2)
+    c = 1.0 / 12.0 + th2 / 720.0 if th < 1e-4 else 1.0 / th2 - (1.0 + np.cos(th)) / (2.0 * th * np.sin(th))
+    _, _, dc = _dcoef(th)
+    uuh = cross(u, cross(u, h))
+    D = 0.5 * skew3(h) + c * np.dot(u, h) * np.eye(3)
+    for i in range(3):
+        for j in range(3):
+            D[i, j] += dc * uuh[i] * u[j] + c * (u[i] * h[j] - 2.0 * h[i] * u[j])
+    return D
+
+
+@inner
+def _element_state(xa, qa, xb, qb, L0, gam0, kap0, cn, cm):
+    """The stress resultants and their lever arms of one element (see the module docstring):
+    ``gam, kap, psi, R_m, N, M, n, v, R_b, T, h, p``."""
     gam, kap, psi, Rm, xp = strains(xa, qa, xb, qb, L0, gam0, kap0)
     N = cn * gam
     M = cm * kap
@@ -124,12 +183,86 @@ def _element_force(xa, qa, xb, qb, L0, gam0, kap0, cn, cm, fe):
     T = _jr_inv(psi) @ Rb.T
     h = 0.5 * (_jr(0.5 * psi).T @ (Rm.T @ v)) + M
     p = T.T @ h
+    return gam, kap, psi, Rm, N, M, n, v, Rb, T, h, p
+
+
+@inner
+def _element_force(xa, qa, xb, qb, L0, gam0, kap0, cn, cm, fe):
+    """Element internal force ``fe`` (12,): forces and moments on a, then b; returns the energy."""
+    gam, kap, _, _, N, M, n, v, _, _, _, p = _element_state(xa, qa, xb, qb, L0, gam0, kap0, cn, cm)
     for i in range(3):
         fe[i] = -n[i]
         fe[3 + i] = v[i] - p[i]
         fe[6 + i] = n[i]
         fe[9 + i] = p[i]
     return 0.5 * L0 * (np.dot(gam, N) + np.dot(kap, M))
+
+
+@inner
+def _element_tangent(xa, qa, xb, qb, L0, gam0, kap0, cn, cm, Ke):
+    """Element tangent ``Ke`` (12, 12) = ``d fe / d(dx_a, dth_a, dx_b, dth_b)`` of
+    :func:`_element_force` (spatial spins, ``R <- exp(dth~) R``), analytic.
+
+    Each quantity of the force is differentiated in turn, as a (3, 12) map of the element's
+    increments (``D_*``): ``dpsi = T (dth_b - dth_a)``, ``dth_m = dth_a + R_m Jr(psi/2) dpsi / 2``,
+    ``dGamma = R_m^T (d(x_b - x_a) + (x_b - x_a)~ dth_m) / L0``, ``dK = dpsi / L0``,
+    ``dn = -n~ dth_m + R_m C_N dGamma``, ``dv = -(x_b - x_a)~ dn + n~ d(x_b - x_a)``,
+    ``d(R_m^T v) = R_m^T (dv + v~ dth_m)``, ``dh = d(Jr(psi/2)^T)/dpsi . dpsi / 4 +
+    Jr(psi/2)^T d(R_m^T v) / 2 + C_M dK``, ``dp = -p~ dth_b + R_b d(Jr^-T(psi))/dpsi . dpsi +
+    T^T dh``. The products of the stiffnesses with the strain maps are the material part, the
+    rest the geometric part. Not symmetric away from equilibrium: the rotation block of each
+    node differs from its transpose by ``-m~`` (``m`` the node's moment in ``fe``; the spins do
+    not commute), so the assembled tangent is symmetric where the moments balance."""
+    _, _, psi, Rm, _, _, n, v, Rb, T, h, p = _element_state(xa, qa, xb, qb, L0, gam0, kap0, cn, cm)
+    dx = xb - xa
+    Dpsi, Dm, Ddx = np.zeros((3, 12)), np.zeros((3, 12)), np.zeros((3, 12))
+    A = 0.5 * (Rm @ _jr(0.5 * psi) @ T)
+    for i in range(3):
+        Ddx[i, i], Ddx[i, 6 + i] = -1.0, 1.0
+        Dm[i, 3 + i] = 1.0
+        for j in range(3):
+            Dpsi[i, 3 + j], Dpsi[i, 9 + j] = -T[i, j], T[i, j]
+            Dm[i, 3 + j] -= A[i, j]
+            Dm[i, 9 + j] += A[i, j]
+    Dgam = (Rm.T @ (Ddx + skew3(dx) @ Dm)) / L0
+    Dn = -skew3(n) @ Dm + Rm @ (cn.reshape(3, 1) * Dgam)
+    Dv = -skew3(dx) @ Dn + skew3(n) @ Ddx
+    w = Rm.T @ v
+    Dw = Rm.T @ (Dv + skew3(v) @ Dm)
+    Dh = 0.25 * (_d_jr_t(0.5 * psi, w) @ Dpsi) + 0.5 * (_jr(0.5 * psi).T @ Dw) + (cm / L0).reshape(3, 1) * Dpsi
+    Dp = (Rb @ _d_jr_inv_t(psi, h)) @ Dpsi + T.T @ Dh
+    P = skew3(p)
+    for i in range(3):
+        for j in range(3):
+            Dp[i, 9 + j] -= P[i, j]
+    for i in range(3):
+        for j in range(12):
+            Ke[i, j] = -Dn[i, j]
+            Ke[3 + i, j] = Dv[i, j] - Dp[i, j]
+            Ke[6 + i, j] = Dn[i, j]
+            Ke[9 + i, j] = Dp[i, j]
+
+
+@inner
+def _element_tangent_fd(xa, qa, xb, qb, L0, gam0, kap0, cn, cm, Ke):
+    """Element tangent ``Ke`` (12, 12) by central differences of :func:`_element_force` under
+    the multiplicative perturbations of its 12 DOFs (steps ``FD_STEP`` L0 and ``FD_STEP`` rad):
+    the check of :func:`_element_tangent`."""
+    fp, fm = np.zeros(12), np.zeros(12)
+    for j in range(12):
+        h = FD_STEP * (L0 if j % 6 < 3 else 1.0)
+        if j < 6:
+            xp_, qp_ = _perturbed(xa, qa, j, h)
+            xm_, qm_ = _perturbed(xa, qa, j, -h)
+            _element_force(xp_, qp_, xb, qb, L0, gam0, kap0, cn, cm, fp)
+            _element_force(xm_, qm_, xb, qb, L0, gam0, kap0, cn, cm, fm)
+        else:
+            xp_, qp_ = _perturbed(xb, qb, j - 6, h)
+            xm_, qm_ = _perturbed(xb, qb, j - 6, -h)
+            _element_force(xa, qa, xp_, qp_, L0, gam0, kap0, cn, cm, fp)
+            _element_force(xa, qa, xm_, qm_, L0, gam0, kap0, cn, cm, fm)
+        for i in range(12):
+            Ke[i, j] = (fp[i] - fm[i]) / (2.0 * h)
 
 
 @inner
@@ -157,11 +290,13 @@ def internal(q, conn, L0, gam0, kap0, stiff, f, K, want_k):
         (ne, 3) reference strains [-], [1/m].
     stiff : (ne, 6) ``EA, GA2, GA3`` [N] and ``GJ, EI2, EI3`` [N m^2].
     f, K : outputs in increment layout (6 per node), zeroed here; ``K`` only when ``want_k``.
+    want_k : 0 (or False) no tangent, 1 (or True) the analytic tangent
+        (:func:`_element_tangent`), 2 its central-difference check (:func:`_element_tangent_fd`).
     """
     f[:] = 0.0
     if want_k:
         K[:, :] = 0.0
-    fe, fp, fm = np.zeros(12), np.zeros(12), np.zeros(12)
+    fe, Ke = np.zeros(12), np.zeros((12, 12))
     energy = 0.0
     for e in range(conn.shape[0]):
         a, b, le = conn[e, 0], conn[e, 1], L0[e]
@@ -174,23 +309,14 @@ def internal(q, conn, L0, gam0, kap0, stiff, f, K, want_k):
             f[6 * b + i] += fe[6 + i]
         if not want_k:
             continue
-        for j in range(12):
-            h = FD_STEP * (le if j % 6 < 3 else 1.0)
-            if j < 6:
-                xp_, qp_ = _perturbed(xa, qa, j, h)
-                xm_, qm_ = _perturbed(xa, qa, j, -h)
-                _element_force(xp_, qp_, xb, qb, le, gam0[e], kap0[e], cn, cm, fp)
-                _element_force(xm_, qm_, xb, qb, le, gam0[e], kap0[e], cn, cm, fm)
-                col = 6 * a + j
-            else:
-                xp_, qp_ = _perturbed(xb, qb, j - 6, h)
-                xm_, qm_ = _perturbed(xb, qb, j - 6, -h)
-                _element_force(xa, qa, xp_, qp_, le, gam0[e], kap0[e], cn, cm, fp)
-                _element_force(xa, qa, xm_, qm_, le, gam0[e], kap0[e], cn, cm, fm)
-                col = 6 * b + j - 6
-            for i in range(6):
-                K[6 * a + i, col] += (fp[i] - fm[i]) / (2.0 * h)
-                K[6 * b + i, col] += (fp[6 + i] - fm[6 + i]) / (2.0 * h)
+        if int(want_k) == 2:
+            _element_tangent_fd(xa, qa, xb, qb, le, gam0[e], kap0[e], cn, cm, Ke)
+        else:
+            _element_tangent(xa, qa, xb, qb, le, gam0[e], kap0[e], cn, cm, Ke)
+        for i in range(12):
+            r = 6 * a + i if i < 6 else 6 * b + i - 6
+            for j in range(12):
+                K[r, 6 * a + j if j < 6 else 6 * b + j - 6] += Ke[i, j]
     return energy
 
 
