@@ -83,6 +83,54 @@ def qlog(q):
 
 
 @inner
+def _mm(A, B):
+    """``A B`` of small matrices by loops (the BLAS call of ``@`` costs more than a 3 x 12 product)."""
+    C = np.zeros((A.shape[0], B.shape[1]))
+    for i in range(A.shape[0]):
+        for k in range(A.shape[1]):
+            a = A[i, k]
+            for j in range(B.shape[1]):
+                C[i, j] += a * B[k, j]
+    return C
+
+
+@inner
+def _mtm(A, B):
+    """``A^T B`` of small matrices by loops."""
+    C = np.zeros((A.shape[1], B.shape[1]))
+    for k in range(A.shape[0]):
+        for i in range(A.shape[1]):
+            a = A[k, i]
+            for j in range(B.shape[1]):
+                C[i, j] += a * B[k, j]
+    return C
+
+
+@inner
+def _mv(A, x):
+    """``A x`` (3 x 3 times 3)."""
+    return np.array(
+        [
+            A[0, 0] * x[0] + A[0, 1] * x[1] + A[0, 2] * x[2],
+            A[1, 0] * x[0] + A[1, 1] * x[1] + A[1, 2] * x[2],
+            A[2, 0] * x[0] + A[2, 1] * x[1] + A[2, 2] * x[2],
+        ]
+    )
+
+
+@inner
+def _mtv(A, x):
+    """``A^T x`` (3 x 3 times 3)."""
+    return np.array(
+        [
+            A[0, 0] * x[0] + A[1, 0] * x[1] + A[2, 0] * x[2],
+            A[0, 1] * x[0] + A[1, 1] * x[1] + A[2, 1] * x[2],
+            A[0, 2] * x[0] + A[1, 2] * x[1] + A[2, 2] * x[2],
+        ]
+    )
+
+
+@inner
 def _jr(v):
     """Right Jacobian of the exponential map, ``d exp(v) = exp(v) (Jr(v) dv)~``."""
     th2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
@@ -92,7 +140,7 @@ def _jr(v):
     else:
         a, b = (1.0 - np.cos(th)) / th2, (th - np.sin(th)) / (th2 * th)
     S = skew3(v)
-    return np.eye(3) - a * S + b * (S @ S)
+    return np.eye(3) - a * S + b * _mm(S, S)
 
 
 @inner
@@ -102,7 +150,7 @@ def _jr_inv(v):
     th = np.sqrt(th2)
     c = 1.0 / 12.0 + th2 / 720.0 if th < 1e-4 else 1.0 / th2 - (1.0 + np.cos(th)) / (2.0 * th * np.sin(th))
     S = skew3(v)
-    return np.eye(3) + 0.5 * S + c * (S @ S)
+    return np.eye(3) + 0.5 * S + c * _mm(S, S)
 
 
 @inner
@@ -112,7 +160,7 @@ def strains(xa, qa, xb, qb, L0, gam0, kap0):
     psi = qlog(qmul(qc, qb))
     Rm = quat_matrix(qmul(qa, qexp(0.5 * psi)))
     xp = (xb - xa) / L0
-    gam = Rm.T @ xp
+    gam = _mtv(Rm, xp)
     gam[0] -= 1.0
     return gam - gam0, psi / L0 - kap0, psi, Rm, xp
 
@@ -177,12 +225,12 @@ def _element_state(xa, qa, xb, qb, L0, gam0, kap0, cn, cm):
     gam, kap, psi, Rm, xp = strains(xa, qa, xb, qb, L0, gam0, kap0)
     N = cn * gam
     M = cm * kap
-    n = Rm @ N
+    n = _mv(Rm, N)
     v = L0 * cross(n, xp)
     Rb = quat_matrix(qb)
-    T = _jr_inv(psi) @ Rb.T
-    h = 0.5 * (_jr(0.5 * psi).T @ (Rm.T @ v)) + M
-    p = T.T @ h
+    T = _mm(_jr_inv(psi), Rb.T)
+    h = 0.5 * _mtv(_jr(0.5 * psi), _mtv(Rm, v)) + M
+    p = _mtv(T, h)
     return gam, kap, psi, Rm, N, M, n, v, Rb, T, h, p
 
 
@@ -216,7 +264,7 @@ def _element_tangent(xa, qa, xb, qb, L0, gam0, kap0, cn, cm, Ke):
     _, _, psi, Rm, _, _, n, v, Rb, T, h, p = _element_state(xa, qa, xb, qb, L0, gam0, kap0, cn, cm)
     dx = xb - xa
     Dpsi, Dm, Ddx = np.zeros((3, 12)), np.zeros((3, 12)), np.zeros((3, 12))
-    A = 0.5 * (Rm @ _jr(0.5 * psi) @ T)
+    A = 0.5 * _mm(_mm(Rm, _jr(0.5 * psi)), T)
     for i in range(3):
         Ddx[i, i], Ddx[i, 6 + i] = -1.0, 1.0
         Dm[i, 3 + i] = 1.0
@@ -224,13 +272,13 @@ def _element_tangent(xa, qa, xb, qb, L0, gam0, kap0, cn, cm, Ke):
             Dpsi[i, 3 + j], Dpsi[i, 9 + j] = -T[i, j], T[i, j]
             Dm[i, 3 + j] -= A[i, j]
             Dm[i, 9 + j] += A[i, j]
-    Dgam = (Rm.T @ (Ddx + skew3(dx) @ Dm)) / L0
-    Dn = -skew3(n) @ Dm + Rm @ (cn.reshape(3, 1) * Dgam)
-    Dv = -skew3(dx) @ Dn + skew3(n) @ Ddx
-    w = Rm.T @ v
-    Dw = Rm.T @ (Dv + skew3(v) @ Dm)
-    Dh = 0.25 * (_d_jr_t(0.5 * psi, w) @ Dpsi) + 0.5 * (_jr(0.5 * psi).T @ Dw) + (cm / L0).reshape(3, 1) * Dpsi
-    Dp = (Rb @ _d_jr_inv_t(psi, h)) @ Dpsi + T.T @ Dh
+    Dgam = _mtm(Rm, Ddx + _mm(skew3(dx), Dm)) / L0
+    Dn = _mm(Rm, cn.reshape(3, 1) * Dgam) - _mm(skew3(n), Dm)
+    Dv = _mm(skew3(n), Ddx) - _mm(skew3(dx), Dn)
+    w = _mtv(Rm, v)
+    Dw = _mtm(Rm, Dv + _mm(skew3(v), Dm))
+    Dh = 0.25 * _mm(_d_jr_t(0.5 * psi, w), Dpsi) + 0.5 * _mtm(_jr(0.5 * psi), Dw) + (cm / L0).reshape(3, 1) * Dpsi
+    Dp = _mm(_mm(Rb, _d_jr_inv_t(psi, h)), Dpsi) + _mtm(T, Dh)
     P = skew3(p)
     for i in range(3):
         for j in range(3):
