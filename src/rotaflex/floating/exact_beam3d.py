@@ -161,7 +161,7 @@ class ExactBeam3D:
         vel = np.zeros(n) if v is None else np.asarray(v, dtype=float)
         # one integer type for the kernel's tangent switch (a bool would compile a second variant)
         mode = int(want_k)
-        L0 = self.reference_lengths()
+        L0 = self._lengths
         energy = ek3.internal(q, vel, self.conn, L0, gam0, kap0, self.stiffness, float(eta), float(kv), f, K, mode)
         ek3.external(q, lam, loads.node, loads.kind, loads.frame, loads.amp, self.n_nodes, loads.dist, fe, Ke, mode > 0)
         return f - fe, K + Ke, energy
@@ -172,6 +172,13 @@ class ExactBeam3D:
         if "_ref_cache" not in self.__dict__:
             object.__setattr__(self, "_ref_cache", self.reference_strains())
         return self.__dict__["_ref_cache"]
+
+    @property
+    def _lengths(self):
+        # the reference lengths, computed once per body (3 % of a 3-D step when recomputed)
+        if "_lengths_cache" not in self.__dict__:
+            object.__setattr__(self, "_lengths_cache", self.reference_lengths())
+        return self.__dict__["_lengths_cache"]
 
     def constrain(self, q, clamp, g, G):
         """Clamp gaps and Jacobian (:func:`rotaflex.floating.exact_kernels3d.constraints`)."""
