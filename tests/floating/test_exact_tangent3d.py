@@ -308,10 +308,8 @@ def test_material_damping_gives_each_bending_mode_its_ratio():
     t, d = free_vibration(3, 2 * zeta / w1)
     for k, z in ((0, zeta), (1, 2 * zeta)):
         dec = log_decrement(t, d[:, k], 0.5 * 2 * np.pi / w1)
-        assert dec == pytest.approx(2 * np.pi * z / np.sqrt(1 - z**2), rel=0.03), (
-            k,
-            dec,
-        )
+        # measured +0.12 % (y), -0.08 % (z)
+        assert dec == pytest.approx(2 * np.pi * z / np.sqrt(1 - z**2), rel=0.01), (k, dec)
 
 
 def test_damped_in_plane_vibration_is_the_planar_damped_beam():

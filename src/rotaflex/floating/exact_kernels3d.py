@@ -33,7 +33,12 @@ rate; it is not symmetric away from equilibrium (each node's rotation block diff
 transpose by ``-m~``, ``m`` the node's moment: the spins do not commute). The central
 difference of the force under the same multiplicative perturbations (``want_k = 2``, steps
 1e-6 L0 and 1e-6 rad, agreeing to ~1e-10 relative) checks it and was the tangent before:
-the analytic one costs a fifth (docs/floating.md).
+the analytic one costs about a tenth of that (docs/floating.md).
+
+Material damping (Kelvin-Voigt, ``eta`` [s]): ``N = C_N (Gamma + eta Gamma')``,
+``M = C_M (K + eta K')``, the strain rates the same maps as the variations applied to the
+nodes' velocities (translational, spatial angular ``R W``); the tangent adds the damping matrix
+and the rates' change with the configuration (:func:`_rate_maps`).
 
 DOF layout: state ``q`` 7 numbers per node ``(x, y, z, e0, e1, e2, e3)`` then the reference
 frame's 7; increments 6 per node ``(dx, dy, dz, dth_x, dth_y, dth_z)`` then the frame's 6.
