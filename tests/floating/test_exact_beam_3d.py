@@ -338,7 +338,6 @@ def test_bend_example_through_the_case_file_is_the_mirrored_literature_bend():
         (("body", "beam", "ei_z", -2.0), "body.beam.ei_z"),
         (("body", "exact", "dimension", 4), "body.exact.dimension"),
         (("body", "exact", "analysis", "sideways"), "body.exact.analysis"),
-        (("body", "damping_ratio", 0.01), "body.damping_ratio"),
         (("outputs", "tip", [80.0, 0.0, 0.0]), "outputs.tip"),
     ],
 )

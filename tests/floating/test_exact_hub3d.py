@@ -229,6 +229,7 @@ def test_small_slow_slew_is_the_modal_hub():
         ({"outputs.tip": [0.0, 0.0, 0.0]}, "outputs.tip"),
         ({"outputs.tip": [1.05, 0.1, 0.0]}, "outputs.tip"),
         ({"body.hub.appendages": []}, "body.hub.appendages"),
+        ({"body.damping_ratio": 0.01}, "body.damping_ratio"),
     ],
 )
 def test_bad_hub_input_names_the_key(edit, key):

@@ -146,16 +146,24 @@ class ExactBeam3D:
         out[:, 2:] = self.clamps[:, 1:]
         return out
 
-    def residual(self, loads, q, lam_scale, want_k=True):
+    def residual(self, loads, q, lam_scale, want_k=True, v=None, eta=0.0, kv=0.0):
         """``f_int - lam f_ext`` (n,), its tangent (n, n) and the strain energy [J] at ``q``;
-        ``lam_scale``: one factor for all loads or one per load and the distributed load last."""
+        ``lam_scale``: one factor for all loads or one per load and the distributed load last;
+        ``want_k``: False, True (the analytic tangent) or 2 (central differences of the
+        internal force, the check). Kelvin-Voigt damping (``eta`` [s] > 0): ``v`` the
+        velocities (6 per block, rotations material) and ``kv`` the integrator's d velocity /
+        d increment (:func:`rotaflex.floating.exact_kernels3d.internal`)."""
         n = self.n_dof
         f, K = np.zeros(n), np.zeros((n, n)) if want_k else np.zeros((1, 1))
         fe, Ke = np.zeros(n), np.zeros((n, n)) if want_k else np.zeros((1, 1))
         lam = np.broadcast_to(np.asarray(lam_scale, dtype=float), (len(loads.node) + 1,)).copy()
         gam0, kap0 = self._ref
-        energy = ek3.internal(q, self.conn, self.reference_lengths(), gam0, kap0, self.stiffness, f, K, want_k)
-        ek3.external(q, lam, loads.node, loads.kind, loads.frame, loads.amp, self.n_nodes, loads.dist, fe, Ke, want_k)
+        vel = np.zeros(n) if v is None else np.asarray(v, dtype=float)
+        # one integer type for the kernel's tangent switch (a bool would compile a second variant)
+        mode = int(want_k)
+        L0 = self._lengths
+        energy = ek3.internal(q, vel, self.conn, L0, gam0, kap0, self.stiffness, float(eta), float(kv), f, K, mode)
+        ek3.external(q, lam, loads.node, loads.kind, loads.frame, loads.amp, self.n_nodes, loads.dist, fe, Ke, mode > 0)
         return f - fe, K + Ke, energy
 
     @property
@@ -164,6 +172,13 @@ class ExactBeam3D:
         if "_ref_cache" not in self.__dict__:
             object.__setattr__(self, "_ref_cache", self.reference_strains())
         return self.__dict__["_ref_cache"]
+
+    @property
+    def _lengths(self):
+        # the reference lengths, computed once per body (3 % of a 3-D step when recomputed)
+        if "_lengths_cache" not in self.__dict__:
+            object.__setattr__(self, "_lengths_cache", self.reference_lengths())
+        return self.__dict__["_lengths_cache"]
 
     def constrain(self, q, clamp, g, G):
         """Clamp gaps and Jacobian (:func:`rotaflex.floating.exact_kernels3d.constraints`)."""

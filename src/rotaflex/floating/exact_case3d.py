@@ -7,7 +7,8 @@ along z; default ``ei``); ``[body.exact]`` adds ``gj`` (default ``(EI2 + EI3) / 
 circular section, Poisson's ratio 0.3), ``ea``, ``ga`` (both directions) and ``bend_radius`` (the
 beam curved in the x-y plane towards +y with that radius, a circular arc of the beam's length);
 ``analysis``: ``"static"`` (the equilibrium path at the output times), ``"dynamic"`` (Lie-group
-generalized-alpha, :mod:`rotaflex.floating.exact_solve3d`; no material damping) or ``"both"``.
+generalized-alpha, :mod:`rotaflex.floating.exact_solve3d`; ``body.damping_ratio``: Kelvin-Voigt
+material damping as in the planar beam) or ``"both"``.
 
 Points (loads, outputs) are material coordinates: ``[s, 0, 0]`` is the section at arclength
 ``s`` from the root (for a straight beam its position; for a bent one where it sits on the arc).
@@ -51,9 +52,12 @@ def _refuse_unsupported(case, exact):
         where = "body.type" if cfg.type != "beam" else "body.beam.support"
         got = cfg.type if cfg.type != "beam" else cfg.beam.support
         raise InputError(where, got, "a 'beam' with support = 'cantilever', or a 'hub', for body.exact.dimension = 3")
-    if cfg.damping_ratio > 0:
+    torque_hub = cfg.type == "hub" and case.prescribed is None and case.slew is not None and case.slew.drive == "torque"
+    if cfg.damping_ratio > 0 and torque_hub:
         raise InputError(
-            "body.damping_ratio", cfg.damping_ratio, "0 with body.exact.dimension = 3 (no 3-D material damping yet)"
+            "body.damping_ratio",
+            cfg.damping_ratio,
+            "0 for a torque-driven 3-D hub (material damping runs on a prescribed frame or motion)",
         )
     if case.slew is not None and case.slew.drive != "motion" and cfg.type != "hub":
         raise InputError(
@@ -300,6 +304,7 @@ def run(case, plan, progress=None):
                 dt_out=case.solver.dt_out,
                 time_step=plan["h"],
                 rho_inf=exact.rho_inf,
+                eta=2.0 * case.body.damping_ratio / plan["w1"],
                 prescribed=None if case.prescribed is None else case.prescribed.packed(),
                 breakpoints=_breaks(case.loads, case.prescribed, case.solver.t_end),
                 progress=progress if exact.analysis == "dynamic" else None,

@@ -157,8 +157,10 @@ def _times_tangent(K: np.ndarray, dq: np.ndarray) -> np.ndarray:
 class _Equations:
     """Residual and iteration matrix of the 3-D beam's equations of motion."""
 
-    def __init__(self, beam: ExactBeam3D, loads: PointLoads3D):
+    def __init__(self, beam: ExactBeam3D, loads: PointLoads3D, eta: float = 0.0):
         self.beam, self.loads = beam, loads
+        # Kelvin-Voigt time constant [s] and the step's d velocity / d increment (set per step)
+        self.eta, self.kv = float(eta), 0.0
         self.M = beam.mass_matrix()
         n = beam.n_dof
         self.rot = np.zeros(n, dtype=bool)
@@ -180,16 +182,16 @@ class _Equations:
         ek.load_factors(float(t), ld.profile, ld.par, lam)
         return lam
 
-    def forces(self, q, t, want_k=True):
+    def forces(self, q, t, want_k=True, v=None):
         """``f_int - f_ext`` (spatial, increment layout), its tangent and the strain energy."""
-        return self.beam.residual(self.loads, q, self.load_factors(t), want_k)
+        return self.beam.residual(self.loads, q, self.load_factors(t), want_k, v, self.eta, self.kv)
 
     def residual(self, q, v, vd, t, want_k=True):
         """Equations of motion (n,) at state ``q``, velocities ``v`` (translations inertial,
         rotations material) and their rates ``vd``; with ``want_k`` the iteration blocks
         ``(K in section axes, C_gyro)``. Vectorised over the nodes (block views, no Python loop
         per node)."""
-        r, K, _ = self.forces(q, t, want_k)
+        r, K, _ = self.forces(q, t, want_k, v)
         n = self.beam.n_dof
         nb = n // 6
         R = quaternion_to_matrix(q.reshape(nb, 7)[:, 3:])
@@ -241,6 +243,7 @@ def simulate_exact3d(
     dt_out: float,
     time_step: float,
     rho_inf: float = 1.0,
+    eta: float = 0.0,
     q0=None,
     v0=None,
     prescribed=None,
@@ -255,7 +258,9 @@ def simulate_exact3d(
 
     ``prescribed``: packed :meth:`~rotaflex.floating.model.Prescribed.packed` rotation of the
     reference frame about its origin (``None``: fixed); the clamped nodes follow it exactly.
-    ``breakpoints``: times [s] the steps land on (profile kinks).
+    ``breakpoints``: times [s] the steps land on (profile kinks). ``eta``: Kelvin-Voigt material
+    damping time constant [s] (``2 zeta / omega`` damps the mode of frequency ``omega`` with
+    ratio ``zeta``, higher modes more; its dissipation is not in the energy columns).
 
     Returns an :class:`~rotaflex.floating.exact_solve.ExactSolution` with ``v`` in that layout
     and the energy columns kinetic, strain, work of the loads (trapezoidal rule on the
@@ -268,7 +273,7 @@ def simulate_exact3d(
         Newton's iteration of a step did not converge in ``max_iter`` iterations.
     """
     t_wall = time.perf_counter()
-    eq = _Equations(beam, loads)
+    eq = _Equations(beam, loads, eta)
     am, af, beta, gamma = alpha_coefficients(rho_inf)
     n = beam.n_dof
     pres = None if prescribed is None else np.asarray(prescribed, dtype=float)
@@ -303,6 +308,7 @@ def simulate_exact3d(
         t1, h = times[k], times[k] - times[k - 1]
         bp = (1.0 - af) / (1.0 - am) * h * h * beta
         gp = (1.0 - af) / (1.0 - am) * h * gamma
+        eq.kv = gp / bp
         _, vr1, vdr1, _ = rigid_motion(beam, pres, t1)
         vd1 = np.where(fixed, vdr1, 0.0)
         a1 = (af * vd - am * a) / (1.0 - am)
