@@ -176,8 +176,8 @@ def campbell_figure(
     ax.set_ylim(0, top)
     ax.set_xlim(rpm[0], rpm[-1] * 1.22)  # room right of the data for the labels
     ax.set_ylabel("damped natural frequency [Hz]")
-    whirl = "solid: forward, dashed: backward whirl; " if forward is not None else ""
-    ax.set_title(f"Campbell diagram ({whirl}{marks_note}; x: unstable)", fontsize=9)
+    whirl = "solid: forward, dashed: backward whirl" if forward is not None else ""
+    ax.set_title(f"Campbell diagram ({'; '.join(t for t in (whirl, marks_note, 'x: unstable') if t)})", fontsize=9)
     ax.grid(alpha=0.3)
     al.axhline(0.0, color="k", lw=1.4, label="0: stability limit")  # black: C3 is a mode's red
     al.axhline(0.1, color="k", lw=0.9, ls="-.", label="0.1: API 617 Level II")
