@@ -87,12 +87,12 @@ def campbell_figure(
     and machine alike.
 
     Top: damped frequencies [Hz] of the tracked modes, each labelled at its last speed (unless
-    coloured by ``colour``); with
-    ``forward`` (s, t) forward fractions, forward whirl solid and backward dashed. The
-    excitation ``lines`` ``omega = factor Omega``, labelled where they leave the axes (labels
-    of modes and lines placed clear of one another); ``marks`` circled. Bottom: each mode's
-    logarithmic decrement with the 0 (stability) and 0.1 (API 617 Level II acceptance) lines;
-    unstable points crossed in the top panel.
+    coloured by ``colour``); with ``forward`` (s, t) forward fractions, forward whirl solid and
+    backward dashed. The excitation ``lines`` ``omega = factor Omega``, labelled where they
+    leave the axes (at the right end beside the modes' labels, close labels spread apart, as
+    the rotor's diagram always did: no second draw to measure them); ``marks`` circled.
+    Bottom: each mode's logarithmic decrement with the 0 (stability) and 0.1 (API 617 Level II
+    acceptance) lines; unstable points crossed in the top panel.
 
     Parameters
     ----------
@@ -123,7 +123,7 @@ def campbell_figure(
     -------
     matplotlib.figure.Figure
     """
-    from rotaflex.core.plotting import new_figure, place_labels, shade_operating_bands
+    from rotaflex.core.plotting import new_figure, shade_operating_bands
 
     fig, (ax, al) = new_figure(2, 1, sharex=True, figsize=(8.4, 7.6), height_ratios=(2.2, 1))
     speed = np.asarray(speed)
@@ -151,7 +151,7 @@ def campbell_figure(
         ld_top = max(ld_top, float(np.nanmax(logdec[:, k])) if np.any(np.isfinite(logdec[:, k])) else 0.0)
         if colour is None and np.isfinite(f[-1]) and f[-1] <= top:  # coloured: points tell the modes apart
             sense = "" if forward is None else (" FW" if fw[-1] else " BW")
-            labels.append((rpm[-1], f[-1], f"{k}{sense} {f[-1]:.0f} Hz", color))
+            labels.append([f[-1], f" {k}{sense} {f[-1]:.0f} Hz", color])
     if colour is not None and shown:
         vmax = max(0.05, float(np.nanmax(colour)))
         for k in shown:
@@ -161,8 +161,11 @@ def campbell_figure(
         name, h = line[0], float(line[1])
         c, ls = line[2:4] if len(line) > 2 else ("k", ":")
         ax.plot(rpm, h * speed * HZ, ls, color=c, lw=0.9)
-        xe = min(speed[-1], top / HZ / h if h > 0 else speed[-1])  # where the line leaves the axes
-        labels.append((rad_s_to_rpm(xe), h * xe * HZ, str(name), c))
+        if h * speed[-1] * HZ < top * 0.97:  # ends at the right: labelled beside the modes
+            labels.append([h * speed[-1] * HZ, f" {name}", c])
+        else:  # leaves through the top: labelled there, left of the line
+            yh = top * 0.97
+            ax.annotate(str(name), (rad_s_to_rpm(yh / (h * HZ)), yh), fontsize=7, color=c, ha="right", va="bottom")
     last = -np.inf
     for c in sorted(marks, key=lambda c: c["speed"]):
         if c["frequency"] * HZ > top:
@@ -194,7 +197,12 @@ def campbell_figure(
     fig.legend(
         handles + [h2[i] for i in keep], names + [n2[i] for i in keep], loc="outside lower center", ncol=4, fontsize=8
     )
-    place_labels(ax, labels)  # last: it measures the finished layout
+    gap = 0.035 * top  # labels at the right end: close ones spread apart upwards (no extra draw)
+    labels.sort(key=lambda t: t[0])
+    for i in range(1, len(labels)):
+        labels[i][0] = max(labels[i][0], labels[i - 1][0] + gap)
+    for y, text, color in labels:
+        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center", annotation_clip=False)
     return fig
 
 
