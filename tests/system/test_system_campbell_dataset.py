@@ -55,7 +55,7 @@ def test_machine_campbell_dataset_holds_the_eigenvalues_of_the_matrices(run):
     """Tracked frequencies, |lambda|, damping ratios and log decrements at every speed are
     eigenvalues of the machine's pencil; the first speed's tracks its lowest oscillatory modes;
     the machine's shares sit on top of rotor/fe's variables; each crossing lies on its line
-    between two speeds where the track's reference frequency passes the line."""
+    between two speeds where the track's damped frequency passes the line."""
     cfg, res = run
     ds = res.dataset
     box = Gearbox.from_mapping(cfg)
