@@ -78,7 +78,13 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     speeds = np.linspace(0, rpm_to_rad_s(4000), 30 if fast else 80)
     c = campbell(rd, speeds, 6, (1,))
     save_figure(
-        campbell_figure(speeds, c.modes.wd, c.modes.forward_fraction, c.modes.log_dec, (1,), c.critical),
+        campbell_figure(
+            speeds,
+            c.modes.wd,
+            c.modes.log_dec,
+            forward=c.modes.forward_fraction,
+            marks=[{**x, "labelled": True} for x in c.critical],
+        ),
         out / "campbell.png",
     )
     fw = [x["speed"] for x in c.critical if x["whirl"] == "forward"]

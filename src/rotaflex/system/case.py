@@ -317,34 +317,15 @@ def run_campbell(config: dict, *, progress: bool = False):
     """Campbell diagram over ``[campbell] speed_rpm`` with mesh-order lines and crossings."""
     from rotaflex.system.assembly import free_dofs
     from rotaflex.system.modal import campbell
-    from rotaflex.system.results import SystemCampbellResult
+    from rotaflex.system.results import SystemCampbellResult, campbell_dataset
 
     t0 = time.perf_counter()
     box, spec = parse(config, "campbell")
     speeds = _range(spec.speed_rpm, spec.n_speeds, "campbell", box)
     n_modes, note = clamp_modes(spec.n_modes, free_dofs(box).size, "campbell.n_modes")
     c = campbell(box, speeds, n_modes, spec.harmonics, reduce=spec.reduce)
-    m = c.modes
-    ds = xr.Dataset(
-        {
-            "damped_frequency": (("speed", "mode"), m.wd, {"units": "rad/s"}),
-            "natural_frequency": (("speed", "mode"), m.wn, {"units": "rad/s"}),
-            "damping_ratio": (("speed", "mode"), m.damping_ratio, {"units": "1"}),
-            "mesh_energy": (("speed", "mode"), m.mesh_energy, {"units": "1"}),
-            "torsional_fraction": (("speed", "mode"), m.torsional_fraction, {"units": "1"}),
-            "energy": (("speed", "mode", "group"), m.energy, {"units": "1"}),
-            "mac_min": ("speed", c.mac_min, {"units": "1"}),
-            "line_factor": ("line", [ln["factor"] for ln in c.lines], {"units": "1", "long_name": "omega / Omega"}),
-            "speed_rpm": ("speed", rad_s_to_rpm(speeds), {"units": "rpm"}),
-        },
-        coords={
-            "speed": ("speed", speeds, {"units": "rad/s"}),
-            "mode": np.arange(n_modes),
-            "group": m.groups,
-            "line": [ln["name"] for ln in c.lines],
-        },
-    )
-    _helical_shares(box, ds, m.shape, 0.0, ("speed", "mode"))
+    ds = campbell_dataset(c)
+    _helical_shares(box, ds, c.modes.shape, 0.0, ("speed", "mode"))
     mesh_x = [cr for cr in c.crossings if cr["line"].startswith("mesh")]
     extra = {
         f"crossing_{i}_rpm": {
@@ -364,7 +345,6 @@ def run_campbell(config: dict, *, progress: bool = False):
     )
     msg += f"; {note}" if note else ""
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
-    ds.attrs["crossings"] = json.dumps(c.crossings)
     return SystemCampbellResult(ds)
 
 

@@ -175,45 +175,48 @@ class SystemCampbellResult(_SystemResult):
         return {**self._model(), "campbell": self.plot_campbell()}
 
     def plot_campbell(self):
-        """Tracked damped frequencies coloured by mesh strain energy, the mesh-order and 1X
-        lines (labelled inside the axes) and the mesh-mode crossings (``campbell.png``)."""
-        from rotaflex.core.plotting import new_figure, place_labels
+        """The Campbell diagram of rotor/fe (:func:`~rotaflex.rotor.fe.figures.campbell_figure`,
+        log-decrement panel below) with the tracks' points coloured by mesh strain energy, the
+        mesh-order (red) and 1X lines, and the mesh-order crossings of mesh modes (``campbell.png``)."""
+        from rotaflex.rotor.fe.results import campbell_lines, plot_campbell_dataset
 
         ds = self.dataset
-        fig, ax = new_figure(figsize=(7.6, 5))
-        sp = ds["speed"].values
-        rpm = rad_s_to_rpm(sp)
-        me = ds["mesh_energy"].values
-        n_mesh = len({m.group(1) for n in ds["line"].values if (m := _MESH_LINE.match(str(n)))})
-        # a train without gears has no mesh energy to colour by: one colour, no colour bar
-        colour = {"c": "tab:blue"} if n_mesh == 0 else {"cmap": "viridis", "vmin": 0}
-        for k in range(ds.sizes["mode"]):
-            if n_mesh:
-                colour.update(c=me[:, k], vmax=max(0.05, float(np.nanmax(me))))
-            sc = ax.scatter(rpm, ds["damped_frequency"].values[:, k] * HZ, s=6, **colour)
-        if n_mesh:
-            fig.colorbar(sc, ax=ax, label="mesh strain-energy fraction")
-        ymax = float(np.nanmax(ds["damped_frequency"].values)) * HZ * 1.05
-        ends = []
-        for name, f in zip(ds["line"].values, ds["line_factor"].values, strict=True):
-            mesh = str(name).startswith("mesh")
-            ax.plot(rpm, f * sp * HZ, "-" if mesh else ":", lw=0.8, c="tab:red" if mesh else "0.3")
-            xe = min(sp[-1], ymax / HZ / f if f > 0 else sp[-1])  # where the line leaves the axes
-            ends.append(
-                (rad_s_to_rpm(xe), f * xe * HZ, excitation_name(str(name), n_mesh), "tab:red" if mesh else "0.3")
-            )
-        for cr in json.loads(ds.attrs.get("crossings", "[]")):
-            if cr["line"].startswith("mesh") and cr["mesh_energy"] > 0.05:
-                ax.plot(rad_s_to_rpm(cr["speed"]), cr["frequency"] * HZ, "ko", mfc="none", ms=6)
-        ax.set_ylim(0, ymax)
-        ax.set_xlim(rpm[0], rpm[-1] * 1.22)  # room right of the data for the line labels
-        ax.set(xlabel="drive speed [rpm]", ylabel="damped natural frequency [Hz]")
-        title = "Campbell diagram" + (
-            " (o: mesh-order crossing of a mode with > 5 % mesh strain energy)" if n_mesh else ""
+        lines = campbell_lines(ds)
+        n_mesh = len({m.group(1) for n, _ in lines if (m := _MESH_LINE.match(n))})
+        styled = [
+            (excitation_name(n, n_mesh), f, *(("tab:red", "-") if n.startswith("mesh") else ("0.3", ":")))
+            for n, f in lines
+        ]
+        marks = [
+            cr
+            for cr in json.loads(ds.attrs.get("crossings", "[]"))
+            if cr["line"].startswith("mesh") and cr["mesh_energy"] > 0.05
+        ]
+        # a train without gears has no mesh energy to colour by: no colour bar
+        return plot_campbell_dataset(
+            ds,
+            styled,
+            marks,
+            colour=ds["mesh_energy"].values if n_mesh else None,
+            colour_label="mesh strain-energy fraction",
+            speed_label="drive speed [rpm]",
+            marks_note="o: mesh-order crossing of a mode with > 5 % mesh strain energy" if n_mesh else "",
         )
-        ax.set_title(title, fontsize=9)
-        place_labels(ax, ends)
-        return fig
+
+
+def campbell_dataset(c):
+    """Dataset of ``rotaflex system campbell``: rotor/fe's Campbell dataset
+    (:func:`rotaflex.rotor.fe.results.campbell_dataset`; crossings in the attribute
+    ``crossings``) with the machine's shares on top: ``mesh_energy``, ``torsional_fraction``
+    (speed, mode) and ``energy`` (speed, mode, group) [-]."""
+    from rotaflex.rotor.fe.results import campbell_dataset as rotor_dataset
+
+    m = c.modes
+    ds = rotor_dataset(m, c.mac_min, c.lines, c.crossings)
+    ds["mesh_energy"] = (("speed", "mode"), m.mesh_energy, {"units": "1"})
+    ds["torsional_fraction"] = (("speed", "mode"), m.torsional_fraction, {"units": "1"})
+    ds["energy"] = (("speed", "mode", "group"), m.energy, {"units": "1"})
+    return ds.assign_coords(group=m.groups)
 
 
 @register_result

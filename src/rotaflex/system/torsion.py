@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from rotaflex.rotor.fe.modal import line_crossings
 from rotaflex.system.assembly import constraint, matrices
 from rotaflex.system.model import Gearbox
 
@@ -171,17 +172,23 @@ def default_excitations(box: Gearbox) -> list[dict]:
 
 def crossings(freqs: np.ndarray, lines: list[dict], speed_range) -> list[dict]:
     """Drive speeds [rad/s] in ``speed_range`` where a speed-proportional line meets a natural
-    frequency: ``Omega = omega_n / factor`` (exact: the torsional frequencies do not depend on
-    speed)."""
-    lo, hi = speed_range
+    frequency, by rotor/fe's :func:`~rotaflex.rotor.fe.modal.line_crossings` (the one crossing
+    interpolation of every Campbell diagram) over the two ends of the range.
+
+    The torsional frequencies do not depend on speed, so ``omega_n - fixed - factor Omega`` is
+    linear in Omega and the interpolation between the ends is the exact crossing ``Omega =
+    (omega_n - fixed) / factor`` up to round-off (2.2e-16 relative at most on the train
+    examples, every crossing found by both; tests/system/test_torsional_crossings.py). As for
+    every Campbell diagram, a crossing counts where the difference changes sign: one exactly at
+    an end of the range (a zero there) is not counted."""
+    ends = np.asarray(speed_range, float)
+    w = np.asarray(freqs, float)
     out = []
     for li, ln in enumerate(lines):
         if ln["factor"] <= 0:
             continue
-        for k, w in enumerate(freqs):
-            s = (w - ln["fixed"]) / ln["factor"]
-            if lo <= s <= hi:
-                out.append({"mode": k, "line": ln["name"], "line_index": li, "speed": float(s), "frequency": float(w)})
+        for k, _, _, s in line_crossings(ends, np.tile(w - ln["fixed"], (2, 1)), ln["factor"]):
+            out.append({"mode": k, "line": ln["name"], "line_index": li, "speed": float(s), "frequency": float(w[k])})
     out.sort(key=lambda c: c["speed"])
     return out
 

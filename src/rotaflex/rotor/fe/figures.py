@@ -67,16 +67,61 @@ def model_figure(rotor: Rotor):
     return fig
 
 
-def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), bands=(), frequency_limit_hz=None):
-    """Campbell diagram over a log-decrement panel, both against speed [rpm].
+def campbell_figure(
+    speed,
+    wd,
+    logdec,
+    *,
+    forward=None,
+    lines=(("1X", 1.0),),
+    marks=(),
+    bands=(),
+    frequency_limit_hz=None,
+    colour=None,
+    colour_label="",
+    speed_label="spin speed [rpm]",
+    marks_note="o: critical speed [rpm]",
+):
+    """Campbell diagram over a log-decrement panel, both against speed [rpm]: the one drawing
+    of every Campbell dataset (:func:`rotaflex.rotor.fe.results.campbell_dataset`), FE rotor
+    and machine alike.
 
-    Top: damped frequencies [Hz] labelled per mode, forward solid, backward dashed; the
-    excitation lines ``harmonics``; critical speeds circled. Bottom: each mode's logarithmic
-    decrement with the 0 (stability) and 0.1 (API 617 Level II acceptance) lines. ``bands``
-    [(lo, hi) rad/s]: operating ranges shaded on both, with API 684's largest separation
-    margins (16 % below the minimum, 26 % above the maximum speed) hatched beside them.
-    ``frequency_limit_hz``: modes whose frequency stays above it are left out, and the
-    frequency axis stops there.
+    Top: damped frequencies [Hz] of the tracked modes, each labelled at its last speed (unless
+    coloured by ``colour``); with ``forward`` (s, t) forward fractions, forward whirl solid and
+    backward dashed. The excitation ``lines`` ``omega = factor Omega``, labelled where they
+    leave the axes (at the right end beside the modes' labels, close labels spread apart, as
+    the rotor's diagram always did: no second draw to measure them); ``marks`` circled.
+    Bottom: each mode's logarithmic decrement with the 0 (stability) and 0.1 (API 617 Level II
+    acceptance) lines; unstable points crossed in the top panel.
+
+    Parameters
+    ----------
+    speed : ndarray (s,)
+        Speeds [rad/s].
+    wd, logdec : ndarray (s, t)
+        Damped natural frequencies [rad/s] and logarithmic decrements [-] of the tracks.
+    forward : ndarray (s, t), optional
+        Forward fraction [-] (>= 0.5: forward whirl); None: no whirl sense (all solid).
+    lines : iterable of (label, factor) or (label, factor, colour, linestyle)
+        Excitation lines; factor [-] is the frequency per unit speed. Default style: black dotted.
+    marks : iterable of dict
+        Points ``{"speed" [rad/s], "frequency" [rad/s]}`` circled (crossings, critical speeds);
+        those with ``"labelled": True`` get their speed [rpm] written beside them (skipped where
+        it would overprint the one before).
+    bands : iterable of (lo, hi)
+        Operating ranges [rad/s], shaded on both panels with API 684's largest separation
+        margins (16 % below the minimum, 26 % above the maximum speed) hatched beside them.
+    frequency_limit_hz : float, optional
+        Modes whose frequency stays above it [Hz] are left out, and the frequency axis stops there.
+    colour : ndarray (s, t), optional
+        A per-point quantity (e.g. a machine's mesh strain-energy fraction) drawn as coloured
+        points over the tracks, with a colour bar labelled ``colour_label``.
+    speed_label, marks_note : str
+        The speed axis' label and what the circles mean (in the title).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     from rotaflex.core.plotting import new_figure, shade_operating_bands
 
@@ -95,7 +140,7 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
     ld_top = 0.2
     for k in shown:
         f, color = f_all[:, k], f"C{k % 10}"
-        fw = forward[:, k] >= 0.5
+        fw = np.ones(f.shape, bool) if forward is None else forward[:, k] >= 0.5
         ax.plot(rpm, np.where(fw, f, np.nan), "-", color=color, lw=1.3)
         ax.plot(rpm, np.where(~fw, f, np.nan), "--", color=color, lw=1.3)
         al.plot(rpm, np.where(fw, logdec[:, k], np.nan), "-", color=color, lw=1.2)
@@ -104,34 +149,38 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
         if np.any(bad):
             ax.plot(rpm[bad], f[bad], "x", color="r")
         ld_top = max(ld_top, float(np.nanmax(logdec[:, k])) if np.any(np.isfinite(logdec[:, k])) else 0.0)
-        if np.isfinite(f[-1]) and f[-1] <= top:
-            labels.append([f[-1], f" {k} {'FW' if fw[-1] else 'BW'} {f[-1]:.0f} Hz", color])
-    gap = 0.035 * top  # spread labels of close modes apart
-    labels.sort(key=lambda t: t[0])
-    for i in range(1, len(labels)):
-        labels[i][0] = max(labels[i][0], labels[i - 1][0] + gap)
-    for y, text, color in labels:
-        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center", annotation_clip=False)
-    for h in harmonics:
-        ax.plot(rpm, h * speed * HZ, ":k", lw=0.9)
-        yh = min(h * speed[-1] * HZ, top * 0.97)
-        ax.annotate(f"{h:g}X", (rad_s_to_rpm(yh / (h * HZ)), yh), fontsize=8, ha="right", va="bottom")
+        if colour is None and np.isfinite(f[-1]) and f[-1] <= top:  # coloured: points tell the modes apart
+            sense = "" if forward is None else (" FW" if fw[-1] else " BW")
+            labels.append([f[-1], f" {k}{sense} {f[-1]:.0f} Hz", color])
+    if colour is not None and shown:
+        vmax = max(0.05, float(np.nanmax(colour)))
+        for k in shown:
+            sc = ax.scatter(rpm, f_all[:, k], c=colour[:, k], s=6, cmap="viridis", vmin=0, vmax=vmax, zorder=3)
+        fig.colorbar(sc, ax=ax, label=colour_label)
+    for line in lines:
+        name, h = line[0], float(line[1])
+        c, ls = line[2:4] if len(line) > 2 else ("k", ":")
+        ax.plot(rpm, h * speed * HZ, ls, color=c, lw=0.9)
+        if h * speed[-1] * HZ < top * 0.97:  # ends at the right: labelled beside the modes
+            labels.append([h * speed[-1] * HZ, f" {name}", c])
+        else:  # leaves through the top: labelled there, left of the line
+            yh = top * 0.97
+            ax.annotate(str(name), (rad_s_to_rpm(yh / (h * HZ)), yh), fontsize=7, color=c, ha="right", va="bottom")
     last = -np.inf
-    for c in sorted(critical, key=lambda c: c["speed"]):
+    for c in sorted(marks, key=lambda c: c["speed"]):
         if c["frequency"] * HZ > top:
             continue
         ax.plot(rad_s_to_rpm(c["speed"]), c["frequency"] * HZ, "o", mfc="none", mec="k", ms=7)
-        if c.get("harmonic", 1) == 1 and rad_s_to_rpm(c["speed"]) > last * 1.04:  # skip labels that would overprint
+        if c.get("labelled") and rad_s_to_rpm(c["speed"]) > last * 1.04:  # skip labels that would overprint
             last = rad_s_to_rpm(c["speed"])
             ax.annotate(
                 f"{last:.0f}", (last, c["frequency"] * HZ), fontsize=7, xytext=(4, -10), textcoords="offset points"
             )
     ax.set_ylim(0, top)
-    ax.set_xlim(rpm[0], rpm[-1] * 1.12)
+    ax.set_xlim(rpm[0], rpm[-1] * 1.22)  # room right of the data for the labels
     ax.set_ylabel("damped natural frequency [Hz]")
-    ax.set_title(
-        "Campbell diagram (solid: forward, dashed: backward whirl; o: critical speed [rpm]; x: unstable)", fontsize=9
-    )
+    whirl = "solid: forward, dashed: backward whirl" if forward is not None else ""
+    ax.set_title(f"Campbell diagram ({'; '.join(t for t in (whirl, marks_note, 'x: unstable') if t)})", fontsize=9)
     ax.grid(alpha=0.3)
     al.axhline(0.0, color="k", lw=1.4, label="0: stability limit")  # black: C3 is a mode's red
     al.axhline(0.1, color="k", lw=0.9, ls="-.", label="0.1: API 617 Level II")
@@ -139,7 +188,7 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
     cap = 2.0  # a few well-damped modes would otherwise squash the ones near zero
     al.set_ylim(max(ld_min * 1.1, -cap), min(ld_top * 1.1, cap))
     al.set_ylabel("log decrement [-]" + (f" (axis cut at {cap:g})" if ld_top * 1.1 > cap else ""))
-    al.set_xlabel("spin speed [rpm]")
+    al.set_xlabel(speed_label)
     al.grid(alpha=0.3)
     handles, names = ax.get_legend_handles_labels()
     h2, n2 = al.get_legend_handles_labels()
@@ -148,6 +197,12 @@ def campbell_figure(speed, wd, forward, logdec, harmonics=(1,), critical=(), ban
     fig.legend(
         handles + [h2[i] for i in keep], names + [n2[i] for i in keep], loc="outside lower center", ncol=4, fontsize=8
     )
+    gap = 0.035 * top  # labels at the right end: close ones spread apart upwards (no extra draw)
+    labels.sort(key=lambda t: t[0])
+    for i in range(1, len(labels)):
+        labels[i][0] = max(labels[i][0], labels[i - 1][0] + gap)
+    for y, text, color in labels:
+        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center", annotation_clip=False)
     return fig
 
 

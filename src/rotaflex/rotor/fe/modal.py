@@ -117,15 +117,24 @@ class Modes(EigenvalueView):
         return self.damping_ratio < -STABILITY_TOL
 
 
+def state_matrix(MinvK: np.ndarray, MinvD: np.ndarray) -> np.ndarray:
+    """First-order state matrices ``A = [[0, I], [-M^-1 K, -M^-1 D]]`` from ``M^-1 K`` and
+    ``M^-1 D`` (..., n, n) [1/s^2, 1/s]: the one layout of every modal analysis (FE rotor, full
+    and reduced; machine's ``rotaflex.system.modal._solve``). Each caller forms the two
+    products its own way (one inverse of a speed-independent M for the rotor's stack of speeds,
+    ``scipy.linalg.solve`` for the machine), so their eigenvalues are those they always were."""
+    n = MinvK.shape[-1]
+    A = np.zeros((*MinvK.shape[:-2], 2 * n, 2 * n))
+    A[..., :n, n:] = np.eye(n)
+    A[..., n:, :n] = -MinvK
+    A[..., n:, n:] = -MinvD
+    return A
+
+
 def _state_matrices(rotor: Rotor, speeds: np.ndarray, whirl: np.ndarray | None = None) -> np.ndarray:
-    n = rotor.n_dof
     M, K, C = rotor.MKC(speeds, whirl)
     Minv = _minv(M)
-    A = np.zeros((speeds.size, 2 * n, 2 * n))
-    A[:, :n, n:] = np.eye(n)
-    A[:, n:, :n] = -Minv @ K
-    A[:, n:, n:] = -Minv @ (C + speeds[:, None, None] * rotor.G[None])
-    return A
+    return state_matrix(Minv @ K, Minv @ (C + speeds[:, None, None] * rotor.G[None]))
 
 
 def _minv(M: np.ndarray) -> np.ndarray:
@@ -179,9 +188,26 @@ def batched_eig(
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
-def _oscillatory(lam: np.ndarray) -> np.ndarray:
+#: an eigenvalue is oscillatory when omega_d > OSCILLATORY_TOL (max |lambda| + 1 [1/s]): beyond
+#: the round-off of the largest eigenvalue (the machine's modes use 1e-7, :mod:`rotaflex.system.modal`)
+OSCILLATORY_TOL = 1e-9
+
+
+def _oscillatory(lam: np.ndarray, tol: float = OSCILLATORY_TOL) -> np.ndarray:
     """True for the eigenvalues with omega_d > 0 (beyond round-off of the largest |lambda|)."""
-    return lam.imag > 1e-9 * (np.max(np.abs(lam), axis=-1, keepdims=True) + 1.0)
+    return lam.imag > tol * (np.max(np.abs(lam), axis=-1, keepdims=True) + 1.0)
+
+
+def oscillatory_pairs(
+    lam: np.ndarray, vec: np.ndarray, n: int, n_keep: int, tol: float = OSCILLATORY_TOL
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``n_keep`` lowest oscillatory eigenpairs of a first-order eigenproblem of one speed
+    (eigenvalues ``lam`` (2n,), right vectors ``vec`` (2n, 2n)), sorted by damped frequency:
+    eigenvalues (m,) [1/s] and the displacement parts (m, n) of the vectors, unnormalised.
+    The one selection of the FE rotor's and the machine's modes (each normalises its own way)."""
+    keep = np.flatnonzero(_oscillatory(lam, tol))
+    keep = keep[np.argsort(lam.imag[keep], kind="stable")][:n_keep]
+    return lam[keep], vec[:n, keep].T
 
 
 def _select(
@@ -189,9 +215,7 @@ def _select(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Oscillatory eigenpairs (omega_d > 0) sorted by omega_d; displacement part normalised by
     its largest translation of a shaft node (the first ``n_rotor`` DOFs)."""
-    keep = np.flatnonzero(_oscillatory(lam))
-    keep = keep[np.argsort(lam.imag[keep], kind="stable")][:n_keep]
-    lam, v = lam[keep], vec[:n, keep].T  # (m, n)
+    lam, v = oscillatory_pairs(lam, vec, n, n_keep)  # (m,), (m, n)
     trans = np.abs(v.copy())
     trans[:, n_rotor:] = 0
     trans[:, 2::NDOF_NODE] = 0
@@ -372,11 +396,7 @@ def _reduced_state_matrices(rotor: Rotor, speeds: np.ndarray, n_basis: int) -> t
     if not np.array_equal(M, np.broadcast_to(M[mid], M.shape)):  # added mass varying with speed
         Mri = np.linalg.inv(T.T @ M @ T)
         Kr, Dr = Mri @ Kr, Mri @ Dr
-    A = np.zeros((speeds.size, 2 * n_basis, 2 * n_basis))
-    A[:, :n_basis, n_basis:] = np.eye(n_basis)
-    A[:, n_basis:, :n_basis] = -Kr
-    A[:, n_basis:, n_basis:] = -Dr
-    return A, T
+    return state_matrix(Kr, Dr), T  # T^T M T = I: Kr, Dr are already M^-1 K, M^-1 D
 
 
 #: a critical speed whose mode's forward fraction is at least 0.5 - PLANAR_BAND is called

@@ -39,6 +39,88 @@ def json_safe(obj):
     return obj
 
 
+def campbell_dataset(modes, mac_min, lines, crossings=None, crossings_attr: str = "crossings"):
+    """The Campbell dataset of an FE rotor or a machine (``rotaflex rotor campbell``,
+    ``rotaflex system campbell``): the one place its variables are named.
+
+    Parameters
+    ----------
+    modes : Modes or SystemModes
+        Tracked modes: ``speed`` (s,) [rad/s] and ``eigenvalue`` (s, t) [1/s] (an
+        :class:`~rotaflex.rotor.fe.modal.EigenvalueView`); a ``forward_fraction`` (the FE
+        rotor's whirl sense) is stored when the modes have one.
+    mac_min : ndarray (s,)
+        Smallest MAC of each tracking step [-].
+    lines : list of dict
+        Excitation lines ``{"name", "factor"}``: omega = factor x speed.
+    crossings : list of dict, optional
+        Line crossings (or critical speeds), stored as JSON in the attribute ``crossings_attr``.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``damped_frequency``, ``natural_frequency`` [rad/s], ``log_dec``, ``damping_ratio``,
+        (``forward_fraction``), ``mac_min`` (speed, mode), ``line_factor`` (line),
+        ``speed_rpm`` (speed); coordinates ``speed`` [rad/s], ``mode``, ``line``. A machine adds
+        its energy shares on top (:func:`rotaflex.system.results.campbell_dataset`).
+    """
+    import xarray as xr
+
+    speeds = modes.speed
+    data = {
+        "damped_frequency": (("speed", "mode"), modes.wd, {"units": "rad/s"}),
+        "natural_frequency": (("speed", "mode"), modes.wn, {"units": "rad/s"}),
+        "log_dec": (("speed", "mode"), modes.log_dec, {"units": "1"}),
+        "damping_ratio": (("speed", "mode"), modes.damping_ratio, {"units": "1"}),
+    }
+    if hasattr(modes, "forward_fraction"):
+        data["forward_fraction"] = (("speed", "mode"), modes.forward_fraction, {"units": "1"})
+    data["mac_min"] = ("speed", mac_min, {"units": "1", "long_name": "smallest MAC of the tracking step"})
+    data["line_factor"] = ("line", [ln["factor"] for ln in lines], {"units": "1", "long_name": "omega / Omega"})
+    data["speed_rpm"] = ("speed", rad_s_to_rpm(speeds), {"units": "rpm"})
+    ds = xr.Dataset(
+        data,
+        coords={
+            "speed": ("speed", speeds, {"units": "rad/s"}),
+            "mode": np.arange(modes.eigenvalue.shape[1]),
+            "line": [ln["name"] for ln in lines],
+        },
+    )
+    if crossings is not None:
+        ds.attrs[crossings_attr] = json.dumps(crossings)
+    return ds
+
+
+def campbell_lines(ds, default=()) -> list:
+    """The excitation lines ``(name, factor)`` of a Campbell dataset; ``default`` for a file
+    written before the datasets carried them (``line_factor``)."""
+    if "line_factor" not in ds:
+        return list(default)
+    return [(str(n), float(f)) for n, f in zip(ds["line"].values, ds["line_factor"].values, strict=True)]
+
+
+def plot_campbell_dataset(ds, lines, marks=(), **kwargs):
+    """:func:`~rotaflex.rotor.fe.figures.campbell_figure` of a Campbell dataset
+    (:func:`campbell_dataset`); ``kwargs`` go to it (colour, labels, frequency limit)."""
+    from rotaflex.rotor.fe.figures import campbell_figure
+
+    if "log_dec" in ds:
+        logdec = ds["log_dec"].values
+    else:  # a machine's file written before it stored the log decrement: 2 pi zeta / sqrt(1 - zeta^2)
+        z = ds["damping_ratio"].values
+        logdec = 2 * np.pi * z / np.sqrt(1 - z**2)
+    return campbell_figure(
+        ds["speed"].values,
+        ds["damped_frequency"].values,
+        logdec,
+        forward=ds["forward_fraction"].values if "forward_fraction" in ds else None,
+        lines=lines,
+        marks=marks,
+        bands=json.loads(ds.attrs.get("bands", "[]")),
+        **kwargs,
+    )
+
+
 class _FEResult(Result):
     def summary(self) -> dict:
         out = super().summary()
@@ -120,19 +202,13 @@ class CampbellResult(_FEResult):
     def plot_campbell(self, frequency_limit_hz: float | None = None):
         """Campbell diagram over its log-decrement panel (the CLI's ``campbell.png``);
         ``frequency_limit_hz`` [Hz] overrides the run's ``frequency_limit_hz``."""
-        from rotaflex.rotor.fe.figures import campbell_figure
-
         ds = self.dataset
-        return campbell_figure(
-            ds["speed"].values,
-            ds["damped_frequency"].values,
-            ds["forward_fraction"].values,
-            ds["log_dec"].values,
-            json.loads(ds.attrs.get("harmonics", "[1]")),
-            json.loads(ds.attrs.get("critical_speeds", "[]")),
-            json.loads(ds.attrs.get("bands", "[]")),
-            frequency_limit_hz if frequency_limit_hz is not None else ds.attrs.get("frequency_limit_hz"),
-        )
+        lines = campbell_lines(ds, [(f"{h:g}X", h) for h in json.loads(ds.attrs.get("harmonics", "[1]"))])
+        marks = [
+            {**c, "labelled": c.get("harmonic", 1) == 1} for c in json.loads(ds.attrs.get("critical_speeds", "[]"))
+        ]
+        limit = frequency_limit_hz if frequency_limit_hz is not None else ds.attrs.get("frequency_limit_hz")
+        return plot_campbell_dataset(ds, lines, marks, frequency_limit_hz=limit)
 
     @property
     def critical(self) -> list[dict]:

@@ -15,7 +15,7 @@ from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 from rotaflex.rotor.fe.case_config import clamp_modes, parse, speed_range
 from rotaflex.rotor.fe.case_output import add_fluid_film_tables, oil_whip, pinned, progress_callback, summary_attrs
 from rotaflex.rotor.fe.modal import STABILITY_TOL
-from rotaflex.rotor.fe.results import CampbellResult, ModalResult, UCSResult
+from rotaflex.rotor.fe.results import CampbellResult, ModalResult, UCSResult, campbell_dataset
 
 __all__ = ["DOFS", "run_campbell", "run_modal", "run_ucs"]
 
@@ -135,19 +135,8 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
 
         with progress_callback(progress, 1, "critical speeds", "crossing") as report:
             critical = critical_speeds(rotor, speeds, n_modes, spec.harmonics, data=c, progress=report)
-    m = c.modes
-    ds = xr.Dataset(
-        {
-            "damped_frequency": (("speed", "mode"), m.wd, {"units": "rad/s"}),
-            "natural_frequency": (("speed", "mode"), m.wn, {"units": "rad/s"}),
-            "log_dec": (("speed", "mode"), m.log_dec, {"units": "1"}),
-            "damping_ratio": (("speed", "mode"), m.damping_ratio, {"units": "1"}),
-            "forward_fraction": (("speed", "mode"), m.forward_fraction, {"units": "1"}),
-            "mac_min": ("speed", c.mac_min, {"units": "1", "long_name": "smallest MAC of the tracking step"}),
-            "speed_rpm": ("speed", rad_s_to_rpm(speeds), {"units": "rpm"}),
-        },
-        coords={"speed": ("speed", speeds, {"units": "rad/s"}), "mode": np.arange(m.wd.shape[1])},
-    )
+    lines = [{"name": f"{h:g}X", "factor": float(h)} for h in spec.harmonics]
+    ds = campbell_dataset(c.modes, c.mac_min, lines, critical, "critical_speeds")
     extra = {
         "critical_solve": {"value": spec.critical_solve if reduce is None else "interpolated", "unit": ""},
         **({"note": {"value": note, "unit": ""}} if note else {}),
@@ -181,7 +170,6 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
     if spec.frequency_limit_hz is not None:
         ds.attrs["frequency_limit_hz"] = spec.frequency_limit_hz
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
-    ds.attrs["critical_speeds"] = json.dumps(critical)
     ds.attrs["unstable"] = json.dumps(c.unstable)
     ds.attrs["harmonics"] = json.dumps(list(spec.harmonics))
     return CampbellResult(add_fluid_film_tables(ds, rotor))
