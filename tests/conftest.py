@@ -33,6 +33,12 @@ def pytest_configure(config):
     the disposition, and an ignored SIGINT would make them finish instead of stopping."""
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
+    # One BLAS thread per test process, as the command line runs (rotaflex.core.threads): two
+    # workers with a two-thread pool each oversubscribe two cores; tests/system took 79-113 s
+    # wall with the default pools against 43 s with one thread (back to back, loaded machine).
+    from rotaflex.core.threads import limit_blas_threads
+
+    limit_blas_threads()
 
 
 @pytest.hookimpl(optionalhook=True)
