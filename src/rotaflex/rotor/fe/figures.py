@@ -151,7 +151,7 @@ def campbell_figure(
         ld_top = max(ld_top, float(np.nanmax(logdec[:, k])) if np.any(np.isfinite(logdec[:, k])) else 0.0)
         if colour is None and np.isfinite(f[-1]) and f[-1] <= top:  # coloured: points tell the modes apart
             sense = "" if forward is None else (" FW" if fw[-1] else " BW")
-            labels.append([f[-1], f" {k}{sense} {f[-1]:.0f} Hz", color])
+            labels.append([f[-1], f"{k}{sense} {f[-1]:.0f} Hz", color])
     if colour is not None and shown:
         vmax = max(0.05, float(np.nanmax(colour)))
         for k in shown:
@@ -162,7 +162,7 @@ def campbell_figure(
         c, ls = line[2:4] if len(line) > 2 else ("k", ":")
         ax.plot(rpm, h * speed * HZ, ls, color=c, lw=0.9)
         if h * speed[-1] * HZ < top * 0.97:  # ends at the right: labelled beside the modes
-            labels.append([h * speed[-1] * HZ, f" {name}", c])
+            labels.append([h * speed[-1] * HZ, str(name), c])
         else:  # leaves through the top: labelled there, left of the line
             yh = top * 0.97
             ax.annotate(str(name), (rad_s_to_rpm(yh / (h * HZ)), yh), fontsize=7, color=c, ha="right", va="bottom")
@@ -202,7 +202,16 @@ def campbell_figure(
     for i in range(1, len(labels)):
         labels[i][0] = max(labels[i][0], labels[i - 1][0] + gap)
     for y, text, color in labels:
-        ax.annotate(text, (rpm[-1], y), fontsize=7, color=color, va="center", annotation_clip=False)
+        ax.annotate(
+            text,
+            (rpm[-1], y),
+            xytext=(3, 0),
+            textcoords="offset points",
+            fontsize=7,
+            color=color,
+            va="center",
+            annotation_clip=False,
+        )
     return fig
 
 
