@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import json
 
 import numpy as np
 import pytest
@@ -65,7 +66,6 @@ def test_one_rotor_machine_gives_the_rotor_verbs_response():
     assert scale > 1e-6  # a resonance in the range: the comparison is not of zeros
     for v in ("x_real", "x_imag", "y_real", "y_imag", "major_axis"):
         np.testing.assert_allclose(b[v].values, a[v].values, rtol=0, atol=1e-9 * scale)
-    import json
 
     pa, pb = json.loads(a.attrs["peaks"]), json.loads(b.attrs["peaks"])
     assert len(pa) == len(pb) >= 1
@@ -147,7 +147,6 @@ def test_peaks_at_the_campbell_1x_crossings():
             },
         }
     ).dataset
-    import json
 
     rated = [p["speed"] for p in json.loads(ds.attrs["peaks"]) if p["kind"] == "resonance"]
     assert len(rated) >= 2
@@ -169,3 +168,23 @@ def test_bad_unbalance_names_the_key(mass, key):
     with pytest.raises(InputError) as e:
         system_unbalance(cfg)
     assert e.value.field == key
+
+
+def test_bode_figure_draws_the_dataset():
+    """``plot()`` gives the rotor verb's Bode figure: its major-axis curves are the dataset's
+    peak-to-peak major axis [um] vs drive speed [rpm], one curve per probe."""
+    cfg = _train({"torsional_stiffness": 5e4, "lateral_stiffness": 2e6, "angular_stiffness": 5e3})
+    cfg["unbalance"] = {
+        "speed_rpm": [500.0, 20000.0],
+        "n_speeds": 40,
+        "mass": [{"rotor": "pump", "node": 2, "magnitude": 1e-4}],
+        "probes": [{"rotor": "motor", "node": 2}, {"rotor": "pump", "node": 2}],
+    }
+    res = system_unbalance(cfg)
+    fig = res.plot()["bode"]
+    ds = res.dataset.isel(excitation=0)
+    lines = {ln.get_label(): ln for ln in fig.axes[0].get_lines()}
+    for j, p in enumerate(ds["probe"].values):
+        ln = lines[f"node {p}: major axis"]
+        np.testing.assert_allclose(ln.get_xdata(), ds["speed_rpm"].values, rtol=1e-12)
+        np.testing.assert_allclose(ln.get_ydata(), 2e6 * ds["major_axis"].values[:, j], rtol=1e-12)
