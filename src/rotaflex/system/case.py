@@ -126,7 +126,7 @@ class StartupSpec:
 
 @dataclass(frozen=True)
 class MachineUnbalanceMass(UnbalanceMass):
-    """An unbalance u = m e on one rotor of the machine (the rotor verb's keys and ``rotor``)."""
+    """An unbalance u = m e on one rotor of the machine: the keys of rotor unbalance plus rotor."""
 
     rotor: str | None = param(None, doc="rotor name (default: the only rotor)")
 
@@ -706,6 +706,14 @@ def run_startup(config: dict, *, progress: bool = False):
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return StartupResult(ds)
+
+
+def run_unbalance(config: dict, *, progress: bool = False):
+    """Unbalance response vs ``[unbalance] speed_rpm`` (:func:`.unbalance.run_unbalance`; here so
+    that the verb reads this module's case file: SCHEMA, template and validation)."""
+    from rotaflex.system.unbalance import run_unbalance as run
+
+    return run(config, progress=progress)
 
 
 def run_case(config: dict, *, progress: bool = False):
