@@ -72,6 +72,7 @@ COMMANDS: dict[str, dict[str, str]] = {
         "steady": "rotaflex.system.case:run_steady",
         "torsional": "rotaflex.system.case:run_torsional",
         "startup": "rotaflex.system.case:run_startup",
+        "unbalance": "rotaflex.system.case:run_unbalance",
     },
 }
 

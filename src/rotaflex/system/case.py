@@ -1,4 +1,4 @@
-"""``rotaflex system modal|campbell|response|steady CONFIG.toml``: gearbox TOML -> analysis -> Result.
+"""``rotaflex system modal|campbell|response|steady|unbalance CONFIG.toml``: gearbox TOML -> analysis -> Result.
 
 A config holds the model tables (``[[rotor]]`` with ``[[rotor.shaft]]``/``[[rotor.disk]]``/
 ``[[rotor.bearing]]``, ``[[gear_mesh]]``, ``[drive]``, ``[load]``; see :mod:`.model`) and one
@@ -24,6 +24,7 @@ from rotaflex.core.errors import InputError
 from rotaflex.core.limits import require_memory
 from rotaflex.core.result import summary_attrs
 from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
+from rotaflex.rotor.fe.case_config import UnbalanceMass
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import MODEL_KEYS, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
 from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
@@ -123,6 +124,30 @@ class StartupSpec:
     rtol: float = param(1e-6, gt=0, lt=1e-2, doc="relative tolerance of the Radau integrator")
 
 
+@dataclass(frozen=True)
+class MachineUnbalanceMass(UnbalanceMass):
+    """An unbalance u = m e on one rotor of the machine: the keys of rotor unbalance plus rotor."""
+
+    rotor: str | None = param(None, doc="rotor name (default: the only rotor)")
+
+
+@dataclass(frozen=True)
+class UnbalanceSpec:
+    """Steady unbalance response vs drive speed (each rotor's unbalance at its own 1X)."""
+
+    speed_rpm: tuple[float, float] = param((100.0, 6000.0), unit="rpm", gt=0, doc="drive speed range")
+    n_speeds: int = param(500, ge=2, le=100000)
+    probes: tuple[Probe, ...] = param((), doc="orbit nodes (default: the unbalance nodes)")
+    operating_speed_rpm: float | None = param(None, unit="rpm", gt=0, doc="drive operating speed (margins from it)")
+    operating_range_rpm: tuple[float, float] | None = param(
+        None, unit="rpm", gt=0, doc="[minimum, maximum] continuous drive speed (API margins below/above the band)"
+    )
+    operating_bands_rpm: tuple[tuple[float, float], ...] = param(
+        (), unit="rpm", gt=0, doc="several operating bands of the drive speed (instead of operating_range_rpm)"
+    )
+    mass: tuple[MachineUnbalanceMass, ...] = param(())
+
+
 ANALYSES = {
     "modal": ModalSpec,
     "campbell": CampbellSpec,
@@ -130,6 +155,7 @@ ANALYSES = {
     "steady": SteadySpec,
     "torsional": TorsionalSpec,
     "startup": StartupSpec,
+    "unbalance": UnbalanceSpec,
 }
 
 
@@ -146,13 +172,16 @@ class SystemCase:
     coupling: tuple[CouplingSpec, ...] = param(())
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
-    analysis: Literal["modal", "campbell", "response", "steady", "torsional", "startup"] | None = param(None)
+    analysis: Literal["modal", "campbell", "response", "steady", "torsional", "startup", "unbalance"] | None = param(
+        None
+    )
     modal: ModalSpec = field(default_factory=ModalSpec)
     campbell: CampbellSpec = field(default_factory=CampbellSpec)
     response: ResponseSpec = field(default_factory=ResponseSpec)
     steady: SteadySpec = field(default_factory=SteadySpec)
     torsional: TorsionalSpec = field(default_factory=TorsionalSpec)
     startup: StartupSpec = field(default_factory=StartupSpec)
+    unbalance: UnbalanceSpec = field(default_factory=UnbalanceSpec)
 
 
 SCHEMA = SystemCase
@@ -348,7 +377,7 @@ def run_campbell(config: dict, *, progress: bool = False):
     return SystemCampbellResult(ds)
 
 
-def _probes(box, probes):
+def _probes(box, probes, where: str = "response"):
     names = [pr.name for pr in box.rotors]
     if not probes:
         out = []
@@ -358,11 +387,11 @@ def _probes(box, probes):
     out = []
     for i, p in enumerate(probes):
         if p.rotor not in names:
-            raise InputError(f"response.probes[{i}].rotor", p.rotor, "one of " + ", ".join(map(repr, names)))
+            raise InputError(f"{where}.probes[{i}].rotor", p.rotor, "one of " + ", ".join(map(repr, names)))
         r = names.index(p.rotor)
         nn = box.rotors[r].rotor.n_nodes
         if p.node >= nn:
-            raise InputError(f"response.probes[{i}].node", p.node, f"an existing node 0..{nn - 1}")
+            raise InputError(f"{where}.probes[{i}].node", p.node, f"an existing node 0..{nn - 1}")
         out.append((r, p.node))
     return out
 
@@ -677,6 +706,14 @@ def run_startup(config: dict, *, progress: bool = False):
     )
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return StartupResult(ds)
+
+
+def run_unbalance(config: dict, *, progress: bool = False):
+    """Unbalance response vs ``[unbalance] speed_rpm`` (:func:`.unbalance.run_unbalance`; here so
+    that the verb reads this module's case file: SCHEMA, template and validation)."""
+    from rotaflex.system.unbalance import run_unbalance as run
+
+    return run(config, progress=progress)
 
 
 def run_case(config: dict, *, progress: bool = False):

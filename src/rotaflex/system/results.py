@@ -517,3 +517,29 @@ class StartupResult(_SystemResult):
         ax[2].set(xlabel="time [s]", ylabel="transmitted torque [N m]")
         ax[2].legend(fontsize=7)
         return fig
+
+
+@register_result
+class SystemUnbalanceResult(_SystemResult):
+    """Unbalance response of a machine at its probes vs drive speed, peaks with AF and SM."""
+
+    kind = "system_unbalance"
+
+    def plot(self) -> dict:
+        ds = self.dataset
+        figs = {**self._model()}
+        for k in range(ds.sizes["excitation"]):
+            figs["bode" if k == 0 else f"bode_{k}"] = self.plot_bode(k)
+        return figs
+
+    def plot_bode(self, excitation: int = 0):
+        """The rotor verb's Bode figure (:func:`~rotaflex.rotor.fe.figures.unbalance_bode_figure`)
+        of one excitation (``bode.png``, ``bode_<k>.png`` for the k-th rotor speed)."""
+        from rotaflex.rotor.fe.figures import unbalance_bode_figure
+
+        ds = self.dataset
+        label = str(ds["excitation"].values[excitation])
+        pk = [p for p in json.loads(ds.attrs.get("peaks", "[]")) if p["excitation"] == label]
+        fig = unbalance_bode_figure(ds.isel(excitation=excitation), pk, json.loads(ds.attrs.get("bands", "[]")))
+        fig.axes[1].set_xlabel(f"drive speed [rpm] (excitation: {label})")
+        return fig

@@ -86,19 +86,65 @@ def unbalance_response(
     for node, u, phase in unbalance:
         if not 0 <= node < rotor.n_nodes:
             raise InputError("unbalance.mass.node", node, f"an existing node 0..{rotor.n_nodes - 1}")
-        fx = u * speeds**2 * np.exp(1j * phase)
-        F[:, NDOF_NODE * node] += fx
-        F[:, NDOF_NODE * node + 1] += -1j * fx
+        F[:, NDOF_NODE * node : NDOF_NODE * node + 2] += unbalance_force(speeds, u, phase)
+
+    def pencil(sp):
+        M, K, C = rotor.MKC(sp)
+        return M, C + sp[:, None, None] * rotor.G[None], K
+
+    return UnbalanceData(speeds, harmonic_solve(pencil, speeds, F, progress=progress))
+
+
+def unbalance_force(spin: np.ndarray, magnitude: float, phase: float) -> np.ndarray:
+    """Complex amplitudes (F_x, F_y) [N], shape (s, 2), of an unbalance ``magnitude`` [kg m] at
+    angle ``phase`` [rad] on a rotor turning at the signed ``spin`` [rad/s] (s,), relative to
+    ``e^{i spin t}``: ``F_x = u spin^2 e^{i phase}``, ``F_y = -i F_x`` (for either sense of
+    rotation: the mass is at angle ``spin t + phase``)."""
+    fx = magnitude * spin**2 * np.exp(1j * phase)
+    return np.stack([fx, -1j * fx], -1)
+
+
+def harmonic_solve(
+    pencil: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]],
+    speeds: np.ndarray,
+    F: np.ndarray,
+    frequency: np.ndarray | None = None,
+    progress: Callable[[float, float], None] | None = None,
+) -> np.ndarray:
+    """Steady harmonic response ``Q`` of ``M q'' + D q' + K q = Re(F e^{i w t})`` at each speed.
+
+    Solves ``[K - w^2 M + i w D] Q = F`` with ``(M, D, K) = pencil(speeds[idx])``; for a rotor
+    ``D = C(Omega) + Omega G`` and ``w = Omega`` give the unbalance equation of this module,
+    for a machine :mod:`rotaflex.system.unbalance` passes its assembled matrices.
+
+    Parameters
+    ----------
+    pencil : callable
+        ``pencil(speeds)`` with speeds (k,) [rad/s] -> (M, D, K), each (k, n, n) or (n, n)
+        [kg, N s/m, N/m] (D includes the gyroscopic term at those speeds).
+    speeds : ndarray (s,) [rad/s]
+    F : ndarray (s, n) complex [N]
+    frequency : ndarray (s,), optional
+        Excitation frequency w [rad/s] at each speed (signed; default: ``speeds``).
+    progress : callable ``progress(done, total)``, optional
+        Called with the speeds solved; the speeds are then solved in 10 chunks (each speed's
+        solve is the same LAPACK call as without it).
+
+    Returns
+    -------
+    ndarray (s, n) complex [m, rad]
+    """
+    w_all = speeds if frequency is None else np.asarray(frequency, float)
     Q = np.empty_like(F)
     chunks = [np.arange(speeds.size)] if progress is None else np.array_split(np.arange(speeds.size), 10)
     for idx in (c for c in chunks if c.size):
-        M, K, C = rotor.MKC(speeds[idx])
-        w = speeds[idx, None, None]
-        D = K - w**2 * M + 1j * w * (C + w * rotor.G[None])
-        Q[idx] = np.linalg.solve(D, F[idx, :, None])[..., 0]
+        M, D, K = pencil(speeds[idx])
+        w = w_all[idx, None, None]
+        A = K - w**2 * M + 1j * w * D
+        Q[idx] = np.linalg.solve(A, F[idx, :, None])[..., 0]
         if progress is not None:
             progress(idx[-1] + 1, speeds.size)
-    return UnbalanceData(speeds, Q)
+    return Q
 
 
 def peaks(
