@@ -11,10 +11,10 @@ import pytest
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.rotor.fe.verbs_response import run_unbalance as rotor_unbalance
+from rotaflex.system.case import run_unbalance as system_unbalance
 from rotaflex.system.modal import campbell
 from rotaflex.system.model import Gearbox
 from rotaflex.system.unbalance import machine_unbalance
-from rotaflex.system.unbalance import run_unbalance as system_unbalance
 
 #: tabulated, cross-coupled bearing (coefficients vary with speed: the machine must take each
 #: rotor's bearings at that rotor's speed, as rotor/fe does)

@@ -709,11 +709,15 @@ def run_startup(config: dict, *, progress: bool = False):
 
 
 def run_unbalance(config: dict, *, progress: bool = False):
-    """Unbalance response vs ``[unbalance] speed_rpm`` (:func:`.unbalance.run_unbalance`; here so
-    that the verb reads this module's case file: SCHEMA, template and validation)."""
-    from rotaflex.system.unbalance import run_unbalance as run
+    """Unbalance response vs ``[unbalance] speed_rpm`` of the drive
+    (:func:`rotaflex.system.unbalance.unbalance_result`)."""
+    from rotaflex.system.unbalance import unbalance_result
 
-    return run(config, progress=progress)
+    t0 = time.perf_counter()
+    box, spec = parse(config, "unbalance")
+    probes = _probes(box, spec.probes, "unbalance") if spec.probes else None
+    speeds = _range(spec.speed_rpm, spec.n_speeds, "unbalance", box)
+    return unbalance_result(config, box, spec, probes, speeds, t0, progress)
 
 
 def run_case(config: dict, *, progress: bool = False):

@@ -17,7 +17,6 @@ coefficients, mean mesh stiffness) and F_r the rotor verb's unbalance force
 from __future__ import annotations
 
 import json
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -29,7 +28,7 @@ from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.response import harmonic_solve, unbalance_force
 from rotaflex.system.model import Gearbox
 
-__all__ = ["MachineUnbalance", "machine_unbalance", "run_unbalance"]
+__all__ = ["MachineUnbalance", "machine_unbalance", "unbalance_result"]
 
 
 @dataclass(frozen=True)
@@ -113,26 +112,26 @@ def _masses(box: Gearbox, masses) -> list[tuple[int, int, float, float]]:
     return out
 
 
-def run_unbalance(config: dict, *, progress: bool = False):
-    """Unbalance response (Bode) at the probes vs ``[unbalance] speed_rpm`` of the drive; peaks
-    with AF and API 684 separation margins, per probe, as the rotor verb rates them."""
+def unbalance_result(config: dict, box: Gearbox, spec, probes, speeds: np.ndarray, t0: float, progress=False):
+    """Unbalance response (Bode) at the ``probes`` ((rotor index, node) pairs; None: the
+    unbalance nodes) over the drive ``speeds`` [rad/s]; peaks with AF and API 684 separation
+    margins, per probe, as the rotor verb rates them. ``config`` and ``t0`` (start of the run,
+    ``time.perf_counter``) go into the summary. The verb ``rotaflex system unbalance`` is
+    :func:`rotaflex.system.case.run_unbalance`, which reads the case and calls this."""
     from rotaflex.rotor.fe.api import merge_probe_peaks, rate_peaks
     from rotaflex.rotor.fe.case_output import progress_callback
     from rotaflex.rotor.fe.response import peaks
     from rotaflex.rotor.fe.verbs_response import PEAK_FLOOR, _bands
-    from rotaflex.system.case import _probes, _range, parse
     from rotaflex.system.results import SystemUnbalanceResult
 
-    t0 = time.perf_counter()
-    box, spec = parse(config, "unbalance")
     ub = _masses(box, spec.mass)
     if not ub:
         raise InputError(
             "unbalance.mass", "<missing>", "at least one [[unbalance.mass]] table (rotor, node, magnitude)"
         )
     bands, _ = _bands(spec)
-    probes = _probes(box, spec.probes, "unbalance") if spec.probes else list(dict.fromkeys((r, n) for r, n, *_ in ub))
-    speeds = _range(spec.speed_rpm, spec.n_speeds, "unbalance", box)
+    if probes is None:
+        probes = list(dict.fromkeys((r, n) for r, n, *_ in ub))
     with progress_callback(progress, speeds.size, "unbalance", "speed") as report:
         res = machine_unbalance(box, speeds, ub, progress=report)
     X = np.stack([res.Q[:, :, box.lateral_dof(r, n, 0)] for r, n in probes], -1)  # (g, s, p)
