@@ -152,8 +152,8 @@ class UnbalanceSpec:
 class MachineDOF:
     """A DOF of the machine: rotor, node and direction."""
 
+    node: int = param(ge=0)
     rotor: str | None = param(None, doc="rotor name (default: the only rotor)")
-    node: int = param(0, ge=0)
     direction: Literal["x", "y", "theta_x", "theta_y", "twist"] = param(
         "x", doc="force (x, y) or moment (theta_*, twist) at an input; the response DOF at an output"
     )
