@@ -73,6 +73,7 @@ COMMANDS: dict[str, dict[str, str]] = {
         "torsional": "rotaflex.system.case:run_torsional",
         "startup": "rotaflex.system.case:run_startup",
         "unbalance": "rotaflex.system.case:run_unbalance",
+        "frf": "rotaflex.system.case:run_frf",
     },
 }
 

@@ -1,4 +1,4 @@
-"""``rotaflex system modal|campbell|response|steady|unbalance CONFIG.toml``: gearbox TOML -> analysis -> Result.
+"""``rotaflex system modal|campbell|response|steady|unbalance|frf CONFIG.toml``: gearbox TOML -> analysis -> Result.
 
 A config holds the model tables (``[[rotor]]`` with ``[[rotor.shaft]]``/``[[rotor.disk]]``/
 ``[[rotor.bearing]]``, ``[[gear_mesh]]``, ``[drive]``, ``[load]``; see :mod:`.model`) and one
@@ -24,7 +24,7 @@ from rotaflex.core.errors import InputError
 from rotaflex.core.limits import require_memory
 from rotaflex.core.result import summary_attrs
 from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
-from rotaflex.rotor.fe.case_config import UnbalanceMass
+from rotaflex.rotor.fe.case_config import FRFPair, FRFSpec, UnbalanceMass
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import MODEL_KEYS, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
 from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
@@ -148,6 +148,27 @@ class UnbalanceSpec:
     mass: tuple[MachineUnbalanceMass, ...] = param(())
 
 
+@dataclass(frozen=True)
+class MachineDOF:
+    """A DOF of the machine: rotor, node and direction."""
+
+    node: int = param(ge=0)
+    rotor: str | None = param(None, doc="rotor name (default: the only rotor)")
+    direction: Literal["x", "y", "theta_x", "theta_y", "twist"] = param(
+        "x", doc="force (x, y) or moment (theta_*, twist) at an input; the response DOF at an output"
+    )
+
+
+@dataclass(frozen=True)
+class MachineFRFSpec(FRFSpec):
+    """FRFs of a machine at one drive speed: the rotor verb's keys, DOFs as (rotor, node, direction)."""
+
+    speed_rpm: float = param(0.0, unit="rpm", ge=0, doc="drive speed (every rotor at its ratio)")
+    pair: tuple[FRFPair, ...] = param((), doc="rotor verb only; a machine takes inputs and outputs")
+    inputs: tuple[MachineDOF, ...] = param((), doc="DOFs of the unit forces (moments)")
+    outputs: tuple[MachineDOF, ...] = param((), doc="response DOFs (default: the inputs)")
+
+
 ANALYSES = {
     "modal": ModalSpec,
     "campbell": CampbellSpec,
@@ -156,6 +177,7 @@ ANALYSES = {
     "torsional": TorsionalSpec,
     "startup": StartupSpec,
     "unbalance": UnbalanceSpec,
+    "frf": MachineFRFSpec,
 }
 
 
@@ -172,8 +194,8 @@ class SystemCase:
     coupling: tuple[CouplingSpec, ...] = param(())
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
-    analysis: Literal["modal", "campbell", "response", "steady", "torsional", "startup", "unbalance"] | None = param(
-        None
+    analysis: Literal["modal", "campbell", "response", "steady", "torsional", "startup", "unbalance", "frf"] | None = (
+        param(None)
     )
     modal: ModalSpec = field(default_factory=ModalSpec)
     campbell: CampbellSpec = field(default_factory=CampbellSpec)
@@ -182,6 +204,7 @@ class SystemCase:
     torsional: TorsionalSpec = field(default_factory=TorsionalSpec)
     startup: StartupSpec = field(default_factory=StartupSpec)
     unbalance: UnbalanceSpec = field(default_factory=UnbalanceSpec)
+    frf: MachineFRFSpec = field(default_factory=MachineFRFSpec)
 
 
 SCHEMA = SystemCase
@@ -718,6 +741,14 @@ def run_unbalance(config: dict, *, progress: bool = False):
     probes = _probes(box, spec.probes, "unbalance") if spec.probes else None
     speeds = _range(spec.speed_rpm, spec.n_speeds, "unbalance", box)
     return unbalance_result(config, box, spec, probes, speeds, t0, progress)
+
+
+def run_frf(config: dict, *, progress: bool = False):
+    """FRFs of ``[frf]`` at a drive speed (:func:`.frf.run_frf`; here so that the verb reads this
+    module's case file: SCHEMA, template and validation)."""
+    from rotaflex.system.frf import run_frf as run
+
+    return run(config, progress=progress)
 
 
 def run_case(config: dict, *, progress: bool = False):

@@ -543,3 +543,15 @@ class SystemUnbalanceResult(_SystemResult):
         fig = unbalance_bode_figure(ds.isel(excitation=excitation), pk, json.loads(ds.attrs.get("bands", "[]")))
         fig.axes[1].set_xlabel(f"drive speed [rpm] (excitation: {label})")
         return fig
+
+
+@register_result
+class SystemFRFResult(_SystemResult):
+    """FRFs of a machine at one drive speed: the rotor verb's Bode and Nyquist figures."""
+
+    kind = "system_frf"
+
+    def plot(self) -> dict:
+        from rotaflex.rotor.fe.figures import frf_figures
+
+        return {**self._model(), **frf_figures(self.dataset)}

@@ -71,12 +71,81 @@ def frf(rotor: Rotor, frequencies, speed: float = 0.0, inputs=(0,), outputs=None
     inputs = list(inputs)
     outputs = inputs if outputs is None else list(outputs)
     M, K, C = rotor.MKC(speed)
-    D = K[0][None] - w[:, None, None] ** 2 * M[0][None] + 1j * w[:, None, None] * (C[0] + speed * rotor.G)[None]
     E = np.zeros((rotor.n_dof, len(inputs)))
     E[inputs, np.arange(len(inputs))] = 1.0
-    X = np.linalg.solve(D, np.broadcast_to(E, (w.size, *E.shape)))
-    H = X[:, outputs, :] * ((1j * w) ** KINDS[kind])[:, None, None]
-    return FRFData(w, H, kind)
+    X = dynamic_solve(M[0], C[0] + speed * rotor.G, K[0], w, E)
+    return FRFData(w, in_kind(X[:, outputs, :], w, kind), kind)
+
+
+def dynamic_solve(M: np.ndarray, D: np.ndarray, K: np.ndarray, w: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Receptances ``X`` (f, n, r) of ``[K - w^2 M + i w D] X = B`` at each frequency of ``w``.
+
+    One batched LAPACK solve over the frequencies, with the matrices at one spin speed: the
+    rotor's ``D = C(Omega) + Omega G`` (:func:`frf`) or a machine's (:mod:`rotaflex.system.frf`,
+    every rotor at its own speed, on the solved coordinates).
+
+    Parameters
+    ----------
+    M, D, K : ndarray (n, n) [kg, N s/m, N/m]
+    w : ndarray (f,) excitation frequencies [rad/s]
+    B : ndarray (n, r) unit force patterns, one column per input
+
+    Returns
+    -------
+    ndarray (f, n, r) complex [m/N, rad/N, ...]
+    """
+    A = K[None] - w[:, None, None] ** 2 * M[None] + 1j * w[:, None, None] * D[None]
+    return np.linalg.solve(A, np.broadcast_to(B, (w.size, *B.shape)))
+
+
+def in_kind(X: np.ndarray, w: np.ndarray, kind: str) -> np.ndarray:
+    """Receptances ``X`` (f, ...) at ``w`` [rad/s] as ``kind``: X, i w X or -w^2 X."""
+    return X * ((1j * w) ** KINDS[kind]).reshape(-1, *(1,) * (X.ndim - 1))
+
+
+UNITS = {"receptance": "m/N", "mobility": "m/(N s)", "accelerance": "m/(N s^2)"}
+
+
+def frf_dataset(w: np.ndarray, H: np.ndarray, labels: list, kind: str, speed_rpm: float):
+    """The FRF dataset, its summary values and message (rotor and machine verbs alike).
+
+    Parameters
+    ----------
+    w : ndarray (f,) [rad/s]
+    H : ndarray (f, p) complex, one column per pair ``labels[j]`` (output / input), in ``kind``
+    speed_rpm : float, the (drive) speed [rpm] the matrices are taken at
+
+    Returns
+    -------
+    (xarray.Dataset, dict of summary values, message): real and imaginary parts, amplitude and
+    phase per pair; each pair's resonance peaks with half-power damping (:func:`half_power`).
+    """
+    import xarray as xr
+
+    unit = UNITS[kind]
+    ds = xr.Dataset(
+        {
+            "H_real": (("frequency", "pair"), H.real, {"units": unit}),
+            "H_imag": (("frequency", "pair"), H.imag, {"units": unit}),
+            "amplitude": (("frequency", "pair"), np.abs(H), {"units": unit, "long_name": f"|{kind}|"}),
+            "phase": (("frequency", "pair"), np.angle(H), {"units": "rad"}),
+            "frequency_hz": ("frequency", w / (2 * np.pi), {"units": "Hz"}),
+        },
+        coords={"frequency": ("frequency", w, {"units": "rad/s"}), "pair": labels},
+    )
+    ds.attrs["kind"] = kind
+    ds.attrs["speed_rpm"] = speed_rpm
+    extra = {"speed": {"value": speed_rpm, "unit": "rpm"}, "kind": {"value": kind, "unit": unit}}
+    shown = []
+    for j, lab in enumerate(labels):
+        for k, p in enumerate(half_power(w, np.abs(H[:, j]))):
+            extra[f"{lab}_peak_{k}_frequency_hz"] = {"value": p["frequency"] / (2 * np.pi), "unit": "Hz"}
+            extra[f"{lab}_peak_{k}_amplitude"] = {"value": p["amplitude"], "unit": unit}
+            extra[f"{lab}_peak_{k}_half_power_damping_ratio"] = {"value": p["zeta"], "unit": "1"}
+            if j == 0:
+                shown.append(f"{p['frequency'] / (2 * np.pi):.4g} Hz")
+    msg = f"{len(labels)} FRFs at {speed_rpm:g} rpm; peaks of {labels[0]}: " + (", ".join(shown) or "none")
+    return ds, extra, msg
 
 
 def half_power(frequency: np.ndarray, amplitude: np.ndarray) -> list[dict]:

@@ -102,7 +102,7 @@ def _check_static(res, s) -> None:
 def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
     """FRFs of ``[frf]`` at ``speed_rpm`` over ``frequency_hz``, with peaks and half-power damping."""
     from rotaflex.core.errors import InputError
-    from rotaflex.rotor.fe.frf import dof_index, frf, half_power
+    from rotaflex.rotor.fe.frf import dof_index, frf, frf_dataset
 
     t0 = time.perf_counter()
     rotor, spec = parse(config, "frf")
@@ -127,28 +127,6 @@ def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
     data = frf(rotor, w, speed, uniq, sorted(set(outs)), spec.kind)
     out_idx = {d: j for j, d in enumerate(sorted(set(outs)))}
     H = np.stack([data.H[:, out_idx[o], uniq.index(i)] for i, o in zip(ins, outs, strict=True)], 1)
-    unit = {"receptance": "m/N", "mobility": "m/(N s)", "accelerance": "m/(N s^2)"}[spec.kind]
-    ds = xr.Dataset(
-        {
-            "H_real": (("frequency", "pair"), H.real, {"units": unit}),
-            "H_imag": (("frequency", "pair"), H.imag, {"units": unit}),
-            "amplitude": (("frequency", "pair"), np.abs(H), {"units": unit, "long_name": f"|{spec.kind}|"}),
-            "phase": (("frequency", "pair"), np.angle(H), {"units": "rad"}),
-            "frequency_hz": ("frequency", w / (2 * np.pi), {"units": "Hz"}),
-        },
-        coords={"frequency": ("frequency", w, {"units": "rad/s"}), "pair": labels},
-    )
-    ds.attrs["kind"] = spec.kind
-    ds.attrs["speed_rpm"] = spec.speed_rpm
-    extra = {"speed": {"value": spec.speed_rpm, "unit": "rpm"}, "kind": {"value": spec.kind, "unit": unit}}
-    shown = []
-    for j, lab in enumerate(labels):
-        for k, p in enumerate(half_power(w, np.abs(H[:, j]))):
-            extra[f"{lab}_peak_{k}_frequency_hz"] = {"value": p["frequency"] / (2 * np.pi), "unit": "Hz"}
-            extra[f"{lab}_peak_{k}_amplitude"] = {"value": p["amplitude"], "unit": unit}
-            extra[f"{lab}_peak_{k}_half_power_damping_ratio"] = {"value": p["zeta"], "unit": "1"}
-            if j == 0:
-                shown.append(f"{p['frequency'] / (2 * np.pi):.4g} Hz")
-    msg = f"{len(labels)} FRFs at {spec.speed_rpm:g} rpm; peaks of {labels[0]}: " + (", ".join(shown) or "none")
+    ds, extra, msg = frf_dataset(w, H, labels, spec.kind, spec.speed_rpm)
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return FRFResult(add_fluid_film_tables(ds, rotor))
