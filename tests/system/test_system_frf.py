@@ -11,8 +11,8 @@ from rotaflex.core.errors import InputError
 from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.rotor.fe.frf import half_power
 from rotaflex.rotor.fe.verbs import run_frf as rotor_frf
+from rotaflex.system.case import run_frf as system_frf
 from rotaflex.system.frf import machine_frf
-from rotaflex.system.frf import run_frf as system_frf
 from rotaflex.system.modal import modal
 from rotaflex.system.model import Gearbox
 

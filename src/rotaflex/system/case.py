@@ -25,6 +25,7 @@ from rotaflex.core.limits import require_memory
 from rotaflex.core.result import summary_attrs
 from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
 from rotaflex.rotor.fe.case_config import FRFPair, FRFSpec, UnbalanceMass
+from rotaflex.system import helical
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import MODEL_KEYS, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
 from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
@@ -313,7 +314,7 @@ def run_modal(config: dict, *, progress: bool = False):
         coords={"mode": np.arange(nm), "group": m.groups, "dof": np.arange(box.n_dof)},
     )
     extra = {}
-    shares = _helical_shares(box, ds, m.shape[0], w, ("mode",))
+    shares = helical.dataset_shares(box, ds, m.shape[0], w, ("mode",))
     for k in range(nm):
         extra[f"mode_{k}_frequency_hz"] = {"value": float(m.wn[0, k] / (2 * np.pi)), "unit": "Hz"}
         extra[f"mode_{k}_mesh_energy"] = {"value": float(m.mesh_energy[0, k]), "unit": "1"}
@@ -339,32 +340,6 @@ def run_modal(config: dict, *, progress: bool = False):
     return SystemModalResult(ds)
 
 
-def _helical_shares(box, ds, shapes, speed: float, dims) -> dict:
-    """Add the axial and tilting energy shares of the modes (:func:`.helical.modal_shares`) to
-    ``ds`` for a box with helical meshes; returns them ({} for spur boxes: nothing changes)."""
-    if not box.axial:
-        return {}
-    from rotaflex.system.helical import SHARES, modal_shares
-
-    shares = modal_shares(box, shapes, speed)
-    for key, v in shares.items():
-        ds[key] = (dims, v, {"units": "1", "long_name": SHARES[key]})
-    return shares
-
-
-def _helical_static(box, ds, extra: dict, speed: float) -> None:
-    """Add the static thrust reactions, axial mesh forces and tilting moments (helical boxes)."""
-    if not box.axial:
-        return
-    from rotaflex.system.helical import static_outputs
-
-    data, coords, more = static_outputs(box, speed)
-    for key, v in data.items():
-        ds[key] = v
-    ds.coords.update(coords)
-    extra.update(more)
-
-
 def run_campbell(config: dict, *, progress: bool = False):
     """Campbell diagram over ``[campbell] speed_rpm`` with mesh-order lines and crossings."""
     from rotaflex.system.assembly import free_dofs
@@ -377,7 +352,7 @@ def run_campbell(config: dict, *, progress: bool = False):
     n_modes, note = clamp_modes(spec.n_modes, free_dofs(box).size, "campbell.n_modes")
     c = campbell(box, speeds, n_modes, spec.harmonics, reduce=spec.reduce)
     ds = campbell_dataset(c)
-    _helical_shares(box, ds, c.modes.shape, 0.0, ("speed", "mode"))
+    helical.dataset_shares(box, ds, c.modes.shape, 0.0, ("speed", "mode"))
     mesh_x = [cr for cr in c.crossings if cr["line"].startswith("mesh")]
     extra = {
         f"crossing_{i}_rpm": {
@@ -472,7 +447,7 @@ def run_response(config: dict, *, progress: bool = False):
         ds["axial_bearing_force"] = ((*dims, "thrust"), fb_a, {"units": "N", "long_name": "thrust, amplitude"})
         extra["peak_dynamic_axial_force"] = {"value": float(fa.sum(1).max()), "unit": "N"}
         extra["peak_axial_bearing_force"] = {"value": float(fb_a.sum(2).max()), "unit": "N"}
-        _helical_static(box, ds, extra, float(np.median(speeds)))
+        helical.dataset_static(box, ds, extra, float(np.median(speeds)))
     msg = (
         f"{spec.n_speeds} speeds x {spec.harmonics} TE harmonics; largest dynamic mesh force "
         f"{f_sum[0, i]:.4g} N (sum over harmonics) at {rad_s_to_rpm(speeds[i]):.0f} rpm; static "
@@ -573,7 +548,7 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
         },
     }
     if box.axial:
-        _steady_axial(box, ds, extra, s, w)
+        helical.dataset_steady(box, ds, extra, s, w)
     msg = (
         f"{rad_s_to_rpm(w):g} rpm: dynamic factor {F.max() / f0:.4f}, contact loss "
         f"{100 * s.contact_loss[0]:.1f} % of the "
@@ -584,21 +559,6 @@ def run_steady(config: dict, *, progress: bool = False, initial_state: dict | No
     ds.attrs["samples_per_cycle"] = spc
     ds.attrs["mesh_frequency"] = s.mesh_frequency
     return SystemSteadyResult(ds)
-
-
-def _steady_axial(box, ds, extra: dict, s, speed: float) -> None:
-    """Thrust reactions, axial mesh forces and tilting moments of a steady state (helical)."""
-    from rotaflex.system.helical import mesh_axial_force, tilting_moments
-
-    _helical_static(box, ds, extra, speed)
-    fa = mesh_axial_force(box, s.force)
-    tm = np.linalg.norm(tilting_moments(box, s.force), axis=-1)
-    ds["axial_bearing_force"] = (("time", "thrust"), s.axial_force, {"units": "N", "long_name": "on the rotor"})
-    ds["axial_mesh_force"] = (("time", "mesh"), fa, {"units": "N", "long_name": "on the driven gear"})
-    ds["tilting_moment"] = (("time", "mesh", "gear"), tm, {"units": "N m", "long_name": "|moment| of the axial force"})
-    extra["axial_bearing_force_max"] = {"value": float(np.abs(s.axial_force).max(initial=0.0)), "unit": "N"}
-    extra["axial_mesh_force_max"] = {"value": float(np.abs(fa).max()), "unit": "N"}
-    extra["tilting_moment_max"] = {"value": float(tm.max()), "unit": "N m"}
 
 
 def _harmonics(x, spc, orders=(1, 2, 3)):
@@ -744,11 +704,13 @@ def run_unbalance(config: dict, *, progress: bool = False):
 
 
 def run_frf(config: dict, *, progress: bool = False):
-    """FRFs of ``[frf]`` at a drive speed (:func:`.frf.run_frf`; here so that the verb reads this
-    module's case file: SCHEMA, template and validation)."""
-    from rotaflex.system.frf import run_frf as run
+    """FRFs of ``[frf]`` at a drive speed (:func:`rotaflex.system.frf.frf_result`)."""
+    from rotaflex.system.frf import frf_result
 
-    return run(config, progress=progress)
+    t0 = time.perf_counter()
+    box, spec = parse(config, "frf")
+    _check_drive_speed(box, spec.speed_rpm, "frf.speed_rpm", spec.speed_rpm)
+    return frf_result(config, box, spec, t0)
 
 
 def run_case(config: dict, *, progress: bool = False):

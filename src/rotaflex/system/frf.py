@@ -15,15 +15,13 @@ are the rotor verb's (:func:`~rotaflex.rotor.fe.frf.frf_dataset`).
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.frf import DIRECTIONS, KINDS, FRFData, dynamic_solve, in_kind
 from rotaflex.system.model import Gearbox
 
-__all__ = ["MACHINE_DIRECTIONS", "machine_frf", "run_frf"]
+__all__ = ["MACHINE_DIRECTIONS", "machine_frf", "frf_result"]
 
 #: a machine's DOFs per node: the rotor's four lateral ones and the twist (rotors with torsion)
 MACHINE_DIRECTIONS = (*DIRECTIONS, "twist")
@@ -50,7 +48,7 @@ def machine_frf(box: Gearbox, frequencies, speed: float, inputs, outputs=None, k
     >>> # machine_frf(box, [100.0, 200.0], 150.0, [box.lateral_dof(1, 5, 0)]).H.shape  # (2, 1, 1)
     """
     from rotaflex.system.assembly import matrices
-    from rotaflex.system.modal import _pencil
+    from rotaflex.system.modal import speed_pencil
 
     if kind not in KINDS:
         raise InputError("frf.kind", kind, "one of " + ", ".join(KINDS))
@@ -58,7 +56,7 @@ def machine_frf(box: Gearbox, frequencies, speed: float, inputs, outputs=None, k
     inputs = list(inputs)
     outputs = inputs if outputs is None else list(outputs)
     mats = matrices(box)
-    M, D, K = _pencil(box, mats, None)(speed)
+    M, D, K = speed_pencil(box, mats, None)(speed)
     E = np.zeros((len(inputs), box.n_dof))
     E[np.arange(len(inputs)), inputs] = 1.0
     B = mats.project(E).T  # T^T e_in (n_solved, n_in)
@@ -98,18 +96,17 @@ def _dofs(box: Gearbox, rows, key: str) -> tuple[list[int], list[str]]:
     return dofs, labels
 
 
-def run_frf(config: dict, *, progress: bool = False):
+def frf_result(config: dict, box: Gearbox, spec, t0: float):
     """FRFs of ``[frf]``: every output of ``[[frf.outputs]]`` per unit force (moment) at every
     input of ``[[frf.inputs]]``, at the drive ``speed_rpm`` over ``frequency_hz``; peaks with
-    half-power damping as the rotor verb reports them."""
+    half-power damping as the rotor verb reports them. ``config`` and ``t0`` (start of the run,
+    ``time.perf_counter``) go into the summary. The verb ``rotaflex system frf`` is
+    :func:`rotaflex.system.case.run_frf`, which reads the case and calls this."""
     from rotaflex.core.result import summary_attrs
     from rotaflex.core.units import rpm_to_rad_s
     from rotaflex.rotor.fe.frf import frf_dataset
-    from rotaflex.system.case import _check_drive_speed, parse
     from rotaflex.system.results import SystemFRFResult
 
-    t0 = time.perf_counter()
-    box, spec = parse(config, "frf")
     f0, f1 = spec.frequency_hz
     if f1 <= f0:
         raise InputError("frf.frequency_hz", list(spec.frequency_hz), "[start, stop] with stop > start")
@@ -117,7 +114,6 @@ def run_frf(config: dict, *, progress: bool = False):
         raise InputError("frf.pair", "[[frf.pair]]", "absent on a machine: [[frf.inputs]] and [[frf.outputs]]")
     if not spec.inputs:
         raise InputError("frf.inputs", "<missing>", "at least one [[frf.inputs]] table (rotor, node, direction)")
-    _check_drive_speed(box, spec.speed_rpm, "frf.speed_rpm", spec.speed_rpm)
     ins, in_labels = _dofs(box, spec.inputs, "inputs")
     outs, out_labels = _dofs(box, spec.outputs, "outputs") if spec.outputs else (ins, in_labels)
     w = np.linspace(f0, f1, spec.n_frequencies) * 2 * np.pi

@@ -179,3 +179,39 @@ def static_outputs(box: Gearbox, speed: float) -> tuple[dict, dict, dict]:
             {"units": "m", "long_name": "axial position of the mesh contact from mid-face (+z)"},
         )
     return data, coords, extra
+
+
+# -- dataset outputs of the verbs (rotaflex system modal/campbell/steady) --------------------
+def dataset_shares(box, ds, shapes, speed: float, dims) -> dict:
+    """Add the axial and tilting energy shares of the modes (:func:`modal_shares`) to
+    ``ds`` for a box with helical meshes; returns them ({} for spur boxes: nothing changes)."""
+    if not box.axial:
+        return {}
+    shares = modal_shares(box, shapes, speed)
+    for key, v in shares.items():
+        ds[key] = (dims, v, {"units": "1", "long_name": SHARES[key]})
+    return shares
+
+
+def dataset_static(box, ds, extra: dict, speed: float) -> None:
+    """Add the static thrust reactions, axial mesh forces and tilting moments (helical boxes)."""
+    if not box.axial:
+        return
+    data, coords, more = static_outputs(box, speed)
+    for key, v in data.items():
+        ds[key] = v
+    ds.coords.update(coords)
+    extra.update(more)
+
+
+def dataset_steady(box, ds, extra: dict, s, speed: float) -> None:
+    """Thrust reactions, axial mesh forces and tilting moments of a steady state (helical)."""
+    dataset_static(box, ds, extra, speed)
+    fa = mesh_axial_force(box, s.force)
+    tm = np.linalg.norm(tilting_moments(box, s.force), axis=-1)
+    ds["axial_bearing_force"] = (("time", "thrust"), s.axial_force, {"units": "N", "long_name": "on the rotor"})
+    ds["axial_mesh_force"] = (("time", "mesh"), fa, {"units": "N", "long_name": "on the driven gear"})
+    ds["tilting_moment"] = (("time", "mesh", "gear"), tm, {"units": "N m", "long_name": "|moment| of the axial force"})
+    extra["axial_bearing_force_max"] = {"value": float(np.abs(s.axial_force).max(initial=0.0)), "unit": "N"}
+    extra["axial_mesh_force_max"] = {"value": float(np.abs(fa).max()), "unit": "N"}
+    extra["tilting_moment_max"] = {"value": float(tm.max()), "unit": "N m"}

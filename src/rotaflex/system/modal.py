@@ -100,7 +100,7 @@ def _energy(box: Gearbox, mats: Matrices, K_full: np.ndarray, v: np.ndarray):
     return e, mesh
 
 
-def _pencil(box, mats, basis):
+def speed_pencil(box, mats, basis):
     """Function of the drive speed giving (M, D, K) on the free DOFs or in ``basis``; with
     speed-independent bearings the projections are made once (D = D0 + Omega G_sum)."""
     constant = all(el.speed_independent for pr in box.rotors for _, _, el in pr.rotor.bearings)
@@ -119,7 +119,7 @@ def _pencil(box, mats, basis):
 
 
 def _solve(box, mats, speed, n_keep, basis, pencil=None):
-    M, D, K = (pencil or _pencil(box, mats, basis))(speed)
+    M, D, K = (pencil or speed_pencil(box, mats, basis))(speed)
     n = M.shape[0]
     # rotor/fe's state matrix and selection; M^-1 [K D] by one solve (M is not inverted), one
     # LAPACK geev (right vectors only)
@@ -217,7 +217,7 @@ def campbell(
         basis = reduction_basis(box, float(speeds[speeds.size // 2]), n_cand, mats)
         n_cand = min(n_cand, basis.shape[1])
     ns = speeds.size
-    pencil = _pencil(box, mats, basis)
+    pencil = speed_pencil(box, mats, basis)
     cands = (_solve(box, mats, w, n_cand, basis, pencil) for w in speeds)
     # rotor/fe's tracking; the candidates are oscillatory modes only, so no track starts late
     lam_t, v_t, mac_min = track_modes(cands, np.zeros(ns, int), n_modes)

@@ -65,11 +65,11 @@ def machine_unbalance(
     >>> # machine_unbalance(box, [100.0, 150.0], [(1, 5, 1e-4, 0.0)]).Q.shape  # (1, 2, n_dof)
     """
     from rotaflex.system.assembly import matrices
-    from rotaflex.system.modal import _pencil
+    from rotaflex.system.modal import speed_pencil
 
     speeds = np.atleast_1d(np.asarray(speeds, float))
     mats = matrices(box)
-    at = _pencil(box, mats, None)  # the Campbell diagram's (M, D, K) at a drive speed
+    at = speed_pencil(box, mats, None)  # the Campbell diagram's (M, D, K) at a drive speed
 
     def pencil(sp):
         M, D, K = zip(*(at(w) for w in sp), strict=True)
