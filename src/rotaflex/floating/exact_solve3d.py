@@ -37,6 +37,7 @@ import numpy as np
 from rotaflex.core.errors import ConvergenceError, InputError
 from rotaflex.floating import exact_kernels as ek
 from rotaflex.floating import exact_kernels3d as ek3
+from rotaflex.floating import exact_step3d
 from rotaflex.floating.exact_beam3d import ExactBeam3D, PointLoads3D
 from rotaflex.floating.exact_solve import ExactSolution, alpha_coefficients, time_grid
 from rotaflex.floating.kernels import motion_profile
@@ -175,6 +176,10 @@ class _Equations:
         base = 6 * np.arange(n // 6)[:, None, None] + 3
         self.rot_r = base + np.arange(3)[None, :, None]
         self.rot_c = base + np.arange(3)[None, None, :]
+        # the body and loads as the compiled step takes them (exact_step3d)
+        gam0, kap0 = beam._ref
+        self.beam_args = (beam.conn, beam._lengths, gam0, kap0, beam.stiffness)
+        self.load_args = (loads.node, loads.kind, loads.frame, loads.amp, beam.n_nodes, loads.dist)
 
     def load_factors(self, t: float) -> np.ndarray:
         ld = self.loads
@@ -251,6 +256,7 @@ def simulate_exact3d(
     tol: float = 1e-10,
     max_iter: int = 30,
     progress=None,
+    kernel: bool = True,
 ) -> ExactSolution:
     """Time history of a 3-D exact beam from ``q0`` (state, default the reference carried by the
     frame) and ``v0`` (6 per block: inertial translational velocity [m/s], material angular
@@ -261,6 +267,9 @@ def simulate_exact3d(
     ``breakpoints``: times [s] the steps land on (profile kinks). ``eta``: Kelvin-Voigt material
     damping time constant [s] (``2 zeta / omega`` damps the mode of frequency ``omega`` with
     ratio ``zeta``, higher modes more; its dissipation is not in the energy columns).
+    ``kernel``: Newton's iteration of a step compiled (:func:`rotaflex.floating.exact_step3d.
+    newton_step`); ``False`` runs the same formulas in numpy (:func:`_newton_numpy`, the
+    reference the tests compare it with; about ten times slower).
 
     Returns an :class:`~rotaflex.floating.exact_solve.ExactSolution` with ``v`` in that layout
     and the energy columns kinetic, strain, work of the loads (trapezoidal rule on the
@@ -318,26 +327,15 @@ def simulate_exact3d(
         dq[fixed] = _rigid_increment(beam, pres, q, times[k - 1], t1)[fixed]
         v1[fixed] = vr1[fixed]
         q1 = q.copy()
-        step = np.inf
-        for it in range(1, max_iter + 1):
-            ek3.advance_material(q1, q, dq)
-            # the residual alone first: the tangent (central differences, most of the cost) only
-            # when another iteration follows
-            r, _, _ = eq.residual(q1, v1, vd1, t1, want_k=False)
-            res = float(np.abs(r[free]).max())
-            # converged: the residual at its tolerance, or the last correction of the positions
-            # at round-off level (the stiff axial forces' floor)
-            if it > 1 and (res <= tol * scale or step <= 1e-13 * beam.length):
-                break
-            _, K, C = eq.residual(q1, v1, vd1, t1)
-            A = eq.M + gp * C + bp * _times_tangent(K, dq)
-            d = np.linalg.solve(A[np.ix_(free, free)], -r[free])
-            vd1[free] += d
-            a1[free] += (1.0 - af) / (1.0 - am) * d
-            v1[free] += gp * d
-            dq[free] += bp * d
-            step = bp * float(np.abs(d).max())
+        tols = (tol * scale, 1e-13 * beam.length)
+        if kernel:
+            r = np.zeros(n)
+            coef = (eq.eta, eq.kv, gp, bp, (1.0 - af) / (1.0 - am), *tols, float(max_iter))
+            args = (eq.M, eq.Jd, eq.beam_args, eq.load_args, eq.load_factors(t1), coef, r)
+            ok, it, res = exact_step3d.newton_step(q, q1, dq, v1, vd1, a1, free, *args)
         else:
+            ok, it, res, r = _newton_numpy(eq, q, q1, dq, v1, vd1, a1, t1, (gp, bp, am, af), tols, max_iter)
+        if not ok:
             raise ConvergenceError("generalized-alpha step", float(t1), res, tol * scale)
         iters += it
         # work of the loads: trapezoidal rule on the spatial increments (rotations R_n dTheta)
@@ -368,6 +366,34 @@ def simulate_exact3d(
         wall_time=time.perf_counter() - t_wall,
         method="exact",
     )
+
+
+def _newton_numpy(eq: _Equations, q, q1, dq, v1, vd1, a1, t1, alpha, tols, max_iter):
+    """Newton's iteration of one step in numpy (the reference of
+    :func:`rotaflex.floating.exact_step3d.newton_step`, same arguments in place); ``alpha``:
+    ``(gamma', beta', alpha_m, alpha_f)``, ``tols``: force [N] and position step [m]
+    tolerances. Returns ``(converged, iterations, residual, r)``."""
+    gp, bp, am, af = alpha
+    free = eq.free
+    step = np.inf
+    for it in range(1, max_iter + 1):
+        ek3.advance_material(q1, q, dq)
+        # the residual alone first: the tangent only when another iteration follows
+        r, _, _ = eq.residual(q1, v1, vd1, t1, want_k=False)
+        res = float(np.abs(r[free]).max())
+        # converged: the residual at its tolerance, or the last correction of the positions
+        # at round-off level (the stiff axial forces' floor)
+        if it > 1 and (res <= tols[0] or step <= tols[1]):
+            return True, it, res, r
+        _, K, C = eq.residual(q1, v1, vd1, t1)
+        A = eq.M + gp * C + bp * _times_tangent(K, dq)
+        d = np.linalg.solve(A[np.ix_(free, free)], -r[free])
+        vd1[free] += d
+        a1[free] += (1.0 - af) / (1.0 - am) * d
+        v1[free] += gp * d
+        dq[free] += bp * d
+        step = bp * float(np.abs(d).max())
+    return False, max_iter, res, r
 
 
 def _external(eq: _Equations, q, t) -> np.ndarray:
