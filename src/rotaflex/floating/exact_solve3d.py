@@ -72,7 +72,7 @@ def frame_state(beam: ExactBeam3D, ax, phi: float, rate: float, acc: float):
     A = _skew_all(np.asarray(ax, dtype=float)[None])[0]
     x = beam.nodes @ quaternion_to_matrix(qf).T
     ax_x = x @ A.T
-    R0t_a = np.einsum("bji,j->bi", quaternion_to_matrix(beam.quats), ax)
+    R0t_a = np.einsum("bji,j->bi", _section_matrices(beam), ax)
     blocks, vb, ab = q.reshape(-1, 7), v.reshape(-1, 6), a.reshape(-1, 6)
     blocks[:nn, :3] = x
     blocks[:nn, 3:] = quaternion_product(qf, beam.quats)
@@ -86,16 +86,6 @@ def frame_state(beam: ExactBeam3D, ax, phi: float, rate: float, acc: float):
     return q, v, a
 
 
-def _rigid_increment(beam: ExactBeam3D, pres, q0, t0: float, t1: float) -> np.ndarray:
-    """Increments (6 per block, rotations material) from the imposed state ``q0`` at ``t0`` to the
-    frame's rigid motion at ``t1`` (:func:`_turn_increment`)."""
-    if pres is None:
-        return np.zeros(beam.n_dof)
-    p = np.asarray(pres, dtype=float)
-    phi0, phi1 = motion_profile(p, float(t0))[0], motion_profile(p, float(t1))[0]
-    return _turn_increment(beam, p[:3], q0, phi0, phi1)
-
-
 def _turn_increment(beam: ExactBeam3D, ax, q0, phi0: float, phi1: float, q1=None) -> np.ndarray:
     """Increments (6 per block, rotations material) from the rigid state ``q0`` at frame angle
     ``phi0`` to the one at ``phi1`` [rad] about the unit axis ``ax`` (``q1``, if given, its
@@ -107,9 +97,18 @@ def _turn_increment(beam: ExactBeam3D, ax, q0, phi0: float, phi1: float, q1=None
     nn = beam.n_nodes
     turn = np.asarray(ax, dtype=float) * (phi1 - phi0)
     db[:, :3] = q1.reshape(-1, 7)[:, :3] - np.asarray(q0).reshape(-1, 7)[:, :3]
-    db[:nn, 3:] = np.einsum("bji,j->bi", quaternion_to_matrix(beam.quats), turn)
+    db[:nn, 3:] = np.einsum("bji,j->bi", _section_matrices(beam), turn)
     db[nn, 3:] = turn
     return d
+
+
+def _section_matrices(beam: ExactBeam3D) -> np.ndarray:
+    """(nn, 3, 3) rotation matrices of the reference sections, computed once per body (the
+    frozen dataclass's ``__dict__`` holds them; recomputed they were a tenth of a step)."""
+    cache = beam.__dict__
+    if "_r0_cache" not in cache:
+        cache["_r0_cache"] = quaternion_to_matrix(beam.quats)
+    return cache["_r0_cache"]
 
 
 def _motion_scale(beam: ExactBeam3D, pres, t_end: float) -> float:
@@ -222,6 +221,22 @@ class _Equations:
         A[self.rot_r, self.rot_c] += _skew_all(m)
         return out, A, C
 
+    def step_equations(self, q1, v1, vd1, dq, t, gp, bp, want_k, kernel=True):
+        """Residual (n,) and, with ``want_k``, the iteration matrix ``M + gp C + bp K T`` (n, n)
+        of a step with the increments ``dq``: compiled
+        (:func:`rotaflex.floating.exact_step3d.equations`) or with :meth:`residual`."""
+        if not kernel:
+            r, K, C = self.residual(q1, v1, vd1, t, want_k)
+            return r, (self.M + gp * C + bp * _times_tangent(K, dq) if want_k else None)
+        n = len(dq)
+        r, A = np.zeros(n), np.zeros((n, n) if want_k else (1, 1))
+        coef = (self.eta, self.kv, gp, bp)
+        lam = self.load_factors(t)
+        exact_step3d.equations(
+            q1, v1, vd1, dq, self.M, self.Jd, self.beam_args, self.load_args, lam, coef, want_k, r, A
+        )
+        return r, (A if want_k else None)
+
     def energy(self, q, v):
         """Kinetic and strain energy [J]."""
         _, _, u = self.forces(q, 0.0, want_k=False)
@@ -287,7 +302,7 @@ def simulate_exact3d(
     n = beam.n_dof
     pres = None if prescribed is None else np.asarray(prescribed, dtype=float)
     fixed, free = eq.fixed, eq.free
-    qr, vr, vdr, _ = rigid_motion(beam, pres, 0.0)
+    qr, vr, vdr, phi0 = rigid_motion(beam, pres, 0.0)
     q = qr if q0 is None else np.array(q0, dtype=float)
     q[np.repeat(fixed.reshape(-1, 6)[:, 0], 7)] = qr[np.repeat(fixed.reshape(-1, 6)[:, 0], 7)]
     v = vr.copy() if v0 is None else np.array(v0, dtype=float)
@@ -318,13 +333,14 @@ def simulate_exact3d(
         bp = (1.0 - af) / (1.0 - am) * h * h * beta
         gp = (1.0 - af) / (1.0 - am) * h * gamma
         eq.kv = gp / bp
-        _, vr1, vdr1, _ = rigid_motion(beam, pres, t1)
+        qr1, vr1, vdr1, phi1 = rigid_motion(beam, pres, t1)
         vd1 = np.where(fixed, vdr1, 0.0)
         a1 = (af * vd - am * a) / (1.0 - am)
         v1 = v + h * (1.0 - gamma) * a + h * gamma * a1
         dq = h * v + h * h * (0.5 - beta) * a + h * h * beta * a1
         # the eliminated DOFs: imposed from the frame's motion
-        dq[fixed] = _rigid_increment(beam, pres, q, times[k - 1], t1)[fixed]
+        dq[fixed] = 0.0 if pres is None else _turn_increment(beam, pres[:3], q, phi0, phi1, qr1)[fixed]
+        phi0 = phi1
         v1[fixed] = vr1[fixed]
         q1 = q.copy()
         tols = (tol * scale, 1e-13 * beam.length)
@@ -463,6 +479,7 @@ def simulate_hub3d(
     tol: float = 1e-10,
     max_iter: int = 30,
     progress=None,
+    kernel: bool = True,
 ) -> HubSolution:
     """Time history of a 3-D exact beam clamped to a free hub turning about a fixed axis
     (:class:`HubDrive`), from rest in the reference state.
@@ -486,7 +503,9 @@ def simulate_hub3d(
     accelerations re-solved with their right limit (so a piecewise-constant torque's impulse
     and work are integrated exactly). Energy columns: kinetic (hub included), strain, work of
     the loads and the hub torque (trapezoidal rule on the increments), 0 (the bearing does
-    no work).
+    no work). ``kernel``: the residual and iteration matrix compiled
+    (:func:`rotaflex.floating.exact_step3d.equations`; the iteration stays in Python) or in
+    numpy (``False``, the reference the tests compare it with).
 
     Raises
     ------
@@ -560,13 +579,12 @@ def simulate_hub3d(
             dq[fixed] = _turn_increment(beam, ax, q, ph, ph + dphi, qc)[fixed]
             v1[fixed], vd1[fixed] = vc[fixed], acs[fixed]
             ek3.advance_material(q1, q, dq)
-            r, _, _ = eq.residual(q1, v1, vd1, te, want_k=False)
+            r, _ = eq.step_equations(q1, v1, vd1, dq, te, gp, bp, False, kernel)
             rh = J * pd1 + B @ r - hub.torque_at(te)
             res = max(float(np.abs(r[free]).max(initial=0.0)), abs(rh) / lscale)
             if it > 1 and (res <= tol * scale or step <= 1e-13 * beam.length):
                 break
-            _, K, C = eq.residual(q1, v1, vd1, te)
-            A = _reduced(eq.M + gp * C + bp * _times_tangent(K, dq), free, B)
+            A = _reduced(eq.step_equations(q1, v1, vd1, dq, te, gp, bp, True, kernel)[1], free, B)
             A[-1, -1] += J
             d = np.linalg.solve(A, -np.concatenate([r[free], [rh]]))
             vd1[free] += d[:nf]
