@@ -175,10 +175,10 @@ class _Equations:
         base = 6 * np.arange(n // 6)[:, None, None] + 3
         self.rot_r = base + np.arange(3)[None, :, None]
         self.rot_c = base + np.arange(3)[None, None, :]
-        # the body and loads as the compiled step takes them (exact_step3d)
         gam0, kap0 = beam._ref
         self.beam_args = (beam.conn, beam._lengths, gam0, kap0, beam.stiffness)
-        self.load_args = (loads.node, loads.kind, loads.frame, loads.amp, beam.n_nodes, loads.dist)
+        # the compiled path's tangent (filled and turned in place at every iteration)
+        self.work_k, self.no_k = np.zeros((n, n)), np.zeros((1, 1))
 
     def load_factors(self, t: float) -> np.ndarray:
         ld = self.loads
@@ -221,21 +221,32 @@ class _Equations:
         A[self.rot_r, self.rot_c] += _skew_all(m)
         return out, A, C
 
-    def step_equations(self, q1, v1, vd1, dq, t, gp, bp, want_k, kernel=True):
-        """Residual (n,) and, with ``want_k``, the iteration matrix ``M + gp C + bp K T`` (n, n)
-        of a step with the increments ``dq``: compiled
-        (:func:`rotaflex.floating.exact_step3d.equations`) or with :meth:`residual`."""
+    def step_equations(self, q1, v1, vd1, dq, t, gp, bp, want_k, kernel=True, rows=None):
+        """Residual (n,), its largest value on the free DOFs and, with ``want_k``, the
+        iteration matrix ``M + gp C + bp K T`` of a step with the increments ``dq`` on the DOFs
+        ``rows`` (default all): the element and load kernels, then
+        :func:`rotaflex.floating.exact_step3d.dynamic_residual` and ``iteration_matrix``
+        (``kernel``), or :meth:`residual` and :func:`_times_tangent` in numpy."""
+        rows = np.arange(len(dq)) if rows is None else rows
         if not kernel:
             r, K, C = self.residual(q1, v1, vd1, t, want_k)
-            return r, (self.M + gp * C + bp * _times_tangent(K, dq) if want_k else None)
+            res = float(np.abs(r[self.free]).max(initial=0.0))
+            if not want_k:
+                return r, res, None
+            return r, res, (self.M + gp * C + bp * _times_tangent(K, dq))[np.ix_(rows, rows)]
         n = len(dq)
-        r, A = np.zeros(n), np.zeros((n, n) if want_k else (1, 1))
-        coef = (self.eta, self.kv, gp, bp)
+        ld, (conn, L0, gam0, kap0, stiff) = self.loads, self.beam_args
+        f, fe, K = np.zeros(n), np.zeros(n), self.work_k if want_k else self.no_k
+        ek3.internal(q1, v1, conn, L0, gam0, kap0, stiff, self.eta, self.kv, f, K, int(want_k))
         lam = self.load_factors(t)
-        exact_step3d.equations(
-            q1, v1, vd1, dq, self.M, self.Jd, self.beam_args, self.load_args, lam, coef, want_k, r, A
-        )
-        return r, (A if want_k else None)
+        ek3.external(q1, lam, ld.node, ld.kind, ld.frame, ld.amp, self.beam.n_nodes, ld.dist, fe, K, bool(want_k))
+        r, m = np.zeros(n), np.zeros((n // 6, 3))
+        res = exact_step3d.dynamic_residual(q1, v1, vd1, self.M, self.Jd, f, fe, self.free, r, m)
+        if not want_k:
+            return r, res, None
+        A = np.empty((len(rows), len(rows)))
+        exact_step3d.iteration_matrix(q1, v1, dq, self.M, self.Jd, K, m, float(gp), float(bp), rows, A)
+        return r, res, A
 
     def energy(self, q, v):
         """Kinetic and strain energy [J]."""
@@ -282,9 +293,10 @@ def simulate_exact3d(
     ``breakpoints``: times [s] the steps land on (profile kinks). ``eta``: Kelvin-Voigt material
     damping time constant [s] (``2 zeta / omega`` damps the mode of frequency ``omega`` with
     ratio ``zeta``, higher modes more; its dissipation is not in the energy columns).
-    ``kernel``: Newton's iteration of a step compiled (:func:`rotaflex.floating.exact_step3d.
-    newton_step`); ``False`` runs the same formulas in numpy (:func:`_newton_numpy`, the
-    reference the tests compare it with; about ten times slower).
+    ``kernel``: the residual and iteration matrix of Newton's iteration (:func:`_newton`)
+    compiled (:mod:`rotaflex.floating.exact_step3d`); ``False`` computes them in numpy
+    (:meth:`_Equations.residual`: the reference the tests compare with; about three times
+    slower).
 
     Returns an :class:`~rotaflex.floating.exact_solve.ExactSolution` with ``v`` in that layout
     and the energy columns kinetic, strain, work of the loads (trapezoidal rule on the
@@ -344,13 +356,7 @@ def simulate_exact3d(
         v1[fixed] = vr1[fixed]
         q1 = q.copy()
         tols = (tol * scale, 1e-13 * beam.length)
-        if kernel:
-            r = np.zeros(n)
-            coef = (eq.eta, eq.kv, gp, bp, (1.0 - af) / (1.0 - am), *tols, float(max_iter))
-            args = (eq.M, eq.Jd, eq.beam_args, eq.load_args, eq.load_factors(t1), coef, r)
-            ok, it, res = exact_step3d.newton_step(q, q1, dq, v1, vd1, a1, free, *args)
-        else:
-            ok, it, res, r = _newton_numpy(eq, q, q1, dq, v1, vd1, a1, t1, (gp, bp, am, af), tols, max_iter)
+        ok, it, res, r = _newton(eq, q, q1, dq, v1, vd1, a1, t1, (gp, bp, am, af), tols, max_iter, kernel)
         if not ok:
             raise ConvergenceError("generalized-alpha step", float(t1), res, tol * scale)
         iters += it
@@ -384,26 +390,26 @@ def simulate_exact3d(
     )
 
 
-def _newton_numpy(eq: _Equations, q, q1, dq, v1, vd1, a1, t1, alpha, tols, max_iter):
-    """Newton's iteration of one step in numpy (the reference of
-    :func:`rotaflex.floating.exact_step3d.newton_step`, same arguments in place); ``alpha``:
-    ``(gamma', beta', alpha_m, alpha_f)``, ``tols``: force [N] and position step [m]
-    tolerances. Returns ``(converged, iterations, residual, r)``."""
+def _newton(eq: _Equations, q, q1, dq, v1, vd1, a1, t1, alpha, tols, max_iter, kernel):
+    """Newton's iteration of one step from the predictor ``dq, v1, vd1, a1`` (the eliminated
+    DOFs imposed), all updated in place, ``q1 = q (+) dq``; ``alpha``: ``(gamma', beta',
+    alpha_m, alpha_f)``, ``tols``: force [N] and position step [m] tolerances, ``kernel``: the
+    equations compiled or in numpy (:meth:`_Equations.step_equations`). Returns ``(converged,
+    iterations, residual, r)``, ``r`` the last residual (its eliminated rows: the clamps'
+    reaction)."""
     gp, bp, am, af = alpha
     free = eq.free
     step = np.inf
     for it in range(1, max_iter + 1):
         ek3.advance_material(q1, q, dq)
         # the residual alone first: the tangent only when another iteration follows
-        r, _, _ = eq.residual(q1, v1, vd1, t1, want_k=False)
-        res = float(np.abs(r[free]).max())
+        r, res, _ = eq.step_equations(q1, v1, vd1, dq, t1, gp, bp, False, kernel)
         # converged: the residual at its tolerance, or the last correction of the positions
         # at round-off level (the stiff axial forces' floor)
         if it > 1 and (res <= tols[0] or step <= tols[1]):
             return True, it, res, r
-        _, K, C = eq.residual(q1, v1, vd1, t1)
-        A = eq.M + gp * C + bp * _times_tangent(K, dq)
-        d = np.linalg.solve(A[np.ix_(free, free)], -r[free])
+        A = eq.step_equations(q1, v1, vd1, dq, t1, gp, bp, True, kernel, free)[2]
+        d = np.linalg.solve(A, -r[free])
         vd1[free] += d
         a1[free] += (1.0 - af) / (1.0 - am) * d
         v1[free] += gp * d
@@ -503,9 +509,7 @@ def simulate_hub3d(
     accelerations re-solved with their right limit (so a piecewise-constant torque's impulse
     and work are integrated exactly). Energy columns: kinetic (hub included), strain, work of
     the loads and the hub torque (trapezoidal rule on the increments), 0 (the bearing does
-    no work). ``kernel``: the residual and iteration matrix compiled
-    (:func:`rotaflex.floating.exact_step3d.equations`; the iteration stays in Python) or in
-    numpy (``False``, the reference the tests compare it with).
+    no work). ``kernel``: as :func:`simulate_exact3d`.
 
     Raises
     ------
@@ -579,12 +583,12 @@ def simulate_hub3d(
             dq[fixed] = _turn_increment(beam, ax, q, ph, ph + dphi, qc)[fixed]
             v1[fixed], vd1[fixed] = vc[fixed], acs[fixed]
             ek3.advance_material(q1, q, dq)
-            r, _ = eq.step_equations(q1, v1, vd1, dq, te, gp, bp, False, kernel)
+            r, res, _ = eq.step_equations(q1, v1, vd1, dq, te, gp, bp, False, kernel)
             rh = J * pd1 + B @ r - hub.torque_at(te)
-            res = max(float(np.abs(r[free]).max(initial=0.0)), abs(rh) / lscale)
+            res = max(res, abs(rh) / lscale)
             if it > 1 and (res <= tol * scale or step <= 1e-13 * beam.length):
                 break
-            A = _reduced(eq.step_equations(q1, v1, vd1, dq, te, gp, bp, True, kernel)[1], free, B)
+            A = _reduced(eq.step_equations(q1, v1, vd1, dq, te, gp, bp, True, kernel)[2], free, B)
             A[-1, -1] += J
             d = np.linalg.solve(A, -np.concatenate([r[free], [rh]]))
             vd1[free] += d[:nf]
