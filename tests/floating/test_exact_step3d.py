@@ -12,7 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from rotaflex.core.errors import ConvergenceError
 from rotaflex.core.threads import limit_blas_threads
+from rotaflex.floating import exact_step3d
 from rotaflex.floating.exact_beam3d import PointLoads3D, cantilever3d
 from rotaflex.floating.exact_solve3d import HubDrive, simulate_exact3d, simulate_hub3d
 from rotaflex.floating.model import Prescribed
@@ -65,3 +67,22 @@ def test_compiled_hub_equations_equal_the_numpy_ones():
     assert np.abs(fast.q - ref.q).max() < 1e-12
     assert np.abs(fast.hub - ref.hub).max() < 1e-11 * np.abs(ref.hub).max()
     assert np.abs(fast.energy - ref.energy).max() < 1e-12 * np.abs(ref.energy).max()
+
+
+def test_a_diverging_step_is_refused_not_accepted():
+    # a tolerance the iteration cannot reach within 2 iterations: ConvergenceError naming the
+    # time, as the numpy path; and a NaN residual never counts as converged
+    b = cantilever3d(1.0, 2, ea=1e3, ga=1e3, gj=7.0, ei2=10.0, ei3=10.0, rho_a=1.0)
+    loads = PointLoads3D.build(b, [(1.0, 0.0, 0.0)], ["force"], ["inertial"], [(0.0, 5.0, 0.0)])
+    for kernel in (True, False):
+        with pytest.raises(ConvergenceError, match="generalized-alpha step"):
+            simulate_exact3d(b, loads, t_end=0.01, dt_out=0.01, time_step=0.01, tol=1e-300, max_iter=2, kernel=kernel)
+    n = b.n_dof
+    r, m = np.zeros(n), np.zeros((n // 6, 3))
+    f = np.zeros(n)
+    f[7] = np.nan
+    q, M = b.reference_state(), np.eye(n)
+    res = exact_step3d.dynamic_residual(
+        q, np.zeros(n), np.zeros(n), M, np.ones(n), f, np.zeros(n), np.arange(6, n), r, m
+    )
+    assert np.isnan(res)

@@ -104,7 +104,7 @@ def _turn_increment(beam: ExactBeam3D, ax, q0, phi0: float, phi1: float, q1=None
 
 def _section_matrices(beam: ExactBeam3D) -> np.ndarray:
     """(nn, 3, 3) rotation matrices of the reference sections, computed once per body (the
-    frozen dataclass's ``__dict__`` holds them; recomputed they were a tenth of a step)."""
+    frozen dataclass's ``__dict__`` holds them; they were computed twice per step)."""
     cache = beam.__dict__
     if "_r0_cache" not in cache:
         cache["_r0_cache"] = quaternion_to_matrix(beam.quats)

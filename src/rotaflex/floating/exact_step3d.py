@@ -36,7 +36,7 @@ def dynamic_residual(q1, v1, vd1, M, jd, f, fe, free, r, m):
     their rates ``vd1`` (6 per block, rotations material) from the internal ``f`` and external
     ``fe`` forces (spatial); ``M`` (n, n) the mass matrix, ``jd`` its diagonal; fills ``m``
     (nb, 3): the blocks' moments ``R^T (m_int - m_ext)`` in section axes. Returns the largest
-    ``|r|`` on the DOFs ``free`` (int64 indices)."""
+    ``|r|`` on the DOFs ``free`` (int64 indices; 0 if none, NaN if one is NaN)."""
     n = r.shape[0]
     for i in range(n):
         s = 0.0
@@ -55,10 +55,15 @@ def dynamic_residual(q1, v1, vd1, M, jd, f, fe, free, r, m):
         for k in range(3):
             m[b, k] = mb[k]
             r[o + 3 + k] += gyro[k] + mb[k]
-    res = 0.0
+    # NaN if any is (as numpy's max): a diverged state must not pass the tolerance test
+    res, bad = 0.0, False
     for i in range(free.shape[0]):
-        res = max(res, abs(r[free[i]]))
-    return res
+        a = abs(r[free[i]])
+        if np.isnan(a):
+            bad = True
+        elif a > res:
+            res = a
+    return np.nan if bad else res
 
 
 @entry
