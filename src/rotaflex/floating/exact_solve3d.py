@@ -37,6 +37,7 @@ import numpy as np
 from rotaflex.core.errors import ConvergenceError, InputError
 from rotaflex.floating import exact_kernels as ek
 from rotaflex.floating import exact_kernels3d as ek3
+from rotaflex.floating import exact_step3d
 from rotaflex.floating.exact_beam3d import ExactBeam3D, PointLoads3D
 from rotaflex.floating.exact_solve import ExactSolution, alpha_coefficients, time_grid
 from rotaflex.floating.kernels import motion_profile
@@ -71,7 +72,7 @@ def frame_state(beam: ExactBeam3D, ax, phi: float, rate: float, acc: float):
     A = _skew_all(np.asarray(ax, dtype=float)[None])[0]
     x = beam.nodes @ quaternion_to_matrix(qf).T
     ax_x = x @ A.T
-    R0t_a = np.einsum("bji,j->bi", quaternion_to_matrix(beam.quats), ax)
+    R0t_a = np.einsum("bji,j->bi", _section_matrices(beam), ax)
     blocks, vb, ab = q.reshape(-1, 7), v.reshape(-1, 6), a.reshape(-1, 6)
     blocks[:nn, :3] = x
     blocks[:nn, 3:] = quaternion_product(qf, beam.quats)
@@ -85,16 +86,6 @@ def frame_state(beam: ExactBeam3D, ax, phi: float, rate: float, acc: float):
     return q, v, a
 
 
-def _rigid_increment(beam: ExactBeam3D, pres, q0, t0: float, t1: float) -> np.ndarray:
-    """Increments (6 per block, rotations material) from the imposed state ``q0`` at ``t0`` to the
-    frame's rigid motion at ``t1`` (:func:`_turn_increment`)."""
-    if pres is None:
-        return np.zeros(beam.n_dof)
-    p = np.asarray(pres, dtype=float)
-    phi0, phi1 = motion_profile(p, float(t0))[0], motion_profile(p, float(t1))[0]
-    return _turn_increment(beam, p[:3], q0, phi0, phi1)
-
-
 def _turn_increment(beam: ExactBeam3D, ax, q0, phi0: float, phi1: float, q1=None) -> np.ndarray:
     """Increments (6 per block, rotations material) from the rigid state ``q0`` at frame angle
     ``phi0`` to the one at ``phi1`` [rad] about the unit axis ``ax`` (``q1``, if given, its
@@ -106,9 +97,18 @@ def _turn_increment(beam: ExactBeam3D, ax, q0, phi0: float, phi1: float, q1=None
     nn = beam.n_nodes
     turn = np.asarray(ax, dtype=float) * (phi1 - phi0)
     db[:, :3] = q1.reshape(-1, 7)[:, :3] - np.asarray(q0).reshape(-1, 7)[:, :3]
-    db[:nn, 3:] = np.einsum("bji,j->bi", quaternion_to_matrix(beam.quats), turn)
+    db[:nn, 3:] = np.einsum("bji,j->bi", _section_matrices(beam), turn)
     db[nn, 3:] = turn
     return d
+
+
+def _section_matrices(beam: ExactBeam3D) -> np.ndarray:
+    """(nn, 3, 3) rotation matrices of the reference sections, computed once per body (the
+    frozen dataclass's ``__dict__`` holds them; they were computed twice per step)."""
+    cache = beam.__dict__
+    if "_r0_cache" not in cache:
+        cache["_r0_cache"] = quaternion_to_matrix(beam.quats)
+    return cache["_r0_cache"]
 
 
 def _motion_scale(beam: ExactBeam3D, pres, t_end: float) -> float:
@@ -175,6 +175,10 @@ class _Equations:
         base = 6 * np.arange(n // 6)[:, None, None] + 3
         self.rot_r = base + np.arange(3)[None, :, None]
         self.rot_c = base + np.arange(3)[None, None, :]
+        gam0, kap0 = beam._ref
+        self.beam_args = (beam.conn, beam._lengths, gam0, kap0, beam.stiffness)
+        # the compiled path's tangent (filled and turned in place at every iteration)
+        self.work_k, self.no_k = np.zeros((n, n)), np.zeros((1, 1))
 
     def load_factors(self, t: float) -> np.ndarray:
         ld = self.loads
@@ -217,6 +221,33 @@ class _Equations:
         A[self.rot_r, self.rot_c] += _skew_all(m)
         return out, A, C
 
+    def step_equations(self, q1, v1, vd1, dq, t, gp, bp, want_k, kernel=True, rows=None):
+        """Residual (n,), its largest value on the free DOFs and, with ``want_k``, the
+        iteration matrix ``M + gp C + bp K T`` of a step with the increments ``dq`` on the DOFs
+        ``rows`` (default all): the element and load kernels, then
+        :func:`rotaflex.floating.exact_step3d.dynamic_residual` and ``iteration_matrix``
+        (``kernel``), or :meth:`residual` and :func:`_times_tangent` in numpy."""
+        rows = np.arange(len(dq)) if rows is None else rows
+        if not kernel:
+            r, K, C = self.residual(q1, v1, vd1, t, want_k)
+            res = float(np.abs(r[self.free]).max(initial=0.0))
+            if not want_k:
+                return r, res, None
+            return r, res, (self.M + gp * C + bp * _times_tangent(K, dq))[np.ix_(rows, rows)]
+        n = len(dq)
+        ld, (conn, L0, gam0, kap0, stiff) = self.loads, self.beam_args
+        f, fe, K = np.zeros(n), np.zeros(n), self.work_k if want_k else self.no_k
+        ek3.internal(q1, v1, conn, L0, gam0, kap0, stiff, self.eta, self.kv, f, K, int(want_k))
+        lam = self.load_factors(t)
+        ek3.external(q1, lam, ld.node, ld.kind, ld.frame, ld.amp, self.beam.n_nodes, ld.dist, fe, K, bool(want_k))
+        r, m = np.zeros(n), np.zeros((n // 6, 3))
+        res = exact_step3d.dynamic_residual(q1, v1, vd1, self.M, self.Jd, f, fe, self.free, r, m)
+        if not want_k:
+            return r, res, None
+        A = np.empty((len(rows), len(rows)))
+        exact_step3d.iteration_matrix(q1, v1, dq, self.M, self.Jd, K, m, float(gp), float(bp), rows, A)
+        return r, res, A
+
     def energy(self, q, v):
         """Kinetic and strain energy [J]."""
         _, _, u = self.forces(q, 0.0, want_k=False)
@@ -251,6 +282,7 @@ def simulate_exact3d(
     tol: float = 1e-10,
     max_iter: int = 30,
     progress=None,
+    kernel: bool = True,
 ) -> ExactSolution:
     """Time history of a 3-D exact beam from ``q0`` (state, default the reference carried by the
     frame) and ``v0`` (6 per block: inertial translational velocity [m/s], material angular
@@ -261,6 +293,10 @@ def simulate_exact3d(
     ``breakpoints``: times [s] the steps land on (profile kinks). ``eta``: Kelvin-Voigt material
     damping time constant [s] (``2 zeta / omega`` damps the mode of frequency ``omega`` with
     ratio ``zeta``, higher modes more; its dissipation is not in the energy columns).
+    ``kernel``: the residual and iteration matrix of Newton's iteration (:func:`_newton`)
+    compiled (:mod:`rotaflex.floating.exact_step3d`); ``False`` computes them in numpy
+    (:meth:`_Equations.residual`: the reference the tests compare with; about three times
+    slower).
 
     Returns an :class:`~rotaflex.floating.exact_solve.ExactSolution` with ``v`` in that layout
     and the energy columns kinetic, strain, work of the loads (trapezoidal rule on the
@@ -278,7 +314,7 @@ def simulate_exact3d(
     n = beam.n_dof
     pres = None if prescribed is None else np.asarray(prescribed, dtype=float)
     fixed, free = eq.fixed, eq.free
-    qr, vr, vdr, _ = rigid_motion(beam, pres, 0.0)
+    qr, vr, vdr, phi0 = rigid_motion(beam, pres, 0.0)
     q = qr if q0 is None else np.array(q0, dtype=float)
     q[np.repeat(fixed.reshape(-1, 6)[:, 0], 7)] = qr[np.repeat(fixed.reshape(-1, 6)[:, 0], 7)]
     v = vr.copy() if v0 is None else np.array(v0, dtype=float)
@@ -309,35 +345,19 @@ def simulate_exact3d(
         bp = (1.0 - af) / (1.0 - am) * h * h * beta
         gp = (1.0 - af) / (1.0 - am) * h * gamma
         eq.kv = gp / bp
-        _, vr1, vdr1, _ = rigid_motion(beam, pres, t1)
+        qr1, vr1, vdr1, phi1 = rigid_motion(beam, pres, t1)
         vd1 = np.where(fixed, vdr1, 0.0)
         a1 = (af * vd - am * a) / (1.0 - am)
         v1 = v + h * (1.0 - gamma) * a + h * gamma * a1
         dq = h * v + h * h * (0.5 - beta) * a + h * h * beta * a1
         # the eliminated DOFs: imposed from the frame's motion
-        dq[fixed] = _rigid_increment(beam, pres, q, times[k - 1], t1)[fixed]
+        dq[fixed] = 0.0 if pres is None else _turn_increment(beam, pres[:3], q, phi0, phi1, qr1)[fixed]
+        phi0 = phi1
         v1[fixed] = vr1[fixed]
         q1 = q.copy()
-        step = np.inf
-        for it in range(1, max_iter + 1):
-            ek3.advance_material(q1, q, dq)
-            # the residual alone first: the tangent (central differences, most of the cost) only
-            # when another iteration follows
-            r, _, _ = eq.residual(q1, v1, vd1, t1, want_k=False)
-            res = float(np.abs(r[free]).max())
-            # converged: the residual at its tolerance, or the last correction of the positions
-            # at round-off level (the stiff axial forces' floor)
-            if it > 1 and (res <= tol * scale or step <= 1e-13 * beam.length):
-                break
-            _, K, C = eq.residual(q1, v1, vd1, t1)
-            A = eq.M + gp * C + bp * _times_tangent(K, dq)
-            d = np.linalg.solve(A[np.ix_(free, free)], -r[free])
-            vd1[free] += d
-            a1[free] += (1.0 - af) / (1.0 - am) * d
-            v1[free] += gp * d
-            dq[free] += bp * d
-            step = bp * float(np.abs(d).max())
-        else:
+        tols = (tol * scale, 1e-13 * beam.length)
+        ok, it, res, r = _newton(eq, q, q1, dq, v1, vd1, a1, t1, (gp, bp, am, af), tols, max_iter, kernel)
+        if not ok:
             raise ConvergenceError("generalized-alpha step", float(t1), res, tol * scale)
         iters += it
         # work of the loads: trapezoidal rule on the spatial increments (rotations R_n dTheta)
@@ -368,6 +388,34 @@ def simulate_exact3d(
         wall_time=time.perf_counter() - t_wall,
         method="exact",
     )
+
+
+def _newton(eq: _Equations, q, q1, dq, v1, vd1, a1, t1, alpha, tols, max_iter, kernel):
+    """Newton's iteration of one step from the predictor ``dq, v1, vd1, a1`` (the eliminated
+    DOFs imposed), all updated in place, ``q1 = q (+) dq``; ``alpha``: ``(gamma', beta',
+    alpha_m, alpha_f)``, ``tols``: force [N] and position step [m] tolerances, ``kernel``: the
+    equations compiled or in numpy (:meth:`_Equations.step_equations`). Returns ``(converged,
+    iterations, residual, r)``, ``r`` the last residual (its eliminated rows: the clamps'
+    reaction)."""
+    gp, bp, am, af = alpha
+    free = eq.free
+    step = np.inf
+    for it in range(1, max_iter + 1):
+        ek3.advance_material(q1, q, dq)
+        # the residual alone first: the tangent only when another iteration follows
+        r, res, _ = eq.step_equations(q1, v1, vd1, dq, t1, gp, bp, False, kernel)
+        # converged: the residual at its tolerance, or the last correction of the positions
+        # at round-off level (the stiff axial forces' floor)
+        if it > 1 and (res <= tols[0] or step <= tols[1]):
+            return True, it, res, r
+        A = eq.step_equations(q1, v1, vd1, dq, t1, gp, bp, True, kernel, free)[2]
+        d = np.linalg.solve(A, -r[free])
+        vd1[free] += d
+        a1[free] += (1.0 - af) / (1.0 - am) * d
+        v1[free] += gp * d
+        dq[free] += bp * d
+        step = bp * float(np.abs(d).max())
+    return False, max_iter, res, r
 
 
 def _external(eq: _Equations, q, t) -> np.ndarray:
@@ -437,6 +485,7 @@ def simulate_hub3d(
     tol: float = 1e-10,
     max_iter: int = 30,
     progress=None,
+    kernel: bool = True,
 ) -> HubSolution:
     """Time history of a 3-D exact beam clamped to a free hub turning about a fixed axis
     (:class:`HubDrive`), from rest in the reference state.
@@ -460,7 +509,7 @@ def simulate_hub3d(
     accelerations re-solved with their right limit (so a piecewise-constant torque's impulse
     and work are integrated exactly). Energy columns: kinetic (hub included), strain, work of
     the loads and the hub torque (trapezoidal rule on the increments), 0 (the bearing does
-    no work).
+    no work). ``kernel``: as :func:`simulate_exact3d`.
 
     Raises
     ------
@@ -534,13 +583,12 @@ def simulate_hub3d(
             dq[fixed] = _turn_increment(beam, ax, q, ph, ph + dphi, qc)[fixed]
             v1[fixed], vd1[fixed] = vc[fixed], acs[fixed]
             ek3.advance_material(q1, q, dq)
-            r, _, _ = eq.residual(q1, v1, vd1, te, want_k=False)
+            r, res, _ = eq.step_equations(q1, v1, vd1, dq, te, gp, bp, False, kernel)
             rh = J * pd1 + B @ r - hub.torque_at(te)
-            res = max(float(np.abs(r[free]).max(initial=0.0)), abs(rh) / lscale)
+            res = max(res, abs(rh) / lscale)
             if it > 1 and (res <= tol * scale or step <= 1e-13 * beam.length):
                 break
-            _, K, C = eq.residual(q1, v1, vd1, te)
-            A = _reduced(eq.M + gp * C + bp * _times_tangent(K, dq), free, B)
+            A = _reduced(eq.step_equations(q1, v1, vd1, dq, te, gp, bp, True, kernel)[2], free, B)
             A[-1, -1] += J
             d = np.linalg.solve(A, -np.concatenate([r[free], [rh]]))
             vd1[free] += d[:nf]
