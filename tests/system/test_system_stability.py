@@ -91,6 +91,9 @@ def test_uncoupled_train_has_the_smaller_log_dec_of_its_rotors():
     assert np.argmin(ld) == np.argmax(wd)  # the weaker rotor's mode is not the machine's lowest
     got = system_stability(machine).dataset
     assert float(got["log_dec_level2"][-1]) == pytest.approx(min(ld), abs=1e-9)
+    # each rotor's own first forward mode in the machine is the one it has alone
+    np.testing.assert_allclose(got["log_dec_rotor"], ld, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(got["frequency_rotor"], wd, rtol=1e-9)
 
 
 def _train_rigid(c=800.0):

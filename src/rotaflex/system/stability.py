@@ -133,14 +133,30 @@ def _q_nodes(box: Gearbox, spec: MachineStabilitySpec, r: int, q_stage: np.ndarr
 
 
 def machine_level2(box: Gearbox, spec: MachineStabilitySpec):
-    """API 617 Level II of the machine at the drive's MCS (module docstring)."""
-    from rotaflex.rotor.fe.stability import check, level2_cases
+    """API 617 Level II of the machine at the drive's MCS (module docstring).
+
+    Returns
+    -------
+    Level2 (the smallest log dec over the rotors' first forward modes), and the log decrement
+    and damped frequency [rad/s] of each rotor's own first forward mode in the full model
+    (arrays over the rotors; NaN where no mode is that rotor's)."""
+    from rotaflex.rotor.fe.stability import check, first_forward, level2_cases, log_dec
 
     speed = check(spec)
     r = _named(box, spec)
     q_stage = np.zeros(0) if r is None else _q_stage(box, spec, r)
     qa = _q_nodes(box, spec, r, q_stage, float(q_stage.sum())) if q_stage.size else {}
-    return level2_cases(MachineSystem(box, speed), qa, spec.log_dec_min)
+    system = MachineSystem(box, speed)
+    l2 = level2_cases(system, qa, spec.log_dec_min)
+    ld, wd = np.full(len(box.rotors), np.nan), np.full(len(box.rotors), np.nan)
+    for k in range(len(box.rotors)):
+        system.judged = [k]
+        try:
+            lam = first_forward(system, [True] * len(system.seal), qa)
+        except InputError:  # no forward mode moves this rotor enough to be its own
+            continue
+        ld[k], wd[k] = log_dec(lam), lam.imag
+    return l2, ld, wd
 
 
 def machine_level1(box: Gearbox, spec: MachineStabilitySpec):
@@ -172,7 +188,7 @@ def stability_result(config: dict, box: Gearbox, spec: MachineStabilitySpec, t0:
     check(spec)
     _named(box, spec)
     l1 = None if spec.machine in NO_LEVEL1 else machine_level1(box, spec)
-    l2 = machine_level2(box, spec)
+    l2, ld_rotor, wd_rotor = machine_level2(box, spec)
     outputs = {}
     for pr in box.rotors:
         w = np.array([abs(pr.ratio) * rpm_to_rad_s(spec.speed_rpm)])
@@ -181,9 +197,17 @@ def stability_result(config: dict, box: Gearbox, spec: MachineStabilitySpec, t0:
             for key, da in el.outputs(w).items():
                 outputs[f"{name}_{key}"] = da.rename({d: f"{name}_{d}" for d in da.dims})
     ds, extra, msg = stability_dataset(spec, l1, l2, outputs)
+    names = [pr.name for pr in box.rotors]
+    ds = ds.assign_coords(rotor=names)
+    ds["log_dec_rotor"] = ("rotor", ld_rotor, {"units": "1", "long_name": "each rotor's first forward mode log dec"})
+    ds["frequency_rotor"] = ("rotor", wd_rotor, {"units": "rad/s", "long_name": "its damped frequency"})
+    for name, d, w in zip(names, ld_rotor, wd_rotor, strict=True):
+        extra[f"level2_log_dec[{name}]"] = {"value": float(d), "unit": "1", "frequency_hz": float(w / (2 * np.pi))}
+    weakest = names[int(np.nanargmin(ld_rotor))]
+    msg = msg.replace(" (limit", f" ({weakest}'s first forward mode; limit", 1)
     r = _named(box, spec)
-    ds.attrs["rotor"] = "" if r is None else box.rotors[r].name
+    ds.attrs["q_rotor"] = "" if r is None else box.rotors[r].name
     if r is not None and l1 is not None:
-        msg = f"rotor {ds.attrs['rotor']!r}: {msg}"
+        msg = f"rotor {ds.attrs['q_rotor']!r}: {msg}"
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return SystemStabilityResult(ds)
