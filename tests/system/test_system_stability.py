@@ -157,3 +157,32 @@ def test_unknown_or_missing_rotor_names_the_key(name):
     with pytest.raises(InputError) as err:
         system_stability({**_train_rigid(), "stability": spec})
     assert err.value.field == "stability.rotor"
+
+
+def test_magnetic_bearings_at_the_modes_own_frequency():
+    """Magnetic bearings (frequency-dependent: each rotor's elements at the mode's damped
+    frequency, iterated): a one-rotor machine gives the rotor verb's Level II to 1e-9."""
+    amb = {
+        "k_i": 200.0,
+        "k_s": 8.0e5,
+        "sensor_gain": 1.0e4,
+        "amplifier_gain": 1.0,
+        "p_gain": 1.2,
+        "i_gain": 5.0,
+        "d_gain": 2.5e-3,
+        "lowpass_hz": 3000.0,
+        "mass": 30.0,
+    }
+    r = {
+        "name": "r",
+        "center": [0.0, 0.0],
+        "shaft": [{"outer_diameter": 0.08, "length": 0.8, "elements": 8}],
+        "disk": [{"node": 4, "mass": 15.0, "Id": 0.06, "Ip": 0.11}, {"node": 5, "mass": 15.0, "Id": 0.06, "Ip": 0.11}],
+        "bearing": [{"name": "de", "node": 1, "magnetic": amb}, {"name": "nde", "node": 7, "magnetic": amb}],
+    }
+    spec = {"speed_rpm": 15000.0, "machine": "pump"}
+    a = rotor_stability(_alone(r, dict(spec))).dataset
+    b = system_stability({"rotor": [r], "drive": {"rotor": "r", "node": 0}, "stability": spec}).dataset
+    assert np.isfinite(a["log_dec_level2"]).all()
+    np.testing.assert_allclose(b["log_dec_level2"], a["log_dec_level2"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b["frequency_level2"], a["frequency_level2"], rtol=1e-9)
