@@ -74,6 +74,7 @@ COMMANDS: dict[str, dict[str, str]] = {
         "startup": "rotaflex.system.case:run_startup",
         "unbalance": "rotaflex.system.case:run_unbalance",
         "frf": "rotaflex.system.case:run_frf",
+        "stability": "rotaflex.system.case:run_stability",
     },
 }
 

@@ -200,28 +200,34 @@ def free_dofs(box: Gearbox) -> np.ndarray:
     return constraint(box)[0]
 
 
-def bearing_matrices(box: Gearbox, drive_speed: float, with_mass: bool = False):
+def bearing_matrices(box: Gearbox, drive_speed: float, with_mass: bool = False, include=None, whirl=None):
     """Bearing stiffness and damping (n_dof, n_dof) at a drive speed [rad/s] (each rotor's bearings
     at its own speed magnitude), from each rotor's one element assembly (``Rotor.MKC``).
     ``with_mass``: also the elements' added mass (a liquid seal's; zero for every other kind), the
-    third of (K, C, M)."""
+    third of (K, C, M). ``include``: one list of flags per rotor, its bearings left out where
+    False (None: all); ``whirl``: the frequency [rad/s] at which frequency-dependent elements are
+    evaluated (None: synchronous) -- stability's element contributions and mode iteration."""
     n = box.n_dof
     K, C, M = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
+    wh = None if whirl is None else np.array([whirl])
     for i, pr in enumerate(box.rotors):
         off, nl, _ = box.layout[i]
         sl = slice(off, off + nl)
-        mr, kr, cr = pr.rotor.MKC(abs(pr.ratio * drive_speed))
+        mr, kr, cr = pr.rotor.MKC(abs(pr.ratio * drive_speed), wh, include=None if include is None else include[i])
         K[sl, sl] = kr[0] - pr.rotor.K_shaft
         C[sl, sl] = cr[0]
         M[sl, sl] = mr[0] - pr.rotor.M
     return (K, C, M) if with_mass else (K, C)
 
 
-def system_matrices(box: Gearbox, drive_speed: float, mats: Matrices | None = None, mesh: bool = True):
+def system_matrices(
+    box: Gearbox, drive_speed: float, mats: Matrices | None = None, mesh: bool = True, include=None, whirl=None
+):
     """(M, D, K) on the free DOFs at a drive speed [rad/s]: D = C + gyroscopic (+ c_m g g^T),
-    K = shafts + bearings (+ k_mean g g^T with ``mesh``)."""
+    K = shafts + bearings (+ k_mean g g^T with ``mesh``); ``include``, ``whirl`` as
+    :func:`bearing_matrices` takes them."""
     mats = matrices(box) if mats is None else mats
-    Kb, Cb, Mb = bearing_matrices(box, drive_speed, with_mass=True)
+    Kb, Cb, Mb = bearing_matrices(box, drive_speed, with_mass=True, include=include, whirl=whirl)
     K = mats.K0 + Kb
     D = Cb + mats.C0
     for G, w in zip(mats.G, box.speeds(drive_speed), strict=True):

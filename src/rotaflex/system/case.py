@@ -29,6 +29,7 @@ from rotaflex.system import helical
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import MODEL_KEYS, DriveSpec, Gearbox, LoadSpec, MeshSpec, RotorSpec, drive_speed_rpm
 from rotaflex.system.size import DEFAULT_MAX_STEPS, clamp_modes
+from rotaflex.system.stability import MachineStabilitySpec
 
 
 @dataclass(frozen=True)
@@ -179,6 +180,7 @@ ANALYSES = {
     "startup": StartupSpec,
     "unbalance": UnbalanceSpec,
     "frf": MachineFRFSpec,
+    "stability": MachineStabilitySpec,
 }
 
 
@@ -195,9 +197,10 @@ class SystemCase:
     coupling: tuple[CouplingSpec, ...] = param(())
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
-    analysis: Literal["modal", "campbell", "response", "steady", "torsional", "startup", "unbalance", "frf"] | None = (
-        param(None)
-    )
+    analysis: (
+        Literal["modal", "campbell", "response", "steady", "torsional", "startup", "unbalance", "frf", "stability"]
+        | None
+    ) = param(None)
     modal: ModalSpec = field(default_factory=ModalSpec)
     campbell: CampbellSpec = field(default_factory=CampbellSpec)
     response: ResponseSpec = field(default_factory=ResponseSpec)
@@ -206,6 +209,7 @@ class SystemCase:
     startup: StartupSpec = field(default_factory=StartupSpec)
     unbalance: UnbalanceSpec = field(default_factory=UnbalanceSpec)
     frf: MachineFRFSpec = field(default_factory=MachineFRFSpec)
+    stability: MachineStabilitySpec = field(default_factory=MachineStabilitySpec)
 
 
 SCHEMA = SystemCase
@@ -711,6 +715,18 @@ def run_frf(config: dict, *, progress: bool = False):
     box, spec = parse(config, "frf")
     _check_drive_speed(box, spec.speed_rpm, "frf.speed_rpm", spec.speed_rpm)
     return frf_result(config, box, spec, t0)
+
+
+def run_stability(config: dict, *, progress: bool = False):
+    """API 617 Level I and II of ``[stability]`` at the drive's MCS
+    (:func:`rotaflex.system.stability.stability_result`)."""
+    from rotaflex.system.stability import stability_result
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "stability")
+    if spec.speed_rpm is not None:
+        _check_drive_speed(box, spec.speed_rpm, "stability.speed_rpm", spec.speed_rpm)
+    return stability_result(config, box, spec, t0)
 
 
 def run_case(config: dict, *, progress: bool = False):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 
 import numpy as np
 
@@ -555,3 +556,26 @@ class SystemFRFResult(_SystemResult):
         from rotaflex.rotor.fe.figures import frf_figures
 
         return {**self._model(), **frf_figures(self.dataset)}
+
+
+@register_result
+class SystemStabilityResult(_SystemResult):
+    """API 617 Level I and II of a machine: the rotor verb's verdict table and figures."""
+
+    kind = "system_stability"
+
+    def verdict_table(self) -> str:
+        """The verdicts as a Markdown table."""
+        from rotaflex.rotor.fe.verbs_stability import verdict_table
+
+        return verdict_table(self.dataset, self.summary())
+
+    def write_extra(self, out_dir: Path) -> list[Path]:
+        from rotaflex.core.io import write_text_atomic
+
+        return [write_text_atomic(Path(out_dir) / "verdict.md", self.verdict_table())]
+
+    def plot(self) -> dict:
+        from rotaflex.rotor.fe.verbs_stability import stability_figures
+
+        return {**self._model(), **stability_figures(self.dataset)}

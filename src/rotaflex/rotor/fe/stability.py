@@ -49,6 +49,13 @@ from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
 
 #: the damped frequency of a mode iterated for frequency-dependent elements converges to this (relative)
 WHIRL_RTOL = 1e-7
+#: a machine's rotor owns a mode (as its first forward mode) when its nodes carry at least this
+#: fraction of the mode's lateral motion sum |x|^2 + |y|^2: a rotor barely moved by a mode of
+#: its neighbour does not take that mode as its own
+MIN_SHARE = 0.1
+#: ... and a mode is lateral when its x, y motion is at least this fraction of its whole |v|^2
+#: (round-off puts ~1e-30 on the lateral DOFs of an uncoupled torsional mode)
+LATERAL_MIN = 1e-6
 #: API 617 acceptance / screening log decrement
 LOG_DEC_MIN = 0.1
 #: B of the q_A formula and whether the density ratio counts, per machine type
@@ -130,7 +137,13 @@ class Level2:
 
 @dataclass
 class _System:
-    """A rotor's matrices at one speed, split by element so that any subset can be assembled."""
+    """A rotor's matrices at one speed, split by element so that any subset can be assembled.
+
+    The interface :func:`first_forward`, :func:`level1_sweep` and :func:`level2_cases` take (a
+    machine's counterpart is ``rotaflex.system.stability.MachineSystem``): ``speed`` [rad/s],
+    ``labels`` and ``seal`` (one per element), ``matrices(include, whirl)``,
+    ``cross_couple(K, q_at)``, ``frequency_dependent_in(include)`` and ``lateral`` (None: the
+    eigenvectors are the rotor's own DOF vectors, which the whirl sense is judged on)."""
 
     rotor: Rotor
     speed: float
@@ -153,9 +166,28 @@ class _System:
     def frequency_dependent(self) -> bool:
         return any(el.frequency_dependent for _, _, el in self.rotor.bearings)
 
+    def frequency_dependent_in(self, include) -> bool:
+        """True when an included element depends on the whirl frequency (mode iteration needed)."""
+        return any(include[i] and el.frequency_dependent for i, (_, _, el) in enumerate(self.rotor.bearings))
 
-def _forward(M, K, C, n: int) -> tuple[complex, np.ndarray]:
-    """Eigenvalue and shape of the lowest-frequency forward mode of M q'' + C q' + K q = 0."""
+    def cross_couple(self, K, q_at: dict[int, float]) -> None:
+        """Add k_xy = Q, k_yx = -Q at each node of ``q_at`` ({node: Q [N/m]}) to K in place."""
+        for node, q in q_at.items():
+            K[NDOF_NODE * node, NDOF_NODE * node + 1] += q
+            K[NDOF_NODE * node + 1, NDOF_NODE * node] -= q
+
+    #: eigenvectors are rotor DOF vectors: the whirl sense is judged on them as they are
+    lateral = None
+
+
+def _forward(M, K, C, n: int, lateral=None) -> tuple[complex, np.ndarray]:
+    """Eigenvalue and shape of the lowest-frequency forward mode of M q'' + C q' + K q = 0.
+
+    ``lateral``: function of the eigenvectors (m, n) giving a machine's lateral shapes, one array
+    (m, 4 per node, rotor/fe order) per rotor, and the indices of the rotors judged; each judged
+    rotor's first forward mode is the lowest one that whirls forward on its nodes and carries at
+    least :data:`MIN_SHARE` of the mode's lateral motion, and the one of these with the smallest
+    log decrement is returned. None: one rotor, the eigenvectors decide the whirl sense."""
     from rotaflex.rotor.fe.modal import Modes
 
     Minv = sla.inv(M)
@@ -165,31 +197,40 @@ def _forward(M, K, C, n: int) -> tuple[complex, np.ndarray]:
     lam, vec = lam[keep], vec[:n, keep]
     order = np.argsort(lam.imag)
     lam, vec = lam[order], vec[:, order].T
-    modes = Modes(np.zeros(1), lam[None], vec[None])
+    shapes, judged = ([vec], [0]) if lateral is None else lateral(vec)
     # a double eigenvalue (isotropic supports without gyroscopic splitting) has a forward and a
     # backward mode in any basis eig returns: it counts as forward
     gap = np.abs(lam[:, None] - lam[None, :])
     np.fill_diagonal(gap, np.inf)
     double = gap.min(1) < 1e-6 * np.abs(lam)
-    fw = (modes.whirl[0] == "forward") | (modes.forward_fraction[0] > 0.5) | double
-    if not fw.any():
+    motion = [np.sum(np.abs(s[:, 0::NDOF_NODE]) ** 2 + np.abs(s[:, 1::NDOF_NODE]) ** 2, 1) for s in shapes]
+    total = sum(motion)
+    # a machine's torsional (or axial) modes have no lateral motion: they are no rotor's mode
+    lateral_mode = total >= LATERAL_MIN * np.sum(np.abs(vec) ** 2, 1)
+    first = []
+    for s, m in (z for i, z in enumerate(zip(shapes, motion, strict=True)) if i in judged):
+        modes = Modes(np.zeros(1), lam[None], s[None])
+        fw = (modes.whirl[0] == "forward") | (modes.forward_fraction[0] > 0.5) | double
+        if lateral is not None:
+            fw &= (m >= MIN_SHARE * total) & lateral_mode
+        if fw.any():
+            first.append(int(np.argmax(fw)))
+    if not first:
         raise InputError("stability", "<model>", "a model with a forward whirling mode")
-    j = int(np.argmax(fw))
+    j = min(first, key=lambda k: log_dec(lam[k]))
     return complex(lam[j]), vec[j]
 
 
-def first_forward(system: _System, include, q_at: dict[int, float] | None = None) -> complex:
+def first_forward(system: _System, include, q_at: dict | None = None) -> complex:
     """Eigenvalue of the first forward mode with the bearings ``include`` and cross-coupling ``q_at``
-    ({node: Q [N/m]}: k_xy = Q, k_yx = -Q); iterated on its own frequency for frequency-dependent elements."""
-    n = system.rotor.n_dof
+    ({node: Q [N/m]}: k_xy = Q, k_yx = -Q); iterated on its own frequency for frequency-dependent
+    elements. ``system``: a rotor's :class:`_System` or a machine's counterpart (same interface)."""
     whirl = None
     for _ in range(100):
         M, K, C = system.matrices(include, whirl)
-        for node, q in (q_at or {}).items():
-            K[NDOF_NODE * node, NDOF_NODE * node + 1] += q
-            K[NDOF_NODE * node + 1, NDOF_NODE * node] -= q
-        lam, _ = _forward(M, K, C, n)
-        if not any(include[i] and el.frequency_dependent for i, (_, _, el) in enumerate(system.rotor.bearings)):
+        system.cross_couple(K, q_at or {})
+        lam, _ = _forward(M, K, C, M.shape[0], system.lateral)
+        if not system.frequency_dependent_in(include):
             return lam
         if whirl is not None and abs(lam.imag - whirl) <= WHIRL_RTOL * abs(lam.imag):
             return lam
@@ -268,16 +309,26 @@ def check(spec: StabilitySpec) -> float:
 
 def level1(rotor: Rotor, spec: StabilitySpec) -> Level1:
     """API 617 Level I screening at the MCS (module docstring)."""
-    from scipy.optimize import brentq
-
     speed = check(spec)
     system = _System(rotor, speed)
-    bearings = [not s for s in system.seal]
     q_stage = anticipated_cross_coupling(spec, spec.rated_speed_rpm or spec.speed_rpm)
+    return level1_sweep(
+        system, spec, q_stage, lambda q: _q_nodes(rotor, spec, q_stage, q), rigid_support_critical(rotor, system), speed
+    )
+
+
+def level1_sweep(system, spec: StabilitySpec, q_stage: np.ndarray, q_nodes, wcr: float, speed: float) -> Level1:
+    """Level I on ``system`` (a rotor's :class:`_System` or a machine's counterpart): its
+    bearings (seals left out), Q placed by ``q_nodes(Q)`` ({node: Q [N/m]}), q_A per stage
+    ``q_stage`` [N/m]; ``wcr`` the rigid-support critical speed and ``speed`` [rad/s] the
+    screened rotor's MCS for the CSR."""
+    from scipy.optimize import brentq
+
+    bearings = [not s for s in system.seal]
     q_a = float(q_stage.sum())
 
     def ld(q):
-        return log_dec(first_forward(system, bearings, _q_nodes(rotor, spec, q_stage, q)))
+        return log_dec(first_forward(system, bearings, q_nodes(q)))
 
     d0, da = ld(0.0), ld(q_a)
     q0, hi = np.inf, max(q_a, 1.0)
@@ -292,7 +343,6 @@ def level1(rotor: Rotor, spec: StabilitySpec) -> Level1:
     qmax = 2 * max(q_a, q0) if np.isfinite(q0) else 10 * q_a
     q = np.linspace(0.0, qmax, spec.n_points)
     lds = np.array([ld(x) for x in q])
-    wcr = rigid_support_critical(rotor, system)
     csr = speed / wcr
     region = ""
     if spec.machine == "centrifugal_compressor" and spec.mean_density is not None:
@@ -308,7 +358,7 @@ def level1(rotor: Rotor, spec: StabilitySpec) -> Level1:
             reasons.append(f"2 <= Q_0/Q_A = {ratio:.3g} < 10 and CSR = {csr:.3g} in region B")
         elif region == "":
             reasons.append(f"2 <= Q_0/Q_A = {ratio:.3g} < 10 and no mean_density for the CSR map")
-    lam_a = first_forward(system, bearings, _q_nodes(rotor, spec, q_stage, q_a))
+    lam_a = first_forward(system, bearings, q_nodes(q_a))
     return Level1(q_a, q_stage, float(q0), da, d0, lam_a.imag, q, lds, csr, wcr, region, tuple(reasons))
 
 
@@ -318,6 +368,13 @@ def level2(rotor: Rotor, spec: StabilitySpec) -> Level2:
     system = _System(rotor, speed)
     q_stage = anticipated_cross_coupling(spec, spec.rated_speed_rpm or spec.speed_rpm)
     qa = _q_nodes(rotor, spec, q_stage, float(q_stage.sum())) if q_stage.size else {}
+    return level2_cases(system, qa, spec.log_dec_min)
+
+
+def level2_cases(system, qa: dict, limit: float) -> Level2:
+    """Level II on ``system`` (a rotor's :class:`_System` or a machine's counterpart): the first
+    forward mode with the bearings alone, each seal and Q_A (``qa``, {node: Q [N/m]}) added to
+    them, each removed from the full model, and the full model; accepted at log dec >= ``limit``."""
     base = [not s for s in system.seal]
     seals = [i for i, s in enumerate(system.seal) if s]
     every = [True] * len(base)
@@ -333,4 +390,4 @@ def level2(rotor: Rotor, spec: StabilitySpec) -> Level2:
     cases.append(("all", every, qa))
     lam = np.array([first_forward(system, inc, q) for _, inc, q in cases])
     ld = -2 * np.pi * lam.real / lam.imag
-    return Level2(tuple(c[0] for c in cases), ld, lam.imag, float(ld[-1]), spec.log_dec_min)
+    return Level2(tuple(c[0] for c in cases), ld, lam.imag, float(ld[-1]), limit)

@@ -22,7 +22,7 @@ from rotaflex.rotor.fe.case_config import parse
 from rotaflex.rotor.fe.case_output import summary_attrs
 from rotaflex.rotor.fe.results import _FEResult, _model_fig
 
-__all__ = ["StabilityResult", "run_stability"]
+__all__ = ["StabilityResult", "run_stability", "stability_dataset", "stability_figures", "verdict_table"]
 
 
 def run_stability(config: dict, *, progress: bool = False) -> StabilityResult:
@@ -35,6 +35,19 @@ def run_stability(config: dict, *, progress: bool = False) -> StabilityResult:
     l1 = None if spec.machine in NO_LEVEL1 else level1(rotor, spec)
     l2 = level2(rotor, spec)
     names = [b.name or f"bearing[{i}]" for i, b in enumerate(rotor.bearing)]
+    outputs = {}
+    for name, (_, _, el) in zip(names, rotor.bearings, strict=True):
+        for key, da in el.outputs(np.array([rpm_to_rad_s(spec.speed_rpm)])).items():
+            outputs[f"{name}_{key}"] = da.rename({d: f"{name}_{d}" for d in da.dims})  # one cavity axis per seal
+    ds, extra, msg = stability_dataset(spec, l1, l2, outputs)
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
+    return StabilityResult(ds)
+
+
+def stability_dataset(spec, l1, l2, outputs: dict) -> tuple[xr.Dataset, dict, str]:
+    """Dataset, summary entries and message of a Level I (None: not applicable) and Level II
+    outcome at ``spec.speed_rpm``; ``outputs``: the elements' own outputs (name -> DataArray).
+    One layout for ``rotor stability`` and ``system stability``."""
     ds = xr.Dataset(
         {
             "log_dec_level2": ("case", l2.log_dec, {"units": "1", "long_name": "first forward mode log dec"}),
@@ -43,9 +56,8 @@ def run_stability(config: dict, *, progress: bool = False) -> StabilityResult:
         },
         coords={"case": list(l2.cases)},
     )
-    for name, (_, _, el) in zip(names, rotor.bearings, strict=True):
-        for key, da in el.outputs(np.array([rpm_to_rad_s(spec.speed_rpm)])).items():
-            ds[f"{name}_{key}"] = da.rename({d: f"{name}_{d}" for d in da.dims})  # one cavity axis per seal
+    for key, da in outputs.items():
+        ds[key] = da
     ds.attrs.update({"machine": spec.machine, "location": spec.location, "mean_density": spec.mean_density or np.nan})
     verdict2 = "pass" if l2.passed else "fail"
     extra = {"speed": {"value": spec.speed_rpm, "unit": "rpm"}}
@@ -58,8 +70,7 @@ def run_stability(config: dict, *, progress: bool = False) -> StabilityResult:
     for case, d in zip(l2.cases, l2.log_dec, strict=True):
         extra[f"level2_log_dec[{case}]"] = {"value": float(d), "unit": "1"}
     msg += f"Level II: log dec {l2.full:.3g} (limit {l2.limit:g}): {verdict2}"
-    ds.attrs.update(summary_attrs(config, t0, extra, msg))
-    return StabilityResult(ds)
+    return ds, extra, msg
 
 
 def _add_level1(ds: xr.Dataset, extra: dict, l1) -> str:
@@ -102,44 +113,47 @@ class StabilityResult(_FEResult):
 
     def verdict_table(self) -> str:
         """The verdicts as a Markdown table."""
-        ds, s = self.dataset, self.summary()
-        rows = [("Level I", f"not applicable ({ds.attrs['machine']})")]
-        if "q_a" in ds:
-            rows = [
-                ("Anticipated cross-coupling Q_A", f"{float(ds['q_a']):.4g} N/m"),
-                ("Q at zero log dec Q_0", f"{float(ds['q_0']):.4g} N/m"),
-                ("Q_0 / Q_A", f"{s['Q0_over_QA']['value']:.3g}"),
-                ("Log dec at Q_A (Level I)", f"{s['log_dec_at_QA']['value']:.3g}"),
-                ("CSR (MCS / rigid-support critical)", f"{float(ds['csr']):.3g}, region {s['CSR_region']['value']}"),
-                (
-                    "Level I verdict",
-                    s["level1_verdict"]["value"] + (f" ({ds.attrs['reasons']})" if ds.attrs["reasons"] else ""),
-                ),
-            ]
-        rows += [
-            (f"Level II log dec: {c}", f"{d:.3g}")
-            for c, d in zip(ds["case"].values, ds["log_dec_level2"].values, strict=True)
-        ]
-        rows.append(
-            ("Level II verdict", f"{s['level2_verdict']['value']} (log dec >= {s['level2_log_dec']['limit']:g})")
-        )
-        return "| item | value |\n|---|---|\n" + "\n".join(f"| {a} | {b} |" for a, b in rows) + "\n"
+        return verdict_table(self.dataset, self.summary())
 
     def write_extra(self, out_dir: Path) -> list[Path]:
         return [write_text_atomic(Path(out_dir) / "verdict.md", self.verdict_table())]
 
     def plot(self) -> dict:
-        from rotaflex.rotor.fe.figures_stability import csr_map_figure, level1_figure, level2_figure
+        return {**_model_fig(self), **stability_figures(self.dataset)}
 
-        ds = self.dataset
-        figs = _model_fig(self)
-        if "q_a" in ds:
-            figs["level1"] = level1_figure(ds)
-        if (
-            "csr" in ds
-            and ds.attrs.get("machine") == "centrifugal_compressor"
-            and np.isfinite(ds.attrs["mean_density"])
-        ):
-            figs["csr_map"] = csr_map_figure(float(ds["csr"]), float(ds.attrs["mean_density"]))
-        figs["level2"] = level2_figure(ds)
-        return figs
+
+def verdict_table(ds: xr.Dataset, s: dict) -> str:
+    """The verdicts of a stability dataset ``ds`` with its summary ``s`` as a Markdown table."""
+    rows = [("Level I", f"not applicable ({ds.attrs['machine']})")]
+    if "q_a" in ds:
+        rows = [
+            ("Anticipated cross-coupling Q_A", f"{float(ds['q_a']):.4g} N/m"),
+            ("Q at zero log dec Q_0", f"{float(ds['q_0']):.4g} N/m"),
+            ("Q_0 / Q_A", f"{s['Q0_over_QA']['value']:.3g}"),
+            ("Log dec at Q_A (Level I)", f"{s['log_dec_at_QA']['value']:.3g}"),
+            ("CSR (MCS / rigid-support critical)", f"{float(ds['csr']):.3g}, region {s['CSR_region']['value']}"),
+            (
+                "Level I verdict",
+                s["level1_verdict"]["value"] + (f" ({ds.attrs['reasons']})" if ds.attrs["reasons"] else ""),
+            ),
+        ]
+    rows += [
+        (f"Level II log dec: {c}", f"{d:.3g}")
+        for c, d in zip(ds["case"].values, ds["log_dec_level2"].values, strict=True)
+    ]
+    rows.append(("Level II verdict", f"{s['level2_verdict']['value']} (log dec >= {s['level2_log_dec']['limit']:g})"))
+    return "| item | value |\n|---|---|\n" + "\n".join(f"| {a} | {b} |" for a, b in rows) + "\n"
+
+
+def stability_figures(ds: xr.Dataset) -> dict:
+    """The figures of a stability dataset: ``level1`` (when it has one), ``csr_map``
+    (centrifugal compressors with a mean gas density) and ``level2``."""
+    from rotaflex.rotor.fe.figures_stability import csr_map_figure, level1_figure, level2_figure
+
+    figs = {}
+    if "q_a" in ds:
+        figs["level1"] = level1_figure(ds)
+    if "csr" in ds and ds.attrs.get("machine") == "centrifugal_compressor" and np.isfinite(ds.attrs["mean_density"]):
+        figs["csr_map"] = csr_map_figure(float(ds["csr"]), float(ds.attrs["mean_density"]))
+    figs["level2"] = level2_figure(ds)
+    return figs
