@@ -380,7 +380,6 @@ def run_campbell(config: dict, *, progress: bool = False):
 
 
 def _probes(box, probes, where: str = "response"):
-    names = [pr.name for pr in box.rotors]
     if not probes:
         out = []
         for m in box.meshes:
@@ -388,9 +387,7 @@ def _probes(box, probes, where: str = "response"):
         return out
     out = []
     for i, p in enumerate(probes):
-        if p.rotor not in names:
-            raise InputError(f"{where}.probes[{i}].rotor", p.rotor, "one of " + ", ".join(map(repr, names)))
-        r = names.index(p.rotor)
+        r = box.rotor_index(p.rotor, f"{where}.probes[{i}].rotor")
         nn = box.rotors[r].rotor.n_nodes
         if p.node >= nn:
             raise InputError(f"{where}.probes[{i}].node", p.node, f"an existing node 0..{nn - 1}")
@@ -582,15 +579,12 @@ def _excitations(box, spec: TorsionalSpec) -> list[dict]:
 
     if not spec.excitation:
         return default_excitations(box)
-    names = [pr.name for pr in box.rotors]
     out = []
     for i, e in enumerate(spec.excitation):
         w = f"torsional.excitation[{i}]"
         d = {"kind": e.kind, "order": e.order, "name": e.name}
         if e.kind == "shaft":
-            if e.rotor not in names:
-                raise InputError(f"{w}.rotor", e.rotor, "a rotor name, one of " + ", ".join(map(repr, names)))
-            d["rotor"] = names.index(e.rotor)
+            d["rotor"] = box.rotor_index(e.rotor, f"{w}.rotor")
         elif e.kind == "mesh":
             if e.mesh is None or e.mesh >= len(box.meshes):
                 raise InputError(f"{w}.mesh", e.mesh, f"a [[gear_mesh]] index 0..{len(box.meshes) - 1}")

@@ -73,12 +73,8 @@ def _dofs(box: Gearbox, rows, key: str) -> tuple[list[int], list[str]]:
     dofs, labels = [], []
     for i, d in enumerate(rows):
         where = f"frf.{key}[{i}]"
-        if d.rotor is None and len(names) > 1:
-            raise InputError(f"{where}.rotor", "<missing>", "one of " + ", ".join(map(repr, names)))
-        name = names[0] if d.rotor is None else d.rotor
-        if name not in names:
-            raise InputError(f"{where}.rotor", d.rotor, "one of " + ", ".join(map(repr, names)))
-        r = names.index(name)
+        r = box.rotor_index(d.rotor, f"{where}.rotor")
+        name = names[r]
         nn = box.rotors[r].rotor.n_nodes
         if not 0 <= d.node < nn:
             raise InputError(f"{where}.node", d.node, f"an existing node 0..{nn - 1} of rotor {name!r}")

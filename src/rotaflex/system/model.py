@@ -284,6 +284,21 @@ class Gearbox:
             raise InputError(f"rotor[{rotor}]", self.rotors[rotor].name, "a rotor carrying a helical gear mesh")
         return off + nl + nt + node
 
+    def rotor_index(self, name: str | None, key: str) -> int:
+        """Index of the rotor called ``name`` (None: the only rotor of a one-rotor machine).
+
+        Raises
+        ------
+        InputError
+            Naming ``key`` (the config key as the user wrote it) and the machine's rotor names.
+        """
+        names = [pr.name for pr in self.rotors]
+        if name is None and len(names) == 1:
+            return 0
+        if name not in names:
+            raise InputError(key, "<missing>" if name is None else name, "one of " + ", ".join(map(repr, names)))
+        return names.index(name)
+
     def lateral_dof(self, rotor: int, node: int, axis: int = 0) -> int:
         """Global index of lateral DOF ``axis`` (0 x, 1 y, 2 theta_x, 3 theta_y) of a node."""
         return self.layout[rotor][0] + 4 * node + axis

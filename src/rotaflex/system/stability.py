@@ -106,16 +106,9 @@ def _named(box: Gearbox, spec: MachineStabilitySpec) -> int | None:
     pump without one (no Q_A)."""
     from rotaflex.rotor.fe.stability import NO_LEVEL1
 
-    names = [pr.name for pr in box.rotors]
-    if spec.rotor is None:
-        if spec.machine in NO_LEVEL1:
-            return None
-        if len(names) == 1:
-            return 0
-        raise InputError("stability.rotor", "<missing>", "one of " + ", ".join(map(repr, names)))
-    if spec.rotor not in names:
-        raise InputError("stability.rotor", spec.rotor, "one of " + ", ".join(map(repr, names)))
-    return names.index(spec.rotor)
+    if spec.rotor is None and spec.machine in NO_LEVEL1:
+        return None
+    return box.rotor_index(spec.rotor, "stability.rotor")
 
 
 def _q_stage(box: Gearbox, spec: MachineStabilitySpec, r: int) -> np.ndarray:

@@ -97,16 +97,10 @@ def machine_unbalance(
 
 def _masses(box: Gearbox, masses) -> list[tuple[int, int, float, float]]:
     """``(rotor index, node, magnitude [kg m], phase [rad])`` of the ``[[unbalance.mass]]`` tables."""
-    names = [pr.name for pr in box.rotors]
     out = []
     for i, m in enumerate(masses):
         where = f"unbalance.mass[{i}]"
-        if m.rotor is None and len(names) > 1:
-            raise InputError(f"{where}.rotor", "<missing>", "one of " + ", ".join(map(repr, names)))
-        name = names[0] if m.rotor is None else m.rotor
-        if name not in names:
-            raise InputError(f"{where}.rotor", m.rotor, "one of " + ", ".join(map(repr, names)))
-        r = names.index(name)
+        r = box.rotor_index(m.rotor, f"{where}.rotor")
         node = box.rotors[r].rotor.station(m.node, m.position, where)
         out.append((r, node, m.magnitude, np.radians(m.phase_deg)))
     return out
