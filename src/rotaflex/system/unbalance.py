@@ -115,7 +115,7 @@ def unbalance_result(config: dict, box: Gearbox, spec, probes, speeds: np.ndarra
     from rotaflex.rotor.fe.api import merge_probe_peaks, rate_peaks
     from rotaflex.rotor.fe.case_output import progress_callback
     from rotaflex.rotor.fe.response import peaks
-    from rotaflex.rotor.fe.verbs_response import PEAK_FLOOR, _bands
+    from rotaflex.rotor.fe.verbs_response import PEAK_FLOOR, _bands, margin_verdict, peak_entries
     from rotaflex.system.results import SystemUnbalanceResult
 
     ub = _masses(box, spec.mass)
@@ -166,37 +166,14 @@ def unbalance_result(config: dict, box: Gearbox, spec, probes, speeds: np.ndarra
         },
         coords={"speed": ("speed", speeds, {"units": "rad/s"}), "probe": names, "excitation": res.label},
     )
-    extra = {}
+    extra = peak_entries(pk)
     for i, p in enumerate(pk):
-        extra[f"peak_{i}_speed_rpm"] = {
-            "value": rad_s_to_rpm(p["speed"]),
-            "unit": "rpm",
-            "kind": p["kind"],
-            "excitation": p["excitation"],
-            "note": "drive speed",
-        }
-        extra[f"peak_{i}_amplitude"] = {"value": p["amplitude"], "unit": "m", "note": "orbit semi-major axis (0-pk)"}
-        extra[f"peak_{i}_probe"] = {
-            "value": p["probe"],
-            "unit": "",
-            "probes": p["probes"],
-            "af_by_probe": p["af_by_probe"],
-        }
-        extra[f"peak_{i}_amplification_factor"] = {"value": p["af"], "unit": ""}
-        extra[f"peak_{i}_separation_margin"] = {"value": p.get("sm_percent", np.nan), "unit": "%"}
-        extra[f"peak_{i}_required_separation_margin"] = {"value": p.get("sm_required_percent", np.nan), "unit": "%"}
-        extra[f"peak_{i}_meets_api684_margin"] = {"value": p.get("sm_ok", np.nan), "unit": ""}
+        extra[f"peak_{i}_speed_rpm"].update(excitation=p["excitation"], note="drive speed")
     rated = [p for p in pk if p["kind"] == "resonance"]
     msg = f"{spec.n_speeds} drive speeds, {len(probes)} probes, {len(res.label)} excitation(s); peaks [rpm]: " + (
         ", ".join(f"{rad_s_to_rpm(p['speed']):.0f} (AF {p['af']:.1f}, {p['probe']})" for p in rated) or "none"
     )
-    if bands and pk:
-        fails = [p for p in pk if not p["sm_ok"]]
-        msg += "; API margins: " + (
-            "all met"
-            if not fails
-            else ", ".join(f"{rad_s_to_rpm(p['speed']):.0f} rpm fails ({p['position']})" for p in fails)
-        )
+    msg += margin_verdict(pk, bands)
     from rotaflex.core.result import summary_attrs
 
     ds.attrs.update(summary_attrs(config, t0, extra, msg))

@@ -94,34 +94,8 @@ def run_unbalance(config: dict, *, progress: bool = False) -> UnbalanceResult:
             extra["max_pp_in_operating_range"] = {"value": pp_band.tolist(), "unit": "m", "probes": probes}
             extra["meets_vibration_limit"] = {"value": bool(np.all(pp_band <= limit)), "unit": ""}
         extra["max_pp_overall"] = {"value": pp.tolist(), "unit": "m", "probes": probes}
-    for i, p in enumerate(pk):
-        extra[f"peak_{i}_speed_rpm"] = {"value": rad_s_to_rpm(p["speed"]), "unit": "rpm", "kind": p["kind"]}
-        extra[f"peak_{i}_amplitude"] = {"value": p["amplitude"], "unit": "m", "note": "orbit semi-major axis (0-pk)"}
-        extra[f"peak_{i}_probe"] = {
-            "value": p["probe"],
-            "unit": "",
-            "note": "the probe with the largest response at this peak (governs)",
-            "probes": p["probes"],
-            "af_by_probe": p["af_by_probe"],
-        }
-        extra[f"peak_{i}_amplification_factor"] = {"value": p["af"], "unit": ""}
-        extra[f"peak_{i}_separation_margin"] = {"value": p.get("sm_percent", np.nan), "unit": "%"}
-        extra[f"peak_{i}_required_separation_margin"] = {"value": p.get("sm_required_percent", np.nan), "unit": "%"}
-        extra[f"peak_{i}_meets_api684_margin"] = {"value": p.get("sm_ok", np.nan), "unit": ""}
-        if "position" in p:
-            extra[f"peak_{i}_position"] = {
-                "value": p["position"],
-                "unit": "",
-                "note": "relative to the operating bands",
-            }
-    verdict = ""
-    if bands and pk:
-        fails = [p for p in pk if not p["sm_ok"]]
-        verdict = "; API margins: " + (
-            "all met"
-            if not fails
-            else ", ".join(f"{rad_s_to_rpm(p['speed']):.0f} rpm fails ({p['position']})" for p in fails)
-        )
+    extra.update(peak_entries(pk))
+    verdict = margin_verdict(pk, bands)
     if bands:
         from rotaflex.rotor.fe.api import stability_summary
 
@@ -270,3 +244,43 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
     ds.attrs.update(summary_attrs(config, t0, extra, tr.message + (f"; {note}" if note else "")))
     ds.attrs["nfev"] = tr.nfev
     return TransientResult(add_fluid_film_tables(ds, rotor))
+
+
+def peak_entries(pk: list[dict]) -> dict:
+    """summary.json entries ``peak_<i>_*`` of rated response peaks (``merge_probe_peaks`` /
+    ``rate_peaks``): speed [rpm], amplitude, governing probe, AF, API 684 margins, position."""
+    extra = {}
+    for i, p in enumerate(pk):
+        extra[f"peak_{i}_speed_rpm"] = {"value": rad_s_to_rpm(p["speed"]), "unit": "rpm", "kind": p["kind"]}
+        extra[f"peak_{i}_amplitude"] = {"value": p["amplitude"], "unit": "m", "note": "orbit semi-major axis (0-pk)"}
+        extra[f"peak_{i}_probe"] = {
+            "value": p["probe"],
+            "unit": "",
+            "note": "the probe with the largest response at this peak (governs)",
+            "probes": p["probes"],
+            "af_by_probe": p["af_by_probe"],
+        }
+        extra[f"peak_{i}_amplification_factor"] = {"value": p["af"], "unit": ""}
+        extra[f"peak_{i}_separation_margin"] = {"value": p.get("sm_percent", np.nan), "unit": "%"}
+        extra[f"peak_{i}_required_separation_margin"] = {"value": p.get("sm_required_percent", np.nan), "unit": "%"}
+        extra[f"peak_{i}_meets_api684_margin"] = {"value": p.get("sm_ok", np.nan), "unit": ""}
+        if "position" in p:
+            extra[f"peak_{i}_position"] = {
+                "value": p["position"],
+                "unit": "",
+                "note": "relative to the operating bands",
+            }
+    return extra
+
+
+def margin_verdict(pk: list[dict], bands) -> str:
+    """ "; API margins: all met" or the peaks that miss their API 684 separation margin ("" when
+    no operating bands or no peaks)."""
+    if not (bands and pk):
+        return ""
+    fails = [p for p in pk if not p["sm_ok"]]
+    return "; API margins: " + (
+        "all met"
+        if not fails
+        else ", ".join(f"{rad_s_to_rpm(p['speed']):.0f} rpm fails ({p['position']})" for p in fails)
+    )
