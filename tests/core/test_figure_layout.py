@@ -118,6 +118,8 @@ RUNS = {
     "rotor modal": ("rotor/fe_friswell_5_9_1.toml", {}),
     "system campbell": ("system/gearbox.toml", {"campbell": {"n_speeds": 8}}),
     "system response": ("system/gearbox.toml", {"response": {"n_speeds": 40}}),
+    "system unbalance": ("system/motor_coupling_pump.toml", {"unbalance": {"n_speeds": 120}}),
+    "system frf": ("system/turbine_gearbox_generator.toml", {"frf": {"n_frequencies": 400}}),
     "gear steady": (  # the in-process speed sweep across n_E1 and the 1x resonance: speed_sweep.png
         "gear/steady/torsional_dynamic_factor.toml",
         {"sweep": {"speeds_rpm": [8000.0, 12000.0, 13000.0, 16000.0, 20000.0]}, "steady": {"eval_cycles": 4}},

@@ -277,18 +277,27 @@ def unbalance_bode_figure(ds, peaks=(), bands=(), limit=None):
     if limit is not None:
         a1.axhline(limit * um, color="r", lw=1.2, label=f"API 617 limit {limit * um:.1f} \u00b5m p-p")
     a1.set_ylim(0, a1.get_ylim()[1] * 1.15)  # head room for the peak tags
-    for p in peaks:
-        a1.axvline(rad_s_to_rpm(p["speed"]), color="0.5", lw=0.6)
+    span = float(np.ptp(rpm)) or 1.0
+    taken: list[list[tuple[float, float]]] = []  # per row of tags: the speed ranges they cover
+    for p in sorted(peaks, key=lambda p: p["speed"]):
+        x = rad_s_to_rpm(p["speed"])
+        a1.axvline(x, color="0.5", lw=0.6)
         kind = p.get("kind", "resonance")
         tag = f"AF {p['af']:.1f}" if kind == "resonance" else kind.replace("half-power band", "band")
         probe = f", node {p['probe']}" if "probe" in p else ""
+        right = kind == "rising at the range end"
+        # a tag is about a third of the axis wide: close peaks go to the next row down
+        cover = (x - 0.32 * span, x) if right else (x, x + 0.32 * span)
+        row = next((i for i, r in enumerate(taken) if all(b < cover[0] or a > cover[1] for a, b in r)), len(taken))
+        taken += [[]] * (row + 1 - len(taken))
+        taken[row] = [*taken[row], cover]
         a1.annotate(
-            f"{rad_s_to_rpm(p['speed']):.0f} rpm{probe}\n{tag}",
-            (rad_s_to_rpm(p["speed"]), a1.get_ylim()[1]),
+            f"{x:.0f} rpm{probe}\n{tag}",
+            (x, a1.get_ylim()[1]),
             fontsize=7,
-            ha="right" if kind == "rising at the range end" else "left",
+            ha="right" if right else "left",
             va="top",
-            xytext=(-3 if kind == "rising at the range end" else 3, -3),
+            xytext=(-3 if right else 3, -3 - 22 * row),
             textcoords="offset points",
         )
     a1.set_ylabel("amplitude, peak-to-peak [\u00b5m]")
@@ -386,11 +395,16 @@ def frf_figures(ds) -> dict:
     f = ds["frequency_hz"].values
     fig, (a1, a2) = new_figure(2, 1, sharex=True, figsize=(7.4, 6.0))
     fig2, ax = new_figure(figsize=(6.0, 5.6))
+    Hs = ds["H_real"].values + 1j * ds["H_imag"].values  # (frequency, pair)
+    # the Nyquist axes in a prefixed unit (um/N, not 0.00005 m/N: long tick labels collide)
+    big = float(np.nanmax(np.abs(Hs))) if Hs.size and np.isfinite(Hs).any() else 1.0
+    k = int(np.clip(np.floor(np.log10(big) / 3) * 3, -12, 0)) if big > 0 else 0
+    nq_unit = {0: "", -3: "m", -6: "\u00b5", -9: "n", -12: "p"}[k] + unit if unit else f"1e{k}"
     for j, lab in enumerate(ds["pair"].values):
-        H = ds["H_real"].values[:, j] + 1j * ds["H_imag"].values[:, j]
+        H = Hs[:, j]
         a1.semilogy(f, np.abs(H), color=f"C{j}", label=str(lab))
         a2.plot(f, np.degrees(np.angle(H)), color=f"C{j}", label=str(lab))
-        ax.plot(H.real, H.imag, color=f"C{j}", label=str(lab))
+        ax.plot(H.real / 10.0**k, H.imag / 10.0**k, color=f"C{j}", label=str(lab))
     a1.set_ylabel(f"|{kind}| [{unit}]")
     a2.set_ylabel("phase [deg]")
     a2.set_yticks([-180, -90, 0, 90, 180])
@@ -399,8 +413,8 @@ def frf_figures(ds) -> dict:
     for a in (a1, a2):
         a.grid(alpha=0.3, which="both")
         a.legend(fontsize=8)
-    ax.set_xlabel(f"Re H [{unit}]")
-    ax.set_ylabel(f"Im H [{unit}]")
+    ax.set_xlabel(f"Re H [{nq_unit}]")
+    ax.set_ylabel(f"Im H [{nq_unit}]")
     ax.set_title("Nyquist plot")
     ax.axhline(0, color="k", lw=0.5)
     ax.axvline(0, color="k", lw=0.5)
