@@ -100,7 +100,7 @@ def frf_result(config: dict, box: Gearbox, spec, t0: float):
     :func:`rotaflex.system.case.run_frf`, which reads the case and calls this."""
     from rotaflex.core.result import summary_attrs
     from rotaflex.core.units import rpm_to_rad_s
-    from rotaflex.rotor.fe.frf import frf_dataset
+    from rotaflex.rotor.fe.frf import frf_dataset, pair_unit
     from rotaflex.system.results import SystemFRFResult
 
     f0, f1 = spec.frequency_hz
@@ -118,8 +118,9 @@ def frf_result(config: dict, box: Gearbox, spec, t0: float):
     H = data.H.transpose(0, 2, 1).reshape(w.size, -1)
     force = {"x": "Fx", "y": "Fy", "theta_x": "Mtheta_x", "theta_y": "Mtheta_y", "twist": "Mtwist"}
     labels = [f"{o} / {lab.split(' ')[0]} {force[lab.split(' ')[1]]}" for lab in in_labels for o in out_labels]
+    units = [pair_unit(spec.kind, o.split(" ")[1], i.split(" ")[1]) for i in in_labels for o in out_labels]
     if len(set(labels)) != len(labels):
         raise InputError("frf.inputs", [*in_labels, *out_labels], "distinct inputs and distinct outputs")
-    ds, extra, msg = frf_dataset(w, H, labels, spec.kind, spec.speed_rpm)
+    ds, extra, msg = frf_dataset(w, H, labels, spec.kind, spec.speed_rpm, units)
     ds.attrs.update(summary_attrs(config, t0, extra, msg.replace(" rpm;", " rpm drive speed;", 1)))
     return SystemFRFResult(ds)

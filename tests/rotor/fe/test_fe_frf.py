@@ -105,3 +105,26 @@ def test_cli_frf_and_campbell_direct(tmp_path: Path):
     s = json.loads((tmp_path / "f" / "summary.json").read_text())
     assert s["kind"]["unit"] == "m/N" and any(k.endswith("half_power_damping_ratio") for k in s)
     assert (tmp_path / "f" / "frf_nyquist.png").exists() and (tmp_path / "f" / "frf_bode.png").exists()
+
+
+def test_each_pair_carries_its_own_unit():
+    """A force to a displacement is m/N, a moment to a rotation rad/(N m): a mixed set of pairs
+    says so per pair (the arrays' one attribute cannot)."""
+    from rotaflex.core.config import load_toml
+    from rotaflex.rotor.fe.frf import pair_unit
+    from rotaflex.rotor.fe.verbs import run_frf
+
+    assert pair_unit("receptance", "x", "x") == "m/N"
+    assert pair_unit("receptance", "theta_x", "theta_y") == "rad/(N m)"
+    assert pair_unit("mobility", "x", "theta_x") == "m/(N m s)"
+    assert pair_unit("accelerance", "theta_y", "y") == "rad/(N s^2)"
+    cfg = load_toml(EXAMPLE)
+    cfg["frf"]["n_frequencies"] = 50
+    node = cfg["frf"]["pair"][0]["input_node"] if cfg["frf"].get("pair") else 2
+    cfg["frf"]["pair"] = [
+        {"input_node": node, "input_direction": "x"},
+        {"input_node": node, "input_direction": "theta_x", "output_direction": "theta_x"},
+    ]
+    ds = run_frf(cfg).dataset
+    assert list(ds["pair_unit"].values) == ["m/N", "rad/(N m)"]
+    assert ds["amplitude"].attrs["units"] == "see pair_unit"

@@ -391,6 +391,9 @@ def frf_figures(ds) -> dict:
     from rotaflex.core.plotting import new_figure
 
     unit = ds["amplitude"].attrs.get("units", "")
+    per_pair = ds["pair_unit"].values if "pair_unit" in ds.coords else None
+    if per_pair is not None:  # pairs of different units: each in the legend
+        unit = ""
     kind = ds.attrs.get("kind", "receptance")
     f = ds["frequency_hz"].values
     fig, (a1, a2) = new_figure(2, 1, sharex=True, figsize=(7.4, 6.0))
@@ -399,13 +402,14 @@ def frf_figures(ds) -> dict:
     # the Nyquist axes in a prefixed unit (um/N, not 0.00005 m/N: long tick labels collide)
     big = float(np.nanmax(np.abs(Hs))) if Hs.size and np.isfinite(Hs).any() else 1.0
     k = int(np.clip(np.floor(np.log10(big) / 3) * 3, -12, 0)) if big > 0 else 0
-    nq_unit = {0: "", -3: "m", -6: "\u00b5", -9: "n", -12: "p"}[k] + unit if unit else f"1e{k}"
+    nq_unit = {0: "", -3: "m", -6: "\u00b5", -9: "n", -12: "p"}[k] + unit if unit else f"1e{k}, unit in the legend"
     for j, lab in enumerate(ds["pair"].values):
         H = Hs[:, j]
+        lab = lab if per_pair is None else f"{lab} [{per_pair[j]}]"
         a1.semilogy(f, np.abs(H), color=f"C{j}", label=str(lab))
         a2.plot(f, np.degrees(np.angle(H)), color=f"C{j}", label=str(lab))
         ax.plot(H.real / 10.0**k, H.imag / 10.0**k, color=f"C{j}", label=str(lab))
-    a1.set_ylabel(f"|{kind}| [{unit}]")
+    a1.set_ylabel(f"|{kind}| [{unit or 'unit in the legend'}]")
     a2.set_ylabel("phase [deg]")
     a2.set_yticks([-180, -90, 0, 90, 180])
     a2.set_xlabel("excitation frequency [Hz]")

@@ -106,7 +106,18 @@ def in_kind(X: np.ndarray, w: np.ndarray, kind: str) -> np.ndarray:
 UNITS = {"receptance": "m/N", "mobility": "m/(N s)", "accelerance": "m/(N s^2)"}
 
 
-def frf_dataset(w: np.ndarray, H: np.ndarray, labels: list, kind: str, speed_rpm: float):
+def pair_unit(kind: str, output_direction: str, input_direction: str) -> str:
+    """Unit of an FRF between DOF directions (x, y: m and N; theta_x, theta_y, twist: rad and
+    N m): ``m/N`` for a force to a displacement, ``rad/(N m)`` for a moment to a rotation, ...,
+    with ``/s`` (mobility) or ``/s^2`` (accelerance)."""
+    out = "m" if output_direction in ("x", "y") else "rad"
+    load = "N" if input_direction in ("x", "y") else "N m"
+    per = {"receptance": "", "mobility": " s", "accelerance": " s^2"}[kind]
+    den = load + per
+    return f"{out}/{den}" if den == "N" else f"{out}/({den})"
+
+
+def frf_dataset(w: np.ndarray, H: np.ndarray, labels: list, kind: str, speed_rpm: float, units: list | None = None):
     """The FRF dataset, its summary values and message (rotor and machine verbs alike).
 
     Parameters
@@ -114,6 +125,9 @@ def frf_dataset(w: np.ndarray, H: np.ndarray, labels: list, kind: str, speed_rpm
     w : ndarray (f,) [rad/s]
     H : ndarray (f, p) complex, one column per pair ``labels[j]`` (output / input), in ``kind``
     speed_rpm : float, the (drive) speed [rpm] the matrices are taken at
+    units : list of str, the unit of each pair (:func:`pair_unit`); None: all translations per
+        force (``UNITS[kind]``). Where the pairs differ the arrays' ``units`` attribute says
+        "see pair_unit" and the coordinate ``pair_unit`` holds each one.
 
     Returns
     -------
@@ -122,7 +136,8 @@ def frf_dataset(w: np.ndarray, H: np.ndarray, labels: list, kind: str, speed_rpm
     """
     import xarray as xr
 
-    unit = UNITS[kind]
+    units = [UNITS[kind]] * len(labels) if units is None else list(units)
+    unit = units[0] if len(set(units)) == 1 else "see pair_unit"
     ds = xr.Dataset(
         {
             "H_real": (("frequency", "pair"), H.real, {"units": unit}),
@@ -133,6 +148,8 @@ def frf_dataset(w: np.ndarray, H: np.ndarray, labels: list, kind: str, speed_rpm
         },
         coords={"frequency": ("frequency", w, {"units": "rad/s"}), "pair": labels},
     )
+    if len(set(units)) > 1:
+        ds = ds.assign_coords(pair_unit=("pair", units))
     ds.attrs["kind"] = kind
     ds.attrs["speed_rpm"] = speed_rpm
     extra = {"speed": {"value": speed_rpm, "unit": "rpm"}, "kind": {"value": kind, "unit": unit}}
@@ -140,7 +157,7 @@ def frf_dataset(w: np.ndarray, H: np.ndarray, labels: list, kind: str, speed_rpm
     for j, lab in enumerate(labels):
         for k, p in enumerate(half_power(w, np.abs(H[:, j]))):
             extra[f"{lab}_peak_{k}_frequency_hz"] = {"value": p["frequency"] / (2 * np.pi), "unit": "Hz"}
-            extra[f"{lab}_peak_{k}_amplitude"] = {"value": p["amplitude"], "unit": unit}
+            extra[f"{lab}_peak_{k}_amplitude"] = {"value": p["amplitude"], "unit": units[j]}
             extra[f"{lab}_peak_{k}_half_power_damping_ratio"] = {"value": p["zeta"], "unit": "1"}
             if j == 0:
                 shown.append(f"{p['frequency'] / (2 * np.pi):.4g} Hz")

@@ -102,7 +102,7 @@ def _check_static(res, s) -> None:
 def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
     """FRFs of ``[frf]`` at ``speed_rpm`` over ``frequency_hz``, with peaks and half-power damping."""
     from rotaflex.core.errors import InputError
-    from rotaflex.rotor.fe.frf import dof_index, frf, frf_dataset
+    from rotaflex.rotor.fe.frf import dof_index, frf, frf_dataset, pair_unit
 
     t0 = time.perf_counter()
     rotor, spec = parse(config, "frf")
@@ -114,19 +114,20 @@ def run_frf(config: dict, *, progress: bool = False) -> FRFResult:
         (node, "x", None, None),
         (node, "y", None, None),
     ]
-    ins, outs, labels = [], [], []
+    ins, outs, labels, units = [], [], [], []
     for i, (a, da, b, db) in enumerate(pairs):
         b = a if b is None else b
         db = da if db is None else db
         ins.append(dof_index(rotor, a, da, f"frf.pair[{i}]", ("input_node", "input_direction")))
         outs.append(dof_index(rotor, b, db, f"frf.pair[{i}]", ("output_node", "output_direction")))
         labels.append(f"{db}{b}/{'F' if da in 'xy' else 'M'}{da}{a}")
+        units.append(pair_unit(spec.kind, db, da))
     w = np.linspace(f0, f1, spec.n_frequencies) * 2 * np.pi
     speed = rpm_to_rad_s(spec.speed_rpm)
     uniq = sorted(set(ins))
     data = frf(rotor, w, speed, uniq, sorted(set(outs)), spec.kind)
     out_idx = {d: j for j, d in enumerate(sorted(set(outs)))}
     H = np.stack([data.H[:, out_idx[o], uniq.index(i)] for i, o in zip(ins, outs, strict=True)], 1)
-    ds, extra, msg = frf_dataset(w, H, labels, spec.kind, spec.speed_rpm)
+    ds, extra, msg = frf_dataset(w, H, labels, spec.kind, spec.speed_rpm, units)
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     return FRFResult(add_fluid_film_tables(ds, rotor))
