@@ -423,9 +423,17 @@ def unbalance_response_study(
 
     Examples
     --------
-    >>> from rotaflex.system.study import Probe
-    >>> r = unbalance_response_study(train, [{"rotor": "pump", "node": 4, "magnitude": 1e-4}],
-    ...                              speed_rpm=(500, 3000), n_speeds=6)     # doctest: +SKIP
+    >>> from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+    >>> from rotaflex.system.study import DriveSpec, Machine
+    >>> brg = dict(kxx=1e7, kyy=1e7, cxx=2e3, cyy=2e3)
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=4),),
+    ...           disk=(Disk(node=2, mass=20.0, Id=0.1, Ip=0.2),),
+    ...           bearing=(Bearing(node=0, **brg), Bearing(node=4, **brg)))
+    >>> m = Machine(rotors={"r": r}, drive=DriveSpec(rotor="r", node=0))
+    >>> u = unbalance_response_study(m, [{"rotor": "r", "node": 2, "magnitude": 1e-4}],
+    ...                              speed_rpm=(500, 6000), n_speeds=111)
+    >>> round(u.summary()["peak_0_speed_rpm"]["value"])  # the first critical [rpm]: 66 Hz
+    3957
     """
     table = {
         "speed_rpm": speed_in_rpm(speed_rpm, speed, "unbalance", pair=True),
@@ -480,8 +488,16 @@ def frf(
 
     Examples
     --------
-    >>> h = frf(train, inputs=[{"rotor": "pump", "node": 4}], speed_rpm=1480,
-    ...         frequency_hz=(5, 100), n_frequencies=20)                   # doctest: +SKIP
+    >>> from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+    >>> from rotaflex.system.study import DriveSpec, Machine
+    >>> brg = dict(kxx=1e7, kyy=1e7, cxx=2e3, cyy=2e3)
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=4),),
+    ...           disk=(Disk(node=2, mass=20.0, Id=0.1, Ip=0.2),),
+    ...           bearing=(Bearing(node=0, **brg), Bearing(node=4, **brg)))
+    >>> m = Machine(rotors={"r": r}, drive=DriveSpec(rotor="r", node=0))
+    >>> h = frf(m, inputs=[{"rotor": "r", "node": 2}], frequency_hz=(1, 100), n_frequencies=100)
+    >>> round(h.summary()["r:2 x / r:2 Fx_peak_0_frequency_hz"]["value"])  # [Hz], at rest
+    66
     """
     table = {
         "frequency_hz": [float(f) for f in frequency_hz],
@@ -544,7 +560,16 @@ def stability(
 
     Examples
     --------
-    >>> s = stability(train, rotor="pump", kind="pump", speed_rpm=1480)     # doctest: +SKIP
+    >>> from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+    >>> from rotaflex.system.study import DriveSpec, Machine
+    >>> brg = dict(kxx=1e7, kyy=1e7, cxx=2e3, cyy=2e3)
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=4),),
+    ...           disk=(Disk(node=2, mass=20.0, Id=0.1, Ip=0.2),),
+    ...           bearing=(Bearing(node=0, **brg), Bearing(node=4, **brg)))
+    >>> m = Machine(rotors={"r": r}, drive=DriveSpec(rotor="r", node=0))
+    >>> s = stability(m, kind="pump", speed_rpm=3000)
+    >>> s.summary()["level2_verdict"]["value"], round(s.summary()["level2_log_dec"]["value"], 3)
+    ('fail', 0.069)
     """
     table = {"machine": kind, "location": location, "n_points": n_points}
     slist = _tables(stages, "stability.stage")
