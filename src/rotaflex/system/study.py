@@ -419,7 +419,7 @@ def unbalance_response_study(
     -------
     SystemUnbalanceResult
         ``.dataset`` (orbit amplitudes [m] vs ``speed``), ``.summary()`` (peaks, margins),
-        ``.plot()``.
+        ``.plot_bode()``, ``.plot_model()``, ``.plot()``.
 
     Examples
     --------
@@ -482,9 +482,9 @@ def frf(
 
     Returns
     -------
-    FRF result
+    SystemFRFResult
         ``.dataset`` (``H_real``, ``H_imag`` per output/input ``pair`` vs ``frequency``),
-        ``.summary()``, ``.plot()``.
+        ``.summary()`` (peaks, half-power damping), ``.plot_model()``, ``.plot()``.
 
     Examples
     --------
@@ -554,9 +554,9 @@ def stability(
 
     Returns
     -------
-    Stability result
+    SystemStabilityResult
         ``.dataset`` (log decrements and frequencies [rad/s] of Level I and Level II),
-        ``.summary()`` (verdicts), ``.plot()``.
+        ``.summary()`` (verdicts), ``.plot_model()``, ``.plot()``.
 
     Examples
     --------
