@@ -17,19 +17,35 @@ from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
 from rotaflex.rotor.fe.materials import MATERIALS
 from rotaflex.system import Gearbox
-from rotaflex.system.case import run_campbell, run_modal, run_response, run_startup, run_steady, run_torsional
+from rotaflex.system.case import (
+    run_campbell,
+    run_frf,
+    run_modal,
+    run_response,
+    run_stability,
+    run_startup,
+    run_steady,
+    run_torsional,
+    run_unbalance,
+)
 from rotaflex.system.study import (
     DriveSpec,
     LoadSpec,
     Machine,
+    MachineDOF,
     MachineRotor,
+    MachineUnbalanceMass,
     MeshSpec,
+    Probe,
     campbell_diagram,
+    frf,
     mesh_response,
     modes,
+    stability,
     startup,
     steady_state_study,
     torsional_analysis,
+    unbalance_response_study,
 )
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -205,3 +221,100 @@ def test_plot_methods_are_the_cli_figures(example):
             assert np.array_equal(x.get_xydata(), y.get_xydata(), equal_nan=True)
     assert set(ns["torsion"].plot()) == {"system", "interference", "torsional_modes"}
     assert ns["camp"].plot_model() is not None
+
+
+_MASS = {"rotor": "pump", "node": 5, "magnitude": 1e-4, "phase_deg": 30.0}
+_UNB = {"speed_rpm": [300.0, 3000.0], "n_speeds": 30, "operating_range_rpm": [1440.0, 1500.0]}
+_DOFS = [{"rotor": "pump", "node": 5, "direction": "x"}, {"rotor": "motor", "node": 3, "direction": "x"}]
+_FRF = {"frequency_hz": [5.0, 100.0], "n_frequencies": 20, "kind": "mobility"}
+
+
+def _same(lib, cli):
+    """Every data variable of the two datasets identical (same code path, same numbers)."""
+    a, b = lib.dataset, cli.dataset
+    assert list(a.data_vars) == list(b.data_vars) and a.data_vars
+    for v in a.data_vars:
+        np.testing.assert_array_equal(a[v].values, b[v].values)
+
+
+def test_unbalance_response_is_the_cli_runner(example):
+    """The machine's unbalance response from Python equals ``rotaflex system unbalance`` on the
+    TOML twin; independent check: the response is linear in the unbalance (twice m e, twice the
+    orbit) and the phase key turns the orbit's complex amplitude by that angle."""
+    machine = example[0]["machine"]
+    mass = MachineUnbalanceMass(**_MASS)
+    lib = unbalance_response_study(
+        machine,
+        [mass],
+        speed_rpm=(300.0, 3000.0),
+        n_speeds=30,
+        probes=[Probe(rotor="pump", node=5)],
+        operating_range_rpm=(1440.0, 1500.0),
+    )
+    probes = [{"rotor": "pump", "node": 5}]
+    cli = run_unbalance({**load_toml(TOML), "unbalance": {**_UNB, "probes": probes, "mass": [_MASS]}})
+    _same(lib, cli)
+    assert lib.summary().keys() == cli.summary().keys()
+    double = unbalance_response_study(
+        machine,
+        [{**_MASS, "magnitude": 2e-4, "phase_deg": 0.0}],
+        speed=(300.0 * math.pi / 30, 3000.0 * math.pi / 30),
+        n_speeds=30,
+    )
+    a, b = lib.dataset, double.dataset
+    za = (a["x_real"] + 1j * a["x_imag"]).values.ravel()
+    zb = (b["x_real"] + 1j * b["x_imag"]).values.ravel()
+    assert np.abs(za).max() > 1e-7
+    np.testing.assert_allclose(zb, 2 * za * np.exp(-1j * math.radians(30.0)), rtol=1e-6, atol=1e-12)
+
+
+def test_frf_is_the_cli_runner_and_reciprocal(example):
+    """FRFs from Python equal ``rotaflex system frf``; independent check (Maxwell-Betti): at
+    rest the matrices are symmetric, so the cross FRFs H_ij and H_ji are equal."""
+    machine = example[0]["machine"]
+    lib = frf(machine, inputs=[MachineDOF(**d) for d in _DOFS], outputs=_DOFS, speed_rpm=1480.0, **_FRF)
+    cli = run_frf({**load_toml(TOML), "frf": {**_FRF, "speed_rpm": 1480.0, "inputs": _DOFS, "outputs": _DOFS}})
+    _same(lib, cli)
+    rest = frf(machine, inputs=_DOFS, **_FRF).dataset  # outputs default to the inputs; at rest
+    H = rest["H_real"].values + 1j * rest["H_imag"].values
+    names = list(rest["pair"].values)
+    ij, ji = names.index("motor:3 x / pump:5 Fx"), names.index("pump:5 x / motor:3 Fx")
+    assert np.abs(H[:, ij]).max() > 0
+    np.testing.assert_allclose(H[:, ij], H[:, ji], rtol=1e-8)
+
+
+def test_stability_is_the_cli_runner(example):
+    """API 617 stability from Python equals ``rotaflex system stability``; the MCS in rad/s is
+    the same run as in rpm."""
+    machine = example[0]["machine"]
+    lib = stability(machine, rotor="pump", kind="pump", speed_rpm=1480.0)
+    cli = run_stability({**load_toml(TOML), "stability": {"rotor": "pump", "machine": "pump", "speed_rpm": 1480.0}})
+    _same(lib, cli)
+    rad = stability(machine, rotor="pump", kind="pump", speed=1480.0 * math.pi / 30)
+    np.testing.assert_allclose(rad.dataset["log_dec_level2"], lib.dataset["log_dec_level2"], rtol=1e-9)
+    assert lib.summary()["level2_verdict"]["value"] == cli.summary()["level2_verdict"]["value"]
+
+
+def test_bad_machine_analyses_name_the_toml_keys(example):
+    """A wrong rotor name, direction or speed in Python gets the message of the same mistake in
+    the file, naming its key (``unbalance.mass[0].rotor``)."""
+    machine, toml = example[0]["machine"], load_toml(TOML)
+    bad = {**_MASS, "rotor": "fan"}
+    py = _message(lambda: unbalance_response_study(machine, [bad], speed_rpm=(300.0, 3000.0), n_speeds=5))
+    cli = _message(
+        lambda: run_unbalance({**toml, "unbalance": {"speed_rpm": [300.0, 3000.0], "n_speeds": 5, "mass": [bad]}})
+    )
+    assert py == cli and py.startswith("unbalance.mass[0].rotor")
+    dof = {"rotor": "pump", "node": 5, "direction": "z"}
+    py = _message(lambda: frf(machine, inputs=[_DOFS[0], dof], n_frequencies=5))
+    cli = _message(lambda: run_frf({**toml, "frf": {"inputs": [_DOFS[0], dof], "n_frequencies": 5}}))
+    assert py == cli and py.startswith("frf.inputs[1].direction")
+    py = _message(lambda: stability(machine, rotor="fan", kind="pump", speed_rpm=1480.0))
+    cli = _message(
+        lambda: run_stability({**toml, "stability": {"rotor": "fan", "machine": "pump", "speed_rpm": 1480.0}})
+    )
+    assert py == cli and py.startswith("stability.rotor")
+    with pytest.raises(InputError, match="frf.speed_rpm"):
+        frf(machine, inputs=_DOFS, speed_rpm=1480.0, speed=155.0)
+    with pytest.raises(InputError, match="unbalance.mass"):
+        unbalance_response_study(machine, _MASS, speed_rpm=(300.0, 3000.0))  # one table, not a list

@@ -39,8 +39,9 @@ from typing import Any, Literal
 
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.model import Rotor
+from rotaflex.rotor.fe.stability import Stage
 from rotaflex.rotor.fe.study import rotor_tables, speed_in_rpm
-from rotaflex.system.case import ExcitationSpec, Probe
+from rotaflex.system.case import ExcitationSpec, MachineDOF, MachineUnbalanceMass, Probe
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import DriveSpec, Gearbox, LoadSpec, MeshSpec
 
@@ -50,15 +51,21 @@ __all__ = [
     "ExcitationSpec",
     "LoadSpec",
     "Machine",
+    "MachineDOF",
     "MachineRotor",
+    "MachineUnbalanceMass",
     "MeshSpec",
     "Probe",
+    "Stage",
     "campbell_diagram",
+    "frf",
     "mesh_response",
     "modes",
+    "stability",
     "startup",
     "steady_state_study",
     "torsional_analysis",
+    "unbalance_response_study",
 ]
 
 
@@ -366,3 +373,209 @@ def steady_state_study(machine: Machine, *, speed_rpm: float | None = None, spee
     """
     rpm = None if speed_rpm is None and speed is None else speed_in_rpm(speed_rpm, speed, "steady", pair=False)
     return _run(machine, "steady", {**_optional(speed_rpm=rpm), **settings})
+
+
+def _tables(items: Iterable, where: str) -> list[dict]:
+    """Spec dataclasses or mappings as the list of TOML tables ``where`` holds."""
+    if isinstance(items, (Mapping, str)) or not isinstance(items, Iterable):
+        raise InputError(where, items, "a list of tables (spec objects or mappings)")
+    return [_plain(x) if dataclasses.is_dataclass(x) else dict(x) for x in items]
+
+
+def unbalance_response_study(
+    machine: Machine,
+    unbalance: Iterable[MachineUnbalanceMass | Mapping],
+    *,
+    speed_rpm: tuple[float, float] | None = None,
+    speed: tuple[float, float] | None = None,
+    n_speeds: int = 500,
+    probes: Iterable[Probe | Mapping] = (),
+    operating_speed_rpm: float | None = None,
+    operating_range_rpm: tuple[float, float] | None = None,
+    operating_bands_rpm: Iterable[tuple[float, float]] = (),
+):
+    """Steady unbalance response vs drive speed, each rotor's masses at its own 1X, with the API
+    684 peaks and margins (``rotaflex system unbalance``).
+
+    Parameters
+    ----------
+    machine : Machine
+    unbalance : iterable of MachineUnbalanceMass or mapping
+        The ``[[unbalance.mass]]`` tables: ``rotor`` (name), ``node`` or ``position`` [m],
+        ``magnitude`` m e [kg m], ``phase_deg`` [deg].
+    speed_rpm, speed : (float, float)
+        Drive-speed range [rpm] or [rad/s] (one of them).
+    n_speeds : int
+    probes : iterable of Probe or mapping
+        Orbit nodes (default: the unbalance nodes).
+    operating_speed_rpm : float, optional
+        Drive operating speed [rpm] (margins from it).
+    operating_range_rpm : (float, float), optional
+        Minimum and maximum continuous drive speed [rpm] (API margins below and above the band).
+    operating_bands_rpm : iterable of (float, float)
+        Several operating bands of the drive speed [rpm] (instead of ``operating_range_rpm``).
+
+    Returns
+    -------
+    SystemUnbalanceResult
+        ``.dataset`` (orbit amplitudes [m] vs ``speed``), ``.summary()`` (peaks, margins),
+        ``.plot_bode()``, ``.plot_model()``, ``.plot()``.
+
+    Examples
+    --------
+    >>> from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+    >>> from rotaflex.system.study import DriveSpec, Machine
+    >>> brg = dict(kxx=1e7, kyy=1e7, cxx=2e3, cyy=2e3)
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=4),),
+    ...           disk=(Disk(node=2, mass=20.0, Id=0.1, Ip=0.2),),
+    ...           bearing=(Bearing(node=0, **brg), Bearing(node=4, **brg)))
+    >>> m = Machine(rotors={"r": r}, drive=DriveSpec(rotor="r", node=0))
+    >>> u = unbalance_response_study(m, [{"rotor": "r", "node": 2, "magnitude": 1e-4}],
+    ...                              speed_rpm=(500, 6000), n_speeds=111)
+    >>> round(u.summary()["peak_0_speed_rpm"]["value"])  # the first critical [rpm]: 66 Hz
+    3957
+    """
+    table = {
+        "speed_rpm": speed_in_rpm(speed_rpm, speed, "unbalance", pair=True),
+        "n_speeds": n_speeds,
+        "mass": _tables(unbalance, "unbalance.mass"),
+    }
+    plist = _tables(probes, "unbalance.probes")
+    bands = [list(b) for b in operating_bands_rpm]
+    if plist:
+        table["probes"] = plist
+    if bands:
+        table["operating_bands_rpm"] = bands
+    if operating_range_rpm is not None:
+        table["operating_range_rpm"] = list(operating_range_rpm)
+    return _run(machine, "unbalance", {**table, **_optional(operating_speed_rpm=operating_speed_rpm)})
+
+
+def frf(
+    machine: Machine,
+    *,
+    inputs: Iterable[MachineDOF | Mapping],
+    outputs: Iterable[MachineDOF | Mapping] | None = None,
+    speed_rpm: float | None = None,
+    speed: float | None = None,
+    frequency_hz: tuple[float, float] = (1.0, 200.0),
+    n_frequencies: int = 2000,
+    kind: Literal["receptance", "mobility", "accelerance"] = "receptance",
+):
+    """Frequency response functions of the machine at one drive speed (``rotaflex system frf``).
+
+    Parameters
+    ----------
+    machine : Machine
+    inputs : iterable of MachineDOF or mapping
+        DOFs of the unit forces (moments): ``rotor``, ``node``, ``direction`` (``x``, ``y``,
+        ``theta_x``, ``theta_y``, ``twist``).
+    outputs : iterable of MachineDOF or mapping, optional
+        Response DOFs (default: the inputs).
+    speed_rpm, speed : float, optional
+        Drive speed [rpm] or [rad/s] (at most one; neither: at rest); every rotor at its ratio.
+    frequency_hz : (float, float)
+        Excitation frequency range [Hz].
+    n_frequencies : int
+    kind : {"receptance", "mobility", "accelerance"}
+        H = X/F [m/N], i w H [m/(N s)] or -w^2 H [m/(N s^2)].
+
+    Returns
+    -------
+    SystemFRFResult
+        ``.dataset`` (``H_real``, ``H_imag`` per output/input ``pair`` vs ``frequency``),
+        ``.summary()`` (peaks, half-power damping), ``.plot_model()``, ``.plot()``.
+
+    Examples
+    --------
+    >>> from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+    >>> from rotaflex.system.study import DriveSpec, Machine
+    >>> brg = dict(kxx=1e7, kyy=1e7, cxx=2e3, cyy=2e3)
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=4),),
+    ...           disk=(Disk(node=2, mass=20.0, Id=0.1, Ip=0.2),),
+    ...           bearing=(Bearing(node=0, **brg), Bearing(node=4, **brg)))
+    >>> m = Machine(rotors={"r": r}, drive=DriveSpec(rotor="r", node=0))
+    >>> h = frf(m, inputs=[{"rotor": "r", "node": 2}], frequency_hz=(1, 100), n_frequencies=100)
+    >>> round(h.summary()["r:2 x / r:2 Fx_peak_0_frequency_hz"]["value"])  # [Hz], at rest
+    66
+    """
+    table = {
+        "frequency_hz": [float(f) for f in frequency_hz],
+        "n_frequencies": n_frequencies,
+        "kind": kind,
+        "inputs": _tables(inputs, "frf.inputs"),
+    }
+    if outputs is not None:
+        table["outputs"] = _tables(outputs, "frf.outputs")
+    if speed_rpm is not None or speed is not None:
+        table["speed_rpm"] = speed_in_rpm(speed_rpm, speed, "frf", pair=False)
+    return _run(machine, "frf", table)
+
+
+def stability(
+    machine: Machine,
+    *,
+    rotor: str | None = None,
+    speed_rpm: float | None = None,
+    speed: float | None = None,
+    rated_speed_rpm: float | None = None,
+    kind: Literal["centrifugal_compressor", "axial_compressor", "turbine", "pump"] = "centrifugal_compressor",
+    stages: Iterable[Stage | Mapping] = (),
+    location: Literal["midspan", "stages"] = "midspan",
+    mean_density: float | None = None,
+    n_points: int = 41,
+    log_dec_min: float | None = None,
+):
+    """API 617 Level II stability of the whole machine and Level I of one rotor at the drive's
+    maximum continuous speed (``rotaflex system stability``).
+
+    Parameters
+    ----------
+    machine : Machine
+    rotor : str, optional
+        The rotor whose stages carry Q_A (``[stability] rotor``; default: the only rotor).
+    speed_rpm, speed : float, optional
+        Drive MCS [rpm] or [rad/s] (at most one; neither: the rotors' ``speed_rpm``).
+    rated_speed_rpm : float, optional
+        Speed N of the q_A formula [rpm] (default: the MCS).
+    kind : str
+        The ``[stability] machine`` key: ``pump`` has no Q_A and no Level I.
+    stages : iterable of Stage or mapping
+        The ``[[stability.stage]]`` tables: ``power`` [W], ``diameter`` [m], ``width`` [m],
+        ``density_ratio``, ``node`` or ``position`` [m] (needed for Q_A).
+    location : {"midspan", "stages"}
+        Where Q is applied in Level I (and Q_A in Level II).
+    mean_density : float, optional
+        Mean gas density [kg/m^3] (critical speed ratio map of compressors).
+    n_points : int
+        Points of the Level I sweep of Q.
+    log_dec_min : float, optional
+        Level II acceptance log decrement (default: API 617's 0.1).
+
+    Returns
+    -------
+    SystemStabilityResult
+        ``.dataset`` (log decrements and frequencies [rad/s] of Level I and Level II),
+        ``.summary()`` (verdicts), ``.plot_model()``, ``.plot()``.
+
+    Examples
+    --------
+    >>> from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+    >>> from rotaflex.system.study import DriveSpec, Machine
+    >>> brg = dict(kxx=1e7, kyy=1e7, cxx=2e3, cyy=2e3)
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=4),),
+    ...           disk=(Disk(node=2, mass=20.0, Id=0.1, Ip=0.2),),
+    ...           bearing=(Bearing(node=0, **brg), Bearing(node=4, **brg)))
+    >>> m = Machine(rotors={"r": r}, drive=DriveSpec(rotor="r", node=0))
+    >>> s = stability(m, kind="pump", speed_rpm=3000)
+    >>> s.summary()["level2_verdict"]["value"], round(s.summary()["level2_log_dec"]["value"], 3)
+    ('fail', 0.069)
+    """
+    table = {"machine": kind, "location": location, "n_points": n_points}
+    slist = _tables(stages, "stability.stage")
+    if slist:
+        table["stage"] = slist
+    if speed_rpm is not None or speed is not None:
+        table["speed_rpm"] = speed_in_rpm(speed_rpm, speed, "stability", pair=False)
+    optional = _optional(rotor=rotor, rated_speed_rpm=rated_speed_rpm, mean_density=mean_density)
+    return _run(machine, "stability", {**table, **optional, **_optional(log_dec_min=log_dec_min)})
