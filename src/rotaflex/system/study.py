@@ -478,7 +478,8 @@ def frf(
         Excitation frequency range [Hz].
     n_frequencies : int
     kind : {"receptance", "mobility", "accelerance"}
-        H = X/F [m/N], i w H [m/(N s)] or -w^2 H [m/(N s^2)].
+        H = X/F, i w H or -w^2 H: m/N, m/(N s), m/(N s^2) for a force to a displacement, rad/(N m),
+        ... for a moment to a rotation (each pair's unit: ``pair_unit`` where they differ).
 
     Returns
     -------
