@@ -163,7 +163,7 @@ def test_each_system_verb_listed_once():
     """A verb is one COMMANDS line plus its settings table; sweeps (``analysis = ...``) reach the
     same function."""
     from rotaflex.core.domains import COMMANDS
-    from rotaflex.system.case import ANALYSES
+    from rotaflex.system.case_specs import ANALYSES
 
     assert list(COMMANDS["system"]) == list(ANALYSES)
 

@@ -41,7 +41,7 @@ from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.model import Rotor
 from rotaflex.rotor.fe.stability import Stage
 from rotaflex.rotor.fe.study import rotor_tables, speed_in_rpm
-from rotaflex.system.case import ExcitationSpec, MachineDOF, MachineUnbalanceMass, Probe
+from rotaflex.system.case_specs import ExcitationSpec, MachineDOF, MachineUnbalanceMass, Probe
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import DriveSpec, Gearbox, LoadSpec, MeshSpec
 
