@@ -22,6 +22,7 @@ import numpy as np
 
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
+from rotaflex.rotor.fe.response import dynamic_stiffness
 
 DIRECTIONS = ("x", "y", "theta_x", "theta_y")
 KINDS = {"receptance": 0, "mobility": 1, "accelerance": 2}
@@ -94,8 +95,7 @@ def dynamic_solve(M: np.ndarray, D: np.ndarray, K: np.ndarray, w: np.ndarray, B:
     -------
     ndarray (f, n, r) complex [m/N, rad/N, ...]
     """
-    A = K[None] - w[:, None, None] ** 2 * M[None] + 1j * w[:, None, None] * D[None]
-    return np.linalg.solve(A, np.broadcast_to(B, (w.size, *B.shape)))
+    return np.linalg.solve(dynamic_stiffness(M, D, K, w), np.broadcast_to(B, (w.size, *B.shape)))
 
 
 def in_kind(X: np.ndarray, w: np.ndarray, kind: str) -> np.ndarray:

@@ -104,6 +104,17 @@ def unbalance_force(spin: np.ndarray, magnitude: float, phase: float) -> np.ndar
     return np.stack([fx, -1j * fx], -1)
 
 
+def dynamic_stiffness(M: np.ndarray, D: np.ndarray, K: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """``K - w^2 M + i w D`` (f, n, n) at each excitation frequency ``w`` (f,) [rad/s].
+
+    The one dynamic stiffness of the harmonic solves: :func:`harmonic_solve` (matrices that
+    change with the speed, ``(f, n, n)``) and :func:`rotaflex.rotor.fe.frf.dynamic_solve` (one
+    set of matrices ``(n, n)`` at many frequencies) both solve it.
+    """
+    w = np.asarray(w, float)[:, None, None]
+    return K - w**2 * M + 1j * w * D
+
+
 def harmonic_solve(
     pencil: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]],
     speeds: np.ndarray,
@@ -139,9 +150,7 @@ def harmonic_solve(
     chunks = [np.arange(speeds.size)] if progress is None else np.array_split(np.arange(speeds.size), 10)
     for idx in (c for c in chunks if c.size):
         M, D, K = pencil(speeds[idx])
-        w = w_all[idx, None, None]
-        A = K - w**2 * M + 1j * w * D
-        Q[idx] = np.linalg.solve(A, F[idx, :, None])[..., 0]
+        Q[idx] = np.linalg.solve(dynamic_stiffness(M, D, K, w_all[idx]), F[idx, :, None])[..., 0]
         if progress is not None:
             progress(idx[-1] + 1, speeds.size)
     return Q
