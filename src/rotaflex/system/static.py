@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rotaflex.core.errors import InputError
+from rotaflex.rotor.fe.bearings.static_load import with_loads
 from rotaflex.rotor.fe.layout import bearing_path
 from rotaflex.rotor.fe.static import applied_loads, default_speed, gravity_vector, static_state
 from rotaflex.system.model import Gearbox
@@ -51,12 +52,19 @@ class MachineStatic:
     rotors : list of StaticData
         Per rotor, rotor/fe's static answer; ``external`` holds the mesh and coupling forces
         and moments on it.
+    box : Gearbox
+        The machine solved: the input one, or with the converged journal loads in place of
+        ``load = "static"``.
+    iterations : int
+        Static solves of the film-load iteration (0: no ``load = "static"`` bearing).
     """
 
     speed: float
     q: np.ndarray
     mesh_force: np.ndarray
     rotors: list
+    box: Gearbox
+    iterations: int = 0
 
 
 def _interaction_nodes(box: Gearbox) -> list[set[int]]:
@@ -78,8 +86,25 @@ def default_drive_speed(box: Gearbox) -> float:
     return max(default_speed(pr.rotor) / pr.ratio for pr in box.rotors)
 
 
-def machine_static(box: Gearbox, *, gravity: float, direction=(0.0, -1.0), loads=(), speed: float) -> MachineStatic:
+def machine_static(
+    box: Gearbox,
+    *,
+    gravity: float,
+    direction=(0.0, -1.0),
+    loads=(),
+    speed: float,
+    tol: float = 1e-10,
+    max_iter: int = 50,
+) -> MachineStatic:
     """Static state of ``box``.
+
+    Fluid-film bearings with ``load = "static"`` are iterated as the rotor verb iterates them
+    (:mod:`rotaflex.rotor.fe.bearings.static_load`): journal loads -> coefficients at the
+    rotor's speed -> the machine's static state -> reactions, from each rotor's own resolution
+    (:attr:`~rotaflex.rotor.fe.model.Rotor.resolved`), until no journal load changes by more
+    than ``tol`` times the largest load on its rotor (weights, point loads, mesh and coupling
+    forces); the answer is the state with each film's table over its own speed range at the
+    converged loads (interpolated at the rotor's speed, as in the rotor verb).
 
     Parameters
     ----------
@@ -92,6 +117,8 @@ def machine_static(box: Gearbox, *, gravity: float, direction=(0.0, -1.0), loads
         Point forces.
     speed : float
         Drive speed [rad/s] of the bearing coefficients.
+    tol, max_iter : float, int
+        Convergence of the film loads: relative change, solves allowed.
 
     Returns
     -------
@@ -103,18 +130,63 @@ def machine_static(box: Gearbox, *, gravity: float, direction=(0.0, -1.0), loads
     >>> # s = machine_static(box, gravity=9.80665, speed=155.0)
     >>> # s.rotors[1].reactions  # force of each pump bearing on the pump [N]
     """
+    g = gravity_vector(gravity, direction)
+    film = {r: pr.rotor.static_load_bearings for r, pr in enumerate(box.rotors) if pr.rotor.static_load_bearings}
+    if not film:
+        return _solve(box, g, loads, speed)
+    if not speed > 0:
+        raise InputError(
+            "static.speed_rpm", 0.0, "a drive speed > 0 [rpm]: a film bearing (load = static) carries no load at rest"
+        )
+    start = {r: box.rotors[r].rotor.resolved.bearing for r in film}  # each rotor's own resolution
+    current = {
+        r: np.array([start[r][i].fluid_film.load if i in idx else (0.0, 0.0) for i in range(len(start[r]))])
+        for r, idx in film.items()
+    }
+
+    def trial(cur, cut=True):
+        """The box with the journal loads ``cur``; ``cut``: each film's table at the rotor's speed only."""
+        rotors = list(box.rotors)
+        for r, idx in film.items():
+            pr = rotors[r]
+            at = abs(pr.ratio * speed) if cut else None
+            rotors[r] = dataclasses.replace(pr, rotor=with_loads(pr.rotor, cur[r], idx, at))
+        return dataclasses.replace(box, rotors=tuple(rotors))
+
+    for it in range(1, max_iter + 1):
+        s = _solve(trial(current), g, loads, speed)
+        change, worst = 0.0, None
+        for r, idx in film.items():
+            st = s.rotors[r]
+            new = -st.reactions
+            scale = max(float(np.hypot(*st.load_total)), float(np.abs(st.external[:, :2]).sum()))
+            diff = np.abs(new[idx] - current[r][idx]).max(axis=1) / scale
+            if diff.max() > change:
+                change, worst = float(diff.max()), (r, idx[int(np.argmax(diff))])
+            for i in idx:
+                if np.hypot(*new[i]) <= 1e-9 * scale:
+                    raise InputError(
+                        f"rotor[{r}].{bearing_path(i, box.rotors[r].rotor.bearing[i])}.fluid_film.load",
+                        "static",
+                        "an explicit [Fx, Fy]: the machine's static state leaves this bearing unloaded, "
+                        "and a film cannot hold an unloaded journal",
+                    )
+            current[r][idx] = new[idx]
+        if change <= tol:  # as the rotor verb: the films' full tables at the converged loads
+            return dataclasses.replace(_solve(trial(current, cut=False), g, loads, speed), iterations=it)
+    r, i = worst
+    raise InputError(
+        f"rotor[{r}].{bearing_path(i, box.rotors[r].rotor.bearing[i])}.fluid_film.load",
+        "static",
+        f"an explicit [Fx, Fy]: the machine's film-load iteration did not converge in {max_iter} passes "
+        f"(last change {change:.3g} of the rotor's load, tolerance {tol:g})",
+    )
+
+
+def _solve(box: Gearbox, g: np.ndarray, loads, speed: float) -> MachineStatic:
+    """One static solve of ``box`` with its bearings as they are (gravity ``g`` [m/s^2])."""
     from rotaflex.system.assembly import load_vector, matrices, system_matrices
 
-    for r, pr in enumerate(box.rotors):
-        if pr.rotor.static_load_bearings:
-            b = pr.rotor.static_load_bearings[0]
-            raise InputError(
-                f"rotor[{r}].{bearing_path(b, pr.rotor.bearing[b])}.fluid_film.load",
-                "static",
-                "an explicit [Fx, Fy] for rotaflex system static (the machine's iteration of film loads "
-                "with mesh and coupling forces is not written yet)",
-            )
-    g = gravity_vector(gravity, direction)
     # the drive node's twist held: a constant-speed drive's reaction; a torque drive's balanced torque
     held = dataclasses.replace(box, drive_kind="constant_speed")
     mats = matrices(held)
@@ -141,7 +213,7 @@ def machine_static(box: Gearbox, *, gravity: float, direction=(0.0, -1.0), loads
         for n in nodes:
             external[n] = residual[n]
         out.append(static_state(pr.rotor, qr, point, g, w, external=external))
-    return MachineStatic(float(speed), q, mesh_force, out)
+    return MachineStatic(float(speed), q, mesh_force, out, box)
 
 
 def _stack(parts: list, names: list[str]):
@@ -191,7 +263,7 @@ def static_result(config: dict, box: Gearbox, spec, speed: float, t0: float):
     s = machine_static(box, gravity=spec.gravity, direction=spec.gravity_direction, loads=loads, speed=speed)
     names = [pr.name for pr in box.rotors]
     parts, extra, msgs = [], {"drive_speed_rpm": {"value": rad_s_to_rpm(speed), "unit": "rpm"}}, []
-    for pr, st in zip(box.rotors, s.rotors, strict=True):
+    for pr, st in zip(s.box.rotors, s.rotors, strict=True):
         ds_r, ex, msg = static_dataset(pr.rotor, st)
         ds_r["external_force"] = (("node", "axis"), st.external[:, :2], {"units": "N", "long_name": _EXT})
         ds_r["external_moment"] = (("node", "axis"), st.external[:, 2:], {"units": "N m", "long_name": _EXT})
@@ -204,6 +276,8 @@ def static_result(config: dict, box: Gearbox, spec, speed: float, t0: float):
         for j, F in enumerate(s.mesh_force):
             extra[f"mesh{j}_force"] = {"value": float(F), "unit": "N", "long_name": "along the line of action"}
         msgs.append("mesh forces [N]: " + ", ".join(f"{F:.4g}" for F in s.mesh_force))
+    if s.iterations:
+        extra["film_load_iterations"] = {"value": s.iterations, "unit": "", "long_name": "static solves"}
     helical.dataset_static(box, ds, extra, speed)
     ds.attrs.update(summary_attrs(config, t0, extra, "; ".join(msgs)))
     res = SystemStaticResult(ds)
