@@ -250,3 +250,13 @@ def test_bad_load_names_its_key(load, key):
     with pytest.raises(InputError) as err:
         run_static(cfg)
     assert err.value.field == key
+
+
+def test_film_bearings_at_rest_are_refused():
+    """A journal bearing loaded by the static state needs a speed: 0 rpm names static.speed_rpm."""
+    cfg = _train({"torsional_stiffness": 1e4})
+    cfg["rotor"][1]["bearing"] = [_film(1, "a"), _film(3, "b")]
+    cfg["static"] = {"speed_rpm": 0.0}
+    with pytest.raises(InputError) as err:
+        run_static(cfg)
+    assert err.value.field == "static.speed_rpm"
