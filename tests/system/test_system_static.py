@@ -216,6 +216,23 @@ def test_spur_pair_mesh_force_and_lever_rule(make, torque, film):
         assert np.abs(moment).max() < 1e-9 * np.abs(want).max() * 0.24
 
 
+def test_helical_mesh_couples_are_the_axial_force_moments():
+    """A helical mesh's axial force at the pitch point tilts each gear: the couple on each
+    rotor at its gear node equals system/helical's tilting moment ``F_a r_w`` (a second
+    formulation, from the mesh force alone) to 1e-9, and the mesh force is helical.static_state's."""
+    from rotaflex.core.examples import example_path
+    from rotaflex.system import helical
+
+    box = Gearbox.from_toml(example_path("system/helical_gearbox.toml"))
+    s = machine_static(box, gravity=G, speed=300.0)
+    assert s.mesh_force == pytest.approx(helical.static_state(box, 300.0)[1], rel=1e-9)
+    tm = helical.tilting_moments(box, s.mesh_force)[0]
+    m = box.meshes[0]
+    for k, (r, node) in enumerate((m.driver, m.driven)):
+        np.testing.assert_allclose(s.rotors[r].external[node, 2:], tm[k], rtol=0, atol=1e-9 * np.abs(tm).max())
+    assert np.abs(tm).max() > 10.0  # N m: the couple is there to be checked
+
+
 def test_example_runs_with_balanced_rotors_and_a_figure_per_rotor():
     """examples/system/motor_coupling_pump.toml: the verb's checks pass, the coupling's force on
     the motor is the opposite of that on the pump, and plot() draws the rotor verb's figure per rotor."""

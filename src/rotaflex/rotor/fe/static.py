@@ -19,6 +19,11 @@ reactions, point loads, disk and point-mass weights, and the distributed shaft w
 per bending plane (``x``: x-z plane, ``y``: y-z plane). With y up and gravity -y, a simply
 supported beam has V > 0 right of the left support and M > 0 (sagging) at midspan; at the
 free right end both return to zero (a check of equilibrium, reported as ``end_moment``).
+
+The analysis is three pieces, so that a machine (:mod:`rotaflex.system.static`) solves its own
+``K q = f`` and takes each rotor's outputs from the same code: :func:`applied_loads` (the
+consistent weight and point forces), the solve, and :func:`static_state` (reactions and
+diagrams of a rotor at a displacement, with the forces and couples of other bodies on it).
 """
 
 from __future__ import annotations
