@@ -539,6 +539,17 @@ def run_stability(config: dict, *, progress: bool = False):
     return stability_result(config, box, spec, t0)
 
 
+def run_static(config: dict, *, progress: bool = False):
+    """Static state of ``[static]`` at a drive speed (:func:`rotaflex.system.static.static_result`)."""
+    from rotaflex.system.static import default_drive_speed, static_result
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "static")
+    rpm = spec.speed_rpm if spec.speed_rpm is not None else drive_speed_rpm(box)
+    speed = default_drive_speed(box) if rpm is None else _speed(box, rpm, "static")
+    return static_result(config, box, spec, speed, t0)
+
+
 def run_case(config: dict, *, progress: bool = False):
     """Sweep entry point (domain ``system``): runs the analysis named by ``analysis``, the function
     that ``rotaflex system <analysis>`` runs (:data:`rotaflex.core.domains.COMMANDS`: each verb is

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from rotaflex.core.config import param
-from rotaflex.rotor.fe.case_config import FRFPair, FRFSpec, UnbalanceMass
+from rotaflex.rotor.fe.case_config import FRFPair, FRFSpec, PointLoad, StaticSpec, UnbalanceMass
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import DriveSpec, LoadSpec, MeshSpec, RotorSpec
 from rotaflex.system.size import DEFAULT_MAX_STEPS
@@ -156,6 +156,23 @@ class MachineFRFSpec(FRFSpec):
     outputs: tuple[MachineDOF, ...] = param((), doc="response DOFs (default: the inputs)")
 
 
+@dataclass(frozen=True)
+class MachineStaticLoad(PointLoad):
+    """A static point force on one rotor of the machine: the rotor verb's keys plus rotor."""
+
+    rotor: str | None = param(None, doc="rotor name (default: the only rotor)")
+
+
+@dataclass(frozen=True)
+class MachineStaticSpec(StaticSpec):
+    """Static state of the machine: the rotor verb's keys, loads per rotor, the [load] torque."""
+
+    speed_rpm: float | None = param(
+        None, unit="rpm", ge=0, doc="drive speed of the bearing coefficients (default: nominal, else tables' lowest)"
+    )
+    load: tuple[MachineStaticLoad, ...] = param(())
+
+
 ANALYSES = {
     "modal": ModalSpec,
     "campbell": CampbellSpec,
@@ -166,6 +183,7 @@ ANALYSES = {
     "unbalance": UnbalanceSpec,
     "frf": MachineFRFSpec,
     "stability": MachineStabilitySpec,
+    "static": MachineStaticSpec,
 }
 
 
@@ -183,7 +201,9 @@ class SystemCase:
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
     analysis: (
-        Literal["modal", "campbell", "response", "steady", "torsional", "startup", "unbalance", "frf", "stability"]
+        Literal[
+            "modal", "campbell", "response", "steady", "torsional", "startup", "unbalance", "frf", "stability", "static"
+        ]
         | None
     ) = param(None)
     modal: ModalSpec = field(default_factory=ModalSpec)
@@ -195,6 +215,7 @@ class SystemCase:
     unbalance: UnbalanceSpec = field(default_factory=UnbalanceSpec)
     frf: MachineFRFSpec = field(default_factory=MachineFRFSpec)
     stability: MachineStabilitySpec = field(default_factory=MachineStabilitySpec)
+    static: MachineStaticSpec = field(default_factory=MachineStaticSpec)
 
 
 SCHEMA = SystemCase

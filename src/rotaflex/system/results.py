@@ -579,3 +579,27 @@ class SystemStabilityResult(_SystemResult):
         from rotaflex.rotor.fe.verbs_stability import stability_figures
 
         return {**self._model(), **stability_figures(self.dataset)}
+
+
+@register_result
+class SystemStaticResult(_SystemResult):
+    """Static state of a machine: per rotor deflection, reactions, shear, moment; mesh forces."""
+
+    kind = "system_static"
+
+    def plot(self) -> dict:
+        figs = {**self._model()}
+        for name in dict.fromkeys(self.dataset["node_rotor"].values):
+            figs[f"static_{name}"] = self.plot_static(str(name))
+        return figs
+
+    def plot_static(self, rotor: str):
+        """The rotor verb's static figure (:func:`~rotaflex.rotor.fe.figures.static_figure`) of
+        one rotor, the mesh and coupling forces on it included (``static_<rotor>.png``)."""
+        from rotaflex.rotor.fe.figures import static_figure
+        from rotaflex.system.static import rotor_dataset
+
+        fig = static_figure(rotor_dataset(self.dataset, rotor))
+        ax = fig.axes[0]
+        ax.set_title(f"{rotor}: {ax.get_title()}", fontsize=9)
+        return fig

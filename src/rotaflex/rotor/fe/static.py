@@ -19,6 +19,11 @@ reactions, point loads, disk and point-mass weights, and the distributed shaft w
 per bending plane (``x``: x-z plane, ``y``: y-z plane). With y up and gravity -y, a simply
 supported beam has V > 0 right of the left support and M > 0 (sagging) at midspan; at the
 free right end both return to zero (a check of equilibrium, reported as ``end_moment``).
+
+The analysis is three pieces, so that a machine (:mod:`rotaflex.system.static`) solves its own
+``K q = f`` and takes each rotor's outputs from the same code: :func:`applied_loads` (the
+consistent weight and point forces), the solve, and :func:`static_state` (reactions and
+diagrams of a rotor at a displacement, with the forces and couples of other bodies on it).
 """
 
 from __future__ import annotations
@@ -56,6 +61,9 @@ class StaticData:
         Largest bending stress |M| (d_o / 2) / I at the cut [Pa].
     load_total : ndarray (2,)
         Sum of the applied loads (weights and point loads) (F_x, F_y) [N].
+    external : ndarray (n_nodes, 4) or None
+        Forces and moments (F_x, F_y [N], M_x, M_y [N m]) on the rotor from the other bodies of
+        a machine (gear meshes, couplings); None for a rotor alone.
     """
 
     q: np.ndarray
@@ -65,6 +73,7 @@ class StaticData:
     moment: np.ndarray
     stress: np.ndarray
     load_total: np.ndarray
+    external: np.ndarray | None = None
 
     @property
     def bearing_loads(self) -> np.ndarray:
@@ -82,6 +91,103 @@ def default_speed(rotor) -> float:
     return float(max(lows)) if lows else 0.0
 
 
+def gravity_vector(gravity: float, direction) -> np.ndarray:
+    """Acceleration of gravity (g_x, g_y) [m/s^2] of a magnitude ``gravity`` [m/s^2] along
+    ``direction`` in the x-y plane (normalised here); InputError naming ``static.gravity*``."""
+    d = np.asarray(direction, float)
+    if d.shape != (2,) or not np.all(np.isfinite(d)) or np.hypot(*d) == 0:
+        raise InputError("static.gravity_direction", list(np.atleast_1d(direction)), "[g_x, g_y], not both 0")
+    if not (np.isfinite(gravity) and gravity >= 0):
+        raise InputError("static.gravity", gravity, "an acceleration >= 0 [m/s^2]")
+    return gravity * d / np.hypot(*d)
+
+
+def applied_loads(rotor, g: np.ndarray, loads=(), key: str = "static.load") -> tuple[np.ndarray, np.ndarray]:
+    """Applied static loads of a rotor: the consistent load vector and the concentrated forces.
+
+    Parameters
+    ----------
+    rotor : Rotor
+    g : ndarray (2,)
+        Acceleration of gravity (g_x, g_y) [m/s^2] (:func:`gravity_vector`).
+    loads : sequence of (node, F_x [N], F_y [N])
+        Point forces at nodes.
+    key : str
+        Config path of the loads for errors (``<key>[i].node``).
+
+    Returns
+    -------
+    f : ndarray (n_dof,)
+        ``M r g`` (shaft, disks, point masses; pedestals excluded) plus the point forces [N, N m].
+    point : ndarray (n_nodes, 2)
+        Concentrated forces at the nodes [N]: disk and point-mass weights and the point forces.
+    """
+    nn = rotor.n_nodes
+    r = np.zeros(rotor.n_dof)
+    nr = rotor.n_rotor_dof  # pedestals (DOFs after the rotor's) stand on the ground: their weight is not carried
+    r[0:nr:NDOF_NODE], r[1:nr:NDOF_NODE] = g[0], g[1]
+    f = rotor.M @ r
+    point = np.zeros((nn, 2))  # concentrated forces at nodes: disk/point-mass weights and loads
+    for node, el in rotor.disks:
+        point[node] += el.mass * g
+    for node, el in rotor.point_masses:
+        point[node] += el.mass * g
+    for i, (node, fx, fy) in enumerate(loads):
+        if not 0 <= node < nn:
+            raise InputError(f"{key}[{i}].node", node, f"an existing node 0..{nn - 1}")
+        f[NDOF_NODE * node] += fx
+        f[NDOF_NODE * node + 1] += fy
+        point[node] += (fx, fy)
+    return f, point
+
+
+def static_state(
+    rotor, q: np.ndarray, point: np.ndarray, g: np.ndarray, speed: float, n_sub: int = 8, external=None
+) -> StaticData:
+    """Reactions and shear, moment and stress diagrams of a rotor at a static displacement.
+
+    Parameters
+    ----------
+    rotor : Rotor
+    q : ndarray (n_dof,)
+        The rotor's static displacements [m, rad] (its own DOFs, pedestals included).
+    point : ndarray (n_nodes, 2)
+        Concentrated applied forces [N] (:func:`applied_loads`); not modified.
+    g : ndarray (2,)
+        Acceleration of gravity [m/s^2] (the shaft's distributed weight).
+    speed : float
+        Spin speed [rad/s] of the bearing coefficients.
+    n_sub : int
+        Cuts per element.
+    external : ndarray (n_nodes, 4), optional
+        Forces and moments (F_x, F_y [N], M_x, M_y [N m]) on the rotor from other bodies of a
+        machine (gear meshes, couplings); they enter the diagrams as point forces and couples.
+
+    Returns
+    -------
+    StaticData
+    """
+    point = point.copy()
+    reactions = np.zeros((len(rotor.bearings), 2))
+    for b, (node, other, el) in enumerate(rotor.bearings):
+        ia, ib = rotor.bearing_dofs[b]  # the bearing's two ends (ib: other node, pedestal or None)
+        u = q[ia] - (q[ib] if ib is not None else 0.0)
+        F = -el.coefficients(speed)[0][0] @ u
+        reactions[b] = F
+        point[node] += F
+        if other is not None:
+            point[other] -= F
+    if external is None:
+        z, V, Mb, stress = _diagrams(rotor, point, g, n_sub)
+        total = point.sum(0) - reactions.sum(0) + _shaft_weight(rotor) * g
+        return StaticData(q, reactions, z, V, Mb, stress, total)
+    external = np.asarray(external, float)
+    point += external[:, :2]
+    z, V, Mb, stress = _diagrams(rotor, point, g, n_sub, external[:, 2:])
+    total = point.sum(0) - reactions.sum(0) - external[:, :2].sum(0) + _shaft_weight(rotor) * g
+    return StaticData(q, reactions, z, V, Mb, stress, total, external)
+
+
 def static_analysis(
     rotor,
     *,
@@ -92,6 +198,9 @@ def static_analysis(
     n_sub: int = 8,
 ) -> StaticData:
     """Static deflection, bearing reactions, shear force and bending moment.
+
+    The solve ``K q = f`` of :func:`applied_loads`; the outputs :func:`static_state` (which
+    the machine's static analysis, :mod:`rotaflex.system.static`, calls per rotor).
 
     Parameters
     ----------
@@ -126,43 +235,12 @@ def static_analysis(
     """
     if rotor.free:
         raise InputError("free", True, "false for a static analysis (a free rotor has no supports to react loads)")
-    d = np.asarray(direction, float)
-    if d.shape != (2,) or not np.all(np.isfinite(d)) or np.hypot(*d) == 0:
-        raise InputError("static.gravity_direction", list(np.atleast_1d(direction)), "[g_x, g_y], not both 0")
-    if not (np.isfinite(gravity) and gravity >= 0):
-        raise InputError("static.gravity", gravity, "an acceleration >= 0 [m/s^2]")
-    g = gravity * d / np.hypot(*d)
+    g = gravity_vector(gravity, direction)
     speed = default_speed(rotor) if speed is None else float(speed)
-    n, nn = rotor.n_dof, rotor.n_nodes
     K = rotor.KC(speed)[0][0]
-    r = np.zeros(n)
-    nr = rotor.n_rotor_dof  # pedestals (DOFs after the rotor's) stand on the ground: their weight is not carried
-    r[0:nr:NDOF_NODE], r[1:nr:NDOF_NODE] = g[0], g[1]
-    f = rotor.M @ r
-    point = np.zeros((nn, 2))  # concentrated forces at nodes: disk/point-mass weights and loads
-    for node, el in rotor.disks:
-        point[node] += el.mass * g
-    for node, el in rotor.point_masses:
-        point[node] += el.mass * g
-    for i, (node, fx, fy) in enumerate(loads):
-        if not 0 <= node < nn:
-            raise InputError(f"static.load[{i}].node", node, f"an existing node 0..{nn - 1}")
-        f[NDOF_NODE * node] += fx
-        f[NDOF_NODE * node + 1] += fy
-        point[node] += (fx, fy)
+    f, point = applied_loads(rotor, g, loads)
     q = np.linalg.solve(K, f)
-    reactions = np.zeros((len(rotor.bearings), 2))
-    for b, (node, other, el) in enumerate(rotor.bearings):
-        ia, ib = rotor.bearing_dofs[b]  # the bearing's two ends (ib: other node, pedestal or None)
-        u = q[ia] - (q[ib] if ib is not None else 0.0)
-        F = -el.coefficients(speed)[0][0] @ u
-        reactions[b] = F
-        point[node] += F
-        if other is not None:
-            point[other] -= F
-    z, V, Mb, stress = _diagrams(rotor, point, g, n_sub)
-    total = point.sum(0) - reactions.sum(0) + _shaft_weight(rotor) * g
-    return StaticData(q, reactions, z, V, Mb, stress, total)
+    return static_state(rotor, q, point, g, speed, n_sub)
 
 
 def _shaft_weight(rotor) -> float:
@@ -189,8 +267,13 @@ def _mass_per_length(rotor, t: np.ndarray) -> np.ndarray:
     return out
 
 
-def _diagrams(rotor, point: np.ndarray, g: np.ndarray, n_sub: int):
-    """Shear, moment and stress at cuts: n_sub + 1 per element, both limits at each node."""
+def _diagrams(rotor, point: np.ndarray, g: np.ndarray, n_sub: int, couple: np.ndarray | None = None):
+    """Shear, moment and stress at cuts: n_sub + 1 per element, both limits at each node.
+
+    ``couple`` (n_nodes, 2): point moments (M_x, M_y) [N m] at the nodes. The diagram's moment
+    is minus the moment about the cut of everything left of it in the x-z plane (about +y) and
+    plus it in the y-z plane (about +x), so a couple adds ``-M_y`` and ``+M_x`` right of its node.
+    """
     e, zn = rotor.elements, rotor.nodes
     ne = e["L"].size
     t = np.linspace(0.0, 1.0, n_sub + 1)
@@ -219,6 +302,9 @@ def _diagrams(rotor, point: np.ndarray, g: np.ndarray, n_sub: int):
     Fz = pm[left_inc]
     V = F + cm0[..., None] * g
     M = F * z[..., None] - Fz + (cm0 * z - cm1)[..., None] * g
+    if couple is not None:
+        pc = np.concatenate([[[0.0, 0.0]], np.cumsum(couple, 0)])[left_inc]  # (ne, n_sub + 1, (M_x, M_y))
+        M = M + np.stack([-pc[..., 1], pc[..., 0]], -1)
     stress = np.hypot(M[..., 0], M[..., 1]) * (do / 2) / inertia
     return z.ravel(), V.reshape(-1, 2), M.reshape(-1, 2), stress.ravel()
 

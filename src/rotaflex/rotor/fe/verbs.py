@@ -19,13 +19,27 @@ from rotaflex.rotor.fe.results import FRFResult, StaticResult
 
 def run_static(config: dict, *, progress: bool = False) -> StaticResult:
     """Static analysis of ``[static]``: gravity sag, point loads, reactions, shear and moment."""
-    from rotaflex.rotor.fe.static import deflection_curve, static_analysis
+    from rotaflex.rotor.fe.static import static_analysis
 
     t0 = time.perf_counter()
     rotor, spec = parse(config, "static")
     loads = [(rotor.station(ld.node, ld.position, f"static.load[{i}]"), ld.fx, ld.fy) for i, ld in enumerate(spec.load)]
     speed = None if spec.speed_rpm is None else rpm_to_rad_s(spec.speed_rpm)
     s = static_analysis(rotor, gravity=spec.gravity, direction=spec.gravity_direction, loads=loads, speed=speed)
+    ds, extra, msg = static_dataset(rotor, s)
+    ds.attrs.update(summary_attrs(config, t0, extra, msg))
+    res = StaticResult(add_fluid_film_tables(ds, rotor))
+    check_static(res, s)
+    return res
+
+
+def static_dataset(rotor, s) -> tuple[xr.Dataset, dict, str]:
+    """Dataset, summary entries and message of a rotor's static answer ``s``
+    (:class:`~rotaflex.rotor.fe.static.StaticData`): deflection per node and within the
+    elements, bearing reactions and loads, shear, moment and stress at the cuts. The rotor verb
+    and the machine's (:mod:`rotaflex.system.static`, per rotor) both build their outputs here."""
+    from rotaflex.rotor.fe.static import deflection_curve
+
     defl = s.deflection(rotor)
     nb = len(rotor.bearings)
     names = [b.name or f"bearing[{i}]" for i, b in enumerate(rotor.bearing)]
@@ -70,10 +84,7 @@ def run_static(config: dict, *, progress: bool = False) -> StaticResult:
         + ", ".join(f"{nm} {v:.4g}" for nm, v in zip(names, s.bearing_loads, strict=True))
         + f"; max deflection {r[jd] * 1e6:.4g} um at node {jd}; max moment {mm[jm]:.4g} N m at z = {s.z[jm]:.4g} m"
     )
-    ds.attrs.update(summary_attrs(config, t0, extra, msg))
-    res = StaticResult(add_fluid_film_tables(ds, rotor))
-    _check_static(res, s)
-    return res
+    return ds, extra, msg
 
 
 #: largest bending slope [rad] of a linear static answer: small-rotation beam theory takes
@@ -83,20 +94,30 @@ MAX_SLOPE = 0.1
 MAX_IMBALANCE = 1e-6
 
 
-def _check_static(res, s) -> None:
+def check_static(res, s, label: str = "") -> None:
     """Mark a static answer outside linear theory or out of equilibrium as ``failed_check``
-    (a 1e300 N load; a disk so heavy that the solve loses the equilibrium to round-off)."""
+    (a 1e300 N load; a disk so heavy that the solve loses the equilibrium to round-off).
+
+    Equilibrium: applied loads + bearing reactions (+ the forces of the other bodies of a
+    machine, :attr:`~rotaflex.rotor.fe.static.StaticData.external`) = 0, relative to the applied
+    load (to the larger of it and the external forces in a machine). ``label`` (a machine's
+    rotor name) prefixes the check's name."""
     from rotaflex.rotor.fe.model import NDOF_NODE
 
     slope = np.abs(np.concatenate([s.q[2::NDOF_NODE], s.q[3::NDOF_NODE]]))
     applied = float(np.hypot(*s.load_total))
-    imbalance = float(np.hypot(*(s.load_total + s.reactions.sum(0)))) / applied if applied > 0 else 0.0
+    residual = s.load_total + s.reactions.sum(0)
+    if s.external is not None:
+        residual = residual + s.external[:, :2].sum(0)
+        applied = max(applied, float(np.abs(s.external[:, :2]).sum()))
+    imbalance = float(np.hypot(*residual)) / applied if applied > 0 else 0.0
+    pre = f"{label}: " if label else ""
     if not (np.all(np.isfinite(s.q)) and np.all(np.isfinite(s.reactions))):
-        res.failed_check("finite answer", "non-finite deflections or reactions", "finite values")
+        res.failed_check(pre + "finite answer", "non-finite deflections or reactions", "finite values")
     elif not slope.max(initial=0.0) <= MAX_SLOPE:
-        res.failed_check("small slopes", f"{slope.max():.3g} rad", f"<= {MAX_SLOPE} rad for linear beam theory")
+        res.failed_check(pre + "small slopes", f"{slope.max():.3g} rad", f"<= {MAX_SLOPE} rad for linear beam theory")
     elif not imbalance <= MAX_IMBALANCE:
-        res.failed_check("equilibrium", f"{imbalance:.3g} of the applied load", f"<= {MAX_IMBALANCE:g}")
+        res.failed_check(pre + "equilibrium", f"{imbalance:.3g} of the applied load", f"<= {MAX_IMBALANCE:g}")
 
 
 def run_frf(config: dict, *, progress: bool = False) -> FRFResult:

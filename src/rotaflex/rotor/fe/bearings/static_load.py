@@ -62,7 +62,7 @@ def reference_speed(rotor) -> float:
     return float(max(lows)) if lows else 0.0
 
 
-def _with_loads(rotor, loads: np.ndarray, idx, speed: float | None):
+def with_loads(rotor, loads: np.ndarray, idx, speed: float | None):
     """Rotor with explicit loads on the bearings ``idx``; with ``speed``, each such table is cut
     down to two speeds starting at ``speed`` (all the static analysis reads)."""
     bearings = list(rotor.bearing)
@@ -137,7 +137,7 @@ def resolve_static_loads(
                     f"an explicit [Fx, Fy]: the static analysis leaves this bearing unloaded "
                     f"({np.hypot(*current[i]):.3g} N of {total:.6g} N), and a film cannot hold an unloaded journal",
                 )
-        trial = _with_loads(rotor, current, idx, speed)
+        trial = with_loads(rotor, current, idx, speed)
         s = static_analysis(trial, gravity=gravity, direction=direction, loads=loads, speed=speed)
         new = -s.reactions
         diff = np.abs(new[idx] - current[idx]).max(axis=1) / total
@@ -145,7 +145,7 @@ def resolve_static_loads(
         worst = idx[int(np.argmax(diff))]
         current[idx] = new[idx]
         if change <= tol:
-            return StaticLoads(_with_loads(rotor, current, idx, None), current, it, change, speed)
+            return StaticLoads(with_loads(rotor, current, idx, None), current, it, change, speed)
     raise InputError(
         f"{bearing_path(worst, rotor.bearing[worst])}.fluid_film.load",
         "static",
