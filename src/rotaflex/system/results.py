@@ -593,13 +593,20 @@ class SystemStaticResult(_SystemResult):
             figs[f"static_{name}"] = self.plot_static(str(name))
         return figs
 
+    def rotor_dataset(self, name: str):
+        """The part of the dataset on rotor ``name``, in the rotor verb's layout (what
+        :func:`~rotaflex.rotor.fe.figures.static_figure` draws)."""
+        ds = self.dataset
+        sel = {d: np.flatnonzero(ds[f"{d}_rotor"].values == name) for d in ("node", "cut", "bearing")}
+        sub = ds.isel(sel)
+        return sub.assign_coords(node=sub["node_index"].values, bearing=np.arange(sub.sizes["bearing"]))
+
     def plot_static(self, rotor: str):
         """The rotor verb's static figure (:func:`~rotaflex.rotor.fe.figures.static_figure`) of
         one rotor, the mesh and coupling forces on it included (``static_<rotor>.png``)."""
         from rotaflex.rotor.fe.figures import static_figure
-        from rotaflex.system.static import rotor_dataset
 
-        fig = static_figure(rotor_dataset(self.dataset, rotor))
+        fig = static_figure(self.rotor_dataset(rotor))
         ax = fig.axes[0]
         ax.set_title(f"{rotor}: {ax.get_title()}", fontsize=9)
         return fig

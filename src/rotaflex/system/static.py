@@ -236,14 +236,6 @@ def _stack(parts: list, names: list[str]):
     return xr.Dataset(data, coords=coords)
 
 
-def rotor_dataset(ds, name: str):
-    """The part of a machine's static dataset on rotor ``name``, in the rotor verb's layout
-    (what :func:`~rotaflex.rotor.fe.figures.static_figure` draws)."""
-    sel = {d: np.flatnonzero(ds[f"{d}_rotor"].values == name) for d in ("node", "cut", "bearing")}
-    sub = ds.isel(sel)
-    return sub.assign_coords(node=sub["node_index"].values, bearing=np.arange(sub.sizes["bearing"]))
-
-
 def static_result(config: dict, box: Gearbox, spec, speed: float, t0: float):
     """Static state of ``box`` under ``spec`` ([static]) at drive ``speed`` [rad/s] as a
     :class:`~rotaflex.system.results.SystemStaticResult`: per rotor the rotor verb's dataset,
