@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from rotaflex.core.config import param
-from rotaflex.rotor.fe.case_config import FRFPair, FRFSpec, UnbalanceMass
+from rotaflex.rotor.fe.case_config import FRFPair, FRFSpec, UCSSpec, UnbalanceMass
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import DriveSpec, LoadSpec, MeshSpec, RotorSpec
 from rotaflex.system.size import DEFAULT_MAX_STEPS
@@ -156,6 +156,18 @@ class MachineFRFSpec(FRFSpec):
     outputs: tuple[MachineDOF, ...] = param((), doc="response DOFs (default: the inputs)")
 
 
+@dataclass(frozen=True)
+class MachineUCSSpec(UCSSpec):
+    """Undamped critical speed map of a machine: the rotor verb's keys, the swept bearings' rotors,
+    the rotor whose 1X defines the critical speeds and the speed of the other bearings."""
+
+    rotors: tuple[str, ...] = param((), doc="rotors whose bearings get the swept stiffness (default: all)")
+    rotor: str | None = param(None, doc="critical speeds: a frequency equals this rotor's 1X (default: the drive)")
+    speed_rpm: float | None = param(
+        None, unit="rpm", ge=0, doc="drive speed of the other bearings' kxx, kyy (default: the nominal one)"
+    )
+
+
 ANALYSES = {
     "modal": ModalSpec,
     "campbell": CampbellSpec,
@@ -166,6 +178,7 @@ ANALYSES = {
     "unbalance": UnbalanceSpec,
     "frf": MachineFRFSpec,
     "stability": MachineStabilitySpec,
+    "ucs": MachineUCSSpec,
 }
 
 
@@ -183,7 +196,9 @@ class SystemCase:
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
     analysis: (
-        Literal["modal", "campbell", "response", "steady", "torsional", "startup", "unbalance", "frf", "stability"]
+        Literal[
+            "modal", "campbell", "response", "steady", "torsional", "startup", "unbalance", "frf", "stability", "ucs"
+        ]
         | None
     ) = param(None)
     modal: ModalSpec = field(default_factory=ModalSpec)
@@ -195,6 +210,7 @@ class SystemCase:
     unbalance: UnbalanceSpec = field(default_factory=UnbalanceSpec)
     frf: MachineFRFSpec = field(default_factory=MachineFRFSpec)
     stability: MachineStabilitySpec = field(default_factory=MachineStabilitySpec)
+    ucs: MachineUCSSpec = field(default_factory=MachineUCSSpec)
 
 
 SCHEMA = SystemCase

@@ -579,3 +579,18 @@ class SystemStabilityResult(_SystemResult):
         from rotaflex.rotor.fe.verbs_stability import stability_figures
 
         return {**self._model(), **stability_figures(self.dataset)}
+
+
+@register_result
+class SystemUCSResult(_SystemResult):
+    """Undamped critical speed map of a machine: critical drive speeds vs the swept bearings' stiffness."""
+
+    kind = "system_ucs"
+
+    def plot(self) -> dict:
+        """The machine's views and the rotor verb's UCS figure (``ucs_map.png``) with the swept
+        bearings' kxx, kyy against the drive speed."""
+        from rotaflex.rotor.fe.figures import ucs_figure
+
+        lines = json.loads(self.dataset.attrs.get("bearing_lines", "[]"))
+        return {**self._model(), "ucs_map": ucs_figure(self.dataset, lines)}
