@@ -658,23 +658,30 @@ def ucs_map(
     return w
 
 
-#: roots of the UCS pencil closer than this fraction of the largest root form one (degenerate)
-#: eigenspace, in which the whirl senses are separated (see :func:`ucs_solve`)
-UCS_CLUSTER_TOL = 1e-10
+#: roots of the UCS pencil closer than this fraction of the largest |root| form one degenerate
+#: eigenspace (equal up to the solver's round-off, ~n eps of the largest), in which the whirl
+#: senses are separated (see :func:`ucs_solve`); roots split by gyroscopic moments lie farther apart
+UCS_CLUSTER_TOL = 1e-12
+#: roots mu below this fraction of the largest |mu| are zero (round-off of a massless DOF's
+#: infinite frequency): critical speeds above 1e6 times the lowest one are not reported
+UCS_ZERO_ROOT = 1e-12
 
 
-def _whirl_split(V: np.ndarray, Tx: np.ndarray, Ty: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Forward fractions of a degenerate eigenspace V (n, c): the basis of V whose vectors have
-    stationary forward fraction f / (f + b) (generalised Hermitian eigenproblem of the two
-    quadratic forms), so a pair of equal forward and backward roots is split into the two
-    circular whirls instead of two straight-line (planar) orbits."""
+def _whirl_split(V: np.ndarray, B: np.ndarray, K: np.ndarray, Tx: np.ndarray, Ty: np.ndarray):
+    """Roots, vectors and forward fractions of a degenerate eigenspace V (n, c) of ``B v = mu K v``:
+    the basis of V whose vectors have stationary forward fraction f / (f + b) (generalised
+    Hermitian eigenproblem of the two quadratic forms), so a pair of equal forward and backward
+    roots is split into the two circular whirls instead of two straight-line (planar) orbits;
+    each vector's root is its Rayleigh quotient (the cluster's root to round-off)."""
     P, N = Tx @ V + 1j * (Ty @ V), Tx @ V - 1j * (Ty @ V)
-    F, B = P.conj().T @ P, N.conj().T @ N
+    F, Bk = P.conj().T @ P, N.conj().T @ N
     try:
-        frac, C = sla.eigh(F, F + B)
+        frac, C = sla.eigh(F, F + Bk)
     except np.linalg.LinAlgError:  # no lateral motion in some combination: keep the basis
-        return V, _forward_fraction(V, Tx, Ty)
-    return V @ C, np.clip(frac, 0.0, 1.0)
+        C, frac = np.eye(V.shape[1]), _forward_fraction(V, Tx, Ty)
+    V = V @ C
+    mu = np.real(np.sum(V.conj() * (B @ V), 0)) / np.real(np.sum(V.conj() * (K @ V), 0))
+    return mu, V, np.clip(frac, 0.0, 1.0)
 
 
 def _forward_fraction(V: np.ndarray, Tx: np.ndarray, Ty: np.ndarray) -> np.ndarray:
@@ -706,7 +713,7 @@ def ucs_solve(
     ``r_i / r_c``. G is real skew-symmetric, so ``M - i G`` is Hermitian; ``K = K0 + k K1`` is
     real symmetric and positive definite (supported, after ``rigid`` is removed): a
     Hermitian-definite pencil, solved as ``(M - i G) u = mu K u`` (LAPACK zhegv; real mu),
-    ``omega = mu^-1/2`` for mu > 0. Mu < 0 are forward whirls that gyroscopic stiffening keeps
+    ``omega = mu^-1/2`` for mu > 0 (above :data:`UCS_ZERO_ROOT`). Mu < 0 are forward whirls that gyroscopic stiffening keeps
     from ever meeting the 1X line. Both whirl senses solve it (the pencil is even in omega); a
     root is forward when its forward fraction (``Tx``, ``Ty`` rows: x and y translations, y
     signed by the sense of its rotor's spin relative to rotor c) is at least 0.5 -
@@ -766,13 +773,16 @@ def ucs_solve(
     omega = np.full((stiffness.size, n_modes), np.nan)
     fraction = np.full((stiffness.size, n_modes), np.nan)
     for s, k in enumerate(stiffness):
-        mu, V = sla.eigh(B, K0 + k * K1, check_finite=False)
+        K = K0 + k * K1
+        mu, V = sla.eigh(B, K, check_finite=False)
         frac = _forward_fraction(V, Tx, Ty)
         gap = np.flatnonzero(np.diff(mu) > UCS_CLUSTER_TOL * np.max(np.abs(mu))) + 1
         for a, b in zip(np.r_[0, gap], np.r_[gap, mu.size], strict=True):  # clusters of equal roots
             if b - a > 1:
-                V[:, a:b], frac[a:b] = _whirl_split(V[:, a:b], Tx, Ty)
-        keep = np.flatnonzero((mu > 0) & (frac >= 0.5 - PLANAR_BAND))[::-1]  # largest mu: lowest omega
+                mu[a:b], V[:, a:b], frac[a:b] = _whirl_split(V[:, a:b], B, K, Tx, Ty)
+        real = mu > UCS_ZERO_ROOT * np.max(np.abs(mu))  # mu ~ 0: a massless DOF (omega infinite)
+        keep = np.flatnonzero(real & (frac >= 0.5 - PLANAR_BAND))
+        keep = keep[np.argsort(-mu[keep], kind="stable")]  # largest mu: lowest omega
         keep = keep[:n_modes]
         omega[s, : keep.size] = 1.0 / np.sqrt(mu[keep])
         fraction[s, : keep.size] = frac[keep]
