@@ -713,11 +713,12 @@ def ucs_solve(
     ``r_i / r_c``. G is real skew-symmetric, so ``M - i G`` is Hermitian; ``K = K0 + k K1`` is
     real symmetric and positive definite (supported, after ``rigid`` is removed): a
     Hermitian-definite pencil, solved as ``(M - i G) u = mu K u`` (LAPACK zhegv; real mu),
-    ``omega = mu^-1/2`` for mu > 0 (above :data:`UCS_ZERO_ROOT`). Mu < 0 are forward whirls that gyroscopic stiffening keeps
-    from ever meeting the 1X line. Both whirl senses solve it (the pencil is even in omega); a
-    root is forward when its forward fraction (``Tx``, ``Ty`` rows: x and y translations, y
-    signed by the sense of its rotor's spin relative to rotor c) is at least 0.5 -
-    :data:`PLANAR_BAND` (:func:`critical_whirl`, as the Campbell diagram calls its criticals).
+    ``omega = mu^-1/2`` for mu > 0 (above :data:`UCS_ZERO_ROOT`); mu < 0 are whirls that
+    gyroscopic stiffening keeps from ever meeting the 1X line (a disk with Ip > Id). Both
+    whirl senses solve it (the pencil is even in omega); a root is forward when its forward
+    fraction (``Tx``, ``Ty`` rows: x and y translations, y signed by the sense of its rotor's
+    spin relative to rotor c) is at least 0.5 - :data:`PLANAR_BAND` (:func:`critical_whirl`,
+    as the Campbell diagram calls its criticals).
     Equal roots (within :data:`UCS_CLUSTER_TOL` of the largest) are split into their whirl
     senses first (:func:`_whirl_split`): a rotor without gyroscopic moments has each forward
     root equal to a backward one.
