@@ -173,7 +173,7 @@ def test_bad_ucs_input_names_the_key(make, ucs, key):
 
 def test_ucs_figure_draws_the_dataset(make):
     """The map's figure (the rotor verb's): one curve per critical, its points the dataset's in
-    rpm, and the swept bearings' stiffness line."""
+    rpm, the swept bearings' stiffness line, nothing overlapping."""
     cfg = make()
     cfg["ucs"] = {"stiffness": [1e6, 1e10], "n_points": 5, "n_modes": 3, "rotors": ["in"]}
     res = system_ucs(cfg)
@@ -183,3 +183,6 @@ def test_ucs_figure_draws_the_dataset(make):
     for k in range(3):
         np.testing.assert_allclose(ax.lines[k].get_ydata(), rpm[:, k])
     assert any("in:1 kxx = 2e+08" in t.get_text() for t in ax.get_legend().get_texts())
+    from rotaflex.core.plotting import layout_problems
+
+    assert not layout_problems(fig)  # tests/core/test_figure_layout.py's readability checks
