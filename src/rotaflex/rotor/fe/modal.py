@@ -712,7 +712,7 @@ def ucs_solve(
     obeys ``(K0 + k K1 - omega^2 (M - i G)) u = 0`` with G the gyroscopic matrices weighted by
     ``r_i / r_c``. G is real skew-symmetric, so ``M - i G`` is Hermitian; ``K = K0 + k K1`` is
     real symmetric and positive definite (supported, after ``rigid`` is removed): a
-    Hermitian-definite pencil, solved as ``(M - i G) u = mu K u`` (LAPACK zhegv; real mu),
+    Hermitian-definite pencil, solved as ``(M - i G) u = mu K u`` (LAPACK zhegvd; real mu),
     ``omega = mu^-1/2`` for mu > 0 (above :data:`UCS_ZERO_ROOT`); mu < 0 are whirls that
     gyroscopic stiffening keeps from ever meeting the 1X line (a disk with Ip > Id). Both
     whirl senses solve it (the pencil is even in omega); a root is forward when its forward
@@ -775,7 +775,7 @@ def ucs_solve(
     fraction = np.full((stiffness.size, n_modes), np.nan)
     for s, k in enumerate(stiffness):
         K = K0 + k * K1
-        mu, V = sla.eigh(B, K, check_finite=False)
+        mu, V = sla.eigh(B, K, check_finite=False, driver="gvd")  # zhegvd: 0.67 ms against 1.1 ms (52 DOFs)
         frac = _forward_fraction(V, Tx, Ty)
         gap = np.flatnonzero(np.diff(mu) > UCS_CLUSTER_TOL * np.max(np.abs(mu))) + 1
         for a, b in zip(np.r_[0, gap], np.r_[gap, mu.size], strict=True):  # clusters of equal roots
