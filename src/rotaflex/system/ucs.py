@@ -26,6 +26,7 @@ import scipy.linalg as sla
 
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm
+from rotaflex.rotor.fe.figures import ucs_bearing_line
 from rotaflex.rotor.fe.modal import support_stiffness, ucs_solve
 from rotaflex.rotor.fe.model import NDOF_NODE
 from rotaflex.system.model import Gearbox
@@ -81,7 +82,10 @@ def ucs_pencil(box: Gearbox, swept, chosen: int, speed: float | None) -> UCSPenc
             label = f"{pr.name}:{b.name or node}"
             if i in swept:
                 unit.append(ends)
-                lines += _line(label, el, abs(pr.ratio))
+                lines += [
+                    (lab, None if sp is None else sp.tolist(), kx.tolist(), ky.tolist())  # JSON for the dataset
+                    for lab, sp, kx, ky in ucs_bearing_line(label, el, abs(pr.ratio))
+                ]
                 continue
             if speed is None and not el.speed_independent:
                 raise InputError(
@@ -120,16 +124,6 @@ def ucs_pencil(box: Gearbox, swept, chosen: int, speed: float | None) -> UCSPenc
             rigid = np.zeros((Kr.shape[0], Z.shape[1]))
             rigid[twist] = Z
     return UCSPencil(Mr, Gr, Kr, K1r, Tx, Ty, rigid, abs(float(r[chosen])), lines)
-
-
-def _line(label: str, el, ratio: float) -> list:
-    """The figure's stiffness line of a swept bearing (none for a computed kind): kxx, kyy
-    against the drive speed (the rotor's table speeds / its ratio)."""
-    if getattr(el, "k", None) is None:
-        return []
-    k = el.k if el.k.ndim == 3 else el.k[:, 0]  # a whirl table: its lowest frequency
-    sp = None if el.speeds is None else (np.asarray(el.speeds) / ratio).tolist()
-    return [(label, sp, k[:, 0, 0].tolist(), k[:, 1, 1].tolist())]
 
 
 def machine_ucs(
