@@ -76,6 +76,7 @@ COMMANDS: dict[str, dict[str, str]] = {
         "frf": "rotaflex.system.case:run_frf",
         "stability": "rotaflex.system.case:run_stability",
         "static": "rotaflex.system.case:run_static",
+        "ucs": "rotaflex.system.case:run_ucs",
     },
 }
 

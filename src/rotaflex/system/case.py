@@ -550,6 +550,18 @@ def run_static(config: dict, *, progress: bool = False):
     return static_result(config, box, spec, speed, t0)
 
 
+def run_ucs(config: dict, *, progress: bool = False):
+    """Undamped critical speed map over ``[ucs] stiffness`` (:func:`rotaflex.system.ucs.ucs_result`)."""
+    from rotaflex.system.ucs import ucs_result
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "ucs")
+    rpm = spec.speed_rpm if spec.speed_rpm is not None else drive_speed_rpm(box)
+    if rpm is not None:
+        _check_drive_speed(box, float(rpm), "ucs.speed_rpm", rpm)
+    return ucs_result(config, box, spec, None if rpm is None else rpm_to_rad_s(float(rpm)), t0, progress)
+
+
 def run_case(config: dict, *, progress: bool = False):
     """Sweep entry point (domain ``system``): runs the analysis named by ``analysis``, the function
     that ``rotaflex system <analysis>`` runs (:data:`rotaflex.core.domains.COMMANDS`: each verb is

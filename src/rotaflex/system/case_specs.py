@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from rotaflex.core.config import param
-from rotaflex.rotor.fe.case_config import FRFPair, FRFSpec, PointLoad, StaticSpec, UnbalanceMass
+from rotaflex.rotor.fe.case_config import FRFPair, FRFSpec, PointLoad, StaticSpec, UCSSpec, UnbalanceMass
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import DriveSpec, LoadSpec, MeshSpec, RotorSpec
 from rotaflex.system.size import DEFAULT_MAX_STEPS
@@ -173,6 +173,18 @@ class MachineStaticSpec(StaticSpec):
     load: tuple[MachineStaticLoad, ...] = param(())
 
 
+@dataclass(frozen=True)
+class MachineUCSSpec(UCSSpec):
+    """Undamped critical speed map of a machine: the rotor verb's keys, the swept bearings' rotors,
+    the rotor whose 1X defines the critical speeds and the speed of the other bearings."""
+
+    rotors: tuple[str, ...] = param((), doc="rotors whose bearings get the swept stiffness (default: all)")
+    rotor: str | None = param(None, doc="critical speeds: a frequency equals this rotor's 1X (default: the drive)")
+    speed_rpm: float | None = param(
+        None, unit="rpm", ge=0, doc="drive speed of the other bearings' kxx, kyy (default: the nominal one)"
+    )
+
+
 ANALYSES = {
     "modal": ModalSpec,
     "campbell": CampbellSpec,
@@ -184,7 +196,12 @@ ANALYSES = {
     "frf": MachineFRFSpec,
     "stability": MachineStabilitySpec,
     "static": MachineStaticSpec,
+    "ucs": MachineUCSSpec,
 }
+
+
+#: the verbs' names, as ``analysis`` of a sweep case takes them (one list: :data:`ANALYSES`)
+ANALYSIS_NAMES = tuple(ANALYSES)
 
 
 @dataclass(frozen=True)
@@ -200,12 +217,7 @@ class SystemCase:
     coupling: tuple[CouplingSpec, ...] = param(())
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
-    analysis: (
-        Literal[
-            "modal", "campbell", "response", "steady", "torsional", "startup", "unbalance", "frf", "stability", "static"
-        ]
-        | None
-    ) = param(None)
+    analysis: Literal[ANALYSIS_NAMES] | None = param(None)
     modal: ModalSpec = field(default_factory=ModalSpec)
     campbell: CampbellSpec = field(default_factory=CampbellSpec)
     response: ResponseSpec = field(default_factory=ResponseSpec)
@@ -216,6 +228,7 @@ class SystemCase:
     frf: MachineFRFSpec = field(default_factory=MachineFRFSpec)
     stability: MachineStabilitySpec = field(default_factory=MachineStabilitySpec)
     static: MachineStaticSpec = field(default_factory=MachineStaticSpec)
+    ucs: MachineUCSSpec = field(default_factory=MachineUCSSpec)
 
 
 SCHEMA = SystemCase

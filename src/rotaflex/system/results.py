@@ -610,3 +610,18 @@ class SystemStaticResult(_SystemResult):
         ax = fig.axes[0]
         ax.set_title(f"{rotor}: {ax.get_title()}", fontsize=9)
         return fig
+
+
+@register_result
+class SystemUCSResult(_SystemResult):
+    """Undamped critical speed map of a machine: critical drive speeds vs the swept bearings' stiffness."""
+
+    kind = "system_ucs"
+
+    def plot(self) -> dict:
+        """The machine's views and the rotor verb's UCS figure (``ucs_map.png``) with the swept
+        bearings' kxx, kyy against the drive speed."""
+        from rotaflex.rotor.fe.figures import ucs_figure
+
+        lines = json.loads(self.dataset.attrs.get("bearing_lines", "[]"))
+        return {**self._model(), "ucs_map": ucs_figure(self.dataset, lines)}

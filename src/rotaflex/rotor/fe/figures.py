@@ -469,6 +469,18 @@ def mode_shapes_figure(ds):
     return fig
 
 
+def ucs_bearing_line(label: str, el, ratio: float = 1.0) -> list:
+    """The UCS figure's stiffness line of a bearing element (``[]`` for a computed kind, a seal
+    or magnetic bearing, which has no table): ``[(label, speeds [rad/s] or None, kxx, kyy)]``,
+    a whirl table at its lowest frequency; ``ratio``: the rotor's speed per drive speed (a
+    machine's map is drawn against the drive speed)."""
+    if getattr(el, "k", None) is None:
+        return []
+    k = el.k if el.k.ndim == 3 else el.k[:, 0]
+    speeds = None if el.speeds is None else np.asarray(el.speeds) / ratio
+    return [(label, speeds, k[:, 0, 0], k[:, 1, 1])]
+
+
 def ucs_figure(ds, bearings=()):
     """Critical speeds [rpm] vs isotropic bearing stiffness, with each bearing's kxx, kyy overlaid.
 

@@ -235,7 +235,7 @@ class UCSResult(_FEResult):
 
     def plot(self) -> dict:
 
-        from rotaflex.rotor.fe.figures import ucs_figure
+        from rotaflex.rotor.fe.figures import ucs_bearing_line, ucs_figure
 
         cfg = self.config
         bearings = []
@@ -244,10 +244,7 @@ class UCSResult(_FEResult):
 
             rotor = Rotor.from_mapping({k: v for k, v in cfg.items() if k in ROTOR_KEYS})
             for i, ((_, _, el), b) in enumerate(zip(rotor.bearings, rotor.bearing, strict=True)):
-                if getattr(el, "k", None) is None:  # a computed kind (seal, magnetic bearing): no table to draw
-                    continue
-                k = el.k if el.k.ndim == 3 else el.k[:, 0]  # a whirl table: its lowest frequency
-                bearings.append((b.name or f"bearing[{i}]", el.speeds, k[:, 0, 0], k[:, 1, 1]))
+                bearings += ucs_bearing_line(b.name or f"bearing[{i}]", el)
         fig = ucs_figure(self.dataset, bearings)
         return {**_model_fig(self), "ucs_map": fig}
 

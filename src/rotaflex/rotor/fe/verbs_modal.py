@@ -186,7 +186,7 @@ def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
         raise InputError("ucs.stiffness", list(spec.stiffness), "[low, high] with high > low")
     k = np.geomspace(spec.stiffness[0], spec.stiffness[1], spec.n_points)
     n_modes, note = spec.n_modes, ""
-    if n_modes > rotor.n_dof // 2:  # the one-plane UCS problem has n_dof / 2 DOFs
+    if n_modes > rotor.n_dof // 2:  # at most half the lateral DOFs whirl forward (the note keeps its old words)
         n_modes, note = rotor.n_dof // 2, f"ucs.n_modes = {spec.n_modes} clamped to {rotor.n_dof // 2} (one-plane DOFs)"
     with progress_callback(progress, k.size, "ucs", "stiffness") as report:
         w = ucs_map(rotor, k, n_modes, progress=report)
