@@ -625,9 +625,8 @@ def ucs_map(
     Every bearing's coefficients are replaced by kxx = kyy = ``stiffness`` between its node and
     the ground or its other node (no damping, no cross-coupling, no pedestal, no added mass of a
     computed kind): :func:`ucs_solve` on the shaft's lateral DOFs, the whirl omega = Omega
-    (``r_i / r_c = 1``). This general form reproduces the former one-plane reduction of the
-    axisymmetric rotor (``(K_p - omega^2 (M_p - G_p)) u = 0`` on the x-z plane) within 1.4e-13
-    relative on the examples with ``[ucs]``.
+    (``r_i / r_c = 1``), which takes the axisymmetric rotor's one-plane reduction
+    (``(K_p - omega^2 (M_p - sym(G_p))) u = 0`` on the x-z plane, :func:`plane_dofs`).
 
     Returns
     -------
@@ -653,9 +652,46 @@ def ucs_map(
         n_modes,
         eye[0::NDOF_NODE],
         eye[1::NDOF_NODE],
+        planes=plane_dofs(nr // NDOF_NODE),
         progress=progress,
     )
     return w
+
+
+def plane_dofs(n_nodes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """x-z plane DOFs (x, theta_y), their y-z partners (y, theta_x) and the partners' signs
+    (1, -1) of ``n_nodes`` nodes in rotor/fe order: the planes of :func:`ucs_solve`."""
+    base = NDOF_NODE * np.arange(n_nodes)[:, None]
+    ia = (base + np.array([0, 3])).ravel()
+    ib = (base + np.array([1, 2])).ravel()
+    sb = np.tile([1.0, -1.0], n_nodes)
+    return ia, ib, sb
+
+
+def _one_plane(M, G, K0, K1, planes) -> tuple | None:
+    """The one-plane pencil ``(M_p - sym(G_p), K0_p, K1_p)`` of an axisymmetric system, or None.
+
+    With ``planes = (ia, ib, sb)`` (x-z DOFs, their y-z partners and signs), the system is
+    axisymmetric when M, K0 and K1 do not couple the planes and are equal in both (up to the
+    signs) and G couples only the planes (to 1e-12 of each matrix's largest entry). Forward
+    circular whirl ``u_b = -i sb u_a`` then turns ``(K - omega^2 (M - i G)) u = 0`` into the real
+    symmetric ``(K_p - omega^2 (M_p - sym(G_ab sb))) u_a = 0``: half the size, real, and only the
+    forward roots."""
+    ia, ib, sb = planes
+    S = np.outer(sb, sb)
+    for X in (M, K0, K1):
+        tol = 1e-12 * np.max(np.abs(X), initial=0.0)
+        if np.max(np.abs(X[np.ix_(ia, ib)]), initial=0.0) > tol:
+            return None
+        if np.max(np.abs(X[np.ix_(ia, ia)] - S * X[np.ix_(ib, ib)]), initial=0.0) > tol:
+            return None
+    tol = 1e-12 * np.max(np.abs(G), initial=0.0)
+    if max(np.max(np.abs(G[np.ix_(i, i)]), initial=0.0) for i in (ia, ib)) > tol:
+        return None
+    Gp = G[np.ix_(ia, ib)] * sb[None, :]
+    if np.max(np.abs(Gp - Gp.T), initial=0.0) > tol:
+        return None
+    return M[np.ix_(ia, ia)] - 0.5 * (Gp + Gp.T), K0[np.ix_(ia, ia)], K1[np.ix_(ia, ia)]
 
 
 #: roots of the UCS pencil closer than this fraction of the largest |root| form one degenerate
@@ -704,6 +740,7 @@ def ucs_solve(
     Ty: np.ndarray,
     rigid: np.ndarray | None = None,
     progress: Callable[[float, float], None] | None = None,
+    planes: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Undamped synchronous forward critical whirl frequencies vs support stiffness, general form.
 
@@ -738,6 +775,11 @@ def ucs_solve(
         Motions without strain at every k (a free rigid-body twist): the roots are solved in the
         M-orthogonal complement of these (their root omega = 0 is no critical speed).
     progress : callable ``progress(done, total)``, optional
+    planes : (ia, ib, sb), optional
+        The x-z plane coordinates, their y-z partners and signs (:func:`plane_dofs`). Where the
+        system is axisymmetric in them (:func:`_one_plane`), the forward roots are solved on one
+        plane (real, half the size: 0.21 s against 7.0 s for 20 stiffness values of a 604-DOF
+        rotor); otherwise, or without ``planes``, on the general pencil.
 
     Returns
     -------
@@ -765,6 +807,9 @@ def ucs_solve(
         if np.max(np.abs(X - sign * X.T), initial=0.0) > 1e-12 * scale:
             raise ValueError(f"ucs_solve: {name} must be {'skew-' if sign < 0 else ''}symmetric")
     stiffness = np.atleast_1d(np.asarray(stiffness, float))
+    plane = None if planes is None or (rigid is not None and rigid.size) else _one_plane(M, G, K0, K1, planes)
+    if plane is not None:
+        return _ucs_one_plane(*plane, stiffness, n_modes, progress)
     Q = None
     if rigid is not None and rigid.size:
         Q = sla.null_space(rigid.T @ M)  # the M-orthogonal complement of the rigid motions
@@ -790,3 +835,17 @@ def ucs_solve(
         if progress is not None:
             progress(s + 1, stiffness.size)
     return omega, fraction
+
+
+def _ucs_one_plane(Meff, K0, K1, stiffness, n_modes: int, progress) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`ucs_solve` on the one-plane pencil of :func:`_one_plane`: ``Meff u = mu K u``,
+    omega = mu^-1/2 for mu > 0 (every root a forward circular whirl: fraction 1)."""
+    omega = np.full((stiffness.size, n_modes), np.nan)
+    for s, k in enumerate(stiffness):
+        mu = sla.eigh(Meff, K0 + k * K1, eigvals_only=True)
+        mu = np.sort(mu[mu > 0])[::-1]
+        w = 1.0 / np.sqrt(mu[:n_modes])
+        omega[s, : w.size] = w
+        if progress is not None:
+            progress(s + 1, stiffness.size)
+    return omega, np.where(np.isnan(omega), np.nan, 1.0)
