@@ -75,6 +75,7 @@ COMMANDS: dict[str, dict[str, str]] = {
         "unbalance": "rotaflex.system.case:run_unbalance",
         "frf": "rotaflex.system.case:run_frf",
         "stability": "rotaflex.system.case:run_stability",
+        "transient": "rotaflex.system.case:run_transient",
     },
 }
 

@@ -136,6 +136,21 @@ class UnbalanceSpec:
 
 
 @dataclass(frozen=True)
+class MachineTransientSpec:
+    """Time response of a machine (rotor transient's keys; probes and masses per rotor; no
+    large-rotation disks: a machine's rotors are linear)."""
+
+    speed_rpm: tuple[float, float] = param((0.0, 0.0), unit="rpm", ge=0, doc="drive speed at start and end (ramp)")
+    duration: float = param(1.0, unit="s", gt=0)
+    n_output: int = param(2001, ge=2)
+    method: Literal["modal", "direct"] = param("modal")
+    n_modes: int = param(20, ge=1, doc="modes kept by the modal method")
+    steps_per_output: int = param(4, ge=1, doc="Newmark steps per output interval (direct method)")
+    probes: tuple[Probe, ...] = param((), doc="orbit nodes (default: the unbalance nodes)")
+    mass: tuple[MachineUnbalanceMass, ...] = param(())
+
+
+@dataclass(frozen=True)
 class MachineDOF:
     """A DOF of the machine: rotor, node and direction."""
 
@@ -166,6 +181,7 @@ ANALYSES = {
     "unbalance": UnbalanceSpec,
     "frf": MachineFRFSpec,
     "stability": MachineStabilitySpec,
+    "transient": MachineTransientSpec,
 }
 
 
@@ -183,7 +199,18 @@ class SystemCase:
     drive: DriveSpec | None = param(None)
     load: LoadSpec | None = param(None)
     analysis: (
-        Literal["modal", "campbell", "response", "steady", "torsional", "startup", "unbalance", "frf", "stability"]
+        Literal[
+            "modal",
+            "campbell",
+            "response",
+            "steady",
+            "torsional",
+            "startup",
+            "unbalance",
+            "frf",
+            "stability",
+            "transient",
+        ]
         | None
     ) = param(None)
     modal: ModalSpec = field(default_factory=ModalSpec)
@@ -195,6 +222,7 @@ class SystemCase:
     unbalance: UnbalanceSpec = field(default_factory=UnbalanceSpec)
     frf: MachineFRFSpec = field(default_factory=MachineFRFSpec)
     stability: MachineStabilitySpec = field(default_factory=MachineStabilitySpec)
+    transient: MachineTransientSpec = field(default_factory=MachineTransientSpec)
 
 
 SCHEMA = SystemCase
