@@ -191,11 +191,15 @@ def transient_result(config: dict, box: Gearbox, spec, probes, t0: float, progre
             "rotor": [pr.name for pr in box.rotors],
         },
     )
-    amax = np.max(np.hypot(disp[..., 0], disp[..., 1]), 0)
-    i = int(np.argmax(np.hypot(disp[:, 0, 0], disp[:, 0, 1])))
+    radial = np.hypot(disp[..., 0], disp[..., 1])  # (time, probe)
+    i, j = np.unravel_index(int(np.argmax(radial)), radial.shape)
     extra = {
-        "max_radial_displacement": {"value": float(amax.max()), "unit": "m", "probe": names[int(np.argmax(amax))]},
-        "speed_at_max_rpm": {"value": float(rad_s_to_rpm(tr.speed[i])), "unit": "rpm", "note": "drive speed"},
+        "max_radial_displacement": {"value": float(radial[i, j]), "unit": "m", "probe": names[j]},
+        "speed_at_max_rpm": {
+            "value": float(rad_s_to_rpm(tr.speed[i])),
+            "unit": "rpm",
+            "note": "drive speed at the largest radial displacement (its probe)",
+        },
         "function_evaluations": {"value": tr.nfev, "unit": ""},
     }
     if note:
