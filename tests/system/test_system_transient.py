@@ -248,10 +248,13 @@ def test_slow_ramp_peaks_after_the_campbell_1x_crossing_by_the_ramp_lag():
         ({"probes": [{"rotor": "fan", "node": 1}]}, "transient.probes[0].rotor"),
         ({"mass": [{"rotor": "r", "node": 9, "magnitude": 1e-4}]}, "transient.mass[0]"),
         ({"large_rotation": [1]}, "transient.large_rotation"),
+        ({"n_output": 20_000_000}, "transient.n_output"),  # refused before anything is assembled
+        ({"method": "direct", "n_output": 2_000_000, "steps_per_output": 100}, "transient.steps_per_output"),
     ],
 )
 def test_bad_input_names_the_key(change, key):
-    """Unknown rotor or node of a mass or probe, and the rotor-only large-rotation keys, are
+    """Unknown rotor or node of a mass or probe, the rotor-only large-rotation keys and a run
+    beyond the size limits (the rotor verb's: 1e7 output points, 1e8 integration steps) are
     refused with the key as written in the TOML."""
     _, cfg = _pair({"duration": 0.01, "n_output": 11})
     cfg["transient"].update(change)

@@ -25,6 +25,12 @@ to the node by a bending hub spring, integrated together with the modal coordina
 quaternion is not renormalised in the state; it is normalised where the attitude is used and
 its norm drift is returned). The quaternion disk needs a constant speed (its spin is free,
 the joint transmits no torque about the disk axis) and the modal method.
+
+The linear part is written once for rotors and machines: :class:`Pencil` (the matrices over a
+speed grid, unbalance groups each at its own signed speed ratio), :class:`Linear` (basis,
+reduced matrices, right-hand side, integration) and :func:`linear_transient`; :func:`transient`
+builds the rotor's pencil and adds the large-rotation disks to the right-hand side, and
+:func:`rotaflex.system.transient.machine_transient` builds a machine's.
 """
 
 from __future__ import annotations
@@ -140,8 +146,11 @@ class Pencil:
 
 
 class Linear:
-    """A :class:`Pencil` on the basis T (undamped modes, or all coordinates): the reduced
-    matrices, the interpolated pencil ``mats(t)`` and the load ``load(t, x, v)``."""
+    """A :class:`Pencil` on the basis T (``"modal"``: the lowest ``n_modes`` undamped modes of
+    (K_basis, M_basis); ``"direct"``: all coordinates): the reduced matrices, the interpolated
+    pencil ``mats(t)``, the load ``load(t, W, x, v)`` (unbalance groups plus the optional
+    ``force(t, q, v)`` on the full coordinates), the right-hand side ``rhs(t, z)``, the initial
+    state ``start(q0, v0)`` and :meth:`integrate`."""
 
     def __init__(self, p: Pencil, method: str, n_modes: int, speed_start: float, alpha: float, force=None):
         n = p.M.shape[0]
@@ -162,40 +171,48 @@ class Linear:
         self.Kr = np.einsum("ia,sij,jb->sab", T, p.K, T)
         self.Cr = np.einsum("ia,sij,jb->sab", T, p.C, T)
         self.Fr = [T.T @ p.F[:, g] for g in range(p.F.shape[1])]
+        self.mats, self.load, self.rhs = self._closures()
 
-    def mats(self, t):
-        """(W [rad/s], K + alpha Kst, C + W G) on the basis at time t [s]."""
-        w, grid, Kr, Cr = self.speed_start + self.alpha * t, self.p.speeds, self.Kr, self.Cr
-        if grid.size == 1:
-            K, C = Kr[0], Cr[0]
-        else:
-            j = int(np.clip(np.searchsorted(grid, w) - 1, 0, grid.size - 2))
-            s = (w - grid[j]) / (grid[j + 1] - grid[j])
-            K, C = Kr[j] + s * (Kr[j + 1] - Kr[j]), Cr[j] + s * (Cr[j + 1] - Cr[j])
-        return w, K + self.alpha * self.Kstr, C + w * self.Gr
+    def _closures(self):
+        """``mats(t)``: (W [rad/s], K + alpha Kst, C + W G) on the basis at time t [s];
+        ``load(t, W, x, v)``: unbalance plus the extra force on the basis; ``rhs(t, z)``: the
+        first-order right-hand side of the linear equations (state [x, v] on the basis).
+        Closures over local names: the integrator calls them ~1e4-1e5 times a run."""
+        speed_start, alpha, m, grid = self.speed_start, self.alpha, self.m, self.p.speeds
+        Kr, Cr, Kstr, Gr, Mi, T, force = self.Kr, self.Cr, self.Kstr, self.Gr, self.Mi, self.T, self.force
+        groups = [(float(fac), Fr) for fac, Fr in zip(self.p.factor, self.Fr, strict=True)]
+        last = grid.size - 2
 
-    def load(self, t, w, x, v):
-        """Unbalance plus the extra force on the basis at time t, drive speed w, state (x, v)."""
-        alpha, m = self.alpha, self.m
-        phi = self.speed_start * t + 0.5 * alpha * t * t
-        f = None
-        for fac, Fr in zip(self.p.factor, self.Fr, strict=True):
-            wr, ar = fac * w, fac * alpha
-            fg = (Fr * (wr * wr - 1j * ar) * np.exp(1j * (fac * phi))).real
-            f = fg if f is None else f + fg
-        if f is None:
-            f = np.zeros(m)
-        if self.force is not None:
-            f = f + self.T.T @ self.force(t, self.T @ x, self.T @ v)
-        return f
+        def mats(t):
+            w = speed_start + alpha * t
+            if last < 0:
+                K, C = Kr[0], Cr[0]
+            else:
+                j = int(np.clip(np.searchsorted(grid, w) - 1, 0, last))
+                s = (w - grid[j]) / (grid[j + 1] - grid[j])
+                K, C = Kr[j] + s * (Kr[j + 1] - Kr[j]), Cr[j] + s * (Cr[j + 1] - Cr[j])
+            return w, K + alpha * Kstr, C + w * Gr
 
-    def rhs(self, t, z):
-        """First-order right-hand side of the linear equations (state [x, v] on the basis)."""
-        w, K, D = self.mats(t)
-        m = self.m
-        x, v = z[:m], z[m : 2 * m]
-        f = self.load(t, w, x, v)
-        return np.concatenate([v, self.Mi @ (f - D @ v - K @ x)])
+        def load(t, w, x, v):
+            phi = speed_start * t + 0.5 * alpha * t * t
+            f = None
+            for fac, Fr in groups:  # each group at its own signed speed and angle
+                wr, ar = fac * w, fac * alpha
+                fg = (Fr * (wr * wr - 1j * ar) * np.exp(1j * (fac * phi))).real
+                f = fg if f is None else f + fg
+            if f is None:
+                f = np.zeros(m)
+            if force is not None:
+                f = f + T.T @ force(t, T @ x, T @ v)
+            return f
+
+        def rhs(t, z):
+            w, K, D = mats(t)
+            x, v = z[:m], z[m : 2 * m]
+            f = load(t, w, x, v)
+            return np.concatenate([v, Mi @ (f - D @ v - K @ x)])
+
+        return mats, load, rhs
 
     def start(self, q0, v0):
         """Basis coordinates of the initial state (n,) in the basis' own mass metric."""
