@@ -280,3 +280,20 @@ def test_cli_plot_reuses_the_rotor_figures():
 
     assert not [p for fig in figs.values() for p in layout_problems(fig)]
     assert rpm_to_rad_s(600.0) == pytest.approx(float(ds["speed"][-1]))
+
+
+@pytest.mark.parametrize("method", ["modal", "direct"])
+def test_progress_lines_at_every_tenth(capsys, method):
+    """``--progress`` off a terminal: one line per tenth of the simulated time, in order, ending
+    at 100 % (the rotor verb's progress, tests/rotor/fe/test_fe_progress.py); nothing without;
+    the same response either way."""
+    import re
+
+    _, cfg = _pair({"speed_rpm": [0.0, 600.0], "duration": 0.04, "n_output": 41, "n_modes": 4, "method": method})
+    quiet = system_transient(copy.deepcopy(cfg), progress=False)
+    assert capsys.readouterr().err == ""
+    shown = system_transient(copy.deepcopy(cfg), progress=True)
+    pct = [int(p) for p in re.findall(r"^transient: (\d+) % \(", capsys.readouterr().err, flags=re.M)]
+    assert {p // 10 for p in pct} >= set(range(1, 11))
+    assert pct == sorted(pct) and pct[-1] == 100
+    np.testing.assert_array_equal(shown.dataset["displacement"].values, quiet.dataset["displacement"].values)
