@@ -27,7 +27,8 @@ import xarray as xr
 
 from rotaflex.core.limits import require, require_memory
 from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
-from rotaflex.rotor.fe.transient import Pencil, TransientData, _speed_grid, linear_transient
+from rotaflex.rotor.fe.response import unbalance_force
+from rotaflex.rotor.fe.transient import Pencil, TransientData, linear_transient, speed_grid
 from rotaflex.system.model import Gearbox
 
 __all__ = ["machine_pencil", "machine_transient", "transient_result"]
@@ -49,7 +50,7 @@ def machine_pencil(box: Gearbox, speed_start: float, speed_end: float, unbalance
 
     mats = matrices(box) if mats is None else mats
     lo, hi = min(speed_start, speed_end), max(speed_start, speed_end)
-    grid = np.unique(np.concatenate([_speed_grid(pr.rotor, lo, hi, abs(pr.ratio)) for pr in box.rotors]))
+    grid = np.unique(np.concatenate([speed_grid(pr.rotor, lo, hi, abs(pr.ratio)) for pr in box.rotors]))
     fac = [float(pr.sense * pr.ratio) for pr in box.rotors]
     n = box.n_dof
     Gs, Ks = np.zeros((n, n)), np.zeros((n, n))
@@ -71,8 +72,7 @@ def machine_pencil(box: Gearbox, speed_start: float, speed_end: float, unbalance
     for r, node, u, phase in unbalance:
         g = groups.index(fac[r])
         i = box.lateral_dof(r, node, 0)
-        F[i, g] += u * np.exp(1j * phase)
-        F[i + 1, g] += -1j * u * np.exp(1j * phase)
+        F[i : i + 2, g] += unbalance_force(1.0, u, phase)  # per unit spin^2: u e^{i b}, -i u e^{i b}
     return Pencil(M, grid, np.stack(K), np.stack(C), G, Kst, mats.project(F.T).T, np.array(groups), lambda: Kmid, M)
 
 

@@ -47,6 +47,7 @@ from rotaflex.core.errors import ConvergenceError, InputError, SingularityError
 from rotaflex.rotor.fe.elements.large_disk import LargeRotationDisk
 from rotaflex.rotor.fe.elements.quaternion_disk import QuaternionDisk
 from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
+from rotaflex.rotor.fe.response import unbalance_force
 
 log = logging.getLogger(__name__)
 
@@ -92,7 +93,7 @@ class TransientData:
         return float(np.max(np.abs(np.linalg.norm(self.quaternion, axis=-1) - 1.0)))
 
 
-def _speed_grid(rotor: Rotor, lo: float, hi: float, scale: float = 1.0) -> np.ndarray:
+def speed_grid(rotor: Rotor, lo: float, hi: float, scale: float = 1.0) -> np.ndarray:
     """Speeds in [lo, hi] [rad/s] at which the pencil is evaluated: the ends and every breakpoint
     of the bearings' speed tables (a table's speed divided by ``scale``: a machine's rotor turns
     at ``scale`` times the drive speed), so that linear interpolation reproduces linear tables."""
@@ -111,8 +112,9 @@ class Pencil:
         M q'' + (C(W) + W G) q' + (K(W) + alpha Kst) q = sum_g Re[F_g (f_g^2 W^2 - i f_g alpha) e^{i f_g phi}]
 
     where the g-th unbalance group turns at ``f_g`` times the drive speed (a rotor, or several at
-    one signed speed ratio). K(W), C(W) are linear between the ``speeds`` of their table (constant
-    outside): bearings at the instantaneous speed, exact for linear speed tables.
+    one signed speed ratio). K(W), C(W) are linear between the ``speeds`` of their table (the
+    run's speeds lie within them): bearings at the instantaneous speed, exact for linear speed
+    tables.
 
     Attributes
     ----------
@@ -353,7 +355,7 @@ def transient(
     speed_end = speed_start if speed_end is None else speed_end
     alpha = (speed_end - speed_start) / t_end
     n = rotor.n_dof
-    grid = _speed_grid(rotor, min(speed_start, speed_end), max(speed_start, speed_end))
+    grid = speed_grid(rotor, min(speed_start, speed_end), max(speed_start, speed_end))
     Kg, Cg = rotor.KC(grid)
     # a seal's added mass enters at the mid speed of the run (constant M in the integrators)
     mid = 0.5 * (speed_start + speed_end)
@@ -384,8 +386,7 @@ def transient(
     for node, u, phase in unbalance:
         if not 0 <= node < rotor.n_nodes:
             raise InputError("transient.mass.node", node, f"an existing node 0..{rotor.n_nodes - 1}")
-        F[NDOF_NODE * node, 0] += u * np.exp(1j * phase)
-        F[NDOF_NODE * node + 1, 0] += -1j * u * np.exp(1j * phase)
+        F[NDOF_NODE * node : NDOF_NODE * node + 2, 0] += unbalance_force(1.0, u, phase)  # per unit spin^2
     # basis of the rotor with its disks' rotary inertia (also for quaternion disks: their stiff
     # hub keeps the node near the disk's attitude, so the same low modes span it)
     pencil = Pencil(
