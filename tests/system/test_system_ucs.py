@@ -13,8 +13,8 @@ import scipy.linalg as sla
 
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm
-from rotaflex.rotor.fe.modal import ucs_map
 from rotaflex.rotor.fe.model import Rotor
+from rotaflex.rotor.fe.ucs import ucs_map
 from rotaflex.rotor.fe.verbs_modal import run_ucs as rotor_ucs
 from rotaflex.system.assembly import matrices, system_matrices
 from rotaflex.system.case import run_ucs as system_ucs

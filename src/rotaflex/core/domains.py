@@ -77,6 +77,7 @@ COMMANDS: dict[str, dict[str, str]] = {
         "stability": "rotaflex.system.case:run_stability",
         "static": "rotaflex.system.case:run_static",
         "ucs": "rotaflex.system.case:run_ucs",
+        "transient": "rotaflex.system.case:run_transient",
     },
 }
 

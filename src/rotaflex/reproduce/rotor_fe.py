@@ -32,9 +32,10 @@ def fe_section(out_dir: str | Path, *, fast: bool = False) -> Section:
     """Compute the FE rotor figures into ``out_dir/rotor/fe`` and return them as a section."""
     from rotaflex.core.plotting import save_figure
     from rotaflex.rotor.fe.figures import bode_figure, campbell_figure, model_figure
-    from rotaflex.rotor.fe.modal import campbell, modal, ucs_map
+    from rotaflex.rotor.fe.modal import campbell, modal
     from rotaflex.rotor.fe.response import peaks, unbalance_response
     from rotaflex.rotor.fe.transient import transient
+    from rotaflex.rotor.fe.ucs import ucs_map
 
     out = Path(out_dir) / "rotor" / "fe"
     out.mkdir(parents=True, exist_ok=True)

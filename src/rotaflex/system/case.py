@@ -562,6 +562,18 @@ def run_ucs(config: dict, *, progress: bool = False):
     return ucs_result(config, box, spec, None if rpm is None else rpm_to_rad_s(float(rpm)), t0, progress)
 
 
+def run_transient(config: dict, *, progress: bool = False):
+    """Time response of ``[transient]``: unbalance, constant drive speed or linear ramp
+    (:func:`rotaflex.system.transient.transient_result`)."""
+    from rotaflex.system.transient import transient_result
+
+    t0 = time.perf_counter()
+    box, spec = parse(config, "transient")
+    probes = _probes(box, spec.probes, "transient") if spec.probes else None
+    _check_drive_speed(box, max(spec.speed_rpm), "transient.speed_rpm", list(spec.speed_rpm))
+    return transient_result(config, box, spec, probes, t0, progress)
+
+
 def run_case(config: dict, *, progress: bool = False):
     """Sweep entry point (domain ``system``): runs the analysis named by ``analysis``, the function
     that ``rotaflex system <analysis>`` runs (:data:`rotaflex.core.domains.COMMANDS`: each verb is

@@ -136,6 +136,21 @@ class UnbalanceSpec:
 
 
 @dataclass(frozen=True)
+class MachineTransientSpec:
+    """Time response of a machine (rotor transient's keys; probes and masses per rotor; no
+    large-rotation disks: a machine's rotors are linear)."""
+
+    speed_rpm: tuple[float, float] = param((0.0, 0.0), unit="rpm", ge=0, doc="drive speed at start and end (ramp)")
+    duration: float = param(1.0, unit="s", gt=0)
+    n_output: int = param(2001, ge=2)
+    method: Literal["modal", "direct"] = param("modal")
+    n_modes: int = param(20, ge=1, doc="modes kept by the modal method")
+    steps_per_output: int = param(4, ge=1, doc="Newmark steps per output interval (direct method)")
+    probes: tuple[Probe, ...] = param((), doc="orbit nodes (default: the unbalance nodes)")
+    mass: tuple[MachineUnbalanceMass, ...] = param(())
+
+
+@dataclass(frozen=True)
 class MachineDOF:
     """A DOF of the machine: rotor, node and direction."""
 
@@ -197,6 +212,7 @@ ANALYSES = {
     "stability": MachineStabilitySpec,
     "static": MachineStaticSpec,
     "ucs": MachineUCSSpec,
+    "transient": MachineTransientSpec,
 }
 
 
@@ -229,6 +245,7 @@ class SystemCase:
     stability: MachineStabilitySpec = field(default_factory=MachineStabilitySpec)
     static: MachineStaticSpec = field(default_factory=MachineStaticSpec)
     ucs: MachineUCSSpec = field(default_factory=MachineUCSSpec)
+    transient: MachineTransientSpec = field(default_factory=MachineTransientSpec)
 
 
 SCHEMA = SystemCase

@@ -625,3 +625,18 @@ class SystemUCSResult(_SystemResult):
 
         lines = json.loads(self.dataset.attrs.get("bearing_lines", "[]"))
         return {**self._model(), "ucs_map": ucs_figure(self.dataset, lines)}
+
+
+@register_result
+class SystemTransientResult(_SystemResult):
+    """Time response of a machine at its probes (constant drive speed or ramp)."""
+
+    kind = "system_transient"
+
+    def plot(self) -> dict:
+        """The rotor verb's figures (:func:`~rotaflex.rotor.fe.figures.transient_figures`):
+        ``time_response.png`` (speed panel: the drive's) and ``orbit.png``."""
+        from rotaflex.rotor.fe.figures import transient_figures
+
+        fig, fig2 = transient_figures(self.dataset)
+        return {**self._model(), "time_response": fig, "orbit": fig2}

@@ -11,7 +11,7 @@ bearing acts between its node and the ground), as in the rotor verb.
 A critical speed is a drive speed W at which a natural frequency equals the 1X of the chosen
 rotor c (``[ucs] rotor``, default the drive): with ``Omega_i = r_i W`` (signed: ``sense *
 ratio``) and whirl ``omega = r_c W``, ``(K(k) - omega^2 (M - i G_r)) u = 0`` with
-``G_r = sum_i (r_i / r_c) G_i``; rotor/fe's :func:`~rotaflex.rotor.fe.modal.ucs_solve` solves
+``G_r = sum_i (r_i / r_c) G_i``; rotor/fe's :func:`~rotaflex.rotor.fe.ucs.ucs_solve` solves
 it and keeps the forward roots (whirl sense of each rotor relative to its own spin).
 """
 
@@ -27,8 +27,8 @@ import scipy.linalg as sla
 from rotaflex.core.errors import InputError
 from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe.figures import ucs_bearing_line
-from rotaflex.rotor.fe.modal import support_stiffness, ucs_solve
 from rotaflex.rotor.fe.model import NDOF_NODE
+from rotaflex.rotor.fe.ucs import support_stiffness, ucs_solve
 from rotaflex.system.model import Gearbox
 
 __all__ = ["UCSPencil", "machine_ucs", "ucs_pencil", "ucs_result"]
@@ -36,7 +36,7 @@ __all__ = ["UCSPencil", "machine_ucs", "ucs_pencil", "ucs_result"]
 
 @dataclass(frozen=True)
 class UCSPencil:
-    """The arguments of :func:`~rotaflex.rotor.fe.modal.ucs_solve` for a machine.
+    """The arguments of :func:`~rotaflex.rotor.fe.ucs.ucs_solve` for a machine.
 
     Attributes
     ----------

@@ -95,11 +95,11 @@ def machine_unbalance(
     return MachineUnbalance(speeds, np.array(factors), labels, np.stack(Qs))
 
 
-def _masses(box: Gearbox, masses) -> list[tuple[int, int, float, float]]:
-    """``(rotor index, node, magnitude [kg m], phase [rad])`` of the ``[[unbalance.mass]]`` tables."""
+def _masses(box: Gearbox, masses, table: str = "unbalance") -> list[tuple[int, int, float, float]]:
+    """``(rotor index, node, magnitude [kg m], phase [rad])`` of the ``[[<table>.mass]]`` tables."""
     out = []
     for i, m in enumerate(masses):
-        where = f"unbalance.mass[{i}]"
+        where = f"{table}.mass[{i}]"
         r = box.rotor_index(m.rotor, f"{where}.rotor")
         node = box.rotors[r].rotor.station(m.node, m.position, where)
         out.append((r, node, m.magnitude, np.radians(m.phase_deg)))

@@ -9,8 +9,9 @@ from typer.testing import CliRunner
 
 from rotaflex.rotor.fe.critical import critical_speeds
 from rotaflex.rotor.fe.frf import dof_index, frf, half_power
-from rotaflex.rotor.fe.modal import campbell, modal, ucs_map
+from rotaflex.rotor.fe.modal import campbell, modal
 from rotaflex.rotor.fe.model import Bearing, Disk, Rotor, Shaft
+from rotaflex.rotor.fe.ucs import ucs_map
 
 RPM = np.pi / 30
 EXAMPLE = Path(__file__).resolve().parents[3] / "examples" / "rotor" / "fe_api684.toml"

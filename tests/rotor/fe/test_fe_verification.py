@@ -6,9 +6,10 @@ import scipy.linalg as sla
 
 from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
 from rotaflex.rotor.fe.elements.shaft import plane_matrices
-from rotaflex.rotor.fe.modal import campbell, modal, ucs_map
+from rotaflex.rotor.fe.modal import campbell, modal
 from rotaflex.rotor.fe.response import api684_required_margin, peaks, unbalance_response
 from rotaflex.rotor.fe.transient import transient
+from rotaflex.rotor.fe.ucs import ucs_map
 
 RPM = np.pi / 30
 

@@ -4,8 +4,8 @@ the general Hermitian pencil (rotor/fe/modal.ucs_solve) give the same forward cr
 import numpy as np
 import pytest
 
-from rotaflex.rotor.fe.modal import NDOF_NODE, plane_dofs, support_stiffness, ucs_solve
-from rotaflex.rotor.fe.model import Bearing, Disk, Rotor, Shaft
+from rotaflex.rotor.fe.model import NDOF_NODE, Bearing, Disk, Rotor, Shaft
+from rotaflex.rotor.fe.ucs import plane_dofs, support_stiffness, ucs_solve
 
 
 def _pencil(kxx=1e8, kyy=1e8):

@@ -9,13 +9,14 @@ The same analyses with the command line's result objects (summary, verdicts, plo
 
 from rotaflex.rotor.fe.critical import critical_speeds
 from rotaflex.rotor.fe.frf import frf
-from rotaflex.rotor.fe.modal import campbell, modal, ucs_map
+from rotaflex.rotor.fe.modal import campbell, modal
 from rotaflex.rotor.fe.model import Bearing, Disk, PointMass, Rotor, Shaft
 from rotaflex.rotor.fe.response import peaks, unbalance_response
 from rotaflex.rotor.fe.static import static_analysis
 from rotaflex.rotor.fe.study import campbell_diagram, modes, unbalance_response_study
 from rotaflex.rotor.fe.torsion_axial import axial_modes, torsional_modes
 from rotaflex.rotor.fe.transient import transient
+from rotaflex.rotor.fe.ucs import ucs_map
 
 __all__ = [
     "Bearing",

@@ -554,3 +554,39 @@ def fluid_film_figure(ds):
         fontsize=10,
     )
     return fig
+
+
+def _probe_name(p) -> str:
+    """A probe's label: ``node 4`` (a rotor's node number) or the machine's ``pump:5``."""
+    return f"node {p}" if isinstance(p, (int, np.integer)) else str(p)
+
+
+def transient_figures(ds):
+    """Time response (x of every probe over time, the (drive) speed below) and orbits (y over x)
+    of a transient dataset (``displacement`` (time, probe, axis), ``speed`` [rad/s]): the
+    figures of ``rotor transient`` and ``system transient``. Displacements in um."""
+    from rotaflex.core.plotting import new_figure
+
+    um = 1e6
+
+    fig, (a1, a2) = new_figure(2, 1, sharex=True)
+    for p in ds["probe"].values:
+        a1.plot(ds["time"], ds["displacement"].sel(probe=p, axis="x") * um, lw=0.6, label=f"{_probe_name(p)} x")
+    a1.set_ylabel("x [\u00b5m]")
+    a1.legend(fontsize=8)
+    a2.plot(ds["time"], rad_s_to_rpm(ds["speed"]))
+    a2.set_ylabel("speed [rpm]")
+    a2.set_xlabel("time [s]")
+    fig2, ax = new_figure()
+    for p in ds["probe"].values:
+        ax.plot(
+            ds["displacement"].sel(probe=p, axis="x") * um,
+            ds["displacement"].sel(probe=p, axis="y") * um,
+            lw=0.5,
+            label=_probe_name(p),
+        )
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [\u00b5m]")
+    ax.set_ylabel("y [\u00b5m]")
+    ax.legend(fontsize=8)
+    return fig, fig2

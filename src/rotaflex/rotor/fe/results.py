@@ -285,29 +285,9 @@ class TransientResult(_FEResult):
     kind = "rotor_fe_transient"
 
     def plot(self) -> dict:
-        from rotaflex.core.plotting import new_figure
+        from rotaflex.rotor.fe.figures import transient_figures
 
-        ds = self.dataset
-        fig, (a1, a2) = new_figure(2, 1, sharex=True)
-        for p in ds["probe"].values:
-            a1.plot(ds["time"], ds["displacement"].sel(probe=p, axis="x"), lw=0.6, label=f"node {p} x")
-        a1.set_ylabel("x [m]")
-        a1.legend(fontsize=8)
-        a2.plot(ds["time"], rad_s_to_rpm(ds["speed"]))
-        a2.set_ylabel("speed [rpm]")
-        a2.set_xlabel("time [s]")
-        fig2, ax = new_figure()
-        for p in ds["probe"].values:
-            ax.plot(
-                ds["displacement"].sel(probe=p, axis="x"),
-                ds["displacement"].sel(probe=p, axis="y"),
-                lw=0.5,
-                label=f"node {p}",
-            )
-        ax.set_aspect("equal")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        ax.legend(fontsize=8)
+        fig, fig2 = transient_figures(self.dataset)
         return {**_model_fig(self), "time_response": fig, "orbit": fig2}
 
 

@@ -25,6 +25,12 @@ to the node by a bending hub spring, integrated together with the modal coordina
 quaternion is not renormalised in the state; it is normalised where the attitude is used and
 its norm drift is returned). The quaternion disk needs a constant speed (its spin is free,
 the joint transmits no torque about the disk axis) and the modal method.
+
+The linear part is written once for rotors and machines: :class:`Pencil` (the matrices over a
+speed grid, unbalance groups each at its own signed speed ratio), :class:`Linear` (basis,
+reduced matrices, right-hand side, integration) and :func:`linear_transient`; :func:`transient`
+builds the rotor's pencil and adds the large-rotation disks to the right-hand side, and
+:func:`rotaflex.system.transient.machine_transient` builds a machine's.
 """
 
 from __future__ import annotations
@@ -32,7 +38,7 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg as sla
@@ -41,6 +47,7 @@ from rotaflex.core.errors import ConvergenceError, InputError, SingularityError
 from rotaflex.rotor.fe.elements.large_disk import LargeRotationDisk
 from rotaflex.rotor.fe.elements.quaternion_disk import QuaternionDisk
 from rotaflex.rotor.fe.model import NDOF_NODE, Rotor
+from rotaflex.rotor.fe.response import unbalance_force
 
 log = logging.getLogger(__name__)
 
@@ -86,12 +93,210 @@ class TransientData:
         return float(np.max(np.abs(np.linalg.norm(self.quaternion, axis=-1) - 1.0)))
 
 
-def _speed_grid(rotor: Rotor, lo: float, hi: float) -> np.ndarray:
+def speed_grid(rotor: Rotor, lo: float, hi: float, scale: float = 1.0) -> np.ndarray:
+    """Speeds in [lo, hi] [rad/s] at which the pencil is evaluated: the ends and every breakpoint
+    of the bearings' speed tables (a table's speed divided by ``scale``: a machine's rotor turns
+    at ``scale`` times the drive speed), so that linear interpolation reproduces linear tables."""
     pts = [lo, hi]
     for _, _, el in rotor.bearings:
         if el.speeds is not None:
-            pts += [s for s in el.speeds if lo < s < hi]
+            pts += [s / scale for s in el.speeds if lo < s / scale < hi]
     return np.unique(pts)
+
+
+@dataclass(frozen=True)
+class Pencil:
+    """Linear equations of motion on n coordinates at the drive speed W(t) = W0 + alpha t and
+    drive angle phi(t) = W0 t + alpha t^2 / 2:
+
+        M q'' + (C(W) + W G) q' + (K(W) + alpha Kst) q = sum_g Re[F_g (f_g^2 W^2 - i f_g alpha) e^{i f_g phi}]
+
+    where the g-th unbalance group turns at ``f_g`` times the drive speed (a rotor, or several at
+    one signed speed ratio). K(W), C(W) are linear between the ``speeds`` of their table (the
+    run's speeds lie within them): bearings at the instantaneous speed, exact for linear speed
+    tables.
+
+    Attributes
+    ----------
+    M : ndarray (n, n) [kg]
+        Constant mass (elements with added mass at the mid speed of the run).
+    speeds : ndarray (s,) [rad/s]
+        Drive speeds of the K, C table (one: speed-independent).
+    K, C : ndarray (s, n, n) [N/m, N s/m]
+    G : ndarray (n, n) [N s/m per rad/s]
+        Gyroscopic matrix per unit drive speed.
+    Kst : ndarray (n, n) [N/m per rad/s^2]
+        Spin-acceleration coupling per unit drive acceleration.
+    F : ndarray (n, g) complex [kg m]
+        Unbalance phasors (x row ``u e^{i b}``, y row ``-i u e^{i b}``) per group.
+    factor : ndarray (g,)
+        Signed speed of each group per unit drive speed.
+    K_basis, M_basis : callable () -> ndarray (n, n), ndarray (n, n)
+        Stiffness (evaluated only by the modal method) and mass of the undamped modal basis.
+    """
+
+    M: np.ndarray
+    speeds: np.ndarray
+    K: np.ndarray
+    C: np.ndarray
+    G: np.ndarray
+    Kst: np.ndarray
+    F: np.ndarray
+    factor: np.ndarray
+    K_basis: Callable[[], np.ndarray]
+    M_basis: np.ndarray
+
+
+class Linear:
+    """A :class:`Pencil` on the basis T (``"modal"``: the lowest ``n_modes`` undamped modes of
+    (K_basis, M_basis); ``"direct"``: all coordinates): the reduced matrices, the interpolated
+    pencil ``mats(t)``, the load ``load(t, W, x, v)`` (unbalance groups plus the optional
+    ``force(t, q, v)`` on the full coordinates), the right-hand side ``rhs(t, z)``, the initial
+    state ``start(q0, v0)`` and :meth:`integrate`."""
+
+    def __init__(self, p: Pencil, method: str, n_modes: int, speed_start: float, alpha: float, force=None):
+        n = p.M.shape[0]
+        if method == "modal":
+            Kmid = p.K_basis()
+            k = min(n_modes, n)
+            w2, Phi = sla.eigh(0.5 * (Kmid + Kmid.T), p.M_basis, subset_by_index=(0, k - 1))
+            T = Phi
+        elif method == "direct":
+            T = np.eye(n)
+        else:
+            raise InputError("transient.method", method, "'modal' or 'direct'")
+        self.p, self.T, self.m, self.method = p, T, T.shape[1], method
+        self.speed_start, self.alpha, self.force = speed_start, alpha, force
+        self.Mr = T.T @ p.M @ T
+        self.Mi = sla.inv(self.Mr)
+        self.Gr, self.Kstr = T.T @ p.G @ T, T.T @ p.Kst @ T
+        self.Kr = np.einsum("ia,sij,jb->sab", T, p.K, T)
+        self.Cr = np.einsum("ia,sij,jb->sab", T, p.C, T)
+        self.Fr = [T.T @ p.F[:, g] for g in range(p.F.shape[1])]
+        self.mats, self.load, self.rhs = self._closures()
+
+    def _closures(self):
+        """``mats(t)``: (W [rad/s], K + alpha Kst, C + W G) on the basis at time t [s];
+        ``load(t, W, x, v)``: unbalance plus the extra force on the basis; ``rhs(t, z)``: the
+        first-order right-hand side of the linear equations (state [x, v] on the basis).
+        Closures over local names: the integrator calls them ~1e4-1e5 times a run."""
+        speed_start, alpha, m, grid = self.speed_start, self.alpha, self.m, self.p.speeds
+        Kr, Cr, Kstr, Gr, Mi, T, force = self.Kr, self.Cr, self.Kstr, self.Gr, self.Mi, self.T, self.force
+        groups = [(float(fac), Fr) for fac, Fr in zip(self.p.factor, self.Fr, strict=True)]
+        last = grid.size - 2
+
+        def mats(t):
+            w = speed_start + alpha * t
+            if last < 0:
+                K, C = Kr[0], Cr[0]
+            else:
+                j = int(np.clip(np.searchsorted(grid, w) - 1, 0, last))
+                s = (w - grid[j]) / (grid[j + 1] - grid[j])
+                K, C = Kr[j] + s * (Kr[j + 1] - Kr[j]), Cr[j] + s * (Cr[j + 1] - Cr[j])
+            return w, K + alpha * Kstr, C + w * Gr
+
+        def load(t, w, x, v):
+            phi = speed_start * t + 0.5 * alpha * t * t
+            f = None
+            for fac, Fr in groups:  # each group at its own signed speed and angle
+                wr, ar = fac * w, fac * alpha
+                fg = (Fr * (wr * wr - 1j * ar) * np.exp(1j * (fac * phi))).real
+                f = fg if f is None else f + fg
+            if f is None:
+                f = np.zeros(m)
+            if force is not None:
+                f = f + T.T @ force(t, T @ x, T @ v)
+            return f
+
+        def rhs(t, z):
+            w, K, D = mats(t)
+            x, v = z[:m], z[m : 2 * m]
+            f = load(t, w, x, v)
+            return np.concatenate([v, Mi @ (f - D @ v - K @ x)])
+
+        return mats, load, rhs
+
+    def start(self, q0, v0):
+        """Basis coordinates of the initial state (n,) in the basis' own mass metric."""
+        T, Mb = self.T, self.p.M_basis
+        Pb = sla.solve(T.T @ Mb @ T, T.T @ Mb)
+        return Pb @ q0, Pb @ v0
+
+    def integrate(self, rhs, z0, t_end, *, n_output, rtol, atol, steps_per_output, nonlinear, t0, progress):
+        """Integrate ``rhs`` from ``z0`` (basis coordinates first, then any extra state):
+        Newmark (direct) or DOP853 (modal). Returns (TransientData on the n coordinates, the
+        extra state (t, k) or None)."""
+        m, T, method = self.m, self.T, self.method
+        t_eval = np.linspace(0.0, t_end, n_output)
+        if method == "direct":
+            return _newmark(
+                self.mats, rhs, self.p.M, self.Mi, z0, t_eval, steps_per_output, nonlinear, rtol, t0, progress
+            ), None
+        from scipy.integrate import solve_ivp  # here: importing it costs every rotor verb ~0.15 s
+
+        f = rhs if progress is None else _reporting(rhs, t_end, progress)
+        sol = solve_ivp(f, (0.0, t_end), z0, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
+        if not sol.success:
+            tt = float(sol.t[-1]) if sol.t.size else 0.0
+            raise ConvergenceError(f"time integration ({method}): {sol.message}", tt, float("nan"), rtol)
+        q = (T @ sol.y[:m]).T
+        v = (T @ sol.y[m : 2 * m]).T
+        log.info("transient %s: %d rhs evaluations", method, sol.nfev)
+        data = TransientData(
+            sol.t,
+            q,
+            v,
+            self.speed_start + self.alpha * sol.t,
+            int(sol.nfev),
+            time.perf_counter() - t0,
+            f"{method}: {sol.message}",
+        )
+        return data, sol.y[2 * m :].T
+
+
+def linear_transient(
+    p: Pencil,
+    t_end: float,
+    *,
+    speed_start: float,
+    speed_end: float,
+    method: str = "modal",
+    n_modes: int = 20,
+    q0=None,
+    v0=None,
+    force: Force | None = None,
+    n_output: int = 2001,
+    rtol: float = 1e-7,
+    atol: float = 1e-12,
+    steps_per_output: int = 4,
+    progress: Callable[[float, float], None] | None = None,
+) -> TransientData:
+    """Integrate the linear equations of ``p`` (:class:`Pencil`) from 0 to ``t_end`` [s]; the
+    drive speed goes linearly from ``speed_start`` to ``speed_end`` [rad/s]. ``method``,
+    ``n_modes``, ``force``, ``progress`` and the tolerances as :func:`transient` takes them;
+    ``q0``, ``v0`` (n,) on the pencil's coordinates. This is the integration of
+    ``rotaflex rotor transient`` (without large-rotation disks) and of ``rotaflex system transient``.
+    """
+    t0 = time.perf_counter()
+    alpha = (speed_end - speed_start) / t_end
+    n = p.M.shape[0]
+    lin = Linear(p, method, n_modes, speed_start, alpha, force)
+    q0 = np.zeros(n) if q0 is None else np.asarray(q0, float)
+    v0 = np.zeros(n) if v0 is None else np.asarray(v0, float)
+    z0 = np.concatenate(lin.start(q0, v0))
+    data, _ = lin.integrate(
+        lin.rhs,
+        z0,
+        t_end,
+        n_output=n_output,
+        rtol=rtol,
+        atol=atol,
+        steps_per_output=steps_per_output,
+        nonlinear=force is not None,
+        t0=t0,
+        progress=progress,
+    )
+    return data
 
 
 def transient(
@@ -117,6 +322,10 @@ def transient(
     progress: Callable[[float, float], None] | None = None,
 ) -> TransientData:
     """Integrate the rotor's motion from 0 to ``t_end`` [s].
+
+    The linear part is :func:`linear_transient`'s (:class:`Pencil` of the rotor: ``Rotor.KC``
+    on the speed grid of its bearing tables, M at the mid speed, ``G``, ``Kst``); the
+    large-rotation disks add their terms to its right-hand side here.
 
     Parameters
     ----------
@@ -146,10 +355,11 @@ def transient(
     speed_end = speed_start if speed_end is None else speed_end
     alpha = (speed_end - speed_start) / t_end
     n = rotor.n_dof
-    grid = _speed_grid(rotor, min(speed_start, speed_end), max(speed_start, speed_end))
+    grid = speed_grid(rotor, min(speed_start, speed_end), max(speed_start, speed_end))
     Kg, Cg = rotor.KC(grid)
     # a seal's added mass enters at the mid speed of the run (constant M in the integrators)
-    M = rotor.MKC(0.5 * (speed_start + speed_end))[0][0]
+    mid = 0.5 * (speed_start + speed_end)
+    M = rotor.MKC(mid)[0][0]
     G, Kst = rotor.G, rotor.Kst
     disks = dict(rotor.disks)
     if large_rotation_model not in ("euler_123", "quaternion"):
@@ -176,35 +386,47 @@ def transient(
     for node, u, phase in unbalance:
         if not 0 <= node < rotor.n_nodes:
             raise InputError("transient.mass.node", node, f"an existing node 0..{rotor.n_nodes - 1}")
-        F[NDOF_NODE * node, 0] += u * np.exp(1j * phase)
-        F[NDOF_NODE * node + 1, 0] += -1j * u * np.exp(1j * phase)
-
-    if method == "modal":
-        mid = 0.5 * (speed_start + speed_end)
-        Kmid = rotor.KC(mid)[0][0]
-        k = min(n_modes, n)
-        # basis of the rotor with its disks' rotary inertia (also for quaternion disks: their
-        # stiff hub keeps the node near the disk's attitude, so the same low modes span it)
-        w2, Phi = sla.eigh(0.5 * (Kmid + Kmid.T), Mbasis, subset_by_index=(0, k - 1))
-        T = Phi
-    elif method == "direct":
-        T = np.eye(n)
-    else:
-        raise InputError("transient.method", method, "'modal' or 'direct'")
-    m = T.shape[1]
-    Mr = T.T @ M @ T
-    Mi = sla.inv(Mr)
-    Gr, Kstr = T.T @ G @ T, T.T @ Kst @ T
-    Kr = np.einsum("ia,sij,jb->sab", T, Kg, T)
-    Cr = np.einsum("ia,sij,jb->sab", T, Cg, T)
-    Fr = T.T @ F[:, 0]
+        F[NDOF_NODE * node : NDOF_NODE * node + 2, 0] += unbalance_force(1.0, u, phase)  # per unit spin^2
+    # basis of the rotor with its disks' rotary inertia (also for quaternion disks: their stiff
+    # hub keeps the node near the disk's attitude, so the same low modes span it)
+    pencil = Pencil(
+        M,
+        grid,
+        Kg,
+        Cg,
+        G,
+        Kst,
+        F[:, :1] if unbalance else F[:, :0],
+        np.ones(1 if unbalance else 0),
+        lambda: rotor.KC(mid)[0][0],
+        Mbasis,
+    )
+    if not large_rotation:
+        return linear_transient(
+            pencil,
+            t_end,
+            speed_start=speed_start,
+            speed_end=speed_end,
+            method=method,
+            n_modes=n_modes,
+            q0=q0,
+            v0=v0,
+            force=force,
+            n_output=n_output,
+            rtol=rtol,
+            atol=atol,
+            steps_per_output=steps_per_output,
+            progress=progress,
+        )
+    lin = Linear(pencil, method, n_modes, speed_start, alpha, force)
+    T, m = lin.T, lin.m
     large, qdisks = [], []
     q0 = np.zeros(n) if q0 is None else np.asarray(q0, float)
     v0 = np.zeros(n) if v0 is None else np.asarray(v0, float)
     # modal coordinates of q0, v0 in the basis' own mass metric; a quaternion disk starts at the
     # node's tilt as the basis represents it (an unstrained hub)
-    Pb = sla.solve(T.T @ Mbasis @ T, T.T @ Mbasis)
-    q0b, v0b = T @ (Pb @ q0), T @ (Pb @ v0)
+    x0, xv0 = lin.start(q0, v0)
+    q0b, v0b = T @ x0, T @ xv0
     z_disk = []
     for node in large_rotation:
         Tn = T[NDOF_NODE * node : NDOF_NODE * node + 4]
@@ -223,25 +445,12 @@ def transient(
         qdisks.append((el, Tn[2:4]))
         z_disk += [e0, w0]
     nq = len(qdisks)
-
-    def mats(t):
-        w = speed_start + alpha * t
-        if grid.size == 1:
-            K, C = Kr[0], Cr[0]
-        else:
-            j = int(np.clip(np.searchsorted(grid, w) - 1, 0, grid.size - 2))
-            s = (w - grid[j]) / (grid[j + 1] - grid[j])
-            K, C = Kr[j] + s * (Kr[j + 1] - Kr[j]), Cr[j] + s * (Cr[j + 1] - Cr[j])
-        return w, K + alpha * Kstr, C + w * Gr
+    Mr, Mi = lin.Mr, lin.Mi
 
     def rhs(t, z):
-        w, K, D = mats(t)
+        w, K, D = lin.mats(t)
         x, v = z[:m], z[m : 2 * m]
-        phi = speed_start * t + 0.5 * alpha * t * t
-        e = np.exp(1j * phi)
-        f = (Fr * (w * w - 1j * alpha) * e).real if unbalance else np.zeros(m)
-        if force is not None:
-            f = f + T.T @ force(t, T @ x, T @ v)
+        f = lin.load(t, w, x, v)
         if qdisks:
             dz = []
             for i, (el, Tt) in enumerate(qdisks):
@@ -250,8 +459,6 @@ def transient(
                 f = f + Tt.T @ mom
                 dz += [de, dw]
             return np.concatenate([v, Mi @ (f - D @ v - K @ x), *dz])
-        if not large:
-            return np.concatenate([v, Mi @ (f - D @ v - K @ x)])
         Mq = Mr.copy()
         for el, Tn in large:
             qn, vn = Tn @ x, Tn @ v
@@ -266,32 +473,27 @@ def transient(
             f = f - Tn.T @ el.force(qn, vn, w, alpha)
         return np.concatenate([v, np.linalg.solve(Mq, f - D @ v - K @ x)])
 
-    z0 = np.concatenate([Pb @ q0, Pb @ v0, *z_disk])
-    t_eval = np.linspace(0.0, t_end, n_output)
-    if method == "direct":
-        nonlinear = force is not None or bool(large)
-        return _newmark(mats, rhs, M, Mi, z0, t_eval, steps_per_output, nonlinear, rtol, t0, progress)
-    from scipy.integrate import solve_ivp  # here: importing it costs every rotor verb ~0.15 s
-
-    f = rhs if progress is None else _reporting(rhs, t_end, progress)
-    sol = solve_ivp(f, (0.0, t_end), z0, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
-    if not sol.success:
-        tt = float(sol.t[-1]) if sol.t.size else 0.0
-        raise ConvergenceError(f"time integration ({method}): {sol.message}", tt, float("nan"), rtol)
-    q = (T @ sol.y[:m]).T
-    v = (T @ sol.y[m : 2 * m]).T
-    log.info("transient %s: %d rhs evaluations", method, sol.nfev)
-    zd = sol.y[2 * m :].T.reshape(sol.t.size, nq, 7)
-    return TransientData(
-        sol.t,
-        q,
-        v,
-        speed_start + alpha * sol.t,
-        int(sol.nfev),
-        time.perf_counter() - t0,
-        f"{method}: {sol.message}",
-        quaternion=zd[..., :4] if nq else None,
-        omega=zd[..., 4:] if nq else None,
+    z0 = np.concatenate([x0, xv0, *z_disk])
+    data, extra = lin.integrate(
+        rhs,
+        z0,
+        t_end,
+        n_output=n_output,
+        rtol=rtol,
+        atol=atol,
+        steps_per_output=steps_per_output,
+        nonlinear=force is not None or bool(large),
+        t0=t0,
+        progress=progress,
+    )
+    if not nq:
+        return data
+    zd = extra.reshape(data.time.size, nq, 7)
+    return replace(
+        data,
+        wall_time=time.perf_counter() - t0,
+        quaternion=zd[..., :4],
+        omega=zd[..., 4:],
         disks=tuple(el for el, _ in qdisks),
     )
 

@@ -178,7 +178,7 @@ def run_campbell(config: dict, *, progress: bool = False) -> CampbellResult:
 @pinned
 def run_ucs(config: dict, *, progress: bool = False) -> UCSResult:
     """Undamped critical speed map over ``[ucs] stiffness``."""
-    from rotaflex.rotor.fe.modal import ucs_map
+    from rotaflex.rotor.fe.ucs import ucs_map
 
     t0 = time.perf_counter()
     rotor, spec = parse(config, "ucs")
