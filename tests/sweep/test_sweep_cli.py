@@ -226,7 +226,10 @@ def test_dask_case_that_always_kills_its_worker_fails_alone(tmp_path, selftest_d
     bad, good = ds.sel({"kill_always": True}), ds.sel({"kill_always": False})
     assert str(good["status"].values) == "success" and float(good["a"]) == 1.5
     assert str(bad["status"].values) == "error" and "KilledWorker" in str(bad["error"].values)
-    assert int(bad["attempts"]) == 2
+    # two deaths while running alone (retries = 1); a first run beside the good case that died
+    # with it counts for neither (a worker's death fails every case queued on it)
+    assert int(bad["attempts"]) in (2, 3)
+    assert "died while running this case 2 time(s)" in str(bad["error"].values)
 
 
 def test_dask_unreachable_scheduler_is_one_line(tmp_path, selftest_domain, monkeypatch):

@@ -535,7 +535,7 @@ def _drive(
     """Submit/collect loop: keep ``backend.window`` cases in flight; handle worker deaths."""
     attempts: dict[str, int] = {}
     deaths: dict[str, int] = {}
-    suspects: deque[Case] = deque()  # in flight when a local pool broke: re-run one at a time
+    suspects: deque[Case] = deque()  # in flight when a pool broke or a worker died: re-run one at a time
     inflight: dict[Future, Case] = {}
 
     def submit(case: Case, queue: deque[Case]) -> bool:
@@ -583,7 +583,13 @@ def _drive(
                 else:
                     suspects.append(case)
             except (CancelledError, Exception) as exc:  # KilledWorker, lost connection, ...
-                died(case, exc, todo)
+                if isolated:
+                    died(case, exc, suspects)
+                else:
+                    # a cluster queues several cases on one worker, and a worker's death fails
+                    # them all: which case killed it is known only when each runs alone
+                    log.warning("case %s: lost with its worker (%s); re-running it alone", case.id, type(exc).__name__)
+                    suspects.append(case)
             else:
                 finish(case, outcome, attempts[case.id])
         if broken:
