@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from rotaflex.core.units import deg_to_rad
+from rotaflex.core.units import deg_to_rad, rad_s_to_rpm
 from rotaflex.gear.pair import paper
 from rotaflex.sweep.figures import _STYLES, _base_config, _find, _get, _label, _lines, _speed_dim, display_scale
 
@@ -270,7 +270,7 @@ def dynamics_sweep_figure(ds) -> dict[str, Any]:
     if x is None or (kv is None and dte is None):
         return {}
     unit = ds[x].attrs.get("units", "") or ("rpm" if x.endswith("_rpm") else "rad/s")
-    to_rpm = {"rpm": 1.0, "rad/s": 60 / (2 * math.pi)}.get(unit)
+    to_rpm = {"rpm": 1.0, "rad/s": rad_s_to_rpm(1.0)}.get(unit)
     est = gear_mesh_estimate(_base_config(ds))
     z = est["teeth"]
     fn_name = _find(ds, ("natural_frequency",))
