@@ -26,9 +26,10 @@ import numpy as np
 import xarray as xr
 
 from rotaflex.core.limits import require, require_memory
-from rotaflex.core.units import rad_s_to_rpm, rpm_to_rad_s
+from rotaflex.core.units import rpm_to_rad_s
 from rotaflex.rotor.fe.response import unbalance_force
 from rotaflex.rotor.fe.transient import Pencil, TransientData, linear_transient, speed_grid
+from rotaflex.rotor.fe.verbs_response import transient_peak
 from rotaflex.system.model import Gearbox
 
 __all__ = ["machine_pencil", "machine_transient", "transient_result"]
@@ -191,20 +192,11 @@ def transient_result(config: dict, box: Gearbox, spec, probes, t0: float, progre
             "rotor": [pr.name for pr in box.rotors],
         },
     )
-    radial = np.hypot(disp[..., 0], disp[..., 1])  # (time, probe)
-    i, j = np.unravel_index(int(np.argmax(radial)), radial.shape)
-    extra = {
-        "max_radial_displacement": {"value": float(radial[i, j]), "unit": "m", "probe": names[j]},
-        "speed_at_max_rpm": {
-            "value": float(rad_s_to_rpm(tr.speed[i])),
-            "unit": "rpm",
-            "note": "drive speed at the largest radial displacement (its probe)",
-        },
-        "function_evaluations": {"value": tr.nfev, "unit": ""},
-    }
+    extra, msg = transient_peak(tr, disp, names)
+    extra["speed_at_max_rpm"]["note"] = "drive speed at the largest radial displacement"
     if note:
         extra["note"] = {"value": note, "unit": ""}
-    msg = tr.message + (f"; {note}" if note else "")
+    msg += f"; {note}" if note else ""
     ds.attrs.update(summary_attrs(config, t0, extra, msg))
     ds.attrs["nfev"] = tr.nfev
     return SystemTransientResult(ds)

@@ -230,20 +230,39 @@ def run_transient(config: dict, *, progress: bool = False) -> TransientResult:
         ds["disk_quaternion"] = (("time", "disk", "component"), tr.quaternion, {"units": "1"})
         ds["disk_body_rate"] = (("time", "disk", "body_axis"), tr.omega, {"units": "rad/s"})
         ds = ds.assign_coords(disk=nodes, component=["e0", "e1", "e2", "e3"], body_axis=["1", "2", "3"])
-    amax = np.max(np.hypot(disp[..., 0], disp[..., 1]), 0)
-    i = int(np.argmax(np.hypot(disp[:, 0, 0], disp[:, 0, 1])))
-    extra = {
-        "max_radial_displacement": {"value": float(amax.max()), "unit": "m"},
-        "speed_at_max_rpm": {"value": float(rad_s_to_rpm(tr.speed[i])), "unit": "rpm"},
-        "function_evaluations": {"value": tr.nfev, "unit": ""},
-    }
+    extra, msg = transient_peak(tr, disp, [f"node {p}" for p in probes])
     if tr.quaternion is not None:
         extra["quaternion_norm_drift"] = {"value": tr.quaternion_norm_drift, "unit": "1"}
     if note:
         extra["note"] = {"value": note, "unit": ""}
-    ds.attrs.update(summary_attrs(config, t0, extra, tr.message + (f"; {note}" if note else "")))
+    ds.attrs.update(summary_attrs(config, t0, extra, msg + (f"; {note}" if note else "")))
     ds.attrs["nfev"] = tr.nfev
     return TransientResult(add_fluid_film_tables(ds, rotor))
+
+
+def transient_peak(tr, disp: np.ndarray, names: list[str]) -> tuple[dict, str]:
+    """summary.json entries and the one-line outcome of a time response (rotor and machine).
+
+    ``disp`` (time, probe, axis) [m] at the probes ``names``; the largest radial displacement
+    over all probes, the probe and the (drive) speed at which it occurs, and the integrator.
+    """
+    radial = np.hypot(disp[..., 0], disp[..., 1])
+    i, j = np.unravel_index(int(np.argmax(radial)), radial.shape)
+    rpm = float(rad_s_to_rpm(tr.speed[i]))
+    extra = {
+        "max_radial_displacement": {"value": float(radial[i, j]), "unit": "m", "probe": names[j]},
+        "speed_at_max_rpm": {"value": rpm, "unit": "rpm", "note": "speed at the largest radial displacement"},
+        "function_evaluations": {"value": tr.nfev, "unit": ""},
+    }
+    r0, r1 = (float(rad_s_to_rpm(tr.speed[k])) for k in (0, -1))
+    run = f"{r0:.6g} rpm" if r0 == r1 else f"{r0:.6g} -> {r1:.6g} rpm"
+    method, _, detail = tr.message.partition(": ")  # "modal: <the ODE solver's own words>"
+    how = detail if method == "direct" else f"{method}, {tr.nfev} evaluations"
+    msg = (
+        f"{run} over {tr.time[-1] - tr.time[0]:.4g} s: largest orbit radius {radial[i, j] * 1e6:.4g} um "
+        f"at {names[j]}, {rpm:.6g} rpm, t = {tr.time[i]:.4g} s ({how})"
+    )
+    return extra, msg
 
 
 def peak_entries(pk: list[dict]) -> dict:
