@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rotaflex.core.errors import InputError
-from rotaflex.rotor.fe.bearings.static_load import with_loads
+from rotaflex.rotor.fe.bearings.static_load import iterate_journal_loads, with_loads
 from rotaflex.rotor.fe.layout import bearing_path
 from rotaflex.rotor.fe.static import applied_loads, default_speed, gravity_vector, static_state
 from rotaflex.system.model import Gearbox
@@ -153,34 +153,23 @@ def machine_static(
             rotors[r] = dataclasses.replace(pr, rotor=with_loads(pr.rotor, cur[r], idx, at))
         return dataclasses.replace(box, rotors=tuple(rotors))
 
-    for it in range(1, max_iter + 1):
-        s = _solve(trial(current), g, loads, speed)
-        change, worst = 0.0, None
-        for r, idx in film.items():
-            st = s.rotors[r]
-            new = -st.reactions
-            scale = max(float(np.hypot(*st.load_total)), float(np.abs(st.external[:, :2]).sum()))
-            diff = np.abs(new[idx] - current[r][idx]).max(axis=1) / scale
-            if diff.max() > change:
-                change, worst = float(diff.max()), (r, idx[int(np.argmax(diff))])
-            for i in idx:
-                if np.hypot(*new[i]) <= 1e-9 * scale:
-                    raise InputError(
-                        f"rotor[{r}].{bearing_path(i, box.rotors[r].rotor.bearing[i])}.fluid_film.load",
-                        "static",
-                        "an explicit [Fx, Fy]: the machine's static state leaves this bearing unloaded, "
-                        "and a film cannot hold an unloaded journal",
-                    )
-            current[r][idx] = new[idx]
-        if change <= tol:  # as the rotor verb: the films' full tables at the converged loads
-            return dataclasses.replace(_solve(trial(current, cut=False), g, loads, speed), iterations=it)
-    r, i = worst
-    raise InputError(
-        f"rotor[{r}].{bearing_path(i, box.rotors[r].rotor.bearing[i])}.fluid_film.load",
-        "static",
-        f"an explicit [Fx, Fy]: the machine's film-load iteration did not converge in {max_iter} passes "
-        f"(last change {change:.3g} of the rotor's load, tolerance {tol:g})",
-    )
+    def solve(cur):
+        s = _solve(trial(cur), g, loads, speed)
+        st = {r: s.rotors[r] for r in film}
+        return (
+            {r: -x.reactions for r, x in st.items()},
+            {r: max(float(np.hypot(*x.load_total)), float(np.abs(x.external[:, :2]).sum())) for r, x in st.items()},
+        )
+
+    paths = {r: _film_path(box, r) for r in film}
+    current, it, _ = iterate_journal_loads(solve, current, film, paths, speed, tol, max_iter)
+    # as the rotor verb: the films' full tables at the converged loads
+    return dataclasses.replace(_solve(trial(current, cut=False), g, loads, speed), iterations=it)
+
+
+def _film_path(box: Gearbox, r: int):
+    """Config key of rotor r's bearing i's film load (for the errors)."""
+    return lambda i: f"rotor[{r}].{bearing_path(i, box.rotors[r].rotor.bearing[i])}.fluid_film.load"
 
 
 def _solve(box: Gearbox, g: np.ndarray, loads, speed: float) -> MachineStatic:

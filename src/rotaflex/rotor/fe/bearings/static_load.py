@@ -127,27 +127,70 @@ def resolve_static_loads(
     for b in range(nb):
         if b not in idx and rotor.bearing[b].fluid_film is not None:
             current[b] = rotor.bearing[b].fluid_film.load
-    change = np.inf
-    for it in range(1, max_iter + 1):
-        for i in idx:
-            if np.hypot(*current[i]) <= 1e-9 * total:
-                raise InputError(
-                    f"{bearing_path(i, rotor.bearing[i])}.fluid_film.load",
-                    "static",
-                    f"an explicit [Fx, Fy]: the static analysis leaves this bearing unloaded "
-                    f"({np.hypot(*current[i]):.3g} N of {total:.6g} N), and a film cannot hold an unloaded journal",
-                )
-        trial = with_loads(rotor, current, idx, speed)
+
+    def solve(cur):
+        trial = with_loads(rotor, cur[0], idx, speed)
         s = static_analysis(trial, gravity=gravity, direction=direction, loads=loads, speed=speed)
-        new = -s.reactions
-        diff = np.abs(new[idx] - current[idx]).max(axis=1) / total
-        change = float(diff.max())
-        worst = idx[int(np.argmax(diff))]
-        current[idx] = new[idx]
+        return {0: -s.reactions}, {0: total}
+
+    paths = {0: lambda i: f"{bearing_path(i, rotor.bearing[i])}.fluid_film.load"}
+    cur, it, change = iterate_journal_loads(solve, {0: current}, {0: idx}, paths, speed, tol, max_iter)
+    return StaticLoads(with_loads(rotor, cur[0], idx, None), cur[0], it, change, speed)
+
+
+def iterate_journal_loads(solve, current: dict, film: dict, paths: dict, speed: float, tol: float, max_iter: int):
+    """The fixed point of the journal loads ``load = "static"`` (one rotor or a machine's).
+
+    Parameters
+    ----------
+    solve : callable
+        ``solve(current) -> (loads, scale)``: the static state with the journal loads
+        ``current`` ({group: (n_bearing, 2) [N]}) gives each group's new journal loads (minus
+        the reactions) and its load scale [N] (the convergence and "unloaded" reference).
+    current : dict
+        Starting journal loads per group (a rotor); updated in place.
+    film : dict
+        Indices of each group's ``load = "static"`` bearings.
+    paths : dict
+        ``paths[group](i)``: the config key of bearing i's load, for the errors.
+    speed : float
+        Reference speed of the coefficients [rad/s] (for the error message).
+    tol, max_iter : float, int
+        Convergence (largest change / the group's scale) and static solves allowed.
+
+    Returns
+    -------
+    (current, iterations, change)
+
+    Raises
+    ------
+    InputError
+        Naming the bearing's load key when the static state leaves it unloaded (a film cannot
+        hold an unloaded journal) or the iteration does not converge.
+    """
+    change, worst = np.inf, None
+    for it in range(1, max_iter + 1):
+        new, scale = solve(current)
+        change = 0.0
+        for g, idx in film.items():
+            for i in idx:
+                if np.hypot(*new[g][i]) <= 1e-9 * scale[g]:
+                    raise InputError(
+                        paths[g](i),
+                        "static",
+                        f"an explicit [Fx, Fy]: the static analysis leaves this bearing unloaded "
+                        f"({np.hypot(*new[g][i]):.3g} N of {scale[g]:.6g} N), "
+                        "and a film cannot hold an unloaded journal",
+                    )
+            diff = np.abs(new[g][idx] - current[g][idx]).max(axis=1) / scale[g]
+            if worst is None or diff.max() > change:
+                change, worst = float(diff.max()), (g, idx[int(np.argmax(diff))])
+            current[g][idx] = new[g][idx]
         if change <= tol:
-            return StaticLoads(with_loads(rotor, current, idx, None), current, it, change, speed)
+            return current, it, change
+    g, i = worst
     raise InputError(
-        f"{bearing_path(worst, rotor.bearing[worst])}.fluid_film.load",
+        paths[g](i),
         "static",
         f"an explicit [Fx, Fy]: the static-load iteration (reactions -> coefficients at "
         f"{rad_s_to_rpm(speed):.6g} rpm -> "
