@@ -83,12 +83,28 @@ def test_python_train_gives_the_toml_numbers(example):
         (ns["torsion"], run_torsional(cfg), "natural_frequency"),
         (ns["coupled"], run_modal(cfg), "damped_frequency"),
         (ns["camp"], run_campbell(cfg), "damped_frequency"),
+        (ns["static"], run_static(cfg), "reaction"),  # the file's [static] is the defaults
     )
     for lib, cli, var in pairs:
         a, b = lib.dataset[var].values, cli.dataset[var].values
         assert a.shape == b.shape and a.size
         np.testing.assert_allclose(a, b, rtol=1e-12, atol=0)
     assert ns["torsion"].summary()["api684_verdict"] == run_torsional(cfg).summary()["api684_verdict"]
+
+
+def test_example_critical_and_runup_agree_with_the_unbalance_peak(example):
+    """The example's undamped critical at the pump's 1e8 N/m (critical_speed_map) against a second
+    formulation, the peak of its damped unbalance response (85 speeds, bearings damped
+    lightly: within 1 %); its 2000 rpm/s run-up peaks later and lower than the steady response
+    (the run-up lag of F. M. Lewis, "Vibration during acceleration through a critical speed",
+    Trans. ASME 54, 1932)."""
+    ns, _ = example
+    ucs, unb, run = ns["ucs"], ns["unbalance"].summary(), ns["runup"].summary()
+    assert float(ucs.dataset["stiffness"][2]) == pytest.approx(1e8, rel=1e-12)
+    critical = float(ucs.dataset["critical_speed"][2, 0]) * 30 / math.pi
+    assert critical == pytest.approx(unb["peak_0_speed_rpm"]["value"], rel=1e-2)
+    assert run["speed_at_max_rpm"]["value"] > critical
+    assert run["max_radial_displacement"]["value"] < unb["peak_0_amplitude"]["value"]
 
 
 def test_lowest_torsional_mode_is_the_two_inertia_mode(example):
