@@ -441,3 +441,16 @@ def test_static_ucs_and_transient_refuse_bad_input_naming_the_toml_key(example):
         (lambda: static_state(machine, loads=_LOAD), "static.load"),
     ):
         assert _message(call).startswith(key)
+
+
+@pytest.mark.parametrize("name", ["static_state", "critical_speed_map", "transient_response"])
+def test_docstring_examples_run(name):
+    """The Examples of the three functions run as written (the weight split, the bounce ratio)."""
+    import doctest
+
+    from rotaflex.system import study
+
+    finder, runner = doctest.DocTestFinder(), doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    (test,) = finder.find(getattr(study, name), f"rotaflex.system.study.{name}", globs=vars(study).copy())
+    assert test.examples
+    assert runner.run(test).failed == 0
