@@ -24,8 +24,11 @@ from rotaflex.system.case import (
     run_response,
     run_stability,
     run_startup,
+    run_static,
     run_steady,
     run_torsional,
+    run_transient,
+    run_ucs,
     run_unbalance,
 )
 from rotaflex.system.study import (
@@ -34,17 +37,21 @@ from rotaflex.system.study import (
     Machine,
     MachineDOF,
     MachineRotor,
+    MachineStaticLoad,
     MachineUnbalanceMass,
     MeshSpec,
     Probe,
     campbell_diagram,
+    critical_speed_map,
     frf,
     mesh_response,
     modes,
     stability,
     startup,
+    static_state,
     steady_state_study,
     torsional_analysis,
+    transient_response,
     unbalance_response_study,
 )
 
@@ -76,12 +83,28 @@ def test_python_train_gives_the_toml_numbers(example):
         (ns["torsion"], run_torsional(cfg), "natural_frequency"),
         (ns["coupled"], run_modal(cfg), "damped_frequency"),
         (ns["camp"], run_campbell(cfg), "damped_frequency"),
+        (ns["static"], run_static(cfg), "reaction"),  # the file's [static] is the defaults
     )
     for lib, cli, var in pairs:
         a, b = lib.dataset[var].values, cli.dataset[var].values
         assert a.shape == b.shape and a.size
         np.testing.assert_allclose(a, b, rtol=1e-12, atol=0)
     assert ns["torsion"].summary()["api684_verdict"] == run_torsional(cfg).summary()["api684_verdict"]
+
+
+def test_example_critical_and_runup_agree_with_the_unbalance_peak(example):
+    """The example's undamped critical at the pump's 1e8 N/m (critical_speed_map) against a second
+    formulation, the peak of its damped unbalance response (85 speeds, bearings damped
+    lightly: within 1 %); its 2000 rpm/s run-up peaks later and lower than the steady response
+    (the run-up lag of F. M. Lewis, "Vibration during acceleration through a critical speed",
+    Trans. ASME 54, 1932)."""
+    ns, _ = example
+    ucs, unb, run = ns["ucs"], ns["unbalance"].summary(), ns["runup"].summary()
+    assert float(ucs.dataset["stiffness"][2]) == pytest.approx(1e8, rel=1e-12)
+    critical = float(ucs.dataset["critical_speed"][2, 0]) * 30 / math.pi
+    assert critical == pytest.approx(unb["peak_0_speed_rpm"]["value"], rel=1e-2)
+    assert run["speed_at_max_rpm"]["value"] > critical
+    assert run["max_radial_displacement"]["value"] < unb["peak_0_amplitude"]["value"]
 
 
 def test_lowest_torsional_mode_is_the_two_inertia_mode(example):
@@ -318,3 +341,116 @@ def test_bad_machine_analyses_name_the_toml_keys(example):
         frf(machine, inputs=_DOFS, speed_rpm=1480.0, speed=155.0)
     with pytest.raises(InputError, match="unbalance.mass"):
         unbalance_response_study(machine, _MASS, speed_rpm=(300.0, 3000.0))  # one table, not a list
+
+
+_LOAD = {"rotor": "pump", "node": 5, "fy": -500.0}
+
+
+def test_static_state_is_the_cli_runner_and_carries_the_weight(example):
+    """The static state from Python equals ``rotaflex system static`` on the TOML twin (every
+    array identical); independent check (equilibrium of the whole train): the bearing reactions
+    carry the weight of both shafts, the motor core, the impeller and the coupling, computed here
+    from the geometry (steel, 7810 kg/m^3), plus a point load, to 1e-9."""
+    machine = example[0]["machine"]
+    lib = static_state(machine, loads=[MachineStaticLoad(**_LOAD)], speed_rpm=1480.0)
+    cli = run_static({**load_toml(TOML), "static": {"load": [_LOAD], "speed_rpm": 1480.0}})
+    _same(lib, cli)
+    rho = MATERIALS["steel"].rho
+    mass = rho * math.pi / 4 * (0.075**2 * 0.9 + 0.06**2 * 0.8) + 120.0 + 25.0 + 8.0
+    g = 9.80665
+    plain = static_state(machine, speed=1480.0 * math.pi / 30)  # gravity alone, the speed in rad/s
+    assert float(plain.dataset["reaction"][:, 1].sum()) == pytest.approx(mass * g, rel=1e-9)
+    assert float(lib.dataset["reaction"][:, 1].sum()) == pytest.approx(mass * g + 500.0, rel=1e-9)
+    side = static_state(machine, gravity=2.0, gravity_direction=(1.0, 0.0))  # along +x: reactions in -x
+    assert float(side.dataset["reaction"][:, 0].sum()) == pytest.approx(-mass * 2.0, rel=1e-9)
+
+
+def _bare_rotor(k: float) -> Rotor:
+    return Rotor(
+        shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=8),),
+        bearing=(Bearing(node=0, kxx=k, kyy=k), Bearing(node=8, kxx=k, kyy=k)),
+    )
+
+
+def test_critical_speed_map_is_the_cli_runner_and_has_the_beam_limits(example):
+    """The UCS map from Python equals ``rotaflex system ucs`` (arrays identical); independent
+    checks on a bare uniform shaft (d 50 mm, 0.8 m, steel) as a machine of one rotor: soft
+    bearings give the rigid-body bounce sqrt(2 k / m) (to 0.2 %: the shaft's own bending), stiff
+    bearings the pinned-pinned Euler-Bernoulli beam pi^2 sqrt(E I / (rho A L^4)) (to 1 %:
+    Timoshenko shear and rotary inertia lower it)."""
+    machine = example[0]["machine"]
+    table = {"rotors": ["pump"], "stiffness": [1e6, 1e10], "n_points": 5, "n_modes": 2}
+    lib = critical_speed_map(machine, rotors=("pump",), stiffness=(1e6, 1e10), n_points=5, n_modes=2)
+    cli = run_ucs({**load_toml(TOML), "ucs": table})
+    _same(lib, cli)
+    assert lib.summary().keys() == cli.summary().keys()
+    bare = Machine(rotors={"shaft": _bare_rotor(1e5)}, drive=DriveSpec(rotor="shaft", node=0))
+    w = critical_speed_map(bare, stiffness=(1e4, 1e12), n_points=2, n_modes=1).dataset["critical_speed"].values
+    steel, area, inertia = MATERIALS["steel"], math.pi * 0.025**2, math.pi * 0.05**4 / 64
+    bounce = math.sqrt(2 * 1e4 / (steel.rho * area * 0.8))
+    euler = math.pi**2 * math.sqrt(steel.E * inertia / (steel.rho * area * 0.8**4))
+    assert w[0, 0] == pytest.approx(bounce, rel=2e-3)
+    assert w[1, 0] == pytest.approx(euler, rel=1e-2) and w[1, 0] < euler
+
+
+_RUN = {"speed_rpm": [3000.0, 3500.0], "duration": 0.05, "n_output": 51, "n_modes": 20}
+_TMASS = [
+    {"rotor": "pump", "node": 5, "magnitude": 1e-3},
+    {"rotor": "motor", "node": 3, "magnitude": 2e-3, "phase_deg": 90.0},
+]
+
+
+def test_transient_response_is_the_cli_runner_and_both_integrations_agree(example):
+    """The transient from Python equals ``rotaflex system transient`` (arrays identical);
+    independent check (a second formulation): the modal integration (20 undamped modes at the
+    mid speed) and Newmark on all coordinates give the same orbits to 2 % of the peak."""
+    machine = example[0]["machine"]
+    probes = [{"rotor": "pump", "node": 5}, {"rotor": "motor", "node": 3}]
+    masses = [MachineUnbalanceMass(**m) for m in _TMASS]
+    lib = transient_response(machine, masses=masses, probes=[Probe(**p) for p in probes], **_RUN)
+    cli = run_transient({**load_toml(TOML), "transient": {**_RUN, "mass": _TMASS, "probes": probes}})
+    _same(lib, cli)
+    a = lib.dataset["displacement"].values
+    rad = {**_RUN, "speed_rpm": None, "speed": tuple(v * math.pi / 30 for v in _RUN["speed_rpm"])}
+    direct = transient_response(machine, masses=_TMASS, probes=probes, method="direct", **rad)
+    b = direct.dataset["displacement"].values
+    assert np.abs(a).max() > 1e-5
+    assert np.abs(a - b).max() < 0.02 * np.abs(a).max()
+
+
+def test_static_ucs_and_transient_refuse_bad_input_naming_the_toml_key(example):
+    """A wrong rotor name gets the verb's message naming the key (``static.load[0].rotor``,
+    ``ucs.rotors[0]``, ``transient.mass[0].rotor``); speed_rpm and speed together are refused."""
+    machine, toml = example[0]["machine"], load_toml(TOML)
+    fan = {**_LOAD, "rotor": "fan"}
+    py = _message(lambda: static_state(machine, loads=[fan]))
+    assert py == _message(lambda: run_static({**toml, "static": {"load": [fan]}}))
+    assert py.startswith("static.load[0].rotor")
+    py = _message(lambda: critical_speed_map(machine, rotors=["fan"], n_points=2))
+    assert py == _message(lambda: run_ucs({**toml, "ucs": {"rotors": ["fan"], "n_points": 2}}))
+    assert py.startswith("ucs.rotors[0]")
+    bad = [{**_TMASS[0], "rotor": "fan"}]
+    py = _message(lambda: transient_response(machine, masses=bad, **_RUN))
+    assert py == _message(lambda: run_transient({**toml, "transient": {**_RUN, "mass": bad}}))
+    assert py.startswith("transient.mass[0].rotor")
+    for call, key in (
+        (lambda: static_state(machine, speed_rpm=1480.0, speed=155.0), "static.speed_rpm"),
+        (lambda: critical_speed_map(machine, speed_rpm=1480.0, speed=155.0), "ucs.speed_rpm"),
+        (lambda: transient_response(machine, speed_rpm=(0, 1), speed=(0, 0.1)), "transient.speed_rpm"),
+        (lambda: transient_response(machine, duration=0.1), "transient.speed_rpm"),
+        (lambda: static_state(machine, loads=_LOAD), "static.load"),
+    ):
+        assert _message(call).startswith(key)
+
+
+@pytest.mark.parametrize("name", ["static_state", "critical_speed_map", "transient_response"])
+def test_docstring_examples_run(name):
+    """The Examples of the three functions run as written (the weight split, the bounce ratio)."""
+    import doctest
+
+    from rotaflex.system import study
+
+    finder, runner = doctest.DocTestFinder(), doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    (test,) = finder.find(getattr(study, name), f"rotaflex.system.study.{name}", globs=vars(study).copy())
+    assert test.examples
+    assert runner.run(test).failed == 0

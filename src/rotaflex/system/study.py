@@ -41,7 +41,13 @@ from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe.model import Rotor
 from rotaflex.rotor.fe.stability import Stage
 from rotaflex.rotor.fe.study import rotor_tables, speed_in_rpm
-from rotaflex.system.case_specs import ExcitationSpec, MachineDOF, MachineUnbalanceMass, Probe
+from rotaflex.system.case_specs import (
+    ExcitationSpec,
+    MachineDOF,
+    MachineStaticLoad,
+    MachineUnbalanceMass,
+    Probe,
+)
 from rotaflex.system.coupling import CouplingSpec
 from rotaflex.system.model import DriveSpec, Gearbox, LoadSpec, MeshSpec
 
@@ -53,18 +59,22 @@ __all__ = [
     "Machine",
     "MachineDOF",
     "MachineRotor",
+    "MachineStaticLoad",
     "MachineUnbalanceMass",
     "MeshSpec",
     "Probe",
     "Stage",
     "campbell_diagram",
+    "critical_speed_map",
     "frf",
     "mesh_response",
     "modes",
     "stability",
     "startup",
+    "static_state",
     "steady_state_study",
     "torsional_analysis",
+    "transient_response",
     "unbalance_response_study",
 ]
 
@@ -580,3 +590,192 @@ def stability(
         table["speed_rpm"] = speed_in_rpm(speed_rpm, speed, "stability", pair=False)
     optional = _optional(rotor=rotor, rated_speed_rpm=rated_speed_rpm, mean_density=mean_density)
     return _run(machine, "stability", {**table, **optional, **_optional(log_dec_min=log_dec_min)})
+
+
+def static_state(
+    machine: Machine,
+    *,
+    gravity: float = 9.80665,
+    gravity_direction: tuple[float, float] = (0.0, -1.0),
+    loads: Iterable[MachineStaticLoad | Mapping] = (),
+    speed_rpm: float | None = None,
+    speed: float | None = None,
+):
+    """Static state of the machine: deflection, bearing reactions, shear and moment of every rotor
+    under gravity, point loads and the ``[load]`` torque, the couplings and meshes carrying their
+    static forces (``rotaflex system static``).
+
+    Parameters
+    ----------
+    machine : Machine
+    gravity : float
+        Acceleration of gravity [m/s^2] (0: point loads only).
+    gravity_direction : (float, float)
+        Direction of gravity (g_x, g_y) in the rotors' x-y plane (default -y).
+    loads : iterable of MachineStaticLoad or mapping
+        The ``[[static.load]]`` tables: ``rotor`` (name), ``node`` or ``position`` [m], ``fx``,
+        ``fy`` [N].
+    speed_rpm, speed : float, optional
+        Drive speed of the bearing coefficients [rpm] or [rad/s] (at most one; neither: the
+        rotors' ``speed_rpm``, else the bearing tables' lowest speed).
+
+    Returns
+    -------
+    SystemStaticResult
+        ``.dataset`` (``deflection`` [m] per node, ``reaction`` [N] per bearing, ``shear`` [N],
+        ``moment`` [N m], ``stress`` [Pa] along the shafts), ``.summary()`` (bearing loads,
+        maxima per rotor), ``.plot_static(rotor)``, ``.plot_model()``, ``.plot()``.
+
+    Examples
+    --------
+    >>> from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+    >>> from rotaflex.system.study import DriveSpec, Machine
+    >>> brg = dict(kxx=1e7, kyy=1e7, cxx=2e3, cyy=2e3)
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=4),),
+    ...           disk=(Disk(node=2, mass=20.0, Id=0.1, Ip=0.2),),
+    ...           bearing=(Bearing(node=0, **brg), Bearing(node=4, **brg)))
+    >>> m = Machine(rotors={"r": r}, drive=DriveSpec(rotor="r", node=0))
+    >>> s = static_state(m, loads=[{"rotor": "r", "node": 2, "fy": -100.0}])
+    >>> shaft = 7810.0 * 3.141592653589793 * 0.025**2 * 0.8  # [kg], steel
+    >>> half = (20.0 + shaft) * 9.80665 / 2 + 50.0  # [N]: half the weight and half the load
+    >>> round(s.summary()["r_load_bearing[0]"]["value"], 1), round(half, 1)
+    (208.2, 208.2)
+    """
+    table = {
+        "gravity": float(gravity),
+        "gravity_direction": [float(g) for g in gravity_direction],
+        "load": _tables(loads, "static.load"),
+    }
+    if speed_rpm is not None or speed is not None:
+        table["speed_rpm"] = speed_in_rpm(speed_rpm, speed, "static", pair=False)
+    return _run(machine, "static", table)
+
+
+def critical_speed_map(
+    machine: Machine,
+    *,
+    stiffness: tuple[float, float] = (1e5, 1e10),
+    n_points: int = 40,
+    n_modes: int = 4,
+    rotors: Iterable[str] = (),
+    rotor: str | None = None,
+    speed_rpm: float | None = None,
+    speed: float | None = None,
+):
+    """Undamped critical speed map: the critical drive speeds against the stiffness of the swept
+    bearings (``rotaflex system ucs``).
+
+    Parameters
+    ----------
+    machine : Machine
+    stiffness : (float, float)
+        Range of the swept bearings' stiffness kxx = kyy [N/m] (log spaced).
+    n_points : int
+        Stiffness values.
+    n_modes : int
+        Critical speeds per stiffness, lowest first.
+    rotors : iterable of str
+        Rotors whose bearings get the swept stiffness (default: all).
+    rotor : str, optional
+        The rotor whose 1X defines the critical speeds (default: the drive rotor).
+    speed_rpm, speed : float, optional
+        Drive speed of the other bearings' kxx, kyy [rpm] or [rad/s] (at most one; neither: the
+        rotors' ``speed_rpm``).
+
+    Returns
+    -------
+    SystemUCSResult
+        ``.dataset`` (``critical_speed`` [rad/s of the drive], ``whirl_frequency`` [rad/s] vs
+        ``stiffness`` [N/m] and ``mode``), ``.summary()`` (criticals at the highest stiffness
+        [rpm]), ``.plot_model()``, ``.plot()`` (the map with the bearings' kxx, kyy).
+
+    Examples
+    --------
+    >>> from rotaflex.rotor.fe import Bearing, Rotor, Shaft
+    >>> from rotaflex.system.study import DriveSpec, Machine
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=4),),
+    ...           bearing=(Bearing(node=0, kxx=1e5, kyy=1e5), Bearing(node=4, kxx=1e5, kyy=1e5)))
+    >>> m = Machine(rotors={"r": r}, drive=DriveSpec(rotor="r", node=0))
+    >>> u = critical_speed_map(m, stiffness=(1e4, 1e9), n_points=6, n_modes=2)
+    >>> w = float(u.dataset["critical_speed"][0, 0])  # [rad/s] at 1e4 N/m: rigid-body bounce
+    >>> bounce = (2 * 1e4 / (7810.0 * 3.141592653589793 * 0.025**2 * 0.8)) ** 0.5  # sqrt(2 k / m)
+    >>> round(w / bounce, 3)  # the shaft's own bending makes the mode slightly softer
+    0.999
+    """
+    names = rotors if isinstance(rotors, str) else list(rotors)  # a bare name: refused by the table's check
+    table = {"stiffness": [float(k) for k in stiffness], "n_points": n_points, "n_modes": n_modes, "rotors": names}
+    if speed_rpm is not None or speed is not None:
+        table["speed_rpm"] = speed_in_rpm(speed_rpm, speed, "ucs", pair=False)
+    return _run(machine, "ucs", {**table, **_optional(rotor=rotor)})
+
+
+def transient_response(
+    machine: Machine,
+    *,
+    duration: float = 1.0,
+    speed_rpm: tuple[float, float] | None = None,
+    speed: tuple[float, float] | None = None,
+    masses: Iterable[MachineUnbalanceMass | Mapping] = (),
+    probes: Iterable[Probe | Mapping] = (),
+    n_output: int = 2001,
+    method: Literal["modal", "direct"] = "modal",
+    n_modes: int = 20,
+    steps_per_output: int = 4,
+):
+    """Time response of the machine to unbalance at a constant drive speed or on a linear ramp
+    (``rotaflex system transient``).
+
+    Parameters
+    ----------
+    machine : Machine
+    duration : float
+        Simulated time [s].
+    speed_rpm, speed : (float, float)
+        Drive speed at the start and the end [rpm] or [rad/s] (one of them; equal: constant);
+        every rotor turns at its ratio.
+    masses : iterable of MachineUnbalanceMass or mapping
+        The ``[[transient.mass]]`` tables: ``rotor`` (name), ``node`` or ``position`` [m],
+        ``magnitude`` m e [kg m], ``phase_deg`` [deg] (the rotor's angle at t = 0).
+    probes : iterable of Probe or mapping
+        Orbit nodes (default: the unbalance nodes).
+    n_output : int
+        Samples written.
+    method : {"modal", "direct"}
+        Integration in the undamped modal basis at the mid speed, or all coordinates (Newmark).
+    n_modes : int
+        Modes kept by the modal method.
+    steps_per_output : int
+        Newmark steps per output interval (direct method).
+
+    Returns
+    -------
+    SystemTransientResult
+        ``.dataset`` (``displacement`` [m] per probe and axis, ``speed`` and ``rotor_speed``
+        [rad/s] vs ``time`` [s]), ``.summary()`` (largest radial displacement and the drive
+        speed there), ``.plot_model()``, ``.plot()`` (time response and orbits).
+
+    Examples
+    --------
+    >>> from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
+    >>> from rotaflex.system.study import DriveSpec, Machine
+    >>> brg = dict(kxx=1e7, kyy=1e7, cxx=2e3, cyy=2e3)
+    >>> r = Rotor(shaft=(Shaft(outer_diameter=0.05, length=0.8, elements=4),),
+    ...           disk=(Disk(node=2, mass=20.0, Id=0.1, Ip=0.2),),
+    ...           bearing=(Bearing(node=0, **brg), Bearing(node=4, **brg)))
+    >>> m = Machine(rotors={"r": r}, drive=DriveSpec(rotor="r", node=0))
+    >>> t = transient_response(m, duration=0.1, speed_rpm=(3000, 3000), n_output=101,
+    ...                        masses=[{"rotor": "r", "node": 2, "magnitude": 1e-4}])
+    >>> t.dataset["displacement"].shape  # (time, probe, axis)
+    (101, 1, 2)
+    """
+    table = {
+        "speed_rpm": speed_in_rpm(speed_rpm, speed, "transient", pair=True),
+        "duration": float(duration),
+        "n_output": n_output,
+        "method": method,
+        "n_modes": n_modes,
+        "steps_per_output": steps_per_output,
+        "mass": _tables(masses, "transient.mass"),
+    }
+    plist = _tables(probes, "transient.probes")
+    return _run(machine, "transient", {**table, **({"probes": plist} if plist else {})})

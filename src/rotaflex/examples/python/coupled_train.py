@@ -2,17 +2,19 @@
 motor (1480 rpm) driving an overhung centrifugal pump through an elastomer coupling. Its
 torsional modes with the API 684 interference diagram over 1440-1500 rpm, the coupled
 (lateral + torsional) modes at 1480 rpm, the Campbell diagram over 0-3000 rpm, the unbalance
-response of the impeller over 300-4500 rpm, the impeller's FRF at 1480 rpm and the API 617
-Level II stability at 1480 rpm; the same numbers as the TOML file through the command line
-(tests/system/test_library_machine.py).
+response of the impeller over 300-4500 rpm, the impeller's FRF at 1480 rpm, the API 617
+Level II stability at 1480 rpm, the static bearing loads under gravity, the undamped critical
+speed map over the pump's bearing stiffness and a 0.5 s run-up through the pump's critical;
+the same numbers as the TOML file through the command line (tests/system/test_library_machine.py).
 
 Run (from the repository root; figures and summaries go to DIR, default out/coupled_train):
 
     PYTHONPATH=src python examples/python/coupled_train.py [DIR]
 
 The same analyses from the command line: ``rotaflex system
-torsional|modal|campbell|unbalance|frf|stability examples/system/motor_coupling_pump.toml --out DIR``
-(with the settings below in its [unbalance], [frf] and [stability] tables). See docs/library.md.
+torsional|modal|campbell|unbalance|frf|stability|static|ucs|transient
+examples/system/motor_coupling_pump.toml --out DIR`` (with the settings below in its [unbalance],
+[frf], [stability], [ucs] and [transient] tables). See docs/library.md.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import sys
 from pathlib import Path
 
 from rotaflex.core.plotting import save_figure
+from rotaflex.core.units import rad_s_to_rpm
 from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft
 from rotaflex.system.study import (
     CouplingSpec,
@@ -33,10 +36,13 @@ from rotaflex.system.study import (
     MachineRotor,
     MachineUnbalanceMass,
     campbell_diagram,
+    critical_speed_map,
     frf,
     modes,
     stability,
+    static_state,
     torsional_analysis,
+    transient_response,
     unbalance_response_study,
 )
 
@@ -119,6 +125,19 @@ receptance = frf(machine, inputs=[impeller], speed_rpm=1480.0, frequency_hz=(5.0
 # pump: no Q_A, Level II of the bearings alone; rolling-element bearings of 800-1000 N s/m damp
 # the lateral modes little, so API 617's 0.1 (written for fluid-film machines) is not met
 stab = stability(machine, rotor="pump", kind="pump", speed_rpm=1480.0)
+# gravity along -y, bearings at the motor's nominal 1480 rpm; the pump's inboard (coupling-side)
+# bearing at node 1 is pulled down by the overhung impeller
+static = static_state(machine)
+# the pump's bearings swept 1e6-1e10 N/m (5 points: 1e8, their value, is the middle one)
+ucs = critical_speed_map(machine, rotors=("pump",), stiffness=(1e6, 1e10), n_points=5, n_modes=4)
+# a 2000 rpm/s run-up of the motor through the pump's 4062 rpm critical with the impeller's 1e-4 kg m
+runup = transient_response(
+    machine,
+    speed_rpm=(3500.0, 4500.0),
+    duration=0.5,
+    n_output=1001,
+    masses=[MachineUnbalanceMass(rotor="pump", node=5, magnitude=1e-4)],
+)
 
 REPORT = {
     "torsional_hz": [round(s["value"], 3) for k, s in torsion.summary().items() if k.endswith("_frequency_hz")],
@@ -130,6 +149,10 @@ REPORT = {
     "frf_peak_hz": round(receptance.summary()["pump:5 x / pump:5 Fx_peak_0_frequency_hz"]["value"], 2),
     "level2_log_dec": round(stab.summary()["level2_log_dec"]["value"], 4),
     "level2_verdict": stab.summary()["level2_verdict"]["value"],
+    "pump_inboard_bearing_load_n": round(static.summary()["pump_load_bearing[0]"]["value"], 1),
+    "first_critical_rpm_at_1e8": round(float(rad_s_to_rpm(ucs.dataset["critical_speed"][2, 0])), 1),
+    "runup_peak_um": round(runup.summary()["max_radial_displacement"]["value"] * 1e6, 2),
+    "runup_peak_rpm": round(runup.summary()["speed_at_max_rpm"]["value"], 1),
 }
 (out / "summary.json").write_text(
     json.dumps(
@@ -140,6 +163,9 @@ REPORT = {
             "unbalance": unbalance.summary(),
             "frf": receptance.summary(),
             "stability": stab.summary(),
+            "static": static.summary(),
+            "ucs": ucs.summary(),
+            "transient": runup.summary(),
         },
         indent=1,
         default=str,
