@@ -4,8 +4,8 @@ With ``-n 2 --dist loadgroup`` (the README's command) every test of one kernel f
 the same worker, so a cold numba cache (a fresh clone, CI) compiles each family once instead
 of once per worker; the other tests are balanced over the workers as usual.
 
-A test file whose module-scoped fixtures (its own, or those of a ``conftest.py`` of its folder)
-compute something shared is one group too: split over two workers, each would compute it
+A test file whose module-scoped fixtures or ``functools`` caches (its own, or those of a
+``conftest.py`` of its folder) compute something shared is one group too: split over two workers, each would compute it
 (seen: the continuation sweep of tests/sweep/test_continuation.py, 9 s CPU, ran in both).
 
 The family is given to pytest-xdist's scheduler directly (:func:`pytest_xdist_make_scheduler`)
@@ -34,15 +34,17 @@ def kernel_family(nodeid: str) -> str | None:
     return KERNEL_FAMILY.get(parts[1]) if len(parts) > 2 and parts[0] == "tests" else None
 
 
-#: a fixture evaluated once per module or session (text of a test file or conftest.py)
-_SHARED_SCOPE = re.compile(r"scope\s*=\s*[\"'](module|session)[\"']")
+#: a fixture evaluated once per module or session, or a function cache shared by a file's tests
+#: (text of a test file or conftest.py)
+_SHARED_SCOPE = re.compile(r"scope\s*=\s*[\"'](module|session)[\"']|@functools\.(cache|lru_cache)\b")
 _ROOT = Path(__file__).resolve().parents[1]
 
 
 @functools.cache
 def shares_module_fixture(path: str) -> bool:
     """True if the test file at ``path`` (relative to the checkout), or a ``conftest.py`` in its
-    folder or a parent folder below ``tests/``, defines a module- or session-scoped fixture."""
+    folder or a parent folder below ``tests/``, defines a module- or session-scoped fixture or a
+    ``functools`` cache (results its tests share within one process)."""
     file = _ROOT / path
     texts = [file]
     folder = file.parent
