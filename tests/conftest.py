@@ -4,6 +4,10 @@ With ``-n 2 --dist loadgroup`` (the README's command) every test of one kernel f
 the same worker, so a cold numba cache (a fresh clone, CI) compiles each family once instead
 of once per worker; the other tests are balanced over the workers as usual.
 
+A test file whose module-scoped fixtures or ``functools`` caches (its own, or those of a
+``conftest.py`` of its folder) compute something shared is one group too: split over two workers, each would compute it
+(seen: the continuation sweep of tests/sweep/test_continuation.py, 9 s CPU, ran in both).
+
 The family is given to pytest-xdist's scheduler directly (:func:`pytest_xdist_make_scheduler`)
 rather than as an ``xdist_group`` mark: xdist passes marks to its scheduler by editing node
 IDs, which pytest 9.2 no longer honours, so the groups were silently ignored
@@ -12,8 +16,11 @@ IDs, which pytest 9.2 no longer honours, so the groups were silently ignored
 
 from __future__ import annotations
 
+import functools
+import re
 import signal
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -25,6 +32,36 @@ def kernel_family(nodeid: str) -> str | None:
     """The kernel family of a test (``tests/<folder>/...`` node ID), or None."""
     parts = nodeid.split("::", 1)[0].split("/")
     return KERNEL_FAMILY.get(parts[1]) if len(parts) > 2 and parts[0] == "tests" else None
+
+
+#: a fixture evaluated once per module or session, or a function cache shared by a file's tests
+#: (text of a test file or conftest.py)
+_SHARED_SCOPE = re.compile(r"scope\s*=\s*[\"'](module|session)[\"']|@functools\.(cache|lru_cache)\b")
+_ROOT = Path(__file__).resolve().parents[1]
+
+
+@functools.cache
+def shares_module_fixture(path: str) -> bool:
+    """True if the test file at ``path`` (relative to the checkout), or a ``conftest.py`` in its
+    folder or a parent folder below ``tests/``, defines a module- or session-scoped fixture or a
+    ``functools`` cache (results its tests share within one process)."""
+    file = _ROOT / path
+    texts = [file]
+    folder = file.parent
+    while folder != _ROOT / "tests" and _ROOT in folder.parents:
+        texts.append(folder / "conftest.py")
+        folder = folder.parent
+    return any(t.is_file() and _SHARED_SCOPE.search(t.read_text(encoding="utf-8")) for t in texts)
+
+
+def schedule_group(nodeid: str) -> str | None:
+    """The scheduling group of a test: its kernel family, else its file if the file shares a
+    module-scoped fixture, else None (the test is scheduled on its own)."""
+    family = kernel_family(nodeid)
+    if family is not None:
+        return family
+    path = nodeid.split("::", 1)[0]
+    return path if shares_module_fixture(path) else None
 
 
 def pytest_configure(config):
@@ -48,10 +85,11 @@ def pytest_xdist_make_scheduler(config, log):
     from xdist.scheduler import LoadGroupScheduling
 
     class KernelFamilyScheduling(LoadGroupScheduling):
-        """Load-group scheduling with each kernel family as one group."""
+        """Load-group scheduling with each kernel family, and each file sharing a module-scoped
+        fixture, as one group."""
 
         def _split_scope(self, nodeid: str) -> str:
-            return kernel_family(nodeid) or super()._split_scope(nodeid)
+            return schedule_group(nodeid) or super()._split_scope(nodeid)
 
     return KernelFamilyScheduling(config, log)
 

@@ -8,6 +8,8 @@ runs again from its predecessor's saved state). A sweep killed with SIGKILL leav
 multiprocessing ``pymp-*`` directory in the system's temporary directory.
 """
 
+import contextlib
+import io
 import json
 import os
 import shutil
@@ -21,6 +23,8 @@ import numpy as np
 import pytest
 import xarray as xr
 from _cli import dump, edited, run
+
+from rotaflex.cli import main
 
 SRC = Path(__file__).resolve().parents[2] / "src"
 
@@ -37,33 +41,53 @@ def _small_gearbox(d):
     d["load"]["node"] = 4
 
 
-def _sweep(capsys, cfg, out, *extra):
+def _sweep_args(cfg, out, *extra):
     args = ["sweep", cfg, "--out", out, "--vary", "steady.speed_rpm=2000:3000:3"]
-    return run(capsys, *args, "--continuation", "steady.speed_rpm", "-j", "0", "-q", "--no-figures", *extra)
+    return [*args, "--continuation", "steady.speed_rpm", "-j", "0", "-q", "--no-figures", *extra]
 
 
-def test_system_steady_chain_rerun_reuses_every_case(capsys, tmp_path):
-    cfg = tmp_path / "gearbox.toml"
+def _sweep(capsys, cfg, out, *extra):
+    return run(capsys, *_sweep_args(cfg, out, *extra))
+
+
+@pytest.fixture(scope="module")
+def chain(tmp_path_factory):
+    """The small gearbox's chain swept once (shared: each test reruns a copy of its output):
+    config path, output folder, exit status and stdout of the first run."""
+    tmp = tmp_path_factory.mktemp("chain")
+    cfg = tmp / "gearbox.toml"
     cfg.write_text(dump(edited("system/gearbox.toml", _small_gearbox)))
-    code, out, _ = _sweep(capsys, cfg, tmp_path / "o")
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
+        with pytest.raises(SystemExit) as exc:
+            main([str(a) for a in _sweep_args(cfg, tmp / "o")])
+    return cfg, tmp / "o", exc.value.code, out.getvalue()
+
+
+def _copy_of_chain(chain, tmp_path):
+    """The config and a private copy of the swept output (the tests rerun and edit it)."""
+    cfg, done, code, out = chain
     assert code == 0 and "6 computed, 0 reused" in out, out
-    with xr.open_dataset(tmp_path / "o" / "sweep.nc") as ds:
+    shutil.copytree(done, tmp_path / "o")
+    return cfg, tmp_path / "o"
+
+
+def test_system_steady_chain_rerun_reuses_every_case(capsys, chain, tmp_path):
+    cfg, o = _copy_of_chain(chain, tmp_path)
+    with xr.open_dataset(o / "sweep.nc") as ds:
         before = {k: ds[k].values.copy() for k in ds.data_vars if ds[k].dtype.kind == "f"}
-    code, out, _ = _sweep(capsys, cfg, tmp_path / "o")
+    code, out, _ = _sweep(capsys, cfg, o)
     assert code == 0 and "0 computed, 6 reused" in out, out
-    with xr.open_dataset(tmp_path / "o" / "sweep.nc") as ds:
+    with xr.open_dataset(o / "sweep.nc") as ds:
         for k, v in before.items():
             np.testing.assert_array_equal(ds[k].values, v)
 
 
-def test_chain_resumes_after_the_case_being_written(capsys, tmp_path):
+def test_chain_resumes_after_the_case_being_written(capsys, chain, tmp_path):
     """Case 0000 left half written (no summary.json, marker not done) while later cases of its
     chain were written: only 0000 runs again; the rest are reused, and every number is the
     same as the uninterrupted run's (0000 starts the chain, so it reruns from the verb's start)."""
-    cfg = tmp_path / "gearbox.toml"
-    cfg.write_text(dump(edited("system/gearbox.toml", _small_gearbox)))
-    code, out, _ = _sweep(capsys, cfg, tmp_path / "o")
-    assert code == 0, out
+    cfg, _ = _copy_of_chain(chain, tmp_path)
     with xr.open_dataset(tmp_path / "o" / "sweep.nc") as ds:
         before = ds["dynamic_factor"].values.copy() if "dynamic_factor" in ds else None
         first = str(ds["case_id"].values.ravel()[0])
