@@ -4,7 +4,10 @@ Model: :class:`Rotor` (frozen data, SI). Analyses are functions: :func:`static_a
 :func:`modal`, :func:`campbell`, :func:`critical_speeds`, :func:`ucs_map`,
 :func:`unbalance_response`, :func:`frf`, :func:`transient`; API 684 rules in :mod:`.api`.
 The same analyses with the command line's result objects (summary, verdicts, plot methods):
-:func:`modes`, :func:`campbell_diagram`, :func:`unbalance_response_study` (:mod:`.study`).
+:func:`modes`, :func:`campbell_diagram`, :func:`unbalance_response_study`,
+:func:`static_state`, :func:`critical_speed_map`, :func:`transient_response`; ``study.frf`` and
+``study.stability`` stay in :mod:`.study` (here ``frf`` is the analysis function and
+``stability`` the module).
 """
 
 from rotaflex.rotor.fe.critical import critical_speeds
@@ -13,7 +16,14 @@ from rotaflex.rotor.fe.modal import campbell, modal
 from rotaflex.rotor.fe.model import Bearing, Disk, PointMass, Rotor, Shaft
 from rotaflex.rotor.fe.response import peaks, unbalance_response
 from rotaflex.rotor.fe.static import static_analysis
-from rotaflex.rotor.fe.study import campbell_diagram, modes, unbalance_response_study
+from rotaflex.rotor.fe.study import (
+    campbell_diagram,
+    critical_speed_map,
+    modes,
+    static_state,
+    transient_response,
+    unbalance_response_study,
+)
 from rotaflex.rotor.fe.torsion_axial import axial_modes, torsional_modes
 from rotaflex.rotor.fe.transient import transient
 from rotaflex.rotor.fe.ucs import ucs_map
@@ -27,14 +37,17 @@ __all__ = [
     "axial_modes",
     "campbell",
     "campbell_diagram",
+    "critical_speed_map",
     "critical_speeds",
     "frf",
     "modal",
     "modes",
     "peaks",
     "static_analysis",
+    "static_state",
     "torsional_modes",
     "transient",
+    "transient_response",
     "ucs_map",
     "unbalance_response",
     "unbalance_response_study",
