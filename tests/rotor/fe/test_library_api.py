@@ -14,7 +14,17 @@ from typer.testing import CliRunner
 from rotaflex.cli import app
 from rotaflex.core.errors import InputError
 from rotaflex.rotor.fe import Bearing, Disk, Rotor, Shaft, campbell, modal
-from rotaflex.rotor.fe.study import campbell_diagram, modes, unbalance_response_study
+from rotaflex.rotor.fe.model import PointMass
+from rotaflex.rotor.fe.study import (
+    campbell_diagram,
+    critical_speed_map,
+    frf,
+    modes,
+    stability,
+    static_state,
+    transient_response,
+    unbalance_response_study,
+)
 
 ROOT = Path(__file__).resolve().parents[3]
 EXAMPLE = ROOT / "examples" / "rotor" / "fe_friswell_5_9_1.toml"
@@ -141,3 +151,159 @@ def test_readme_rotor_example_runs(tmp_path, python_json):
     )
     assert (tmp_path / "campbell.png").exists() and (tmp_path / "bode.png").exists()
     assert out["status"] == "success" and out["critical_rpm"]
+
+
+# --- frf, stability, static_state, critical_speed_map, transient_response -------------------
+# A Jeffcott rotor: a 10 kg point mass at midspan of a light (rho = 1 kg/m^3, 2e-5 of the mass),
+# shear-stiff (G = 1e20 Pa with kappa = 1: Euler-Bernoulli; Cowper's kappa from E / 2G - 1 would
+# give kappa G = 3 E) shaft on two stiff bearings, and a damper to ground at
+# the mass (a bearing with only cxx = cyy): per direction m x'' + c x' + k_eq x = F with
+# k_eq = (1 / k_s + 1 / (2 k_b))^-1, k_s = 48 E I / L^3 (the cubic beam element is exact at its nodes).
+E, D, L, M, KB, ZETA = 2e11, 0.02, 0.6, 10.0, 1e7, 0.1
+K_S = 48 * E * (np.pi * D**4 / 64) / L**3
+K_EQ = 1 / (1 / K_S + 1 / (2 * KB))
+W_N = np.sqrt(K_EQ / M)  # [rad/s]
+C = float(2 * ZETA * np.sqrt(K_EQ * M))  # [N s/m]
+
+JEFFCOTT_TOML = f"""
+[[shaft]]
+outer_diameter = {D}
+length = {L}
+elements = 4
+E = {E}
+G = 1e20
+shear_coefficient = 1.0
+rho = 1.0
+[[point_mass]]
+node = 2
+mass = {M}
+[[bearing]]
+node = 0
+kxx = {KB}
+kyy = {KB}
+[[bearing]]
+node = 4
+kxx = {KB}
+kyy = {KB}
+[[bearing]]
+node = 2
+kxx = 0.0
+kyy = 0.0
+cxx = {C!r}
+cyy = {C!r}
+"""
+
+
+def jeffcott(damper: bool = True) -> Rotor:
+    """JEFFCOTT_TOML in Python (without the damper: the undamped rotor of the critical speed map)."""
+    brg = (Bearing(node=0, kxx=KB, kyy=KB), Bearing(node=4, kxx=KB, kyy=KB))
+    return Rotor(
+        shaft=(Shaft(outer_diameter=D, length=L, elements=4, E=E, G=1e20, shear_coefficient=1.0, rho=1.0),),
+        point_mass=(PointMass(node=2, mass=M),),
+        bearing=brg + ((Bearing(node=2, kxx=0.0, kyy=0.0, cxx=C, cyy=C),) if damper else ()),
+    )
+
+
+def cli_dataset(tmp_path, verb: str, table: str, toml: str = JEFFCOTT_TOML):
+    """The verb's dataset from the command line on the case file ``toml`` + ``table``."""
+    import xarray as xr
+
+    case = tmp_path / f"{verb}.toml"
+    case.write_text(toml + table)
+    out = tmp_path / verb
+    r = CliRunner().invoke(app, ["rotor", verb, str(case), "--out", str(out), "-q", "--no-figures"])
+    assert r.exit_code == 0, r.output
+    with xr.open_dataset(out / "result.nc") as ds:
+        return ds.load()
+
+
+def assert_same_arrays(lib, cli):
+    """Every data variable of the library's dataset is in the CLI's, with the same values (to the bit)."""
+    assert set(lib.data_vars) == set(cli.data_vars)
+    for k in lib.data_vars:
+        np.testing.assert_array_equal(lib[k].values, cli[k].values, err_msg=k)
+
+
+def test_static_state_is_the_cli_and_a_uniform_shaft_hangs_on_half_its_weight_each(tmp_path):
+    """Symmetric two-bearing shaft, statically determinate: each bearing carries half the weight
+    rho A L g whatever the bearings' stiffness."""
+    lib = static_state(jeffcott(damper=False), loads=[{"node": 1, "fy": -50.0}])
+    cli = cli_dataset(tmp_path, "static", "[[static.load]]\nnode = 1\nfy = -50.0\n", JEFFCOTT_TOML.split("[[bearing]]\nnode = 2")[0])
+    assert_same_arrays(lib.dataset, cli)
+    shaft = Rotor(
+        shaft=(Shaft(outer_diameter=0.05, length=1.0, elements=6, material="steel"),),
+        bearing=(Bearing(node=0, kxx=1e8, kyy=1e8), Bearing(node=6, kxx=1e8, kyy=1e8)),
+    )
+    weight = 7810.0 * np.pi * 0.025**2 * 1.0 * 9.80665  # [N]: steel, rho A L g
+    s = static_state(shaft)
+    np.testing.assert_allclose(s.dataset["reaction"].sel(axis="y"), [weight / 2, weight / 2], rtol=1e-12)
+    np.testing.assert_allclose(s.dataset["reaction"].sel(axis="x"), [0, 0], atol=1e-9 * weight)
+    with pytest.raises(InputError, match="static.load"):
+        static_state(shaft, loads=[{"node": 99, "fy": 1.0}])
+    with pytest.raises(InputError, match="static.load\\[0\\].fz"):
+        static_state(shaft, loads=[{"node": 1, "fz": 1.0}])
+
+
+def test_critical_speed_map_is_the_cli_and_the_jeffcott_closed_form(tmp_path):
+    """Critical speed of the Jeffcott rotor = sqrt(k_eq / m), k_eq of the shaft in series with the
+    two bearings, at every stiffness of the map."""
+    rotor = jeffcott(damper=False)
+    lib = critical_speed_map(rotor, stiffness=(1e5, 1e9), n_points=5, n_modes=1)
+    toml = JEFFCOTT_TOML.split("[[bearing]]\nnode = 2")[0]
+    cli = cli_dataset(tmp_path, "ucs", "[ucs]\nstiffness = [1e5, 1e9]\nn_points = 5\nn_modes = 1\n", toml)
+    assert_same_arrays(lib.dataset, cli)
+    k = np.logspace(5, 9, 5)
+    closed = np.sqrt(1 / (1 / K_S + 1 / (2 * k)) / M)
+    np.testing.assert_allclose(lib.dataset["critical_speed"][:, 0], closed, rtol=1e-4)
+
+
+def test_frf_is_the_cli_and_peaks_at_the_jeffcott_natural_frequency(tmp_path):
+    """Receptance at the mass = 1 / (k_eq - m w^2 + i c w) (1 DOF per direction); its peak at
+    w_n sqrt(1 - 2 zeta^2)."""
+    rotor = jeffcott()
+    kw = dict(inputs=[{"node": 2, "direction": "y"}], frequency_hz=(1.0, 80.0), n_frequencies=800)
+    lib = frf(rotor, speed_rpm=1000.0, **kw)
+    table = "[frf]\nspeed_rpm = 1000.0\nfrequency_hz = [1.0, 80.0]\nn_frequencies = 800\n"
+    table += "[[frf.pair]]\ninput_node = 2\ninput_direction = 'y'\n"
+    assert_same_arrays(lib.dataset, cli_dataset(tmp_path, "frf", table))
+    w = lib.dataset["frequency"].values
+    H = lib.dataset["H_real"].values[:, 0] + 1j * lib.dataset["H_imag"].values[:, 0]
+    np.testing.assert_allclose(H, 1 / (K_EQ - M * w**2 + 1j * C * w), rtol=2e-4)
+    peak = lib.summary()["y2/Fy2_peak_0_frequency_hz"]["value"] * 2 * np.pi
+    assert abs(peak - W_N * np.sqrt(1 - 2 * ZETA**2)) < (w[1] - w[0])  # within one frequency step
+    both = frf(rotor, inputs=[{"node": 2}, {"node": 2, "direction": "y"}], n_frequencies=10)
+    assert list(both.dataset["pair"].values) == ["x2/Fx2", "y2/Fx2", "x2/Fy2", "y2/Fy2"]  # output fastest
+    with pytest.raises(InputError, match="frf.inputs\\[0\\].rotor"):
+        frf(rotor, inputs=[{"rotor": "r", "node": 2}])
+    with pytest.raises(InputError, match="frf.pair\\[0\\]"):
+        frf(rotor, inputs=[{"node": 9}])
+
+
+def test_stability_is_the_cli_and_the_jeffcott_log_dec(tmp_path):
+    """Level II log decrement of the Jeffcott rotor = 2 pi zeta / sqrt(1 - zeta^2), zeta = c / (2 sqrt(k_eq m))."""
+    rotor = jeffcott()
+    lib = stability(rotor, kind="pump", speed_rpm=1000.0)
+    cli = cli_dataset(tmp_path, "stability", "[stability]\nmachine = 'pump'\nspeed_rpm = 1000.0\n")
+    assert_same_arrays(lib.dataset, cli)
+    log_dec = lib.summary()["level2_log_dec"]["value"]
+    assert log_dec == pytest.approx(2 * np.pi * ZETA / np.sqrt(1 - ZETA**2), rel=1e-4)
+    assert lib.summary()["level2_verdict"]["value"] == "pass"  # 0.63 > API 617's 0.1
+    with pytest.raises(InputError, match="stability.speed_rpm"):
+        stability(rotor, kind="pump")
+    with pytest.raises(InputError, match="stability.machine"):
+        stability(rotor, kind="fan", speed_rpm=1000.0)
+
+
+def test_transient_response_is_the_cli_and_ends_on_the_unbalance_orbit(tmp_path):
+    """At constant speed the free vibration decays (exp(-zeta w_n t) = 1e-8 after 1 s) and the
+    orbit left is the steady unbalance response at that speed (frequency domain, a second formulation)."""
+    rotor = jeffcott()
+    mass = [{"node": 2, "magnitude": 1e-4, "phase_deg": 30.0}]
+    kw = dict(duration=1.0, speed_rpm=(1500.0, 1500.0), masses=mass, n_output=2001, method="direct")
+    lib = transient_response(rotor, steps_per_output=8, **kw)
+    table = "[transient]\nspeed_rpm = [1500.0, 1500.0]\nduration = 1.0\nmethod = 'direct'\nsteps_per_output = 8\n"
+    table += "[[transient.mass]]\nnode = 2\nmagnitude = 1e-4\nphase_deg = 30.0\n"
+    assert_same_arrays(lib.dataset, cli_dataset(tmp_path, "transient", table))
+    ub = unbalance_response_study(rotor, mass, speed_rpm=(1500.0, 1600.0), n_speeds=2)
+    print(ub.dataset)
+    ...
