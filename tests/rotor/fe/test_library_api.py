@@ -228,7 +228,9 @@ def test_static_state_is_the_cli_and_a_uniform_shaft_hangs_on_half_its_weight_ea
     """Symmetric two-bearing shaft, statically determinate: each bearing carries half the weight
     rho A L g whatever the bearings' stiffness."""
     lib = static_state(jeffcott(damper=False), loads=[{"node": 1, "fy": -50.0}])
-    cli = cli_dataset(tmp_path, "static", "[[static.load]]\nnode = 1\nfy = -50.0\n", JEFFCOTT_TOML.split("[[bearing]]\nnode = 2")[0])
+    cli = cli_dataset(
+        tmp_path, "static", "[[static.load]]\nnode = 1\nfy = -50.0\n", JEFFCOTT_TOML.split("[[bearing]]\nnode = 2")[0]
+    )
     assert_same_arrays(lib.dataset, cli)
     shaft = Rotor(
         shaft=(Shaft(outer_diameter=0.05, length=1.0, elements=6, material="steel"),),
@@ -295,15 +297,45 @@ def test_stability_is_the_cli_and_the_jeffcott_log_dec(tmp_path):
 
 
 def test_transient_response_is_the_cli_and_ends_on_the_unbalance_orbit(tmp_path):
-    """At constant speed the free vibration decays (exp(-zeta w_n t) = 1e-8 after 1 s) and the
-    orbit left is the steady unbalance response at that speed (frequency domain, a second formulation)."""
+    """At constant speed the free vibration decays (exp(-zeta w_n t) < 2e-5 after 0.6 s) and the
+    orbit left is the steady unbalance response at that speed (frequency domain, a second
+    formulation); Newmark's average acceleration is second order: halving the step quarters the gap."""
     rotor = jeffcott()
     mass = [{"node": 2, "magnitude": 1e-4, "phase_deg": 30.0}]
-    kw = dict(duration=1.0, speed_rpm=(1500.0, 1500.0), masses=mass, n_output=2001, method="direct")
-    lib = transient_response(rotor, steps_per_output=8, **kw)
-    table = "[transient]\nspeed_rpm = [1500.0, 1500.0]\nduration = 1.0\nmethod = 'direct'\nsteps_per_output = 8\n"
-    table += "[[transient.mass]]\nnode = 2\nmagnitude = 1e-4\nphase_deg = 30.0\n"
+    kw = dict(speed_rpm=(1500.0, 1500.0), masses=mass, method="direct")
+    lib = transient_response(rotor, duration=0.05, n_output=51, steps_per_output=2, **kw)
+    table = "[transient]\nspeed_rpm = [1500.0, 1500.0]\nduration = 0.05\nn_output = 51\nmethod = 'direct'\n"
+    table += "steps_per_output = 2\n[[transient.mass]]\nnode = 2\nmagnitude = 1e-4\nphase_deg = 30.0\n"
     assert_same_arrays(lib.dataset, cli_dataset(tmp_path, "transient", table))
-    ub = unbalance_response_study(rotor, mass, speed_rpm=(1500.0, 1600.0), n_speeds=2)
-    print(ub.dataset)
-    ...
+    ub = unbalance_response_study(rotor, mass, speed_rpm=(1500.0, 1600.0), n_speeds=2).dataset
+    X = complex(ub["x_real"][0, 0], ub["x_imag"][0, 0])  # x(t) = Re(X exp(i Omega t)) [m]
+    Y = complex(ub["y_real"][0, 0], ub["y_imag"][0, 0])
+    gaps = []
+    for steps in (2, 4):  # time step 0.7 s / 1400 / steps
+        t = transient_response(rotor, duration=0.7, n_output=1401, steps_per_output=steps, **kw).dataset
+        late = t["time"].values > 0.6
+        z = np.exp(1j * 1500.0 * RAD_PER_RPM * t["time"].values[late])
+        q = t["displacement"].values[late, 0, :]
+        gaps.append(max(np.abs(q[:, 0] - np.real(X * z)).max(), np.abs(q[:, 1] - np.real(Y * z)).max()) / abs(X))
+    assert gaps[1] < 2e-4
+    assert 3.5 < gaps[0] / gaps[1] < 4.5
+    with pytest.raises(InputError, match="transient.mass\\[0\\].nod"):
+        transient_response(rotor, speed_rpm=(1500.0, 1500.0), masses=[{"nod": 2, "magnitude": 1e-4}])
+    with pytest.raises(InputError, match="one of speed_rpm"):
+        transient_response(rotor, speed_rpm=(1500.0, 1500.0), speed=(157.0, 157.0))
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda r: frf(r, speed_rpm=1000.0, speed=104.7, n_frequencies=10),
+        lambda r: stability(r, kind="pump", speed_rpm=1000.0, speed=104.7),
+        lambda r: static_state(r, speed_rpm=1000.0, speed=104.7),
+        lambda r: transient_response(r, speed_rpm=(0.0, 1.0), speed=(0.0, 0.1)),
+    ],
+    ids=["frf", "stability", "static_state", "transient_response"],
+)
+def test_speed_rpm_and_speed_together_are_refused(call):
+    """One speed, one unit: both names given is an input error naming the table's speed_rpm key."""
+    with pytest.raises(InputError, match=r"\.speed_rpm.*<both>.*one of speed_rpm"):
+        call(jeffcott())
