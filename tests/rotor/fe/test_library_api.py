@@ -151,6 +151,11 @@ def test_readme_rotor_example_runs(tmp_path, python_json):
     )
     assert (tmp_path / "campbell.png").exists() and (tmp_path / "bode.png").exists()
     assert out["status"] == "success" and out["critical_rpm"]
+    # the static reactions carry the weight (printed to 0.01 N)
+    assert sum(out["static_reaction_y_N"]) == pytest.approx(out["mass_kg"] * 9.80665, abs=0.02)
+    # stiff bearings raise the first critical above the one on the 1e6 N/m bearings
+    assert out["ucs_first_critical_rpm_at_1e9_N_per_m"] > out["critical_rpm"][0]
+    assert out["frf_peak_hz"] > 0 and out["level2_log_dec"] > 0 and out["transient_max_displacement_m"] > 0
 
 
 # --- frf, stability, static_state, critical_speed_map, transient_response -------------------
