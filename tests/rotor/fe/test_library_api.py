@@ -261,7 +261,7 @@ def test_critical_speed_map_is_the_cli_and_the_jeffcott_closed_form(tmp_path):
     assert_same_arrays(lib.dataset, cli)
     k = np.logspace(5, 9, 5)
     closed = np.sqrt(1 / (1 / K_S + 1 / (2 * k)) / M)
-    np.testing.assert_allclose(lib.dataset["critical_speed"][:, 0], closed, rtol=1e-4)
+    np.testing.assert_allclose(lib.dataset["critical_speed"][:, 0], closed, rtol=2e-5)
 
 
 def test_frf_is_the_cli_and_peaks_at_the_jeffcott_natural_frequency(tmp_path):
@@ -275,7 +275,7 @@ def test_frf_is_the_cli_and_peaks_at_the_jeffcott_natural_frequency(tmp_path):
     assert_same_arrays(lib.dataset, cli_dataset(tmp_path, "frf", table))
     w = lib.dataset["frequency"].values
     H = lib.dataset["H_real"].values[:, 0] + 1j * lib.dataset["H_imag"].values[:, 0]
-    np.testing.assert_allclose(H, 1 / (K_EQ - M * w**2 + 1j * C * w), rtol=2e-4)
+    np.testing.assert_allclose(H, 1 / (K_EQ - M * w**2 + 1j * C * w), rtol=1e-4)
     peak = lib.summary()["y2/Fy2_peak_0_frequency_hz"]["value"] * 2 * np.pi
     assert abs(peak - W_N * np.sqrt(1 - 2 * ZETA**2)) < (w[1] - w[0])  # within one frequency step
     both = frf(rotor, inputs=[{"node": 2}, {"node": 2, "direction": "y"}], n_frequencies=10)
@@ -293,7 +293,7 @@ def test_stability_is_the_cli_and_the_jeffcott_log_dec(tmp_path):
     cli = cli_dataset(tmp_path, "stability", "[stability]\nmachine = 'pump'\nspeed_rpm = 1000.0\n")
     assert_same_arrays(lib.dataset, cli)
     log_dec = lib.summary()["level2_log_dec"]["value"]
-    assert log_dec == pytest.approx(2 * np.pi * ZETA / np.sqrt(1 - ZETA**2), rel=1e-4)
+    assert log_dec == pytest.approx(2 * np.pi * ZETA / np.sqrt(1 - ZETA**2), rel=2e-5)
     assert lib.summary()["level2_verdict"]["value"] == "pass"  # 0.63 > API 617's 0.1
     with pytest.raises(InputError, match="stability.speed_rpm"):
         stability(rotor, kind="pump")
