@@ -4,6 +4,10 @@ messages, verdicts and figures), and comes back as a result object over an ``xar
 with ``.summary()`` and plot methods (``.plot_campbell()``, ``.plot_bode()``, ``.plot_orbit()``,
 ``.plot_mode(k)``; ``.plot()`` gives every figure the CLI writes).
 
+The other verbs have the machine's names (:mod:`rotaflex.system.study`) and keywords:
+:func:`static_state`, :func:`critical_speed_map`, :func:`frf`, :func:`stability`,
+:func:`transient_response`.
+
 Speeds are explicit in their names: ``speed_rpm=`` [rpm] or ``speed=`` [rad/s], one of them,
 for one speed or a ``(start, stop)`` range; a bare number never changes its unit by path.
 
@@ -209,12 +213,11 @@ def unbalance_response_study(
     """
     from rotaflex.rotor.fe.case import run_unbalance
 
-    masses = [dataclasses.asdict(u) if dataclasses.is_dataclass(u) else dict(u) for u in unbalance]
     spec = {
         "speed_rpm": speed_in_rpm(speed_rpm, speed, "unbalance", pair=True),
         "n_speeds": n_speeds,
         "probes": [int(p) for p in probes],
-        "mass": [{k: v for k, v in m.items() if v is not None} for m in masses],
+        "mass": _tables(unbalance, "unbalance.mass"),
     }
     if operating_range_rpm is not None:
         spec["operating_range_rpm"] = list(operating_range_rpm)
