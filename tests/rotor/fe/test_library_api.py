@@ -344,3 +344,17 @@ def test_speed_rpm_and_speed_together_are_refused(call):
     """One speed, one unit: both names given is an input error naming the table's speed_rpm key."""
     with pytest.raises(InputError, match=r"\.speed_rpm.*<both>.*one of speed_rpm"):
         call(jeffcott())
+
+
+@pytest.mark.parametrize("name", ["frf", "stability", "static_state", "critical_speed_map", "transient_response"])
+def test_docstring_examples_run(name):
+    """The Examples of the five functions run as written (the weight split, the bounce ratio,
+    the machine's numbers for the same one-rotor machine)."""
+    import doctest
+
+    from rotaflex.rotor.fe import study
+
+    finder, runner = doctest.DocTestFinder(), doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    (test,) = finder.find(getattr(study, name), f"rotaflex.rotor.fe.study.{name}", globs=vars(study).copy())
+    assert test.examples
+    assert runner.run(test).failed == 0
